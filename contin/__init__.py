@@ -1,0 +1,23 @@
+"""contin: pseudo-arclength continuation and bifurcation analysis.
+
+The engine is generic: a :class:`Problem` gives a residual ``f(u, p)``, its sparse Jacobian and
+``df/dp`` (and, for conservative models, an energy whose Hessian is the Jacobian).
+:func:`continuation` traces a branch and returns a :class:`Branch` with located folds, branch
+points and events; :func:`jump` finds the stable state a snap lands on; :func:`diagram` assembles
+branches and jumps into a ``networkx`` graph.
+"""
+
+from .branch import Branch, BranchFileError, SpecialPoint
+from .events import Event, crossing, extremum
+from .linalg import BorderedSolver, factorize
+from .palc import CorrectorFailure, Settings, continuation, locate_fold
+from .problem import NonFiniteError, Problem
+from .stability import StabilityInfo, stability_info
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Problem", "NonFiniteError", "Settings", "continuation", "locate_fold", "CorrectorFailure",
+    "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum",
+    "StabilityInfo", "stability_info", "BorderedSolver", "factorize",
+]

@@ -1,0 +1,261 @@
+"""Results: a traced branch (arrays of converged points) and its located special points.
+
+Everything here is plain data.  A branch saves to a single ``.npz`` file (arrays plus a JSON header)
+and loads back identical.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["SpecialPoint", "Branch", "SPECIAL_KINDS", "BranchFileError"]
+
+SPECIAL_KINDS = ("fold", "branch_point", "event", "jump")
+
+
+class BranchFileError(ValueError):
+    """A saved branch file is unreadable, truncated or inconsistent."""
+
+
+@dataclass
+class SpecialPoint:
+    """A special point on a branch.
+
+    Attributes
+    ----------
+    kind : str
+        ``"fold"``, ``"branch_point"``, ``"event"`` or ``"jump"``.
+    p : float
+        Parameter value.
+    u : ndarray
+        State.
+    observables : dict
+        Observables at the point.
+    residual : float
+        Max-norm residual of the point's defining system (the extended system for a fold or
+        branch point, the equilibrium equations plus the event condition for an event).
+    located : bool
+        True when the point was converged on its defining system; False when only bracketed.
+    s : float
+        Arclength along the branch.
+    index : int
+        The point lies between stored points ``index`` and ``index + 1``.
+    label : str
+        Event name, ``"start"``/``"end"`` of a jump, etc.
+    info : dict
+        Extra data: the bracket, stability before and after, the jump's source, ...
+    """
+
+    kind: str
+    p: float
+    u: np.ndarray
+    observables: dict[str, float] = field(default_factory=dict)
+    residual: float = float("nan")
+    located: bool = False
+    s: float = float("nan")
+    index: int = -1
+    label: str = ""
+    info: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.kind not in SPECIAL_KINDS:
+            raise ValueError(f"special point kind must be one of {SPECIAL_KINDS}, got {self.kind!r}")
+
+    def header(self) -> dict[str, Any]:
+        """JSON-serialisable description (everything but the state vector)."""
+        return {
+            "kind": self.kind, "p": float(self.p), "observables": {k: float(v) for k, v in self.observables.items()},
+            "residual": float(self.residual), "located": bool(self.located), "s": float(self.s),
+            "index": int(self.index), "label": self.label, "info": _jsonable(self.info),
+        }
+
+    def __repr__(self) -> str:
+        loc = "located" if self.located else "bracketed"
+        lab = f" {self.label}" if self.label else ""
+        return f"SpecialPoint({self.kind}{lab}, p={self.p:.10g}, {loc}, residual={self.residual:.2e})"
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.floating,)):
+        return float(obj)
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (np.bool_,)):
+        return bool(obj)
+    return obj
+
+
+@dataclass
+class Branch:
+    """A traced branch: converged points in path order, plus special points.
+
+    Attributes
+    ----------
+    p : ndarray (m,)
+        Parameter at each point.
+    u : ndarray (m, n)
+        States.
+    s : ndarray (m,)
+        Arclength (in the continuation's weighted norm) from the first point.
+    tangent_p : ndarray (m,)
+        Parameter component of the unit tangent (its sign change marks a fold).
+    residual : ndarray (m,)
+        Max-norm residual of each stored point (all within the tolerance).
+    newton_iterations : ndarray (m,)
+        Corrector iterations for each point.
+    observables : dict of ndarray
+        Observables per point.
+    n_negative : ndarray (m,) of int or None
+        Negative eigenvalues of the stability operator (None when not computed; -1 where unknown).
+    eigenvalues : ndarray (m, k) or None
+        Smallest eigenvalues of the stability operator.
+    special_points : list of SpecialPoint
+        Located folds, branch points, events and jumps, in path order.
+    status : str
+        Why the run ended: ``"completed"`` (max steps), ``"bound"``, ``"event"``, ``"min_step"``,
+        ``"failed"``, ``"closed_loop"``.
+    message : str
+        Human-readable reason.
+    meta : dict
+        Problem name, parameter name, settings.
+    """
+
+    p: np.ndarray
+    u: np.ndarray
+    s: np.ndarray
+    tangent_p: np.ndarray
+    residual: np.ndarray
+    newton_iterations: np.ndarray
+    observables: dict[str, np.ndarray] = field(default_factory=dict)
+    n_negative: np.ndarray | None = None
+    eigenvalues: np.ndarray | None = None
+    special_points: list[SpecialPoint] = field(default_factory=list)
+    status: str = "completed"
+    message: str = ""
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    # ---- conveniences ----------------------------------------------------------------------------
+    def __len__(self) -> int:
+        return int(self.p.size)
+
+    @property
+    def stable(self) -> np.ndarray | None:
+        """Boolean array: no negative eigenvalue at the point (None without stability data)."""
+        if self.n_negative is None:
+            return None
+        return self.n_negative == 0
+
+    @property
+    def success(self) -> bool:
+        """True when the run ended for a planned reason (not a failure of the corrector)."""
+        return self.status in ("completed", "bound", "event", "closed_loop")
+
+    def folds(self) -> list[SpecialPoint]:
+        """Special points of kind ``"fold"``."""
+        return [sp for sp in self.special_points if sp.kind == "fold"]
+
+    def branch_points(self) -> list[SpecialPoint]:
+        """Special points of kind ``"branch_point"``."""
+        return [sp for sp in self.special_points if sp.kind == "branch_point"]
+
+    def events(self, label: str | None = None) -> list[SpecialPoint]:
+        """Special points of kind ``"event"`` (optionally with a given label)."""
+        return [sp for sp in self.special_points if sp.kind == "event" and (label is None or sp.label == label)]
+
+    def observable(self, name: str) -> np.ndarray:
+        """Observable values along the branch; ``"p"`` gives the parameter."""
+        if name == "p" or name == self.meta.get("parameter_name"):
+            return self.p
+        try:
+            return self.observables[name]
+        except KeyError:
+            raise KeyError(f"branch has no observable {name!r}; it has {sorted(self.observables)}") from None
+
+    def __repr__(self) -> str:
+        kinds = ", ".join(f"{sp.kind}@{sp.p:.6g}" for sp in self.special_points)
+        return f"Branch({len(self)} points, status={self.status!r}, special=[{kinds}])"
+
+    # ---- persistence -----------------------------------------------------------------------------
+    def save(self, path: str | os.PathLike) -> Path:
+        """Write the branch to ``path`` (``.npz``), atomically: a temporary file is moved in place."""
+        path = Path(path)
+        if path.suffix != ".npz":
+            path = path.with_suffix(path.suffix + ".npz") if path.suffix else path.with_suffix(".npz")
+        arrays: dict[str, np.ndarray] = {
+            "p": self.p, "u": self.u, "s": self.s, "tangent_p": self.tangent_p,
+            "residual": self.residual, "newton_iterations": self.newton_iterations,
+        }
+        if self.n_negative is not None:
+            arrays["n_negative"] = self.n_negative
+        if self.eigenvalues is not None:
+            arrays["eigenvalues"] = self.eigenvalues
+        obs_names = list(self.observables)
+        for i, name in enumerate(obs_names):
+            arrays[f"obs_{i}"] = self.observables[name]
+        for i, spt in enumerate(self.special_points):
+            arrays[f"special_u_{i}"] = spt.u
+        header = {
+            "format": "contin-branch", "version": 1, "observables": obs_names,
+            "special_points": [spt.header() for spt in self.special_points],
+            "status": self.status, "message": self.message, "meta": _jsonable(self.meta),
+        }
+        arrays["header"] = np.frombuffer(json.dumps(header).encode(), dtype=np.uint8)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                np.savez_compressed(fh, **arrays)
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+        return path
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> "Branch":
+        """Load a branch written by :meth:`save`; raises :class:`BranchFileError` if it is corrupt."""
+        path = Path(path)
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                arrays = {k: data[k] for k in data.files}
+            header = json.loads(arrays.pop("header").tobytes().decode())
+            if header.get("format") != "contin-branch":
+                raise BranchFileError(f"{path}: not a contin branch file")
+            observables = {name: arrays[f"obs_{i}"] for i, name in enumerate(header["observables"])}
+            specials = []
+            for i, h in enumerate(header["special_points"]):
+                specials.append(SpecialPoint(
+                    kind=h["kind"], p=h["p"], u=arrays[f"special_u_{i}"], observables=h["observables"],
+                    residual=h["residual"], located=h["located"], s=h["s"], index=h["index"],
+                    label=h["label"], info=h["info"]))
+            branch = cls(
+                p=arrays["p"], u=arrays["u"], s=arrays["s"], tangent_p=arrays["tangent_p"],
+                residual=arrays["residual"], newton_iterations=arrays["newton_iterations"],
+                observables=observables, n_negative=arrays.get("n_negative"),
+                eigenvalues=arrays.get("eigenvalues"), special_points=specials,
+                status=header["status"], message=header["message"], meta=header["meta"])
+        except BranchFileError:
+            raise
+        except FileNotFoundError:
+            raise BranchFileError(f"{path}: no such file") from None
+        except Exception as exc:  # zip, JSON, key and shape errors all mean "corrupt"
+            raise BranchFileError(f"{path}: unreadable or corrupt branch file ({type(exc).__name__}: {exc})") from None
+        m = branch.p.size
+        for name, arr in [("u", branch.u), ("s", branch.s), ("residual", branch.residual)]:
+            if arr.shape[0] != m:
+                raise BranchFileError(f"{path}: array {name!r} has {arr.shape[0]} rows, expected {m}")
+        return branch

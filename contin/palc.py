@@ -1,0 +1,839 @@
+"""Pseudo-arclength continuation (PALC) with fold, branch-point and event detection and location.
+
+The core traces the solution curve of ``f(u, p) = 0`` in the augmented space ``X = (u, p)``.
+Each step predicts along the unit tangent and corrects with Newton on the bordered system
+
+    [ J      f_p    ] [du]     [ f                      ]
+    [ w t_u  w_p t_p] [dp] = - [ <t, X - X0>_W - ds     ]
+
+solved by block elimination on the model's factorization of ``J`` (see :mod:`contin.linalg`).
+The arclength norm is ``||X||_W^2 = w_u^2 |u|^2 / n + w_p^2 p^2``: the state enters through its
+root-mean-square, so the number of steps does not grow with the number of unknowns.
+
+Test functions evaluated at every accepted point:
+
+* fold: the parameter component of the tangent changes sign; located by Newton on the minimally
+  augmented system ``f = 0, g = 0`` (``g`` from the bordered Jacobian);
+* simple branch point: the determinant of the bordered Jacobian changes sign (sign and log-modulus
+  come from the factorization, so nothing overflows); located as a root of a continuous bordered
+  test function on the curve;
+* events: a user observable crossing a value, or its derivative along the path changing sign.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .branch import Branch, SpecialPoint
+from .events import Event
+from .linalg import BorderedSolver, SingularMatrixError
+from .problem import NonFiniteError, Problem
+from .stability import stability_info
+
+__all__ = ["Settings", "continuation", "locate_fold", "CorrectorFailure", "Curve", "Point"]
+
+
+@dataclass
+class Settings:
+    """Options of :func:`continuation` (every field can also be passed as a keyword).
+
+    Attributes
+    ----------
+    ds, ds_min, ds_max : float
+        Initial, minimum and maximum step in the weighted arclength norm.
+    max_steps : int
+        Maximum number of accepted steps.
+    direction : int
+        +1 to start with increasing parameter, -1 decreasing.
+    p_min, p_max : float
+        Parameter bounds; the run stops exactly on a bound (located like an event).
+    bounds : dict
+        Observable bounds ``{name: (low, high)}`` (either may be None); the run stops exactly on them.
+    tol : float
+        Max-norm residual tolerance for every stored point.
+    max_newton : int
+        Corrector iterations before a step is declared failed.
+    fast_newton : int
+        The step grows when the corrector needed at most this many iterations.
+    grow, shrink : float
+        Step-size factors after an easy step and after a failed one.
+    state_weight, param_weight : float
+        Weights of the state (RMS) and parameter parts of the arclength norm.
+    max_correction : float
+        Guard against branch jumping: the corrector may move at most this multiple of the step away
+        from the predicted point.
+    min_tangent_cos : float
+        Guard against branch jumping: consecutive unit tangents must have at least this cosine.
+    detect_folds, detect_branch_points, locate : bool
+        Which test functions run, and whether special points are located (else only bracketed).
+    stability : bool
+        Compute the stability operator's inertia and smallest eigenvalues at every point.
+    n_eigs : int
+        Number of smallest eigenvalues stored per point.
+    locate_tol : float
+        Relative tolerance of the arclength root-finding that locates events and branch points.
+    store_states : bool
+        Keep every state vector (False keeps only the special points' states and the last one).
+    progress : bool
+        Print a progress line every ``progress_every`` steps to stderr.
+    """
+
+    ds: float = 0.02
+    ds_min: float = 1e-9
+    ds_max: float = 0.2
+    max_steps: int = 1000
+    direction: int = 1
+    p_min: float = -math.inf
+    p_max: float = math.inf
+    bounds: dict[str, tuple[float | None, float | None]] = field(default_factory=dict)
+    tol: float = 1e-10
+    max_newton: int = 10
+    fast_newton: int = 3
+    grow: float = 1.5
+    shrink: float = 0.5
+    state_weight: float = 1.0
+    param_weight: float = 1.0
+    max_correction: float = 0.5
+    min_tangent_cos: float = 0.9
+    detect_folds: bool = True
+    detect_branch_points: bool = True
+    locate: bool = True
+    stability: bool = False
+    n_eigs: int = 3
+    locate_tol: float = 1e-14
+    store_states: bool = True
+    progress: bool = False
+    progress_every: int = 25
+
+    def validate(self) -> None:
+        """Raise ``ValueError`` naming the field when a setting is out of range."""
+        def need(cond: bool, name: str, rule: str) -> None:
+            if not cond:
+                raise ValueError(f"continuation setting {name!r} = {getattr(self, name)!r} is invalid: {rule}")
+        need(self.ds_min > 0, "ds_min", "must be > 0")
+        need(self.ds_max >= self.ds_min, "ds_max", "must be >= ds_min")
+        need(self.ds_min <= self.ds <= self.ds_max, "ds", "must lie in [ds_min, ds_max]")
+        need(self.max_steps >= 1, "max_steps", "must be >= 1")
+        need(self.direction in (-1, 1), "direction", "must be +1 or -1")
+        need(self.p_min < self.p_max, "p_min", "must be < p_max")
+        need(self.tol > 0, "tol", "must be > 0")
+        need(self.max_newton >= 1, "max_newton", "must be >= 1")
+        need(self.grow >= 1, "grow", "must be >= 1")
+        need(0 < self.shrink < 1, "shrink", "must lie in (0, 1)")
+        need(self.state_weight >= 0 and self.param_weight >= 0 and self.state_weight + self.param_weight > 0,
+             "state_weight", "weights must be >= 0 and not both 0")
+        need(0 < self.max_correction, "max_correction", "must be > 0")
+        need(-1 <= self.min_tangent_cos < 1, "min_tangent_cos", "must lie in [-1, 1)")
+        need(self.n_eigs >= 1, "n_eigs", "must be >= 1")
+
+
+class CorrectorFailure(RuntimeError):
+    """The corrector did not converge (the message says why)."""
+
+
+@dataclass
+class Point:
+    """A converged point with its tangent and the data of its linearization."""
+
+    u: np.ndarray
+    p: float
+    t_u: np.ndarray
+    t_p: float
+    residual: float
+    iterations: int
+    det_sign: float = 0.0
+    s: float = 0.0
+
+
+class Curve:
+    """The equilibrium curve of a problem, with the operations PALC needs.
+
+    Parameters
+    ----------
+    problem : Problem
+    settings : Settings
+    """
+
+    def __init__(self, problem: Problem, settings: Settings) -> None:
+        self.problem = problem
+        self.settings = settings
+        self.n_evals = 0
+        self.n_factorizations = 0
+        #: absolute residual tolerance: the relative tolerance times the model's residual scale
+        self.tol = settings.tol * getattr(problem, "residual_scale", 1.0)
+
+    # ---- norms -----------------------------------------------------------------------------------
+    def weights(self, n: int) -> tuple[float, float]:
+        st = self.settings
+        return st.state_weight ** 2 / max(n, 1), st.param_weight ** 2
+
+    def inner(self, au, ap, bu, bp) -> float:
+        wu, wp = self.weights(au.size)
+        return float(wu * np.dot(au, bu) + wp * ap * bp)
+
+    def norm(self, au, ap) -> float:
+        return math.sqrt(max(self.inner(au, ap, au, ap), 0.0))
+
+    # ---- linearization ---------------------------------------------------------------------------
+    def residual(self, u, p) -> np.ndarray:
+        self.n_evals += 1
+        return self.problem.checked_residual(u, p)
+
+    def linearize(self, u, p):
+        J = self.problem.checked_jacobian(u, p)
+        fp = self.problem.dresidual_dp(u, p)
+        if not np.all(np.isfinite(fp)):
+            raise NonFiniteError(f"df/dp of {self.problem.name!r} is not finite at p = {p!r}")
+        try:
+            F = self.problem.factorize(J)
+        except (SingularMatrixError, np.linalg.LinAlgError, RuntimeError):
+            F = None  # the bordered solver factorizes the full matrix instead
+        self.n_factorizations += 1
+        return J, fp, F
+
+    def bordered(self, J, F, fp, row_u, row_p, extra_cols=None, extra_rows=None, extra_D=None) -> BorderedSolver:
+        """Bordered solver for ``[[J, fp, extra_cols], [row, D]]``."""
+        n = J.shape[0]
+        B = fp.reshape(n, 1)
+        C = np.asarray(row_u, dtype=float).reshape(1, n)
+        D = np.array([[row_p]], dtype=float)
+        if extra_cols is not None:
+            B = np.hstack([B, extra_cols.reshape(n, -1)])
+            C = np.vstack([C, extra_rows.reshape(-1, n)])
+            D = np.asarray(extra_D, dtype=float)
+        return BorderedSolver(J, F, B, C, D)
+
+    def tangent(self, u, p, t_u_prev, t_p_prev, lin=None):
+        """Unit tangent at ``(u, p)`` oriented like the previous one, and det sign of the bordered Jacobian."""
+        J, fp, F = lin if lin is not None else self.linearize(u, p)
+        wu, wp = self.weights(u.size)
+        solver = self.bordered(J, F, fp, wu * t_u_prev, wp * t_p_prev)
+        x, z = solver.solve(np.zeros(u.size), np.array([1.0]))
+        t_u, t_p = x, float(z[0])
+        nrm = self.norm(t_u, t_p)
+        if not np.isfinite(nrm) or nrm == 0.0:
+            raise CorrectorFailure("tangent computation failed (singular bordered Jacobian)")
+        sign, _ = solver.det_sign_log()
+        return t_u / nrm, t_p / nrm, sign
+
+    # ---- Newton at fixed parameter ---------------------------------------------------------------
+    def newton_fixed_p(self, u, p, max_iter: int = 30):
+        """Newton's method on ``f(u, p) = 0`` at fixed ``p`` (used to converge a starting point)."""
+        tol = self.tol
+        u = np.array(u, dtype=float)
+        r = self.residual(u, p)
+        res = float(np.max(np.abs(r), initial=0.0))
+        for it in range(max_iter + 1):
+            if res <= tol:
+                return u, res, it
+            if it == max_iter:
+                break
+            J = self.problem.checked_jacobian(u, p)
+            F = self.problem.factorize(J)
+            du = -F.solve(r)
+            # damped Newton: halve until the residual decreases
+            lam = 1.0
+            while True:
+                try:
+                    r_new = self.residual(u + lam * du, p)
+                    res_new = float(np.max(np.abs(r_new), initial=0.0))
+                except NonFiniteError:
+                    res_new = math.inf
+                if res_new < res or lam < 1e-4:
+                    break
+                lam *= 0.5
+            if not np.isfinite(res_new):
+                break
+            u, r, res = u + lam * du, r_new, res_new
+        raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge (residual {res:.3e} > tol {tol:.1e})")
+
+    # ---- the pseudo-arclength corrector ----------------------------------------------------------
+    def correct(self, u0, p0, t_u, t_p, ds, max_iter=None):
+        """Newton on ``f = 0`` and ``<t, X - X0>_W = ds`` from the predictor ``X0 + ds t``.
+
+        Returns ``(u, p, residual, iterations)``; raises :class:`CorrectorFailure`.
+        """
+        st = self.settings
+        max_iter = st.max_newton if max_iter is None else max_iter
+        wu, wp = self.weights(u0.size)
+        u_pred, p_pred = u0 + ds * t_u, p0 + ds * t_p
+        u, p = u_pred.copy(), p_pred
+        try:
+            r = self.residual(u, p)
+        except NonFiniteError as exc:
+            raise CorrectorFailure(f"residual not finite at the predicted point ({exc})") from None
+        res = float(np.max(np.abs(r), initial=0.0))
+        history = [res]
+        for it in range(1, max_iter + 1):
+            try:
+                J, fp, F = self.linearize(u, p)
+                solver = self.bordered(J, F, fp, wu * t_u, wp * t_p)
+                arc = self.inner(t_u, t_p, u - u0, p - p0) - ds
+                du, dp = solver.solve(-r, np.array([-arc]))
+            except (NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+                raise CorrectorFailure(f"linear solve failed in the corrector ({exc})") from None
+            u, p = u + du, p + float(dp[0])
+            if self.norm(u - u_pred, p - p_pred) > st.max_correction * abs(ds):
+                raise CorrectorFailure("corrector moved too far from the predictor (possible jump to another branch)")
+            try:
+                r = self.residual(u, p)
+            except NonFiniteError as exc:
+                raise CorrectorFailure(f"residual not finite during correction ({exc})") from None
+            res = float(np.max(np.abs(r), initial=0.0))
+            history.append(res)
+            if res <= self.tol:
+                return u, p, res, it
+            if it >= 3 and res > history[-2]:
+                raise CorrectorFailure(f"corrector diverging (residuals {', '.join(f'{h:.1e}' for h in history)})")
+        raise CorrectorFailure(f"corrector did not converge in {max_iter} iterations (residual {res:.3e})")
+
+
+def _event_value(curve: Curve, event: Event, u, p, t_u, t_p) -> float:
+    """Value of an event's test function at a point (with the unit tangent for extrema)."""
+    fun = _observable_function(curve.problem, event.observable)
+    if event.kind == "crossing":
+        return float(fun(u, p)) - event.value
+    # derivative along the tangent by central differences (second-order accurate)
+    h = 1e-6 * max(1.0, curve.norm(u, p))
+    return (float(fun(u + h * t_u, p + h * t_p)) - float(fun(u - h * t_u, p - h * t_p))) / (2 * h)
+
+
+def _observable_function(problem: Problem, observable):
+    if callable(observable):
+        return observable
+    if observable in ("p", problem.parameter_name):
+        return lambda u, p: p
+    try:
+        return problem.observables[observable]
+    except KeyError:
+        raise ValueError(f"unknown observable {observable!r}; the problem has "
+                         f"{sorted(problem.observables) + ['p']}") from None
+
+
+def _bound_events(problem: Problem, st: Settings) -> list[Event]:
+    evs = []
+    if math.isfinite(st.p_min):
+        evs.append(Event("p", st.p_min, -1, True, "p_min"))
+    if math.isfinite(st.p_max):
+        evs.append(Event("p", st.p_max, +1, True, "p_max"))
+    for name, (lo, hi) in st.bounds.items():
+        _observable_function(problem, name)
+        if lo is not None:
+            evs.append(Event(name, float(lo), -1, True, f"{name}_min"))
+        if hi is not None:
+            evs.append(Event(name, float(hi), +1, True, f"{name}_max"))
+    return evs
+
+
+# ---------------------------------------------------------------------------------------------------
+# location of special points on the segment between two accepted points
+# ---------------------------------------------------------------------------------------------------
+class _Segment:
+    """Points on the curve between A and B parametrised by the hyperplane coordinate sigma of A."""
+
+    def __init__(self, curve: Curve, A: Point, B: Point) -> None:
+        self.curve, self.A, self.B = curve, A, B
+        self.sigma_B = curve.inner(A.t_u, A.t_p, B.u - A.u, B.p - A.p)
+        self._cache: dict[float, tuple] = {}
+
+    def point(self, sigma: float):
+        """Converged point at hyperplane distance ``sigma`` from A: ``(u, p, residual)``."""
+        if sigma in self._cache:
+            return self._cache[sigma]
+        A = self.A
+        if sigma == 0.0:
+            out = (A.u, A.p, A.residual)
+        else:
+            u, p, res, _ = self.curve.correct(A.u, A.p, A.t_u, A.t_p, sigma, max_iter=20)
+            out = (u, p, res)
+        self._cache[sigma] = out
+        return out
+
+    def tangent(self, u, p):
+        t_u, t_p, _ = self.curve.tangent(u, p, self.A.t_u, self.A.t_p)
+        return t_u, t_p
+
+    def root(self, fun, f_A: float, f_B: float, rtol: float) -> float:
+        """Root of ``fun(sigma)`` in (0, sigma_B) given its end values."""
+        a, b = 0.0, self.sigma_B
+        if f_A == 0.0:
+            return a
+        if f_B == 0.0:
+            return b
+        def g(s):
+            if s == a:
+                return f_A
+            if s == b:
+                return f_B
+            return fun(s)
+        return brentq(g, a, b, xtol=rtol * abs(b) + 1e-300, rtol=4 * np.finfo(float).eps, maxiter=100)
+
+
+def _locate_event(curve: Curve, seg: _Segment, event: Event, vA: float, vB: float) -> SpecialPoint:
+    def g(sigma):
+        u, p, _ = seg.point(sigma)
+        if event.kind == "crossing":
+            return _event_value(curve, event, u, p, None, None)
+        t_u, t_p = seg.tangent(u, p)
+        return _event_value(curve, event, u, p, t_u, t_p)
+
+    sigma = seg.root(g, vA, vB, curve.settings.locate_tol)
+    u, p, res = seg.point(sigma)
+    value = g(sigma)
+    info = {"event_value": float(value), "bracket_p": [seg.A.p, seg.B.p]}
+    if event.kind == "extremum":
+        fun = _observable_function(curve.problem, event.observable)
+        info["extremum_value"] = float(fun(u, p))
+    return SpecialPoint("event", p, u.copy(), curve.problem.evaluate_observables(u, p), residual=res,
+                        located=True, s=seg.A.s + sigma, label=event.name, info=info)
+
+
+def _fold_extended_residual(problem: Problem, u, p, b, c, F_bord: BorderedSolver):
+    """Minimally augmented fold function ``g`` and the null vectors ``v`` (right) and ``w`` (left)."""
+    n = u.size
+    v, g = F_bord.solve(np.zeros(n), np.array([1.0]))
+    if problem.symmetric:
+        return float(g[0]), v, v  # b = c and J = J^T make the left null vector equal the right one
+    w, _ = F_bord.solve(np.zeros(n), np.array([1.0]), trans=True)
+    return float(g[0]), v, w
+
+
+def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter: int = 20,
+                p_tol: float = 1e-15) -> SpecialPoint:
+    """Locate a fold (limit point) by Newton on the minimally augmented system.
+
+    Solves ``f(u, p) = 0``, ``g(u, p) = 0`` where ``g`` is defined by the bordered system
+    ``[[J, b], [c^T, 0]] [v; g] = [0; 1]``, with ``b`` and ``c`` approximate right and left null
+    vectors of ``J`` at the starting point.  ``g_u = -w^T J_u v`` and ``g_p = -w^T J_p v`` use the
+    model's second derivatives along ``v`` (finite differences of the Jacobian by default; they only
+    affect the convergence rate, not the located point).
+
+    Parameters
+    ----------
+    problem : Problem
+    u, p : starting point, close to the fold (e.g. on the branch where the tangent's p-component is small).
+    v0 : ndarray, optional
+        Approximate null vector of the Jacobian (e.g. the state part of the tangent).
+    tol : float
+        Relative tolerance: ``max|f| <= tol * problem.residual_scale`` and
+        ``|g| <= tol * max(1, max|J|)``.
+    p_tol : float
+        Relative tolerance on the last parameter update.
+
+    Returns
+    -------
+    SpecialPoint
+        ``kind="fold"``, ``located`` True on convergence, ``residual`` the max-norm of ``(f, g)``.
+    """
+    u = np.array(u, dtype=float)
+    p = float(p)
+    n = u.size
+    J = problem.checked_jacobian(u, p)
+    F = _safe_factorize(problem, J)
+    if v0 is None or not np.any(v0):
+        v0 = _inverse_iteration(J, F, n)
+    b = np.asarray(v0, dtype=float) / np.linalg.norm(v0)
+    if problem.symmetric:
+        c = b.copy()
+    else:
+        c = _inverse_iteration(J, F, n, start=b, trans=True)
+    status, res, g, dp = "max_iter", math.inf, math.inf, math.inf
+    history = []
+    for it in range(max_iter + 1):
+        r = problem.checked_residual(u, p)
+        J = problem.checked_jacobian(u, p)
+        F = _safe_factorize(problem, J)
+        M = BorderedSolver(J, F, b.reshape(n, 1), c.reshape(1, n), np.zeros((1, 1)))
+        g, v, w = _fold_extended_residual(problem, u, p, b, c, M)
+        f_res = float(np.max(np.abs(r), initial=0.0))
+        res = max(f_res, abs(g))
+        history.append(res)
+        J_scale = max(1.0, float(np.max(np.abs(J.data if hasattr(J, "data") else J), initial=1.0)))
+        if f_res <= tol * getattr(problem, "residual_scale", 1.0) and abs(g) <= tol * J_scale and abs(dp) <= p_tol * max(1.0, abs(p)) * 1e3:
+            status = "converged"
+            break
+        if it == max_iter:
+            break
+        Jv = problem.jacobian_directional_derivative(u, p, v)
+        g_u = -(Jv.T @ w)
+        g_p = -float(w @ (problem.jacobian_dp(u, p) @ v))
+        fp = problem.dresidual_dp(u, p)
+        N = BorderedSolver(J, F, fp.reshape(n, 1), np.asarray(g_u).reshape(1, n), np.array([[g_p]]))
+        du, dpv = N.solve(-r, np.array([-g]))
+        dp = float(dpv[0])
+        u, p = u + du, p + dp
+    return SpecialPoint("fold", p, u, problem.evaluate_observables(u, p), residual=res,
+                        located=status == "converged",
+                        info={"method": "minimally augmented Newton", "iterations": it, "g": float(g),
+                              "history": history})
+
+
+def _safe_factorize(problem: Problem, J):
+    try:
+        return problem.factorize(J)
+    except (SingularMatrixError, np.linalg.LinAlgError, RuntimeError):
+        return None
+
+
+def _inverse_iteration(J, F, n, start=None, trans=False, iters: int = 3):
+    rng = np.random.default_rng(12345)
+    x = rng.standard_normal(n) if start is None else np.array(start, dtype=float)
+    M = BorderedSolver(J, F, np.zeros((n, 0)), np.zeros((0, n)), np.zeros((0, 0)))
+    for _ in range(iters):
+        try:
+            y, _ = M.solve(x, trans=trans)
+        except (SingularMatrixError, np.linalg.LinAlgError):
+            break
+        if not np.all(np.isfinite(y)) or not np.any(y):
+            break
+        x = y / np.linalg.norm(y)
+    return x / np.linalg.norm(x)
+
+
+def _locate_fold_on_segment(curve: Curve, seg: _Segment) -> SpecialPoint:
+    A, B = seg.A, seg.B
+    # secant estimate of the zero of t_p, corrected onto the curve, then the extended system
+    frac = A.t_p / (A.t_p - B.t_p) if A.t_p != B.t_p else 0.5
+    sigma0 = float(np.clip(frac, 0.05, 0.95)) * seg.sigma_B
+    try:
+        u0, p0, _ = seg.point(sigma0)
+        t_u0, _ = seg.tangent(u0, p0)
+    except CorrectorFailure:
+        u0, p0, t_u0 = (A.u, A.p, A.t_u) if abs(A.t_p) < abs(B.t_p) else (B.u, B.p, B.t_u)
+    try:
+        fold = locate_fold(curve.problem, u0, p0, v0=t_u0, tol=curve.settings.tol)
+    except (NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+        fold = SpecialPoint("fold", p0, u0, {}, located=False, info={"error": str(exc)})
+    # the extended-system root must lie on this segment; otherwise fall back to a root of t_p
+    if fold.located:
+        d_total = curve.norm(B.u - A.u, B.p - A.p)
+        d_fold = min(curve.norm(fold.u - A.u, fold.p - A.p), curve.norm(fold.u - B.u, fold.p - B.p))
+        if d_fold > 2 * d_total:
+            fold.located = False
+            fold.info["error"] = "extended-system Newton converged away from the bracketing segment"
+    if not fold.located:
+        def tp(sigma):
+            u, p, _ = seg.point(sigma)
+            return seg.tangent(u, p)[1]
+        try:
+            sigma = seg.root(tp, A.t_p, B.t_p, curve.settings.locate_tol)
+            u, p, res = seg.point(sigma)
+            fold = SpecialPoint("fold", p, u.copy(), {}, residual=res, located=True,
+                                info={"method": "root of the tangent's parameter component"})
+        except (CorrectorFailure, ValueError, RuntimeError) as exc:
+            fold.info["error2"] = str(exc)
+    fold.observables = curve.problem.evaluate_observables(fold.u, fold.p)
+    fold.s = A.s + curve.norm(fold.u - A.u, fold.p - A.p)
+    fold.info["bracket_p"] = [A.p, B.p]
+    return fold
+
+
+def _bp_test_solver(curve: Curve, u, p, t_u_row, t_p_row, b_u, b_p, c_u, c_p):
+    """Bordered solver of ``[[J, fp, b_u], [t_row, b_p], [c_u, c_p, 0]]``."""
+    J, fp, F = curve.linearize(u, p)
+    wu, wp = curve.weights(u.size)
+    n = u.size
+    cols = b_u.reshape(n, 1)
+    rows = c_u.reshape(1, n)
+    D = np.array([[wp * t_p_row, b_p], [c_p, 0.0]])
+    return curve.bordered(J, F, fp, wu * t_u_row, wp * t_p_row, extra_cols=cols, extra_rows=rows, extra_D=D)
+
+
+def _augmented_null_vectors(curve: Curve, u, p, t_u, t_p):
+    """Approximate right and left null vectors of the augmented Jacobian [[J, fp], [t^T W]]."""
+    J, fp, F = curve.linearize(u, p)
+    wu, wp = curve.weights(u.size)
+    n = u.size
+    solver = curve.bordered(J, F, fp, wu * t_u, wp * t_p)
+    rng = np.random.default_rng(2024)
+    vecs = []
+    for trans in (False, True):
+        x = rng.standard_normal(n + 1)
+        for _ in range(3):
+            y_u, y_p = solver.solve(x[:n], x[n:], trans=trans)
+            y = np.concatenate([y_u, y_p])
+            x = y / np.linalg.norm(y)
+        vecs.append(x)
+    return vecs
+
+
+def _locate_branch_point(curve: Curve, seg: _Segment) -> SpecialPoint:
+    A, B = seg.A, seg.B
+    n = A.u.size
+    sigma_mid = 0.5 * seg.sigma_B
+    um, pm, _ = seg.point(sigma_mid)
+    right, left = _augmented_null_vectors(curve, um, pm, A.t_u, A.t_p)
+
+    def psi(sigma):
+        u, p, _ = seg.point(sigma)
+        solver = _bp_test_solver(curve, u, p, A.t_u, A.t_p, right[:n], right[n], left[:n], left[n])
+        _, z = solver.solve(np.zeros(n), np.array([0.0, 1.0]))
+        return float(z[1])
+
+    psi_A, psi_B = psi(0.0), psi(seg.sigma_B)
+    info: dict[str, Any] = {"bracket_p": [A.p, B.p]}
+    if psi_A * psi_B > 0:
+        # the bordered test function does not bracket: report the bracket, unlocated
+        u, p, res = seg.point(sigma_mid)
+        info["error"] = "bordered test function did not change sign on the bracket"
+        bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=res, located=False, info=info)
+    else:
+        sigma = seg.root(psi, psi_A, psi_B, curve.settings.locate_tol)
+        u, p, res = seg.point(sigma)
+        val = psi(sigma)
+        info["test_function"] = val
+        bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=max(res, abs(val)), located=True, info=info)
+        # the second null direction, W-orthogonal to the branch tangent: the bifurcating direction
+        solver = _bp_test_solver(curve, u, p, A.t_u, A.t_p, right[:n], right[n], left[:n], left[n])
+        x, z = solver.solve(np.zeros(n), np.array([0.0, 1.0]))
+        phi = np.concatenate([x, z[:1]])
+        bp.info["bifurcation_direction"] = (phi / curve.norm(phi[:n], phi[n])).tolist()
+        t_u, t_p = seg.tangent(u, p)
+        bp.info["branch_tangent"] = np.concatenate([t_u, [t_p]]).tolist()
+    bp.observables = curve.problem.evaluate_observables(bp.u, bp.p)
+    bp.s = A.s + curve.norm(bp.u - A.u, bp.p - A.p)
+    return bp
+
+
+# ---------------------------------------------------------------------------------------------------
+# the driver
+# ---------------------------------------------------------------------------------------------------
+def continuation(problem: Problem, u0, p0: float, settings: Settings | None = None, *,
+                 events: list[Event] | tuple[Event, ...] = (), tangent: tuple[np.ndarray, float] | None = None,
+                 correct_start: bool = True, **overrides: Any) -> Branch:
+    """Trace the solution branch of ``problem`` through ``(u0, p0)`` by pseudo-arclength continuation.
+
+    Parameters
+    ----------
+    problem : Problem
+        The model.
+    u0 : array_like
+        Initial state (corrected by Newton at fixed ``p0`` unless ``correct_start`` is False).
+    p0 : float
+        Initial parameter.
+    settings : Settings, optional
+        Options; any field may also be given as a keyword argument (``ds=0.1, p_max=4``).
+    events : sequence of Event
+        User events (see :func:`contin.crossing` and :func:`contin.extremum`).
+    tangent : (t_u, t_p), optional
+        Initial direction (e.g. after branch switching); otherwise ``J t_u = -f_p t_p`` with the
+        sign of ``t_p`` given by ``settings.direction``.
+    correct_start : bool
+        Converge the starting point at fixed parameter first.
+
+    Returns
+    -------
+    Branch
+        Converged points, located special points, and the reason the run stopped.
+    """
+    st = replace(settings or Settings(), **{k: v for k, v in overrides.items() if k in {f.name for f in fields(Settings)}})
+    unknown = set(overrides) - {f.name for f in fields(Settings)}
+    if unknown:
+        raise TypeError(f"unknown continuation option(s): {', '.join(sorted(unknown))}")
+    st.validate()
+    t_start = time.perf_counter()
+    curve = Curve(problem, st)
+    all_events = list(events) + _bound_events(problem, st)
+    for ev in all_events:
+        _observable_function(problem, ev.observable)  # fail early on unknown observables
+
+    u0 = np.array(u0, dtype=float).ravel()
+    p0 = float(p0)
+    recorder = _Recorder(problem, st, curve)
+    try:
+        if correct_start:
+            u0, res0, it0 = curve.newton_fixed_p(u0, p0)
+        else:
+            res0 = float(np.max(np.abs(curve.residual(u0, p0)), initial=0.0))
+            it0 = 0
+            if res0 > curve.tol:
+                raise CorrectorFailure(f"starting point is not converged (residual {res0:.3e} > tol {curve.tol:.1e})")
+        lin = curve.linearize(u0, p0)
+        if tangent is None:
+            J, fp, F = lin
+            n = u0.size
+            if F is not None:
+                try:
+                    t_u_guess = -F.solve(fp)
+                    t_p_guess = 1.0
+                except SingularMatrixError:
+                    t_u_guess, t_p_guess = np.zeros(n), 1.0
+            else:
+                t_u_guess, t_p_guess = np.zeros(n), 1.0
+            t_u_guess, t_p_guess = st.direction * t_u_guess, float(st.direction) * t_p_guess
+        else:
+            t_u_guess, t_p_guess = np.asarray(tangent[0], dtype=float), float(tangent[1])
+        t_u, t_p, det_sign = curve.tangent(u0, p0, t_u_guess, t_p_guess, lin=lin)
+    except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+        return recorder.finish("failed", f"could not start: {exc}", t_start)
+
+    current = Point(u0, p0, t_u, t_p, res0, it0, det_sign, 0.0)
+    recorder.add(current)
+    ev_values = [_event_value(curve, ev, u0, p0, t_u, t_p) for ev in all_events]
+    ds = st.ds
+    status, message = "completed", f"reached max_steps = {st.max_steps}"
+    steps = 0
+    while steps < st.max_steps:
+        try:
+            u, p, res, iters = curve.correct(current.u, current.p, current.t_u, current.t_p, ds)
+            t_u, t_p, det_sign = curve.tangent(u, p, current.t_u, current.t_p)
+            cos = curve.inner(t_u, t_p, current.t_u, current.t_p)
+            if cos < st.min_tangent_cos:
+                raise CorrectorFailure(f"tangent turned too sharply (cos = {cos:.3f}); possible branch jump")
+        except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+            if ds * st.shrink < st.ds_min:
+                status, message = "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
+                break
+            ds *= st.shrink
+            continue
+        steps += 1
+        new = Point(u, p, t_u, t_p, res, iters, det_sign, current.s + ds)
+        seg = _Segment(curve, current, new)
+        specials: list[SpecialPoint] = []
+        # ---- folds
+        if st.detect_folds and current.t_p * new.t_p < 0:
+            specials.append(_locate_fold_on_segment(curve, seg) if st.locate else
+                            _bracketed("fold", current, new))
+        # ---- branch points
+        if st.detect_branch_points and current.det_sign * new.det_sign < 0:
+            try:
+                specials.append(_locate_branch_point(curve, seg) if st.locate else
+                                _bracketed("branch_point", current, new))
+            except (CorrectorFailure, ValueError, RuntimeError, SingularMatrixError) as exc:
+                sp_ = _bracketed("branch_point", current, new)
+                sp_.info["error"] = str(exc)
+                specials.append(sp_)
+        # ---- events (user events and bounds)
+        new_values = [_event_value(curve, ev, u, p, t_u, t_p) for ev in all_events]
+        terminal_hit: SpecialPoint | None = None
+        terminal_event: Event | None = None
+        for ev, va, vb in zip(all_events, ev_values, new_values):
+            if ev.triggered(va, vb):
+                try:
+                    spe = _locate_event(curve, seg, ev, va, vb) if st.locate else _bracketed("event", current, new, ev.name)
+                except (CorrectorFailure, ValueError, RuntimeError) as exc:
+                    spe = _bracketed("event", current, new, ev.name)
+                    spe.info["error"] = str(exc)
+                if ev.terminal:
+                    if terminal_hit is None or spe.s < terminal_hit.s:
+                        terminal_hit, terminal_event = spe, ev
+                else:
+                    specials.append(spe)
+        ev_values = new_values
+        if terminal_hit is not None:
+            # keep only what lies before the terminal event; end exactly on it
+            specials = [s for s in specials if s.s <= terminal_hit.s]
+            for s in sorted(specials, key=lambda s: s.s):
+                recorder.special(s)
+            is_bound = terminal_event.name in ("p_min", "p_max") or terminal_event.name.endswith(("_min", "_max")) and \
+                terminal_event.name[:-4] in st.bounds
+            label = terminal_event.name
+            end_point = _point_from_special(curve, terminal_hit, current)
+            recorder.add(end_point)
+            terminal_hit.index = len(recorder.p) - 1
+            if not is_bound:
+                recorder.special(terminal_hit)
+            status = "bound" if is_bound else "event"
+            message = f"stopped at {label} (p = {terminal_hit.p:.10g})"
+            break
+        for s in sorted(specials, key=lambda s: s.s):
+            recorder.special(s)
+        recorder.add(new)
+        current = new
+        if st.progress and steps % st.progress_every == 0:
+            print(f"[contin] step {steps}: p = {p:.6g}, ds = {ds:.3g}, newton = {iters}", file=sys.stderr)
+        # ---- step-size control
+        if iters <= st.fast_newton:
+            ds = min(ds * st.grow, st.ds_max)
+        elif iters >= st.max_newton - 2:
+            ds = max(ds * st.shrink, st.ds_min)
+    branch = recorder.finish(status, message, t_start)
+    branch.meta["n_factorizations"] = curve.n_factorizations
+    return branch
+
+
+def _bracketed(kind: str, A: Point, B: Point, label: str = "") -> SpecialPoint:
+    return SpecialPoint(kind, B.p, B.u.copy(), {}, residual=B.residual, located=False, s=B.s, label=label,
+                        info={"bracket_p": [A.p, B.p]})
+
+
+def _point_from_special(curve: Curve, spt: SpecialPoint, previous: Point) -> Point:
+    t_u, t_p, det_sign = curve.tangent(spt.u, spt.p, previous.t_u, previous.t_p)
+    res = float(np.max(np.abs(curve.residual(spt.u, spt.p)), initial=0.0))
+    return Point(spt.u, spt.p, t_u, t_p, res, 0, det_sign, spt.s)
+
+
+class _Recorder:
+    """Accumulates accepted points and special points into a :class:`Branch`."""
+
+    def __init__(self, problem: Problem, st: Settings, curve: Curve) -> None:
+        self.problem, self.st, self.curve = problem, st, curve
+        self.p: list[float] = []
+        self.u: list[np.ndarray] = []
+        self.s: list[float] = []
+        self.t_p: list[float] = []
+        self.res: list[float] = []
+        self.iters: list[int] = []
+        self.obs: dict[str, list[float]] = {name: [] for name in problem.observables}
+        self.n_neg: list[int] = []
+        self.eigs: list[np.ndarray] = []
+        self.specials: list[SpecialPoint] = []
+
+    def add(self, pt: Point) -> None:
+        if not (pt.residual <= self.curve.tol):
+            raise AssertionError("internal error: attempted to store an unconverged point")
+        self.p.append(pt.p)
+        if self.st.store_states or not self.u:
+            self.u.append(pt.u.copy())
+        else:
+            self.u[-1] = pt.u.copy()
+        self.s.append(pt.s)
+        self.t_p.append(pt.t_p)
+        self.res.append(pt.residual)
+        self.iters.append(pt.iterations)
+        for name, fun in self.problem.observables.items():
+            self.obs[name].append(float(fun(pt.u, pt.p)))
+        if self.st.stability:
+            H = self.problem.stability_operator(pt.u, pt.p)
+            if H is None:
+                raise ValueError(f"stability requested but problem {self.problem.name!r} has no stability operator")
+            info = stability_info(H, self.st.n_eigs)
+            self.n_neg.append(info.n_negative)
+            e = np.full(self.st.n_eigs, np.nan)
+            e[: info.eigenvalues.size] = info.eigenvalues
+            self.eigs.append(e)
+
+    def special(self, spt: SpecialPoint) -> None:
+        if spt.index < 0:
+            spt.index = len(self.p) - 1
+        if self.st.stability and spt.kind in ("fold", "branch_point") and self.n_neg:
+            spt.info.setdefault("n_negative_before", int(self.n_neg[-1]))
+        self.specials.append(spt)
+
+    def finish(self, status: str, message: str, t_start: float) -> Branch:
+        n = self.u[0].size if self.u else 0
+        u = np.array(self.u) if self.u else np.zeros((0, n))
+        stab = self.st.stability and bool(self.n_neg)
+        n_neg = np.array(self.n_neg, dtype=int) if stab else None
+        for spt in self.specials:
+            if stab and spt.kind in ("fold", "branch_point") and spt.index + 1 < len(self.n_neg):
+                spt.info["n_negative_after"] = int(self.n_neg[spt.index + 1])
+                spt.info["stable_before"] = bool(self.n_neg[spt.index] == 0)
+                spt.info["stable_after"] = bool(self.n_neg[spt.index + 1] == 0)
+        return Branch(
+            p=np.array(self.p), u=u, s=np.array(self.s), tangent_p=np.array(self.t_p),
+            residual=np.array(self.res), newton_iterations=np.array(self.iters, dtype=int),
+            observables={k: np.array(v) for k, v in self.obs.items()},
+            n_negative=n_neg, eigenvalues=np.array(self.eigs) if stab else None,
+            special_points=self.specials, status=status, message=message,
+            meta={"problem": self.problem.name, "parameter_name": self.problem.parameter_name,
+                  "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),
+                  "tol": self.st.tol, "abs_tol": self.curve.tol, "state_weight": self.st.state_weight, "param_weight": self.st.param_weight},
+        )

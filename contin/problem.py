@@ -1,0 +1,191 @@
+"""The model interface of the engine: :class:`Problem`.
+
+A problem is a parametrised nonlinear system ``f(u, p) = 0`` with ``u`` in R^n and a scalar
+parameter ``p``.  For a conservative model ``f`` is the gradient of an energy and its Jacobian is
+the (sparse, symmetric) Hessian; the engine then uses the energy for jumps and the Hessian's inertia
+for stability.
+
+Two ways to build one:
+
+* wrap plain callables: ``Problem(residual=f, jacobian=J, energy=E, symmetric=True)``;
+* subclass and override the methods (models with structure do this, e.g. to supply a banded
+  factorization or a stability operator that differs from the Jacobian).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from .linalg import Factorization, factorize
+
+__all__ = ["Problem", "NonFiniteError"]
+
+Array = np.ndarray
+
+
+class NonFiniteError(FloatingPointError):
+    """A model returned NaN or inf.  The engine treats it as a failed evaluation, never a result."""
+
+
+def _fd_step(x: float) -> float:
+    return 1e-6 * (1.0 + abs(x))
+
+
+class Problem:
+    """A parametrised nonlinear system ``f(u, p) = 0`` as the continuation engine sees it.
+
+    Parameters
+    ----------
+    residual : callable ``(u, p) -> ndarray``, optional
+        The residual ``f`` (for a conservative model: the energy gradient).
+    jacobian : callable ``(u, p) -> sparse or ndarray``, optional
+        ``df/du``.  Without it a dense finite-difference Jacobian is used (small problems only).
+    dresidual_dp : callable ``(u, p) -> ndarray``, optional
+        ``df/dp``; central finite differences if omitted.
+    energy : callable ``(u, p) -> float``, optional
+        Energy whose gradient is ``residual``; required by :func:`contin.jump`.
+    observables : mapping of name to callable ``(u, p) -> float``, optional
+        Named scalar outputs recorded at every point and usable in events and bounds.
+    symmetric : bool
+        The Jacobian is a symmetric Hessian; enables stability (inertia) analysis.
+    stability_operator : callable ``(u, p) -> matrix``, optional
+        Symmetric matrix whose negative eigenvalues count the unstable directions; defaults to the
+        Jacobian when ``symmetric``.
+    name, parameter_name : str
+        Labels used in output.
+    residual_scale : float
+        Typical size of the terms that cancel in the residual.  Convergence means
+        ``max|f| <= tol * residual_scale``, so the tolerance is relative to the model's own units
+        and stays above the roundoff floor when a discretization makes the terms large.
+    """
+
+    def __init__(
+        self,
+        residual: Callable[[Array, float], Array] | None = None,
+        jacobian: Callable[[Array, float], Any] | None = None,
+        dresidual_dp: Callable[[Array, float], Array] | None = None,
+        energy: Callable[[Array, float], float] | None = None,
+        observables: Mapping[str, Callable[[Array, float], float]] | None = None,
+        symmetric: bool = False,
+        stability_operator: Callable[[Array, float], Any] | None = None,
+        name: str = "problem",
+        parameter_name: str = "p",
+        residual_scale: float = 1.0,
+    ) -> None:
+        self._residual = residual
+        self._jacobian = jacobian
+        self._dresidual_dp = dresidual_dp
+        self._energy = energy
+        self._stability_operator = stability_operator
+        self._observables = dict(observables or {})
+        self.symmetric = bool(symmetric)
+        self.name = name
+        self.parameter_name = parameter_name
+        self.residual_scale = float(residual_scale)
+
+    # ---- the interface ---------------------------------------------------------------------------
+    def residual(self, u: Array, p: float) -> Array:
+        """Residual ``f(u, p)``."""
+        if self._residual is None:
+            raise NotImplementedError(f"{type(self).__name__} defines no residual")
+        return np.asarray(self._residual(u, p), dtype=float)
+
+    def jacobian(self, u: Array, p: float):
+        """Jacobian ``df/du`` as a scipy.sparse matrix (or ndarray for small problems)."""
+        if self._jacobian is not None:
+            return self._jacobian(u, p)
+        return self._fd_jacobian(u, p)
+
+    def dresidual_dp(self, u: Array, p: float) -> Array:
+        """Derivative of the residual with respect to the parameter."""
+        if self._dresidual_dp is not None:
+            return np.asarray(self._dresidual_dp(u, p), dtype=float)
+        eps = _fd_step(p)
+        return (self.residual(u, p + eps) - self.residual(u, p - eps)) / (2 * eps)
+
+    @property
+    def has_energy(self) -> bool:
+        """Whether :meth:`energy` is available."""
+        return self._energy is not None or type(self).energy is not Problem.energy
+
+    def energy(self, u: Array, p: float) -> float:
+        """Energy whose gradient is the residual."""
+        if self._energy is None:
+            raise NotImplementedError(f"{type(self).__name__} defines no energy")
+        return float(self._energy(u, p))
+
+    @property
+    def observables(self) -> dict[str, Callable[[Array, float], float]]:
+        """Named scalar functions of ``(u, p)``."""
+        return self._observables
+
+    def stability_operator(self, u: Array, p: float):
+        """Symmetric operator whose inertia decides stability (``None``: no stability analysis)."""
+        if self._stability_operator is not None:
+            return self._stability_operator(u, p)
+        if self.symmetric:
+            return self.jacobian(u, p)
+        return None
+
+    def factorize(self, J) -> Factorization:
+        """Factorize a Jacobian; override to exploit a model's structure."""
+        return factorize(J)
+
+    def jacobian_directional_derivative(self, u: Array, p: float, v: Array) -> Any:
+        """``d/de J(u + e v, p)`` at ``e = 0`` (second derivative along ``v``), by central differences.
+
+        Used by the fold extended system.  Models with exact second derivatives may override it.
+        """
+        scale = max(1.0, float(np.max(np.abs(u), initial=0.0)))
+        vnorm = float(np.max(np.abs(v), initial=0.0))
+        if vnorm == 0.0:
+            return sp.csr_matrix((u.size, u.size))
+        eps = 1e-5 * scale / vnorm
+        Jp = self.jacobian(u + eps * v, p)
+        Jm = self.jacobian(u - eps * v, p)
+        return (Jp - Jm) / (2 * eps)
+
+    def jacobian_dp(self, u: Array, p: float) -> Any:
+        """``d/dp J(u, p)`` by central differences (models may override)."""
+        eps = 1e-5 * (1.0 + abs(p))
+        return (self.jacobian(u, p + eps) - self.jacobian(u, p - eps)) / (2 * eps)
+
+    # ---- helpers used by the engine --------------------------------------------------------------
+    def _fd_jacobian(self, u: Array, p: float):
+        n = u.size
+        f0 = self.residual(u, p)
+        J = np.empty((f0.size, n))
+        for j in range(n):
+            h = _fd_step(u[j])
+            e = np.zeros(n)
+            e[j] = h
+            J[:, j] = (self.residual(u + e, p) - self.residual(u - e, p)) / (2 * h)
+        return J
+
+    def evaluate_observables(self, u: Array, p: float) -> dict[str, float]:
+        """All observables at ``(u, p)`` as floats."""
+        return {name: float(fun(u, p)) for name, fun in self.observables.items()}
+
+    def checked_residual(self, u: Array, p: float) -> Array:
+        """Residual, raising :class:`NonFiniteError` instead of returning NaN or inf."""
+        with np.errstate(all="ignore"):
+            r = self.residual(u, p)
+        if not np.all(np.isfinite(r)):
+            raise NonFiniteError(f"residual of {self.name!r} is not finite at p = {p!r}")
+        return r
+
+    def checked_jacobian(self, u: Array, p: float):
+        """Jacobian, raising :class:`NonFiniteError` on NaN or inf entries."""
+        with np.errstate(all="ignore"):
+            J = self.jacobian(u, p)
+        data = J.data if sp.issparse(J) else np.asarray(J)
+        if not np.all(np.isfinite(data)):
+            raise NonFiniteError(f"Jacobian of {self.name!r} is not finite at p = {p!r}")
+        return J
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(name={self.name!r}, symmetric={self.symmetric})"

@@ -1,0 +1,105 @@
+"""Stability from the inertia of a symmetric operator (usually the Hessian of the energy).
+
+A state is stable when the operator is positive definite.  We report the number of negative
+eigenvalues (the Morse index) and the few smallest eigenvalues.  The method is chosen from the
+matrix structure: dense ``eigh`` for small matrices, LAPACK's banded symmetric eigensolver with index
+selection for banded ones (O(n b^2), no fill), and ARPACK for the rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .linalg import bandwidths
+
+__all__ = ["StabilityInfo", "stability_info"]
+
+DENSE_LIMIT = 400
+
+
+@dataclass
+class StabilityInfo:
+    """Inertia summary of a symmetric matrix.
+
+    Attributes
+    ----------
+    n_negative : int
+        Number of negative eigenvalues.
+    eigenvalues : ndarray
+        The smallest eigenvalues in ascending order (at most ``k`` of them).
+    eigenvectors : ndarray or None
+        Matching eigenvectors as columns, when requested.
+    """
+
+    n_negative: int
+    eigenvalues: np.ndarray
+    eigenvectors: np.ndarray | None = None
+
+    @property
+    def stable(self) -> bool:
+        """True when there is no negative eigenvalue."""
+        return self.n_negative == 0
+
+
+def _lower_band(H, b: int) -> np.ndarray:
+    n = H.shape[0]
+    coo = sp.tril(H, format="coo") if sp.issparse(H) else sp.coo_matrix(np.tril(np.asarray(H)))
+    ab = np.zeros((b + 1, n))
+    np.add.at(ab, (coo.row - coo.col, coo.col), coo.data)
+    return ab
+
+
+def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:
+    """Count negative eigenvalues of the symmetric matrix ``H`` and return the ``k`` smallest.
+
+    Parameters
+    ----------
+    H : sparse or dense (n, n) symmetric matrix
+    k : int
+        Number of smallest eigenvalues to report.
+    vectors : bool
+        Also return the eigenvectors of the reported eigenvalues.
+    """
+    n = H.shape[0]
+    k = max(1, min(k, n))
+    if n <= DENSE_LIMIT:
+        A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
+        if vectors:
+            w, V = np.linalg.eigh(A)
+        else:
+            w, V = np.linalg.eigvalsh(A), None
+        n_neg = int(np.count_nonzero(w < 0))
+        m = max(k, n_neg) if vectors else k
+        return StabilityInfo(n_neg, w[:k], None if V is None else V[:, :m])
+    kl, ku = bandwidths(H)
+    b = max(kl, ku)
+    if b + 1 <= 0.1 * n:
+        ab = _lower_band(H, b)
+        w = sla.eig_banded(ab, lower=True, eigvals_only=True, select="i", select_range=(0, k - 1))
+        if w[-1] < 0:
+            neg = sla.eig_banded(ab, lower=True, eigvals_only=True, select="v",
+                                 select_range=(-np.inf, 0.0))
+            n_neg = int(np.count_nonzero(neg < 0))
+        else:
+            n_neg = int(np.count_nonzero(w < 0))
+        V = None
+        if vectors:
+            m = max(k, n_neg)
+            w_all, V = sla.eig_banded(ab, lower=True, select="i", select_range=(0, m - 1))
+        return StabilityInfo(n_neg, np.asarray(w), V)
+    # general sparse: ARPACK for the algebraically smallest, widened until a non-negative one shows
+    m = k
+    while True:
+        w, V = spla.eigsh(sp.csr_matrix(H), k=min(m, n - 1), which="SA")
+        order = np.argsort(w)
+        w, V = w[order], V[:, order]
+        if w[-1] >= 0 or m >= n - 1:
+            break
+        m *= 2
+    n_neg = int(np.count_nonzero(w < 0))
+    return StabilityInfo(n_neg, w[:k], V if vectors else None)

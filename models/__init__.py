@@ -1,0 +1,1 @@
+"""Models that speak the engine's interface: benchmark problems with exact answers (and, later, the shell)."""

@@ -1,0 +1,1 @@
+"""Small benchmark models with closed-form or independently computable answers."""
