@@ -37,7 +37,7 @@ from .linalg import BorderedSolver, SingularMatrixError
 from .problem import NonFiniteError, Problem
 from .stability import stability_info
 
-__all__ = ["Settings", "continuation", "locate_fold", "CorrectorFailure", "Curve", "Point"]
+__all__ = ["Settings", "continuation", "locate_fold", "switch_branch", "CorrectorFailure", "Curve", "Point"]
 
 
 @dataclass
@@ -270,6 +270,8 @@ class Curve:
         except NonFiniteError as exc:
             raise CorrectorFailure(f"residual not finite at the predicted point ({exc})") from None
         res = float(np.max(np.abs(r), initial=0.0))
+        if res <= self.tol:
+            return u, p, res, 0  # the predictor is already on the curve (e.g. a linear branch)
         history = [res]
         for it in range(1, max_iter + 1):
             try:
@@ -595,8 +597,10 @@ def _locate_branch_point(curve: Curve, seg: _Segment) -> SpecialPoint:
         x, z = solver.solve(np.zeros(n), np.array([0.0, 1.0]))
         phi = np.concatenate([x, z[:1]])
         bp.info["bifurcation_direction"] = (phi / curve.norm(phi[:n], phi[n])).tolist()
-        t_u, t_p = seg.tangent(u, p)
-        bp.info["branch_tangent"] = np.concatenate([t_u, [t_p]]).tolist()
+        # the tangent is not unique at a branch point: record the direction of the traced branch
+        sec_u, sec_p = B.u - A.u, B.p - A.p
+        nrm = curve.norm(sec_u, sec_p)
+        bp.info["branch_tangent"] = (np.concatenate([sec_u, [sec_p]]) / nrm).tolist()
     bp.observables = curve.problem.evaluate_observables(bp.u, bp.p)
     bp.s = A.s + curve.norm(bp.u - A.u, bp.p - A.p)
     return bp
@@ -837,3 +841,59 @@ class _Recorder:
                   "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),
                   "tol": self.st.tol, "abs_tol": self.curve.tol, "state_weight": self.st.state_weight, "param_weight": self.st.param_weight},
         )
+
+
+def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settings | None = None, *,
+                  direction: int = 1, ds: float | None = None, events=(), **overrides: Any) -> Branch:
+    """Continue the branch that bifurcates at a located simple branch point.
+
+    The bifurcating direction is the null vector of the augmented Jacobian at the branch point
+    that is orthogonal (in the arclength metric) to the traced branch; it was stored by the
+    location as ``info["bifurcation_direction"]``.  The first point is found by the corrector on
+    the hyperplane ``<phi, X - X*> = ds``, which the original branch does not cross near ``X*``;
+    from there ordinary continuation proceeds.  This is exact for pitchfork (symmetry-breaking)
+    bifurcations; for a transcritical one it finds the second branch when the step is small.
+
+    Parameters
+    ----------
+    problem : Problem
+    branch_point : SpecialPoint
+        A located ``"branch_point"`` from :func:`continuation`.
+    direction : int
+        +1 or -1: which half of the bifurcating branch.
+    ds : float, optional
+        First step (defaults to ``settings.ds``).
+
+    Returns
+    -------
+    Branch
+        The bifurcating branch; its first special point is the branch point it came from.
+    """
+    if branch_point.kind != "branch_point" or "bifurcation_direction" not in branch_point.info:
+        raise ValueError("switch_branch needs a located branch point (kind 'branch_point' with a bifurcation direction)")
+    if direction not in (-1, 1):
+        raise ValueError(f"switch_branch: direction must be +1 or -1, got {direction!r}")
+    st = replace(settings or Settings(), **{k: v for k, v in overrides.items() if k in {f.name for f in fields(Settings)}})
+    step = st.ds if ds is None else float(ds)
+    curve = Curve(problem, st)
+    phi = direction * np.asarray(branch_point.info["bifurcation_direction"], dtype=float)
+    n = branch_point.u.size
+    phi_u, phi_p = phi[:n], float(phi[n])
+    last: Exception | None = None
+    for _ in range(12):
+        try:
+            u1, p1, _, _ = curve.correct(np.asarray(branch_point.u, dtype=float), branch_point.p, phi_u, phi_p, step)
+            break
+        except CorrectorFailure as exc:
+            last, step = exc, step * 0.5
+    else:
+        raise CorrectorFailure(f"could not step onto the bifurcating branch: {last}")
+    br = continuation(problem, u1, p1, st, events=events, tangent=(phi_u, phi_p), correct_start=False,
+                      **{k: v for k, v in overrides.items() if k not in {f.name for f in fields(Settings)}})
+    origin = SpecialPoint("branch_point", branch_point.p, np.asarray(branch_point.u, dtype=float),
+                          dict(branch_point.observables), residual=branch_point.residual,
+                          located=branch_point.located, s=0.0, index=0, label="origin",
+                          info={"bracket_p": branch_point.info.get("bracket_p")})
+    br.special_points.insert(0, origin)
+    br.meta["origin"] = {"kind": "branch_point", "p": float(branch_point.p)}
+    return br

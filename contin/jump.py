@@ -1,0 +1,226 @@
+"""Jumps (snaps): from an unstable point or a fold to the stable state at the same load.
+
+At the start the state is perturbed along the eigenvector of the smallest Hessian eigenvalue, on the
+side that lowers the energy.  Then the energy is minimised at fixed parameter by Newton's method with
+the exact Hessian, made globally convergent by a Levenberg shift (``H + mu I`` positive definite,
+tested by a Cholesky factorization) and an Armijo backtracking line search on the energy.  The jump
+succeeds when the gradient meets the tolerance and the stability operator is positive definite.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from .branch import SpecialPoint
+from .linalg import bandwidths
+from .problem import NonFiniteError, Problem
+from .stability import stability_info
+
+__all__ = ["JumpResult", "jump", "JumpError"]
+
+
+class JumpError(RuntimeError):
+    """A jump cannot start (e.g. the point is stable) or did not land on a stable state."""
+
+
+@dataclass
+class JumpResult:
+    """Outcome of :func:`jump`.
+
+    Attributes
+    ----------
+    p : float
+        The (fixed) parameter.
+    u_from, u_to : ndarray
+        Start state and landing state.
+    energy_from, energy_to : float
+        Energies at start and landing.
+    iterations : int
+        Minimisation iterations.
+    residual : float
+        Max-norm gradient at the landing state.
+    n_negative : int
+        Negative eigenvalues of the stability operator at landing (0 on success).
+    smallest_eigenvalue : float
+        Smallest eigenvalue at landing.
+    success : bool
+    message : str
+    """
+
+    p: float
+    u_from: np.ndarray
+    u_to: np.ndarray
+    energy_from: float
+    energy_to: float
+    iterations: int
+    residual: float
+    n_negative: int
+    smallest_eigenvalue: float
+    success: bool
+    message: str
+    info: dict[str, Any] = field(default_factory=dict)
+
+    def special_points(self, problem: Problem | None = None) -> tuple[SpecialPoint, SpecialPoint]:
+        """The jump as two special points: ``label="jump_from"`` and ``label="jump_to"``."""
+        obs_from = problem.evaluate_observables(self.u_from, self.p) if problem else {}
+        obs_to = problem.evaluate_observables(self.u_to, self.p) if problem else {}
+        a = SpecialPoint("jump", self.p, self.u_from, obs_from, residual=float("nan"), located=True,
+                         label="jump_from", info={"energy": self.energy_from})
+        b = SpecialPoint("jump", self.p, self.u_to, obs_to, residual=self.residual, located=self.success,
+                         label="jump_to", info={"energy": self.energy_to, "n_negative": self.n_negative,
+                                                "smallest_eigenvalue": self.smallest_eigenvalue})
+        return a, b
+
+
+def _shifted_cholesky_solver(H, mu: float):
+    """Return ``solve(b)`` for ``H + mu I`` if it is positive definite, else ``None``."""
+    n = H.shape[0]
+    kl, ku = bandwidths(H)
+    b = max(kl, ku)
+    try:
+        if n > 400 and b + 1 <= 0.1 * n:
+            coo = sp.tril(sp.csr_matrix(H), format="coo")
+            ab = np.zeros((b + 1, n))
+            np.add.at(ab, (coo.row - coo.col, coo.col), coo.data)
+            ab[0] += mu
+            c = sla.cholesky_banded(ab, lower=True)
+            return lambda rhs: sla.cho_solve_banded((c, True), rhs)
+        A = H.toarray() if sp.issparse(H) else np.array(H, dtype=float)
+        A[np.diag_indices(n)] += mu
+        c = sla.cho_factor(A, lower=True)
+        return lambda rhs: sla.cho_solve(c, rhs)
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+
+
+def _safe_energy(problem: Problem, u, p) -> float:
+    with np.errstate(all="ignore"):
+        try:
+            e = problem.energy(u, p)
+        except (NonFiniteError, FloatingPointError, ValueError):
+            return math.inf
+    return e if np.isfinite(e) else math.inf
+
+
+def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, tol: float = 1e-10,
+         max_iter: int = 500, eig_tol: float = 1e-8, direction: np.ndarray | None = None) -> JumpResult:
+    """Snap from an unstable point or a fold to a stable equilibrium at the same parameter.
+
+    Parameters
+    ----------
+    problem : Problem
+        A conservative problem (``energy`` and a symmetric Jacobian).
+    u, p : the starting state (unstable, or at a fold) and the fixed parameter.
+    perturbation : float, optional
+        Size of the initial kick along the unstable eigenvector (max-norm); by default the smallest
+        of 1e-3, 1e-2, 1e-1 times ``max(1, max|u|)`` that lowers the energy measurably.
+    tol : float
+        Relative gradient tolerance (times ``problem.residual_scale``).
+    max_iter : int
+        Maximum minimisation iterations.
+    eig_tol : float
+        A start is accepted as a fold when its smallest eigenvalue is below ``eig_tol`` times the
+        Hessian's largest entry.
+    direction : ndarray, optional
+        Kick direction to use instead of the unstable eigenvector.
+
+    Returns
+    -------
+    JumpResult
+        ``success`` True when the landing state is converged and stable.
+
+    Raises
+    ------
+    JumpError
+        If the problem has no energy or the start is a stable, non-degenerate state.
+    """
+    if not problem.has_energy or not problem.symmetric:
+        raise JumpError(f"jump needs a conservative problem (energy and symmetric Hessian); {problem.name!r} is not")
+    u0 = np.array(u, dtype=float)
+    p = float(p)
+    abs_tol = tol * getattr(problem, "residual_scale", 1.0)
+    H0 = problem.stability_operator(u0, p)
+    info0 = stability_info(H0, k=1, vectors=True)
+    scale_H = float(np.max(np.abs(H0.data if sp.issparse(H0) else H0), initial=1.0))
+    lam0 = float(info0.eigenvalues[0])
+    if info0.n_negative == 0 and lam0 > eig_tol * scale_H:
+        raise JumpError(f"the start is stable (smallest eigenvalue {lam0:.3e} > 0): nothing to snap from")
+    v = np.asarray(direction, dtype=float) if direction is not None else info0.eigenvectors[:, 0]
+    v = v / np.max(np.abs(v))
+    E0 = _safe_energy(problem, u0, p)
+    ref = max(1.0, float(np.max(np.abs(u0), initial=0.0)))
+    sizes = [perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref]
+    x = None
+    for alpha in sizes:
+        e_plus, e_minus = _safe_energy(problem, u0 + alpha * v, p), _safe_energy(problem, u0 - alpha * v, p)
+        best = min(e_plus, e_minus)
+        if best < E0 - 1e-12 * max(1.0, abs(E0)):
+            x = u0 + alpha * v if e_plus <= e_minus else u0 - alpha * v
+            break
+    if x is None:
+        raise JumpError("no perturbation along the unstable eigenvector lowers the energy")
+
+    n = x.size
+    mu = 0.0
+    E = _safe_energy(problem, x, p)
+    message, success, it = "", False, 0
+    res = math.inf
+    for it in range(1, max_iter + 1):
+        g = problem.checked_residual(x, p)
+        res = float(np.max(np.abs(g)))
+        H = problem.checked_jacobian(x, p)
+        if res <= abs_tol:
+            final = stability_info(problem.stability_operator(x, p), k=1)
+            if final.n_negative == 0:
+                success, message = True, f"landed on a stable state after {it - 1} iterations"
+                break
+            # a saddle: kick off it along its unstable direction and continue
+            vec = stability_info(problem.stability_operator(x, p), k=1, vectors=True).eigenvectors[:, 0]
+            x = x + 1e-3 * ref * vec / np.max(np.abs(vec))
+            E = _safe_energy(problem, x, p)
+            continue
+        # Levenberg shift: the smallest mu >= 0 making H + mu I positive definite
+        solve = _shifted_cholesky_solver(H, 0.0) if mu == 0.0 else None
+        trial_mu = mu
+        while solve is None:
+            trial_mu = max(2 * trial_mu, 1e-8 * scale_H) if trial_mu > 0 else 1e-8 * scale_H
+            solve = _shifted_cholesky_solver(H, trial_mu)
+            if trial_mu > 1e12 * scale_H:
+                raise JumpError("could not make the Hessian positive definite by a shift")
+        mu = trial_mu
+        d = -solve(g)
+        slope = float(g @ d)
+        t, accepted = 1.0, False
+        while t > 1e-12:
+            x_new = x + t * d
+            E_new = _safe_energy(problem, x_new, p)
+            if E_new <= E + 1e-4 * t * slope:
+                accepted = True
+                break
+            # a full Newton step that barely changes the energy near the minimum is fine if the
+            # gradient drops (the energy difference is below roundoff there)
+            if abs(E_new - E) <= 1e-14 * max(1.0, abs(E)):
+                g_new = problem.checked_residual(x_new, p)
+                if np.max(np.abs(g_new)) < res:
+                    accepted = True
+                    break
+            t *= 0.5
+        if not accepted:
+            message = "line search failed to lower the energy"
+            break
+        x, E = x_new, E_new
+        mu = 0.0 if t == 1.0 else max(mu * 4, 1e-8 * scale_H)
+    else:
+        message = f"no stable state within {max_iter} iterations (gradient {res:.3e})"
+    final = stability_info(problem.stability_operator(x, p), k=1)
+    return JumpResult(p=p, u_from=u0, u_to=x, energy_from=E0, energy_to=_safe_energy(problem, x, p),
+                      iterations=it, residual=res, n_negative=final.n_negative,
+                      smallest_eigenvalue=float(final.eigenvalues[0]),
+                      success=success and final.n_negative == 0, message=message,
+                      info={"kick": float(np.max(np.abs(x - u0)))})
