@@ -10,14 +10,17 @@ branches and jumps into a ``networkx`` graph.
 from .branch import Branch, BranchFileError, SpecialPoint
 from .events import Event, crossing, extremum
 from .linalg import BorderedSolver, factorize
-from .palc import CorrectorFailure, Settings, continuation, locate_fold
+from .diagram import diagram, hysteresis_cycles, plot_branches
+from .jump import JumpError, JumpResult, jump
+from .palc import CorrectorFailure, Settings, continuation, locate_fold, switch_branch
 from .problem import NonFiniteError, Problem
 from .stability import StabilityInfo, stability_info
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Problem", "NonFiniteError", "Settings", "continuation", "locate_fold", "CorrectorFailure",
+    "Problem", "NonFiniteError", "Settings", "continuation", "locate_fold", "switch_branch", "CorrectorFailure",
+    "jump", "JumpResult", "JumpError", "diagram", "hysteresis_cycles", "plot_branches",
     "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum",
     "StabilityInfo", "stability_info", "BorderedSolver", "factorize",
 ]

@@ -29,7 +29,6 @@ from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .branch import Branch, SpecialPoint
 from .events import Event
@@ -81,6 +80,9 @@ class Settings:
         Relative tolerance of the arclength root-finding that locates events and branch points.
     store_states : bool
         Keep every state vector (False keeps only the special points' states and the last one).
+    stop_at : tuple of str
+        Special point kinds (``"fold"``, ``"branch_point"``) that end the run; the run then ends
+        exactly on the first located one (e.g. load until the structure snaps).
     progress : bool
         Print a progress line every ``progress_every`` steps to stderr.
     """
@@ -109,6 +111,7 @@ class Settings:
     n_eigs: int = 3
     locate_tol: float = 1e-14
     store_states: bool = True
+    stop_at: tuple[str, ...] = ()
     progress: bool = False
     progress_every: int = 25
 
@@ -319,6 +322,13 @@ def _observable_function(problem: Problem, observable):
                          f"{sorted(problem.observables) + ['p']}") from None
 
 
+def _bound_names(st: Settings) -> set[str]:
+    names = {"p_min", "p_max"}
+    for name in st.bounds:
+        names |= {f"{name}_min", f"{name}_max"}
+    return names
+
+
 def _bound_events(problem: Problem, st: Settings) -> list[Event]:
     evs = []
     if math.isfinite(st.p_min):
@@ -375,6 +385,8 @@ class _Segment:
             if s == b:
                 return f_B
             return fun(s)
+        from scipy.optimize import brentq  # imported here: scipy.optimize is slow to import
+
         return brentq(g, a, b, xtol=rtol * abs(b) + 1e-300, rtol=4 * np.finfo(float).eps, maxiter=100)
 
 
@@ -731,21 +743,22 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
                 else:
                     specials.append(spe)
         ev_values = new_values
+        for spt in specials:
+            if spt.kind in st.stop_at and spt.located and (terminal_hit is None or spt.s < terminal_hit.s):
+                terminal_hit, terminal_event = spt, None
         if terminal_hit is not None:
-            # keep only what lies before the terminal event; end exactly on it
-            specials = [s for s in specials if s.s <= terminal_hit.s]
+            # keep only what lies before the terminal point; end exactly on it
+            specials = [s for s in specials if s.s <= terminal_hit.s and s is not terminal_hit]
             for s in sorted(specials, key=lambda s: s.s):
                 recorder.special(s)
-            is_bound = terminal_event.name in ("p_min", "p_max") or terminal_event.name.endswith(("_min", "_max")) and \
-                terminal_event.name[:-4] in st.bounds
-            label = terminal_event.name
-            end_point = _point_from_special(curve, terminal_hit, current)
-            recorder.add(end_point)
+            is_bound = terminal_event is not None and terminal_event.name in _bound_names(st)
+            label = terminal_event.name if terminal_event is not None else terminal_hit.kind
+            recorder.add(_point_from_special(curve, terminal_hit, current))
             terminal_hit.index = len(recorder.p) - 1
             if not is_bound:
                 recorder.special(terminal_hit)
             status = "bound" if is_bound else "event"
-            message = f"stopped at {label} (p = {terminal_hit.p:.10g})"
+            message = f"stopped at {label} ({problem.parameter_name} = {terminal_hit.p:.10g})"
             break
         for s in sorted(specials, key=lambda s: s.s):
             recorder.special(s)
@@ -769,8 +782,12 @@ def _bracketed(kind: str, A: Point, B: Point, label: str = "") -> SpecialPoint:
 
 
 def _point_from_special(curve: Curve, spt: SpecialPoint, previous: Point) -> Point:
-    t_u, t_p, det_sign = curve.tangent(spt.u, spt.p, previous.t_u, previous.t_p)
     res = float(np.max(np.abs(curve.residual(spt.u, spt.p)), initial=0.0))
+    try:
+        t_u, t_p, det_sign = curve.tangent(spt.u, spt.p, previous.t_u, previous.t_p)
+    except (CorrectorFailure, SingularMatrixError, np.linalg.LinAlgError):
+        # at a branch point the tangent is not unique: keep the previous one
+        t_u, t_p, det_sign = previous.t_u, previous.t_p, 0.0
     return Point(spt.u, spt.p, t_u, t_p, res, 0, det_sign, spt.s)
 
 

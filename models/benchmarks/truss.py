@@ -22,7 +22,7 @@ import numpy as np
 
 from contin import Problem
 
-__all__ = ["VonMisesTruss"]
+__all__ = ["VonMisesTruss", "TrussDisplacementControl"]
 
 
 class VonMisesTruss(Problem):
@@ -84,6 +84,35 @@ class VonMisesTruss(Problem):
         L2 = self.a ** 2 + y ** 2
         c = 1 - self.L0 / math.sqrt(L2)
         return np.sort(2 * self.k * np.array([(self.a ** 2 + c * y ** 2) / L2, (y ** 2 + c * self.a ** 2) / L2]))
+
+
+class TrussDisplacementControl(Problem):
+    """The same truss with the apex height ``y`` prescribed (parameter) and ``x`` free.
+
+    The reaction force ``P = -dE_elastic/dy`` is the observable ``"P"``; its maximum along this
+    path is the force-controlled fold ``P_max`` of :class:`VonMisesTruss`.
+    """
+
+    def __init__(self, a: float = 1.0, b: float = 0.5, k: float = 1.0) -> None:
+        super().__init__(symmetric=True, name="von_mises_truss_displacement", parameter_name="y")
+        self.truss = VonMisesTruss(a, b, k)
+        self._obs = {"P": lambda u, y: float(-self.truss.residual(np.array([u[0], y]), 0.0)[1])}
+
+    @property
+    def observables(self):
+        return self._obs
+
+    def energy(self, u, y):
+        return self.truss.energy(np.array([u[0], y]), 0.0)
+
+    def residual(self, u, y):
+        return self.truss.residual(np.array([u[0], y]), 0.0)[:1]
+
+    def jacobian(self, u, y):
+        return self.truss.jacobian(np.array([u[0], y]), 0.0)[:1, :1]
+
+    def dresidual_dp(self, u, y):
+        return self.truss.jacobian(np.array([u[0], y]), 0.0)[:1, 1]
 
 
 def trace_scene():

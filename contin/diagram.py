@@ -1,0 +1,204 @@
+"""Bifurcation diagrams as ``networkx`` graphs, and plots that read them.
+
+Nodes are the end points and special points of branches; points that coincide (same parameter and
+state within a tolerance) are one node, so a branch traced twice or a jump that lands where another
+branch starts joins the pieces.  Edges are branch segments between consecutive nodes (with their
+stability) and jumps.  A loading-unloading hysteresis loop therefore shows up as a directed cycle.
+Plotting only reads results; it never computes them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .branch import Branch, SpecialPoint
+from .jump import JumpResult
+
+if TYPE_CHECKING:  # networkx is imported lazily: it costs a noticeable part of import time
+    import networkx as nx
+
+__all__ = ["diagram", "plot_branches", "hysteresis_cycles"]
+
+
+class _NodeIndex:
+    def __init__(self, rtol: float) -> None:
+        self.rtol = rtol
+        self.nodes: list[tuple[str, float, np.ndarray]] = []
+
+    def find_or_add(self, G: "nx.MultiDiGraph", kind: str, p: float, u: np.ndarray, **attrs: Any) -> str:
+        for name, q, v in self.nodes:
+            scale = max(1.0, float(np.max(np.abs(v), initial=0.0)))
+            if abs(p - q) <= self.rtol * max(1.0, abs(p)) and v.shape == u.shape and \
+                    float(np.max(np.abs(u - v), initial=0.0)) <= self.rtol * scale:
+                kinds = G.nodes[name]["kinds"]
+                if kind not in kinds:
+                    kinds.append(kind)
+                return name
+        name = f"{kind}{len(self.nodes)}"
+        self.nodes.append((name, p, np.asarray(u, dtype=float)))
+        G.add_node(name, kind=kind, kinds=[kind], p=float(p), **attrs)
+        return name
+
+
+def diagram(branches: Sequence[Branch], jumps: Iterable[JumpResult] = (), rtol: float = 1e-6) -> "nx.MultiDiGraph":
+    """Assemble branches and jumps into a directed multigraph.
+
+    Parameters
+    ----------
+    branches : sequence of Branch
+        Traced branches (with stored states at least at their ends).
+    jumps : iterable of JumpResult
+        Snaps between branches.
+    rtol : float
+        Relative tolerance under which two points are the same node.
+
+    Returns
+    -------
+    networkx.MultiDiGraph
+        Node attributes: ``kind`` (first kind seen), ``kinds``, ``p``, ``observables``.
+        Edge attributes: ``kind`` (``"branch"`` or ``"jump"``), and for branch segments ``branch``
+        (index), ``start``/``stop`` (point indices), ``stable`` (True, False or None if mixed or
+        unknown) and ``n_negative`` (sorted list of the Morse indices on the segment).
+    """
+    import networkx as nx
+
+    G = nx.MultiDiGraph()
+    index = _NodeIndex(rtol)
+    for bi, br in enumerate(branches):
+        if len(br) == 0:
+            continue
+        # stops: (index, node, lo, hi) where points lo..hi-1 after the stop belong to the next segment
+        stops: list[tuple[int, str, bool]] = []
+        start = index.find_or_add(G, "start", br.p[0], br.u[0], observables=_obs_at(br, 0))
+        stops.append((0, start, False))
+        last = len(br) - 1
+        for spt in sorted(br.special_points, key=lambda s: (s.index, s.s)):
+            if spt.kind == "jump":
+                continue
+            idx = min(max(spt.index, 0), last)
+            node = index.find_or_add(G, spt.kind, spt.p, np.asarray(spt.u), observables=dict(spt.observables),
+                                     label=spt.label, located=spt.located)
+            # a special point that is also a stored point (a run that ended on it) is not interior
+            on_point = spt.p == br.p[idx] and (br.u.shape[0] != len(br) or np.array_equal(spt.u, br.u[idx]))
+            stops.append((idx, node, on_point))
+        end = index.find_or_add(G, "end", br.p[last], br.u[last if br.u.shape[0] == len(br) else -1],
+                                observables=_obs_at(br, last))
+        stops.append((last, end, False))
+        for k, ((i0, a, on0), (i1, b, on1)) in enumerate(zip(stops[:-1], stops[1:])):
+            if a == b:
+                continue
+            attrs: dict[str, Any] = {"kind": "branch", "branch": bi, "start": int(i0), "stop": int(i1)}
+            if br.n_negative is not None:
+                # interior points only: a fold or branch point itself has a zero eigenvalue
+                lo = i0 if k == 0 else i0 + 1
+                hi = i1 if on1 else i1 + 1
+                inner = br.n_negative[lo:hi] if hi > lo else br.n_negative[i0:i1 + 1]
+                vals = sorted({int(v) for v in inner})
+                attrs["n_negative"] = vals
+                attrs["stable"] = (vals == [0]) if len(vals) == 1 else None
+            else:
+                attrs["stable"] = None
+            G.add_edge(a, b, **attrs)
+    for ji, jr in enumerate(jumps):
+        a = index.find_or_add(G, "jump_from", jr.p, jr.u_from)
+        b = index.find_or_add(G, "jump_to", jr.p, jr.u_to)
+        G.add_edge(a, b, kind="jump", jump=ji, success=jr.success, energy_drop=jr.energy_from - jr.energy_to)
+    return G
+
+
+def _obs_at(br: Branch, i: int) -> dict[str, float]:
+    return {k: float(v[i]) for k, v in br.observables.items()}
+
+
+def hysteresis_cycles(G: "nx.MultiDiGraph") -> list[list[str]]:
+    """Directed cycles of the diagram that contain at least one jump (hysteresis loops)."""
+    import networkx as nx
+
+    simple = nx.DiGraph()
+    for a, b, data in G.edges(data=True):
+        is_jump = data.get("kind") == "jump"
+        if simple.has_edge(a, b):
+            simple[a][b]["jump"] = simple[a][b]["jump"] or is_jump
+        else:
+            simple.add_edge(a, b, jump=is_jump)
+    cycles = []
+    for cyc in nx.simple_cycles(simple):
+        pairs = list(zip(cyc, cyc[1:] + cyc[:1]))
+        if any(simple[a][b]["jump"] for a, b in pairs):
+            cycles.append(cyc)
+    return cycles
+
+
+def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | None = None, ax=None,
+                  jumps: Iterable[tuple[JumpResult, dict[str, float], dict[str, float]]] = (),
+                  colors: Sequence[str] | None = None, labels: Sequence[str] | None = None,
+                  special_kinds: Sequence[str] = ("fold", "branch_point", "event")):
+    """Plot branches: stable solid, unstable dashed, unknown stability thin; special points marked.
+
+    Parameters
+    ----------
+    branches : Branch or sequence of Branch
+    x, y : str
+        Observable names (``"p"`` or the parameter name for the parameter); ``y`` defaults to the
+        first observable.
+    ax : matplotlib Axes, optional
+    jumps : iterable of ``(JumpResult, obs_from, obs_to)``
+        Snaps drawn as dotted arrows between the two points (observable dicts give coordinates).
+    colors, labels : per-branch colours and legend labels.
+    special_kinds : which special point kinds to mark.
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    import matplotlib.pyplot as plt
+
+    if isinstance(branches, Branch):
+        branches = [branches]
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6, 4.5))
+    if y is None:
+        y = next(iter(branches[0].observables), "p")
+    markers = {"fold": ("o", "fold"), "branch_point": ("s", "branch point"), "event": ("^", "event"),
+               "jump": ("x", "jump")}
+    seen: set[str] = set()
+    prop = plt.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
+    for bi, br in enumerate(branches):
+        color = colors[bi] if colors else prop[bi % len(prop)]
+        xs, ys = br.observable(x), br.observable(y)
+        stable = br.stable
+        label = labels[bi] if labels else None
+        if stable is None:
+            ax.plot(xs, ys, "-", color=color, lw=1.0, label=label)
+        else:
+            # split into runs of equal stability; neighbouring runs share their boundary point
+            start = 0
+            for i in range(1, len(br) + 1):
+                if i == len(br) or stable[i] != stable[start]:
+                    sl = slice(start, min(i + 1, len(br)))
+                    ax.plot(xs[sl], ys[sl], "-" if stable[start] else "--", color=color, lw=1.6,
+                            label=label if start == 0 else None)
+                    start = i
+        for spt in br.special_points:
+            if spt.kind not in special_kinds:
+                continue
+            px = spt.p if x in ("p", br.meta.get("parameter_name")) else spt.observables.get(x)
+            py = spt.p if y in ("p", br.meta.get("parameter_name")) else spt.observables.get(y)
+            if px is None or py is None:
+                continue
+            mk, name = markers[spt.kind]
+            ax.plot([px], [py], mk, color="k", mfc="none" if not spt.located else "w", ms=7,
+                    label=name if name not in seen else None, zorder=5)
+            seen.add(name)
+    for jr, obs_a, obs_b in jumps:
+        pa = (jr.p if x in ("p",) else obs_a[x], jr.p if y in ("p",) else obs_a[y])
+        pb = (jr.p if x in ("p",) else obs_b[x], jr.p if y in ("p",) else obs_b[y])
+        ax.annotate("", xy=pb, xytext=pa, arrowprops=dict(arrowstyle="->", ls=":", color="0.3"))
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    if seen or labels:
+        ax.legend(frameon=False, fontsize="small")
+    return ax

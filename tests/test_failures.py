@@ -1,0 +1,59 @@
+"""Failure behaviour: step shrinking, minimum step, no unconverged or non-finite point stored."""
+
+import numpy as np
+import pytest
+
+from contin import Problem, continuation
+
+
+def wall_problem(p_wall=1.0):
+    """u^3 + u - p = 0, whose residual is NaN beyond p = p_wall (a model that breaks down)."""
+    def residual(u, p):
+        r = u ** 3 + u - p
+        return r if p < p_wall else np.full_like(r, np.nan)
+    return Problem(residual=residual, jacobian=lambda u, p: np.diag(3 * u ** 2 + 1),
+                   dresidual_dp=lambda u, p: -np.ones_like(u), name="wall")
+
+
+def test_nan_is_a_failure_and_the_run_stops_with_a_reason():
+    br = continuation(wall_problem(), [0.0], 0.0, ds=0.1, ds_max=0.3, ds_min=1e-6, max_steps=500)
+    assert br.status == "min_step"
+    assert "ds_min" in br.message and "not finite" in br.message
+    assert np.all(br.p < 1.0)
+    assert br.p[-1] > 1.0 - 1e-5  # it shrank the step down to the wall before giving up
+    assert np.all(np.isfinite(br.u)) and np.all(br.residual <= br.meta["abs_tol"])
+
+
+def test_thin_constructor_with_finite_difference_fallbacks():
+    # only the residual: Jacobian and df/dp come from finite differences
+    pb = Problem(residual=lambda u, p: u ** 3 - u + p)
+    br = continuation(pb, [-1.2], -0.5, ds=0.05, ds_max=0.1, p_max=0.6, tol=1e-9)
+    folds = br.folds()
+    # folds of p = u - u^3 at u = +-1/sqrt(3): p = -+2 / (3 sqrt(3))
+    assert len(folds) == 2
+    assert sorted(f.p for f in folds) == pytest.approx([-2 / (3 * np.sqrt(3)), 2 / (3 * np.sqrt(3))], rel=1e-8)
+
+
+def test_unconvergeable_start_fails_cleanly():
+    pb = Problem(residual=lambda u, p: np.exp(u) + 1.0 + 0 * p, jacobian=lambda u, p: np.diag(np.exp(u)))
+    br = continuation(pb, [0.0], 0.0)
+    assert br.status == "failed" and "could not start" in br.message
+    assert len(br) == 0 and not br.success
+
+
+def test_invalid_settings_name_the_field():
+    pb = Problem(residual=lambda u, p: u - p)
+    with pytest.raises(ValueError, match="'ds_min'"):
+        continuation(pb, [0.0], 0.0, ds_min=-1.0)
+    with pytest.raises(TypeError, match="unknown continuation option"):
+        continuation(pb, [0.0], 0.0, step=0.1)
+
+
+def test_corrector_never_stores_a_point_above_tolerance():
+    # a stiff cubic: many corrector failures and retries; every stored point still converged
+    pb = Problem(residual=lambda u, p: 1e3 * (u ** 3 - u) + p,
+                 jacobian=lambda u, p: np.diag(1e3 * (3 * u ** 2 - 1)), dresidual_dp=lambda u, p: np.ones(1),
+                 residual_scale=1e3)
+    br = continuation(pb, [1.2], 0.0, ds=1.0, ds_max=5.0, p_min=-500, p_max=500, max_newton=4)
+    for u, p, r in zip(br.u, br.p, br.residual):
+        assert abs(pb.residual(u, p)[0]) == pytest.approx(r, abs=1e-12) and r <= br.meta["abs_tol"]
