@@ -110,10 +110,14 @@ class DenseLU(Factorization):
         x, info = lapack.dgetrs(self._lu, self._piv, b, trans=1 if trans else 0)
         return self._check(x)
 
+    def pivots(self) -> np.ndarray:
+        """Diagonal of the U factor."""
+        return np.diag(self._lu)
+
     def det_sign_log(self):
         if self.n == 0:
             return 1.0, 0.0
-        return _sign_log_from_diagonal(np.diag(self._lu), _ipiv_parity(self._piv))
+        return _sign_log_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
 
 
 def bandwidths(A) -> tuple[int, int]:
@@ -169,9 +173,12 @@ class BandedLU(Factorization):
         x, info = lapack.dgbtrs(self._lu, self.kl, self.ku, b, self._piv, trans=1 if trans else 0)
         return self._check(x)
 
+    def pivots(self) -> np.ndarray:
+        """Diagonal of the U factor."""
+        return self._lu[self.kl + self.ku, :]
+
     def det_sign_log(self):
-        diag = self._lu[self.kl + self.ku, :]
-        return _sign_log_from_diagonal(diag, _ipiv_parity(self._piv))
+        return _sign_log_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
 
 
 class SparseLU(Factorization):
@@ -241,7 +248,10 @@ class BorderedSolver:
     B, C, D : ndarray
         Borders of shape (n, k), (k, n), (k, k).
     refine_tol : float
-        Relative residual that a solve must reach; otherwise the full matrix is factorized.
+        Relative residual that a solve must reach; otherwise the main block is deflated (see
+        ``_deflate``), and as a last resort the full matrix is factorized.
+    refactor : callable, optional
+        Factorization routine for the deflated main block (default :func:`factorize`).
     """
 
     A: object
@@ -251,6 +261,8 @@ class BorderedSolver:
     D: np.ndarray
     refine_tol: float = 1e-12
     max_refine: int = 3
+    refactor: object = None
+    depth: int = 0
     used_fallback: bool = field(default=False, init=False)
 
     def __post_init__(self) -> None:
@@ -261,11 +273,16 @@ class BorderedSolver:
         self.k = k
         self._schur = {}
         self._full: Factorization | None = None
+        self._deflated: BorderedSolver | None = None
+        self._deflation_sign = 1.0
+        if self.refactor is None:
+            self.refactor = factorize
         self._scale = _inf_norm(self.A) + np.abs(self.B).sum(axis=1).max(initial=0.0) + (
             np.abs(self.C).sum(axis=1).max(initial=0.0) + np.abs(self.D).sum(axis=1).max(initial=0.0)
         )
         if self.factor is None or getattr(self.factor, "exactly_singular", False):
-            self._use_full()
+            if not self._deflate():
+                self._use_full()
 
     # -- block elimination --------------------------------------------------------------------
     def _schur_parts(self, trans: bool):
@@ -298,11 +315,60 @@ class BorderedSolver:
             r2 = g - self.C @ x - self.D @ z
         return r1, r2
 
-    # -- fallback -------------------------------------------------------------------------------
+    # -- fallbacks ------------------------------------------------------------------------------
     def full_matrix(self):
         """The assembled bordered matrix (sparse)."""
         return sp.bmat([[sp.csr_matrix(self.A), sp.csr_matrix(self.B)],
                         [sp.csr_matrix(self.C), sp.csr_matrix(self.D)]], format="csc")
+
+    def _deflation_index(self) -> int | None:
+        """Index where the (near) null vector of ``A`` is largest, or None if it cannot be found."""
+        n = self.A.shape[0]
+        if self.factor is not None and not getattr(self.factor, "exactly_singular", False):
+            rng = np.random.default_rng(7)
+            try:
+                y = self.factor.solve(rng.standard_normal(n))
+                return int(np.argmax(np.abs(y)))
+            except (SingularMatrixError, np.linalg.LinAlgError):
+                pass
+        diag = getattr(self.factor, "pivots", None)
+        if diag is not None:
+            return int(np.argmin(np.abs(diag())))
+        return None
+
+    def _deflate(self) -> bool:
+        """Replace ``A`` by ``A + sigma e_j e_j^T`` (same band, regular) and add one border.
+
+        ``[[A, B], [C, D]]`` is equivalent to ``[[A + s e e^T, B, -e], [C, D, 0], [e^T, 0, -1/s]]``
+        (eliminate the new unknown ``y = s e^T x``), so block elimination runs on a well-conditioned
+        main block.  ``det`` of the original is ``det`` of the extended one times ``-s``.
+        """
+        if self.depth >= 2 or self.A.shape[0] <= DENSE_LIMIT:
+            return False
+        j = self._deflation_index()
+        if j is None:
+            return False
+        n = self.A.shape[0]
+        sigma = max(_inf_norm(self.A), 1e-300)
+        e = np.zeros((n, 1))
+        e[j] = 1.0
+        A2 = sp.csr_matrix(self.A) + sp.csr_matrix(([sigma], ([j], [j])), shape=(n, n))
+        try:
+            F2 = self.refactor(A2)
+        except (SingularMatrixError, np.linalg.LinAlgError, RuntimeError):
+            return False
+        k = self.k
+        B2 = np.hstack([self.B, -e])
+        C2 = np.vstack([self.C, e.T])
+        D2 = np.zeros((k + 1, k + 1))
+        D2[:k, :k] = self.D
+        D2[k, k] = -1.0 / sigma
+        self._deflated = BorderedSolver(A2, F2, B2, C2, D2, refine_tol=self.refine_tol,
+                                        max_refine=self.max_refine, refactor=self.refactor,
+                                        depth=self.depth + 1)
+        self._deflation_sign = -1.0
+        self.used_fallback = True
+        return True
 
     def _use_full(self) -> None:
         if self._full is None:
@@ -311,33 +377,48 @@ class BorderedSolver:
             self._full = DenseLU(M) if n <= 3000 else SparseLU(M)
             self.used_fallback = True
 
+    def _try_block_elimination(self, f, g, trans):
+        x, z = self._be_solve(f, g, trans)
+        size = np.max(np.abs(np.concatenate([x.ravel(), z.ravel()])), initial=0.0)
+        rhs = np.max(np.abs(np.concatenate([f.ravel(), g.ravel()])), initial=0.0)
+        for _ in range(self.max_refine + 1):
+            r1, r2 = self._residual(x, z, f, g, trans)
+            res = max(np.max(np.abs(r1), initial=0.0), np.max(np.abs(r2), initial=0.0))
+            if res <= self.refine_tol * (self._scale * size + rhs):
+                return x, z
+            dx, dz = self._be_solve(r1, r2, trans)
+            x, z = x + dx, z + dz
+            size = np.max(np.abs(np.concatenate([x.ravel(), z.ravel()])), initial=0.0)
+        return None
+
     def solve(self, f, g=None, trans: bool = False):
         """Solve the bordered system (or its transpose); returns ``(x, z)``."""
         n = self.A.shape[0]
         f = np.asarray(f, dtype=float)
         g = np.zeros((self.k,) + f.shape[1:]) if g is None else np.asarray(g, dtype=float)
-        if self._full is None:
+        if self._full is None and self._deflated is None:
             try:
-                x, z = self._be_solve(f, g, trans)
-                size = np.max(np.abs(np.concatenate([x.ravel(), z.ravel()])), initial=0.0)
-                rhs = np.max(np.abs(np.concatenate([f.ravel(), g.ravel()])), initial=0.0)
-                for _ in range(self.max_refine + 1):
-                    r1, r2 = self._residual(x, z, f, g, trans)
-                    res = max(np.max(np.abs(r1), initial=0.0), np.max(np.abs(r2), initial=0.0))
-                    if res <= self.refine_tol * (self._scale * size + rhs):
-                        return x, z
-                    dx, dz = self._be_solve(r1, r2, trans)
-                    x, z = x + dx, z + dz
-                    size = np.max(np.abs(np.concatenate([x.ravel(), z.ravel()])), initial=0.0)
+                out = self._try_block_elimination(f, g, trans)
+                if out is not None:
+                    return out
             except (SingularMatrixError, np.linalg.LinAlgError, ValueError):
                 pass
-            self._use_full()
+            if not self._deflate():
+                self._use_full()
+        if self._deflated is not None:
+            extra = np.zeros((1,) + f.shape[1:])
+            x, z = self._deflated.solve(f, np.concatenate([g, extra]), trans=trans)
+            return x, z[: self.k]
         rhs = np.concatenate([f, g])
         sol = self._full.solve(rhs, trans=trans)
         return sol[:n], sol[n:]
 
     def det_sign_log(self) -> tuple[float, float]:
         """Sign and log-modulus of the determinant of the bordered matrix."""
+        if self._deflated is not None:
+            s_, l_ = self._deflated.det_sign_log()
+            sigma = max(_inf_norm(self.A), 1e-300)
+            return s_ * self._deflation_sign, l_ + float(np.log(sigma))
         if self._full is not None:
             return self._full.det_sign_log()
         sa, la = self.factor.det_sign_log()

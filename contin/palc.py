@@ -56,7 +56,11 @@ class Settings:
     bounds : dict
         Observable bounds ``{name: (low, high)}`` (either may be None); the run stops exactly on them.
     tol : float
-        Max-norm residual tolerance for every stored point.
+        Relative residual tolerance: a stored point has ``max|f| <= tol * problem.residual_scale``.
+    xtol : float
+        Newton-update tolerance: a point is accepted only once the last corrector update is below
+        ``xtol * (1 + ||X||)`` in the arclength norm.  Both tests must hold: in ill-conditioned
+        discretizations a small residual alone does not pin the solution down.
     max_newton : int
         Corrector iterations before a step is declared failed.
     fast_newton : int
@@ -96,8 +100,9 @@ class Settings:
     p_max: float = math.inf
     bounds: dict[str, tuple[float | None, float | None]] = field(default_factory=dict)
     tol: float = 1e-10
+    xtol: float = 1e-10
     max_newton: int = 10
-    fast_newton: int = 3
+    fast_newton: int = 4
     grow: float = 1.5
     shrink: float = 0.5
     state_weight: float = 1.0
@@ -127,6 +132,7 @@ class Settings:
         need(self.direction in (-1, 1), "direction", "must be +1 or -1")
         need(self.p_min < self.p_max, "p_min", "must be < p_max")
         need(self.tol > 0, "tol", "must be > 0")
+        need(self.xtol > 0, "xtol", "must be > 0")
         need(self.max_newton >= 1, "max_newton", "must be >= 1")
         need(self.grow >= 1, "grow", "must be >= 1")
         need(0 < self.shrink < 1, "shrink", "must lie in (0, 1)")
@@ -169,6 +175,7 @@ class Curve:
         self.settings = settings
         self.n_evals = 0
         self.n_factorizations = 0
+        self.last_linearization = None
         #: absolute residual tolerance: the relative tolerance times the model's residual scale
         self.tol = settings.tol * getattr(problem, "residual_scale", 1.0)
 
@@ -211,7 +218,7 @@ class Curve:
             B = np.hstack([B, extra_cols.reshape(n, -1)])
             C = np.vstack([C, extra_rows.reshape(-1, n)])
             D = np.asarray(extra_D, dtype=float)
-        return BorderedSolver(J, F, B, C, D)
+        return BorderedSolver(J, F, B, C, D, refactor=self.problem.factorize)
 
     def tangent(self, u, p, t_u_prev, t_p_prev, lin=None):
         """Unit tangent at ``(u, p)`` oriented like the previous one, and det sign of the bordered Jacobian."""
@@ -233,14 +240,16 @@ class Curve:
         u = np.array(u, dtype=float)
         r = self.residual(u, p)
         res = float(np.max(np.abs(r), initial=0.0))
+        du_norm = math.inf
         for it in range(max_iter + 1):
-            if res <= tol:
+            if res <= tol and (du_norm <= self.settings.xtol * (1.0 + self.norm(u, 0.0)) or res <= 1e-6 * tol):
                 return u, res, it
             if it == max_iter:
                 break
             J = self.problem.checked_jacobian(u, p)
             F = self.problem.factorize(J)
             du = -F.solve(r)
+            du_norm = self.norm(du, 0.0)
             # damped Newton: halve until the residual decreases
             lam = 1.0
             while True:
@@ -255,6 +264,7 @@ class Curve:
             if not np.isfinite(res_new):
                 break
             u, r, res = u + lam * du, r_new, res_new
+            du_norm *= lam
         raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge (residual {res:.3e} > tol {tol:.1e})")
 
     # ---- the pseudo-arclength corrector ----------------------------------------------------------
@@ -268,13 +278,14 @@ class Curve:
         wu, wp = self.weights(u0.size)
         u_pred, p_pred = u0 + ds * t_u, p0 + ds * t_p
         u, p = u_pred.copy(), p_pred
+        self.last_linearization = None
         try:
             r = self.residual(u, p)
         except NonFiniteError as exc:
             raise CorrectorFailure(f"residual not finite at the predicted point ({exc})") from None
         res = float(np.max(np.abs(r), initial=0.0))
-        if res <= self.tol:
-            return u, p, res, 0  # the predictor is already on the curve (e.g. a linear branch)
+        if res <= 1e-6 * self.tol:
+            return u, p, res, 0  # the predictor is on the curve to roundoff (e.g. a linear branch)
         history = [res]
         for it in range(1, max_iter + 1):
             try:
@@ -293,7 +304,10 @@ class Curve:
                 raise CorrectorFailure(f"residual not finite during correction ({exc})") from None
             res = float(np.max(np.abs(r), initial=0.0))
             history.append(res)
-            if res <= self.tol:
+            if res <= self.tol and self.norm(du, float(dp[0])) <= st.xtol * (1.0 + self.norm(u, p)):
+                # the last linearization was taken within xtol of the point: good enough for the
+                # tangent and the determinant sign, and it saves a factorization per step
+                self.last_linearization = (J, fp, F)
                 return u, p, res, it
             if it >= 3 and res > history[-2]:
                 raise CorrectorFailure(f"corrector diverging (residuals {', '.join(f'{h:.1e}' for h in history)})")
@@ -464,7 +478,7 @@ def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter
         r = problem.checked_residual(u, p)
         J = problem.checked_jacobian(u, p)
         F = _safe_factorize(problem, J)
-        M = BorderedSolver(J, F, b.reshape(n, 1), c.reshape(1, n), np.zeros((1, 1)))
+        M = BorderedSolver(J, F, b.reshape(n, 1), c.reshape(1, n), np.zeros((1, 1)), refactor=problem.factorize)
         g, v, w = _fold_extended_residual(problem, u, p, b, c, M)
         f_res = float(np.max(np.abs(r), initial=0.0))
         res = max(f_res, abs(g))
@@ -479,7 +493,8 @@ def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter
         g_u = -(Jv.T @ w)
         g_p = -float(w @ (problem.jacobian_dp(u, p) @ v))
         fp = problem.dresidual_dp(u, p)
-        N = BorderedSolver(J, F, fp.reshape(n, 1), np.asarray(g_u).reshape(1, n), np.array([[g_p]]))
+        N = BorderedSolver(J, F, fp.reshape(n, 1), np.asarray(g_u).reshape(1, n), np.array([[g_p]]),
+                           refactor=problem.factorize)
         du, dpv = N.solve(-r, np.array([-g]))
         dp = float(dpv[0])
         u, p = u + du, p + dp
@@ -699,7 +714,7 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     while steps < st.max_steps:
         try:
             u, p, res, iters = curve.correct(current.u, current.p, current.t_u, current.t_p, ds)
-            t_u, t_p, det_sign = curve.tangent(u, p, current.t_u, current.t_p)
+            t_u, t_p, det_sign = curve.tangent(u, p, current.t_u, current.t_p, lin=curve.last_linearization)
             cos = curve.inner(t_u, t_p, current.t_u, current.t_p)
             if cos < st.min_tangent_cos:
                 raise CorrectorFailure(f"tangent turned too sharply (cos = {cos:.3f}); possible branch jump")
