@@ -132,6 +132,13 @@ def hysteresis_cycles(G: "nx.MultiDiGraph") -> list[list[str]]:
     return cycles
 
 
+def _coordinate(name: str, p: float, observables: dict, br: Branch) -> float | None:
+    """A plot coordinate: the parameter (as ``"p"`` or by its name) or a named observable."""
+    if name in ("p", br.meta.get("parameter_name")):
+        return p
+    return observables.get(name)
+
+
 def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | None = None, ax=None,
                   jumps: Iterable[tuple[JumpResult, dict[str, float], dict[str, float]]] = (),
                   colors: Sequence[str] | None = None, labels: Sequence[str] | None = None,
@@ -185,8 +192,7 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
         for spt in br.special_points:
             if spt.kind not in special_kinds:
                 continue
-            px = spt.p if x in ("p", br.meta.get("parameter_name")) else spt.observables.get(x)
-            py = spt.p if y in ("p", br.meta.get("parameter_name")) else spt.observables.get(y)
+            px, py = _coordinate(x, spt.p, spt.observables, br), _coordinate(y, spt.p, spt.observables, br)
             if px is None or py is None:
                 continue
             mk, name = markers[spt.kind]
@@ -194,8 +200,10 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
                     label=name if name not in seen else None, zorder=5)
             seen.add(name)
     for jr, obs_a, obs_b in jumps:
-        pa = (jr.p if x in ("p",) else obs_a[x], jr.p if y in ("p",) else obs_a[y])
-        pb = (jr.p if x in ("p",) else obs_b[x], jr.p if y in ("p",) else obs_b[y])
+        pa = (_coordinate(x, jr.p, obs_a, branches[0]), _coordinate(y, jr.p, obs_a, branches[0]))
+        pb = (_coordinate(x, jr.p, obs_b, branches[0]), _coordinate(y, jr.p, obs_b, branches[0]))
+        if None in pa or None in pb:
+            continue
         ax.annotate("", xy=pb, xytext=pa, arrowprops=dict(arrowstyle="->", ls=":", color="0.3"))
     ax.set_xlabel(x)
     ax.set_ylabel(y)

@@ -72,8 +72,15 @@ class Settings:
     max_correction : float
         Guard against branch jumping: the corrector may move at most this multiple of the step away
         from the predicted point.
+    max_contraction : float
+        Guard against branch jumping: from the second corrector iteration on, each Newton update
+        must be at most this fraction of the previous one; a slowly contracting corrector started
+        between branches and may end on the wrong one, so the step is retried smaller.
     min_tangent_cos : float
         Guard against branch jumping: consecutive unit tangents must have at least this cosine.
+    target_angle : float
+        Curvature control: the next step is scaled so that the tangent turns by about this angle
+        (radians) per step, keeping the predictor error small compared with the local curvature.
     detect_folds, detect_branch_points, locate : bool
         Which test functions run, and whether special points are located (else only bracketed).
     stability : bool
@@ -108,7 +115,9 @@ class Settings:
     state_weight: float = 1.0
     param_weight: float = 1.0
     max_correction: float = 0.5
+    max_contraction: float = 0.5
     min_tangent_cos: float = 0.9
+    target_angle: float = 0.15
     detect_folds: bool = True
     detect_branch_points: bool = True
     locate: bool = True
@@ -140,6 +149,8 @@ class Settings:
              "state_weight", "weights must be >= 0 and not both 0")
         need(0 < self.max_correction, "max_correction", "must be > 0")
         need(-1 <= self.min_tangent_cos < 1, "min_tangent_cos", "must lie in [-1, 1)")
+        need(0 < self.max_contraction < 1, "max_contraction", "must lie in (0, 1)")
+        need(0 < self.target_angle < math.pi / 2, "target_angle", "must lie in (0, pi/2)")
         need(self.n_eigs >= 1, "n_eigs", "must be >= 1")
 
 
@@ -287,6 +298,7 @@ class Curve:
         if res <= 1e-6 * self.tol:
             return u, p, res, 0  # the predictor is on the curve to roundoff (e.g. a linear branch)
         history = [res]
+        prev_step = math.inf
         for it in range(1, max_iter + 1):
             try:
                 J, fp, F = self.linearize(u, p)
@@ -296,6 +308,11 @@ class Curve:
             except (NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
                 raise CorrectorFailure(f"linear solve failed in the corrector ({exc})") from None
             u, p = u + du, p + float(dp[0])
+            step_norm = self.norm(du, float(dp[0]))
+            if it >= 2 and step_norm > st.max_contraction * prev_step and step_norm > st.xtol * (1.0 + self.norm(u, p)):
+                raise CorrectorFailure(f"corrector contracts too slowly (update ratio {step_norm / prev_step:.2f}); "
+                                       "possible jump to another branch")
+            prev_step = step_norm
             if self.norm(u - u_pred, p - p_pred) > st.max_correction * abs(ds):
                 raise CorrectorFailure("corrector moved too far from the predictor (possible jump to another branch)")
             try:
@@ -304,12 +321,12 @@ class Curve:
                 raise CorrectorFailure(f"residual not finite during correction ({exc})") from None
             res = float(np.max(np.abs(r), initial=0.0))
             history.append(res)
-            if res <= self.tol and self.norm(du, float(dp[0])) <= st.xtol * (1.0 + self.norm(u, p)):
+            if res <= self.tol and step_norm <= st.xtol * (1.0 + self.norm(u, p)):
                 # the last linearization was taken within xtol of the point: good enough for the
                 # tangent and the determinant sign, and it saves a factorization per step
                 self.last_linearization = (J, fp, F)
                 return u, p, res, it
-            if it >= 3 and res > history[-2]:
+            if it >= 3 and res > history[-2] and res > self.tol:  # below tol it is roundoff noise
                 raise CorrectorFailure(f"corrector diverging (residuals {', '.join(f'{h:.1e}' for h in history)})")
         raise CorrectorFailure(f"corrector did not converge in {max_iter} iterations (residual {res:.3e})")
 
@@ -434,7 +451,7 @@ def _fold_extended_residual(problem: Problem, u, p, b, c, F_bord: BorderedSolver
 
 
 def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter: int = 20,
-                p_tol: float = 1e-15) -> SpecialPoint:
+                p_tol: float = 1e-10) -> SpecialPoint:
     """Locate a fold (limit point) by Newton on the minimally augmented system.
 
     Solves ``f(u, p) = 0``, ``g(u, p) = 0`` where ``g`` is defined by the bordered system
@@ -453,7 +470,8 @@ def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter
         Relative tolerance: ``max|f| <= tol * problem.residual_scale`` and
         ``|g| <= tol * max(1, max|J|)``.
     p_tol : float
-        Relative tolerance on the last parameter update.
+        Relative tolerance on the last parameter update; Newton converges quadratically, so the
+        located parameter is far more accurate than this (about ``p_tol^2``).
 
     Returns
     -------
@@ -484,7 +502,7 @@ def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter
         res = max(f_res, abs(g))
         history.append(res)
         J_scale = max(1.0, float(np.max(np.abs(J.data if hasattr(J, "data") else J), initial=1.0)))
-        if f_res <= tol * getattr(problem, "residual_scale", 1.0) and abs(g) <= tol * J_scale and abs(dp) <= p_tol * max(1.0, abs(p)) * 1e3:
+        if f_res <= tol * getattr(problem, "residual_scale", 1.0) and abs(g) <= tol * J_scale and abs(dp) <= p_tol * max(1.0, abs(p)):
             status = "converged"
             break
         if it == max_iter:
@@ -709,6 +727,8 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     recorder.add(current)
     ev_values = [_event_value(curve, ev, u0, p0, t_u, t_p) for ev in all_events]
     ds = st.ds
+    previous: Point | None = None
+    rejections: dict[str, int] = {}
     status, message = "completed", f"reached max_steps = {st.max_steps}"
     steps = 0
     while steps < st.max_steps:
@@ -718,7 +738,11 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
             cos = curve.inner(t_u, t_p, current.t_u, current.t_p)
             if cos < st.min_tangent_cos:
                 raise CorrectorFailure(f"tangent turned too sharply (cos = {cos:.3f}); possible branch jump")
+            if previous is not None:
+                _check_curvature_consistency(curve, previous, current, u, p, ds)
         except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+            reason = str(exc).split(" (")[0].split(";")[0]
+            rejections[reason] = rejections.get(reason, 0) + 1
             if ds * st.shrink < st.ds_min:
                 status, message = "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
                 break
@@ -768,27 +792,55 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
                 recorder.special(s)
             is_bound = terminal_event is not None and terminal_event.name in _bound_names(st)
             label = terminal_event.name if terminal_event is not None else terminal_hit.kind
+            if not is_bound:
+                recorder.special(terminal_hit)  # before the end point is stored: "before" is the last point
+                terminal_hit.info["ends_branch"] = True
             recorder.add(_point_from_special(curve, terminal_hit, current))
             terminal_hit.index = len(recorder.p) - 1
-            if not is_bound:
-                recorder.special(terminal_hit)
             status = "bound" if is_bound else "event"
             message = f"stopped at {label} ({problem.parameter_name} = {terminal_hit.p:.10g})"
             break
         for s in sorted(specials, key=lambda s: s.s):
             recorder.special(s)
         recorder.add(new)
-        current = new
+        previous, current = current, new
         if st.progress and steps % st.progress_every == 0:
             print(f"[contin] step {steps}: p = {p:.6g}, ds = {ds:.3g}, newton = {iters}", file=sys.stderr)
-        # ---- step-size control
+        # ---- step-size control: Newton effort and curvature (turning angle of the tangent)
+        angle = math.acos(min(1.0, max(-1.0, cos)))
         if iters <= st.fast_newton:
             ds = min(ds * st.grow, st.ds_max)
         elif iters >= st.max_newton - 2:
             ds = max(ds * st.shrink, st.ds_min)
+        if angle > st.target_angle:
+            ds = max(ds * max(st.target_angle / angle, st.shrink), st.ds_min)
     branch = recorder.finish(status, message, t_start)
     branch.meta["n_factorizations"] = curve.n_factorizations
+    branch.meta["rejected_steps"] = rejections
     return branch
+
+
+def _check_curvature_consistency(curve: Curve, previous: Point, current: Point, u, p, ds: float) -> None:
+    """Reject a step whose end point disagrees with the second-order predictor.
+
+    The change of the unit tangent over the previous step estimates the curvature vector; the
+    quadratic predictor ``X + ds t + ds^2/2 k`` is then much closer to the true next point than the
+    linear one.  A corrector that converged onto a neighbouring branch (parallel to this one, so the
+    tangent test cannot see it) lands about the branch gap away from both predictors.
+    """
+    h = current.s - previous.s
+    if h <= 0:
+        return
+    k_u = (current.t_u - previous.t_u) / h
+    k_p = (current.t_p - previous.t_p) / h
+    lin_u, lin_p = current.u + ds * current.t_u, current.p + ds * current.t_p
+    q_u, q_p = lin_u + 0.5 * ds * ds * k_u, lin_p + 0.5 * ds * ds * k_p
+    d_quad = curve.norm(u - q_u, p - q_p)
+    d_lin = curve.norm(u - lin_u, p - lin_p)
+    d_curv = curve.norm(q_u - lin_u, q_p - lin_p)
+    if d_quad > 0.5 * max(d_lin, d_curv) + 0.01 * abs(ds):
+        raise CorrectorFailure(f"converged point is {d_quad:.2e} from the curvature predictor "
+                               f"(linear predictor error {d_lin:.2e}); possible jump to another branch")
 
 
 def _bracketed(kind: str, A: Point, B: Point, label: str = "") -> SpecialPoint:
@@ -859,7 +911,12 @@ class _Recorder:
         stab = self.st.stability and bool(self.n_neg)
         n_neg = np.array(self.n_neg, dtype=int) if stab else None
         for spt in self.specials:
-            if stab and spt.kind in ("fold", "branch_point") and spt.index + 1 < len(self.n_neg):
+            if not (stab and spt.kind in ("fold", "branch_point")):
+                continue
+            if spt.info.get("ends_branch"):
+                # the run stopped on this point: only the side it came from is known
+                spt.info["stable_before"] = bool(spt.info["n_negative_before"] == 0)
+            elif spt.index + 1 < len(self.n_neg):
                 spt.info["n_negative_after"] = int(self.n_neg[spt.index + 1])
                 spt.info["stable_before"] = bool(self.n_neg[spt.index] == 0)
                 spt.info["stable_after"] = bool(self.n_neg[spt.index + 1] == 0)

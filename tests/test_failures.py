@@ -57,3 +57,24 @@ def test_corrector_never_stores_a_point_above_tolerance():
     br = continuation(pb, [1.2], 0.0, ds=1.0, ds_max=5.0, p_min=-500, p_max=500, max_newton=4)
     for u, p, r in zip(br.u, br.p, br.residual):
         assert abs(pb.residual(u, p)[0]) == pytest.approx(r, abs=1e-12) and r <= br.meta["abs_tol"]
+
+
+def test_large_steps_do_not_jump_to_a_neighbouring_branch():
+    # two disjoint branches u = sin p and u = sin p + 0.05; big steps must stay on the first one
+    gap = 0.05
+    pb = Problem(residual=lambda u, p: (u - np.sin(p)) * (u - np.sin(p) - gap),
+                 jacobian=lambda u, p: np.diag(2 * u - 2 * np.sin(p) - gap),
+                 dresidual_dp=lambda u, p: -np.cos(p) * (2 * u - 2 * np.sin(p) - gap))
+    br = continuation(pb, [0.0], 0.0, ds=0.5, ds_max=2.0, p_max=12.0, max_steps=2000)
+    assert br.status == "bound"
+    np.testing.assert_allclose(br.u[:, 0], np.sin(br.p), atol=1e-8)
+
+
+def test_model_supplied_stability_operator_is_used():
+    # the Jacobian is the identity, but the model says stability is decided by diag(p - 1, 1)
+    pb = Problem(residual=lambda u, p: u - p, jacobian=lambda u, p: np.eye(2),
+                 dresidual_dp=lambda u, p: -np.ones(2),
+                 stability_operator=lambda u, p: np.diag([p - 1.0, 1.0]))
+    br = continuation(pb, [0.0, 0.0], 0.0, ds=0.1, ds_max=0.3, p_max=2.0, stability=True)
+    np.testing.assert_array_equal(br.n_negative, (br.p < 1.0).astype(int))
+    np.testing.assert_allclose(br.eigenvalues[:, 0], np.minimum(br.p - 1.0, 1.0), atol=1e-14)

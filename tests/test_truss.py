@@ -122,3 +122,11 @@ def test_force_maximum_under_displacement_control_equals_force_control_fold():
     _, P_max = closed_form()
     assert ev.located and ev.info["extremum_value"] == pytest.approx(P_max, rel=1e-12, abs=0)
     assert ev.p == pytest.approx(closed_form()[0], rel=1e-7)
+
+
+def test_fold_that_ends_a_run_reports_the_side_it_came_from():
+    tr = VonMisesTruss(A, B, K)
+    load = continuation(tr, [0.0, B], 0.0, ds=0.02, ds_max=0.05, stop_at=("fold",), stability=True)
+    (fold,) = load.folds()
+    assert fold.info["ends_branch"] and fold.info["n_negative_before"] == 0
+    assert fold.info["stable_before"] is True and "stable_after" not in fold.info

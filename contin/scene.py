@@ -1,0 +1,645 @@
+"""Declarative scenes: a typed schema, TOML loading with ``--set`` overrides, and the model-runner protocol.
+
+A *scene* is the complete input of one command-line run, as a two-level TOML document::
+
+    [model]
+    n = 200
+
+    [continuation]
+    ds = 0.1
+
+A :class:`Schema` names every section and key with a :class:`Field` (type, default, validity check and
+a human description of the allowed range), plus cross-field :class:`Constraint` s.
+:func:`load_scene` reads a file, applies ``section.key=value`` overrides, fills the defaults and
+validates; any problem raises :class:`SceneError` whose message is one paragraph naming the field,
+the offending value and what is allowed.
+
+A model becomes runnable from the command line by exposing a :class:`SceneModel` (or any object
+with the same attributes, see :class:`ModelRunner`) through the ``contin.models`` entry-point group.
+Its ``run`` returns a :class:`TraceResult`; :meth:`TraceResult.from_branches` derives the special
+point records, the CSV columns and the printed table from the branches, so a runner stays small.
+
+Nothing here knows about any particular model.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from .branch import Branch, SpecialPoint
+from .jump import JumpResult
+
+__all__ = [
+    "SceneError", "Field", "Constraint", "Schema", "load_scene", "parse_override", "defaults",
+    "format_toml_value", "schema_as_toml",
+    "integer", "real", "boolean", "choice", "text",
+    "TraceResult", "ModelRunner", "SceneModel", "special_point_records", "special_point_table", "branch_columns",
+]
+
+
+class SceneError(ValueError):
+    """Invalid scene input.  The message is a single paragraph fit to show a user as is.
+
+    Attributes
+    ----------
+    kind : str
+        ``"file"`` (unreadable or invalid TOML), ``"syntax"`` (bad ``--set``), ``"unknown"`` (unknown
+        section or key), ``"type"``, ``"range"`` or ``"constraint"``.
+    """
+
+    def __init__(self, message: str, kind: str = "") -> None:
+        # a one-paragraph guarantee: parser messages and reprs may carry newlines
+        super().__init__(" ".join(str(message).split()))
+        self.kind = kind
+
+
+# ---------------------------------------------------------------------------------------------------
+# schema
+# ---------------------------------------------------------------------------------------------------
+_TYPE_NAMES = {bool: "a boolean (true or false)", int: "an integer", float: "a number", str: "a string"}
+
+
+@dataclass(frozen=True)
+class Field:
+    """One scene key.
+
+    Attributes
+    ----------
+    type : {bool, int, float, str}
+        Expected type.  An integer is accepted where a float is expected (and converted); a boolean
+        is never accepted as a number.
+    default : Any
+        Value used when the scene does not set the key.
+    check : callable, optional
+        ``check(value) -> bool`` on the converted value; False means out of range.
+    allowed : str
+        Human description of the allowed values, e.g. ``"a float > 0"``.
+    help : str
+        What the key means (shown by ``contin models``).
+    """
+
+    type: type
+    default: Any
+    check: Callable[[Any], bool] | None = None
+    allowed: str = ""
+    help: str = ""
+
+    def __post_init__(self) -> None:
+        if self.type not in _TYPE_NAMES:
+            raise TypeError(f"Field.type must be one of bool, int, float, str; got {self.type!r}")
+        if not self.allowed:
+            object.__setattr__(self, "allowed", _TYPE_NAMES[self.type])
+
+    def convert(self, value: Any) -> Any:
+        """Return ``value`` as the field's type, or raise ``TypeError`` with the expected type."""
+        t = self.type
+        if t is bool:
+            ok = isinstance(value, bool)
+        elif t is int:
+            ok = isinstance(value, int) and not isinstance(value, bool)
+        elif t is float:
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+            if ok:
+                value = float(value)
+                if not math.isfinite(value):
+                    raise TypeError("a finite number")
+        else:
+            ok = isinstance(value, str)
+        if not ok:
+            raise TypeError(_TYPE_NAMES[t])
+        return value
+
+    def valid(self, value: Any) -> bool:
+        """Whether the (converted) value passes the field's check."""
+        return self.check is None or bool(self.check(value))
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """A condition that involves several fields, checked after every field is valid on its own.
+
+    Attributes
+    ----------
+    fields : tuple of str
+        Dotted names (``"section.key"``) of the fields involved, reported in the error.
+    check : callable
+        ``check(scene) -> bool`` on the resolved scene.
+    allowed : str
+        The rule in words, e.g. ``"continuation.ds <= continuation.ds_max"``.
+    reason : str
+        Why the rule exists (optional; appended to the error).
+    """
+
+    fields: tuple[str, ...]
+    check: Callable[[dict[str, dict[str, Any]]], bool]
+    allowed: str
+    reason: str = ""
+
+
+@dataclass(frozen=True)
+class Schema:
+    """Sections of named :class:`Field` s plus cross-field :class:`Constraint` s."""
+
+    sections: Mapping[str, Mapping[str, Field]]
+    constraints: Sequence[Constraint] = ()
+
+    def field(self, section: str, key: str) -> Field:
+        """The field ``section.key`` (``KeyError`` if unknown)."""
+        return self.sections[section][key]
+
+
+def integer(default: int, low: int | None = None, high: int | None = None, help: str = "") -> Field:
+    """An integer field, optionally bounded (inclusive)."""
+    if low is not None and high is not None:
+        allowed = f"an integer in [{low}, {high}]"
+    elif low is not None:
+        allowed = f"an integer >= {low}"
+    elif high is not None:
+        allowed = f"an integer <= {high}"
+    else:
+        allowed = "an integer"
+    return Field(int, default, lambda v: (low is None or v >= low) and (high is None or v <= high), allowed, help)
+
+
+def real(default: float, *, gt: float | None = None, ge: float | None = None, lt: float | None = None,
+         le: float | None = None, help: str = "") -> Field:
+    """A float field with optional strict (``gt``, ``lt``) or inclusive (``ge``, ``le``) bounds."""
+    low = (gt, "(", ">") if gt is not None else (ge, "[", ">=") if ge is not None else None
+    high = (lt, ")", "<") if lt is not None else (le, "]", "<=") if le is not None else None
+    if low and high:
+        allowed = f"a float in {low[1]}{low[0]:g}, {high[0]:g}{high[1]}"
+    elif low or high:
+        value, _, op = low or high
+        allowed = f"a float {op} {value:g}"
+    else:
+        allowed = "a float"
+
+    def check(v: float) -> bool:
+        return ((gt is None or v > gt) and (ge is None or v >= ge) and (lt is None or v < lt)
+                and (le is None or v <= le))
+
+    return Field(float, float(default), check, allowed, help)
+
+
+def boolean(default: bool, help: str = "") -> Field:
+    """A boolean field."""
+    return Field(bool, bool(default), None, "true or false", help)
+
+
+def choice(default: str, options: Iterable[str], help: str = "") -> Field:
+    """A string field restricted to a set of options."""
+    opts = tuple(options)
+    return Field(str, default, lambda v: v in opts, "one of " + ", ".join(f'"{o}"' for o in opts), help)
+
+
+def text(default: str, help: str = "") -> Field:
+    """A free string field."""
+    return Field(str, default, None, "a string", help)
+
+
+def defaults(schema: Schema) -> dict[str, dict[str, Any]]:
+    """The scene with every field at its default."""
+    return {sec: {key: f.default for key, f in keys.items()} for sec, keys in schema.sections.items()}
+
+
+# ---------------------------------------------------------------------------------------------------
+# loading
+# ---------------------------------------------------------------------------------------------------
+def _show(value: Any) -> str:
+    if isinstance(value, (dict, list)):
+        return repr(value)
+    try:
+        return format_toml_value(value)
+    except TypeError:
+        return repr(value)
+
+
+def parse_override(text_: str) -> tuple[str, str, Any]:
+    """Split ``"section.key=value"`` into ``(section, key, value)``.
+
+    The value is parsed as a TOML value (``3``, ``1e-8``, ``true``, ``"s"``, ``[1, 2]``); if it is not
+    valid TOML it is taken as a bare string, so ``--set model.kind=plate`` works without quotes.
+
+    Raises
+    ------
+    SceneError
+        If the text is not of the form ``section.key=value``.
+    """
+    name, sep, raw = text_.partition("=")
+    name = name.strip()
+    section, dot, key = name.partition(".")
+    if not sep or not dot or not section or not key or "." in key or not raw.strip():
+        raise SceneError(f"bad --set argument {text_!r}: expected the form section.key=value, "
+                         f"e.g. --set continuation.ds=0.05", "syntax")
+    raw = raw.strip()
+    try:
+        doc = tomllib.loads(f"value = {raw}")
+        value = doc["value"] if set(doc) == {"value"} else raw
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return section, key, value
+
+
+def _read_toml(path: Path) -> dict[str, Any]:
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise SceneError(f"cannot read scene file {str(path)!r}: {exc.strerror or exc}", "file") from None
+    try:
+        return tomllib.loads(data.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"scene file {str(path)!r} is not UTF-8 text ({exc.reason} at byte {exc.start})", "file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"scene file {str(path)!r} is not valid TOML: {exc}", "file") from None
+
+
+def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterable[str] = ()) -> dict[str, dict[str, Any]]:
+    """Read, override, complete and validate a scene.
+
+    Parameters
+    ----------
+    schema : Schema
+        The model's scene schema.
+    path : str or Path, optional
+        A TOML scene file; without it the scene starts from the defaults.
+    overrides : iterable of str
+        ``"section.key=value"`` strings applied after the file, in order.
+
+    Returns
+    -------
+    dict
+        ``{section: {key: value}}`` with every field of the schema, values converted to the field
+        types (an integer given for a float becomes a float).
+
+    Raises
+    ------
+    SceneError
+        One paragraph naming the field as ``section.key``, the offending value and the allowed range;
+        for unknown sections or keys, the allowed ones; for an unreadable or invalid file, the file and
+        the parser's message.
+    """
+    # value and where it came from, for error messages
+    given: dict[str, dict[str, tuple[Any, str]]] = {}
+    if path is not None:
+        path = Path(path)
+        where = f"in {str(path)!r}"
+        for section, content in _read_toml(path).items():
+            if not isinstance(content, dict) and section not in schema.sections:
+                raise SceneError(f"scene key {section} = {_show(content)} {where} is not inside a section; "
+                                 f"keys belong in the sections {', '.join(f'[{s}]' for s in schema.sections)}",
+                                 "unknown")
+            _known_section(schema, section, where)
+            if not isinstance(content, dict):
+                raise SceneError(f"scene entry {section!r} {where} must be a table [{section}] of keys, "
+                                 f"got the value {_show(content)}; allowed keys of [{section}]: "
+                                 f"{_key_list(schema, section)}", "type")
+            for key, value in content.items():
+                _known_key(schema, section, key, where)
+                given.setdefault(section, {})[key] = (value, where)
+    for item in overrides:
+        section, key, value = parse_override(item)
+        where = f"(from --set {item})"
+        _known_section(schema, section, where)
+        _known_key(schema, section, key, where)
+        given.setdefault(section, {})[key] = (value, where)
+
+    scene = defaults(schema)
+    for section, keys in given.items():
+        for key, (value, where) in keys.items():
+            fld = schema.field(section, key)
+            name = f"{section}.{key}"
+            try:
+                converted = fld.convert(value)
+            except TypeError as exc:
+                raise SceneError(f"scene field {name} = {_show(value)} {where} has the wrong type: expected "
+                                 f"{exc.args[0]}, got {_type_name(value)}; allowed: {fld.allowed}", "type") from None
+            if not fld.valid(converted):
+                raise SceneError(f"scene field {name} = {_show(value)} {where} is out of range; allowed: "
+                                 f"{fld.allowed}", "range")
+            scene[section][key] = converted
+    for con in schema.constraints:
+        if not con.check(scene):
+            values = ", ".join(f"{n} = {_show(scene[n.split('.')[0]][n.split('.')[1]])}" for n in con.fields)
+            reason = f" ({con.reason})" if con.reason else ""
+            raise SceneError(f"scene fields {values} are not allowed together; allowed: {con.allowed}{reason}",
+                             "constraint")
+    return scene
+
+
+def _type_name(value: Any) -> str:
+    names = {bool: "a boolean", int: "an integer", float: "a float", str: "a string", list: "an array",
+             dict: "a table"}
+    return names.get(type(value), f"a {type(value).__name__}")
+
+
+def _key_list(schema: Schema, section: str) -> str:
+    return ", ".join(schema.sections[section]) or "(none)"
+
+
+def _known_section(schema: Schema, section: str, where: str) -> None:
+    if section not in schema.sections:
+        raise SceneError(f"unknown scene section [{section}] {where}; allowed sections: "
+                         f"{', '.join(f'[{s}]' for s in schema.sections)}", "unknown")
+
+
+def _known_key(schema: Schema, section: str, key: str, where: str) -> None:
+    if key not in schema.sections[section]:
+        raise SceneError(f"unknown scene key {section}.{key} {where}; section [{section}] allows: "
+                         f"{_key_list(schema, section)}", "unknown")
+
+
+def format_toml_value(value: Any) -> str:
+    """A scalar as TOML source text (``TypeError`` for anything else)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    raise TypeError(f"not a TOML scalar: {value!r}")
+
+
+def schema_as_toml(schema: Schema, indent: str = "") -> str:
+    """The default scene as commented TOML (each key with its meaning and allowed range)."""
+    lines = []
+    for section, keys in schema.sections.items():
+        lines.append(f"{indent}[{section}]")
+        width = max((len(k) + 3 + len(format_toml_value(f.default)) for k, f in keys.items()), default=0)
+        for key, fld in keys.items():
+            assignment = f"{key} = {format_toml_value(fld.default)}"
+            note = f"{fld.help}; {fld.allowed}" if fld.help else fld.allowed
+            lines.append(f"{indent}{assignment:<{width}}  # {note}")
+    for con in schema.constraints:
+        reason = f" ({con.reason})" if con.reason else ""
+        lines.append(f"{indent}# requires {con.allowed}{reason}")
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------------------------------------
+# what a model runner returns
+# ---------------------------------------------------------------------------------------------------
+@dataclass
+class TraceResult:
+    """Result of a scene run, in the form the command line writes out.
+
+    Attributes
+    ----------
+    branches : list of Branch
+        Traced branches, in the order they were traced.
+    jumps : list of JumpResult
+        Snaps between branches (may be empty).
+    summary : dict
+        Extra JSON fields for ``summary.json`` (e.g. a classification, closed-form references).
+    special_points : list of dict
+        JSON records of the special points: ``kind``, ``label``, ``branch``, ``parameter``, ``p``,
+        ``observables``, ``residual``, ``located`` and, when known, ``stable_before``/``stable_after``.
+    table : list of dict
+        Rows of the special-point table printed after the run (keys are the column headers).
+    csv_columns : dict of name -> 1-D array
+        ``branch.csv``, one row per stored point, columns in insertion order.
+    x, y : str
+        Observables on the diagram's axes (``"p"`` for the parameter).
+    parameter_name : str
+        Label of the parameter (axis labels, JSON).
+    labels : list of str
+        Per-branch names (legend, messages).
+    jump_observables : list of (dict, dict)
+        Observables at the start and landing of each jump (for the arrows of the diagram).
+    failure : str
+        Non-empty when the runner itself gave up (e.g. a jump could not start); the run then counts
+        as failed even if every branch succeeded.
+    plot : callable, optional
+        ``plot(ax)`` drawing the diagram; by default :func:`contin.plot_branches` with ``x`` and ``y``.
+    """
+
+    branches: list[Branch]
+    jumps: list[JumpResult] = field(default_factory=list)
+    summary: dict[str, Any] = field(default_factory=dict)
+    special_points: list[dict[str, Any]] = field(default_factory=list)
+    table: list[dict[str, Any]] = field(default_factory=list)
+    csv_columns: dict[str, np.ndarray] = field(default_factory=dict)
+    x: str = "p"
+    y: str | None = None
+    parameter_name: str = "p"
+    labels: list[str] = field(default_factory=list)
+    jump_observables: list[tuple[dict[str, float], dict[str, float]]] = field(default_factory=list)
+    failure: str = ""
+    plot: Callable[[Any], Any] | None = None
+
+    @classmethod
+    def from_branches(cls, branches: Sequence[Branch], jumps: Sequence[JumpResult] = (), *, problem: Any = None,
+                      x: str = "p", y: str | None = None, labels: Sequence[str] = (),
+                      summary: Mapping[str, Any] | None = None, failure: str = "",
+                      table_observables: Sequence[str] | None = None) -> "TraceResult":
+        """Build a result whose records, table and CSV columns are derived from the branches.
+
+        Parameters
+        ----------
+        branches, jumps : the traced branches and the snaps between them.
+        problem : Problem, optional
+            Used to evaluate the observables at the ends of the jumps.
+        x, y : str
+            Diagram axes.
+        labels : sequence of str
+            Branch names.
+        summary : mapping, optional
+            Extra JSON fields.
+        failure : str
+            Reason the runner stopped early, if it did.
+        table_observables : sequence of str, optional
+            Observables shown in the printed table (default: all).
+        """
+        branches = list(branches)
+        jumps = list(jumps)
+        pname = next((br.meta.get("parameter_name") for br in branches if br.meta.get("parameter_name")),
+                     getattr(problem, "parameter_name", "p"))
+        jump_obs = [(problem.evaluate_observables(j.u_from, j.p), problem.evaluate_observables(j.u_to, j.p))
+                    if problem is not None else ({}, {}) for j in jumps]
+        records = special_point_records(branches, jumps, jump_obs, pname)
+        return cls(branches=branches, jumps=jumps, summary=dict(summary or {}), special_points=records,
+                   table=special_point_table(records, pname, table_observables,
+                                             branch_labels=list(labels) if len(branches) > 1 else None),
+                   csv_columns=branch_columns(branches), x=x, y=y, parameter_name=pname,
+                   labels=list(labels), jump_observables=jump_obs, failure=failure)
+
+    # ---- overall outcome ---------------------------------------------------------------------------
+    @property
+    def success(self) -> bool:
+        """True when every branch ended for a planned reason, every jump landed, and the runner finished."""
+        return (not self.failure and all(br.success for br in self.branches)
+                and all(j.success for j in self.jumps))
+
+    @property
+    def status(self) -> str:
+        """``"ok"``, or the status of the first failure (``"min_step"``, ``"failed"``, ``"jump_failed"``)."""
+        for br in self.branches:
+            if not br.success:
+                return br.status
+        if any(not j.success for j in self.jumps):
+            return "jump_failed"
+        return "failed" if self.failure else "ok"
+
+    @property
+    def message(self) -> str:
+        """One line per branch and jump, joined: why each ended."""
+        parts = []
+        for i, br in enumerate(self.branches):
+            name = self.labels[i] if i < len(self.labels) else (f"branch {i}" if len(self.branches) > 1 else "")
+            parts.append(f"{name}: {br.message}" if name else br.message)
+        for i, j in enumerate(self.jumps):
+            parts.append(f"jump {i} at {self.parameter_name} = {j.p:.10g}: {j.message}")
+        if self.failure:
+            parts.append(self.failure)
+        return "; ".join(parts) if parts else "nothing traced"
+
+
+def _stability_around(br: Branch, spt: SpecialPoint) -> tuple[bool | None, bool | None]:
+    return spt.info.get("stable_before"), spt.info.get("stable_after")
+
+
+def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult] = (),
+                          jump_observables: Sequence[tuple[dict, dict]] = (), parameter_name: str = "p") -> list[dict[str, Any]]:
+    """JSON records of the branches' special points, then two per jump (``jump_from``, ``jump_to``)."""
+    out: list[dict[str, Any]] = []
+    for bi, br in enumerate(branches):
+        for spt in br.special_points:
+            rec: dict[str, Any] = {
+                "kind": spt.kind, "label": spt.label, "branch": bi, "parameter": parameter_name,
+                "p": float(spt.p), "observables": {k: float(v) for k, v in spt.observables.items()},
+                "residual": float(spt.residual), "located": bool(spt.located),
+            }
+            before, after = _stability_around(br, spt)
+            if before is not None:
+                rec["stable_before"] = bool(before)
+            if after is not None:
+                rec["stable_after"] = bool(after)
+            if "bracket_p" in spt.info and spt.info["bracket_p"] is not None:
+                rec["bracket_p"] = [float(v) for v in spt.info["bracket_p"]]
+            if "error" in spt.info:
+                rec["error"] = str(spt.info["error"])
+            out.append(rec)
+    for ji, j in enumerate(jumps):
+        obs_from, obs_to = jump_observables[ji] if ji < len(jump_observables) else ({}, {})
+        base = {"kind": "jump", "jump": ji, "parameter": parameter_name, "p": float(j.p)}
+        out.append({**base, "label": "jump_from", "observables": dict(obs_from), "residual": None,
+                    "located": True, "energy": float(j.energy_from)})
+        out.append({**base, "label": "jump_to", "observables": dict(obs_to), "residual": float(j.residual),
+                    "located": bool(j.success), "energy": float(j.energy_to), "stable": bool(j.n_negative == 0),
+                    "message": j.message})
+    return out
+
+
+def special_point_table(records: Sequence[Mapping[str, Any]], parameter_name: str = "p",
+                        observables: Sequence[str] | None = None,
+                        branch_labels: Sequence[str] | None = None) -> list[dict[str, Any]]:
+    """Printable rows (column header -> value) for special-point records.
+
+    With ``branch_labels`` a first column ``on`` names the branch (or jump) of each point.
+    """
+    rows = []
+    for rec in records:
+        obs = rec.get("observables", {})
+        names = list(obs) if observables is None else [n for n in observables if n in obs]
+        before, after = rec.get("stable_before"), rec.get("stable_after")
+        word = {True: "stable", False: "unstable", None: "?"}
+        if "stable" in rec:
+            stab = word[rec["stable"]]
+        else:
+            stab = "" if before is None and after is None else f"{word[before]} -> {word[after]}"
+        row: dict[str, Any] = {}
+        if branch_labels is not None:
+            if "jump" in rec:
+                row["on"] = f"jump {rec['jump']}"
+            else:
+                bi = rec.get("branch", 0)
+                row["on"] = branch_labels[bi] if bi < len(branch_labels) else f"branch {bi}"
+        row.update({"kind": rec["kind"], "label": rec.get("label", ""), parameter_name: rec["p"]})
+        row.update({n: obs[n] for n in names})
+        row["residual"] = rec.get("residual")
+        row["located"] = "yes" if rec.get("located") else "no"
+        row["stability"] = stab
+        rows.append(row)
+    return rows
+
+
+def branch_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
+    """CSV columns: one row per stored point of every branch.
+
+    Columns: ``branch``, ``p``, every observable, ``s``, ``residual`` and, when any branch has
+    stability data, ``stable`` (1/0) and ``n_negative`` (integers; floats with NaN where some branch has
+    no stability data).
+    """
+    cols: dict[str, np.ndarray] = {}
+    if not branches:
+        return {"branch": np.zeros(0, dtype=int), "p": np.zeros(0)}
+    cols["branch"] = np.concatenate([np.full(len(br), i, dtype=int) for i, br in enumerate(branches)])
+    cols["p"] = np.concatenate([br.p for br in branches])
+    names: list[str] = []
+    for br in branches:
+        names += [n for n in br.observables if n not in names and n != "p"]
+    for name in names:
+        cols[name] = np.concatenate([br.observables.get(name, np.full(len(br), np.nan)) for br in branches])
+    cols["s"] = np.concatenate([br.s for br in branches])
+    cols["residual"] = np.concatenate([br.residual for br in branches])
+    if all(br.n_negative is not None for br in branches):
+        nneg_int = np.concatenate([br.n_negative for br in branches]).astype(int)
+        cols["stable"] = (nneg_int == 0).astype(int)
+        cols["n_negative"] = nneg_int
+    elif any(br.n_negative is not None for br in branches):
+        nneg = np.concatenate([br.n_negative.astype(float) if br.n_negative is not None else np.full(len(br), np.nan)
+                               for br in branches])
+        cols["stable"] = np.where(np.isnan(nneg), np.nan, (nneg == 0).astype(float))
+        cols["n_negative"] = nneg
+    return cols
+
+
+# ---------------------------------------------------------------------------------------------------
+# the runner protocol
+# ---------------------------------------------------------------------------------------------------
+@runtime_checkable
+class ModelRunner(Protocol):
+    """What a ``contin.models`` entry point resolves to (or what a zero-argument factory returns)."""
+
+    name: str
+    description: str
+    schema: Schema
+
+    def run(self, scene: dict[str, dict[str, Any]], progress: bool) -> TraceResult:
+        """Trace the resolved ``scene``; print progress to stderr only when ``progress``."""
+        ...
+
+
+@dataclass(frozen=True)
+class SceneModel:
+    """A ready-made :class:`ModelRunner`: name, description, schema and a run function.
+
+    Attributes
+    ----------
+    name : str
+    description : str
+        One line shown by ``contin models``.
+    schema : Schema
+    runner : callable ``(scene, progress) -> TraceResult``
+    """
+
+    name: str
+    description: str
+    schema: Schema
+    runner: Callable[[dict[str, dict[str, Any]], bool], TraceResult]
+
+    def run(self, scene: dict[str, dict[str, Any]], progress: bool) -> TraceResult:
+        """Trace the resolved scene."""
+        return self.runner(scene, progress)

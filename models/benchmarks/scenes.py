@@ -1,0 +1,150 @@
+"""Command-line scenes of the benchmark models (``contin trace --model bratu|truss``).
+
+Each scene is a :class:`contin.scene.SceneModel` registered in the ``contin.models`` entry-point
+group (see ``pyproject.toml``); the engine finds it only through that registry.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+import contin
+from contin.scene import Constraint, SceneModel, Schema, TraceResult, boolean, integer, real
+
+from .bratu import LAMBDA_CRITICAL, Bratu
+from .truss import VonMisesTruss
+
+__all__ = ["BRATU_SCENE", "TRUSS_SCENE"]
+
+Scene = dict[str, dict[str, Any]]
+
+
+def _step_order(section: str = "continuation") -> Constraint:
+    return Constraint((f"{section}.ds", f"{section}.ds_max"), lambda s: s[section]["ds"] <= s[section]["ds_max"],
+                      f"{section}.ds <= {section}.ds_max")
+
+
+# ---- Bratu -----------------------------------------------------------------------------------------
+BRATU_SCHEMA = Schema(
+    sections={
+        "model": {"n": integer(200, low=2, help="interior grid points")},
+        "continuation": {
+            "ds": real(0.1, gt=0, help="initial arclength step"),
+            "ds_max": real(0.2, gt=0, help="largest step"),
+            "ds_min": real(1e-9, gt=0, help="smallest step before the run gives up"),
+            "tol": real(1e-10, gt=0, lt=1, help="relative residual tolerance"),
+            "max_steps": integer(1000, low=1, high=100000, help="maximum number of steps"),
+            "max_u": real(4.0, gt=0, help="stop when max(u) reaches this value"),
+            "stability": boolean(True, help="count negative Hessian eigenvalues at every point"),
+        },
+    },
+    constraints=[
+        _step_order(),
+        Constraint(("continuation.ds_min", "continuation.ds"),
+                   lambda s: s["continuation"]["ds_min"] <= s["continuation"]["ds"],
+                   "continuation.ds_min <= continuation.ds"),
+    ],
+)
+
+
+def _run_bratu(scene: Scene, progress: bool) -> TraceResult:
+    c = scene["continuation"]
+    problem = Bratu(scene["model"]["n"])
+    br = contin.continuation(
+        problem, np.zeros(problem.n), 0.0, ds=c["ds"], ds_max=c["ds_max"], ds_min=c["ds_min"], tol=c["tol"],
+        max_steps=c["max_steps"], bounds={"max_u": (None, c["max_u"])}, stability=c["stability"],
+        progress=progress)
+    folds = br.folds()
+    summary: dict[str, Any] = {"lambda_critical_continuum": LAMBDA_CRITICAL}
+    if folds:
+        summary["fold_lam"] = folds[0].p
+        summary["fold_relative_error_vs_continuum"] = abs(folds[0].p - LAMBDA_CRITICAL) / LAMBDA_CRITICAL
+    return TraceResult.from_branches([br], problem=problem, x="p", y="max_u", summary=summary)
+
+
+BRATU_SCENE = SceneModel(
+    name="bratu",
+    description="1-D Bratu problem u'' + lam exp(u) = 0 on (0, 1): the branch from lam = 0 around its fold",
+    schema=BRATU_SCHEMA,
+    runner=_run_bratu,
+)
+
+
+# ---- von Mises truss ---------------------------------------------------------------------------------
+TRUSS_SCHEMA = Schema(
+    sections={
+        "model": {
+            "a": real(1.0, gt=0, help="half span"),
+            "b": real(0.5, gt=0, help="initial apex height"),
+            "k": real(1.0, gt=0, help="axial bar stiffness"),
+        },
+        "continuation": {
+            "ds": real(0.05, gt=0, help="initial step, in units of b and the limit load"),
+            "ds_max": real(0.2, gt=0, help="largest step (same units)"),
+            "tol": real(1e-10, gt=0, lt=1, help="residual tolerance"),
+        },
+        "load": {"cycle": boolean(False, help="load to the snap, unload to the snap back, reload (hysteresis "
+                                              "loop) instead of tracing the whole S-curve")},
+    },
+    constraints=[
+        _step_order(),
+        Constraint(("model.a", "model.b"), lambda s: s["model"]["b"] / s["model"]["a"] < 2.4,
+                   "model.b / model.a < 2.4",
+                   "for steeper trusses the symmetric path has branch points where the truss sways sideways, which this "
+                   "scene does not follow"),
+    ],
+)
+
+
+def _run_truss(scene: Scene, progress: bool) -> TraceResult:
+    m, c = scene["model"], scene["continuation"]
+    problem = VonMisesTruss(m["a"], m["b"], m["k"])
+    (_, p_max), _ = problem.limit_points()
+    # weights make ds dimensionless: the apex moves by ~b and the load by ~P_max along the curve
+    st = contin.Settings(ds=c["ds"], ds_max=c["ds_max"], tol=c["tol"], stability=True,
+                         state_weight=np.sqrt(2) / m["b"], param_weight=1.0 / p_max, progress=progress,
+                         bounds={"y": (-1.6 * m["b"], None)})
+    summary = {"P_max_closed_form": p_max, "P_min_closed_form": -p_max}
+    u0 = np.array([0.0, m["b"]])
+    if not scene["load"]["cycle"]:
+        br = contin.continuation(problem, u0, 0.0, st)
+        return TraceResult.from_branches([br], problem=problem, x="deflection", y="p", summary=summary,
+                                         labels=["S-curve"], table_observables=["y", "deflection"])
+
+    names = ["loading", "unloading", "reloading"]
+    branches, jumps, failure = [], [], ""
+    u, p, direction = u0, 0.0, 1
+    for i, name in enumerate(names):
+        br = contin.continuation(problem, u, p, st, direction=direction, stop_at=("fold",))
+        branches.append(br)
+        if not (br.success and br.folds() and br.special_points[-1].kind == "fold"):
+            failure = f"{name} did not end at a fold"
+            break
+        if i == len(names) - 1:
+            break
+        try:
+            jr = contin.jump(problem, br.u[-1], br.p[-1], tol=c["tol"])
+        except contin.JumpError as exc:
+            failure = f"snap after {name} could not start: {exc}"
+            break
+        jumps.append(jr)
+        if not jr.success:
+            break
+        u, p, direction = jr.u_to, jr.p, -direction
+    if not failure and len(branches) == len(names):
+        G = contin.diagram(branches, jumps)
+        summary["hysteresis_loops"] = len(contin.hysteresis_cycles(G))
+    return TraceResult.from_branches(branches, jumps, problem=problem, x="deflection", y="p", summary=summary,
+                                     labels=names[:len(branches)], failure=failure,
+                                     table_observables=["y", "deflection"])
+
+
+TRUSS_SCENE = SceneModel(
+    name="truss",
+    description="von Mises two-bar truss under a dead load: the S-curve with its two limit points, "
+                "or the snap-through hysteresis loop",
+    schema=TRUSS_SCHEMA,
+    runner=_run_truss,
+)

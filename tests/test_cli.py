@@ -1,0 +1,272 @@
+"""The ``contin`` command line: outputs, the special-point summary, and the error contract."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import contin
+from contin import cli
+from contin.scene import SceneError, SceneModel, Schema, TraceResult, integer, load_scene, real
+
+OUTPUTS = {"summary.json", "branch.csv", "diagram.png"}
+
+
+def run_cli(capsys, *argv: str) -> tuple[int, str, str]:
+    code = cli.main(list(argv))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def read_summary(out: Path) -> dict:
+    return json.loads((out / "summary.json").read_text())
+
+
+def read_csv(out: Path) -> list[dict[str, str]]:
+    with open(out / "branch.csv", newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+# ---- successful runs ----------------------------------------------------------------------------------
+def test_trace_bratu_writes_outputs_and_locates_the_fold(tmp_path, capsys):
+    out = tmp_path / "out"
+    code, stdout, stderr = run_cli(capsys, "trace", "--out", str(out), "--quiet")
+    assert code == 0, stderr
+    assert {p.name for p in out.iterdir()} == OUTPUTS  # no temporary files left behind
+    assert stderr == ""  # --quiet
+    summary = read_summary(out)
+    assert summary["model"] == "bratu" and summary["status"] == "ok" and summary["success"] is True
+    assert summary["scene"]["model"]["n"] == 200  # the fully resolved scene
+    assert summary["scene"]["continuation"]["stability"] is False
+    assert summary["n_steps"] > 0 and summary["wall_time_s"] > 0
+    folds = [sp for sp in summary["special_points"] if sp["kind"] == "fold"]
+    assert len(folds) == 1
+    fold = folds[0]
+    # n = 200 discretises the continuum fold 3.513830719
+    assert abs(fold["p"] - 3.51) < 0.01
+    assert fold["parameter"] == "lam" and fold["located"] and fold["residual"] < 1e-8
+    assert "max_u" in fold["observables"]
+    rows = read_csv(out)
+    assert len(rows) == summary["n_steps"] + 1
+    assert {"p", "max_u", "u_mid", "residual"} <= set(rows[0])
+    assert max(float(r["max_u"]) for r in rows) == pytest.approx(4.0)  # stopped on the max_u bound
+    assert (out / "diagram.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "fold" in stdout and "status: ok" in stdout
+
+
+def test_trace_with_stability_reports_it(tmp_path, capsys):
+    out = tmp_path / "o"
+    code, stdout, _ = run_cli(capsys, "trace", "-q", "-o", str(out), "--set", "model.n=20",
+                              "--set", "continuation.stability=true")
+    assert code == 0
+    fold = read_summary(out)["special_points"][0]
+    assert fold["stable_before"] is True and fold["stable_after"] is False
+    rows = read_csv(out)
+    assert rows[0]["stable"] == "1" and rows[-1]["stable"] == "0" and rows[-1]["n_negative"] == "1"
+    assert "stable -> unstable" in stdout
+
+
+def test_scene_file_and_overrides(tmp_path, capsys):
+    scene = tmp_path / "scene.toml"
+    scene.write_text("[model]\nn = 10\n\n[continuation]\nmax_u = 2\n")
+    out = tmp_path / "o"
+    code, _, err = run_cli(capsys, "trace", str(scene), "-q", "-o", str(out), "--set", "model.n=12")
+    assert code == 0, err
+    resolved = read_summary(out)["scene"]
+    assert resolved["model"]["n"] == 12  # --set wins over the file
+    assert resolved["continuation"]["max_u"] == 2.0  # an integer where a float is expected
+    assert resolved["continuation"]["ds"] == 0.1  # default filled in
+
+
+def test_truss_hysteresis_cycle(tmp_path, capsys):
+    out = tmp_path / "o"
+    code, stdout, err = run_cli(capsys, "trace", "--model", "truss", "-q", "-o", str(out), "--set", "load.cycle=true")
+    assert code == 0, err
+    summary = read_summary(out)
+    assert summary["hysteresis_loops"] == 1
+    assert [b["label"] for b in summary["branches"]] == ["loading", "unloading", "reloading"]
+    assert len(summary["jumps"]) == 2 and all(j["success"] for j in summary["jumps"])
+    p_max = summary["P_max_closed_form"]
+    folds = [sp["p"] for sp in summary["special_points"] if sp["kind"] == "fold"]
+    assert folds == pytest.approx([p_max, -p_max, p_max], rel=1e-9)
+    assert {r["branch"] for r in read_csv(out)} == {"0", "1", "2"}
+    assert "jump_to" in stdout
+
+
+def test_truss_s_curve_stability(tmp_path, capsys):
+    out = tmp_path / "o"
+    code, _, _ = run_cli(capsys, "trace", "--model", "truss", "-q", "-o", str(out))
+    assert code == 0
+    folds = [sp for sp in read_summary(out)["special_points"] if sp["kind"] == "fold"]
+    assert [(f["stable_before"], f["stable_after"]) for f in folds] == [(True, False), (False, True)]
+
+
+def test_console_script(tmp_path):
+    exe = Path(sys.executable).parent / "contin"
+    if not exe.exists():
+        exe = Path(shutil.which("contin") or "contin")
+    out = tmp_path / "o"
+    proc = subprocess.run([str(exe), "trace", "--set", "model.n=20", "--out", str(out)],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert {p.name for p in out.iterdir()} == OUTPUTS
+    assert "Traceback" not in proc.stderr
+    assert "contin: tracing" in proc.stderr  # progress goes to stderr
+    assert "status: ok" in proc.stdout
+
+
+def test_models_lists_bratu_and_truss(capsys):
+    code, stdout, _ = run_cli(capsys, "models")
+    assert code == 0
+    assert "bratu" in stdout and "truss" in stdout
+    assert "n = 200" in stdout and "cycle = false" in stdout
+
+
+def test_help_exits_zero(capsys):
+    assert cli.main(["--help"]) == 0
+    assert "trace" in capsys.readouterr().out
+    assert cli.main(["trace", "--help"]) == 0
+    assert "summary.json" in capsys.readouterr().out
+
+
+# ---- the error contract --------------------------------------------------------------------------------
+def _assert_input_error(code: int, stdout: str, stderr: str, out: Path, *needles: str) -> None:
+    assert code == 2
+    assert stderr.startswith("contin: error:")
+    assert stderr.count("\n") == 1 and stderr.endswith("\n")  # one paragraph
+    assert "Traceback" not in stderr
+    for needle in needles:
+        assert needle in stderr
+    assert not out.exists() or not any(out.iterdir())  # nothing written, not even temporaries
+
+
+@pytest.mark.parametrize("args, needles", [
+    (["--set", "model.n=1"], ["model.n", "1", "an integer >= 2"]),
+    (["--set", "model.nn=3"], ["model.nn", "allows: n"]),
+    (["--set", "model.n=abc"], ["model.n", "abc", "expected an integer"]),
+    (["--set", "model.n=true"], ["model.n", "expected an integer"]),  # a bool is not an int
+    (["--set", "model.n"], ["model.n", "section.key=value"]),
+    (["--set", "plot.x=1"], ["[plot]", "[model]"]),
+    (["--set", "continuation.ds=0.5", "--set", "continuation.ds_max=0.1"], ["continuation.ds", "ds_max"]),
+    (["--model", "nope"], ["nope", "bratu", "truss"]),
+    (["--model", "truss", "--set", "model.b=2.5"], ["model.b", "2.4", "branch points"]),
+    (["--no-such-option"], ["--no-such-option"]),
+])
+def test_bad_input_exits_2(tmp_path, capsys, args, needles):
+    out = tmp_path / "out"
+    code, stdout, stderr = run_cli(capsys, "trace", *args, "--out", str(out))
+    _assert_input_error(code, stdout, stderr, out, *needles)
+
+
+def test_truncated_scene_file(tmp_path, capsys):
+    scene = tmp_path / "scene.toml"
+    scene.write_text("[model]\nn = 20\n[continuation\nds = ")
+    out = tmp_path / "out"
+    code, stdout, stderr = run_cli(capsys, "trace", str(scene), "--out", str(out))
+    _assert_input_error(code, stdout, stderr, out, "scene.toml", "not valid TOML", "line 3")
+
+
+def test_missing_scene_file(tmp_path, capsys):
+    out = tmp_path / "out"
+    code, stdout, stderr = run_cli(capsys, "trace", str(tmp_path / "none.toml"), "--out", str(out))
+    _assert_input_error(code, stdout, stderr, out, "none.toml")
+
+
+def test_unwritable_out(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    for out in (blocker, blocker / "sub"):
+        code, stdout, stderr = run_cli(capsys, "trace", "--set", "model.n=10", "--out", str(out))
+        assert code == 2 and stderr.startswith("contin: error:") and str(blocker) in stderr
+        assert "Traceback" not in stderr
+    assert blocker.read_text() == "x"
+
+
+def test_numerical_failure_still_writes_outputs(tmp_path, capsys):
+    out = tmp_path / "out"
+    big = ["--set", "continuation.ds_min=0.5", "--set", "continuation.ds=0.5", "--set", "continuation.ds_max=0.5"]
+    code, stdout, stderr = run_cli(capsys, "trace", "-q", "--set", "model.n=20", *big, "--out", str(out))
+    assert code == 1
+    assert {p.name for p in out.iterdir()} == OUTPUTS
+    summary = read_summary(out)
+    assert summary["success"] is False and summary["status"] == "min_step"
+    assert "ds_min" in summary["message"] and "status: min_step" in stdout
+
+
+# ---- interrupts, with a stand-in model ---------------------------------------------------------------------
+def _fake_model(run) -> SceneModel:
+    return SceneModel("fake", "a stand-in", Schema({"model": {"n": integer(3, low=1)}}), run)
+
+
+def _tiny_branch() -> contin.Branch:
+    return contin.Branch(p=np.array([0.0, 1.0]), u=np.zeros((2, 1)), s=np.array([0.0, 1.0]),
+                         tangent_p=np.ones(2), residual=np.zeros(2), newton_iterations=np.zeros(2, dtype=int),
+                         observables={"a": np.array([0.0, 2.0])}, status="bound", message="done",
+                         meta={"parameter_name": "q", "n_steps": 1})
+
+
+def test_ctrl_c_during_run_exits_130(tmp_path, capsys, monkeypatch):
+    def run(scene, progress):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "load_model", lambda name: _fake_model(run))
+    out = tmp_path / "out"
+    code, _, stderr = run_cli(capsys, "trace", "--out", str(out))
+    assert code == 130 and "Traceback" not in stderr and "interrupted" in stderr
+    assert not any(out.iterdir())
+
+
+def test_ctrl_c_while_writing_leaves_no_partial_files(tmp_path, capsys, monkeypatch):
+    def plot(ax):
+        raise KeyboardInterrupt  # the figure is written last: summary and CSV are already in temp files
+
+    def run(scene, progress):
+        res = TraceResult.from_branches([_tiny_branch()], x="p", y="a")
+        res.plot = plot
+        return res
+
+    monkeypatch.setattr(cli, "load_model", lambda name: _fake_model(run))
+    out = tmp_path / "out"
+    code, _, _ = run_cli(capsys, "trace", "-q", "--out", str(out))
+    assert code == 130
+    assert not any(out.iterdir())
+
+
+def test_runner_protocol_with_stand_in(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(cli, "load_model", lambda name: _fake_model(
+        lambda scene, progress: TraceResult.from_branches([_tiny_branch()], x="p", y="a", summary={"extra": scene})))
+    out = tmp_path / "out"
+    code, _, _ = run_cli(capsys, "trace", "-q", "--out", str(out), "--set", "model.n=5")
+    assert code == 0
+    summary = read_summary(out)
+    assert summary["extra"] == {"model": {"n": 5}} and summary["parameter"] == "q"
+    assert [r["a"] for r in read_csv(out)] == ["0.0", "2.0"]
+
+
+# ---- the scene loader ------------------------------------------------------------------------------------
+SCHEMA = Schema({"m": {"x": real(1.0, gt=0), "k": integer(5, low=1, high=10)}})
+
+
+def test_load_scene_types_and_defaults():
+    assert load_scene(SCHEMA) == {"m": {"x": 1.0, "k": 5}}
+    scene = load_scene(SCHEMA, overrides=["m.x=2", "m.k=7"])
+    assert scene == {"m": {"x": 2.0, "k": 7}} and isinstance(scene["m"]["x"], float)
+    with pytest.raises(SceneError, match=r"m\.x = true .*expected a number"):
+        load_scene(SCHEMA, overrides=["m.x=true"])
+    with pytest.raises(SceneError, match=r"m\.k = 11 .*an integer in \[1, 10\]"):
+        load_scene(SCHEMA, overrides=["m.k=11"])
+
+
+def test_scene_error_is_one_paragraph(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[m]\nx = "a\nb"\n')
+    with pytest.raises(SceneError) as info:
+        load_scene(SCHEMA, bad)
+    assert "\n" not in str(info.value) and "bad.toml" in str(info.value)
