@@ -44,7 +44,7 @@ def test_trace_bratu_writes_outputs_and_locates_the_fold(tmp_path, capsys):
     summary = read_summary(out)
     assert summary["model"] == "bratu" and summary["status"] == "ok" and summary["success"] is True
     assert summary["scene"]["model"]["n"] == 200  # the fully resolved scene
-    assert summary["scene"]["continuation"]["stability"] is False
+    assert summary["scene"]["continuation"]["stability"] is True
     assert summary["n_steps"] > 0 and summary["wall_time_s"] > 0
     folds = [sp for sp in summary["special_points"] if sp["kind"] == "fold"]
     assert len(folds) == 1
