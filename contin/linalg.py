@@ -122,6 +122,9 @@ class DenseLU(Factorization):
 
 def bandwidths(A) -> tuple[int, int]:
     """Return the lower and upper bandwidths ``(kl, ku)`` of a sparse or dense matrix."""
+    if sp.issparse(A) and A.format == "dia":
+        offs = [int(o) for o, d in zip(A.offsets, A.data) if np.any(d)] or [0]
+        return max(0, -min(offs)), max(0, max(offs))
     if sp.issparse(A):
         coo = A.tocoo()
         if coo.nnz == 0:
@@ -229,6 +232,14 @@ def _matvec(A, x):
 
 
 def _inf_norm(A) -> float:
+    if sp.issparse(A) and A.format == "dia":
+        # row sums of |A| without building |A|: dia data[k, j] sits in row j - offset_k
+        n = A.shape[0]
+        rows = np.zeros(n)
+        for off, d in zip(A.offsets, A.data):
+            lo, hi = max(0, off), min(A.shape[1], n + off)
+            rows[lo - off:hi - off] += np.abs(d[lo:hi])
+        return float(rows.max()) if n else 0.0
     if sp.issparse(A):
         return float(abs(A).sum(axis=1).max()) if A.shape[0] else 0.0
     A = np.asarray(A)
