@@ -440,9 +440,9 @@ def _locate_event(curve: Curve, seg: _Segment, event: Event, vA: float, vB: floa
                         located=True, s=seg.A.s + sigma, label=event.name, info=info)
 
 
-def _fold_extended_residual(problem: Problem, u, p, b, c, F_bord: BorderedSolver):
+def _fold_extended_residual(problem: Problem, F_bord: BorderedSolver):
     """Minimally augmented fold function ``g`` and the null vectors ``v`` (right) and ``w`` (left)."""
-    n = u.size
+    n = F_bord.A.shape[0]
     v, g = F_bord.solve(np.zeros(n), np.array([1.0]))
     if problem.symmetric:
         return float(g[0]), v, v  # b = c and J = J^T make the left null vector equal the right one
@@ -485,11 +485,10 @@ def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter
     F = _safe_factorize(problem, J)
     if v0 is None or not np.any(v0):
         v0 = _inverse_iteration(J, F, n)
-    b = np.asarray(v0, dtype=float) / np.linalg.norm(v0)
-    if problem.symmetric:
-        c = b.copy()
-    else:
-        c = _inverse_iteration(J, F, n, start=b, trans=True)
+    # border [[J, b], [c^T, 0]]: b must stay out of range(J) (a left null vector does), c out of
+    # range(J^T) (a right null vector does); for a symmetric J they coincide
+    c = np.asarray(v0, dtype=float) / np.linalg.norm(v0)
+    b = c.copy() if problem.symmetric else _inverse_iteration(J, F, n, start=c, trans=True)
     status, res, g, dp = "max_iter", math.inf, math.inf, math.inf
     history = []
     for it in range(max_iter + 1):
@@ -497,7 +496,7 @@ def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter
         J = problem.checked_jacobian(u, p)
         F = _safe_factorize(problem, J)
         M = BorderedSolver(J, F, b.reshape(n, 1), c.reshape(1, n), np.zeros((1, 1)), refactor=problem.factorize)
-        g, v, w = _fold_extended_residual(problem, u, p, b, c, M)
+        g, v, w = _fold_extended_residual(problem, M)
         f_res = float(np.max(np.abs(r), initial=0.0))
         res = max(f_res, abs(g))
         history.append(res)

@@ -78,3 +78,15 @@ def test_model_supplied_stability_operator_is_used():
     br = continuation(pb, [0.0, 0.0], 0.0, ds=0.1, ds_max=0.3, p_max=2.0, stability=True)
     np.testing.assert_array_equal(br.n_negative, (br.p < 1.0).astype(int))
     np.testing.assert_allclose(br.eigenvalues[:, 0], np.minimum(br.p - 1.0, 1.0), atol=1e-14)
+
+
+def test_fold_of_a_non_symmetric_system():
+    # u2 = u1^2 and 2 u2 - u1 + p = 0 give p = u1 - 2 u1^2: a fold at u1 = 1/4, p = 1/8
+    pb = Problem(residual=lambda u, p: np.array([u[1] - u[0] ** 2, 2 * u[1] - u[0] + p]),
+                 jacobian=lambda u, p: np.array([[-2 * u[0], 1.0], [-1.0, 2.0]]),
+                 dresidual_dp=lambda u, p: np.array([0.0, 1.0]))
+    br = continuation(pb, [0.0, 0.0], 0.0, ds=0.05, ds_max=0.1, p_min=-0.5, max_steps=200)
+    (fold,) = br.folds()
+    assert fold.located and fold.info["method"] == "minimally augmented Newton"
+    assert fold.p == pytest.approx(0.125, rel=1e-12)
+    assert fold.u[0] == pytest.approx(0.25, rel=1e-6)
