@@ -49,6 +49,10 @@ def test_column_first_branch_point_matches_dense_eigenvalue_solve(n):
     assert bps and bps[0].located
     assert bps[0].p == pytest.approx(discrete_buckling_load(n), rel=1e-8, abs=0)
     assert br.n_negative[0] == 0 and bps[0].info["n_negative_after"] == 1
+    for th, P, n_neg, eigs in zip(br.u, br.p, br.n_negative, br.eigenvalues):
+        w = np.linalg.eigvalsh(col.jacobian(th, P).toarray())
+        assert n_neg == np.count_nonzero(w < 0)
+        np.testing.assert_allclose(eigs, w[:eigs.size], rtol=1e-9, atol=1e-9)
 
 
 def test_column_branch_point_converges_to_euler_load_at_second_order():
@@ -71,6 +75,9 @@ def test_column_switched_branch_is_the_buckled_elastica():
     rot = buckled.observables["end_rotation"]
     assert np.all(np.abs(rot[1:]) > 0) and np.all(buckled.p > bp.p)
     assert np.all(buckled.n_negative == 0)  # post-buckling of the elastica is stable
+    for th, P, eigs in zip(buckled.u, buckled.p, buckled.eigenvalues):
+        np.testing.assert_allclose(eigs, np.linalg.eigvalsh(col.jacobian(th, P).toarray())[:eigs.size],
+                                   rtol=1e-9, atol=1e-9)
     # elastica: sqrt(P / EI) l = K(m = sin^2(alpha / 2)), l = L / 2, alpha the end rotation
     l = 0.5
     predicted = ellipk(np.sin(rot / 2) ** 2) ** 2 / l ** 2

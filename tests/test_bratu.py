@@ -82,7 +82,7 @@ def test_stability_on_banded_path_matches_eigvalsh():
     pb = Bratu(600)
     br = continuation(pb, np.zeros(600), 0.0, ds=0.2, ds_max=1.0, bounds={"max_u": (None, 3.0)},
                       stability=True, n_eigs=2)
-    for i in range(0, len(br), 3):
+    for i in range(len(br)):
         w = np.linalg.eigvalsh(pb.jacobian(br.u[i], br.p[i]).toarray())
         assert br.n_negative[i] == np.count_nonzero(w < 0)
         np.testing.assert_allclose(br.eigenvalues[i], w[:2], rtol=1e-8, atol=1e-10)
