@@ -122,6 +122,9 @@ class Branch:
         Negative eigenvalues of the stability operator (None when not computed; -1 where unknown).
     eigenvalues : ndarray (m, k) or None
         Smallest eigenvalues of the stability operator.
+    stability_by : dict
+        ``{label: (n_negative, eigenvalues)}`` for every stability operator of the problem (the
+        first label is the primary one, also given as ``n_negative`` and ``eigenvalues``).
     special_points : list of SpecialPoint
         Located folds, branch points, events and jumps, in path order.
     status : str
@@ -142,6 +145,7 @@ class Branch:
     observables: dict[str, np.ndarray] = field(default_factory=dict)
     n_negative: np.ndarray | None = None
     eigenvalues: np.ndarray | None = None
+    stability_by: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     special_points: list[SpecialPoint] = field(default_factory=list)
     status: str = "completed"
     message: str = ""
@@ -157,6 +161,13 @@ class Branch:
         if self.n_negative is None:
             return None
         return self.n_negative == 0
+
+    def stable_under(self, label: str) -> np.ndarray:
+        """Boolean stability of every point under the stability operator ``label``."""
+        try:
+            return self.stability_by[label][0] == 0
+        except KeyError:
+            raise KeyError(f"branch has no stability label {label!r}; it has {sorted(self.stability_by)}") from None
 
     @property
     def success(self) -> bool:
@@ -207,8 +218,11 @@ class Branch:
             arrays[f"obs_{i}"] = self.observables[name]
         for i, spt in enumerate(self.special_points):
             arrays[f"special_u_{i}"] = spt.u
+        stab_labels = list(self.stability_by)
+        for i, label in enumerate(stab_labels):
+            arrays[f"stab_nneg_{i}"], arrays[f"stab_eigs_{i}"] = self.stability_by[label]
         header = {
-            "format": "contin-branch", "version": 1, "observables": obs_names,
+            "format": "contin-branch", "version": 1, "observables": obs_names, "stability_labels": stab_labels,
             "special_points": [spt.header() for spt in self.special_points],
             "status": self.status, "message": self.message, "meta": _jsonable(self.meta),
         }
@@ -247,6 +261,8 @@ class Branch:
                 residual=arrays["residual"], newton_iterations=arrays["newton_iterations"],
                 observables=observables, n_negative=arrays.get("n_negative"),
                 eigenvalues=arrays.get("eigenvalues"), special_points=specials,
+                stability_by={label: (arrays[f"stab_nneg_{i}"], arrays[f"stab_eigs_{i}"])
+                              for i, label in enumerate(header.get("stability_labels", []))},
                 status=header["status"], message=header["message"], meta=header["meta"])
         except BranchFileError:
             raise

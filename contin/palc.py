@@ -871,6 +871,9 @@ class _Recorder:
         self.obs: dict[str, list[float]] = {name: [] for name in problem.observables}
         self.n_neg: list[int] = []
         self.eigs: list[np.ndarray] = []
+        self.labels: list[str] = []
+        self.n_neg_by: dict[str, list[int]] = {}
+        self.eigs_by: dict[str, list[np.ndarray]] = {}
         self.specials: list[SpecialPoint] = []
 
     def add(self, pt: Point) -> None:
@@ -888,14 +891,21 @@ class _Recorder:
         for name, fun in self.problem.observables.items():
             self.obs[name].append(float(fun(pt.u, pt.p)))
         if self.st.stability:
-            H = self.problem.stability_operator(pt.u, pt.p)
-            if H is None:
+            ops = self.problem.stability_operators(pt.u, pt.p)
+            if not ops:
                 raise ValueError(f"stability requested but problem {self.problem.name!r} has no stability operator")
-            info = stability_info(H, self.st.n_eigs)
-            self.n_neg.append(info.n_negative)
-            e = np.full(self.st.n_eigs, np.nan)
-            e[: info.eigenvalues.size] = info.eigenvalues
-            self.eigs.append(e)
+            if not self.labels:
+                self.labels = list(ops)
+                self.n_neg_by = {label: [] for label in self.labels}
+                self.eigs_by = {label: [] for label in self.labels}
+            for label in self.labels:
+                info = stability_info(ops[label], self.st.n_eigs)
+                e = np.full(self.st.n_eigs, np.nan)
+                e[: info.eigenvalues.size] = info.eigenvalues
+                self.n_neg_by[label].append(info.n_negative)
+                self.eigs_by[label].append(e)
+            self.n_neg.append(self.n_neg_by[self.labels[0]][-1])
+            self.eigs.append(self.eigs_by[self.labels[0]][-1])
 
     def special(self, spt: SpecialPoint) -> None:
         if spt.index < 0:
@@ -924,6 +934,8 @@ class _Recorder:
             residual=np.array(self.res), newton_iterations=np.array(self.iters, dtype=int),
             observables={k: np.array(v) for k, v in self.obs.items()},
             n_negative=n_neg, eigenvalues=np.array(self.eigs) if stab else None,
+            stability_by={label: (np.array(self.n_neg_by[label], dtype=int), np.array(self.eigs_by[label]))
+                          for label in self.labels} if stab else {},
             special_points=self.specials, status=status, message=message,
             meta={"problem": self.problem.name, "parameter_name": self.problem.parameter_name,
                   "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),

@@ -55,6 +55,10 @@ class Problem:
     stability_operator : callable ``(u, p) -> matrix``, optional
         Symmetric matrix whose negative eigenvalues count the unstable directions; defaults to the
         Jacobian when ``symmetric``.
+    stability_operators : mapping of label to callable ``(u, p) -> matrix``, optional
+        Several stability notions at once (e.g. ``{"displacement": ..., "force": ...}`` for a
+        structure that can be loaded either way); the first one is the primary label.  Overrides
+        ``stability_operator``.
     name, parameter_name : str
         Labels used in output.
     residual_scale : float
@@ -72,6 +76,7 @@ class Problem:
         observables: Mapping[str, Callable[[Array, float], float]] | None = None,
         symmetric: bool = False,
         stability_operator: Callable[[Array, float], Any] | None = None,
+        stability_operators: Mapping[str, Callable[[Array, float], Any]] | None = None,
         name: str = "problem",
         parameter_name: str = "p",
         residual_scale: float = 1.0,
@@ -81,6 +86,7 @@ class Problem:
         self._dresidual_dp = dresidual_dp
         self._energy = energy
         self._stability_operator = stability_operator
+        self._stability_operators = dict(stability_operators or {})
         self._observables = dict(observables or {})
         self.symmetric = bool(symmetric)
         self.name = name
@@ -124,12 +130,28 @@ class Problem:
         return self._observables
 
     def stability_operator(self, u: Array, p: float):
-        """Symmetric operator whose inertia decides stability (``None``: no stability analysis)."""
+        """Symmetric operator whose inertia decides stability (``None``: no stability analysis).
+
+        With several labelled operators this is the primary (first) one.
+        """
+        if self._stability_operators:
+            return next(iter(self._stability_operators.values()))(u, p)
         if self._stability_operator is not None:
             return self._stability_operator(u, p)
         if self.symmetric:
             return self.jacobian(u, p)
         return None
+
+    def stability_operators(self, u: Array, p: float) -> dict[str, Any]:
+        """Stability operators by label; the first label is the primary one.
+
+        The default is ``{"stability": stability_operator(u, p)}`` (empty when there is none).
+        Override (or pass ``stability_operators=``) to label each point under several controls.
+        """
+        if self._stability_operators:
+            return {label: op(u, p) for label, op in self._stability_operators.items()}
+        op = self.stability_operator(u, p)
+        return {} if op is None else {"stability": op}
 
     def factorize(self, J) -> Factorization:
         """Factorize a Jacobian; override to exploit a model's structure."""

@@ -90,3 +90,22 @@ def test_fold_of_a_non_symmetric_system():
     assert fold.located and fold.info["method"] == "minimally augmented Newton"
     assert fold.p == pytest.approx(0.125, rel=1e-12)
     assert fold.u[0] == pytest.approx(0.25, rel=1e-6)
+
+
+def test_several_labelled_stability_operators(tmp_path):
+    # one branch, two notions of stability (as a structure under force and under displacement control)
+    from contin import Branch
+
+    pb = Problem(residual=lambda u, p: u - p, jacobian=lambda u, p: np.eye(2),
+                 dresidual_dp=lambda u, p: -np.ones(2),
+                 stability_operators={"force": lambda u, p: np.diag([p - 1.0, 1.0]),
+                                      "displacement": lambda u, p: np.diag([2.0 - p, 3.0])})
+    br = continuation(pb, [0.0, 0.0], 0.0, ds=0.1, ds_max=0.3, p_max=3.0, stability=True)
+    np.testing.assert_array_equal(br.n_negative, (br.p < 1.0).astype(int))  # primary = first label
+    np.testing.assert_array_equal(br.stable_under("force"), br.p >= 1.0)
+    np.testing.assert_array_equal(br.stable_under("displacement"), br.p <= 2.0)
+    back = Branch.load(br.save(tmp_path / "b.npz"))
+    assert list(back.stability_by) == ["force", "displacement"]
+    for label in back.stability_by:
+        for a, b in zip(back.stability_by[label], br.stability_by[label]):
+            np.testing.assert_array_equal(a, b)
