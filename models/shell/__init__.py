@@ -1,0 +1,11 @@
+"""The discrete axisymmetric shell (paper section 3(a)): reference geometry and elastic energy.
+
+Element energies and their exact derivatives come from :mod:`models.shell._generated`, plain numpy
+emitted by ``python -m models.shell.codegen`` (the only module that needs sympy; it is not imported
+here).
+"""
+
+from .energy import HALF_BANDWIDTH, ShellEnergy
+from .geometry import ReferenceCap, interleave, spherical_cap, split
+
+__all__ = ["HALF_BANDWIDTH", "ReferenceCap", "ShellEnergy", "interleave", "spherical_cap", "split"]

@@ -1,0 +1,187 @@
+"""Energy core of the discrete axisymmetric shell: generated kernels, reference state, exact
+derivatives against finite differences, pure dilation, and no sympy on the import path."""
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from models.shell import HALF_BANDWIDTH, ShellEnergy, spherical_cap, split
+
+R, E, H, NU = 1.0, 1.0, 0.02, 0.5
+VARIANTS = ("reference", "current")
+GENERATED = Path(__file__).resolve().parents[1] / "models" / "shell" / "_generated.py"
+
+
+def shell(N, phi_hat, variant="reference", R=R):
+    return ShellEnergy(spherical_cap(R, phi_hat, N), E, H, NU, kappa11_length=variant)
+
+
+# ---- (a) the committed kernels are what the generator produces -----------------------------------
+def test_generated_file_is_reproduced_byte_for_byte(tmp_path):
+    pytest.importorskip("sympy")
+    from models.shell import codegen
+
+    out = tmp_path / "_generated.py"
+    codegen.generate(out)
+    assert out.read_bytes() == GENERATED.read_bytes(), (
+        "models/shell/_generated.py is out of date: run `python -m models.shell.codegen`")
+
+
+# ---- (b) reference state -------------------------------------------------------------------------
+@pytest.mark.parametrize("variant", VARIANTS)
+@pytest.mark.parametrize("N, phi_hat", [(12, 0.6), (40, 1.2), (200, 0.8)])
+def test_reference_state_is_stress_free(N, phi_hat, variant):
+    s = shell(N, phi_hat, variant)
+    x = s.reference_state
+    # scales: membrane energy of a unit strain ~ ks R^2, its force ~ ks R
+    assert abs(s.energy(x)) <= 1e-24 * s.ks * R**2
+    assert np.max(np.abs(s.gradient(x))) <= 1e-13 * s.ks * R
+    eps11, eps22 = s.strains(x)
+    assert np.max(np.abs(eps11)) < 1e-14 and np.max(np.abs(eps22)) < 1e-14
+    k11, k22 = s.curvatures(x)
+    np.testing.assert_array_equal(k11, s.kappa11_bar)
+    np.testing.assert_array_equal(k22, s.kappa22_bar)
+
+
+def test_reference_geometry():
+    cap = spherical_cap(2.0, 0.7, 25)
+    assert (cap.r[0], cap.z[0]) == pytest.approx((2.0 * math.cos(0.7), 2.0 * math.sin(0.7)))
+    assert (cap.r[-1], cap.z[-1]) == (0.0, 2.0)
+    np.testing.assert_allclose(np.hypot(cap.r, cap.z), 2.0, rtol=1e-15)
+    chord = 2 * 2.0 * math.sin(cap.dtheta / 2)
+    np.testing.assert_allclose(cap.edge_length, chord, rtol=1e-13)
+    np.testing.assert_allclose(cap.voronoi_length[1:-1], chord, rtol=1e-13)
+    assert cap.voronoi_length[0] == pytest.approx(chord / 2) and cap.voronoi_length[-1] == pytest.approx(chord / 2)
+    # kappa22 = 1/R exactly (bisector normal on a uniform mesh); kappa11 = 1/(R cos(dtheta/2))
+    # (round-off: z differences near the pole are O(R dtheta^2) out of z = O(R))
+    rtol = 1e-15 / cap.dtheta**2
+    np.testing.assert_allclose(cap.kappa22[1:-1], 1 / 2.0, rtol=rtol)
+    np.testing.assert_allclose(cap.kappa11[1:-1], 1 / (2.0 * math.cos(cap.dtheta / 2)), rtol=rtol)
+    assert np.isnan(cap.kappa11[[0, -1]]).all() and np.isnan(cap.kappa22[[0, -1]]).all()
+    with pytest.raises(ValueError, match="phi_hat"):
+        spherical_cap(1.0, 1.6, 10)
+    with pytest.raises(ValueError, match="N"):
+        spherical_cap(1.0, 1.0, 2)
+
+
+# ---- (c) exact derivatives against central finite differences ------------------------------------
+def deformed(s, seed, amplitude=1e-2):
+    rng = np.random.default_rng(seed)
+    x = s.reference_state + amplitude * s.cap.R * rng.uniform(-1.0, 1.0, s.n)
+    return x
+
+
+def fd_gradient(s, x, part, step):
+    g = np.empty(s.n)
+    for k in range(s.n):
+        e = np.zeros(s.n)
+        e[k] = step
+        g[k] = (s.energy(x + e, part) - s.energy(x - e, part)) / (2 * step)
+    return g
+
+
+def fd_hessian(s, x, part, step):
+    Hfd = np.empty((s.n, s.n))
+    for k in range(s.n):
+        e = np.zeros(s.n)
+        e[k] = step
+        Hfd[:, k] = (s.gradient(x + e, part) - s.gradient(x - e, part)) / (2 * step)
+    return Hfd
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+@pytest.mark.parametrize("phi_hat", [0.6, 1.2])
+@pytest.mark.parametrize("N", [12, 40])
+def test_derivatives_match_finite_differences(N, phi_hat, variant):
+    s = shell(N, phi_hat, variant)
+    for seed in (1, 2):
+        x = deformed(s, seed)
+        # At N = 40, phi_hat = 1.2 an edge is ~0.0095 R, so perturbations of 1e-2 R crumple the
+        # mesh (edges shortened to ~10 %, turning angles up to ~170 degrees): scale the step by the
+        # shortest current edge to stay in the truncation-free range.
+        r, z = split(x)
+        step = 1e-4 * np.min(np.hypot(np.diff(r), np.diff(z)))
+        for part in ("stretch", "bend"):  # separately: bending is ~(h/R)^2 smaller than stretching
+            g = s.gradient(x, part)
+            g_fd = fd_gradient(s, x, part, step)
+            assert np.max(np.abs(g - g_fd)) <= 1e-6 * np.max(np.abs(g)), part
+            Hx = s.hessian(x, part).toarray()
+            H_fd = fd_hessian(s, x, part, step)
+            assert np.max(np.abs(Hx - H_fd)) <= 1e-6 * np.max(np.abs(Hx)), part
+            # second difference of the energy itself along a random unit direction (the step is
+            # scaled by the shortest edge: the deformed states are strongly distorted at N = 40)
+            d = np.random.default_rng(seed + 10).standard_normal(s.n)
+            d /= np.linalg.norm(d)
+            t = 1e-3 * s.cap.edge_length.min()
+            e0, ep, em = s.energy(x, part), s.energy(x + t * d, part), s.energy(x - t * d, part)
+            assert (ep - 2 * e0 + em) / t**2 == pytest.approx(d @ Hx @ d, rel=1e-4)
+        np.testing.assert_allclose(s.gradient(x), s.gradient(x, "stretch") + s.gradient(x, "bend"))
+        assert s.energy(x) == pytest.approx(s.energy(x, "stretch") + s.energy(x, "bend"), rel=1e-14)
+
+
+# ---- (d) symmetry and band structure -------------------------------------------------------------
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_hessian_symmetric_and_banded(variant):
+    s = shell(40, 0.8, variant)
+    Hx = s.hessian(deformed(s, 3))
+    A = Hx.toarray()
+    assert np.max(np.abs(A - A.T)) <= 1e-14 * np.max(np.abs(A))
+    rows, cols = Hx.nonzero()
+    assert np.max(np.abs(rows - cols)) == HALF_BANDWIDTH
+    # the pattern does not depend on the state
+    H0 = s.hessian(s.reference_state)
+    np.testing.assert_array_equal(H0.indptr, Hx.indptr)
+    np.testing.assert_array_equal(H0.indices, Hx.indices)
+
+
+# ---- (e) pure dilation ---------------------------------------------------------------------------
+@pytest.mark.parametrize("variant", VARIANTS)
+@pytest.mark.parametrize("e", [-0.05, 0.01, 0.2])
+@pytest.mark.parametrize("N, phi_hat", [(12, 0.6), (40, 1.2)])
+def test_pure_dilation(N, phi_hat, e, variant):
+    Rs = 1.7
+    s = shell(N, phi_hat, variant, R=Rs)
+    cap = s.cap
+    x = (1 + e) * s.reference_state
+    eps11, eps22 = s.strains(x)
+    np.testing.assert_allclose(eps11, e, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(eps22, e, rtol=0, atol=1e-14)
+
+    k11, k22 = s.curvatures(x)
+    # round-off: z differences near the pole are O(R dtheta^2) out of z = O(R)
+    rtol = 1e-15 / cap.dtheta**2
+    np.testing.assert_allclose(k22, 1 / ((1 + e) * Rs), rtol=rtol)
+    # The chord discretisation gives kappa11 = 1 / (R cos(dtheta/2)) on the reference sphere; a
+    # dilation divides it by (1 + e) with the current Voronoi length and leaves it unchanged with
+    # the reference one (kappa11 = turning per reference length).
+    c = math.cos(cap.dtheta / 2)
+    k11_expected = 1 / ((1 + e) * Rs * c) if variant == "current" else 1 / (Rs * c)
+    np.testing.assert_allclose(k11, k11_expected, rtol=rtol)
+    assert abs(k11_expected * c - (1 / ((1 + e) * Rs) if variant == "current" else 1 / Rs)) < 1e-15
+
+    # analytic energy from the closed-form reference geometry
+    theta = cap.theta
+    chord = 2 * Rs * math.sin(cap.dtheta / 2)
+    rbar_edge = Rs * (np.cos(theta[:-1]) + np.cos(theta[1:])) / 2
+    W_stretch = np.sum(math.pi * rbar_edge * chord * s.ks * (2 + 2 * NU) * e**2)
+    d22 = 1 / ((1 + e) * Rs) - 1 / Rs
+    d11 = (1 / (1 + e) - 1) / (Rs * c) if variant == "current" else 0.0
+    rbar_node = Rs * np.cos(theta[1:-1])
+    W_bend = np.sum(math.pi * rbar_node * chord * s.kb * (d11**2 + 2 * NU * d11 * d22 + d22**2))
+    assert s.energy(x, "stretch") == pytest.approx(W_stretch, rel=1e-12)
+    assert s.energy(x, "bend") == pytest.approx(W_bend, rel=1e-10)
+    assert s.energy(x) == pytest.approx(W_stretch + W_bend, rel=1e-12)
+
+
+# ---- (f) no sympy on the import path -------------------------------------------------------------
+def test_import_does_not_load_sympy():
+    code = ("import sys, models.shell, models.shell.energy, models.shell.geometry, "
+            "models.shell._generated; assert 'sympy' not in sys.modules, 'sympy imported'; print('ok')")
+    root = Path(__file__).resolve().parents[1]
+    res = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True, text=True, timeout=60)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip() == "ok"
