@@ -7,5 +7,7 @@ here).
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
 from .geometry import ReferenceCap, interleave, spherical_cap, split
+from .problem import PoleMirror, ShellPointLoad
 
-__all__ = ["HALF_BANDWIDTH", "ReferenceCap", "ShellEnergy", "interleave", "spherical_cap", "split"]
+__all__ = ["HALF_BANDWIDTH", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "interleave",
+           "spherical_cap", "split"]
