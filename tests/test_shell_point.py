@@ -160,3 +160,18 @@ def test_force_at_tenth_radius_converges_at_second_order():
         assert br.status == "bound"
         Fs.append(br.observables["F"][-1])
     assert np.all(_observed_orders(Fs) > 1.75)
+
+
+def test_normalized_force_maximum_is_scale_invariant():
+    # E x 1e3 and R x 10 (h scaled with R): w/R and F R / (2 pi D) at the force maximum must not move
+    from contin import continuation, extremum
+
+    found = []
+    for E, R in [(1e6, 1.0), (1e9, 10.0)]:
+        pb = ShellPointLoad(N=40, E=E, R=R, h=0.02 * R, control="displacement")
+        br = continuation(pb, pb.reference_unknowns(), 0.0, ds=0.02 * R, ds_max=0.05 * R, p_max=0.32 * R,
+                          events=[extremum("F", "max")])
+        (ev,) = br.events("max(F)")
+        found.append((ev.observables["w_over_R"], ev.observables["F_norm"]))
+    assert found[1][0] == pytest.approx(found[0][0], rel=1e-8)
+    assert found[1][1] == pytest.approx(found[0][1], rel=1e-8)
