@@ -121,7 +121,18 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=None, help="write the Markdown report here (e.g. docs/benchmarks.md)")
     ap.add_argument("--json", default=None, help="write the raw numbers as JSON here")
     ap.add_argument("--no-peers", action="store_true", help="skip bice and AUTO-07p")
+    ap.add_argument("--render", metavar="JSON", default=None,
+                    help="only re-render the report from the JSON of an earlier run (no timing)")
     args = ap.parse_args(argv)
+    if args.render:
+        with open(args.render) as fh:
+            raw = _int_keys(json.load(fh))
+        report = render(raw)
+        print(report)
+        if args.out:
+            with open(args.out, "w") as fh:
+                fh.write(report)
+        return 0
 
     results: dict = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
                      "python": platform.python_version(), "repeat": args.repeat}
@@ -189,13 +200,21 @@ def main(argv=None) -> int:
     return 0
 
 
+def _int_keys(obj):
+    """JSON turns the problem sizes used as keys into strings: turn them back."""
+    if isinstance(obj, dict):
+        return {(int(k) if isinstance(k, str) and k.isdigit() else k): _int_keys(v) for k, v in obj.items()}
+    return obj
+
+
 def _fmt_err(e):
     return "n/a" if e is None else f"{e:.1e}"
 
 
 def render(r: dict) -> str:
     lines = ["# Benchmarks", "",
-             "Produced by `python -m studies.bench_bratu --out docs/benchmarks.md` "
+             "Produced by `python -m studies.bench_bratu --out docs/benchmarks.md "
+             "--json docs/benchmarks_bratu.json` "
              f"({r['machine']}, Python {r['python']}; medians of {r['repeat']} runs unless noted; "
              "BLAS single-threaded). The machine is shared, so absolute times drift between runs; "
              "ratios measured in the same run are the stable quantity.", "",
@@ -227,7 +246,7 @@ def render(r: dict) -> str:
     peers = r.get("peers", {})
     if peers:
         lines += ["", "### Peers (benchmark only; never a dependency)", "",
-                  "| peer | n | available | median time (runs) | ratio to contin | steps | fold error | settings |",
+                  "| peer | n | available | median time (runs) | ratio to contin | steps | fold error | method |",
                   "|---|---|---|---|---|---|---|---|"]
         for name, per_n in peers.items():
             if name == "error":
@@ -237,8 +256,20 @@ def render(r: dict) -> str:
                 if not o.get("available"):
                     lines.append(f"| {name} | {n} | no | | | | | {o.get('reason', '')} |")
                 else:
+                    settings = o.get("settings", "")
+                    short = settings if len(settings) <= 80 else settings[:77].rsplit(",", 1)[0] + ", ..."
                     lines.append(f"| {name} | {n} | yes | {o['time_s'] * 1e3:.1f} ms ({o['runs']}) | {o['ratio_to_ours']:.1f} | "
-                                 f"{o.get('steps', '')} | {_fmt_err(o['fold_error'])} | {o.get('settings', '')} |")
+                                 f"{o.get('steps', '')} | {_fmt_err(o['fold_error'])} | {short} |")
+        lines += ["", "Notes on the peers (full settings in `studies/PEERS_NOTES.md` and in the JSON output):", "",
+                  "- Both get the exact Jacobian and Newton tolerances of 1e-10; their arclength is the plain "
+                  "Euclidean norm of (u, lam), so their steps are scaled by sqrt(n).",
+                  "- bice 0.4.6 locates the fold by bisection on the critical eigenvalue "
+                  "(`locate_bifurcation`, tolerance 1e-5) and computes 3 eigenvalues at every step "
+                  "(fewer gave a spurious bifurcation).",
+                  "- AUTO-07p (bifpy 0.3.0) solves an algebraic problem with a dense (n+1) x (n+1) "
+                  "elimination at every Newton iteration, O(n^3): seconds per solve at n = 2000, which is "
+                  "why that case was timed once. It prints parameters to 11 digits, which bounds its fold "
+                  "error here."]
     return "\n".join(lines) + "\n"
 
 
