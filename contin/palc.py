@@ -655,7 +655,7 @@ def _locate_branch_point(curve: Curve, seg: _Segment) -> SpecialPoint:
 # ---------------------------------------------------------------------------------------------------
 def continuation(problem: Problem, u0, p0: float, settings: Settings | None = None, *,
                  events: list[Event] | tuple[Event, ...] = (), tangent: tuple[np.ndarray, float] | None = None,
-                 correct_start: bool = True, **overrides: Any) -> Branch:
+                 correct_start: bool = True, origin: Any = None, **overrides: Any) -> Branch:
     """Trace the solution branch of ``problem`` through ``(u0, p0)`` by pseudo-arclength continuation.
 
     Parameters
@@ -675,6 +675,9 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
         sign of ``t_p`` given by ``settings.direction``.
     correct_start : bool
         Converge the starting point at fixed parameter first.
+    origin : JumpResult, optional
+        The snap that landed on the starting point; it is recorded as the branch's first special
+        point (``kind="jump"``, ``label="jump_to"``, with the energy released).
 
     Returns
     -------
@@ -724,6 +727,13 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
 
     current = Point(u0, p0, t_u, t_p, res0, it0, det_sign, 0.0)
     recorder.add(current)
+    if origin is not None:
+        landing = origin.special_points(problem)[1]
+        landing.u, landing.p, landing.s, landing.index = u0.copy(), p0, 0.0, 0
+        landing.residual = res0
+        landing.info["energy_released"] = float(origin.energy_from - origin.energy_to)
+        landing.info["jumped_from_observables"] = problem.evaluate_observables(origin.u_from, origin.p)
+        recorder.special(landing)
     ev_values = [_event_value(curve, ev, u0, p0, t_u, t_p) for ev in all_events]
     ds = st.ds
     previous: Point | None = None

@@ -83,8 +83,12 @@ def test_jump_from_upper_limit_point_lands_on_inverted_state():
     y_inv = brentq(lambda y: P_of_y(y) - fold.p, -3 * B, -closed_form()[0] - 1e-9, xtol=1e-15)
     assert jr.u_to[1] == pytest.approx(y_inv, abs=1e-10)
     assert jr.u_to[0] == pytest.approx(0.0, abs=1e-10)
-    resumed = continuation(tr, jr.u_to, fold.p, ds=0.02, ds_max=0.05, p_max=2 * fold.p, stability=True)
+    resumed = continuation(tr, jr.u_to, fold.p, ds=0.02, ds_max=0.05, p_max=2 * fold.p, stability=True,
+                           origin=jr)
     assert resumed.status == "bound" and np.all(resumed.n_negative == 0)
+    landing = resumed.special_points[0]
+    assert landing.kind == "jump" and landing.label == "jump_to" and landing.index == 0
+    assert landing.p == fold.p and landing.info["energy_released"] > 0
     np.testing.assert_allclose(resumed.p, P_of_y(resumed.u[:, 1]), atol=1e-12)
 
 
