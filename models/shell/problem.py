@@ -241,7 +241,11 @@ class ShellPointLoad(Problem):
         scale = max(self.E * self.h * self.R, ROUNDOFF_MARGIN * H_inf * self.R)
         observables = {"F": self._obs_F, "w": self._obs_w, "w_over_R": self._obs_w_over_R,
                        "F_norm": self._obs_F_norm}
+        # the control's own stability comes first: it is the primary label (Branch.n_negative) and
+        # the operator contin.jump minimises with
         ops = {"displacement": self._op_displacement, "force": self._op_force}
+        if control == "force":
+            ops = {"force": self._op_force, "displacement": self._op_displacement}
         super().__init__(observables=observables, symmetric=True, stability_operators=ops,
                          name=f"shell_point_{control}", parameter_name="w" if control == "displacement" else "F",
                          residual_scale=scale)

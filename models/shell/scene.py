@@ -1,0 +1,435 @@
+"""Command-line scene of the point-indented shell (``contin trace --model shell``).
+
+The scene traces the whole connected equilibrium path of a spherical cap loaded by a point at its
+pole, from the reference state until the shell is everted (the pole past the mirror image of its
+start, ``w = 2 R (1 - sin phi_hat)``, by ``continuation.overshoot``), locates every fold in ``w``
+and every extremum of ``F`` (the limit points under force control), labels every point's stability
+under both controls and classifies the response (``docs/physics.md`` sections 4 and 5).
+
+Scene keys (public contract, ``--set section.key=value``)::
+
+    [shell]         R, E, nu, h, phi_hat, N
+    [load]          kind = "point", control = "displacement" | "force"
+    [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
+    [output]        figure
+
+Special points in ``summary.json``
+----------------------------------
+``"parameter"`` names the quantity that folds: ``"w"`` for a fold of the path in the prescribed
+pole displacement (a snap-back under displacement control), ``"F"`` for a local extremum of the
+force along the path (a limit point under force control, ``kind = "fold"`` with ``label`` ``max(F)``
+or ``min(F)``).  ``"stable_before"`` / ``"stable_after"`` give the stability, under the control in
+which the point is a fold (displacement for ``w``, force for ``F``), at the stored points on either
+side.  Every record also carries ``w``, ``F``, ``w_over_R``, ``F_norm = F R / (2 pi D)`` and the
+residual of its defining system.
+
+Classification (``docs/physics.md`` section 5)
+----------------------------------------------
+``monotonous``: no extremum of F and no fold in w on the path.  Otherwise ``bistable`` when F < 0
+(below round-off) at some point of the path that is stable under displacement control, else
+``monostable``.  ``F_max`` is the first local maximum of F along the path (the force-control snap
+load); ``F_min`` is the last local minimum of F along the path, i.e. the minimum on the branch that
+reaches eversion (the force-control snap-back load on unloading).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+import contin
+from contin.branch import Branch
+from contin.scene import (Constraint, SceneError, SceneModel, Schema, TraceResult, boolean, choice, integer,
+                          real)
+
+from .problem import ShellPointLoad
+
+__all__ = ["SHELL_SCENE", "SHELL_SCHEMA", "classify", "eversion_displacement"]
+
+Scene = dict[str, dict[str, Any]]
+
+#: Observables of :class:`ShellPointLoad` reported at every special point.
+_OBS = ("w", "F", "w_over_R", "F_norm")
+#: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
+#: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
+_MIN_STEPS_PER_PATH = 20
+#: Relative size (of ``max |F|`` on the path) below which a negative force counts as round-off.
+_F_ROUNDOFF = 1e-8
+
+SHELL_SCHEMA = Schema(
+    sections={
+        "shell": {
+            "R": real(1.0, gt=0, help="sphere radius [m]"),
+            "E": real(1e6, gt=0, help="Young's modulus [Pa]"),
+            "nu": real(0.5, gt=-1, le=0.5, help="Poisson's ratio"),
+            "h": real(0.02, gt=0, help="thickness [m]"),
+            "phi_hat": real(0.8, gt=0, lt=math.pi / 2,
+                            help="base angle from the horizontal [rad] (small = deep cap)"),
+            "N": integer(200, low=10, help="number of nodes on the meridian"),
+        },
+        "load": {
+            "kind": choice("point", ("point",), help="indenter (a point at the pole)"),
+            "control": choice("displacement", ("displacement", "force"),
+                              help="prescribed pole displacement w (bilateral) or dead load F"),
+        },
+        "continuation": {
+            "ds": real(0.02, gt=0, help="initial arclength step in units of R"),
+            "ds_max": real(0.1, gt=0, help="largest step in units of R (also capped at 1/20 of the eversion depth)"),
+            "tol": real(1e-10, gt=0, lt=1, help="relative residual tolerance"),
+            "max_steps": integer(3000, low=1, high=1_000_000, help="maximum number of steps per branch"),
+            "overshoot": real(0.05, ge=0, le=1,
+                              help="stop this fraction past eversion, w = 2 R (1 - sin phi_hat) (1 + overshoot)"),
+        },
+        "output": {
+            "figure": boolean(True, help="draw the force-displacement diagram (false: an empty placeholder)"),
+        },
+    },
+    constraints=[
+        Constraint(("continuation.ds", "continuation.ds_max"),
+                   lambda s: s["continuation"]["ds"] <= s["continuation"]["ds_max"],
+                   "continuation.ds <= continuation.ds_max"),
+        Constraint(("shell.h", "shell.R"), lambda s: s["shell"]["h"] < s["shell"]["R"],
+                   "shell.h < shell.R", "the shell model is thin: its thickness must be below its radius"),
+    ],
+)
+
+
+def eversion_displacement(R: float, phi_hat: float) -> float:
+    """Pole displacement ``2 R (1 - sin phi_hat)`` at which the pole reaches the mirror image of its start."""
+    return 2.0 * R * (1.0 - math.sin(phi_hat))
+
+
+# ---------------------------------------------------------------------------------------------------
+# special points and classification
+# ---------------------------------------------------------------------------------------------------
+def _stability_pair(br: Branch, label: str, index: int) -> tuple[bool | None, bool | None, int | None, int | None]:
+    """Stability (and negative-eigenvalue counts) under ``label`` at stored points ``index`` and ``index + 1``."""
+    if label not in br.stability_by or index < 0:
+        return None, None, None, None
+    nneg = br.stability_by[label][0]
+    before = int(nneg[index]) if index < len(nneg) else None
+    after = int(nneg[index + 1]) if index + 1 < len(nneg) else None
+    return (None if before is None else before == 0, None if after is None else after == 0, before, after)
+
+
+def _shell_records(branches: list[Branch], base: list[dict[str, Any]], R: float) -> list[dict[str, Any]]:
+    """Rewrite the generic special-point records for the shell (parameter, observables, stability).
+
+    ``base`` is :attr:`TraceResult.special_points` as built by :meth:`TraceResult.from_branches`, in
+    the same order as the branches' special points followed by the jumps.
+    """
+    out: list[dict[str, Any]] = []
+    k = 0
+    for bi, br in enumerate(branches):
+        pname = br.meta.get("parameter_name", "w")
+        for spt in br.special_points:
+            rec = dict(base[k])
+            k += 1
+            obs = rec.get("observables", {})
+            extremum_of_F = spt.kind == "event" and spt.label in ("max(F)", "min(F)")
+            if spt.kind == "fold" or extremum_of_F:
+                # which quantity folds: the traced parameter for a PALC fold, F for an F extremum
+                folds_in = "F" if extremum_of_F else pname
+                rec["kind"] = "fold"
+                rec["parameter"] = folds_in
+                if extremum_of_F:
+                    rec["label"] = spt.label
+                label = "force" if folds_in == "F" else "displacement"
+                # a point that ends the branch is stored last: the side it came from is the point before
+                ends = bool(spt.info.get("ends_branch"))
+                sb, sa, nb, na = _stability_pair(br, label, spt.index - 1 if ends else spt.index)
+                rec.pop("stable_before", None)
+                rec.pop("stable_after", None)
+                if sb is not None:
+                    rec["stable_before"] = sb
+                    rec["n_negative_before"] = nb
+                if sa is not None and not spt.info.get("ends_branch"):
+                    rec["stable_after"] = sa
+                    rec["n_negative_after"] = na
+                rec["stability_control"] = label
+            else:
+                rec["parameter"] = pname
+            for name in _OBS:
+                if name in obs:
+                    rec[name] = float(obs[name])
+            out.append(rec)
+    for rec in base[k:]:  # jumps: F is the fixed parameter
+        rec = dict(rec)
+        obs = rec.get("observables", {})
+        rec["parameter"] = "F"
+        for name in _OBS:
+            if name in obs:
+                rec[name] = float(obs[name])
+        out.append(rec)
+    return out
+
+
+def classify(branch: Branch, records: list[dict[str, Any]], D: float, R: float) -> dict[str, Any]:
+    """Classify a displacement-controlled path (``docs/physics.md`` section 5).
+
+    Parameters
+    ----------
+    branch : Branch
+        The traced path with stability data (label ``"displacement"``).
+    records : list of dict
+        Its special-point records as produced by :func:`_shell_records`.
+    D, R : float
+        Bending stiffness and sphere radius (for the normalized force).
+
+    Returns
+    -------
+    dict
+        ``classification``, ``F_max``, ``w_at_F_max``, ``F_min``, ``w_at_F_min`` (None when absent),
+        their normalized forms ``F_max_norm``, ``w_at_F_max_over_R``, ... and the counts of folds.
+    """
+    F = branch.observables["F"]
+    stable_d = branch.stable_under("displacement")
+    maxima = [r for r in records if r.get("parameter") == "F" and r.get("label") == "max(F)"]
+    minima = [r for r in records if r.get("parameter") == "F" and r.get("label") == "min(F)"]
+    w_folds = [r for r in records if r.get("kind") == "fold" and r.get("parameter") == "w"]
+    threshold = -_F_ROUNDOFF * float(np.max(np.abs(F), initial=0.0))
+    negative_stable = bool(np.any((F < threshold) & stable_d))
+    # a located F minimum on a displacement-stable stretch also counts (it lies between stored points)
+    for r in minima:
+        i = int(r.get("index", -1)) if "index" in r else -1
+        if r["F"] < threshold and 0 <= i < len(stable_d) - 1 and stable_d[i] and stable_d[i + 1]:
+            negative_stable = True
+    if not maxima and not minima and not w_folds:
+        kind = "monotonous"
+    elif negative_stable:
+        kind = "bistable"
+    else:
+        kind = "monostable"
+    scale = R / (2.0 * math.pi * D)
+    out: dict[str, Any] = {"classification": kind}
+    first_max = maxima[0] if maxima else None
+    last_min = minima[-1] if minima else None
+    for tag, rec in (("max", first_max), ("min", last_min)):
+        out[f"F_{tag}"] = None if rec is None else rec["F"]
+        out[f"w_at_F_{tag}"] = None if rec is None else rec["w"]
+        out[f"F_{tag}_norm"] = None if rec is None else rec["F"] * scale
+        out[f"w_at_F_{tag}_over_R"] = None if rec is None else rec["w"] / R
+    out["n_folds_in_w"] = len(w_folds)
+    out["n_limit_points_in_F"] = len(maxima) + len(minima)
+    out["F_negative_on_stable_path"] = negative_stable
+    return out
+
+
+def _classification_line(c: dict[str, Any]) -> str:
+    if c["F_max"] is None and c["F_min"] is None:
+        return f"classification: {c['classification']} (no extremum of F)"
+
+    def fmt(v: Any) -> str:
+        return "-" if v is None else f"{v:.6g}"
+    return (f"classification: {c['classification']} (F_max = {fmt(c['F_max'])} at w = {fmt(c['w_at_F_max'])}, "
+            f"F_min = {fmt(c['F_min'])} at w = {fmt(c['w_at_F_min'])}; normalized F_max R/(2 pi D) = "
+            f"{fmt(c['F_max_norm'])} at w/R = {fmt(c['w_at_F_max_over_R'])}, F_min R/(2 pi D) = "
+            f"{fmt(c['F_min_norm'])} at w/R = {fmt(c['w_at_F_min_over_R'])})")
+
+
+def _table(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    word = {True: "stable", False: "unstable", None: "?"}
+    rows = []
+    for rec in records:
+        if rec["kind"] == "jump":
+            stab = word[rec.get("stable")] if "stable" in rec else ""
+            what = rec.get("label", "")
+        else:
+            b, a = rec.get("stable_before"), rec.get("stable_after")
+            stab = "" if b is None and a is None else f"{word[b]} -> {word[a]}"
+            if rec.get("stability_control"):
+                stab += f" ({rec['stability_control']})"
+            what = rec.get("label", "")
+        rows.append({"kind": rec["kind"], "folds_in": rec["parameter"], "label": what,
+                     "w": rec.get("w"), "F": rec.get("F"), "w/R": rec.get("w_over_R"),
+                     "F_norm": rec.get("F_norm"), "residual": rec.get("residual"), "stability": stab})
+    return rows
+
+
+def _csv(branches: list[Branch], base: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """branch.csv: the generic columns plus both stability labels (``n_negative`` is the displacement one)."""
+    cols = dict(base)
+    cols.pop("stable", None)
+    cols.pop("n_negative", None)
+    if all(br.stability_by for br in branches) and branches:
+        for label in ("force", "displacement"):
+            cols[f"stable_{label}"] = np.concatenate([br.stable_under(label) for br in branches]).astype(int)
+        cols["n_negative"] = np.concatenate([br.stability_by["displacement"][0] for br in branches]).astype(int)
+        cols["n_negative_force"] = np.concatenate([br.stability_by["force"][0] for br in branches]).astype(int)
+    return cols
+
+
+# ---------------------------------------------------------------------------------------------------
+# the runner
+# ---------------------------------------------------------------------------------------------------
+def _settings(scene: Scene, problem: ShellPointLoad, w_end: float, progress: bool) -> contin.Settings:
+    s, c = scene["shell"], scene["continuation"]
+    R = s["R"]
+    cap = eversion_displacement(R, s["phi_hat"]) / _MIN_STEPS_PER_PATH / R
+    ds_max = min(c["ds_max"], cap)
+    ds = min(c["ds"], ds_max)
+    # weights make ds dimensionless in units of R: positions and w are lengths; F is measured in
+    # units of 2 pi D / R times the Reissner-type scale of the path (F_norm ~ 1..10 over the path)
+    f_unit = 2.0 * math.pi * problem.D / R
+    param_weight = 1.0 / R if problem.control == "displacement" else 1.0 / (10.0 * f_unit)
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+                           stability=True, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
+
+
+def _problem(scene: Scene, control: str) -> ShellPointLoad:
+    s = scene["shell"]
+    return ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"], control=control)
+
+
+def _run_shell(scene: Scene, progress: bool) -> TraceResult:
+    s, c, load = scene["shell"], scene["continuation"], scene["load"]
+    if load["control"] == "force":
+        return _run_force(scene, progress)
+    R = s["R"]
+    w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
+    problem = _problem(scene, "displacement")
+    st = _settings(scene, problem, w_end, progress)
+    br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end,
+                             events=[contin.extremum("F", "max"), contin.extremum("F", "min")])
+    return _result([br], [], problem, scene, ["path"], "")
+
+
+def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene: Scene, labels: list[str],
+            failure: str) -> TraceResult:
+    R = scene["shell"]["R"]
+    generic = TraceResult.from_branches(branches, jumps, problem=problem, x="w", y="F", labels=labels,
+                                        failure=failure)
+    records = _shell_records(branches, generic.special_points, R)
+    # the index of each special point is needed by classify (located minima between stored points)
+    k = 0
+    for br in branches:
+        for spt in br.special_points:
+            records[k]["index"] = int(spt.index)
+            k += 1
+    # a branch resumed after a snap repeats the jump's landing as its first special point
+    records = [r for r in records if not (r["kind"] == "jump" and "branch" in r)]
+    summary: dict[str, Any] = {
+        "eversion_w": eversion_displacement(R, scene["shell"]["phi_hat"]),
+        "w_end": eversion_displacement(R, scene["shell"]["phi_hat"]) * (1.0 + scene["continuation"]["overshoot"]),
+        "D": problem.D,
+        "F_unit": 2.0 * math.pi * problem.D / R,
+        "lambda": (12 * (1 - problem.nu ** 2)) ** 0.25 * (math.pi / 2 - problem.phi_hat) * math.sqrt(R / problem.h),
+        "control": scene["load"]["control"],
+    }
+    if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
+        cls = classify(branches[0], records, problem.D, R)
+        summary.update(cls)
+        line = _classification_line(cls)
+        branches[0].message = f"{branches[0].message}; {line}"
+    result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
+                         table=_table(records), csv_columns=_csv(branches, generic.csv_columns), x="w", y="F",
+                         parameter_name=generic.parameter_name, labels=labels,
+                         jump_observables=generic.jump_observables, failure=failure)
+    if not scene["output"]["figure"]:
+        result.plot = lambda ax: ax.text(0.5, 0.5, "figure disabled (output.figure = false)", ha="center",
+                                         va="center", transform=ax.transAxes)
+    else:
+        result.plot = lambda ax: _plot(ax, result)
+    return result
+
+
+def _plot(ax: Any, result: TraceResult) -> None:
+    """Force-displacement diagram: stable (under the scene's control) solid, unstable dashed."""
+    control = result.summary.get("control", "displacement")
+    for i, br in enumerate(result.branches):
+        if not len(br):
+            continue
+        w, F = br.observables["w"], br.observables["F"]
+        ok = br.stable_under(control) if br.stability_by else np.ones(len(br), bool)
+        color = f"C{i}"
+        for lo in range(len(br) - 1):
+            style = "-" if ok[lo] and ok[lo + 1] else "--"
+            ax.plot(w[lo:lo + 2], F[lo:lo + 2], style, color=color, lw=1.4 if style == "-" else 1.0)
+        ax.plot([], [], "-", color=color, label=(result.labels[i] if i < len(result.labels) else f"branch {i}"))
+    for rec in result.special_points:
+        if rec["kind"] == "fold":
+            marker = "o" if rec["parameter"] == "w" else "^"
+            ax.plot(rec["w"], rec["F"], marker, color="k", ms=5, mfc="none" if rec["parameter"] == "w" else "k")
+    for a, b in result.jump_observables:
+        if "w" in a and "w" in b:
+            ax.annotate("", xy=(b["w"], b["F"]), xytext=(a["w"], a["F"]),
+                        arrowprops={"arrowstyle": "->", "ls": ":", "color": "k"})
+    ax.plot([], [], "ko", mfc="none", ms=5, label="fold in w")
+    ax.plot([], [], "k^", ms=5, label="limit point in F")
+    ax.axhline(0.0, color="0.7", lw=0.6)
+    ax.set_xlabel("w (pole displacement)")
+    ax.set_ylabel("F (point force)")
+    ax.legend(fontsize="small")
+    cls = result.summary.get("classification")
+    if cls:
+        ax.text(0.02, 0.02, f"{cls}, stability under {control} control", transform=ax.transAxes, fontsize="small")
+
+
+#: Attempts to leave a force limit point: (relative load increment past the fold, kick in units of R
+#: or None for the engine's default).  Exactly at the fold the energy is flat to third order along
+#: the null vector; a load a hair above the limit load has no equilibrium nearby, so the
+#: minimisation has to leave for the distant stable state.
+_JUMP_ATTEMPTS = ((1e-6, 1e-4), (1e-4, None), (1e-4, 1e-4))
+_MAX_SNAPS = 4
+
+
+def _snap(problem: ShellPointLoad, u: np.ndarray, F: float, tol: float) -> tuple[Any, str]:
+    """Jump from a force limit point to a distinct stable state; ``(JumpResult or None, reason)``."""
+    w_fold = problem.evaluate_observables(u, F)["w"]
+    reasons = []
+    for eps, kick in _JUMP_ATTEMPTS:
+        try:
+            jr = contin.jump(problem, u, F * (1.0 + eps), tol=tol,
+                             perturbation=None if kick is None else kick * problem.R)
+        except contin.JumpError as exc:
+            reasons.append(str(exc))
+            continue
+        w_to = problem.evaluate_observables(jr.u_to, jr.p)["w"]
+        if jr.success and abs(w_to - w_fold) > 1e-3 * problem.R:
+            return jr, ""
+        reasons.append(jr.message if not jr.success else "landed back at the limit point")
+    return None, "; ".join(reasons)
+
+
+def _run_force(scene: Scene, progress: bool) -> TraceResult:
+    """Dead load at the pole: load to each force limit point, snap, keep loading until eversion."""
+    s, c = scene["shell"], scene["continuation"]
+    R = s["R"]
+    w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
+    problem = ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
+                               control="force")
+    st = _settings(scene, problem, w_end, progress)
+    branches: list[Branch] = []
+    jumps: list[Any] = []
+    labels: list[str] = []
+    failure = ""
+    u, F, origin = problem.reference_unknowns(), 0.0, None
+    for k in range(_MAX_SNAPS + 1):
+        br = contin.continuation(problem, u, F, st, stop_at=("fold",), bounds={"w": (None, w_end)}, origin=origin)
+        branches.append(br)
+        labels.append("loading" if k == 0 else f"loading after snap {k}")
+        if br.status != "event":  # reached eversion (w bound), max_steps, or failed
+            break
+        if k == _MAX_SNAPS:
+            failure = f"more than {_MAX_SNAPS} snaps under force control before eversion"
+            break
+        jr, reason = _snap(problem, br.u[-1], br.p[-1], c["tol"])
+        if jr is None:
+            failure = f"the snap at the force limit point F = {br.p[-1]:.8g} did not land on a stable state ({reason})"
+            break
+        jumps.append(jr)
+        u, F, origin = jr.u_to, jr.p, jr
+        if problem.evaluate_observables(u, F)["w"] >= w_end:
+            break  # landed beyond eversion: nothing left to load
+    return _result(branches, jumps, problem, scene, labels, failure)
+
+
+SHELL_SCENE = SceneModel(
+    name="shell",
+    description="spherical cap under a point load at the pole: the whole path to eversion, folds in w and F, "
+                "stability under both controls, classification",
+    schema=SHELL_SCHEMA,
+    runner=_run_shell,
+)
