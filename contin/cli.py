@@ -224,6 +224,8 @@ def _run(model: ModelRunner, scene: dict, progress: bool) -> TraceResult:
 
     try:
         result = model.run(scene, progress)
+    except SceneError as exc:  # a runner may reject a combination only it can judge: still bad input
+        raise CliError(str(exc)) from None
     except (CorrectorFailure, NonFiniteError, JumpError, SingularMatrixError, np.linalg.LinAlgError) as exc:
         return TraceResult(branches=[], failure=f"run failed: {type(exc).__name__}: {exc}")
     if not isinstance(result, TraceResult):

@@ -270,3 +270,20 @@ def test_scene_error_is_one_paragraph(tmp_path):
     with pytest.raises(SceneError) as info:
         load_scene(SCHEMA, bad)
     assert "\n" not in str(info.value) and "bad.toml" in str(info.value)
+
+
+def test_scene_error_raised_inside_a_runner_is_bad_input(monkeypatch, capsys, tmp_path):
+    from contin import cli
+    from contin.scene import SceneError
+
+    import dataclasses
+
+    def failing_run(scene, progress):
+        raise SceneError("scene field model.n = 7 cannot be combined with this run; allowed: anything else")
+
+    runner = dataclasses.replace(cli.load_model("bratu"), runner=failing_run)
+    monkeypatch.setattr(cli, "load_model", lambda name: runner)
+    code = cli.main(["trace", "--out", str(tmp_path / "o"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("contin: error:") and "model.n" in err and "Traceback" not in err
+    assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
