@@ -18,7 +18,8 @@ normals).  ``kappa11_length`` selects ``L``: ``"current"`` (the deformed Voronoi
 default) or ``"reference"`` (the reference one, as physics.md section 2 writes the formula).  Only
 ``"current"`` passes the pure-dilation check of physics.md section 7 (``kappa11 = 1/((1+e) R)``);
 both reach Reissner's stiffness as ``h/R -> 0`` (they differ by 3e-4 there) but differ by 0.3 % in
-F at ``w/R = 0.1`` for the default scene, so the choice matters in the nonlinear range.
+F at ``w/R = 0.1`` for the default scene (``python -m studies.shell_mesh_convergence``), so the choice
+matters in the nonlinear range.
 
 Not decided here
 ----------------
