@@ -58,13 +58,19 @@ class Settings:
     tol : float
         Relative residual tolerance: a stored point has ``max|f| <= tol * problem.residual_scale``.
     xtol : float
-        Newton-update tolerance: a point is accepted only once the last corrector update is below
+        Newton-update tolerance: a point is accepted only once its estimated error (the last
+        corrector update, times the observed contraction rate once there is one) is below
         ``xtol * (1 + ||X||)`` in the arclength norm.  Both tests must hold: in ill-conditioned
         discretizations a small residual alone does not pin the solution down.
     max_newton : int
         Corrector iterations before a step is declared failed.
     fast_newton : int
         The step grows when the corrector needed at most this many iterations.
+    target_contraction : float
+        Step-size control by the corrector's first contraction rate ``theta = |dX_2| / |dX_1|``:
+        the next step is scaled by ``sqrt(target_contraction / theta)`` (within ``shrink`` and
+        ``grow``), since ``theta`` grows like the step for a Newton corrector.  Steps that sit at
+        the rate where the corrector starts to fail are avoided instead of repeatedly retried.
     grow, shrink : float
         Step-size factors after an easy step and after a failed one.
     state_weight, param_weight : float
@@ -86,7 +92,9 @@ class Settings:
     stability : bool
         Compute the stability operator's inertia and smallest eigenvalues at every point.
     n_eigs : int
-        Number of smallest eigenvalues stored per point.
+        Number of smallest eigenvalues stored per point.  0 stores only the Morse index, which for
+        a sparse (banded) operator costs one pivot-free factorization per point, O(n), instead of
+        a banded eigensolve, O(n^2 b).
     locate_tol : float
         Relative tolerance of the arclength root-finding that locates events and branch points.
     store_states : bool
@@ -110,6 +118,7 @@ class Settings:
     xtol: float = 1e-10
     max_newton: int = 10
     fast_newton: int = 4
+    target_contraction: float = 0.1
     grow: float = 1.5
     shrink: float = 0.5
     state_weight: float = 1.0
@@ -123,7 +132,7 @@ class Settings:
     locate: bool = True
     stability: bool = False
     n_eigs: int = 3
-    locate_tol: float = 1e-14
+    locate_tol: float = 1e-10
     store_states: bool = True
     stop_at: tuple[str, ...] = ()
     progress: bool = False
@@ -150,8 +159,10 @@ class Settings:
         need(0 < self.max_correction, "max_correction", "must be > 0")
         need(-1 <= self.min_tangent_cos < 1, "min_tangent_cos", "must lie in [-1, 1)")
         need(0 < self.max_contraction < 1, "max_contraction", "must lie in (0, 1)")
+        need(0 < self.target_contraction <= self.max_contraction, "target_contraction",
+             "must lie in (0, max_contraction]")
         need(0 < self.target_angle < math.pi / 2, "target_angle", "must lie in (0, pi/2)")
-        need(self.n_eigs >= 1, "n_eigs", "must be >= 1")
+        need(self.n_eigs >= 0, "n_eigs", "must be >= 0")
 
 
 class CorrectorFailure(RuntimeError):
@@ -279,17 +290,23 @@ class Curve:
         raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge (residual {res:.3e} > tol {tol:.1e})")
 
     # ---- the pseudo-arclength corrector ----------------------------------------------------------
-    def correct(self, u0, p0, t_u, t_p, ds, max_iter=None):
+    def correct(self, u0, p0, t_u, t_p, ds, max_iter=None, start=None):
         """Newton on ``f = 0`` and ``<t, X - X0>_W = ds`` from the predictor ``X0 + ds t``.
 
+        ``start = (u, p)`` replaces the linear predictor as the first iterate (e.g. a point of an
+        interpolant through the segment being searched).
         Returns ``(u, p, residual, iterations)``; raises :class:`CorrectorFailure`.
         """
         st = self.settings
         max_iter = st.max_newton if max_iter is None else max_iter
         wu, wp = self.weights(u0.size)
-        u_pred, p_pred = u0 + ds * t_u, p0 + ds * t_p
+        if start is None:
+            u_pred, p_pred = u0 + ds * t_u, p0 + ds * t_p
+        else:
+            u_pred, p_pred = np.asarray(start[0], dtype=float), float(start[1])
         u, p = u_pred.copy(), p_pred
         self.last_linearization = None
+        self.last_contraction = None
         try:
             r = self.residual(u, p)
         except NonFiniteError as exc:
@@ -309,9 +326,15 @@ class Curve:
                 raise CorrectorFailure(f"linear solve failed in the corrector ({exc})") from None
             u, p = u + du, p + float(dp[0])
             step_norm = self.norm(du, float(dp[0]))
-            if it >= 2 and step_norm > st.max_contraction * prev_step and step_norm > st.xtol * (1.0 + self.norm(u, p)):
+            x_tol = st.xtol * (1.0 + self.norm(u, p))
+            if it >= 2 and step_norm > st.max_contraction * prev_step and step_norm > x_tol:
                 raise CorrectorFailure(f"corrector contracts too slowly (update ratio {step_norm / prev_step:.2f}); "
                                        "possible jump to another branch")
+            # error of the new iterate: the update itself, or (once a contraction rate theta is
+            # known) theta times the update, which bounds it while Newton converges quadratically
+            error_estimate = step_norm if it == 1 else step_norm * min(1.0, step_norm / prev_step)
+            if it == 2:
+                self.last_contraction = step_norm / prev_step if prev_step > 0 else 0.0
             prev_step = step_norm
             if self.norm(u - u_pred, p - p_pred) > st.max_correction * abs(ds):
                 raise CorrectorFailure("corrector moved too far from the predictor (possible jump to another branch)")
@@ -321,9 +344,9 @@ class Curve:
                 raise CorrectorFailure(f"residual not finite during correction ({exc})") from None
             res = float(np.max(np.abs(r), initial=0.0))
             history.append(res)
-            if res <= self.tol and step_norm <= st.xtol * (1.0 + self.norm(u, p)):
-                # the last linearization was taken within xtol of the point: good enough for the
-                # tangent and the determinant sign, and it saves a factorization per step
+            if res <= self.tol and error_estimate <= x_tol:
+                # the last linearization was taken one (small) update away from the point: good
+                # enough for the tangent and the determinant sign, and it saves a factorization
                 self.last_linearization = (J, fp, F)
                 return u, p, res, it
             if it >= 3 and res > history[-2] and res > self.tol:  # below tol it is roundoff noise
@@ -336,8 +359,15 @@ def _event_value(curve: Curve, event: Event, u, p, t_u, t_p) -> float:
     fun = _observable_function(curve.problem, event.observable)
     if event.kind == "crossing":
         return float(fun(u, p)) - event.value
-    # derivative along the tangent by central differences (second-order accurate)
-    h = 1e-6 * max(1.0, curve.norm(u, p))
+    exact = curve.problem.observable_derivatives.get(event.observable) if isinstance(event.observable, str) else None
+    if exact is not None:
+        d_u, d_p = exact(u, p)
+        return float(np.dot(d_u, t_u) + d_p * t_p)
+    if isinstance(event.observable, str) and event.observable in ("p", curve.problem.parameter_name):
+        return float(t_p)
+    # derivative along the tangent by central differences (second-order accurate); the step
+    # balances truncation (h^2) against roundoff (eps / h)
+    h = 1e-5 * max(1.0, curve.norm(u, p))
     return (float(fun(u + h * t_u, p + h * t_p)) - float(fun(u - h * t_u, p - h * t_p))) / (2 * h)
 
 
@@ -385,6 +415,25 @@ class _Segment:
         self.curve, self.A, self.B = curve, A, B
         self.sigma_B = curve.inner(A.t_u, A.t_p, B.u - A.u, B.p - A.p)
         self._cache: dict[float, tuple] = {}
+        self._linearization: dict[int, Any] = {}
+
+    def interpolate(self, sigma: float) -> tuple[np.ndarray, float]:
+        """Cubic Hermite interpolant through A and B (values and tangents) at hyperplane distance ``sigma``.
+
+        Its error is O(ds^4), so a correction started from it converges in one or two Newton steps.
+        """
+        A, B, h = self.A, self.B, self.sigma_B
+        if h == 0.0:
+            return A.u.copy(), A.p
+        # dX/dsigma at B: the tangent scaled so that its component along t_A is one
+        c = self.curve.inner(A.t_u, A.t_p, B.t_u, B.t_p)
+        scale_B = 1.0 / c if abs(c) > 1e-3 else 1.0
+        x = sigma / h
+        h00, h10 = 2 * x**3 - 3 * x**2 + 1, x**3 - 2 * x**2 + x
+        h01, h11 = -2 * x**3 + 3 * x**2, x**3 - x**2
+        u = h00 * A.u + h10 * h * A.t_u + h01 * B.u + h11 * h * scale_B * B.t_u
+        p = h00 * A.p + h10 * h * A.t_p + h01 * B.p + h11 * h * scale_B * B.t_p
+        return u, float(p)
 
     def point(self, sigma: float):
         """Converged point at hyperplane distance ``sigma`` from A: ``(u, p, residual)``."""
@@ -394,31 +443,59 @@ class _Segment:
         if sigma == 0.0:
             out = (A.u, A.p, A.residual)
         else:
-            u, p, res, _ = self.curve.correct(A.u, A.p, A.t_u, A.t_p, sigma, max_iter=20)
+            try:
+                u, p, res, _ = self.curve.correct(A.u, A.p, A.t_u, A.t_p, sigma, max_iter=20,
+                                                  start=self.interpolate(sigma))
+            except CorrectorFailure:
+                u, p, res, _ = self.curve.correct(A.u, A.p, A.t_u, A.t_p, sigma, max_iter=20)
             out = (u, p, res)
+            # the corrector's last linearization lies within xtol of the point: reuse it for the tangent
+            self._linearization[id(u)] = self.curve.last_linearization
         self._cache[sigma] = out
         return out
 
     def tangent(self, u, p):
-        t_u, t_p, _ = self.curve.tangent(u, p, self.A.t_u, self.A.t_p)
+        lin = self._linearization.get(id(u))
+        t_u, t_p, _ = self.curve.tangent(u, p, self.A.t_u, self.A.t_p, lin=lin)
         return t_u, t_p
 
-    def root(self, fun, f_A: float, f_B: float, rtol: float) -> float:
-        """Root of ``fun(sigma)`` in (0, sigma_B) given its end values."""
+    def root(self, fun, f_A: float, f_B: float, rtol: float, ftol: float = 0.0) -> float:
+        """Root of ``fun(sigma)`` in (0, sigma_B) given its end values.
+
+        Brent's method to a bracket of ``rtol * sigma_B``, or until ``|fun| <= ftol * max(|f_A|, |f_B|)``:
+        below that the test function's value is noise from the converged points' own tolerance, and
+        bisecting on noise only costs corrections.
+        """
         a, b = 0.0, self.sigma_B
         if f_A == 0.0:
             return a
         if f_B == 0.0:
             return b
+        f_small = ftol * max(abs(f_A), abs(f_B))
+
         def g(s):
             if s == a:
                 return f_A
             if s == b:
                 return f_B
-            return fun(s)
+            v = fun(s)
+            if abs(v) <= f_small:
+                raise _RootFound(s)
+            return v
         from scipy.optimize import brentq  # imported here: scipy.optimize is slow to import
 
-        return brentq(g, a, b, xtol=rtol * abs(b) + 1e-300, rtol=4 * np.finfo(float).eps, maxiter=100)
+        try:
+            return brentq(g, a, b, xtol=rtol * abs(b) + 1e-300, rtol=4 * np.finfo(float).eps, maxiter=100)
+        except _RootFound as found:
+            return found.sigma
+
+
+class _RootFound(Exception):
+    """Raised inside a root search when the test function is zero to within its noise."""
+
+    def __init__(self, sigma: float) -> None:
+        super().__init__(sigma)
+        self.sigma = sigma
 
 
 def _locate_event(curve: Curve, seg: _Segment, event: Event, vA: float, vB: float) -> SpecialPoint:
@@ -429,7 +506,10 @@ def _locate_event(curve: Curve, seg: _Segment, event: Event, vA: float, vB: floa
         t_u, t_p = seg.tangent(u, p)
         return _event_value(curve, event, u, p, t_u, t_p)
 
-    sigma = seg.root(g, vA, vB, curve.settings.locate_tol)
+    # an extremum's test function is a derivative along the curve: its noise floor is about the
+    # corrector tolerance relative to its size on the bracket
+    ftol = max(curve.settings.tol, 1e-12) if event.kind == "extremum" else 0.0
+    sigma = seg.root(g, vA, vB, curve.settings.locate_tol, ftol=ftol)
     u, p, res = seg.point(sigma)
     value = g(sigma)
     info = {"event_value": float(value), "bracket_p": [seg.A.p, seg.B.p]}
@@ -742,7 +822,9 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     steps = 0
     while steps < st.max_steps:
         try:
-            u, p, res, iters = curve.correct(current.u, current.p, current.t_u, current.t_p, ds)
+            start = _quadratic_predictor(previous, current, ds) if previous is not None else None
+            u, p, res, iters = curve.correct(current.u, current.p, current.t_u, current.t_p, ds, start=start)
+            theta = curve.last_contraction  # read now: locating special points runs the corrector too
             t_u, t_p, det_sign = curve.tangent(u, p, current.t_u, current.t_p, lin=curve.last_linearization)
             cos = curve.inner(t_u, t_p, current.t_u, current.t_p)
             if cos < st.min_tangent_cos:
@@ -817,7 +899,10 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
             print(f"[contin] step {steps}: p = {p:.6g}, ds = {ds:.3g}, newton = {iters}", file=sys.stderr)
         # ---- step-size control: Newton effort and curvature (turning angle of the tangent)
         angle = math.acos(min(1.0, max(-1.0, cos)))
-        if iters <= st.fast_newton:
+        if theta is not None and iters <= st.max_newton - 3:
+            factor = math.sqrt(st.target_contraction / theta) if theta > 0 else st.grow
+            ds = min(max(ds * min(max(factor, st.shrink), st.grow), st.ds_min), st.ds_max)
+        elif iters <= st.fast_newton:
             ds = min(ds * st.grow, st.ds_max)
         elif iters >= st.max_newton - 2:
             ds = max(ds * st.shrink, st.ds_min)
@@ -827,6 +912,20 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     branch.meta["n_factorizations"] = curve.n_factorizations
     branch.meta["rejected_steps"] = rejections
     return branch
+
+
+def _quadratic_predictor(previous: Point, current: Point, ds: float) -> tuple[np.ndarray, float] | None:
+    """Second-order predictor ``X + ds t + ds^2/2 k`` with the curvature ``k`` from the last tangent change.
+
+    Its error is O(ds^3) instead of the tangent predictor's O(ds^2), which saves a corrector
+    iteration per step on a curved branch.
+    """
+    h = current.s - previous.s
+    if h <= 0:
+        return None
+    c = 0.5 * ds * ds / h
+    return (current.u + ds * current.t_u + c * (current.t_u - previous.t_u),
+            current.p + ds * current.t_p + c * (current.t_p - previous.t_p))
 
 
 def _check_curvature_consistency(curve: Curve, previous: Point, current: Point, u, p, ds: float) -> None:
@@ -911,7 +1010,8 @@ class _Recorder:
             for label in self.labels:
                 info = stability_info(ops[label], self.st.n_eigs)
                 e = np.full(self.st.n_eigs, np.nan)
-                e[: info.eigenvalues.size] = info.eigenvalues
+                m = min(info.eigenvalues.size, self.st.n_eigs)
+                e[:m] = info.eigenvalues[:m]
                 self.n_neg_by[label].append(info.n_negative)
                 self.eigs_by[label].append(e)
             self.n_neg.append(self.n_neg_by[self.labels[0]][-1])

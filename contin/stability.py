@@ -1,9 +1,16 @@
 """Stability from the inertia of a symmetric operator (usually the Hessian of the energy).
 
 A state is stable when the operator is positive definite.  We report the number of negative
-eigenvalues (the Morse index) and the few smallest eigenvalues.  The method is chosen from the
-matrix structure: dense ``eigh`` for small matrices, LAPACK's banded symmetric eigensolver with index
-selection for banded ones (O(n b^2), no fill), and ARPACK for the rest.
+eigenvalues (the Morse index) and, on request, the few smallest eigenvalues.
+
+Morse index of a sparse or banded matrix: Sylvester's law of inertia.  ``H = L D L^T`` (an LU
+factorization without pivoting in the natural order, which keeps a band's fill inside the band)
+has as many negative pivots in ``D`` as ``H`` has negative eigenvalues, at O(n b^2) cost.  Without
+pivoting the factorization can suffer element growth on an indefinite matrix; when the multipliers
+grow beyond :data:`LDL_GROWTH_LIMIT` (or a pivot is exactly zero) the count falls back to an
+eigensolver.  The eigenvalues themselves come from dense ``eigh`` for small matrices, LAPACK's
+banded symmetric eigensolver with index selection for banded ones (its reduction to tridiagonal form
+costs O(n^2 b), so it is asked for only when ``k > 0``), and ARPACK for the rest.
 """
 
 from __future__ import annotations
@@ -17,9 +24,12 @@ import scipy.sparse.linalg as spla
 
 from .linalg import bandwidths
 
-__all__ = ["StabilityInfo", "stability_info"]
+__all__ = ["StabilityInfo", "stability_info", "inertia"]
 
 DENSE_LIMIT = 400
+#: Largest multiplier |L_ij| accepted in the pivot-free LDL^T before the inertia count is redone
+#: with an eigensolver (growth makes the signs of the pivots untrustworthy).
+LDL_GROWTH_LIMIT = 1e8
 #: Banded matrices above this size use the banded eigensolver (4x faster than dense eigh at n = 400).
 BANDED_MIN = 64
 
@@ -56,6 +66,28 @@ def _lower_band(H, b: int) -> np.ndarray:
     return ab
 
 
+def inertia(H) -> int | None:
+    """Number of negative eigenvalues of the sparse symmetric ``H`` from a pivot-free ``L D L^T``.
+
+    Returns None when the factorization is not trustworthy (a zero pivot, a row exchange, or
+    multipliers above :data:`LDL_GROWTH_LIMIT`); the caller then counts with an eigensolver.
+    """
+    A = sp.csc_matrix(H)
+    try:
+        lu = spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    except RuntimeError:  # exactly singular pivot
+        return None
+    n = A.shape[0]
+    if not np.array_equal(lu.perm_r, np.arange(n)) or not np.array_equal(lu.perm_c, np.arange(n)):
+        return None
+    if lu.L.nnz and float(np.max(np.abs(lu.L.data))) > LDL_GROWTH_LIMIT:
+        return None
+    d = lu.U.diagonal()
+    if not np.all(np.isfinite(d)) or np.any(d == 0.0):
+        return None
+    return int(np.count_nonzero(d < 0.0))
+
+
 def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:
     """Count negative eigenvalues of the symmetric matrix ``H`` and return the ``k`` smallest.
 
@@ -63,11 +95,16 @@ def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:
     ----------
     H : sparse or dense (n, n) symmetric matrix
     k : int
-        Number of smallest eigenvalues to report.
+        Number of smallest eigenvalues to report; 0 reports the Morse index only, which for a
+        sparse matrix costs one pivot-free factorization (:func:`inertia`).
     vectors : bool
-        Also return the eigenvectors of the reported eigenvalues.
+        Also return the eigenvectors of the reported eigenvalues (needs ``k >= 1``).
     """
     n = H.shape[0]
+    if k <= 0 and not vectors and n > BANDED_MIN:
+        n_neg = inertia(H)
+        if n_neg is not None:
+            return StabilityInfo(n_neg, np.zeros(0))
     k = max(1, min(k, n))
     kl, ku = bandwidths(H)
     b = max(kl, ku)
@@ -85,9 +122,12 @@ def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:
         ab = _lower_band(H, b)
         w = sla.eig_banded(ab, lower=True, eigvals_only=True, select="i", select_range=(0, k - 1))
         if w[-1] < 0:
-            neg = sla.eig_banded(ab, lower=True, eigvals_only=True, select="v",
-                                 select_range=(-np.inf, 0.0))
-            n_neg = int(np.count_nonzero(neg < 0))
+            counted = inertia(H)
+            if counted is None:
+                neg = sla.eig_banded(ab, lower=True, eigvals_only=True, select="v",
+                                     select_range=(-np.inf, 0.0))
+                counted = int(np.count_nonzero(neg < 0))
+            n_neg = counted
         else:
             n_neg = int(np.count_nonzero(w < 0))
         V = None

@@ -99,3 +99,32 @@ def test_bordered_solve_deflates_a_large_singular_main_block():
     sign, logdet = np.linalg.slogdet(M.toarray())
     s, l = S.det_sign_log()
     assert s == sign and l == pytest.approx(logdet, rel=1e-9)
+
+
+@pytest.mark.parametrize("shift", [0.0, 0.7, 1.9, 3.5])
+def test_inertia_by_pivot_free_ldlt_matches_eigenvalues(shift):
+    # banded symmetric indefinite matrices: Sylvester's law against a dense eigen-decomposition
+    from contin.stability import inertia, stability_info
+
+    n = 300
+    rng = np.random.default_rng(11)
+    offs = [rng.standard_normal(n - k) * 0.3 for k in (1, 2, 3)]
+    A = sp.diags([offs[2], offs[1], offs[0], 2.0 + rng.standard_normal(n) * 0.2 - shift, offs[0], offs[1], offs[2]],
+                 [-3, -2, -1, 0, 1, 2, 3], format="csr")
+    expected = int(np.count_nonzero(np.linalg.eigvalsh(A.toarray()) < 0))
+    assert inertia(A) == expected
+    info = stability_info(A, k=0)
+    assert info.n_negative == expected and info.eigenvalues.size == 0
+    assert stability_info(A, k=2).n_negative == expected
+
+
+def test_inertia_refuses_a_factorization_it_cannot_trust():
+    # a zero leading pivot needs a row exchange: the pivot-free count is not available
+    from contin.stability import inertia, stability_info
+
+    n = 100
+    A = sp.diags([np.ones(n - 1), np.r_[0.0, np.full(n - 1, 3.0)], np.ones(n - 1)], [-1, 0, 1], format="csr")
+    assert inertia(A) is None
+    expected = int(np.count_nonzero(np.linalg.eigvalsh(A.toarray()) < 0))
+    assert expected == 1
+    assert stability_info(A, k=0).n_negative == expected  # falls back to an eigensolver

@@ -61,8 +61,15 @@ from .geometry import spherical_cap
 
 __all__ = ["ShellPointLoad", "PoleMirror", "ROUNDOFF_MARGIN"]
 
+#: States whose Hessians :class:`ShellPointLoad` keeps (see ``_hessian``).
+_HESSIAN_CACHE_SIZE = 3
+
 ROUNDOFF_MARGIN = 1e-5
 """Residual scale factor on ``||H_ref||_inf R`` (see :class:`ShellPointLoad`)."""
+
+
+def _scaled(derivative: tuple[np.ndarray, float], factor: float) -> tuple[np.ndarray, float]:
+    return derivative[0] * factor, derivative[1] * factor
 
 
 class PoleMirror:
@@ -247,7 +254,11 @@ class ShellPointLoad(Problem):
         ops = {"displacement": self._op_displacement, "force": self._op_force}
         if control == "force":
             ops = {"force": self._op_force, "displacement": self._op_displacement}
-        super().__init__(observables=observables, symmetric=True, stability_operators=ops,
+        derivatives = {"F": self._dobs_F, "w": self._dobs_w,
+                       "w_over_R": lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.R),
+                       "F_norm": lambda u, p: _scaled(self._dobs_F(u, p), self.R / (2.0 * math.pi * self.D))}
+        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
+                         stability_operators=ops,
                          name=f"shell_point_{control}", parameter_name="w" if control == "displacement" else "F",
                          residual_scale=scale)
 
@@ -304,16 +315,22 @@ class ShellPointLoad(Problem):
         return self._hessian(x).copy()
 
     def _hessian(self, x: np.ndarray) -> sp.csr_matrix:
-        # One-entry cache: the engine asks for the Jacobian, df/dp and the stability operators at
-        # the same state.  The returned matrix is shared: callers must not modify it.
-        cached = getattr(self, "_hess_cache", None)
-        if cached is not None and np.array_equal(cached[0], x):
-            return cached[1]
+        # Small cache of the last few states: the engine asks for the Jacobian, df/dp, the
+        # stability operators and exact observable derivatives at the same state, and the fold
+        # Newton alternates between a state and its finite-difference neighbours.  The returned
+        # matrix is shared: callers must not modify it.
+        cache = self.__dict__.setdefault("_hess_cache", [])
+        for i, (xc, Hc) in enumerate(cache):
+            if np.array_equal(xc, x):
+                if i:
+                    cache.insert(0, cache.pop(i))
+                return Hc
         H = self.shell.hessian(x)
         if self._pole is not None:
             _, Hp = self._pole.gradient_hessian(*self._pole_ab(x))
             H.data[self._pole_slots] += Hp.ravel()
-        self._hess_cache = (np.array(x, dtype=float), H)
+        cache.insert(0, (np.array(x, dtype=float), H))
+        del cache[_HESSIAN_CACHE_SIZE:]
         return H
 
     # ---- the Problem interface -------------------------------------------------------------------
@@ -374,6 +391,21 @@ class ShellPointLoad(Problem):
         if self.control == "displacement":
             return float(p)
         return self.pole_displacement(self.full_state(u, p))
+
+    def _dobs_F(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        """Exact ``(dF/du, dF/dp)``: the pole row of the Hessian (``F = -dE_el/dz_pole``)."""
+        if self.control == "force":
+            return np.zeros(self.n), 1.0
+        row = self._pole_column(self._hessian(self.full_state(u, p)))
+        return -row[self.idx], float(row[-1])  # z_pole = zbar - w
+
+    def _dobs_w(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        """Exact ``(dw/du, dw/dp)``."""
+        if self.control == "displacement":
+            return np.zeros(self.n), 1.0
+        d = np.zeros(self.n)
+        d[-1] = -1.0  # the last unknown is z_pole
+        return d, 0.0
 
     def _obs_w_over_R(self, u: np.ndarray, p: float) -> float:
         return self._obs_w(u, p) / self.R
