@@ -1,11 +1,23 @@
-"""The ``contin`` command: trace a model's scene and write a summary, a CSV table and a diagram.
+"""The ``contin`` command: trace or classify a model's scene, list the models and their scene keys.
+
+Commands
+--------
+``contin trace [SCENE.toml] [--model NAME] [--set section.key=value ...] [--out DIR] [--quiet]``
+    Trace the scene and write ``summary.json``, ``branch.csv`` and ``diagram.png`` into DIR.
+``contin classify [SCENE.toml] [--model NAME] [--set section.key=value ...] [--json] [--quiet]``
+    Run what the model needs to classify the scene and print the class (``--json``: a JSON object).
+``contin models [NAME ...] [--toml]``
+    List the registered models with every scene key, its default and its allowed range.
 
 Models are found only through the ``contin.models`` entry-point group (the engine never imports a
 model).  An entry point resolves to a :class:`contin.scene.ModelRunner` (or a zero-argument factory
-returning one).
+returning one); a runner that also has the classification capability
+(:func:`contin.scene.can_classify`) can be used by ``contin classify``.
 
-Exit status: 0 success, 1 the run failed numerically (outputs are still written), 2 bad input
-(scene, ``--set``, unknown model, unwritable output directory), 130 interrupted.
+Exit status: 0 success, 1 the run failed (numerically, or the class could not be decided; the outputs
+of ``trace`` are still written), 2 bad input (scene, ``--set``, unknown model, a model that cannot
+classify, unwritable output directory), 130 interrupted.  No command prints a traceback
+(set ``CONTIN_TRACEBACK=1`` to see one for an internal error).
 """
 
 from __future__ import annotations
@@ -18,6 +30,7 @@ import math
 import os
 import sys
 import tempfile
+import textwrap
 import time
 from collections.abc import Callable, Sequence
 from importlib.metadata import EntryPoint, entry_points
@@ -27,12 +40,14 @@ from typing import Any
 import numpy as np
 
 from . import __version__
-from .scene import ModelRunner, SceneError, TraceResult, load_scene, schema_as_toml
+from .scene import (Classification, ModelRunner, SceneError, TraceResult, can_classify, format_toml_value,
+                    load_scene, schema_as_toml)
 
-__all__ = ["main", "DEFAULT_MODEL", "ENTRY_POINT_GROUP", "CliError", "registered_models", "load_model"]
+__all__ = ["main", "DEFAULT_MODEL", "ENTRY_POINT_GROUP", "CliError", "registered_models", "load_model",
+           "summary_document", "classification_document", "write_outputs", "format_table"]
 
-#: Model traced when ``--model`` is not given.
-DEFAULT_MODEL = "bratu"
+#: Model traced or classified when ``--model`` is not given: the paper's point-indented shell.
+DEFAULT_MODEL = "shell"
 #: Entry-point group in which models register their scene runners.
 ENTRY_POINT_GROUP = "contin.models"
 
@@ -90,21 +105,92 @@ def load_model(name: str) -> ModelRunner:
 # ---------------------------------------------------------------------------------------------------
 # argument parsing
 # ---------------------------------------------------------------------------------------------------
+
+
+def _exit_status(failed: str, bad: str) -> str:
+    return textwrap.fill(f"exit status: 0 success, 1 {failed}, 2 bad input ({bad}), 130 interrupted. Errors are one "
+                         f"paragraph on stderr, never a traceback.", width=95)
+
+
 _TRACE_EPILOG = f"""\
 outputs (in DIR):
-  summary.json   resolved scene, special points, status, wall time, number of steps
+  summary.json   the resolved scene, the classification (where the model has one), the special
+                 points (kind, parameter, position, stability on both sides, residual), status,
+                 wall time, number of steps
   branch.csv     one row per converged point: parameter, observables, residual, stability
+                 (shell: w, F, w_over_R, F_norm, stable_force, stable_displacement, n_negative)
   diagram.png    the bifurcation diagram (stable solid, unstable dashed, special points marked)
+The table of special points and a status line are printed on stdout, progress on stderr.
 
-exit status: 0 success, 1 the run failed numerically (outputs are still written),
-2 bad input (scene, --set, model, output directory), 130 interrupted.
+{_exit_status("the run failed numerically (the outputs are still written)",
+              "scene, --set, model, output directory")}
+
+{{keys}}
 
 examples:
-  contin trace                                   # default model ({DEFAULT_MODEL}) with its defaults
-  contin trace --set model.n=50 --out /tmp/run
+  contin trace                                   # the default scene: {DEFAULT_MODEL}, the paper's point load
+  contin trace --set shell.phi_hat=1.2 --set shell.N=100 --out /tmp/run
+  contin trace --set load.control=force          # dead load: snaps at the limit points of F
+  contin trace --model bratu --set model.n=50
   contin trace scene.toml --model truss --set load.cycle=true
-  contin models                                  # the models and their scene keys
+  contin models                                  # the models and all their scene keys
 """
+
+_CLASSIFY_EPILOG = f"""\
+The model decides what has to be run. For the shell the class (monotonous, monostable or
+bistable) is defined on the displacement-controlled path to eversion, which is traced whatever
+load.control says. Printed: the class, F_max and F_min with the displacements where they occur,
+raw and normalized (w/R, F R/(2 pi D)). --json prints the same as one JSON object (with the
+resolved scene, the status, the wall time and the number of steps). Nothing is written to disk.
+Models without a classification (e.g. bratu, truss) are rejected with exit status 2.
+
+{_exit_status("the run failed or the class could not be decided",
+              "scene, --set, model, a model that cannot classify")}
+
+{{keys}}
+
+examples:
+  contin classify                                # the default scene: bistable
+  contin classify --set shell.phi_hat=1.2 --set shell.N=100
+  contin classify scene.toml --json
+"""
+
+
+def _default_keys_help() -> str:
+    """The default model's scene keys with their defaults, for the help texts (never raises)."""
+    try:
+        model = load_model(DEFAULT_MODEL)
+    except CliError:
+        return "scene keys: 'contin models' lists every model's keys with defaults and allowed ranges."
+    lines = [f"scene keys of the default model ({DEFAULT_MODEL}), with their defaults; "
+             f"'contin models {DEFAULT_MODEL}' shows their allowed ranges:"]
+    width = max(len(sec) for sec in model.schema.sections) + 2
+    for section, keys in model.schema.sections.items():
+        body = ", ".join(f"{k} = {format_toml_value(f.default)}" for k, f in keys.items())
+        lines.append(textwrap.fill(body, width=100, initial_indent=f"  {'[' + section + ']':<{width}}  ",
+                                   subsequent_indent=" " * (width + 4)))
+    return "\n".join(lines)
+
+
+class _LazyEpilogFormatter(argparse.RawDescriptionHelpFormatter):
+    # the key list loads the default model: do it only when a help text is actually printed
+    def add_text(self, text: str | None) -> None:
+        if text and "{keys}" in text:
+            text = text.replace("{keys}", _default_keys_help())
+        super().add_text(text)
+
+
+def _add_scene_arguments(parser: argparse.ArgumentParser, verb: str) -> None:
+    """Arguments shared by the commands that resolve a scene (``trace``, ``classify``)."""
+    parser.add_argument("scene", nargs="?", metavar="SCENE.toml",
+                        help="scene file (TOML; 'contin models NAME --toml' prints a template); default: the "
+                             "model's defaults")
+    parser.add_argument("-m", "--model", metavar="NAME", default=None,
+                        help=f"registered model to {verb} (default: {DEFAULT_MODEL}; list them with 'contin models')")
+    parser.add_argument("-s", "--set", dest="overrides", action="append", default=[], metavar="SECTION.KEY=VALUE",
+                        help="override one scene key; VALUE is read as TOML (1e-8, true, \"text\"), else as a "
+                             "bare string; may be repeated; the keys are listed below and by 'contin models'")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress lines on stderr")
 
 
 def _build_parser() -> _ArgumentParser:
@@ -112,31 +198,50 @@ def _build_parser() -> _ArgumentParser:
         prog="contin", formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Pseudo-arclength continuation: trace equilibrium branches of a registered model,\n"
                     "locate folds, branch points and snaps, and classify stability.",
-        epilog="Run 'contin trace --help' or 'contin models' for details.")
+        epilog=f"""\
+Without --model, trace and classify use the default model '{DEFAULT_MODEL}' (a spherical cap
+indented at its pole; default scene: phi_hat = 0.8, h/R = 0.02, N = 200, as in the paper).
+
+examples:
+  contin trace                     # trace the default scene into ./out
+  contin classify                  # print its class: bistable, with F_max and F_min
+  {'contin models ' + DEFAULT_MODEL:<31}  # its scene keys, defaults and allowed ranges
+
+Run 'contin COMMAND --help' for the options of a command.""")
     parser.add_argument("--version", action="version", version=f"contin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands")
 
     trace = sub.add_parser(
         "trace", help="trace a scene and write summary.json, branch.csv and diagram.png",
-        formatter_class=argparse.RawDescriptionHelpFormatter, epilog=_TRACE_EPILOG,
+        formatter_class=_LazyEpilogFormatter, epilog=_TRACE_EPILOG,
         description="Trace the scene of a model.\n\n"
                     "The scene is the model's defaults, updated by the optional TOML file SCENE.toml and\n"
                     "then by each --set, in order. It is validated completely before anything runs.")
-    trace.add_argument("scene", nargs="?", metavar="SCENE.toml", help="scene file (TOML); default: the model's defaults")
-    trace.add_argument("-m", "--model", metavar="NAME", default=None,
-                       help=f"registered model to trace (default: {DEFAULT_MODEL}; list them with 'contin models')")
-    trace.add_argument("-s", "--set", dest="overrides", action="append", default=[], metavar="SECTION.KEY=VALUE",
-                       help="override one scene key; VALUE is read as TOML (1e-8, true, \"text\"), else as a "
-                            "bare string; may be repeated")
+    _add_scene_arguments(trace, "trace")
     trace.add_argument("-o", "--out", metavar="DIR", default="out", help="output directory (default: ./out)")
-    trace.add_argument("-q", "--quiet", action="store_true", help="no progress lines on stderr")
+
+    classify = sub.add_parser(
+        "classify", help="classify a scene (shell: monotonous, monostable or bistable) and print why",
+        formatter_class=_LazyEpilogFormatter, epilog=_CLASSIFY_EPILOG,
+        description="Classify the scene of a model that can classify.\n\n"
+                    "The scene is resolved as for 'contin trace' (defaults, SCENE.toml, each --set).")
+    _add_scene_arguments(classify, "classify")
+    classify.add_argument("--json", action="store_true", help="print the result as one JSON object on stdout")
 
     models = sub.add_parser(
-        "models", help="list the registered models with their scene keys and defaults",
+        "models", help="list the registered models with their scene keys, defaults and allowed ranges",
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        description="List the models registered in the 'contin.models' entry-point group, each with its\n"
-                    "scene as commented TOML (defaults and allowed ranges): a starting point for SCENE.toml.")
+        description="List the models registered in the 'contin.models' entry-point group, each with what it\n"
+                    "can do (trace, classify) and its scene as commented TOML: every key, its default and\n"
+                    "its allowed range.",
+        epilog="examples:\n"
+               f"  {'contin models':<39}  # every model\n"
+               f"  {'contin models ' + DEFAULT_MODEL:<39}  # one model's keys\n"
+               f"  {'contin models ' + DEFAULT_MODEL + ' --toml > scene.toml':<39}  # a scene file to edit, for "
+               f"SCENE.toml")
     models.add_argument("names", nargs="*", metavar="NAME", help="only these models")
+    models.add_argument("--toml", action="store_true",
+                        help="print only the scene of one model (default: the default model) as a TOML file")
     return parser
 
 
@@ -145,6 +250,15 @@ def _build_parser() -> _ArgumentParser:
 # ---------------------------------------------------------------------------------------------------
 def _cmd_models(args: argparse.Namespace) -> int:
     available = registered_models()
+    if args.toml:
+        if len(args.names) > 1:
+            raise CliError(f"--toml prints the scene of one model; got {len(args.names)}: {', '.join(args.names)}")
+        name = args.names[0] if args.names else DEFAULT_MODEL
+        model = load_model(name)
+        print(f"# scene of the model {name!r}: every key at its default (edit, then run "
+              f"'contin trace --model {name} SCENE.toml')")
+        print(schema_as_toml(model.schema))
+        return 0
     names = args.names or list(available)
     unknown = [n for n in names if n not in available]
     if unknown:
@@ -163,9 +277,11 @@ def _cmd_models(args: argparse.Namespace) -> int:
             continue
         if i:
             print()
-        default = " (default)" if name == DEFAULT_MODEL else ""
-        print(f"{name}{default}: {model.description}")
+        tags = (["default"] if name == DEFAULT_MODEL else []) + ["trace"] + (["classify"] if can_classify(model) else [])
+        print(f"{name} ({', '.join(tags)}): {model.description}")
         print(schema_as_toml(model.schema, indent="    "))
+    if not args.names:
+        print(f"\nset a key with --set SECTION.KEY=VALUE; 'contin models NAME --toml' prints a scene file")
     return status
 
 
@@ -185,26 +301,35 @@ def _prepare_out(path: Path) -> Path:
     return path
 
 
-def _cmd_trace(args: argparse.Namespace) -> int:
-    quiet = args.quiet
-    name = args.model or DEFAULT_MODEL
-    model = load_model(name)
+def _resolve_scene(model: ModelRunner, name: str, args: argparse.Namespace) -> dict[str, dict[str, Any]]:
+    """The scene of ``args`` (file, then ``--set``) for ``model``; bad input raises :class:`CliError`."""
     try:
-        scene = load_scene(model.schema, args.scene, args.overrides)
+        return load_scene(model.schema, args.scene, args.overrides)
     except SceneError as exc:
         hint = ""
         if exc.kind == "unknown" and args.model is None:
-            hint = f" (the scene was checked against the default model {DEFAULT_MODEL!r}; choose another with --model)"
+            hint = (f" (the scene was checked against the default model {DEFAULT_MODEL!r}; choose another with "
+                    f"--model, see 'contin models')")
         raise CliError(f"{exc}{hint}") from None
-    out = _prepare_out(Path(args.out))
 
+
+def _say(quiet: bool) -> Callable[[str], None]:
     def say(msg: str) -> None:
         if not quiet:
             print(f"contin: {msg}", file=sys.stderr, flush=True)
+    return say
+
+
+def _cmd_trace(args: argparse.Namespace) -> int:
+    name = args.model or DEFAULT_MODEL
+    model = load_model(name)
+    scene = _resolve_scene(model, name, args)
+    out = _prepare_out(Path(args.out))
+    say = _say(args.quiet)
 
     say(f"tracing model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
     t0 = time.perf_counter()
-    result = _run(model, scene, progress=not quiet)
+    result = _run(model, scene, progress=not args.quiet)
     wall = time.perf_counter() - t0
     written = write_outputs(out, name, scene, result, wall)
     say(f"wrote {', '.join(str(p) for p in written)} ({wall:.2f} s)")
@@ -214,23 +339,86 @@ def _cmd_trace(args: argparse.Namespace) -> int:
     return 0 if result.success else 1
 
 
-def _run(model: ModelRunner, scene: dict, progress: bool) -> TraceResult:
-    # a runner normally reports numerical failure in its result; these are the engine's exceptions
-    # for failures it cannot put into a branch, and the outputs are still written for them
+def _engine_failures() -> tuple[type[BaseException], ...]:
+    # a runner normally reports numerical failure in its result; these are the engine's exceptions for
+    # failures it cannot put into a branch
     from .jump import JumpError
     from .linalg import SingularMatrixError
     from .palc import CorrectorFailure
     from .problem import NonFiniteError
 
+    return (CorrectorFailure, NonFiniteError, JumpError, SingularMatrixError, np.linalg.LinAlgError)
+
+
+def _run(model: ModelRunner, scene: dict, progress: bool) -> TraceResult:
     try:
         result = model.run(scene, progress)
     except SceneError as exc:  # a runner may reject a combination only it can judge: still bad input
         raise CliError(str(exc)) from None
-    except (CorrectorFailure, NonFiniteError, JumpError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+    except _engine_failures() as exc:  # the outputs are still written for these
         return TraceResult(branches=[], failure=f"run failed: {type(exc).__name__}: {exc}")
     if not isinstance(result, TraceResult):
         raise TypeError(f"model {model.name!r}: run() returned {type(result).__name__}, expected TraceResult")
     return result
+
+
+def _classifying_models() -> list[str]:
+    names = []
+    for n in registered_models():
+        try:
+            if can_classify(load_model(n)):
+                names.append(n)
+        except CliError:
+            pass
+    return names
+
+
+def _classify_scenes(model: ModelRunner, name: str, args: argparse.Namespace) -> list[dict[str, dict[str, Any]]]:
+    """The scenes a ``classify`` invocation asks for: one for now.
+
+    The single place that turns arguments into scenes, so that sweeps over ranges of keys can later
+    return several without touching the rest of the command.
+    """
+    return [_resolve_scene(model, name, args)]
+
+
+def _classify_one(model: ModelRunner, scene: dict, progress: bool) -> Classification:
+    try:
+        result = model.classify(scene, progress)  # type: ignore[attr-defined]
+    except SceneError as exc:
+        raise CliError(str(exc)) from None
+    except _engine_failures() as exc:
+        return Classification(label=None, failure=f"run failed: {type(exc).__name__}: {exc}")
+    if not isinstance(result, Classification):
+        raise TypeError(f"model {model.name!r}: classify() returned {type(result).__name__}, expected Classification")
+    return result
+
+
+def _cmd_classify(args: argparse.Namespace) -> int:
+    name = args.model or DEFAULT_MODEL
+    model = load_model(name)
+    if not can_classify(model):
+        able = _classifying_models()
+        raise CliError(f"model {name!r} cannot classify: it provides no classification "
+                       f"(models that can: {', '.join(able) or 'none'}); 'contin trace --model {name}' traces it")
+    scenes = _classify_scenes(model, name, args)
+    say = _say(args.quiet)
+    docs: list[dict[str, Any]] = []
+    results: list[Classification] = []
+    for scene in scenes:
+        say(f"classifying model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
+        t0 = time.perf_counter()
+        result = _classify_one(model, scene, progress=not args.quiet)
+        wall = time.perf_counter() - t0
+        say(f"classified in {wall:.2f} s")
+        results.append(result)
+        docs.append(classification_document(name, scene, result, wall))
+    if args.json:
+        print(json.dumps(docs[0] if len(docs) == 1 else docs, indent=2, allow_nan=False))
+    else:
+        for result in results:
+            print(format_classification(name, result))
+    return 0 if all(r.success for r in results) else 1
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -279,6 +467,33 @@ def summary_document(model_name: str, scene: dict, result: TraceResult, wall_tim
     for key, value in result.summary.items():
         doc.setdefault(key, value)
     return _json_ready(doc)
+
+
+def classification_document(model_name: str, scene: dict, result: Classification,
+                            wall_time_s: float) -> dict[str, Any]:
+    """What ``contin classify --json`` prints; the model's values never replace the standard fields."""
+    doc: dict[str, Any] = {
+        "model": model_name,
+        "classification": result.label,
+        "success": result.success,
+        "status": result.status,
+        "message": result.message,
+    }
+    for key, value in result.values.items():
+        doc.setdefault(key, value)
+    doc.setdefault("wall_time_s", wall_time_s)
+    doc.setdefault("n_steps", result.n_steps)
+    doc.setdefault("scene", scene)
+    doc.setdefault("contin_version", __version__)
+    return _json_ready(doc)
+
+
+def format_classification(model_name: str, result: Classification) -> str:
+    """The text ``contin classify`` prints: the class, the model's lines, and the status."""
+    lines = [f"classification ({model_name}): {result.label or 'undecided'}"]
+    lines += [f"  {line}" for line in result.lines]
+    lines.append(f"status: {result.status}" + (f" - {result.message}" if not result.success else ""))
+    return "\n".join(lines)
 
 
 def _write_json(fh: io.BufferedWriter, doc: dict) -> None:
@@ -411,7 +626,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        Exit status: 0 success, 1 numerical failure, 2 bad input, 130 interrupted.
+        Exit status: 0 success, 1 the run failed (numerically, no class decided, or an internal error,
+        which is printed as one paragraph; ``CONTIN_TRACEBACK=1`` re-raises it), 2 bad input,
+        130 interrupted.
     """
     parser = _build_parser()
     try:
@@ -419,11 +636,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             args = parser.parse_args(argv)
         except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)
-        if args.command == "trace":
-            return _cmd_trace(args)
-        if args.command == "models":
-            return _cmd_models(args)
-        raise CliError("a command is required: 'trace' or 'models' (see 'contin --help')")
+        commands = {"trace": _cmd_trace, "classify": _cmd_classify, "models": _cmd_models}
+        if args.command not in commands:
+            raise CliError(f"a command is required: {', '.join(map(repr, commands))} (see 'contin --help')")
+        return commands[args.command](args)
     except CliError as exc:
         print(f"contin: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
@@ -437,6 +653,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         except OSError:
             pass
         return 0
+    except Exception as exc:  # an internal error (a bug in a model or in contin): one paragraph, no traceback
+        if os.environ.get("CONTIN_TRACEBACK"):
+            raise
+        print(f"contin: internal error: {type(exc).__name__}: {' '.join(str(exc).split())} (this is a bug; run "
+              f"with CONTIN_TRACEBACK=1 to see where it happened)", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

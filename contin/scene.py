@@ -18,6 +18,9 @@ A model becomes runnable from the command line by exposing a :class:`SceneModel`
 with the same attributes, see :class:`ModelRunner`) through the ``contin.models`` entry-point group.
 Its ``run`` returns a :class:`TraceResult`; :meth:`TraceResult.from_branches` derives the special
 point records, the CSV columns and the printed table from the branches, so a runner stays small.
+A model may also classify a scene (``contin classify``): it then provides a ``classify`` callable
+returning a :class:`Classification` (see :class:`Classifier`; a :class:`SceneModel` takes it as
+``classifier``).  Models without one are traced but not classified.
 
 Nothing here knows about any particular model.
 """
@@ -40,7 +43,8 @@ __all__ = [
     "SceneError", "Field", "Constraint", "Schema", "load_scene", "parse_override", "defaults",
     "format_toml_value", "schema_as_toml",
     "integer", "real", "boolean", "choice", "text",
-    "TraceResult", "ModelRunner", "SceneModel", "special_point_records", "special_point_table", "branch_columns",
+    "TraceResult", "Classification", "ModelRunner", "Classifier", "SceneModel", "can_classify",
+    "special_point_records", "special_point_table", "branch_columns",
 ]
 
 
@@ -506,6 +510,64 @@ class TraceResult:
         return "; ".join(parts) if parts else "nothing traced"
 
 
+@dataclass
+class Classification:
+    """Result of classifying one scene (``contin classify``).
+
+    Attributes
+    ----------
+    label : str or None
+        The class, e.g. ``"bistable"``; None when the run ended before the class could be decided.
+    values : dict
+        Machine-readable facts behind the label (JSON scalars or None), e.g. the extrema of the response
+        and where they occur.  Printed by ``contin classify --json`` beside the standard fields.
+    lines : list of str
+        Human-readable lines printed under the label by ``contin classify``.
+    trace : TraceResult, optional
+        The run the classification was derived from (its branches give ``n_steps``, its status the
+        reported status).
+    failure : str
+        Why the class could not be decided; non-empty means the command exits with status 1.
+    """
+
+    label: str | None
+    values: dict[str, Any] = field(default_factory=dict)
+    lines: list[str] = field(default_factory=list)
+    trace: TraceResult | None = None
+    failure: str = ""
+
+    @property
+    def success(self) -> bool:
+        """True when a class was decided and nothing failed on the way."""
+        return self.label is not None and not self.failure
+
+    @property
+    def status(self) -> str:
+        """``"ok"``, the failing run's status, or ``"failed"``."""
+        if self.success:
+            return "ok"
+        if self.trace is not None and not self.trace.success:
+            return self.trace.status
+        return "failed"
+
+    @property
+    def message(self) -> str:
+        """Why the classification failed (empty on success); includes the run's message when it failed."""
+        if self.success:
+            return ""
+        parts = [self.failure] if self.failure else []
+        if self.trace is not None and not self.trace.success:
+            parts.append(self.trace.message)
+        return "; ".join(parts) or "the class could not be decided"
+
+    @property
+    def n_steps(self) -> int:
+        """Continuation steps of the underlying run (0 without one)."""
+        if self.trace is None:
+            return 0
+        return int(sum(br.meta.get("n_steps", max(len(br) - 1, 0)) for br in self.trace.branches))
+
+
 def _stability_around(br: Branch, spt: SpecialPoint) -> tuple[bool | None, bool | None]:
     return spt.info.get("stable_before"), spt.info.get("stable_after")
 
@@ -622,9 +684,30 @@ class ModelRunner(Protocol):
         ...
 
 
+@runtime_checkable
+class Classifier(Protocol):
+    """The optional classification capability of a runner (``contin classify``)."""
+
+    def classify(self, scene: dict[str, dict[str, Any]], progress: bool) -> Classification:
+        """Run what the resolved ``scene`` needs to be classified; progress to stderr only when ``progress``."""
+        ...
+
+
+def can_classify(model: Any) -> bool:
+    """Whether a runner offers classification.
+
+    A runner can classify when it has a callable ``classify``, unless it says otherwise through a
+    false ``can_classify`` attribute (as a :class:`SceneModel` without a ``classifier`` does).
+    """
+    flag = getattr(model, "can_classify", None)
+    if flag is not None and not callable(flag):
+        return bool(flag)
+    return callable(getattr(model, "classify", None))
+
+
 @dataclass(frozen=True)
 class SceneModel:
-    """A ready-made :class:`ModelRunner`: name, description, schema and a run function.
+    """A ready-made :class:`ModelRunner`: name, description, schema, a run function and, optionally, a classifier.
 
     Attributes
     ----------
@@ -633,13 +716,33 @@ class SceneModel:
         One line shown by ``contin models``.
     schema : Schema
     runner : callable ``(scene, progress) -> TraceResult``
+    classifier : callable ``(scene, progress) -> Classification``, optional
+        What ``contin classify`` calls; without it the model cannot classify.
     """
 
     name: str
     description: str
     schema: Schema
     runner: Callable[[dict[str, dict[str, Any]], bool], TraceResult]
+    classifier: Callable[[dict[str, dict[str, Any]], bool], Classification] | None = None
+
+    @property
+    def can_classify(self) -> bool:
+        """Whether :meth:`classify` is available."""
+        return self.classifier is not None
 
     def run(self, scene: dict[str, dict[str, Any]], progress: bool) -> TraceResult:
         """Trace the resolved scene."""
         return self.runner(scene, progress)
+
+    def classify(self, scene: dict[str, dict[str, Any]], progress: bool) -> Classification:
+        """Classify the resolved scene.
+
+        Raises
+        ------
+        NotImplementedError
+            If the model has no classifier (check :attr:`can_classify` first).
+        """
+        if self.classifier is None:
+            raise NotImplementedError(f"model {self.name!r} cannot classify a scene")
+        return self.classifier(scene, progress)

@@ -14,7 +14,8 @@ import pytest
 
 import contin
 from contin import cli
-from contin.scene import SceneError, SceneModel, Schema, TraceResult, integer, load_scene, real
+from contin.scene import (Classification, SceneError, SceneModel, Schema, TraceResult, can_classify, integer,
+                          load_scene, real)
 
 OUTPUTS = {"summary.json", "branch.csv", "diagram.png"}
 
@@ -37,7 +38,7 @@ def read_csv(out: Path) -> list[dict[str, str]]:
 # ---- successful runs ----------------------------------------------------------------------------------
 def test_trace_bratu_writes_outputs_and_locates_the_fold(tmp_path, capsys):
     out = tmp_path / "out"
-    code, stdout, stderr = run_cli(capsys, "trace", "--out", str(out), "--quiet")
+    code, stdout, stderr = run_cli(capsys, "trace", "--model", "bratu", "--out", str(out), "--quiet")
     assert code == 0, stderr
     assert {p.name for p in out.iterdir()} == OUTPUTS  # no temporary files left behind
     assert stderr == ""  # --quiet
@@ -63,7 +64,7 @@ def test_trace_bratu_writes_outputs_and_locates_the_fold(tmp_path, capsys):
 
 def test_trace_with_stability_reports_it(tmp_path, capsys):
     out = tmp_path / "o"
-    code, stdout, _ = run_cli(capsys, "trace", "-q", "-o", str(out), "--set", "model.n=20",
+    code, stdout, _ = run_cli(capsys, "trace", "-m", "bratu", "-q", "-o", str(out), "--set", "model.n=20",
                               "--set", "continuation.stability=true")
     assert code == 0
     fold = read_summary(out)["special_points"][0]
@@ -77,7 +78,8 @@ def test_scene_file_and_overrides(tmp_path, capsys):
     scene = tmp_path / "scene.toml"
     scene.write_text("[model]\nn = 10\n\n[continuation]\nmax_u = 2\n")
     out = tmp_path / "o"
-    code, _, err = run_cli(capsys, "trace", str(scene), "-q", "-o", str(out), "--set", "model.n=12")
+    code, _, err = run_cli(capsys, "trace", str(scene), "--model", "bratu", "-q", "-o", str(out),
+                           "--set", "model.n=12")
     assert code == 0, err
     resolved = read_summary(out)["scene"]
     assert resolved["model"]["n"] == 12  # --set wins over the file
@@ -113,7 +115,7 @@ def test_console_script(tmp_path):
     if not exe.exists():
         exe = Path(shutil.which("contin") or "contin")
     out = tmp_path / "o"
-    proc = subprocess.run([str(exe), "trace", "--set", "model.n=20", "--out", str(out)],
+    proc = subprocess.run([str(exe), "trace", "--model", "bratu", "--set", "model.n=20", "--out", str(out)],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert {p.name for p in out.iterdir()} == OUTPUTS
@@ -125,15 +127,56 @@ def test_console_script(tmp_path):
 def test_models_lists_bratu_and_truss(capsys):
     code, stdout, _ = run_cli(capsys, "models")
     assert code == 0
-    assert "bratu" in stdout and "truss" in stdout
+    assert "bratu (trace):" in stdout and "truss (trace):" in stdout
+    assert "shell (default, trace, classify):" in stdout
     assert "n = 200" in stdout and "cycle = false" in stdout
+    assert "phi_hat = 0.8" in stdout and "a float in (0, 1.5708)" in stdout  # the shell's keys with ranges
+
+
+def test_models_toml_is_a_scene_file_of_the_defaults(tmp_path, capsys):
+    code, stdout, _ = run_cli(capsys, "models", "--toml")  # the default model
+    assert code == 0
+    scene = tmp_path / "scene.toml"
+    scene.write_text(stdout)
+    schema = cli.load_model("shell").schema
+    assert load_scene(schema, scene) == load_scene(schema)
+    code, stdout, _ = run_cli(capsys, "models", "bratu", "--toml")
+    assert code == 0 and stdout.count("[model]") == 1 and "[shell]" not in stdout
+    code, _, stderr = run_cli(capsys, "models", "bratu", "truss", "--toml")
+    assert code == 2 and "one model" in stderr
+
+
+def test_default_model_is_the_papers_shell_scene():
+    assert cli.DEFAULT_MODEL == "shell"
+    scene = load_scene(cli.load_model(cli.DEFAULT_MODEL).schema)
+    shell = scene["shell"]
+    assert (shell["phi_hat"], shell["h"] / shell["R"], shell["N"]) == (0.8, 0.02, 200)
+    assert scene["load"] == {"kind": "point", "control": "displacement"}
+
+
+def test_trace_without_model_traces_the_shell(tmp_path, capsys):
+    out = tmp_path / "o"
+    code, stdout, stderr = run_cli(capsys, "trace", "-q", "--set", "shell.N=40", "--out", str(out))
+    assert code == 0, stderr
+    summary = read_summary(out)
+    assert summary["model"] == "shell" and summary["scene"]["shell"]["phi_hat"] == 0.8
+    assert summary["classification"] == "bistable"
+    assert "max(F)" in stdout and "status: ok" in stdout
 
 
 def test_help_exits_zero(capsys):
     assert cli.main(["--help"]) == 0
-    assert "trace" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert all(cmd in text for cmd in ("trace", "classify", "models")) and "default model 'shell'" in text
     assert cli.main(["trace", "--help"]) == 0
-    assert "summary.json" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "summary.json" in text and "stable_displacement" in text
+    assert "[shell]" in text and "phi_hat = 0.8" in text and "contin models shell" in text  # keys discoverable
+    assert cli.main(["classify", "--help"]) == 0
+    text = capsys.readouterr().out
+    assert "--json" in text and "F R/(2 pi D)" in text and "phi_hat = 0.8" in text
+    assert cli.main(["models", "--help"]) == 0
+    assert "--toml" in capsys.readouterr().out
 
 
 # ---- the error contract --------------------------------------------------------------------------------
@@ -147,22 +190,40 @@ def _assert_input_error(code: int, stdout: str, stderr: str, out: Path, *needles
     assert not out.exists() or not any(out.iterdir())  # nothing written, not even temporaries
 
 
-@pytest.mark.parametrize("args, needles", [
-    (["--set", "model.n=1"], ["model.n", "1", "an integer >= 2"]),
-    (["--set", "model.nn=3"], ["model.nn", "allows: n"]),
-    (["--set", "model.n=abc"], ["model.n", "abc", "expected an integer"]),
-    (["--set", "model.n=true"], ["model.n", "expected an integer"]),  # a bool is not an int
-    (["--set", "model.n"], ["model.n", "section.key=value"]),
-    (["--set", "plot.x=1"], ["[plot]", "[model]"]),
-    (["--set", "continuation.ds=0.5", "--set", "continuation.ds_max=0.1"], ["continuation.ds", "ds_max"]),
-    (["--model", "nope"], ["nope", "bratu", "truss"]),
+BAD_INPUT = [
+    (["-m", "bratu", "--set", "model.n=1"], ["model.n", "1", "an integer >= 2"]),
+    (["-m", "bratu", "--set", "model.nn=3"], ["model.nn", "allows: n"]),
+    (["-m", "bratu", "--set", "model.n=abc"], ["model.n", "abc", "expected an integer"]),
+    (["-m", "bratu", "--set", "model.n=true"], ["model.n", "expected an integer"]),  # a bool is not an int
+    (["-m", "bratu", "--set", "model.n"], ["model.n", "section.key=value"]),
+    (["-m", "bratu", "--set", "plot.x=1"], ["[plot]", "[model]"]),
+    (["-m", "bratu", "--set", "continuation.ds=0.5", "--set", "continuation.ds_max=0.1"], ["continuation.ds", "ds_max"]),
+    (["--model", "nope"], ["nope", "bratu", "truss", "shell"]),
     (["--model", "truss", "--set", "model.b=2.5"], ["model.b", "2.4", "branch points"]),
     (["--no-such-option"], ["--no-such-option"]),
-])
+    # the default model is the shell: its keys, and a hint when another model's key is given
+    (["--set", "model.n=5"], ["[model]", "[shell]", "default model 'shell'", "--model"]),
+    (["--set", "shell.N=5"], ["shell.N", "5", "an integer >= 10"]),
+    (["--set", "shell.phi_hat=1.6"], ["shell.phi_hat", "1.6", "a float in (0, 1.5708)"]),
+    (["--set", "load.control=pressure"], ["load.control", "pressure", '"displacement", "force"']),
+    (["--set", "shell.h=2"], ["shell.h", "shell.R", "thin"]),
+]
+
+
+@pytest.mark.parametrize("args, needles", BAD_INPUT)
 def test_bad_input_exits_2(tmp_path, capsys, args, needles):
     out = tmp_path / "out"
     code, stdout, stderr = run_cli(capsys, "trace", *args, "--out", str(out))
     _assert_input_error(code, stdout, stderr, out, *needles)
+
+
+@pytest.mark.parametrize("args, needles", BAD_INPUT)
+def test_classify_bad_input_exits_2(tmp_path, capsys, args, needles):
+    if args[:2] in (["-m", "bratu"], ["--model", "truss"]):
+        needles = ["cannot classify"]  # checked before the scene: these models have no classification
+    code, stdout, stderr = run_cli(capsys, "classify", *args)
+    _assert_input_error(code, stdout, stderr, tmp_path / "nothing", *needles)
+    assert stdout == ""
 
 
 def test_truncated_scene_file(tmp_path, capsys):
@@ -183,7 +244,7 @@ def test_unwritable_out(tmp_path, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("x")
     for out in (blocker, blocker / "sub"):
-        code, stdout, stderr = run_cli(capsys, "trace", "--set", "model.n=10", "--out", str(out))
+        code, stdout, stderr = run_cli(capsys, "trace", "--model", "bratu", "--set", "model.n=10", "--out", str(out))
         assert code == 2 and stderr.startswith("contin: error:") and str(blocker) in stderr
         assert "Traceback" not in stderr
     assert blocker.read_text() == "x"
@@ -192,7 +253,8 @@ def test_unwritable_out(tmp_path, capsys):
 def test_numerical_failure_still_writes_outputs(tmp_path, capsys):
     out = tmp_path / "out"
     big = ["--set", "continuation.ds_min=0.5", "--set", "continuation.ds=0.5", "--set", "continuation.ds_max=0.5"]
-    code, stdout, stderr = run_cli(capsys, "trace", "-q", "--set", "model.n=20", *big, "--out", str(out))
+    code, stdout, stderr = run_cli(capsys, "trace", "-q", "--model", "bratu", "--set", "model.n=20", *big,
+                                   "--out", str(out))
     assert code == 1
     assert {p.name for p in out.iterdir()} == OUTPUTS
     summary = read_summary(out)
@@ -287,3 +349,75 @@ def test_scene_error_raised_inside_a_runner_is_bad_input(monkeypatch, capsys, tm
     err = capsys.readouterr().err
     assert code == 2 and err.startswith("contin: error:") and "model.n" in err and "Traceback" not in err
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
+
+
+# ---- classify, with stand-in models ------------------------------------------------------------------------
+def _classifying_model(classify) -> SceneModel:
+    return SceneModel("fake", "a stand-in", Schema({"model": {"n": integer(3, low=1)}}),
+                      lambda scene, progress: TraceResult.from_branches([_tiny_branch()]), classifier=classify)
+
+
+def test_classify_prints_the_models_class_and_json(capsys, monkeypatch):
+    def classify(scene, progress):
+        trace = TraceResult.from_branches([_tiny_branch()])
+        return Classification("wobbly", values={"peak": 2.5, "n": scene["model"]["n"]}, lines=["peak = 2.5"],
+                              trace=trace)
+
+    monkeypatch.setattr(cli, "load_model", lambda name: _classifying_model(classify))
+    code, stdout, stderr = run_cli(capsys, "classify", "--set", "model.n=7")
+    assert code == 0
+    assert stdout.splitlines() == ["classification (shell): wobbly", "  peak = 2.5", "status: ok"]
+    assert "contin: classifying model 'shell'" in stderr  # progress on stderr, like trace
+    code, stdout, stderr = run_cli(capsys, "classify", "-q", "--json", "--set", "model.n=7")
+    assert code == 0 and stderr == ""
+    doc = json.loads(stdout)
+    assert doc["classification"] == "wobbly" and doc["success"] is True and doc["status"] == "ok"
+    assert doc["peak"] == 2.5 and doc["n"] == 7 and doc["scene"] == {"model": {"n": 7}}
+    assert doc["n_steps"] == 1 and doc["wall_time_s"] >= 0 and doc["model"] == "shell"
+
+
+def test_classify_undecided_exits_1(capsys, monkeypatch):
+    monkeypatch.setattr(cli, "load_model", lambda name: _classifying_model(
+        lambda scene, progress: Classification(None, failure="the path stopped early")))
+    code, stdout, stderr = run_cli(capsys, "classify", "-q")
+    assert code == 1 and "undecided" in stdout and "the path stopped early" in stdout and stderr == ""
+    code, stdout, _ = run_cli(capsys, "classify", "-q", "--json")
+    doc = json.loads(stdout)
+    assert code == 1 and doc["classification"] is None and doc["success"] is False
+
+
+def test_classify_engine_failure_exits_1_without_traceback(capsys, monkeypatch):
+    def classify(scene, progress):
+        raise contin.CorrectorFailure("Newton diverged")
+
+    monkeypatch.setattr(cli, "load_model", lambda name: _classifying_model(classify))
+    code, stdout, stderr = run_cli(capsys, "classify", "-q")
+    assert code == 1 and "Newton diverged" in stdout and "Traceback" not in stderr
+
+
+def test_classify_scene_error_inside_the_classifier_is_bad_input(capsys, monkeypatch):
+    def classify(scene, progress):
+        raise SceneError("scene field model.n = 3 cannot be classified; allowed: n > 3")
+
+    monkeypatch.setattr(cli, "load_model", lambda name: _classifying_model(classify))
+    code, stdout, stderr = run_cli(capsys, "classify", "-q")
+    _assert_input_error(code, stdout, stderr, Path("/nonexistent/contin-test"), "model.n", "allowed")
+
+
+def test_model_without_classifier_cannot_classify(capsys, monkeypatch):
+    monkeypatch.setattr(cli, "load_model", lambda name: _fake_model(lambda scene, progress: None))
+    code, stdout, stderr = run_cli(capsys, "classify", "--model", "fake")
+    assert code == 2 and "'fake' cannot classify" in stderr and stdout == ""
+    assert not can_classify(_fake_model(lambda scene, progress: None))
+    assert can_classify(_classifying_model(lambda scene, progress: None))
+
+
+def test_internal_error_is_one_paragraph_without_traceback(tmp_path, capsys, monkeypatch):
+    def run(scene, progress):
+        raise RuntimeError("a bug\nover two lines")
+
+    monkeypatch.setattr(cli, "load_model", lambda name: _fake_model(run))
+    monkeypatch.delenv("CONTIN_TRACEBACK", raising=False)
+    code, _, stderr = run_cli(capsys, "trace", "-q", "--out", str(tmp_path / "o"))
+    assert code == 1 and stderr.startswith("contin: internal error: RuntimeError: a bug over two lines")
+    assert stderr.count("\n") == 1 and "Traceback" not in stderr

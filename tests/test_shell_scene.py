@@ -4,11 +4,15 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 from pathlib import Path
 
 import pytest
 
+from contin.branch import SPECIAL_KINDS
 from contin.cli import main
+from contin.scene import defaults
+from models.shell.scene import SHELL_SCHEMA
 
 FIELDS = ("kind", "parameter", "w", "F", "w_over_R", "F_norm", "residual")
 
@@ -22,8 +26,24 @@ def _trace(tmp_path: Path, *sets: str) -> tuple[int, dict]:
     return code, summary
 
 
-def test_default_scene_writes_outputs_and_special_points(tmp_path: Path) -> None:
-    code, summary = _trace(tmp_path, "shell.N=40")
+def _rows(out: Path) -> list[dict[str, str]]:
+    with open(out / "branch.csv", newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, tuple[Path, int, dict]]:
+    """The default scene at N = 40 under both controls, traced once for the tests of this module."""
+    out: dict[str, tuple[Path, int, dict]] = {}
+    for control in ("displacement", "force"):
+        path = tmp_path_factory.mktemp(control)
+        code, summary = _trace(path, "shell.N=40", f"load.control={control}")
+        out[control] = (path, code, summary)
+    return out
+
+
+def test_default_scene_writes_outputs_and_special_points(runs: dict) -> None:
+    tmp_path, code, summary = runs["displacement"]
     assert code == 0
     for name in ("summary.json", "branch.csv", "diagram.png"):
         assert (tmp_path / name).stat().st_size > 0
@@ -87,11 +107,104 @@ def test_monostable_middle_part_unstable_under_force_stable_under_displacement(t
     assert all(r["stable_displacement"] == "1" for r in rows)  # single-valued in w: no snap-back
 
 
-def test_force_control_snaps_to_the_everted_state(tmp_path: Path) -> None:
-    code, summary = _trace(tmp_path, "shell.N=40", "load.control=force")
+def test_force_control_snaps_to_the_everted_state(runs: dict) -> None:
+    _, code, summary = runs["force"]
     assert code == 0
     assert len(summary["jumps"]) == 1 and summary["jumps"][0]["success"]
     first = summary["special_points"][0]
     assert first["parameter"] == "F" and first["stable_before"]
     landing = [r for r in summary["special_points"] if r.get("label") == "jump_to"][0]
     assert landing["w"] > summary["eversion_w"] * 0.9
+
+
+@pytest.mark.parametrize("control", ["displacement", "force"])
+def test_summary_and_csv_follow_the_command_line_contract(runs: dict, control: str) -> None:
+    """design.md, "Command line contract": the fields of summary.json and the columns of branch.csv."""
+    out, code, summary = runs[control]
+    assert code == 0
+    # the fully resolved scene: every key of the schema, the overrides applied
+    expected = defaults(SHELL_SCHEMA)
+    expected["shell"]["N"] = 40
+    expected["load"]["control"] = control
+    assert summary["scene"] == expected
+    assert summary["wall_time_s"] > 0
+    assert summary["n_steps"] == sum(b["n_steps"] for b in summary["branches"]) > 0
+    # classification: defined on the displacement-controlled path only
+    assert "classification" in summary and summary["classification_note"]
+    assert summary["classification"] == ("bistable" if control == "displacement" else None)
+    R, D = summary["scene"]["shell"]["R"], summary["D"]
+    spts = summary["special_points"]
+    assert spts
+    for rec in spts:
+        assert rec["kind"] in SPECIAL_KINDS
+        for key in FIELDS:
+            assert key in rec, (key, rec)
+        # which quantity folds: F at a limit point under force control, w at a fold of the controlled w
+        if rec["kind"] == "fold":
+            assert rec["parameter"] == ("F" if rec.get("label") in ("max(F)", "min(F)") or control == "force"
+                                        else "w")
+        if rec["kind"] == "jump":
+            assert rec["parameter"] == "F"  # the load is held fixed during a snap
+        assert rec["w_over_R"] == pytest.approx(rec["w"] / R, rel=1e-12)
+        assert rec["F_norm"] == pytest.approx(rec["F"] * R / (2 * math.pi * D), rel=1e-12)
+        # every point states its own residual (its size is the engine's business, tested there)
+        assert isinstance(rec["residual"], float) and math.isfinite(rec["residual"]) and rec["residual"] >= 0
+        for key in ("stable_before", "stable_after"):
+            assert rec.get(key) in (None, True, False)
+    if control == "force":
+        kinds = [(r["kind"], r.get("label")) for r in spts]
+        assert kinds[:3] == [("fold", ""), ("jump", "jump_from"), ("jump", "jump_to")]
+        fold, start, landing = spts[:3]
+        assert fold["stable_before"] is True and start["stable_before"] is True
+        assert start["residual"] == fold["residual"] and start["w"] == fold["w"]
+        assert landing["stable_after"] is True
+    rows = _rows(out)
+    assert len(rows) == sum(b["n_points"] for b in summary["branches"])
+    for col in ("w", "F", "w_over_R", "F_norm", "stable_force", "stable_displacement", "n_negative"):
+        assert col in rows[0], col
+    for r in rows:
+        assert r["stable_displacement"] == ("1" if r["n_negative"] == "0" else "0")
+        assert r["stable_force"] in ("0", "1")
+        assert float(r["w_over_R"]) == pytest.approx(float(r["w"]) / R, rel=1e-12, abs=1e-300)
+
+
+def _classify(capsys: pytest.CaptureFixture, *args: str) -> tuple[int, str, str]:
+    code = main(["classify", "-q", *args])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def test_classify_traces_the_displacement_path_whatever_the_control(runs: dict,
+                                                                     capsys: pytest.CaptureFixture) -> None:
+    _, _, traced = runs["displacement"]
+    code, stdout, stderr = _classify(capsys, "--json", "--set", "shell.N=40", "--set", "load.control=force")
+    assert code == 0 and stderr == ""
+    doc = json.loads(stdout)
+    assert doc["classification"] == "bistable" and doc["success"] is True and doc["status"] == "ok"
+    assert doc["control_traced"] == "displacement" and doc["path_complete"] is True
+    assert doc["scene"]["load"]["control"] == "force"  # the scene as given
+    for key in ("F_max", "w_at_F_max", "F_min", "w_at_F_min", "F_max_norm", "w_at_F_max_over_R", "F_min_norm",
+                "w_at_F_min_over_R"):
+        assert doc[key] == pytest.approx(traced[key], rel=1e-9), key
+    assert doc["F_max"] > 0 > doc["F_min"]
+    assert doc["n_steps"] == traced["n_steps"] and doc["wall_time_s"] > 0
+
+
+def test_classify_prints_the_class_and_the_extrema(capsys: pytest.CaptureFixture) -> None:
+    code, stdout, _ = _classify(capsys, "--set", "shell.N=40", "--set", "shell.phi_hat=1.2")
+    assert code == 0
+    lines = stdout.splitlines()
+    assert lines[0] == "classification (shell): monostable" and lines[-1] == "status: ok"
+    assert "F R/(2 pi D)" in stdout and "w/R" in stdout
+    assert any(line.split()[0] == "F_max" for line in lines[1:]) and any(line.split()[0] == "F_min" for line in lines[1:])
+
+
+def test_classify_undecided_when_the_path_stops_early(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    code, stdout, stderr = _classify(capsys, "--json", "--set", "shell.N=40", "--set", "continuation.max_steps=5")
+    assert code == 1 and "Traceback" not in stderr
+    doc = json.loads(stdout)
+    assert doc["classification"] is None and doc["success"] is False and doc["path_complete"] is False
+    assert "did not reach eversion" in doc["message"]
+    # trace says the same in summary.json, with what the traced part looks like
+    code, summary = _trace(tmp_path, "shell.N=40", "continuation.max_steps=5")
+    assert summary["classification"] is None and summary["classification_on_partial_path"] == "monotonous"

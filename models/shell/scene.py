@@ -21,7 +21,9 @@ force along the path (a limit point under force control, ``kind = "fold"`` with 
 or ``min(F)``).  ``"stable_before"`` / ``"stable_after"`` give the stability, under the control in
 which the point is a fold (displacement for ``w``, force for ``F``), at the stored points on either
 side.  Every record also carries ``w``, ``F``, ``w_over_R``, ``F_norm = F R / (2 pi D)`` and the
-residual of its defining system.
+residual of its defining system.  Under force control each snap adds two ``"kind": "jump"`` records
+(``parameter`` ``"F"``, the load held fixed): ``jump_from`` (the limit point it leaves, with that
+point's residual and ``stable_before``) and ``jump_to`` (the stable landing state, ``stable_after``).
 
 Classification (``docs/physics.md`` section 5)
 ----------------------------------------------
@@ -30,6 +32,13 @@ Classification (``docs/physics.md`` section 5)
 ``monostable``.  ``F_max`` is the first local maximum of F along the path (the force-control snap
 load); ``F_min`` is the last local minimum of F along the path, i.e. the minimum on the branch that
 reaches eversion (the force-control snap-back load on unloading).
+
+``summary.json`` always has ``"classification"``: the class under displacement control; None under
+force control (the force path skips the parts between the limit points, so the class is not
+defined on it; ``contin classify`` traces the displacement path whatever ``load.control`` says), and
+None when the path stopped before eversion without having shown the bistable signature (then
+``classification_on_partial_path`` says what the traced part looks like).  ``classification_note``
+says which case applies.  :func:`classify_scene` is the model's classifier (``contin classify``).
 """
 
 from __future__ import annotations
@@ -41,12 +50,12 @@ import numpy as np
 
 import contin
 from contin.branch import Branch
-from contin.scene import (Constraint, SceneError, SceneModel, Schema, TraceResult, boolean, choice, integer,
-                          real)
+from contin.scene import (Classification, Constraint, SceneError, SceneModel, Schema, TraceResult, boolean, choice,
+                          integer, real)
 
 from .problem import ShellPointLoad
 
-__all__ = ["SHELL_SCENE", "SHELL_SCHEMA", "classify", "eversion_displacement"]
+__all__ = ["SHELL_SCENE", "SHELL_SCHEMA", "classify", "classify_scene", "eversion_displacement"]
 
 Scene = dict[str, dict[str, Any]]
 
@@ -217,7 +226,38 @@ def classify(branch: Branch, records: list[dict[str, Any]], D: float, R: float) 
     return out
 
 
+def _path_complete(br: Branch) -> bool:
+    """Whether a displacement-controlled path reached eversion (its ``p_max`` bound)."""
+    return br.status == "bound" and len(br) > 0
+
+
+def _jump_fields(records: list[dict[str, Any]], branches: list[Branch]) -> None:
+    """Complete the jump records in place with what is known about their two ends.
+
+    Jump ``j`` leaves the force limit point that ends branch ``j`` (the same state, at a load a hair
+    above the limit load, where no equilibrium is near): ``jump_from`` takes that fold's residual and
+    ``stable_before``.  ``jump_to`` is a minimum of the energy at fixed load: ``stable_after`` is its
+    stability under force control.
+    """
+    for rec in records:
+        if rec["kind"] != "jump" or "jump" not in rec:
+            continue
+        if rec.get("label") == "jump_from":
+            folds = [r for r in records if r["kind"] == "fold" and r.get("branch") == rec["jump"]]
+            if folds:
+                fold = folds[-1]
+                rec["residual"] = fold.get("residual")
+                rec["residual_of"] = "the force limit point the jump leaves"
+                if "stable_before" in fold:
+                    rec["stable_before"] = fold["stable_before"]
+        elif rec.get("label") == "jump_to" and "stable" in rec:
+            rec["stable_after"] = rec["stable"]
+
+
 def _classification_line(c: dict[str, Any]) -> str:
+    if c["classification"] is None:
+        return (f"classification: undecided (the path did not reach eversion; on the part traced it looks "
+                f"{c.get('classification_on_partial_path')})")
     if c["F_max"] is None and c["F_min"] is None:
         return f"classification: {c['classification']} (no extremum of F)"
 
@@ -275,7 +315,7 @@ def _settings(scene: Scene, problem: ShellPointLoad, w_end: float, progress: boo
     f_unit = 2.0 * math.pi * problem.D / R
     param_weight = 1.0 / R if problem.control == "displacement" else 1.0 / (10.0 * f_unit)
     return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
-                           stability=True, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
+                           stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
 
 
 def _problem(scene: Scene, control: str) -> ShellPointLoad:
@@ -318,11 +358,28 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         "lambda": (12 * (1 - problem.nu ** 2)) ** 0.25 * (math.pi / 2 - problem.phi_hat) * math.sqrt(R / problem.h),
         "control": scene["load"]["control"],
     }
+    _jump_fields(records, branches)
     if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
         cls = classify(branches[0], records, problem.D, R)
+        complete = _path_complete(branches[0])
+        if not complete and not cls["F_negative_on_stable_path"]:
+            # monotonous and monostable need the whole path: an unfinished one cannot rule out F < 0 later
+            cls["classification_on_partial_path"] = cls["classification"]
+            cls["classification"] = None
         summary.update(cls)
+        summary["classification_note"] = (
+            "from the displacement-controlled path to eversion" if complete else
+            f"the path did not reach eversion ({branches[0].message}); a class other than bistable needs the "
+            f"whole path")
         line = _classification_line(cls)
         branches[0].message = f"{branches[0].message}; {line}"
+    elif scene["load"]["control"] == "displacement":
+        summary["classification"] = None
+        summary["classification_note"] = "nothing was traced on the displacement-controlled path"
+    else:
+        summary["classification"] = None
+        summary["classification_note"] = ("the classification is defined on the displacement-controlled path; "
+                                          "'contin classify' traces it whatever load.control says")
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                          table=_table(records), csv_columns=_csv(branches, generic.csv_columns), x="w", y="F",
                          parameter_name=generic.parameter_name, labels=labels,
@@ -426,10 +483,73 @@ def _run_force(scene: Scene, progress: bool) -> TraceResult:
     return _result(branches, jumps, problem, scene, labels, failure)
 
 
+#: Fields of :func:`classify` copied into a :class:`~contin.scene.Classification` (``contin classify --json``).
+_CLASSIFY_FIELDS = ("F_max", "w_at_F_max", "F_min", "w_at_F_min", "F_max_norm", "w_at_F_max_over_R", "F_min_norm",
+                    "w_at_F_min_over_R", "n_folds_in_w", "n_limit_points_in_F", "F_negative_on_stable_path",
+                    "classification_on_partial_path")
+
+
+def classify_scene(scene: Scene, progress: bool = False) -> Classification:
+    """Classify a shell scene (``contin classify --model shell``).
+
+    The class is defined on the displacement-controlled path to eversion (``docs/physics.md``
+    section 5), so that path is traced whatever ``load.control`` says; every other key of the scene
+    is used as given.
+
+    Parameters
+    ----------
+    scene : dict
+        A resolved scene of :data:`SHELL_SCHEMA`.
+    progress : bool
+        Print the continuation's progress to stderr.
+
+    Returns
+    -------
+    Classification
+        ``label`` is ``"monotonous"``, ``"monostable"`` or ``"bistable"``, or None when the path
+        did not reach eversion and F < 0 was not yet seen on a displacement-stable part of it.
+        ``values`` holds ``F_max``, ``w_at_F_max``, ``F_min``, ``w_at_F_min`` and their normalized
+        forms (``F R / (2 pi D)``, ``w / R``), the fold counts, ``lambda``, ``D``, ``F_unit`` and
+        ``eversion_w``; ``trace`` is the displacement-controlled run.
+    """
+    path_scene = {section: dict(keys) for section, keys in scene.items()}
+    path_scene["load"]["control"] = "displacement"
+    path_scene["output"]["figure"] = False
+    trace = _run_shell(path_scene, progress)
+    summ = trace.summary
+    label = summ.get("classification")
+    values: dict[str, Any] = {"control_traced": "displacement"}
+    values.update({k: summ[k] for k in _CLASSIFY_FIELDS if k in summ})
+    values.update({k: summ[k] for k in ("lambda", "D", "F_unit", "eversion_w") if k in summ})
+    s = scene["shell"]
+    lines = [f"scene: R = {s['R']:g}, h/R = {s['h'] / s['R']:g}, phi_hat = {s['phi_hat']:g}, nu = {s['nu']:g}, "
+             f"N = {s['N']}; lambda = {summ['lambda']:.4g}"]
+    rows = [("", "F", "w", "F R/(2 pi D)", "w/R", "")]
+    for tag, what in (("max", "first local maximum of F: the snap load under force control"),
+                      ("min", "last local minimum of F: the snap-back load on unloading")):
+        F = summ.get(f"F_{tag}")
+        if F is None:
+            rows.append((f"F_{tag}", "-", "-", "-", "-", "none on the path"))
+        else:
+            rows.append((f"F_{tag}", f"{F:.6g}", f"{summ[f'w_at_F_{tag}']:.6g}", f"{summ[f'F_{tag}_norm']:.6g}",
+                         f"{summ[f'w_at_F_{tag}_over_R']:.6g}", what))
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    for r in rows:
+        lines.append("  ".join(c.rjust(w) if 0 < i < 5 else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
+                     .rstrip())
+    if "n_folds_in_w" in summ:
+        lines.append(f"path: {summ['n_limit_points_in_F']} limit points in F, {summ['n_folds_in_w']} folds in w; "
+                     f"F < 0 on a displacement-stable part: {'yes' if summ['F_negative_on_stable_path'] else 'no'}")
+    values["path_complete"] = bool(trace.branches) and _path_complete(trace.branches[0])
+    failure = "" if label is not None else summ.get("classification_note", "the path could not be traced")
+    return Classification(label=label, values=values, lines=lines, trace=trace, failure=failure)
+
+
 SHELL_SCENE = SceneModel(
     name="shell",
     description="spherical cap under a point load at the pole: the whole path to eversion, folds in w and F, "
                 "stability under both controls, classification",
     schema=SHELL_SCHEMA,
     runner=_run_shell,
+    classifier=classify_scene,
 )
