@@ -245,6 +245,15 @@ def _inf_norm(A) -> float:
             lo, hi = max(0, off), min(A.shape[1], n + off)
             rows[lo - off:hi - off] += np.abs(d[lo:hi])
         return float(rows.max()) if n else 0.0
+    if sp.issparse(A) and A.format == "csr" and A.shape[0] and A.nnz:
+        # row sums straight from the CSR arrays: abs(A) would build a new matrix every call
+        lengths = np.diff(A.indptr)
+        if np.all(lengths):
+            sums = np.add.reduceat(np.abs(A.data), A.indptr[:-1])
+        else:
+            sums = np.bincount(np.repeat(np.arange(A.shape[0]), lengths), weights=np.abs(A.data),
+                               minlength=A.shape[0])
+        return float(sums.max())
     if sp.issparse(A):
         return float(abs(A).sum(axis=1).max()) if A.shape[0] else 0.0
     A = np.asarray(A)

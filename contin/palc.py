@@ -1000,22 +1000,35 @@ class _Recorder:
         for name, fun in self.problem.observables.items():
             self.obs[name].append(float(fun(pt.u, pt.p)))
         if self.st.stability:
-            ops = self.problem.stability_operators(pt.u, pt.p)
-            if not ops:
-                raise ValueError(f"stability requested but problem {self.problem.name!r} has no stability operator")
-            if not self.labels:
-                self.labels = list(ops)
-                self.n_neg_by = {label: [] for label in self.labels}
-                self.eigs_by = {label: [] for label in self.labels}
-            for label in self.labels:
-                info = stability_info(ops[label], self.st.n_eigs)
-                e = np.full(self.st.n_eigs, np.nan)
-                m = min(info.eigenvalues.size, self.st.n_eigs)
-                e[:m] = info.eigenvalues[:m]
-                self.n_neg_by[label].append(info.n_negative)
-                self.eigs_by[label].append(e)
+            # a model may count all its labels at once (e.g. from one factorization); only the
+            # Morse index is then known, so this shortcut is taken when no eigenvalues are asked for
+            counts = self.problem.stability_counts(pt.u, pt.p) if self.st.n_eigs == 0 else None
+            if counts is not None and (not self.labels or set(counts) == set(self.labels)):
+                if not self.labels:
+                    self._start_labels(list(counts))
+                for label in self.labels:
+                    self.n_neg_by[label].append(int(counts[label]))
+                    self.eigs_by[label].append(np.zeros(0))
+            else:
+                ops = self.problem.stability_operators(pt.u, pt.p)
+                if not ops:
+                    raise ValueError(f"stability requested but problem {self.problem.name!r} has no stability operator")
+                if not self.labels:
+                    self._start_labels(list(ops))
+                for label in self.labels:
+                    info = stability_info(ops[label], self.st.n_eigs)
+                    e = np.full(self.st.n_eigs, np.nan)
+                    m = min(info.eigenvalues.size, self.st.n_eigs)
+                    e[:m] = info.eigenvalues[:m]
+                    self.n_neg_by[label].append(info.n_negative)
+                    self.eigs_by[label].append(e)
             self.n_neg.append(self.n_neg_by[self.labels[0]][-1])
             self.eigs.append(self.eigs_by[self.labels[0]][-1])
+
+    def _start_labels(self, labels: list[str]) -> None:
+        self.labels = labels
+        self.n_neg_by = {label: [] for label in labels}
+        self.eigs_by = {label: [] for label in labels}
 
     def special(self, spt: SpecialPoint) -> None:
         if spt.index < 0:

@@ -164,6 +164,14 @@ class Problem:
         op = self.stability_operator(u, p)
         return {} if op is None else {"stability": op}
 
+    def stability_counts(self, u: Array, p: float) -> dict[str, int] | None:
+        """Morse index of every stability operator at once, or None to let the engine count each.
+
+        Models whose operators are nested (one a leading block of another) can override this to
+        count all of them from one factorization (:func:`contin.stability.leading_inertias`).
+        """
+        return None
+
     def factorize(self, J) -> Factorization:
         """Factorize a Jacobian; override to exploit a model's structure."""
         return factorize(J)

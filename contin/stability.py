@@ -24,7 +24,7 @@ import scipy.sparse.linalg as spla
 
 from .linalg import bandwidths
 
-__all__ = ["StabilityInfo", "stability_info", "inertia"]
+__all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias"]
 
 DENSE_LIMIT = 400
 #: Largest multiplier |L_ij| accepted in the pivot-free LDL^T before the inertia count is redone
@@ -72,6 +72,27 @@ def inertia(H) -> int | None:
     Returns None when the factorization is not trustworthy (a zero pivot, a row exchange, or
     multipliers above :data:`LDL_GROWTH_LIMIT`); the caller then counts with an eigensolver.
     """
+    counts = leading_inertias(H, (H.shape[0],))
+    return None if counts is None else counts[0]
+
+
+def leading_inertias(H, sizes) -> list[int] | None:
+    """Negative-eigenvalue counts of the leading principal submatrices ``H[:m, :m]`` for ``m`` in ``sizes``.
+
+    The pivot-free ``L D L^T`` of a leading block is the leading part of the whole one, so one
+    factorization gives the Morse index of every nested block (e.g. a structure's Hessian with and
+    without its last, load-carrying degree of freedom).  None when the factorization is not
+    trustworthy (see :func:`inertia`).
+    """
+    d = _ldlt_pivots(H)
+    if d is None:
+        return None
+    negative = np.concatenate([[0], np.cumsum(d < 0.0)])
+    return [int(negative[m]) for m in sizes]
+
+
+def _ldlt_pivots(H) -> np.ndarray | None:
+    """Pivots ``D`` of the pivot-free ``L D L^T`` of ``H``, or None when they cannot be trusted."""
     A = sp.csc_matrix(H)
     try:
         lu = spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
@@ -85,7 +106,7 @@ def inertia(H) -> int | None:
     d = lu.U.diagonal()
     if not np.all(np.isfinite(d)) or np.any(d == 0.0):
         return None
-    return int(np.count_nonzero(d < 0.0))
+    return d
 
 
 def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:

@@ -149,3 +149,22 @@ def test_exact_observable_derivatives_match_central_differences(control):
         scale = max(abs(fd_u), abs(d_u @ v), 1e-8 * abs(fun(u, p)), 1e-12)
         assert d_u @ v == pytest.approx(fd_u, abs=1e-6 * scale), name
         assert d_p == pytest.approx(fd_p, rel=1e-6, abs=1e-9 * max(1.0, abs(fd_p))), name
+
+
+@pytest.mark.parametrize("control", ["displacement", "force"])
+def test_stability_counts_from_one_factorization_match_eigenvalues(control):
+    # the nested-block Morse indices against dense eigenvalues of each operator, on buckled states
+    P = ShellPointLoad(N=40, phi_hat=0.8, control="displacement")
+    br = continuation(P, P.reference_unknowns(), 0.0, ds=0.02, ds_max=0.05, p_max=0.45, max_steps=200)
+    Q = ShellPointLoad(N=40, phi_hat=0.8, control=control)
+    seen = set()
+    for u, w in zip(br.u[::3], br.p[::3]):
+        x = P.full_state(u, w)
+        uq, pq = (Q.unknowns(x), w) if control == "displacement" else (Q.unknowns(x), P.reaction_force(x))
+        counts = Q.stability_counts(uq, pq)
+        assert list(counts) == list(Q.stability_operators(uq, pq))
+        for label, op in Q.stability_operators(uq, pq).items():
+            expected = int(np.count_nonzero(np.linalg.eigvalsh(op.toarray()) < 0))
+            assert counts[label] == expected, (label, w)
+            seen.add(expected)
+    assert len(seen) >= 2  # the path visits unstable states

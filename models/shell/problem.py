@@ -24,12 +24,24 @@ Two symmetric treatments are available (``pole=``):
     The pole carries no bending element: in the quadrature ``sum_i pi rbar_i lbar_i (...)`` of
     eq. (3.12) its weight vanishes because ``rbar = 0`` (the trapezoidal rule in ``r``).
 
-Measured by ``python -m studies.shell_mesh_convergence`` (default scene, ``F`` at ``w/R = 0.1``,
-N = 50..800): the mirror treatment converges
-at observed orders 1.79, 1.81, 1.82 with ``kappa11_length="current"`` (1.80, 1.83, 1.86 with
-``"reference"``; error ``~ N^-2 log N``, the log from the point-load
-singularity, so the order tends to 2 from below); skipping the pole gives orders 0.83, 1.35, 1.52
-and errors ~15 times larger.  The mirror treatment is therefore the default.
+Measured by ``python -m studies.shell_mesh_convergence`` (default scene, N = 50..800,
+successive-difference orders): with the mirror treatment ``F`` at ``w/R = 0.1`` converges at
+orders 1.79, 1.81, 1.82 with ``kappa11_length="current"`` (1.80, 1.83, 1.86 with ``"reference"``)
+and the first maximum ``F_max`` at 2.03, 2.02, 2.00.  The error of ``F(w/R = 0.1)`` is ``N^-2``
+times a logarithmic factor from the point-load singularity, so its order rises towards 2 from
+below (1.84 at N = 1600..6400).  Skipping the pole gives orders 0.85, 1.36, 1.54 and errors 6
+(N = 50) to 17 (N = 800) times larger.  The mirror treatment is therefore the default.
+
+The mirror element's area ``pi (lbar/2)^2`` is the exact area of the pole's cell: with the
+interior nodes' rings ``2 pi rbar_i lbar_i`` the cells tile the cap.  That weight sets the
+coefficient of the logarithmic error term, and other weights are consistent too but worse or
+tuned: scaling it by 0.5 or 2 gives orders 1.45..1.64 or 0.14..1.19 for ``F(w/R = 0.1)``; 1.25
+happens to cancel the log term for this load (orders 2.07..2.23, and 2.18..2.85 for the linear
+stiffness -- a cancellation, not a clean order), which physics.md section 2 gives no reason for.
+The reference length ``lbar`` in the pole curvature alone (interior nodes with current lengths)
+gives 1.82, 1.85, 1.87, but it would make the pole the one node that fails the pure-dilation check
+of physics.md section 7 (its curvature would stay ``kappabar`` instead of ``kappabar / (1 + e)``).
+Neither is used.
 
 Controls
 --------
@@ -55,6 +67,7 @@ import scipy.sparse as sp
 
 from contin.linalg import BandedLU, Factorization
 from contin.problem import Problem
+from contin.stability import leading_inertias
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
 from .geometry import spherical_cap
@@ -91,6 +104,12 @@ class PoleMirror:
     a_bar, b_bar : float
         Reference ``a`` and ``b``; the reference curvature ``kappabar`` comes from the same formula,
         so the reference state is stress free.
+
+    Notes
+    -----
+    The element's area ``pi (lbar/2)^2`` is the exact area of the pole's cell, so that with the
+    interior rings the cells tile the cap; the module docstring ("Pole treatment") gives the
+    measured effect of other weights and lengths.
     """
 
     def __init__(self, lbar: float, kb: float, nu: float, current_length: bool,
@@ -304,10 +323,15 @@ class ShellPointLoad(Problem):
 
     def elastic_gradient(self, x: np.ndarray) -> np.ndarray:
         """Gradient of :meth:`elastic_energy` in all ``2N`` dofs."""
+        # one-state cache: the residual, the reaction force F and F_norm are asked for at the same state
+        cached = self.__dict__.get("_grad_cache")
+        if cached is not None and np.array_equal(cached[0], x):
+            return cached[1].copy()
         g = self.shell.gradient(x)
         if self._pole is not None:
             gp, _ = self._pole.gradient_hessian(*self._pole_ab(x))
             g[self._pole_dofs] += gp
+        self._grad_cache = (np.array(x, dtype=float), g.copy())
         return g
 
     def elastic_hessian(self, x: np.ndarray) -> sp.csr_matrix:
@@ -376,6 +400,19 @@ class ShellPointLoad(Problem):
     def _op_force(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         # the dead-load term is linear in the state: its Hessian is zero
         return self._sub["force"](self._hessian(self.full_state(u, p)))
+
+    def stability_counts(self, u: np.ndarray, p: float) -> dict[str, int] | None:
+        """Both Morse indices from one pivot-free ``L D L^T`` of the force-control Hessian.
+
+        The force-control unknowns are the displacement-control ones followed by ``z_pole``, so the
+        displacement-control Hessian is its leading block and Sylvester's law counts both at once.
+        """
+        H_force = self._sub["force"](self._hessian(self.full_state(u, p)))
+        counts = leading_inertias(H_force, (self.idx_displacement.size, self.idx_force.size))
+        if counts is None:
+            return None
+        by_label = {"displacement": counts[0], "force": counts[1]}
+        return {label: by_label[label] for label in self._stability_operators}
 
     # ---- observables -----------------------------------------------------------------------------
     def reaction_force(self, x: np.ndarray) -> float:
