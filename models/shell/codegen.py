@@ -34,25 +34,106 @@ Elements (notation of ``docs/physics.md`` section 2; a bar means "in the referen
     Both curvatures are smooth wherever the two edges do not fold back onto each other
     (``|e1| |e2| + dot > 0``); no ``atan2`` appears.
 
-For every element the generated module has ``<name>_energy`` (shape ``(m,)``),
-``<name>_gradient`` (``(m, ndof)``), ``<name>_hessian`` (``(m, ndof, ndof)``) and the strain
-helper (``stretch_strains`` / ``bend_curvatures`` / ``bend_cur_curvatures``, a tuple of two
-``(m,)`` arrays), all broadcasting over their array arguments.
+How the derivatives are generated
+---------------------------------
+The formulas above (:attr:`Element.strains`, in the node coordinates) are the definition.  The
+emitted code evaluates the same functions and their exact derivatives through a chain of changes of
+variables in which every step is small, which makes the kernels several times shorter than
+differentiating the Cartesian formulas directly (numpy pays per array operation, and for a few
+hundred elements that cost is nearly independent of the array length):
+
+1. *Local variables* (the kernel arguments): quantities the element depends on linearly: ``e1``,
+   ``e2`` and ``r1`` for bending (5 numbers), ``e`` and ``r0 + r1`` for stretching (3).  The map
+   to the node coordinates is a constant matrix ``T``: ``grad_x = T^T grad``,
+   ``hess_x = T^T hess T``.
+2. *Edge polar variables*: each edge vector is ``l (c, s)`` with ``(c, s) = (cos theta,
+   sin theta)``.  Writing ``d theta = d tau / l`` (a diagonal scaling, its own step), the Jacobian
+   of ``(l, tau)`` with respect to the edge vector is the rotation ``[[c, s], [-s, c]]``, and the
+   second derivatives of ``l`` and ``theta`` are closed forms in ``c``, ``s`` and ``1/l``
+   (:func:`_edge_rotation`).  The rotation step is written with double angles
+   (:func:`_rotate`) when that takes fewer operations than the generic product (the generator
+   emits whichever variant of a kernel is shorter).
+3. *Strain variables* for bending: ``|e1|``, ``theta1``, ``|e2|``, ``theta2``, ``r1``:
+   ``kappa11 = 2 tan(psi) / L`` with ``psi = (theta2 - theta1) / 2 = xi / 2`` and
+   ``kappa22 = sin(phi) / r1`` with ``phi = (theta1 + theta2) / 2`` (the unit bisector normal is
+   ``(sin phi, -cos phi)``).  Sympy differentiates these with ``tan psi``, ``sin phi``,
+   ``cos phi``, ``1/(|e1| + |e2|)`` and ``1/r1`` as opaque functions (:class:`_TanHalfTurn`,
+   :class:`_SinMid`, :class:`_CosMid`, :class:`_Recip`) that are then replaced by quantities the
+   kernel computes algebraically from the edge vectors: ``tan psi = cross / (|e1| |e2| + dot)``
+   and ``(cos phi, sin phi) = (c1 + c2, s1 + s2) / |t|`` with
+   ``1 / |t|^2 = |e1| |e2| / (2 (|e1| |e2| + dot))``.  No angle is ever computed.  For stretching
+   the strain variables are ``l`` and ``r0 + r1``, in which the strains are linear.
+
+Each step is the exact chain rule ``g' = A^T g``, ``H' = A^T H A + sum_k g_k hess(v_k)``; the
+entries of every intermediate gradient and Hessian get names, common subexpressions are
+eliminated within and across steps (also up to sign) and dead assignments dropped.
+``tests/test_shell_energy.py`` compares the kernels with a direct sympy differentiation of the
+Cartesian definitions evaluated in 30-digit arithmetic (:meth:`Element.cartesian_gradient`,
+:meth:`Element.cartesian_hessian_upper`) and with finite differences.
+
+Generated functions
+-------------------
+For every element (``<name>`` = ``stretch``, ``bend``, ``bend_cur``):
+
+* the fast kernels used by :class:`models.shell.ShellEnergy`, taking the local variables (names in
+  ``INPUTS[name]``) and the parameters, arrays of one common shape (scalars for the parameters
+  are allowed), no broadcasting of the local variables:
+  ``<name>_fast_energy`` (shape ``(m,)``), ``<name>_fast_gradient`` (*packed*: shape
+  ``(ndof, m)``, derivatives with respect to the node coordinates), ``<name>_fast_hessian``
+  (*packed*: shape ``(ndof (ndof + 1) / 2, m)``, the upper triangle ``a <= b`` row by row, the
+  pairs in ``UPPER[name]``) and ``<name>_fast_<strains>``;
+* convenience versions with the node coordinates as arguments, broadcasting over all arguments
+  and with unpacked outputs: ``<name>_energy`` (``(m,)``), ``<name>_gradient`` (``(m, ndof)``),
+  ``<name>_hessian`` (``(m, ndof, ndof)``) and the strain helper (``stretch_strains`` /
+  ``bend_curvatures`` / ``bend_cur_curvatures``, a tuple of two ``(m,)`` arrays).
 """
 
 from __future__ import annotations
 
 import argparse
+import ast
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-__all__ = ["Element", "build_elements", "generate_source", "generate", "main", "DEFAULT_OUTPUT"]
+__all__ = ["Element", "Layer", "build_elements", "generate_source", "generate", "main", "DEFAULT_OUTPUT"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_generated.py")
+
+
+@dataclass
+class Layer:
+    """One change of variables ``v = v(u)`` in the chain from the strain variables to the kernel inputs.
+
+    Attributes
+    ----------
+    outer : list of sympy.Symbol
+        The variables ``v`` of the previous step (the strain variables for the first layer).
+    inner : list of sympy.Symbol
+        The new variables ``u``.
+    jacobian : list of list of sympy.Expr
+        ``d v_i / d u_j``, shape ``(len(outer), len(inner))``.
+    hessians : dict of int to list of list of sympy.Expr
+        ``d^2 v_i / d u d u`` for the outer variables that are nonlinear in ``u`` (by index).
+    rotations : list of tuple
+        Set when the layer maps edge variables ``(l, tau)`` to edge vectors by rotations (see
+        :func:`_edge_rotation`): ``(index of l, index of tau or None, index of the edge's first
+        inner variable, c, s, 1/l)`` per edge; the other outer variables are copied to the inner
+        ones as :attr:`passthrough` says.  The chain rule is then written with the rotation
+        structure (fewer operations than the generic ``A^T H A``, same result).
+    passthrough : dict of int to int
+        Outer index to inner index of the variables a rotation layer copies.
+    """
+
+    outer: list
+    inner: list
+    jacobian: list
+    hessians: dict = field(default_factory=dict)
+    rotations: list = field(default_factory=list)
+    passthrough: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -60,28 +141,47 @@ class Element:
     """A local element whose energy is a quadratic form in two strain measures.
 
     The energy is ``weight * (s1^2 + 2 nu s1 s2 + s2^2)`` with ``s = strains - reference``.  Its
-    derivatives are generated by the chain rule through the strains,
-    ``grad = J^T w`` and ``hess = J^T C J + sum_c w_c hess(strain_c)`` with ``J`` the strain
-    Jacobian, ``w`` the stress-like derivative of the quadratic form and ``C`` its constant matrix,
-    which is exact and keeps the emitted code far smaller than differentiating the energy as one
-    expression.
+    derivatives follow by the chain rule through the strains, ``grad = J^T w`` and
+    ``hess = J^T C J + sum_c w_c hess(strain_c)`` with ``J`` the strain Jacobian, ``w`` the
+    stress-like derivative of the quadratic form and ``C`` its constant matrix, and then through the
+    :attr:`layers` down to the kernel inputs and the node coordinates (module docstring).
 
     Attributes
     ----------
     name : str
         Prefix of the generated functions.
     dofs : list of sympy.Symbol
-        Local degrees of freedom, in the order of the gradient and Hessian.
+        Local degrees of freedom (node coordinates), in the order of the gradient and Hessian.
     params : list of sympy.Symbol
         Further (per-element or material) arguments, after the dofs.
     strains : dict of str to sympy.Expr
-        The two strain measures, returned by the helper ``<name>_<strains_name>``.
+        The two strain measures as functions of :attr:`dofs` (the definition), returned by the
+        helper ``<name>_<strains_name>``.
     reference : tuple of sympy.Expr
         Their reference values (subtracted before the quadratic form).
     weight : sympy.Expr
         Prefactor of the quadratic form (area weight times stiffness).
     nu : sympy.Symbol
         Poisson's ratio, the coupling in the quadratic form.
+    inputs : list of (sympy.Symbol, sympy.Expr)
+        Arguments of the fast kernels, each a linear function of :attr:`dofs`.
+    prelude : list of (sympy.Symbol, sympy.Expr)
+        Quantities computed from the inputs and parameters, in order, at the start of every kernel.
+    strain_values : tuple of sympy.Symbol
+        The prelude symbols holding the two strains.
+    variables : list of sympy.Symbol
+        Strain variables: the strains are :attr:`strain_formulas` of these.
+    strain_formulas : tuple of sympy.Expr
+        The strains as functions of :attr:`variables`; they may contain opaque functions with
+        known derivatives (``tan psi``, ``sin phi``, ``cos phi``, reciprocals), replaced after
+        differentiation through :attr:`trig`.
+    trig : dict of sympy.Expr to sympy.Symbol
+        Replacement of those functions by prelude symbols.
+    rewrite : dict of sympy.Expr to sympy.Symbol
+        Products to express through prelude symbols after the replacement (``4 isum tn -> k11``:
+        the derivatives then reuse the strains).
+    layers : list of Layer
+        Changes of variables from :attr:`variables` to the inputs (the last layer's ``inner``).
     strains_name : str
         Suffix of the strain helper.
     doc : str
@@ -95,39 +195,172 @@ class Element:
     reference: tuple
     weight: sp.Expr
     nu: sp.Symbol
+    inputs: list
+    prelude: list
+    strain_values: tuple
+    variables: list
+    strain_formulas: tuple
+    trig: dict
+    layers: list
+    rewrite: dict = field(default_factory=dict)
     strains_name: str = "strains"
     doc: str = ""
 
+    # ---- the definition, differentiated directly (reference for the tests) ----------------------
     def _s(self) -> list[sp.Expr]:
         return [e - ref for e, ref in zip(self.strains.values(), self.reference)]
 
     @property
     def energy(self) -> sp.Expr:
-        """The element energy as one sympy expression."""
+        """The element energy as one sympy expression of :attr:`dofs`."""
         s1, s2 = self._s()
         return self.weight * (s1**2 + 2 * self.nu * s1 * s2 + s2**2)
 
-    def gradient(self) -> list[sp.Expr]:
-        """Exact gradient with respect to :attr:`dofs` (chain rule through the strains)."""
+    def cartesian_gradient(self) -> list[sp.Expr]:
+        """Exact gradient with respect to :attr:`dofs` by direct differentiation of :attr:`strains`."""
         s1, s2 = self._s()
         w = (2 * self.weight * (s1 + self.nu * s2), 2 * self.weight * (self.nu * s1 + s2))
         jac = [[sp.diff(e, q) for q in self.dofs] for e in self.strains.values()]
         return [w[0] * jac[0][a] + w[1] * jac[1][a] for a in range(len(self.dofs))]
 
-    def hessian_upper(self) -> tuple[list[tuple[int, int]], list[sp.Expr]]:
-        """Exact Hessian entries ``(a, b)``, ``a <= b``, with respect to :attr:`dofs`."""
+    def cartesian_hessian_upper(self) -> tuple[list[tuple[int, int]], list[sp.Expr]]:
+        """Exact Hessian entries ``(a, b)``, ``a <= b``, by direct differentiation of :attr:`strains`."""
         s1, s2 = self._s()
         n = len(self.dofs)
         w = (2 * self.weight * (s1 + self.nu * s2), 2 * self.weight * (self.nu * s1 + s2))
         c = ((2 * self.weight, 2 * self.weight * self.nu), (2 * self.weight * self.nu, 2 * self.weight))
         jac = [[sp.diff(e, q) for q in self.dofs] for e in self.strains.values()]
-        pairs = [(a, b) for a in range(n) for b in range(a, n)]
+        pairs = _upper(n)
         entries = []
         for a, b in pairs:
             gauss_newton = sum(jac[i][a] * c[i][j] * jac[j][b] for i in range(2) for j in range(2))
             curvature = sum(w[i] * sp.diff(jac[i][a], self.dofs[b]) for i in range(2))
             entries.append(gauss_newton + curvature)
         return pairs, entries
+
+    # ---- the chain of small steps (what is emitted) ---------------------------------------------
+    def input_map(self) -> list[list[sp.Expr]]:
+        """``T[i][a] = d input_i / d dof_a`` (constant)."""
+        T = [[sp.diff(e, q) for q in self.dofs] for _, e in self.inputs]
+        assert all(t.is_Number for row in T for t in row), "inputs must be linear in the dofs"
+        return T
+
+    @property
+    def moduli(self) -> list[tuple[sp.Symbol, sp.Expr]]:
+        """Prelude entries for the constant matrix ``C = [[kq, kqnu], [kqnu, kq]]`` of the quadratic form."""
+        c, cnu = sp.symbols("kq kqnu", real=True)
+        return [(c, 2 * self.weight), (cnu, c * self.nu)]
+
+    def stress(self) -> tuple[sp.Expr, sp.Expr]:
+        """``w = dW/d strain = C s``, in terms of prelude symbols."""
+        s1, s2 = (v - ref for v, ref in zip(self.strain_values, self.reference))
+        (c, _), (cnu, _) = self.moduli
+        return c * s1 + cnu * s2, cnu * s1 + c * s2
+
+    def stiffness(self) -> tuple[tuple[sp.Expr, sp.Expr], tuple[sp.Expr, sp.Expr]]:
+        """``C = d^2 W / d strain^2``, in terms of prelude symbols."""
+        (c, _), (cnu, _) = self.moduli
+        return (c, cnu), (cnu, c)
+
+    def strain_derivatives(self) -> tuple[list[list[sp.Expr]], list[list[list[sp.Expr]]]]:
+        """First and second derivatives of the strain formulas with respect to :attr:`variables`."""
+        v = self.variables
+        jac, hess = [], []
+        for f in self.strain_formulas:
+            d1 = [sp.diff(f, a) for a in v]
+            d2 = [[sp.diff(d1[i], v[j]) for j in range(len(v))] for i in range(len(v))]
+            jac.append([self._replace(e) for e in d1])
+            hess.append([[self._replace(e) for e in row] for row in d2])
+        return jac, hess
+
+    def check_names(self) -> None:
+        """Every name the kernels assign or take is distinct."""
+        names = ([str(s) for s, _ in self.inputs] + [str(s) for s in self.params]
+                 + [str(s) for s, _ in self.prelude + self.moduli])
+        assert len(names) == len(set(names)), f"{self.name}: duplicate names in {names}"
+        assert not any(n.startswith("_") for n in names), f"{self.name}: names must not start with _"
+
+    def _replace(self, e: sp.Expr) -> sp.Expr:
+        e = e.xreplace(self.trig)
+        if self.rewrite:
+            e = e.subs(self.rewrite)
+        leftover = e.atoms(sp.Function)
+        assert not leftover, f"{self.name}: functions left after replacement: {leftover}"
+        return e
+
+
+def _upper(n: int) -> list[tuple[int, int]]:
+    return [(a, b) for a in range(n) for b in range(a, n)]
+
+
+# ---- element definitions -------------------------------------------------------------------------
+def _edge_rotation(c: sp.Symbol, s: sp.Symbol, il: sp.Symbol, k: int, n: int):
+    """Jacobian rows and Hessians of ``(l, tau)`` of the edge whose components are inputs ``k, k+1``.
+
+    ``tau`` stands for the edge angle ``theta`` scaled by the length, ``d tau = l d theta``: the
+    Jacobian of ``(l, tau)`` is the rotation ``[[c, s], [-s, c]]``; the Hessian returned for
+    ``tau`` is that of ``theta`` times ``l``, which is what the gradient with respect to ``tau``
+    (``1/l`` times the one with respect to ``theta``) multiplies.
+    """
+    def row(vals):
+        out = [sp.Integer(0)] * n
+        out[k], out[k + 1] = vals
+        return out
+
+    def block(m):
+        out = [[sp.Integer(0)] * n for _ in range(n)]
+        for i in range(2):
+            for j in range(2):
+                out[k + i][k + j] = m[i][j]
+        return out
+
+    l_row = row((c, s))
+    t_row = row((-s, c))
+    l_hess = block(((il * s**2, -il * c * s), (-il * c * s, il * c**2)))
+    t_hess = block(((2 * il * c * s, il * (s**2 - c**2)), (il * (s**2 - c**2), -2 * il * c * s)))
+    return l_row, t_row, l_hess, t_hess
+
+
+def _unit_row(k: int, n: int) -> list:
+    out = [sp.Integer(0)] * n
+    out[k] = sp.Integer(1)
+    return out
+
+
+class _TanHalfTurn(sp.Function):
+    """``tan((th2 - th1) / 2)`` as a function of the edge angles ``(th1, th2)``."""
+
+    nargs = 2
+
+    def fdiff(self, argindex=1):
+        return (1 + self**2) / 2 * (-1 if argindex == 1 else 1)
+
+
+class _Recip(sp.Function):
+    """``1 / x``, replaced by a prelude symbol after differentiation."""
+
+    nargs = 1
+
+    def fdiff(self, argindex=1):
+        return -self**2
+
+
+class _SinMid(sp.Function):
+    """``sin((th1 + th2) / 2)`` as a function of the edge angles ``(th1, th2)``."""
+
+    nargs = 2
+
+    def fdiff(self, argindex=1):
+        return _CosMid(*self.args) / 2
+
+
+class _CosMid(sp.Function):
+    """``cos((th1 + th2) / 2)`` as a function of the edge angles ``(th1, th2)``."""
+
+    nargs = 2
+
+    def fdiff(self, argindex=1):
+        return -_SinMid(*self.args) / 2
 
 
 def _stretch() -> Element:
@@ -136,6 +369,14 @@ def _stretch() -> Element:
     length = sp.sqrt((r1 - r0) ** 2 + (z1 - z0) ** 2)
     eps11 = length / lbar - 1
     eps22 = (r0 + r1) / (2 * rbar) - 1
+    # local variables, prelude, strain variables
+    er, ez, rs = sp.symbols("er ez rs", real=True)
+    l, il, c, s, e11, e22 = sp.symbols("l il c s eps11 eps22", real=True)
+    prelude = [(l, sp.sqrt(er**2 + ez**2)), (il, 1 / l), (c, er * il), (s, ez * il),
+               (e11, l / lbar - 1), (e22, rs / (2 * rbar) - 1)]
+    l_row, _, l_hess, _ = _edge_rotation(c, s, il, 0, 3)
+    layer = Layer(outer=[l, rs], inner=[er, ez, rs], jacobian=[l_row, _unit_row(2, 3)], hessians={0: l_hess},
+                  rotations=[(0, None, 0, c, s, il)], passthrough={1: 2})
     return Element(
         name="stretch",
         dofs=[r0, z0, r1, z1],
@@ -144,6 +385,13 @@ def _stretch() -> Element:
         reference=(sp.Integer(0), sp.Integer(0)),
         weight=sp.pi * rbar * lbar * ks,
         nu=nu,
+        inputs=[(er, r1 - r0), (ez, z1 - z0), (rs, r0 + r1)],
+        prelude=prelude,
+        strain_values=(e11, e22),
+        variables=[l, rs],
+        strain_formulas=(l / lbar - 1, rs / (2 * rbar) - 1),
+        trig={},
+        layers=[layer],
         strains_name="strains",
         doc="stretching energy of one edge, pi rbar lbar ks (eps11^2 + 2 nu eps11 eps22 + eps22^2)",
     )
@@ -166,6 +414,41 @@ def _bend(current_length: bool) -> Element:
     n_r = (az / la + bz / lb) / sp.sqrt(2 + 2 * dot / (la * lb))
     kappa22 = n_r / r1
     which = "current Voronoi length (|e1|+|e2|)/2" if current_length else "reference Voronoi length lbar"
+
+    # local variables e1 = (ar, az), e2 = (br, bz), r1; the polar form of the two edges
+    ar_, az_, br_, bz_ = sp.symbols("ar az br bz", real=True)
+    la_, lb_, ila, ilb, ca, sa, cb, sb = sp.symbols("la lb ila ilb ca sa cb sb", real=True)
+    lab, den, tn, it2, it, sphi, cphi, k11, k22 = sp.symbols("lab den tn it2 it sphi cphi k11 k22", real=True)
+    isum, ir = sp.symbols("isum ir", real=True)
+    th1, th2 = sp.symbols("th1 th2", real=True)
+    prelude = [
+        (la_, sp.sqrt(ar_**2 + az_**2)), (lb_, sp.sqrt(br_**2 + bz_**2)),
+        (ila, 1 / la_), (ilb, 1 / lb_),
+        (ca, ar_ * ila), (sa, az_ * ila), (cb, br_ * ilb), (sb, bz_ * ilb),
+        # from the edge vectors themselves (not the unit vectors): one rounding less in tan(xi/2)
+        (lab, la_ * lb_), (den, lab + ar_ * br_ + az_ * bz_),  # |e1| |e2| (1 + cos xi)
+        (tn, (ar_ * bz_ - az_ * br_) / den),  # tan(xi/2)
+        (it2, lab / (2 * den)),  # 1 / |t|^2 with t = e1/|e1| + e2/|e2|
+        (it, sp.sqrt(it2)),
+        (sphi, (sa + sb) * it),  # n_r = sin(phi), phi = (th1 + th2) / 2
+        (cphi, (ca + cb) * it),  # t_r / |t| = cos(phi)
+        (ir, 1 / r1),
+        (k22, sphi * ir),
+    ]
+    prelude += [(isum, 1 / (la_ + lb_)), (k11, 4 * tn * isum)] if current_length else [(k11, 2 * tn / lbar)]
+    half_turn, mid_sin = _TanHalfTurn(th1, th2), _SinMid(th1, th2)
+    k11_formula = 4 * half_turn * _Recip(la_ + lb_) if current_length else 2 * half_turn / lbar
+    # theta_i = tau_i / l_i (a diagonal scaling), then (l_i, tau_i) -> e_i (a rotation)
+    ta, tb = sp.symbols("ta tb", real=True)
+    scaling = [sp.Integer(1), ila, sp.Integer(1), ilb, sp.Integer(1)]
+    scale = Layer(outer=[la_, th1, lb_, th2, r1], inner=[la_, ta, lb_, tb, r1],
+                  jacobian=[[scaling[i] if i == j else sp.Integer(0) for j in range(5)] for i in range(5)])
+    la_row, t1_row, la_hess, t1_hess = _edge_rotation(ca, sa, ila, 0, 5)
+    lb_row, t2_row, lb_hess, t2_hess = _edge_rotation(cb, sb, ilb, 2, 5)
+    edges = Layer(outer=[la_, ta, lb_, tb, r1], inner=[ar_, az_, br_, bz_, r1],
+                  jacobian=[la_row, t1_row, lb_row, t2_row, _unit_row(4, 5)],
+                  hessians={0: la_hess, 1: t1_hess, 2: lb_hess, 3: t2_hess},
+                  rotations=[(0, 1, 0, ca, sa, ila), (2, 3, 2, cb, sb, ilb)], passthrough={4: 4})
     return Element(
         name="bend_cur" if current_length else "bend",
         dofs=[r0, z0, r1, z1, r2, z2],
@@ -174,6 +457,14 @@ def _bend(current_length: bool) -> Element:
         reference=(k11bar, k22bar),
         weight=sp.pi * rbar * lbar * kb,
         nu=nu,
+        inputs=[(ar_, ar), (az_, az), (br_, br), (bz_, bz), (r1, r1)],
+        prelude=prelude,
+        strain_values=(k11, k22),
+        variables=[la_, th1, lb_, th2, r1],
+        strain_formulas=(k11_formula, mid_sin * _Recip(r1)),
+        trig={half_turn: tn, mid_sin: sphi, _CosMid(th1, th2): cphi, _Recip(r1): ir, _Recip(la_ + lb_): isum},
+        layers=[scale, edges],
+        rewrite={4 * isum * tn: k11, ir * sphi: k22} if current_length else {ir * sphi: k22},
         strains_name="curvatures",
         doc=f"bending energy of one interior node, kappa11 over the {which}",
     )
@@ -193,7 +484,8 @@ def build_elements() -> list[Element]:
 
 # ---- printing ------------------------------------------------------------------------------------
 class _Printer(NumPyPrinter):
-    """NumPy printer with plain reciprocals and square roots instead of float powers."""
+    """NumPy printer with plain reciprocals and square roots instead of float powers, and integer
+    powers above 2 as products (``numpy.power`` is slow for them)."""
 
     def _print_Pow(self, expr, rational=False):
         base, exp = expr.base, expr.exp
@@ -203,7 +495,10 @@ class _Printer(NumPyPrinter):
             b = f"numpy.sqrt({self._print(base)})" if half else self.parenthesize(base, 60)
             # For half-integer powers k counts halves.
             mag = abs(k)
-            core = b if mag == 1 else f"{b}**{mag}"
+            if half or mag <= 2:
+                core = b if mag == 1 else f"{b}**{mag}"
+            else:  # numpy's power is slow for exponents other than 2: multiply
+                core = "*".join([f"{b}**2"] * (mag // 2) + [b] * (mag % 2))
             return core if k > 0 else f"(1/{core})"
         return super()._print_Pow(expr, rational=rational)
 
@@ -212,10 +507,321 @@ def _printer() -> NumPyPrinter:
     return _Printer(settings={"fully_qualified_modules": True})
 
 
-def _cse(exprs: list[sp.Expr]) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
-    return sp.cse(exprs, symbols=sp.numbered_symbols("_c"), order="canonical")
+class _Body:
+    """Assignments of one kernel body, common subexpressions named ``_c0, _c1, ...`` in order."""
+
+    def __init__(self) -> None:
+        self.assignments: list[tuple[sp.Symbol, sp.Expr]] = []
+        self.names = sp.numbered_symbols("_c")
+        self.known: dict = {}  # right-hand side -> the symbol it is assigned to
+
+    def _assign(self, rhs: sp.Expr, sym: sp.Symbol | None = None) -> sp.Expr:
+        """A symbol (or minus a symbol) holding ``rhs``, reusing an earlier assignment if any."""
+        if rhs in self.known:
+            return self.known[rhs]
+        if -rhs in self.known:
+            return -self.known[-rhs]
+        sym = next(self.names) if sym is None else sym
+        self.assignments.append((sym, rhs))
+        self.known[rhs] = sym
+        return sym
+
+    def reduce(self, exprs: list[sp.Expr]) -> list[sp.Expr]:
+        """Record the common subexpressions of ``exprs``; return the reduced expressions.
+
+        Subexpressions that are a symbol or minus a symbol are substituted instead of assigned (a
+        negation costs as much as any other array operation), and so are repeats of earlier
+        assignments up to the sign (which ``sympy.cse`` does not detect across calls or signs).
+        """
+        repl, red = sp.cse(exprs, symbols=self.names, order="canonical")
+        subs: dict = {}
+        for lhs, rhs in repl:
+            rhs = rhs.xreplace(subs)
+            if _trivial(rhs):
+                subs[lhs] = rhs
+            else:
+                sym = self._assign(rhs, lhs)
+                if sym != lhs:
+                    subs[lhs] = sym
+        return [e.xreplace(subs) for e in red]
+
+    def name(self, exprs: list[sp.Expr]) -> list[sp.Expr]:
+        """Like :meth:`reduce`, but every result is a symbol or minus a symbol (named if needed)."""
+        out = []
+        for e in self.reduce(exprs):
+            coeff, core = e.as_coeff_Mul()
+            if _trivial(e):
+                out.append(e)
+            elif coeff == -1:
+                out.append(-self._assign(core))
+            else:
+                out.append(self._assign(e))
+        return out
+
+    def lines(self, prelude: list, results: list[sp.Expr], printer: NumPyPrinter,
+              targets: list[str] | None = None) -> list[str]:
+        """The prelude definitions and assignments that ``results`` need, in order, printed.
+
+        With ``targets`` (one per result) the results are printed as ``target = result`` lines,
+        and every local array is deleted right after its last use: its memory is reused by the
+        next temporaries instead of piling up (which keeps the working set in cache and the heap
+        small).
+        """
+        need = set().union(*(sp.sympify(e).free_symbols for e in results))
+        keep = []
+        for sym, rhs in reversed(prelude + self.assignments):
+            if sym in need:
+                keep.append((sym, rhs))
+                need |= rhs.free_symbols
+        keep.reverse()
+        out = [f"    {printer.doprint(lhs)} = {printer.doprint(rhs)}" for lhs, rhs in keep]
+        if targets is None:
+            return out
+        statements = [rhs.free_symbols for _, rhs in keep] + [sp.sympify(e).free_symbols for e in results]
+        out += [f"    {t} = {printer.doprint(e)}" for t, e in zip(targets, results)]
+        local = {sym for sym, _ in keep}
+        last = {}
+        for k, used in enumerate(statements):
+            for sym in used & local:
+                last[sym] = k
+        dead: dict = {}
+        for sym, k in last.items():
+            dead.setdefault(k, []).append(sym)
+        lines = []
+        for k, line in enumerate(out):
+            lines.append(line)
+            if k in dead and k < len(out) - 1:  # the last ones go at the return anyway
+                lines.append("    del " + ", ".join(sorted((str(sym) for sym in dead[k]), key=_natural)))
+        return lines
 
 
+def _natural(name: str):
+    """Sort key: ``_c2`` before ``_c10``."""
+    head = name.rstrip("0123456789")
+    return (head, int(name[len(head):]) if len(head) < len(name) else -1)
+
+
+def _trivial(e: sp.Expr) -> bool:
+    """An atom or minus an atom (free to substitute: any other factor costs an operation per use)."""
+    coeff, core = e.as_coeff_Mul()
+    return core.is_Atom and (coeff == 1 or coeff == -1 or core.is_Number)
+
+
+def _chain(el: Element, body: _Body, hessian: bool, structured: bool = True):
+    """Chain rule from the strain variables to the dofs: gradient list, packed upper Hessian list.
+
+    Each intermediate gradient and Hessian is named in ``body`` before the next change of
+    variables, so that the printed code keeps the small-step structure.  ``structured`` uses the
+    rotation form of :func:`_rotate` for rotation layers (else the generic ``A^T H A``).
+    """
+    jac, shess = el.strain_derivatives()
+    nv = len(el.variables)
+    pairs = _upper(nv)
+    # name the strain derivatives and the stresses, then V = C J: H = sum_i V_i J_i^T + w_i hess_i
+    flat = list(el.stress()) + [e for row in jac for e in row]
+    if hessian:
+        flat += [shess[i][a][b] for i in range(2) for a, b in pairs]
+    flat = body.name(flat)
+    w, flat = flat[:2], flat[2:]
+    jac, flat = [flat[:nv], flat[nv:2 * nv]], flat[2 * nv:]
+    g = [w[0] * jac[0][a] + w[1] * jac[1][a] for a in range(nv)]
+    H = None
+    if hessian:
+        hs = [dict(zip(pairs, flat[:len(pairs)])), dict(zip(pairs, flat[len(pairs):]))]
+        C = el.stiffness()
+        V = body.name([C[i][0] * jac[0][a] + C[i][1] * jac[1][a] for i in range(2) for a in range(nv)])
+        V = [V[:nv], V[nv:]]
+        H = {(a, b): V[0][a] * jac[0][b] + V[1][a] * jac[1][b] + w[0] * hs[0][a, b] + w[1] * hs[1][a, b]
+             for a, b in pairs}
+    steps = [(lay.jacobian, lay.hessians, lay) for lay in el.layers] + [(el.input_map(), {}, None)]
+    for A, hessians, layer in steps:
+        g, H = _named(body, g, H)
+        if structured and layer is not None and layer.rotations:
+            g, H = _rotate(body, layer, g, H)
+            continue
+        n_out, n_in = len(A), len(A[0])
+        g_new = [sp.Add(*[A[k][j] * g[k] for k in range(n_out) if A[k][j] != 0]) for j in range(n_in)]
+        H_new = None
+        if H is not None:
+            H_new = {}
+            for i, j in _upper(n_in):
+                e = sp.Add(*[A[k][i] * H[min(k, m), max(k, m)] * A[m][j]
+                             for k in range(n_out) for m in range(n_out) if A[k][i] != 0 and A[m][j] != 0])
+                H_new[i, j] = e + sp.Add(*[g[k] * hk[i][j] for k, hk in hessians.items()])
+        g, H = g_new, H_new
+    return g, ([H[k] for k in _upper(len(el.dofs))] if H is not None else None)
+
+
+def _rotate(body: _Body, layer: Layer, g: list, H: dict | None):
+    """The chain rule through a rotation layer (:attr:`Layer.rotations`).
+
+    Per edge, with ``R = [[c, s], [-s, c]]`` the Jacobian of ``(l, tau)``: the gradient is
+    ``R^T (g_l, g_tau)``; the diagonal block ``R^T [[h_ll, h_lt], [h_lt, h_tt]] R`` plus the
+    curvature terms ``g_l hess(l) + g_tau hess(tau)`` is written with the double angle
+    (``C2 = c^2 - s^2``, ``S2 = 2 c s``), the blocks between two edges as ``R_i^T (M R_j)`` and
+    the ones between an edge and a copied variable as ``R_i^T (h_l, h_tau)``.
+    """
+    zero = sp.Integer(0)
+    n_in = len(layer.inner)
+
+    def h(a, b):
+        if a is None or b is None:
+            return zero
+        return H[min(a, b), max(a, b)]
+
+    def rot(c, s):  # rows: (l, tau), columns: the two edge components
+        return ((c, s), (-s, c))
+
+    g_new = [zero] * n_in
+    for li, ti, k, c, s, _ in layer.rotations:
+        gt = g[ti] if ti is not None else zero
+        g_new[k], g_new[k + 1] = c * g[li] - s * gt, s * g[li] + c * gt
+    for p, q in layer.passthrough.items():
+        g_new[q] = g[p]
+    if H is None:
+        return g_new, None
+
+    H_new: dict = {}
+
+    def put(i, j, e):
+        H_new[min(i, j), max(i, j)] = e
+
+    for li, ti, k, c, s, il in layer.rotations:
+        gt = g[ti] if ti is not None else zero
+        C2, S2 = body.name([c**2 - s**2, 2 * c * s])
+        m = (h(li, li) + h(ti, ti)) / 2
+        a0 = g[li] * il / 2
+        ma0, p, q = body.name([m + a0, (h(li, li) - h(ti, ti)) / 2 - a0, gt * il - h(li, ti)])
+        (u,) = body.name([p * C2 + q * S2])
+        put(k, k, ma0 + u)
+        put(k + 1, k + 1, ma0 - u)
+        put(k, k + 1, p * S2 - q * C2)
+    for n, (li, ti, ki, ci, si, _) in enumerate(layer.rotations):
+        Ri = rot(ci, si)
+        for lj, tj, kj, cj, sj, _ in layer.rotations[n + 1:]:
+            Rj = rot(cj, sj)
+            M = ((h(li, lj), h(li, tj)), (h(ti, lj), h(ti, tj)))
+            X = body.name([M[a][0] * Rj[0][col] + M[a][1] * Rj[1][col] for a in range(2) for col in range(2)])
+            X = (X[:2], X[2:])
+            for row in range(2):
+                for col in range(2):
+                    put(ki + row, kj + col, Ri[0][row] * X[0][col] + Ri[1][row] * X[1][col])
+        for p, q in layer.passthrough.items():
+            for row in range(2):
+                put(ki + row, q, Ri[0][row] * h(li, p) + Ri[1][row] * h(ti, p))
+    for p1, q1 in layer.passthrough.items():
+        for p2, q2 in layer.passthrough.items():
+            if q1 <= q2:
+                put(q1, q2, h(p1, p2))
+    assert sorted(H_new) == _upper(n_in)
+    return g_new, H_new
+
+
+def _named(body: _Body, g: list, H: dict | None):
+    """Name the entries of a gradient (and Hessian) before the next change of variables."""
+    keys = sorted(H) if H is not None else []
+    vals = body.name(list(g) + [H[k] for k in keys])
+    return vals[:len(g)], (dict(zip(keys, vals[len(g):])) if H is not None else None)
+
+
+# ---- emitting the functions ----------------------------------------------------------------------
+def _inputs_doc(el: Element) -> str:
+    return ", ".join(f"``{s} = {sp.sstr(e)}``" for s, e in el.inputs)
+
+
+def _fast_header(el: Element, suffix: str, doc: list[str], out: bool) -> list[str]:
+    names = [str(s) for s, _ in el.inputs] + [str(s) for s in el.params] + (["out=None"] if out else [])
+    lines = [f"def {el.name}_fast_{suffix}({', '.join(names)}):", '    """' + doc[0]]
+    lines += [("    " + d) if d else "" for d in doc[1:]]
+    lines.append('    """')
+    return lines
+
+
+def _fast_doc(el: Element, what: str) -> list[str]:
+    return [what, "", f"Fast kernel: arguments are the local variables {_inputs_doc(el)} and the",
+            "parameters, arrays of one shape ``(m,)`` (parameters may be scalars)."]
+
+
+def _emit_rows(el: Element, name: str, rows: list[sp.Expr], body: _Body, doc: list[str],
+               printer: NumPyPrinter) -> list[str]:
+    lines = _fast_header(el, name, doc, True)
+    lines.append("    if out is None:")
+    lines.append(f"        out = numpy.empty(({len(rows)},) + numpy.shape({el.inputs[0][0]}))")
+    lines += body.lines(el.prelude + el.moduli, rows, printer, [f"out[{k}]" for k in range(len(rows))])
+    lines.append("    return out")
+    return lines
+
+
+def _emit_fast_energy(el: Element, printer: NumPyPrinter) -> list[str]:
+    s1, s2 = (v - ref for v, ref in zip(el.strain_values, el.reference))
+    body = _Body()
+    (red,) = body.reduce([el.weight * (s1**2 + 2 * el.nu * s1 * s2 + s2**2)])
+    doc = _fast_doc(el, f"Element {el.doc}.") + ["", "Returns", "-------", "ndarray, shape ``(m,)``"]
+    return (_fast_header(el, "energy", doc, False) + body.lines(el.prelude + el.moduli, [red], printer, ["_e"])
+            + ["    return _e"])
+
+
+def _count_ops(lines: list[str]) -> int:
+    """Array operations in printed code: arithmetic (constant folding excepted) and calls."""
+    count = 0
+    for node in ast.walk(ast.parse("\n".join(line.strip() for line in lines))):
+        if isinstance(node, ast.BinOp):
+            count += not (isinstance(node.left, ast.Constant) and isinstance(node.right, ast.Constant))
+        elif isinstance(node, ast.UnaryOp):
+            count += not isinstance(node.operand, ast.Constant)
+        elif isinstance(node, ast.Call):
+            count += 1
+    return count
+
+
+def _cheapest_chain(el: Element, hessian: bool, printer: NumPyPrinter) -> tuple[_Body, list[sp.Expr]]:
+    """The chain rule with and without the rotation form; the variant with fewer operations."""
+    best = None
+    for structured in (True, False):
+        body = _Body()
+        g, H = _chain(el, body, hessian=hessian, structured=structured)
+        rows = body.reduce(H if hessian else g)
+        lines = body.lines(el.prelude + el.moduli, rows, printer) + [printer.doprint(e) for e in rows]
+        cost = _count_ops(lines)
+        if best is None or cost < best[0]:
+            best = (cost, body, rows)
+    return best[1], best[2]
+
+
+def _emit_fast_gradient(el: Element, printer: NumPyPrinter) -> list[str]:
+    n = len(el.dofs)
+    body, rows = _cheapest_chain(el, False, printer)
+    dofs = ", ".join(str(q) for q in el.dofs)
+    doc = _fast_doc(el, f"Gradient of the {el.doc}.") + [
+        "", "Returns", "-------", f"ndarray, shape ``({n}, m)``",
+        f"    Derivatives with respect to ``[{dofs}]``, one row per dof (written into ``out``",
+        "    when given)."]
+    return _emit_rows(el, "gradient", rows, body, doc, printer)
+
+
+def _emit_fast_hessian(el: Element, printer: NumPyPrinter) -> list[str]:
+    n = len(el.dofs)
+    body, rows = _cheapest_chain(el, True, printer)
+    dofs = ", ".join(str(q) for q in el.dofs)
+    doc = _fast_doc(el, f"Hessian of the {el.doc}.") + [
+        "", "Returns", "-------", f"ndarray, shape ``({len(rows)}, m)``",
+        f"    Second derivatives with respect to ``[{dofs}]``, packed: the upper triangle",
+        f"    ``(a, b)``, ``a <= b``, row by row (``UPPER[{el.name!r}]``; written into ``out`` when",
+        "    given)."]
+    return _emit_rows(el, "hessian", rows, body, doc, printer)
+
+
+def _emit_fast_strains(el: Element, printer: NumPyPrinter) -> list[str]:
+    names = list(el.strains)
+    doc = _fast_doc(el, f"Strain measures ``({', '.join(names)})``: {el.doc}.") + [
+        "", "Returns", "-------", f"tuple of {len(names)} ndarrays, shape ``(m,)``"]
+    body = _Body()
+    vals = list(el.strain_values)
+    return (_fast_header(el, el.strains_name, doc, False) + body.lines(el.prelude, vals, printer)
+            + [f"    return {', '.join(printer.doprint(v) for v in vals)}"])
+
+
+# The convenience functions: node coordinates in, broadcasting, unpacked outputs.
 def _header(el: Element, suffix: str, doc: list[str]) -> list[str]:
     names = [str(s) for s in el.dofs + el.params]
     lines = [f"def {el.name}_{suffix}({', '.join(names)}):", '    """' + doc[0]]
@@ -225,67 +831,52 @@ def _header(el: Element, suffix: str, doc: list[str]) -> list[str]:
     return lines
 
 
-def _body(replacements, printer: NumPyPrinter) -> list[str]:
-    return [f"    {printer.doprint(lhs)} = {printer.doprint(rhs)}" for lhs, rhs in replacements]
+def _call_fast(el: Element, suffix: str, printer: NumPyPrinter, out: str | None = None) -> str:
+    args = [printer.doprint(e) for _, e in el.inputs] + [str(s) for s in el.params]
+    if out is not None:
+        args.append(f"out={out}")
+    return f"{el.name}_fast_{suffix}({', '.join(args)})"
 
 
 def _emit_energy(el: Element, printer: NumPyPrinter) -> list[str]:
-    repl, (red,) = _cse([el.energy])
     doc = [f"Element {el.doc}.", "", "Returns", "-------", "ndarray, shape ``(m,)``"]
-    lines = _header(el, "energy", doc) + _body(repl, printer)
-    lines.append("    _out = numpy.zeros(_shape)")
-    lines.append(f"    _out[...] = {printer.doprint(red)}")
-    lines.append("    return _out")
-    return lines
+    return _header(el, "energy", doc) + [
+        "    _out = numpy.zeros(_shape)",
+        f"    _out[...] = {_call_fast(el, 'energy', printer)}",
+        "    return _out"]
 
 
 def _emit_gradient(el: Element, printer: NumPyPrinter) -> list[str]:
     n = len(el.dofs)
-    repl, red = _cse(el.gradient())
     dofs = ", ".join(str(q) for q in el.dofs)
     doc = [f"Gradient of the {el.doc}.", "", "Returns", "-------",
            f"ndarray, shape ``(m, {n})``", f"    Derivatives with respect to ``[{dofs}]``."]
-    lines = _header(el, "gradient", doc) + _body(repl, printer)
-    lines.append(f"    _out = numpy.zeros(_shape + ({n},))")
-    for k, e in enumerate(red):
-        if e != 0:
-            lines.append(f"    _out[..., {k}] = {printer.doprint(e)}")
-    lines.append("    return _out")
-    return lines
+    return _header(el, "gradient", doc) + [
+        f"    _g = {_call_fast(el, 'gradient', printer, f'numpy.empty(({n},) + _shape)')}",
+        "    return numpy.moveaxis(_g, 0, -1).copy()"]
 
 
 def _emit_hessian(el: Element, printer: NumPyPrinter) -> list[str]:
     n = len(el.dofs)
-    pairs, entries = el.hessian_upper()
-    repl, red = _cse(entries)
     dofs = ", ".join(str(q) for q in el.dofs)
     doc = [f"Hessian of the {el.doc}.", "", "Returns", "-------",
            f"ndarray, shape ``(m, {n}, {n})``",
            f"    Symmetric second derivatives with respect to ``[{dofs}]``."]
-    lines = _header(el, "hessian", doc) + _body(repl, printer)
-    lines.append(f"    _out = numpy.zeros(_shape + ({n}, {n}))")
-    for (a, b), e in zip(pairs, red):
-        if e == 0:
-            continue
-        if a == b:
-            lines.append(f"    _out[..., {a}, {a}] = {printer.doprint(e)}")
-        else:
-            lines.append(f"    _out[..., {a}, {b}] = _out[..., {b}, {a}] = {printer.doprint(e)}")
-    lines.append("    return _out")
-    return lines
+    npk = n * (n + 1) // 2
+    return _header(el, "hessian", doc) + [
+        f"    _h = {_call_fast(el, 'hessian', printer, f'numpy.empty(({npk},) + _shape)')}",
+        f"    return _unpack(_h, {n})"]
 
 
 def _emit_strains(el: Element, printer: NumPyPrinter) -> list[str]:
     names = list(el.strains)
-    repl, red = _cse([el.strains[k] for k in names])
     doc = [f"Strain measures ``({', '.join(names)})`` of the element: {el.doc}.", "", "Returns",
            "-------", f"tuple of {len(names)} ndarrays, shape ``(m,)``"]
-    lines = _header(el, el.strains_name, doc) + _body(repl, printer)
-    outs = []
-    for k, e in enumerate(red):
-        lines.append(f"    _o{k} = numpy.zeros(_shape)")
-        lines.append(f"    _o{k}[...] = {printer.doprint(e)}")
-        outs.append(f"_o{k}")
+    lines = _header(el, el.strains_name, doc)
+    outs = [f"_o{k}" for k in range(len(names))]
+    lines.append(f"    {', '.join(outs)} = {_call_fast(el, el.strains_name, printer)}")
+    for o in outs:
+        lines.append(f"    {o} = numpy.broadcast_to({o}, _shape).copy()")
     lines.append(f"    return {', '.join(outs)}")
     return lines
 
@@ -293,9 +884,17 @@ def _emit_strains(el: Element, printer: NumPyPrinter) -> list[str]:
 _PREAMBLE = '''"""Element energies of the discrete axisymmetric shell, with exact gradients and Hessians.
 
 GENERATED by ``python -m models.shell.codegen`` from the sympy definitions in
-``models/shell/codegen.py``.  Do not edit by hand: change the generator and regenerate.  Plain
-numpy, vectorised over a batch of elements (every argument is an array with one entry per element,
-or a scalar broadcast to all of them).
+``models/shell/codegen.py`` (its docstring explains the chain of variables the derivatives are
+written in).  Do not edit by hand: change the generator and regenerate.  Plain numpy, vectorised
+over a batch of elements.
+
+``<name>_fast_*`` take the element's local variables (``INPUTS[name]``: edge vectors and radii, each
+a linear function of the node coordinates) and return packed gradients ``(ndof, m)`` and packed
+upper-triangle Hessians ``(ndof (ndof + 1) / 2, m)`` (pairs ``UPPER[name]``); they are what
+:class:`models.shell.ShellEnergy` calls.  ``<name>_energy`` / ``_gradient`` / ``_hessian`` and the
+strain helpers take the node coordinates, broadcast over all their arguments (every argument is an
+array with one entry per element, or a scalar broadcast to all of them) and return ``(m,)``,
+``(m, ndof)`` and ``(m, ndof, ndof)`` arrays.
 """
 
 import numpy
@@ -304,6 +903,17 @@ import numpy
 def _prepare(*args):
     arrays = [numpy.asarray(a, dtype=float) for a in args]
     return (*arrays, numpy.broadcast_shapes(*(a.shape for a in arrays)))
+
+
+def _upper(n):
+    return tuple((a, b) for a in range(n) for b in range(a, n))
+
+
+def _unpack(packed, n):
+    idx = numpy.empty((n, n), dtype=numpy.intp)
+    for k, (a, b) in enumerate(_upper(n)):
+        idx[a, b] = idx[b, a] = k
+    return numpy.moveaxis(packed[idx], (0, 1), (-2, -1)).copy()
 '''
 
 
@@ -316,17 +926,33 @@ def generate_source() -> str:
         The complete module source (deterministic: same sympy version, same bytes).
     """
     printer = _printer()
+    elements = build_elements()
     functions: list[str] = []
     chunks: list[str] = []
-    for el in build_elements():
-        for emit, suffix in ((_emit_energy, "energy"), (_emit_gradient, "gradient"),
-                             (_emit_hessian, "hessian"), (_emit_strains, el.strains_name)):
+    for el in elements:
+        el.check_names()
+        emitters = ((_emit_fast_energy, "fast_energy"), (_emit_fast_gradient, "fast_gradient"),
+                    (_emit_fast_hessian, "fast_hessian"), (_emit_fast_strains, f"fast_{el.strains_name}"),
+                    (_emit_energy, "energy"), (_emit_gradient, "gradient"), (_emit_hessian, "hessian"),
+                    (_emit_strains, el.strains_name))
+        for emit, suffix in emitters:
             chunks.append("\n".join(emit(el, printer)))
             functions.append(f"{el.name}_{suffix}")
-    ndofs = {el.name: len(el.dofs) for el in build_elements()}
     parts = [_PREAMBLE.rstrip("\n")]
-    parts.append("__all__ = [\n" + "".join(f'    "{f}",\n' for f in sorted(functions)) + "]")
-    parts.append("NDOF = {" + ", ".join(f'"{k}": {v}' for k, v in sorted(ndofs.items())) + "}")
+    exported = sorted(functions + ["INPUTS", "NDOF", "UPPER"])
+    parts.append("__all__ = [\n" + "".join(f'    "{f}",\n' for f in exported) + "]")
+    by_name = sorted(elements, key=lambda e: e.name)
+    parts.append("\n".join([
+        "NDOF = {" + ", ".join(f'"{el.name}": {len(el.dofs)}' for el in by_name) + "}",
+        '"""Number of local dofs (node coordinates) of each element."""',
+        "",
+        "INPUTS = {" + ", ".join(f'"{el.name}": (' + ", ".join(f'"{s}"' for s, _ in el.inputs) + ")"
+                                 for el in by_name) + "}",
+        '"""Local variables (arguments before the parameters) of the ``<name>_fast_*`` kernels."""',
+        "",
+        "UPPER = {" + ", ".join(f'"{el.name}": _upper({len(el.dofs)})' for el in by_name) + "}",
+        '"""Local dof pairs ``(a, b)``, ``a <= b``, of the rows of a packed Hessian."""',
+    ]))
     parts.extend(chunks)
     return "\n\n\n".join(parts) + "\n"
 

@@ -21,6 +21,16 @@ both reach Reissner's stiffness as ``h/R -> 0`` (they differ by 3e-4 there) but 
 F at ``w/R = 0.1`` for the default scene (``python -m studies.shell_mesh_convergence``), so the choice
 matters in the nonlinear range.
 
+Evaluation
+----------
+The kernels take each element's local variables (edge vectors and radii, computed once per call for
+all edges) and return packed outputs: the gradient with respect to the element's dofs and the upper
+triangle of its Hessian, one row per entry.  One ``bincount`` per block of elements (all of them up
+to ``N ~ 8000``) scatters them into the global gradient or the upper triangle of the global
+Hessian, whose fixed CSR data is then gathered from it (exactly symmetric).  The cost is a fixed
+number of numpy operations per block, so it is linear in ``N`` (``python -m
+studies.bench_shell_assembly``).
+
 Not decided here
 ----------------
 Boundary conditions and the pole.  No dof is fixed.  The bending element is skipped at the base
@@ -40,7 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import _generated as gen
-from .geometry import ReferenceCap, split
+from .geometry import ReferenceCap
 
 __all__ = ["ShellEnergy", "HALF_BANDWIDTH"]
 
@@ -49,29 +59,80 @@ HALF_BANDWIDTH = 5
 
 _PARTS = ("stretch", "bend")
 
+_CHUNK = 8192
+"""Elements per kernel call.  Longer meshes are processed in blocks of this many elements, each
+evaluated and scattered before the next, which bounds the memory of the kernels' temporaries and of
+the packed outputs.  (Measured: the time per element is flat for blocks of 4096 elements and more,
+up to N = 100000; smaller blocks pay numpy's per-operation overhead more often.)"""
+
+
+def _edges(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Node radii and heights (views) and edge vectors ``x_{i+1} - x_i`` of a state vector."""
+    r, z = x[0::2], x[1::2]
+    return r, z, r[1:] - r[:-1], z[1:] - z[:-1]
+
+
+def _stretch_local(r, z, er, ez):
+    return er, ez, r[:-1] + r[1:]
+
+
+def _bend_local(r, z, er, ez):
+    return er[:-1], ez[:-1], er[1:], ez[1:], r[1:-1]
+
 
 class _Term:
-    """One family of elements: generated kernels, local-to-global dof map, fixed arguments."""
+    """One family of elements: fast kernels, local variables, dof map and fixed arguments.
 
-    def __init__(self, kernels: str, dofs: np.ndarray, params: tuple) -> None:
-        self.energy_fn = getattr(gen, f"{kernels}_energy")
-        self.gradient_fn = getattr(gen, f"{kernels}_gradient")
-        self.hessian_fn = getattr(gen, f"{kernels}_hessian")
-        self.dofs = dofs  # (m, ndof) global indices
+    The kernels (:mod:`models.shell._generated`, ``<kernels>_fast_*``) take the element's local
+    variables, which :attr:`local` computes from the node radii and edge vectors, and return packed
+    gradients ``(ndof, m)`` and packed upper-triangle Hessians ``(ndof (ndof + 1) / 2, m)``
+    (pairs :attr:`pairs`).
+    """
+
+    def __init__(self, kernels: str, dofs: np.ndarray, local, params: tuple) -> None:
+        self.energy_fn = getattr(gen, f"{kernels}_fast_energy")
+        self.gradient_fn = getattr(gen, f"{kernels}_fast_gradient")
+        self.hessian_fn = getattr(gen, f"{kernels}_fast_hessian")
+        self.dofs = dofs  # (m, ndof) global indices, increasing along each row
+        assert np.all(np.diff(dofs, axis=1) > 0)
+        self.m, self.ndof = dofs.shape
+        self.pairs = np.array(gen.UPPER[kernels])  # (npk, 2) local pairs a <= b of the packed rows
+        self.npk = len(self.pairs)
+        self.local = local  # (r, z, er, ez) -> tuple of local-variable arrays, each (m,)
         self.params = params
-        self.hess_slot: np.ndarray | None = None  # (m * ndof * ndof,) index into the CSR data
 
-    def local(self, x: np.ndarray) -> list[np.ndarray]:
-        return [x[self.dofs[:, k]] for k in range(self.dofs.shape[1])]
 
-    def energy(self, x: np.ndarray) -> np.ndarray:
-        return self.energy_fn(*self.local(x), *self.params)
+class _Block:
+    """A block of consecutive elements of every term, evaluated and scattered together.
 
-    def gradient(self, x: np.ndarray) -> np.ndarray:
-        return self.gradient_fn(*self.local(x), *self.params)
+    Holds, per term, the element slice and the sliced parameters, and the slots of the packed
+    outputs (the terms' outputs one after the other, each ``(rows, elements)`` in C order) in the
+    global gradient and in the upper triangle of the global Hessian, relative to the smallest slot
+    the block touches (so that each ``bincount`` only spans the block's own range).
+    """
 
-    def hessian(self, x: np.ndarray) -> np.ndarray:
-        return self.hessian_fn(*self.local(x), *self.params)
+    def __init__(self, parts: list[tuple[str, _Term, slice]], upper_slot) -> None:
+        self.parts = [(name, term, sl, tuple(p[sl] if np.ndim(p) else p for p in term.params))
+                      for name, term, sl in parts]
+        self.grad = self._slots([(name, t.dofs[sl].T.ravel()) for name, t, sl in parts])
+        self.hess = self._slots([(name, upper_slot(t.dofs[sl][:, t.pairs[:, 0]].T.ravel(),
+                                                   t.dofs[sl][:, t.pairs[:, 1]].T.ravel()))
+                                 for name, t, sl in parts])
+
+    @staticmethod
+    def _slots(per_part: list[tuple[str, np.ndarray]]) -> dict:
+        """``{part or None: (slots - lo, lo, hi)}`` for each part alone and for all of them."""
+        allslots = np.concatenate([s for _, s in per_part])
+        lo, hi = int(allslots.min()), int(allslots.max()) + 1
+        out = {name: (s - lo, lo, hi) for name, s in per_part}
+        out[None] = (allslots - lo, lo, hi)
+        return out
+
+    def arguments(self, local: dict, part: str | None):
+        """``(term, local variables, parameters, rows)`` of the block for the selected terms."""
+        for name, term, sl, params in self.parts:
+            if part is None or part == name:
+                yield term, tuple(v[sl] for v in local[name]), params, sl.stop - sl.start
 
 
 class ShellEnergy:
@@ -89,9 +150,10 @@ class ShellEnergy:
         Poisson's ratio, in ``(-1, 1)`` (``nu = 1/2`` is allowed: the plane-stress constants stay
         finite).
     kappa11_length : {"reference", "current"}
-        Length in ``kappa11 = 2 tan(xi/2) / L``: the reference Voronoi length (default, physics.md
-        section 2) or the current one.  At the reference state both give the same curvature; they
-        differ by terms of order (membrane strain) x (curvature).
+        Length in ``kappa11 = 2 tan(xi/2) / L``: the reference Voronoi length (as physics.md
+        section 2 writes it) or the current one (the default; see the module docstring).  At the
+        reference state both give the same curvature; they differ by terms of order (membrane
+        strain) x (curvature).
 
     Notes
     -----
@@ -121,40 +183,78 @@ class ShellEnergy:
         self.n = 2 * N
 
         edges = np.arange(N - 1)
-        s_dofs = np.stack([2 * edges, 2 * edges + 1, 2 * edges + 2, 2 * edges + 3], axis=1)
-        stretch = _Term("stretch", s_dofs, (cap.edge_length, cap.edge_radius, self.ks, nu))
+        s_dofs = 2 * edges[:, None] + np.arange(4)[None, :]
+        stretch = _Term("stretch", s_dofs, _stretch_local, (cap.edge_length, cap.edge_radius, self.ks, nu))
 
         self.bend_nodes = np.arange(1, N - 1)  # base and pole skipped (see module docstring)
         b_dofs = 2 * (self.bend_nodes[:, None] - 1) + np.arange(6)[None, :]
         kernels = "bend" if kappa11_length == "reference" else "bend_cur"
-        curv_fn = getattr(gen, f"{kernels}_curvatures")
         i = self.bend_nodes
         lbar, rbar = cap.voronoi_length[i], cap.node_radius[i]
-        # Reference curvatures from the very same kernel, so the reference state is exactly flat.
-        k11bar, k22bar = curv_fn(cap.r[i - 1], cap.z[i - 1], cap.r[i], cap.z[i], cap.r[i + 1],
-                                 cap.z[i + 1], lbar, rbar, 0.0, 0.0, 1.0, 0.0)
+        self._curv_fn = getattr(gen, f"{kernels}_fast_curvatures")
+        self._curv_params = (lbar, rbar, 0.0, 0.0, self.kb, nu)
+        # Reference curvatures from the very same kernel code and local variables as the energy, so
+        # the reference state is exactly flat.
+        k11bar, k22bar = self._curv_fn(*_bend_local(*_edges(cap.x)), *self._curv_params)
         self.kappa11_bar, self.kappa22_bar = k11bar, k22bar
-        self._curv_fn = curv_fn
-        bend = _Term(kernels, b_dofs, (lbar, rbar, k11bar, k22bar, self.kb, nu))
-        self._terms = {"stretch": stretch, "bend": bend}
+        bend = _Term(kernels, b_dofs, _bend_local, (lbar, rbar, k11bar, k22bar, self.kb, nu))
+        self._terms = {"stretch": stretch, "bend": bend}  # the order of the packed outputs
         self._build_pattern()
 
-    # ---- sparsity pattern ------------------------------------------------------------------------
+    # ---- sparsity pattern and blocks ------------------------------------------------------------
     def _build_pattern(self) -> None:
+        """CSR pattern of the full Hessian, and the element blocks with their scatter slots.
+
+        The element Hessians are scattered into the upper triangle only (one ``bincount`` per
+        block over all terms); the full CSR data is a gather of it, so the result is exactly
+        symmetric.
+        """
         n = self.n
-        keys = []
-        for term in self._terms.values():
-            d = term.dofs
-            rows = np.broadcast_to(d[:, :, None], d.shape + (d.shape[1],))
-            cols = np.broadcast_to(d[:, None, :], d.shape + (d.shape[1],))
-            keys.append((rows * n + cols).ravel())
-        unique = np.unique(np.concatenate(keys))
-        for term, k in zip(self._terms.values(), keys):
-            term.hess_slot = np.searchsorted(unique, k)
-        rows, cols = np.divmod(unique, n)
+        terms = self._terms
+        keys = [t.dofs[:, t.pairs[:, 0]].ravel() * n + t.dofs[:, t.pairs[:, 1]].ravel() for t in terms.values()]
+        upper = np.unique(np.concatenate(keys))
+        ui, uj = np.divmod(upper, n)
+        full = np.unique(np.concatenate([ui * n + uj, uj * n + ui]))
+        rows, cols = np.divmod(full, n)
+        self._full_from_upper = np.searchsorted(upper, np.minimum(rows, cols) * n + np.maximum(rows, cols))
+        self._n_upper = upper.size
         self._indices = cols.astype(np.int32)
         self._indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
-        self._nnz = unique.size
+        self._nnz = full.size
+
+        def upper_slot(i, j):
+            return np.searchsorted(upper, i * n + j)
+
+        m = max(t.m for t in terms.values())
+        self._blocks = [_Block([(name, t, slice(lo, min(lo + _CHUNK, t.m))) for name, t in terms.items()
+                                if lo < t.m], upper_slot)
+                        for lo in range(0, m, _CHUNK)]
+
+    def _local(self, x: np.ndarray, part: str | None) -> dict:
+        geo = _edges(self._check(x))
+        return {name: t.local(*geo) for name, t in self._terms.items() if part is None or part == name}
+
+    def _scatter(self, x: np.ndarray, part: str | None, kind: str, size: int) -> np.ndarray:
+        """Evaluate the packed gradients or Hessians block by block and sum them into slots."""
+        local = self._local(x, part)
+        out = np.zeros(size)
+        buf = None
+        for block in self._blocks:
+            if part not in getattr(block, kind):  # the selected term has no element in this block
+                continue
+            slots, lo, hi = getattr(block, kind)[part]
+            if buf is None or buf.size < slots.size:
+                buf = np.empty(slots.size)
+            start = 0
+            for term, loc, params, k in block.arguments(local, part):
+                rows = term.ndof if kind == "grad" else term.npk
+                fn = term.gradient_fn if kind == "grad" else term.hessian_fn
+                fn(*loc, *params, out=buf[start:start + rows * k].reshape(rows, k))
+                start += rows * k
+            if len(self._blocks) == 1 and lo == 0 and hi == size:
+                return np.bincount(slots, weights=buf[:start], minlength=size)
+            out[lo:hi] += np.bincount(slots, weights=buf[:start], minlength=hi - lo)
+        return out
 
     # ---- public interface ------------------------------------------------------------------------
     @property
@@ -168,12 +268,11 @@ class ShellEnergy:
             raise ValueError(f"state vector must have shape ({self.n},), got {x.shape}")
         return x
 
-    def _selected(self, part: str | None) -> list[_Term]:
-        if part is None:
-            return list(self._terms.values())
-        if part not in _PARTS:
-            raise ValueError(f"part must be one of {_PARTS} or None, got {part!r}")
-        return [self._terms[part]]
+    @staticmethod
+    def _check_part(part: str | None, optional: bool = True) -> None:
+        if not ((optional and part is None) or part in _PARTS):
+            allowed = f"{_PARTS} or None" if optional else f"{_PARTS}"
+            raise ValueError(f"part must be one of {allowed}, got {part!r}")
 
     def element_energies(self, x: np.ndarray, part: Literal["stretch", "bend"]) -> np.ndarray:
         """Energies of the individual elements of one part.
@@ -189,8 +288,15 @@ class ShellEnergy:
         -------
         ndarray
         """
-        (term,) = self._selected(part)
-        return term.energy(self._check(x))
+        self._check_part(part, optional=False)
+        local = self._local(x, part)
+        out = np.empty(self._terms[part].m)
+        lo = 0
+        for block in self._blocks:
+            for term, loc, params, k in block.arguments(local, part):
+                out[lo:lo + k] = term.energy_fn(*loc, *params)
+                lo += k
+        return out
 
     def energy(self, x: np.ndarray, part: Literal["stretch", "bend"] | None = None) -> float:
         """Total elastic energy (or one part of it).
@@ -206,8 +312,10 @@ class ShellEnergy:
         -------
         float
         """
-        x = self._check(x)
-        return float(sum(term.energy(x).sum() for term in self._selected(part)))
+        self._check_part(part)
+        local = self._local(x, part)
+        return float(sum(term.energy_fn(*loc, *params).sum()
+                         for block in self._blocks for term, loc, params, _ in block.arguments(local, part)))
 
     def gradient(self, x: np.ndarray, part: Literal["stretch", "bend"] | None = None) -> np.ndarray:
         """Exact gradient of :meth:`energy`.
@@ -223,11 +331,8 @@ class ShellEnergy:
         -------
         ndarray, shape ``(2 N,)``
         """
-        x = self._check(x)
-        g = np.zeros(self.n)
-        for term in self._selected(part):
-            g += np.bincount(term.dofs.ravel(), weights=term.gradient(x).ravel(), minlength=self.n)
-        return g
+        self._check_part(part)
+        return self._scatter(x, part, "grad", self.n)
 
     def hessian(self, x: np.ndarray, part: Literal["stretch", "bend"] | None = None) -> sp.csr_matrix:
         """Exact Hessian of :meth:`energy`, assembled into a fixed banded CSR pattern.
@@ -245,10 +350,8 @@ class ShellEnergy:
             Symmetric, banded with half-bandwidth :data:`HALF_BANDWIDTH`; the sparsity pattern is
             the same for every ``x`` and ``part`` (entries of an omitted part are stored zeros).
         """
-        x = self._check(x)
-        data = np.zeros(self._nnz)
-        for term in self._selected(part):
-            data += np.bincount(term.hess_slot, weights=term.hessian(x).ravel(), minlength=self._nnz)
+        self._check_part(part)
+        data = self._scatter(x, part, "hess", self._n_upper).take(self._full_from_upper)
         return sp.csr_matrix((data, self._indices.copy(), self._indptr.copy()), shape=(self.n, self.n))
 
     def strains(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -264,10 +367,9 @@ class ShellEnergy:
         eps11, eps22 : ndarray, shape ``(N-1,)``
             Meridional ``l / lbar - 1`` and circumferential ``r_edge / rbar - 1`` strains.
         """
-        r, z = split(self._check(x))
         cap = self.cap
-        return gen.stretch_strains(r[:-1], z[:-1], r[1:], z[1:], cap.edge_length, cap.edge_radius,
-                                   self.ks, self.nu)
+        return gen.stretch_fast_strains(*_stretch_local(*_edges(self._check(x))), cap.edge_length,
+                                        cap.edge_radius, self.ks, self.nu)
 
     def curvatures(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Discrete curvatures at the bending nodes :attr:`bend_nodes` (``1 .. N-2``).
@@ -283,11 +385,7 @@ class ShellEnergy:
             Meridional ``2 tan(xi/2) / L`` and circumferential ``n_r / r`` curvatures (not the
             changes: subtract :attr:`kappa11_bar`, :attr:`kappa22_bar` for those).
         """
-        r, z = split(self._check(x))
-        i = self.bend_nodes
-        cap = self.cap
-        return self._curv_fn(r[i - 1], z[i - 1], r[i], z[i], r[i + 1], z[i + 1],
-                             cap.voronoi_length[i], cap.node_radius[i], 0.0, 0.0, self.kb, self.nu)
+        return self._curv_fn(*_bend_local(*_edges(self._check(x))), *self._curv_params)
 
     def __repr__(self) -> str:
         c = self.cap
