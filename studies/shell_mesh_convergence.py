@@ -7,7 +7,11 @@ development machine; ``--quick`` skips the meshes above N = 800 and the pole-var
 asserted in ``tests/test_shell_convergence.py`` and quoted in ``models/shell/problem.py`` and
 ``models/shell/energy.py``:
 
-1. Variants.  For each curvature length (``kappa11_length``) and pole treatment, over
+Every section uses the default mesh, graded towards the pole (``pole_ratio = 0.5``, see
+:func:`models.shell.geometry.theta_nodes`); sections 1 and 2 also show the uniform mesh
+(``pole_ratio = 1``) beside it.
+
+1. Variants.  For each mesh, curvature length (``kappa11_length``) and pole treatment, over
    N = 50 .. 800: F at ``w/R = 0.1`` (displacement-controlled trace), the linear stiffness over
    Reissner's ``8 sqrt(D E h) / R``, and successive-difference orders.
 2. Observed order of ``F(w/R = 0.1)`` and ``F_max`` (first maximum of F on the
@@ -51,8 +55,11 @@ from scipy.optimize import least_squares  # noqa: E402
 from contin import continuation, extremum  # noqa: E402
 from contin.linalg import BandedLU  # noqa: E402
 from models.shell import HALF_BANDWIDTH, PoleMirror, ShellPointLoad  # noqa: E402
+from models.shell.geometry import POLE_RATIO  # noqa: E402
 
 NS = (50, 100, 200, 400, 800)
+#: node gradings compared: the default (graded towards the pole) and the paper's uniform mesh
+MESHES = (POLE_RATIO, 1.0)
 H_OVER_R = (0.001, 0.002, 0.005, 0.02)
 #: thinner shells for the edge-compliance check (the sliding-minus-pinned compliance is
 #: mesh-independent to 1e-4, so these are cheap)
@@ -118,9 +125,9 @@ def first_force_maximum(shell: ShellPointLoad) -> tuple[float, float]:
     return float(found[0].observables["F"]), float(found[0].observables["w_over_R"])
 
 
-def force_limit_load(N: int) -> float:
+def force_limit_load(N: int, pole_ratio: float = POLE_RATIO) -> float:
     """First limit point of F under force control (dead load), located as a fold."""
-    shell = ShellPointLoad(N=N, control="force")
+    shell = ShellPointLoad(N=N, control="force", pole_ratio=pole_ratio)
     # F is measured in units of 10 * 2 pi D / R in the arclength norm (as in the shell scene)
     f_unit = 2.0 * math.pi * shell.D / shell.R
     br = continuation(shell, shell.reference_unknowns(), 0.0, ds=0.02, ds_max=0.05, param_weight=1.0 / (10.0 * f_unit),
@@ -199,58 +206,72 @@ def _fmt(values: Sequence[float], digits: int = 4) -> str:
     return "[" + ", ".join(f"{v:.{digits}f}" for v in values) + "]"
 
 
-def section_variants() -> dict[tuple[str, str], list[float]]:
-    """Section 1; returns ``F(w/R = 0.1)`` over :data:`NS` for each ``(kappa11_length, pole)``."""
+def section_variants() -> dict[tuple[str, str, float], list[float]]:
+    """Section 1; returns ``F(w/R = 0.1)`` over :data:`NS` for each ``(kappa11_length, pole, pole_ratio)``."""
     print("1. Variants: F(w/R=0.1) and k/k_Reissner over N =", NS)
     out = {}
-    for length in ("reference", "current"):
-        for pole in ("mirror", "skip"):
-            forces, stiffness = [], []
-            for N in NS:
-                shell = ShellPointLoad(N=N, kappa11_length=length, pole=pole)
-                forces.append(force_at(shell))
-                stiffness.append(shell.linear_stiffness() / shell.reissner_stiffness())
-            out[(length, pole)] = forces
-            print(f"  kappa11_length={length:9s} pole={pole:6s}")
-            print(f"    F(w/R=0.1)     = {np.array2string(np.array(forces), precision=8)}")
-            print(f"    orders of F    = {_fmt(observed_orders(forces), 3)}")
-            print(f"    k / k_Reissner = {np.array2string(np.array(stiffness), precision=7)}, "
-                  f"orders {_fmt(observed_orders(stiffness), 3)}", flush=True)
+    for q in MESHES:
+        for length in ("reference", "current"):
+            for pole in ("mirror", "skip"):
+                forces, stiffness = [], []
+                for N in NS:
+                    shell = ShellPointLoad(N=N, kappa11_length=length, pole=pole, pole_ratio=q)
+                    forces.append(force_at(shell))
+                    stiffness.append(shell.linear_stiffness() / shell.reissner_stiffness())
+                out[(length, pole, q)] = forces
+                print(f"  pole_ratio={q:<4g} kappa11_length={length:9s} pole={pole:6s}")
+                print(f"    F(w/R=0.1)     = {np.array2string(np.array(forces), precision=8)}")
+                print(f"    orders of F    = {_fmt(observed_orders(forces), 3)}")
+                print(f"    k / k_Reissner = {np.array2string(np.array(stiffness), precision=7)}, "
+                      f"orders {_fmt(observed_orders(stiffness), 3)}", flush=True)
     return out
 
 
-def section_orders(quick: bool, variants: dict[tuple[str, str], list[float]]) -> None:
+def section_orders(quick: bool, variants: dict[tuple[str, str, float], list[float]]) -> None:
     fine_F = (1600, 3200, 6400) if not quick else ()
     fine_max = (1600, 3200) if not quick else ()
-    print("\n2. Observed orders, default scene (kappa11_length='current', pole='mirror')")
-    ns_F = NS + fine_F
-    F = [force_at(ShellPointLoad(N=N)) for N in ns_F]
-    ns_M = NS + fine_max
-    maxima = [first_force_maximum(ShellPointLoad(N=N)) for N in ns_M]
-    Fmax = [m[0] for m in maxima]
-    for name, ns, vals in (("F(w/R=0.1)", ns_F, F), ("F_max", ns_M, Fmax)):
-        print(f"  {name}: N = {ns}")
-        print(f"    values = {np.array2string(np.array(vals), precision=10)}")
-        print(f"    (a) successive-difference orders = {_fmt(observed_orders(vals))}")
-        if len(ns) > len(NS):
-            ref, p = richardson(vals)
-            print(f"    (b) Richardson reference from N = {ns[-3:]}: {ref:.10f} (order {p:.4f} there); "
-                  f"orders of |F_N - ref| over N = {NS}: {_fmt(orders_against(vals[:len(NS)], ref))}")
-            print(f"        relative errors at N = {NS}: "
-                  + ", ".join(f"{abs(v - ref) / abs(ref):.2e}" for v in vals[:len(NS)]))
-            if name.startswith("F(w/R"):
-                ratios = [abs(v - ref) / abs(v0 - ref) for v, v0 in zip(variants[("current", "skip")], vals)]
-                print(f"        pole='skip': errors {_fmt(ratios, 1)} times those of 'mirror'")
-        f_inf, alpha, p = least_squares_order(NS, vals[:len(NS)])
-        print(f"    (c) least-squares F_inf + alpha N^-p over N = {NS}: p = {p:.4f} (F_inf = {f_inf:.8f})")
-        f_inf, alpha, p = least_squares_order(NS[1:], vals[1:len(NS)])
-        print(f"        same over N = {NS[1:]}: p = {p:.4f}")
-    print(f"  w/R at F_max: {_fmt([m[1] for m in maxima], 6)}")
-    ns_fold = NS if not quick else NS[:3]
-    folds = [force_limit_load(N) for N in ns_fold]
-    dev = max(abs(a - b) / abs(b) for a, b in zip(folds, Fmax))
-    print(f"  F_max as a force-control fold over N = {ns_fold}: {np.array2string(np.array(folds), precision=10)}; "
-          f"largest relative difference from the extremum under displacement control {dev:.1e}", flush=True)
+    references: dict[str, float] = {}
+    errors: dict[tuple[str, float], list[float]] = {}
+    for q in MESHES:
+        mesh = "graded (default)" if q == POLE_RATIO else "uniform"
+        print(f"\n2. Observed orders, default scene (kappa11_length='current', pole='mirror'), {mesh} mesh, "
+              f"pole_ratio = {q:g}")
+        ns_F = NS + fine_F
+        F = [force_at(ShellPointLoad(N=N, pole_ratio=q)) for N in ns_F]
+        ns_M = NS + fine_max
+        maxima = [first_force_maximum(ShellPointLoad(N=N, pole_ratio=q)) for N in ns_M]
+        Fmax = [m[0] for m in maxima]
+        for name, ns, vals in (("F(w/R=0.1)", ns_F, F), ("F_max", ns_M, Fmax)):
+            print(f"  {name}: N = {ns}")
+            print(f"    values = {np.array2string(np.array(vals), precision=10)}")
+            print(f"    (a) successive-difference orders = {_fmt(observed_orders(vals))}")
+            if len(ns) > len(NS):
+                ref, p = richardson(vals)
+                references.setdefault(name, ref)  # the first mesh's reference serves both meshes
+                print(f"    (b) Richardson reference from N = {ns[-3:]}: {ref:.10f} (order {p:.4f} there); "
+                      f"orders of |F_N - ref| over N = {NS}: {_fmt(orders_against(vals[:len(NS)], ref))}")
+                print(f"        relative errors at N = {NS}: "
+                      + ", ".join(f"{abs(v - ref) / abs(ref):.2e}" for v in vals[:len(NS)]))
+                errors[(name, q)] = [abs(v - references[name]) for v in vals[:len(NS)]]
+                if name.startswith("F(w/R") and ("current", "skip", q) in variants:
+                    ratios = [abs(v - ref) / abs(v0 - ref) for v, v0 in zip(variants[("current", "skip", q)], vals)]
+                    print(f"        pole='skip': errors {_fmt(ratios, 1)} times those of 'mirror'")
+            f_inf, alpha, p = least_squares_order(NS, vals[:len(NS)])
+            print(f"    (c) least-squares F_inf + alpha N^-p over N = {NS}: p = {p:.4f} (F_inf = {f_inf:.8f})")
+            f_inf, alpha, p = least_squares_order(NS[1:], vals[1:len(NS)])
+            print(f"        same over N = {NS[1:]}: p = {p:.4f}")
+        print(f"  w/R at F_max: {_fmt([m[1] for m in maxima], 6)}")
+        ns_fold = NS if not quick else NS[:3]
+        folds = [force_limit_load(N, q) for N in ns_fold]
+        dev = max(abs(a - b) / abs(b) for a, b in zip(folds, Fmax))
+        print(f"  F_max as a force-control fold over N = {ns_fold}: {np.array2string(np.array(folds), precision=10)}; "
+              f"largest relative difference from the extremum under displacement control {dev:.1e}", flush=True)
+    if len(MESHES) == 2 and errors:
+        graded, uniform = POLE_RATIO, 1.0
+        print("\n  error of the graded mesh / error of the uniform mesh at N =", NS, "(common reference)")
+        for name in references:
+            ratio = [a / b for a, b in zip(errors[(name, graded)], errors[(name, uniform)])]
+            print(f"    {name}: {_fmt(ratio, 2)}")
 
 
 def section_pole_variants() -> None:

@@ -16,8 +16,9 @@ VARIANTS = ("reference", "current")
 GENERATED = Path(__file__).resolve().parents[1] / "models" / "shell" / "_generated.py"
 
 
-def shell(N, phi_hat, variant="reference", R=R):
-    return ShellEnergy(spherical_cap(R, phi_hat, N), E, H, NU, kappa11_length=variant)
+def shell(N, phi_hat, variant="reference", R=R, pole_ratio=1.0):
+    # uniform mesh by default: several checks below use its closed-form reference geometry
+    return ShellEnergy(spherical_cap(R, phi_hat, N, pole_ratio), E, H, NU, kappa11_length=variant)
 
 
 # ---- (a) the committed kernels are what the generator produces -----------------------------------
@@ -48,7 +49,7 @@ def test_reference_state_is_stress_free(N, phi_hat, variant):
 
 
 def test_reference_geometry():
-    cap = spherical_cap(2.0, 0.7, 25)
+    cap = spherical_cap(2.0, 0.7, 25, pole_ratio=1.0)
     assert (cap.r[0], cap.z[0]) == pytest.approx((2.0 * math.cos(0.7), 2.0 * math.sin(0.7)))
     assert (cap.r[-1], cap.z[-1]) == (0.0, 2.0)
     np.testing.assert_allclose(np.hypot(cap.r, cap.z), 2.0, rtol=1e-15)
@@ -64,6 +65,8 @@ def test_reference_geometry():
     assert np.isnan(cap.kappa11[[0, -1]]).all() and np.isnan(cap.kappa22[[0, -1]]).all()
     with pytest.raises(ValueError, match="phi_hat"):
         spherical_cap(1.0, 1.6, 10)
+    with pytest.raises(ValueError, match="pole_ratio"):
+        spherical_cap(1.0, 1.0, 10, pole_ratio=1.5)
     with pytest.raises(ValueError, match="N"):
         spherical_cap(1.0, 1.0, 2)
 
@@ -279,3 +282,41 @@ def test_import_does_not_load_sympy():
     res = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip() == "ok"
+
+
+@pytest.mark.parametrize("q", [0.5, 1 / 3])
+def test_graded_mesh_geometry_and_reference_state(q):
+    # nodes on the sphere, monotone, spacing q times the base spacing at the pole and uniform away from it
+    from models.shell.geometry import GRADING_WIDTH, theta_nodes
+
+    N, phi_hat, Rs = 201, 0.8, 1.3
+    cap = spherical_cap(Rs, phi_hat, N, pole_ratio=q)
+    np.testing.assert_allclose(np.hypot(cap.r, cap.z), Rs, rtol=1e-15)
+    d = np.diff(cap.theta)
+    assert np.all(d > 0) and cap.theta[0] == phi_hat and cap.theta[-1] == math.pi / 2
+    assert d[-1] / d[0] == pytest.approx(q, rel=2e-3)
+    far = slice(0, int((1 - 5 * GRADING_WIDTH) * (N - 1)))  # sech^2(5) ~ 2e-4: uniform there
+    assert np.ptp(d[far]) < 1e-3 * d[0]
+    np.testing.assert_array_equal(theta_nodes(phi_hat, N, 1.0), spherical_cap(Rs, phi_hat, N, 1.0).theta)
+    # the reference curvatures come from the discrete geometry: the reference state is stress free
+    for variant in VARIANTS:
+        s = shell(40, phi_hat, variant, R=Rs, pole_ratio=q)
+        assert s.energy(s.reference_state) == 0.0
+        assert np.max(np.abs(s.gradient(s.reference_state))) == 0.0
+    # kappa22 = 1/R only to second order in the spacing on a graded mesh (exactly on the uniform
+    # one); the largest error sits next to the pole and falls by ~4 per doubling of N
+    err = [np.max(np.abs(spherical_cap(Rs, phi_hat, n, q).kappa22[1:-1] * Rs - 1)) for n in (50, 100, 200)]
+    assert err[0] < 0.05 and np.all(np.log2(np.array(err[:-1]) / err[1:]) > 1.9)
+
+
+@pytest.mark.parametrize("e", [-0.05, 0.2])
+def test_pure_dilation_on_the_graded_mesh(e):
+    # strains are exactly e and, with the current Voronoi length, every curvature scales by 1/(1 + e)
+    s = shell(30, 0.9, "current", R=1.7, pole_ratio=0.5)
+    x = (1 + e) * s.reference_state
+    eps11, eps22 = s.strains(x)
+    np.testing.assert_allclose(eps11, e, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(eps22, e, rtol=0, atol=1e-14)
+    k11, k22 = s.curvatures(x)
+    np.testing.assert_allclose(k11, s.cap.kappa11[1:-1] / (1 + e), rtol=1e-12)
+    np.testing.assert_allclose(k22, s.cap.kappa22[1:-1] / (1 + e), rtol=1e-12)

@@ -25,23 +25,24 @@ Two symmetric treatments are available (``pole=``):
     eq. (3.12) its weight vanishes because ``rbar = 0`` (the trapezoidal rule in ``r``).
 
 Measured by ``python -m studies.shell_mesh_convergence`` (default scene, N = 50..800,
-successive-difference orders): with the mirror treatment ``F`` at ``w/R = 0.1`` converges at
-orders 1.79, 1.81, 1.82 with ``kappa11_length="current"`` (1.80, 1.83, 1.86 with ``"reference"``)
-and the first maximum ``F_max`` at 2.03, 2.02, 2.00.  The error of ``F(w/R = 0.1)`` is ``N^-2``
-times a logarithmic factor from the point-load singularity, so its order rises towards 2 from
-below (1.84 at N = 1600..6400).  Skipping the pole gives orders 0.85, 1.36, 1.54 and errors 6
-(N = 50) to 17 (N = 800) times larger.  The mirror treatment is therefore the default.
+successive-difference orders).  On the default mesh, graded towards the pole
+(:func:`models.shell.geometry.theta_nodes`), the mirror treatment converges at orders 1.94, 1.92,
+1.92 for ``F`` at ``w/R = 0.1`` and 2.03, 2.01, 2.00 for the first maximum ``F_max``.  On the
+paper's uniform mesh (``pole_ratio = 1``) ``F(w/R = 0.1)`` converges at 1.79, 1.81, 1.82 with
+errors 1.3 to 1.8 times larger: its error is ``N^-2`` times a logarithmic factor from the
+point-load singularity, whose coefficient the grading shrinks.  Skipping the pole gives orders
+1.40, 1.57, 1.64 (graded; 0.85, 1.36, 1.54 uniform) and errors 5 (N = 50) to 11 (N = 800) times
+larger.  The mirror treatment is therefore the default.
 
 The mirror element's area ``pi (lbar/2)^2`` is the exact area of the pole's cell: with the
 interior nodes' rings ``2 pi rbar_i lbar_i`` the cells tile the cap.  That weight sets the
 coefficient of the logarithmic error term, and other weights are consistent too but worse or
-tuned: scaling it by 0.5 or 2 gives orders 1.45..1.64 or 0.14..1.19 for ``F(w/R = 0.1)``; 1.25
-happens to cancel the log term for this load (orders 2.07..2.23, and 2.18..2.85 for the linear
-stiffness -- a cancellation, not a clean order), which physics.md section 2 gives no reason for.
-The reference length ``lbar`` in the pole curvature alone (interior nodes with current lengths)
-gives 1.82, 1.85, 1.87, but it would make the pole the one node that fails the pure-dilation check
-of physics.md section 7 (its curvature would stay ``kappabar`` instead of ``kappabar / (1 + e)``).
-Neither is used.
+tuned: scaling it by 0.5 or 2 gives orders 1.71..1.74 or 1.98..3.45 (erratic) for
+``F(w/R = 0.1)``; 1.25 happens to cancel the log term for this load (orders 2.07..2.09), which
+physics.md section 2 gives no reason for.  The reference length ``lbar`` in the pole curvature
+alone (interior nodes with current lengths) would make the pole the one node that fails the
+pure-dilation check of physics.md section 7 (its curvature would stay ``kappabar`` instead of
+``kappabar / (1 + e)``).  Neither is used.
 
 Controls
 --------
@@ -70,7 +71,7 @@ from contin.problem import Problem
 from contin.stability import leading_inertias
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
-from .geometry import spherical_cap
+from .geometry import POLE_RATIO, spherical_cap
 
 __all__ = ["ShellPointLoad", "PoleMirror", "ROUNDOFF_MARGIN"]
 
@@ -208,6 +209,10 @@ class ShellPointLoad(Problem):
         Length in ``kappa11 = 2 tan(xi/2) / L`` (see :class:`models.shell.ShellEnergy`).
     pole : {"mirror", "skip"}
         Pole treatment (module docstring).
+    pole_ratio : float
+        Node spacing at the pole relative to the rest of the cap, in ``(0, 1]`` (default 1/2: a mesh
+        graded towards the point load; 1: uniform, as in the paper).  See
+        :func:`models.shell.geometry.theta_nodes`.
 
     Notes
     -----
@@ -227,12 +232,12 @@ class ShellPointLoad(Problem):
                  phi_hat: float = 0.8, N: int = 200,
                  control: Literal["displacement", "force"] = "displacement",
                  kappa11_length: Literal["reference", "current"] = "current",
-                 pole: Literal["mirror", "skip"] = "mirror") -> None:
+                 pole: Literal["mirror", "skip"] = "mirror", pole_ratio: float = POLE_RATIO) -> None:
         if control not in ("displacement", "force"):
             raise ValueError(f"ShellPointLoad: control must be 'displacement' or 'force', got {control!r}")
         if pole not in ("mirror", "skip"):
             raise ValueError(f"ShellPointLoad: pole must be 'mirror' or 'skip', got {pole!r}")
-        self.cap = spherical_cap(R, phi_hat, N)
+        self.cap = spherical_cap(R, phi_hat, N, pole_ratio)
         self.shell = ShellEnergy(self.cap, E, h, nu, kappa11_length=kappa11_length)
         self.R, self.E, self.nu, self.h, self.phi_hat, self.N = float(R), float(E), float(nu), float(h), float(phi_hat), int(N)
         self.control = control
@@ -473,4 +478,4 @@ class ShellPointLoad(Problem):
     def __repr__(self) -> str:
         return (f"ShellPointLoad(R={self.R}, E={self.E}, nu={self.nu}, h={self.h}, phi_hat={self.phi_hat}, "
                 f"N={self.N}, control={self.control!r}, kappa11_length={self.shell.kappa11_length!r}, "
-                f"pole={self.pole!r})")
+                f"pole={self.pole!r}, pole_ratio={self.cap.pole_ratio})")

@@ -8,7 +8,7 @@ under both controls and classifies the response (``docs/physics.md`` sections 4 
 
 Scene keys (public contract, ``--set section.key=value``)::
 
-    [shell]         R, E, nu, h, phi_hat, N
+    [shell]         R, E, nu, h, phi_hat, N, pole_ratio (node spacing at the pole / elsewhere; 1 = uniform)
     [load]          kind = "point", control = "displacement" | "force"
     [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
     [output]        figure
@@ -77,6 +77,8 @@ SHELL_SCHEMA = Schema(
             "phi_hat": real(0.8, gt=0, lt=math.pi / 2,
                             help="base angle from the horizontal [rad] (small = deep cap)"),
             "N": integer(200, low=10, help="number of nodes on the meridian"),
+            "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
+                                                    "graded towards the point load by default)"),
         },
         "load": {
             "kind": choice("point", ("point",), help="indenter (a point at the pole)"),
@@ -320,7 +322,8 @@ def _settings(scene: Scene, problem: ShellPointLoad, w_end: float, progress: boo
 
 def _problem(scene: Scene, control: str) -> ShellPointLoad:
     s = scene["shell"]
-    return ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"], control=control)
+    return ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"], control=control,
+                          pole_ratio=s["pole_ratio"])
 
 
 def _run_shell(scene: Scene, progress: bool) -> TraceResult:
@@ -455,8 +458,7 @@ def _run_force(scene: Scene, progress: bool) -> TraceResult:
     s, c = scene["shell"], scene["continuation"]
     R = s["R"]
     w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
-    problem = ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
-                               control="force")
+    problem = _problem(scene, "force")
     st = _settings(scene, problem, w_end, progress)
     branches: list[Branch] = []
     jumps: list[Any] = []
