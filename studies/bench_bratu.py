@@ -1,6 +1,6 @@
 """Benchmark: trace the 1-D Bratu problem through its fold, against baselines and peers.
 
-Run ``python -m studies.bench_bratu [--repeat 15] [--out docs/benchmarks.md] [--no-peers]``.
+Run ``python -m studies.bench_bratu [--repeat 15] [--out docs/benchmarks_bratu.md] [--json docs/benchmarks_bratu.json] [--no-peers]``.
 
 What is measured (medians of ``--repeat`` runs, wall time, one process, BLAS single-threaded):
 
@@ -118,7 +118,7 @@ def median_time(fun, repeat: int):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=15, help="runs per timing (median reported)")
-    ap.add_argument("--out", default=None, help="write the Markdown report here (e.g. docs/benchmarks.md)")
+    ap.add_argument("--out", default=None, help="write the Markdown report here (e.g. docs/benchmarks_bratu.md)")
     ap.add_argument("--json", default=None, help="write the raw numbers as JSON here")
     ap.add_argument("--no-peers", action="store_true", help="skip bice and AUTO-07p")
     ap.add_argument("--render", metavar="JSON", default=None,
@@ -212,8 +212,8 @@ def _fmt_err(e):
 
 
 def render(r: dict) -> str:
-    lines = ["# Benchmarks", "",
-             "Produced by `python -m studies.bench_bratu --out docs/benchmarks.md "
+    lines = ["# Benchmarks: the engine on the 1-D Bratu problem", "",
+             "Produced by `python -m studies.bench_bratu --out docs/benchmarks_bratu.md "
              "--json docs/benchmarks_bratu.json` "
              f"({r['machine']}, Python {r['python']}; medians of {r['repeat']} runs unless noted; "
              "BLAS single-threaded). The machine is shared, so absolute times drift between runs; "
