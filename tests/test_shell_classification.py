@@ -86,23 +86,22 @@ def test_classification_at_h_over_R_0_02_refined_mesh(tmp_path: Path, phi_hat: f
 
 @pytest.mark.parametrize("N, phi_hat, h", [(60, 1.0, 0.01), (120, 1.0, 0.01), (120, 0.8, 0.02)])
 def test_bistable_classification_winding_paths(tmp_path: Path, N: int, phi_hat: float, h: float) -> None:
-    # thin or deep caps: the connected path winds through 8 folds in w before eversion (1.5-2 s each)
+    # thin or deep caps: the connected path winds through 8 folds in w before eversion (under 1 s each)
     check(*trace(tmp_path, N, phi_hat, h), "bistable")
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("N", [60, 120])
 def test_phi_0_6_classification_whole_path(tmp_path: Path, N: int) -> None:
-    # the deepest cap: 14 folds in w on the connected path (3-7 s each); quick variant below
+    # the deepest cap: 14 folds in w on the connected path (about 1.3 s each)
     check(*trace(tmp_path, N, 0.6), "bistable")
 
 
 @pytest.mark.parametrize("N", [60, 120])
 def test_phi_0_6_bistable_quick(N: int) -> None:
-    """Quick variant for phi_hat = 0.6: the everted state is stable under displacement control and pulls.
+    """phi_hat = 0.6 by a second route: the everted state is stable under displacement control and pulls.
 
     The scene traces the whole connected path, which at phi_hat = 0.6 winds through 14 folds in w
-    (slow test ``test_phi_0_6_classification_whole_path``).  Bistability only needs the stable
+    (``test_phi_0_6_classification_whole_path``).  Bistability only needs the stable
     parts: load quasi-statically past eversion (one snap, from the unbuckled onto the everted
     branch) and unload; the everted branch, followed back until it snaps, carries F < 0 at stable
     states.  (The unbuckled branch does not: at this depth it folds in w while still pushing.)
@@ -159,7 +158,6 @@ def test_labels_change_exactly_at_folds_no_snap_back(tmp_path: Path, phi_hat: fl
     assert sorted(set(cols["n_negative_force"].astype(int).tolist())) == [0, 1]
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("N, phi_hat, h", [(60, 0.8, 0.02), (120, 0.8, 0.02), (60, 0.6, 0.02), (60, 1.0, 0.01)])
 def test_labels_change_exactly_at_folds_long_paths(tmp_path: Path, N: int, phi_hat: float, h: float) -> None:
     summary, cols = trace(tmp_path, N, phi_hat, h)
