@@ -158,7 +158,9 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     sizes = [perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref]
     x = None
     for alpha in sizes:
-        e_plus, e_minus = _safe_energy(problem, u0 + alpha * v, p), _safe_energy(problem, u0 - alpha * v, p)
+        # a kick outside the model's domain (e.g. into an indenter) counts as an infinite energy
+        e_plus = _safe_energy(problem, u0 + alpha * v, p) if problem.max_step_fraction(u0, p, alpha * v, 0.0) >= 1.0 else math.inf
+        e_minus = _safe_energy(problem, u0 - alpha * v, p) if problem.max_step_fraction(u0, p, -alpha * v, 0.0) >= 1.0 else math.inf
         best = min(e_plus, e_minus)
         if best < E0 - 1e-12 * max(1.0, abs(E0)):
             x = u0 + alpha * v if e_plus <= e_minus else u0 - alpha * v
@@ -182,7 +184,8 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
                 break
             # a saddle: kick off it along its unstable direction and continue
             vec = stability_info(problem.stability_operator(x, p), k=1, vectors=True).eigenvectors[:, 0]
-            x = x + 1e-3 * ref * vec / np.max(np.abs(vec))
+            kick = 1e-3 * ref * vec / np.max(np.abs(vec))
+            x = x + min(1.0, problem.max_step_fraction(x, p, kick, 0.0)) * kick
             E = _safe_energy(problem, x, p)
             continue
         # Levenberg shift: the smallest mu >= 0 making H + mu I positive definite
@@ -196,7 +199,7 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
         mu = trial_mu
         d = -solve(g)
         slope = float(g @ d)
-        t, accepted = 1.0, False
+        t, accepted = min(1.0, problem.max_step_fraction(x, p, d, 0.0)), False
         while t > 1e-12:
             x_new = x + t * d
             E_new = _safe_energy(problem, x_new, p)

@@ -272,8 +272,10 @@ class Curve:
             F = self.problem.factorize(J)
             du = -F.solve(r)
             du_norm = self.norm(du, 0.0)
-            # damped Newton: halve until the residual decreases
-            lam = 1.0
+            # damped Newton: halve until the residual decreases, never past the model's domain
+            lam = min(1.0, self.problem.max_step_fraction(u, p, du, 0.0))
+            if not lam > 1e-12:
+                break
             while True:
                 try:
                     r_new = self.residual(u + lam * du, p)
@@ -304,6 +306,8 @@ class Curve:
             u_pred, p_pred = u0 + ds * t_u, p0 + ds * t_p
         else:
             u_pred, p_pred = np.asarray(start[0], dtype=float), float(start[1])
+        if self.problem.max_step_fraction(u0, p0, u_pred - u0, p_pred - p0) < 1.0:
+            raise CorrectorFailure("the predicted point lies outside the model's domain (step filter)")
         u, p = u_pred.copy(), p_pred
         self.last_linearization = None
         self.last_contraction = None
@@ -324,8 +328,14 @@ class Curve:
                 du, dp = solver.solve(-r, np.array([-arc]))
             except (NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
                 raise CorrectorFailure(f"linear solve failed in the corrector ({exc})") from None
-            u, p = u + du, p + float(dp[0])
-            step_norm = self.norm(du, float(dp[0]))
+            dp = float(dp[0])
+            frac = self.problem.max_step_fraction(u, p, du, dp)
+            if frac < 1.0:  # damped: the full update would leave the model's domain
+                if not frac > 1e-8:
+                    raise CorrectorFailure(f"the step filter stops the corrector (safe fraction {frac:.1e})")
+                du, dp = frac * du, frac * dp
+            u, p = u + du, p + dp
+            step_norm = self.norm(du, dp)
             x_tol = st.xtol * (1.0 + self.norm(u, p))
             if it >= 2 and step_norm > st.max_contraction * prev_step and step_norm > x_tol:
                 raise CorrectorFailure(f"corrector contracts too slowly (update ratio {step_norm / prev_step:.2f}); "
@@ -444,6 +454,7 @@ class _Segment:
             out = (A.u, A.p, A.residual)
         else:
             try:
+                # correct() refuses a start outside the model's domain; the linear predictor is the fallback
                 u, p, res, _ = self.curve.correct(A.u, A.p, A.t_u, A.t_p, sigma, max_iter=20,
                                                   start=self.interpolate(sigma))
             except CorrectorFailure:
@@ -594,6 +605,9 @@ def locate_fold(problem: Problem, u, p, v0=None, *, tol: float = 1e-10, max_iter
                            refactor=problem.factorize)
         du, dpv = N.solve(-r, np.array([-g]))
         dp = float(dpv[0])
+        frac = problem.max_step_fraction(u, p, du, dp)
+        if frac < 1.0:
+            du, dp = frac * du, frac * dp
         u, p = u + du, p + dp
     return SpecialPoint("fold", p, u, problem.evaluate_observables(u, p), residual=res,
                         located=status == "converged",

@@ -164,6 +164,17 @@ class Problem:
         op = self.stability_operator(u, p)
         return {} if op is None else {"stability": op}
 
+    def max_step_fraction(self, u: Array, p: float, du: Array, dp: float) -> float:
+        """Largest fraction ``t`` in (0, 1] of the step ``(du, dp)`` from ``(u, p)`` the model can take.
+
+        Models whose residual is only defined on part of the space (a log barrier that is infinite
+        at contact) return the fraction that keeps the whole segment ``(u, p) + s (du, dp)``,
+        ``0 <= s <= t``, inside it, as incremental-potential contact filters its steps.  The engine
+        shortens every Newton, predictor, fold-location and jump step to this fraction, so the
+        model is never evaluated outside its domain.  The default is 1 (no restriction).
+        """
+        return 1.0
+
     def stability_counts(self, u: Array, p: float) -> dict[str, int] | None:
         """Morse index of every stability operator at once, or None to let the engine count each.
 
