@@ -1,0 +1,403 @@
+"""Generate :mod:`models.contact._generated` (contact-barrier kernels) from sympy definitions.
+
+Run as ``python -m models.contact.codegen [--output PATH] [--check]``.  This is the only module of
+the contact layer that imports sympy; the emitted file is plain vectorised numpy and is committed.
+Regenerating reproduces the committed file byte for byte (``tests/test_contact_barrier.py`` checks
+it): the output is built from a fixed list of indenters in a fixed order, common subexpressions get
+stable names ``_c0, _c1, ...`` and nothing time- or machine-dependent is written.
+
+The barrier (``docs/physics.md`` section 3, paper eq. 3.16)
+-----------------------------------------------------------
+Per shell node at distance ``d`` from the indenter surface::
+
+    W(d) = -K (d - dhat)^2 log(d / dhat)      for 0 < d < dhat,      W = 0 for d >= dhat.
+
+With ``s = d - dhat``, ``L = log(d / dhat)`` and ``u = s / d`` its derivatives are::
+
+    W'(d)  = -K s (2 L + u)
+    W''(d) = -K (2 L + u (4 - u))
+
+(the generator checks both against ``sympy.diff`` of the definition).  ``W``, ``W'`` and ``W''``
+all vanish at ``d = dhat`` (C2 continuation by zero) and ``W -> +inf`` as ``d -> 0+``.
+
+Indenters (the distance ``d`` of a node ``(r, z)``)
+---------------------------------------------------
+``sphere``
+    Rigid sphere of radius ``rho`` centred on the axis at height ``zc``:
+    ``d = sqrt(r^2 + (z - zc)^2) - rho``.  With ``q = sqrt(r^2 + (z - zc)^2)`` and the unit vector
+    ``n = (r, z - zc) / q`` from the centre to the node, ``grad d = (n_r, n_z, -n_z)`` with respect
+    to ``(r, z, zc)`` and ``hess d = (1/q) P`` with ``P`` the projector orthogonal to ``n``,
+    ``P_rr = n_z^2``, ``P_rz = -n_r n_z``, ``P_zz = n_r^2`` (and the ``zc`` row/column the negated
+    ``z`` one).  ``rho = 0`` is a point indenter.
+``plate``
+    Flat horizontal plate at height ``zp`` pushing down: ``d = zp - z``, ``grad d = (0, -1, 1)``,
+    ``hess d = 0``.
+
+Every kernel is a function of the node's ``(r, z)`` and the indenter position ``c`` (``zc`` or
+``zp``): the three variables ``(r, z, c)`` in this order.  The chain rule is
+``grad W = W' grad d`` and ``hess W = W'' grad d grad d^T + W' hess d``; the closed forms of
+``grad d`` and ``hess d`` above are checked against ``sympy.diff`` of the definition of ``d`` at
+generation time.
+
+Generated functions
+-------------------
+For ``<shape>`` in ``sphere`` (parameters ``rho, K, dhat``) and ``plate`` (``K, dhat``), all
+taking ``(r, z, c, *params)``:
+
+* ``<shape>_distance``: ``d``, shape ``(m,)``, valid everywhere;
+* ``<shape>_energy``: ``W(d)``, shape ``(m,)``;
+* ``<shape>_gradient``: shape ``(3, m)``, rows ``d/dr, d/dz, d/dc``;
+* ``<shape>_hessian``: shape ``(6, m)``, the packed upper triangle, rows
+  ``(r, r), (r, z), (r, c), (z, z), (z, c), (c, c)`` (:data:`PAIRS`);
+* ``<shape>_derivatives``: ``(energy, gradient, hessian)`` from one pass.
+
+The energy and derivative kernels are only valid for ``0 < d < dhat``: the caller evaluates them on
+the active set alone (:class:`models.contact.ContactBarrier`).  ``r`` and ``z`` are arrays of one
+shape ``(m,)``; ``c`` and the parameters are scalars or arrays of that shape.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import sympy as sp
+from sympy.printing.numpy import NumPyPrinter
+
+__all__ = ["Indenter", "build_indenters", "barrier_definition", "generate_source", "generate", "main",
+           "DEFAULT_OUTPUT", "PAIRS"]
+
+DEFAULT_OUTPUT = Path(__file__).with_name("_generated.py")
+
+#: Packed upper-triangle pairs of the 3 local variables ``(r, z, c)``.
+PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+
+_r, _z = sp.symbols("r z", real=True)
+_K, _dhat = sp.symbols("K dhat", positive=True)
+# prelude symbols shared by both indenters
+_d, _s, _logt, _u, _w0, _w1, _w2 = sp.symbols("d s logt u w0 w1 w2", real=True)
+
+
+def barrier_definition(d: sp.Expr) -> sp.Expr:
+    """The barrier ``W(d) = -K (d - dhat)^2 log(d / dhat)`` (eq. 3.16), as a sympy expression."""
+    return -_K * (d - _dhat) ** 2 * sp.log(d / _dhat)
+
+
+def _barrier_prelude() -> list[tuple[sp.Symbol, sp.Expr]]:
+    """``s, L, u, W, W', W''`` in terms of the distance symbol ``d`` (checked against the definition)."""
+    s, logt, u = _d - _dhat, sp.log(_d / _dhat), (_d - _dhat) / _d
+    w0 = -_K * s**2 * logt
+    w1 = -_K * s * (2 * logt + u)
+    w2 = -_K * (2 * logt + u * (4 - u))
+    W = barrier_definition(_d)
+    for k, closed in enumerate((w0, w1, w2)):
+        assert sp.simplify(sp.diff(W, _d, k) - closed) == 0, f"barrier derivative {k} is wrong"
+    return [(_s, _d - _dhat), (_logt, sp.log(_d / _dhat)), (_u, _s / _d),
+            (_w0, -_K * _s**2 * _logt), (_w1, -_K * _s * (2 * _logt + _u)),
+            (_w2, -_K * (2 * _logt + _u * (4 - _u)))]
+
+
+@dataclass
+class Indenter:
+    """One indenter shape: the distance of a node and its exact derivatives.
+
+    Attributes
+    ----------
+    name : str
+        Prefix of the generated functions.
+    position : sympy.Symbol
+        The indenter's position parameter ``c`` (third local variable).
+    params : list of sympy.Symbol
+        Geometric parameters (before ``K, dhat``).
+    distance : sympy.Expr
+        The definition of ``d`` in ``(r, z, c, params)``.
+    prelude : list of (sympy.Symbol, sympy.Expr)
+        Named quantities computed first, in order; ends with ``d``.
+    grad_d : list of sympy.Expr
+        ``grad d`` with respect to ``(r, z, c)`` in prelude symbols.
+    hess_d : list of sympy.Expr
+        ``hess d``, packed as :data:`PAIRS`, in prelude symbols.
+    doc : str
+        Description used in the generated docstrings.
+    """
+
+    name: str
+    position: sp.Symbol
+    params: list
+    distance: sp.Expr
+    prelude: list
+    grad_d: list
+    hess_d: list
+    doc: str
+
+    @property
+    def variables(self) -> list[sp.Symbol]:
+        """The three local variables ``(r, z, c)``."""
+        return [_r, _z, self.position]
+
+    @property
+    def arguments(self) -> list[sp.Symbol]:
+        """Kernel arguments: ``r, z, c``, the geometric parameters, ``K, dhat``."""
+        return self.variables + list(self.params) + [_K, _dhat]
+
+    @property
+    def energy(self) -> sp.Expr:
+        """The node's barrier energy as one sympy expression of :attr:`arguments` (the definition)."""
+        return barrier_definition(self.distance)
+
+    def _expand(self, e: sp.Expr) -> sp.Expr:
+        for sym, rhs in reversed(self.prelude):
+            e = e.subs(sym, rhs)
+        return e
+
+    def check(self) -> None:
+        """Assert that the closed forms of ``grad d`` and ``hess d`` are the derivatives of ``d``."""
+        assert sp.simplify(self._expand(_d) - self.distance) == 0
+        for a, v in enumerate(self.variables):
+            assert sp.simplify(self._expand(self.grad_d[a]) - sp.diff(self.distance, v)) == 0, (self.name, a)
+        for k, (a, b) in enumerate(PAIRS):
+            exact = sp.diff(self.distance, self.variables[a], self.variables[b])
+            assert sp.simplify(self._expand(self.hess_d[k]) - exact) == 0, (self.name, a, b)
+
+    def outputs(self) -> tuple[sp.Expr, list[sp.Expr], list[sp.Expr]]:
+        """Energy, gradient (3) and packed Hessian (6) in prelude symbols (chain rule through ``d``)."""
+        g = [_w1 * gd for gd in self.grad_d]
+        h = [_w2 * self.grad_d[a] * self.grad_d[b] + _w1 * hd for (a, b), hd in zip(PAIRS, self.hess_d)]
+        return _w0, g, h
+
+
+def _sphere() -> Indenter:
+    zc, rho = sp.Symbol("zc", real=True), sp.Symbol("rho", nonnegative=True)
+    dz, q, iq, nr, nz = sp.symbols("dz q iq nr nz", real=True)
+    prelude = [(dz, _z - zc), (q, sp.sqrt(_r**2 + dz**2)), (iq, 1 / q), (nr, _r * iq), (nz, dz * iq),
+               (_d, q - rho)]
+    grad_d = [nr, nz, -nz]
+    P = {(0, 0): nz**2, (0, 1): -nr * nz, (1, 1): nr**2}
+    hess_d = [iq * P[0, 0], iq * P[0, 1], -iq * P[0, 1], iq * P[1, 1], -iq * P[1, 1], iq * P[1, 1]]
+    return Indenter("sphere", zc, [rho], sp.sqrt(_r**2 + (_z - zc) ** 2) - rho, prelude, grad_d, hess_d,
+                    "sphere of radius ``rho`` centred on the axis at height ``zc``")
+
+
+def _plate() -> Indenter:
+    zp = sp.Symbol("zp", real=True)
+    zero = sp.Integer(0)
+    return Indenter("plate", zp, [], zp - _z, [(_d, zp - _z)], [zero, sp.Integer(-1), sp.Integer(1)],
+                    [zero] * 6, "flat horizontal plate at height ``zp`` pushing down")
+
+
+def build_indenters() -> list[Indenter]:
+    """The indenters, in the order of the generated file: ``sphere``, ``plate``."""
+    return [_sphere(), _plate()]
+
+
+# ---- printing ------------------------------------------------------------------------------------
+class _Printer(NumPyPrinter):
+    """NumPy printer with plain reciprocals and square roots, small integer powers as products."""
+
+    def _print_Pow(self, expr, rational=False):
+        base, exp = expr.base, expr.exp
+        if exp == sp.Rational(1, 2):
+            return f"numpy.sqrt({self._print(base)})"
+        if exp.is_Integer and exp != 0:
+            b = self.parenthesize(base, 60)
+            mag = abs(int(exp))
+            if mag <= 2:
+                core = b if mag == 1 else f"{b}**2"
+            else:  # numpy's power is slow for exponents other than 2: multiply
+                core = "*".join([f"{b}**2"] * (mag // 2) + [b] * (mag % 2))
+            return core if exp > 0 else f"(1/{core})"
+        return super()._print_Pow(expr, rational=rational)
+
+
+def _printer() -> NumPyPrinter:
+    return _Printer(settings={"fully_qualified_modules": True})
+
+
+def _body(ind: Indenter, results: list[sp.Expr], printer: NumPyPrinter, targets: list[str]) -> list[str]:
+    """Printed prelude and common subexpressions that ``results`` need, then ``target = result``."""
+    repl, red = sp.cse(results, symbols=sp.numbered_symbols("_c"), order="canonical")
+    assignments = ind.prelude + _barrier_prelude() + list(repl)
+    need = set().union(*(sp.sympify(e).free_symbols for e in red))
+    keep = []
+    for sym, rhs in reversed(assignments):
+        if sym in need:
+            keep.append((sym, rhs))
+            need |= rhs.free_symbols
+    keep.reverse()
+    lines = [f"    {printer.doprint(lhs)} = {printer.doprint(rhs)}" for lhs, rhs in keep]
+    for t, e in zip(targets, red):
+        if e.is_Number:  # a constant row: broadcast it
+            lines.append(f"    {t} = {printer.doprint(sp.Float(e) if e != 0 else sp.Float(0))}")
+        else:
+            lines.append(f"    {t} = {printer.doprint(e)}")
+    return lines
+
+
+def _header(ind: Indenter, suffix: str, doc: list[str]) -> list[str]:
+    args = ", ".join(str(a) for a in ind.arguments)
+    lines = [f"def {ind.name}_{suffix}({args}):", '    """' + doc[0]]
+    lines += [("    " + d) if d else "" for d in doc[1:]]
+    lines.append('    """')
+    return lines
+
+
+def _valid_note(ind: Indenter) -> list[str]:
+    return ["", f"Indenter: {ind.doc}.", "Valid for ``0 < d < dhat`` only (the caller masks the active set)."]
+
+
+def _vars(ind: Indenter) -> str:
+    return ", ".join(str(v) for v in ind.variables)
+
+
+def _emit_distance(ind: Indenter, printer: NumPyPrinter) -> list[str]:
+    doc = [f"Distance of nodes ``(r, z)`` from the indenter surface: ``d = {sp.sstr(ind.distance)}``.", "",
+           f"Indenter: {ind.doc}.", "Valid everywhere (``d <= 0``: the node penetrates); ``K`` and ``dhat`` are unused.",
+           "",
+           "Returns", "-------", "ndarray, shape ``(m,)``"]
+    lines = _header(ind, "distance", doc)
+    lines += _body(ind, [_d], printer, ["_d"])
+    lines.append("    return _d")
+    return lines
+
+
+def _emit_energy(ind: Indenter, printer: NumPyPrinter) -> list[str]:
+    doc = ["Barrier energy ``W(d) = -K (d - dhat)^2 log(d / dhat)`` of each node."] + _valid_note(ind) + [
+        "", "Returns", "-------", "ndarray, shape ``(m,)``"]
+    e, _, _ = ind.outputs()
+    lines = _header(ind, "energy", doc)
+    lines += _body(ind, [e], printer, ["_e"])
+    lines.append("    return _e")
+    return lines
+
+
+def _shape_line(ind: Indenter) -> str:
+    return f"    _shape = numpy.broadcast_shapes({', '.join(f'numpy.shape({v})' for v in ind.variables)})"
+
+
+def _emit_gradient(ind: Indenter, printer: NumPyPrinter) -> list[str]:
+    doc = [f"Gradient of the node barrier with respect to ``({_vars(ind)})``."] + _valid_note(ind) + [
+        "", "Returns", "-------", "ndarray, shape ``(3, m)``",
+        f"    Rows ``d/d{ind.variables[0]}, d/d{ind.variables[1]}, d/d{ind.variables[2]}``."]
+    _, g, _ = ind.outputs()
+    lines = _header(ind, "gradient", doc) + [_shape_line(ind), "    _g = numpy.empty((3,) + _shape)"]
+    lines += _body(ind, g, printer, [f"_g[{k}]" for k in range(3)])
+    lines.append("    return _g")
+    return lines
+
+
+def _hess_doc(ind: Indenter) -> str:
+    v = ind.variables
+    return ", ".join(f"({v[a]}, {v[b]})" for a, b in PAIRS)
+
+
+def _emit_hessian(ind: Indenter, printer: NumPyPrinter) -> list[str]:
+    doc = [f"Hessian of the node barrier with respect to ``({_vars(ind)})``, packed."] + _valid_note(ind) + [
+        "", "Returns", "-------", "ndarray, shape ``(6, m)``",
+        f"    Upper triangle, rows ``{_hess_doc(ind)}`` (:data:`PAIRS`)."]
+    _, _, h = ind.outputs()
+    lines = _header(ind, "hessian", doc) + [_shape_line(ind), "    _h = numpy.empty((6,) + _shape)"]
+    lines += _body(ind, h, printer, [f"_h[{k}]" for k in range(6)])
+    lines.append("    return _h")
+    return lines
+
+
+def _emit_derivatives(ind: Indenter, printer: NumPyPrinter) -> list[str]:
+    doc = ["Energy, gradient and packed Hessian of the node barrier in one pass."] + _valid_note(ind) + [
+        "", "Returns", "-------", "tuple of ndarray",
+        "    Energy ``(m,)``; gradient ``(3, m)`` with rows "
+        f"``d/d{ind.variables[0]}, d/d{ind.variables[1]}, d/d{ind.variables[2]}``;",
+        f"    packed Hessian ``(6, m)`` with rows ``{_hess_doc(ind)}``."]
+    e, g, h = ind.outputs()
+    lines = _header(ind, "derivatives", doc) + [
+        _shape_line(ind), "    _g = numpy.empty((3,) + _shape)", "    _h = numpy.empty((6,) + _shape)"]
+    targets = ["_e"] + [f"_g[{k}]" for k in range(3)] + [f"_h[{k}]" for k in range(6)]
+    lines += _body(ind, [e] + g + h, printer, targets)
+    lines.append("    return _e, _g, _h")
+    return lines
+
+
+_PREAMBLE = '''"""Contact barrier kernels: a shell node against a sphere or a plate indenter, exact derivatives.
+
+GENERATED by ``python -m models.contact.codegen`` from the sympy definitions in
+``models/contact/codegen.py`` (its docstring states the barrier, the distances and the chain rule).
+Do not edit by hand: change the generator and regenerate.  Plain numpy, vectorised over nodes.
+
+Every kernel takes ``(r, z, c, *params, K, dhat)``: the node coordinates, the indenter position
+(``zc``: sphere centre height; ``zp``: plate height), the geometric parameters (``rho`` for the
+sphere) and the barrier constants.  Local variables are ``(r, z, c)``; gradients are ``(3, m)`` and
+packed upper-triangle Hessians ``(6, m)`` with rows :data:`PAIRS`.  Energy and derivative kernels are
+valid for ``0 < d < dhat`` only.
+"""
+
+import numpy
+'''
+
+
+def generate_source() -> str:
+    """Build the text of the generated module.
+
+    Returns
+    -------
+    str
+        The complete module source (deterministic: same sympy version, same bytes).
+    """
+    printer = _printer()
+    _barrier_prelude()  # checks the closed-form barrier derivatives
+    chunks, functions = [], []
+    for ind in build_indenters():
+        ind.check()
+        for emit, suffix in ((_emit_distance, "distance"), (_emit_energy, "energy"),
+                             (_emit_gradient, "gradient"), (_emit_hessian, "hessian"),
+                             (_emit_derivatives, "derivatives")):
+            chunks.append("\n".join(emit(ind, printer)))
+            functions.append(f"{ind.name}_{suffix}")
+    parts = [_PREAMBLE.rstrip("\n")]
+    parts.append("__all__ = [\n" + "".join(f'    "{f}",\n' for f in sorted(functions + ["PAIRS"])) + "]")
+    parts.append("PAIRS = " + repr(PAIRS) + "\n"
+                 '"""Local variable pairs ``(a, b)``, ``a <= b``, of the packed Hessian rows; variables '
+                 '``(r, z, c)``."""')
+    parts.extend(chunks)
+    return "\n\n\n".join(parts) + "\n"
+
+
+def generate(path: str | Path | None = DEFAULT_OUTPUT) -> str:
+    """Generate the module and write it to ``path``.
+
+    Parameters
+    ----------
+    path : str or Path or None
+        Output file; ``None`` only returns the text.
+
+    Returns
+    -------
+    str
+        The generated source.
+    """
+    text = generate_source()
+    if path is not None:
+        Path(path).write_text(text, encoding="utf-8", newline="\n")
+    return text
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command line entry point: write (or with ``--check`` compare) the generated module."""
+    parser = argparse.ArgumentParser(prog="python -m models.contact.codegen", description=__doc__.split("\n")[0])
+    parser.add_argument("--output", type=Path, default=DEFAULT_OUTPUT, help="file to write")
+    parser.add_argument("--check", action="store_true",
+                        help="do not write; exit 1 if the file differs from what would be generated")
+    args = parser.parse_args(argv)
+    if args.check:
+        text = generate(None)
+        current = args.output.read_text(encoding="utf-8") if args.output.exists() else None
+        if current != text:
+            print(f"{args.output} is out of date; run python -m models.contact.codegen", file=sys.stderr)
+            return 1
+        return 0
+    generate(args.output)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
