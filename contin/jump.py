@@ -149,14 +149,18 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     info0 = stability_info(H0, k=1, vectors=True)
     scale_H = float(np.max(np.abs(H0.data if sp.issparse(H0) else H0), initial=1.0))
     lam0 = float(info0.eigenvalues[0])
-    if info0.n_negative == 0 and lam0 > eig_tol * scale_H:
-        raise JumpError(f"the start is stable (smallest eigenvalue {lam0:.3e} > 0): nothing to snap from")
-    v = np.asarray(direction, dtype=float) if direction is not None else info0.eigenvectors[:, 0]
-    v = v / np.max(np.abs(v))
     E0 = _safe_energy(problem, u0, p)
     ref = max(1.0, float(np.max(np.abs(u0), initial=0.0)))
-    sizes = [perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref]
     x = None
+    if info0.n_negative == 0 and lam0 > eig_tol * scale_H:
+        # a stable Hessian is a snap start only if the state is out of equilibrium: a fold state
+        # with the parameter moved past the fold (where no equilibrium is near) minimises as it is
+        if float(np.max(np.abs(problem.checked_residual(u0, p)))) <= abs_tol:
+            raise JumpError(f"the start is stable (smallest eigenvalue {lam0:.3e} > 0): nothing to snap from")
+        x = u0.copy()
+    v = np.asarray(direction, dtype=float) if direction is not None else info0.eigenvectors[:, 0]
+    v = v / np.max(np.abs(v))
+    sizes = [] if x is not None else ([perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref])
     for alpha in sizes:
         # a kick outside the model's domain (e.g. into an indenter) counts as an infinite energy
         e_plus = _safe_energy(problem, u0 + alpha * v, p) if problem.max_step_fraction(u0, p, alpha * v, 0.0) >= 1.0 else math.inf

@@ -19,6 +19,8 @@ determinant itself, so that branch-point tests cannot overflow.
 
 from __future__ import annotations
 
+import warnings
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -318,7 +320,17 @@ class BorderedSolver:
             else:
                 X = self.factor.solve(self.B)
                 S = self.D - self.C @ X
-            self._schur[trans] = (X, sla.lu_factor(S, check_finite=False) if self.k else None, S)
+            S_lu = None
+            if self.k:
+                if not np.all(np.isfinite(S)):
+                    raise SingularMatrixError("the Schur complement of the bordered system is not finite")
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", sla.LinAlgWarning)
+                    S_lu = sla.lu_factor(S, check_finite=False)
+                if np.any(np.diag(S_lu[0]) == 0.0):
+                    # singular Schur complement: the caller falls back (deflation or the full matrix)
+                    raise SingularMatrixError("the Schur complement of the bordered system is singular")
+            self._schur[trans] = (X, S_lu, S)
         return self._schur[trans]
 
     def _be_solve(self, f, g, trans):

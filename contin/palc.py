@@ -960,7 +960,9 @@ def _check_curvature_consistency(curve: Curve, previous: Point, current: Point, 
     d_quad = curve.norm(u - q_u, p - q_p)
     d_lin = curve.norm(u - lin_u, p - lin_p)
     d_curv = curve.norm(q_u - lin_u, q_p - lin_p)
-    if d_quad > 0.5 * max(d_lin, d_curv) + 0.01 * abs(ds):
+    # distances below the corrector's own resolution (xtol) are noise, not a jump
+    noise = 10.0 * curve.settings.xtol * (1.0 + curve.norm(u, p))
+    if d_quad > 0.5 * max(d_lin, d_curv) + 0.01 * abs(ds) + noise:
         raise CorrectorFailure(f"converged point is {d_quad:.2e} from the curvature predictor "
                                f"(linear predictor error {d_lin:.2e}); possible jump to another branch")
 
