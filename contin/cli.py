@@ -281,7 +281,7 @@ def _cmd_models(args: argparse.Namespace) -> int:
         print(f"{name} ({', '.join(tags)}): {model.description}")
         print(schema_as_toml(model.schema, indent="    "))
     if not args.names:
-        print(f"\nset a key with --set SECTION.KEY=VALUE; 'contin models NAME --toml' prints a scene file")
+        print("\nset a key with --set SECTION.KEY=VALUE; 'contin models NAME --toml' prints a scene file")
     return status
 
 

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .branch import Branch, SpecialPoint
+from .branch import Branch
 from .jump import JumpResult
 
 if TYPE_CHECKING:  # networkx is imported lazily: it costs a noticeable part of import time

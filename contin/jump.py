@@ -172,7 +172,6 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     if x is None:
         raise JumpError("no perturbation along the unstable eigenvector lowers the energy")
 
-    n = x.size
     mu = 0.0
     E = _safe_energy(problem, x, p)
     message, success, it = "", False, 0

@@ -58,13 +58,13 @@ shape ``(m,)``; ``c`` and the parameters are scalars or arrays of that shape.
 
 from __future__ import annotations
 
-import argparse
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
+
+from models.codegen_cli import generator_main, write_generated
 
 __all__ = ["Indenter", "build_indenters", "barrier_definition", "generate_source", "generate", "main",
            "DEFAULT_OUTPUT", "PAIRS"]
@@ -363,40 +363,13 @@ def generate_source() -> str:
 
 
 def generate(path: str | Path | None = DEFAULT_OUTPUT) -> str:
-    """Generate the module and write it to ``path``.
-
-    Parameters
-    ----------
-    path : str or Path or None
-        Output file; ``None`` only returns the text.
-
-    Returns
-    -------
-    str
-        The generated source.
-    """
-    text = generate_source()
-    if path is not None:
-        Path(path).write_text(text, encoding="utf-8", newline="\n")
-    return text
+    """Generate the module and write it to ``path`` (``None``: only return the text)."""
+    return write_generated(generate_source, path)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Command line entry point: write (or with ``--check`` compare) the generated module."""
-    parser = argparse.ArgumentParser(prog="python -m models.contact.codegen", description=__doc__.split("\n")[0])
-    parser.add_argument("--output", type=Path, default=DEFAULT_OUTPUT, help="file to write")
-    parser.add_argument("--check", action="store_true",
-                        help="do not write; exit 1 if the file differs from what would be generated")
-    args = parser.parse_args(argv)
-    if args.check:
-        text = generate(None)
-        current = args.output.read_text(encoding="utf-8") if args.output.exists() else None
-        if current != text:
-            print(f"{args.output} is out of date; run python -m models.contact.codegen", file=sys.stderr)
-            return 1
-        return 0
-    generate(args.output)
-    return 0
+    return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m models.contact.codegen", __doc__.split("\n")[0])
 
 
 if __name__ == "__main__":

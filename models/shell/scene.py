@@ -50,7 +50,7 @@ import numpy as np
 
 import contin
 from contin.branch import Branch
-from contin.scene import (Classification, Constraint, SceneError, SceneModel, Schema, TraceResult, boolean, choice,
+from contin.scene import (Classification, Constraint, SceneModel, Schema, TraceResult, boolean, choice,
                           integer, real)
 
 from .problem import ShellPointLoad
