@@ -16,12 +16,18 @@ engine's minimally augmented system.
 Observables: ``F`` (indenter force, ``-dE/dc``, positive while it pushes), ``w_b``, ``w_s`` (pole
 displacement), ``Delta_H`` (pole-indenter gap beyond the barrier's range ``dhat``: zero while the
 pole is in contact, positive once it has detached), ``kappa_p_R`` (pole curvature times R),
-``n_contact`` (nodes within ``dhat``) and the normalized ``w_b_over_R``, ``w_s_over_R``,
+``n_contact`` (nodes within ``dhat``), ``base_gap`` (distance from the base node, which cannot move
+vertically, to the indenter: an indenter that reaches it presses on the support) and the normalized ``w_b_over_R``, ``w_s_over_R``,
 ``Delta_H_over_R``, ``F_norm = F R / (2 pi D)``.
 
 Stability labels: ``"displacement"`` (indenter position held: the Hessian on the shell's unknowns)
 and ``"force"`` (a dead load on the indenter: the same Hessian bordered by the indenter position),
 both counted from one pivot-free factorization of the bordered matrix.
+
+Force control of the indenter: :class:`ShellIndentationForce` (the indenter travel ``w_b`` an
+unknown, a dead load ``F`` on the indenter the parameter; its Jacobian is the displacement-control
+Hessian bordered by one row and column, solved by block elimination on the band with
+:class:`BorderedBandedLU`).
 """
 
 from __future__ import annotations
@@ -30,8 +36,10 @@ import math
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.linalg import lapack
 
-from contin.linalg import BandedLU, Factorization
+from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU
+from contin.linalg import factorize as generic_factorize
 from contin.problem import NonFiniteError, Problem
 from contin.stability import leading_inertias
 from models.shell.energy import HALF_BANDWIDTH
@@ -40,7 +48,7 @@ from models.shell.problem import ShellPointLoad
 
 from .barrier import ContactBarrier, ContactState, Plate, Sphere, default_barrier
 
-__all__ = ["ShellIndentation"]
+__all__ = ["ShellIndentation", "ShellIndentationForce", "BorderedBandedLU"]
 
 
 class ShellIndentation(Problem):
@@ -87,7 +95,8 @@ class ShellIndentation(Problem):
                        "Delta_H": self._obs("Delta_H"), "kappa_p_R": self._obs("kappa_p_R"),
                        "n_contact": self._obs("n_contact"),
                        "w_b_over_R": lambda u, p: float(p) / self.R, "w_s_over_R": self._obs("w_s_over_R"),
-                       "Delta_H_over_R": self._obs("Delta_H_over_R"), "F_norm": self._obs("F_norm")}
+                       "Delta_H_over_R": self._obs("Delta_H_over_R"), "F_norm": self._obs("F_norm"),
+                       "base_gap": self._obs("base_gap")}
         ops = {"displacement": self._op_displacement, "force": self._op_force}
         super().__init__(observables=observables, symmetric=True, stability_operators=ops,
                          name=f"shell_{self.indenter.name}_indentation", parameter_name="w_b",
@@ -197,6 +206,8 @@ class ShellIndentation(Problem):
         if name == "kappa_p_R":
             a, b = el._pole_ab(x)
             return el._pole.curvature(a, b)[0] * self.R
+        if name == "base_gap":  # distance from the (vertically fixed) base node to the indenter
+            return float(self.contact(u, p, hessian=False).distances[0])
         if name == "n_contact":
             return float(self.contact(u, p, hessian=False).n_active)
         raise KeyError(name)
@@ -209,3 +220,417 @@ def _slot(H: sp.csr_matrix, i: int, j: int) -> int:
     if hits.size != 1:
         raise ValueError(f"entry ({i}, {j}) is not in the shell's Hessian pattern")
     return int(lo + hits[0])
+
+
+# ---------------------------------------------------------------------------------------------------
+# force control of the indenter
+# ---------------------------------------------------------------------------------------------------
+#: Backward error (max norms, relative to ``||J|| ||x|| + ||b||``) a block-eliminated solve of
+#: :class:`BorderedBandedLU` must reach; otherwise one step of iterative refinement, and if that is
+#: not enough the whole matrix is factorized by a sparse LU.  Banded LU with partial pivoting has a
+#: backward error of a few ``eps``; block elimination keeps it unless the leading block is far worse
+#: conditioned than the bordered matrix (its solves then cancel).
+BLOCK_REFINE_TOL = 1e-14
+
+
+class NotBorderedBandError(ValueError):
+    """The matrix is not a banded leading block bordered by one row and column."""
+
+
+class BorderedBandedLU(Factorization):
+    """Factorization of ``J = [[A, b], [c^T, d]]`` whose leading block ``A`` is banded: O(n) solves.
+
+    Block elimination: a banded LU (LAPACK ``gbtrf``) of ``A`` alone, ``y = A^{-1} b`` and the 1x1
+    Schur complement ``s = d - c^T y``; a solve of ``J [x; z] = [f; g]`` is
+    ``x1 = A^{-1} f``, ``z = (g - c^T x1) / s``, ``x = x1 - y z`` (transposed: the same with
+    ``A^T``, ``b`` and ``c`` exchanged, ``s`` unchanged).  ``det J = det A * s``.  The border
+    never enters the band, so every factorization and solve costs O(n (kl + ku)^2) and O(n (kl + ku)).
+
+    Safety.  Block elimination is exact algebra but loses accuracy when ``A`` is (nearly) singular
+    while ``J`` is not (``x1`` and ``y z`` then cancel).  Every solve therefore checks its backward
+    error on ``J`` (one sparse product, O(n)); above :data:`BLOCK_REFINE_TOL` it takes one step of
+    iterative refinement, and if that does not reach the bound either, this factorization switches
+    for good to a sparse LU of the whole ``J`` (``path = "sparse"``).  An exactly singular ``A``
+    (zero pivot) switches at once.  An exactly zero Schur complement means ``J`` itself is singular
+    to working precision: ``exactly_singular`` is set and solves raise
+    :class:`contin.linalg.SingularMatrixError`, as a singular :class:`contin.linalg.BandedLU` does, so
+    the engine's bordered solver deflates or factorizes its full matrix instead.
+
+    Parameters
+    ----------
+    J : sparse matrix, shape ``(n, n)``
+        The bordered matrix; entries of the leading ``(n-1) x (n-1)`` block must lie within
+        ``kl`` below and ``ku`` above the diagonal (else :class:`NotBorderedBandError`).
+    kl, ku : int
+        Bandwidths of the leading block.
+    refine_tol : float
+        The backward-error bound of a solve (default :data:`BLOCK_REFINE_TOL`).
+    stats : dict, optional
+        Counters updated in place: ``"factorizations"``, ``"sparse"`` (switches to the sparse LU),
+        ``"refined"`` (solves that needed a refinement step) and ``"reasons"`` (switches by reason).
+
+    Attributes
+    ----------
+    path : {"block", "sparse"}
+        Which factorization currently answers the solves.
+    fallback_reason : str or None
+        Why it switched to the sparse LU.
+    schur : float
+        The Schur complement ``s`` (NaN if the leading block was singular).
+    """
+
+    def __init__(self, J, kl: int, ku: int, refine_tol: float = BLOCK_REFINE_TOL,
+                 stats: dict | None = None) -> None:
+        J = sp.csr_matrix(J)
+        if not J.has_canonical_format:
+            J = J.copy()
+            J.sum_duplicates()
+        n = J.shape[0]
+        if J.shape != (n, n) or n < 2:
+            raise NotBorderedBandError(f"BorderedBandedLU: need a square matrix of size >= 2, got {J.shape}")
+        m = n - 1
+        self.n, self.m, self.kl, self.ku = n, m, int(kl), int(ku)
+        self.J = J
+        self.refine_tol = float(refine_tol)
+        self.stats = stats
+        self.path = "block"
+        self.fallback_reason: str | None = None
+        self.exactly_singular = False
+        self.schur = math.nan
+        self._sparse: SparseLU | None = None
+        rows = np.repeat(np.arange(n), np.diff(J.indptr))
+        cols, vals = J.indices, J.data
+        lead = (rows < m) & (cols < m)
+        r, c, v = rows[lead], cols[lead], vals[lead]
+        off = r - c
+        if off.size and (off.max() > self.kl or -off.min() > self.ku):
+            raise NotBorderedBandError("BorderedBandedLU: the leading block has entries outside the band "
+                                       f"(kl = {self.kl}, ku = {self.ku})")
+        # max-norm of J for the backward-error test (row sums straight from the CSR arrays)
+        lengths = np.diff(J.indptr)
+        sums = (np.add.reduceat(np.abs(vals), J.indptr[:-1]) if np.all(lengths) else
+                np.bincount(rows, weights=np.abs(vals), minlength=n))
+        self._J_norm = float(np.max(sums))
+        col_m = (cols == m) & (rows < m)
+        row_m = (rows == m) & (cols < m)
+        self.b = np.zeros(m)
+        self.b[rows[col_m]] = vals[col_m]
+        self.c = np.zeros(m)
+        self.c[cols[row_m]] = vals[row_m]
+        self.d = float(np.sum(vals[(rows == m) & (cols == m)]))
+        if stats is not None:
+            stats["factorizations"] = stats.get("factorizations", 0) + 1
+        ab = np.zeros((2 * self.kl + self.ku + 1, m))
+        ab.reshape(-1)[(self.kl + self.ku + off) * m + c] = v  # flat indices: twice as fast as ab[i, j]
+        self._lu, self._piv, info = lapack.dgbtrf(ab, self.kl, self.ku)
+        if info > 0:
+            self._use_sparse("the leading block is exactly singular (zero pivot of its banded LU)")
+            return
+        y = self._band_solve(self.b, False)
+        s = self.d - float(self.c @ y)
+        if not (np.all(np.isfinite(y)) and math.isfinite(s)):
+            self._use_sparse("the leading block's solve overflowed")
+            return
+        self._y, self._yT = y, None
+        self.schur = s
+        self.exactly_singular = s == 0.0
+
+    # -- the two paths ----------------------------------------------------------------------------
+    def _band_solve(self, f: np.ndarray, trans: bool) -> np.ndarray:
+        x, _ = lapack.dgbtrs(self._lu, self.kl, self.ku, f, self._piv, trans=1 if trans else 0)
+        return x
+
+    def _use_sparse(self, reason: str) -> None:
+        self.path = "sparse"
+        self.fallback_reason = reason
+        if self.stats is not None:
+            self.stats["sparse"] = self.stats.get("sparse", 0) + 1
+            reasons = self.stats.setdefault("reasons", {})
+            reasons[reason] = reasons.get(reason, 0) + 1
+        self._sparse = SparseLU(self.J)  # raises SingularMatrixError if J is exactly singular
+        self.exactly_singular = False
+
+    def _block_solve(self, rhs: np.ndarray, trans: bool) -> np.ndarray:
+        m = self.m
+        f, g = rhs[:m], rhs[m]
+        x1 = self._band_solve(f, trans)
+        if trans:
+            if self._yT is None:
+                self._yT = self._band_solve(self.c, True)
+            y, border = self._yT, self.b
+        else:
+            y, border = self._y, self.c
+        z = (g - border @ x1) / self.schur
+        if rhs.ndim == 1:
+            return np.append(x1 - y * z, z)
+        return np.vstack([x1 - np.outer(y, z), z[None, :]])
+
+    def _backward_ok(self, x: np.ndarray, rhs: np.ndarray, trans: bool) -> tuple[bool, np.ndarray]:
+        if not np.all(np.isfinite(x)):
+            return False, rhs
+        r = rhs - ((self.J.T @ x) if trans else (self.J @ x))
+        bound = self.refine_tol * (self._J_norm * np.max(np.abs(x), initial=0.0) + np.max(np.abs(rhs), initial=0.0))
+        return bool(np.max(np.abs(r), initial=0.0) <= bound), r
+
+    # -- the Factorization interface --------------------------------------------------------------
+    def solve(self, b, trans: bool = False) -> np.ndarray:
+        rhs = np.asarray(b, dtype=float)
+        if self._sparse is None:
+            if self.exactly_singular:
+                raise SingularMatrixError("bordered matrix is singular (its Schur complement is exactly zero)")
+            with np.errstate(all="ignore"):
+                x = self._block_solve(rhs, trans)
+                ok, r = self._backward_ok(x, rhs, trans)
+                if not ok and np.all(np.isfinite(x)):
+                    if self.stats is not None:
+                        self.stats["refined"] = self.stats.get("refined", 0) + 1
+                    x = x + self._block_solve(r, trans)
+                    ok, _ = self._backward_ok(x, rhs, trans)
+            if ok:
+                return x
+            self._use_sparse("block elimination missed the backward-error bound (ill-conditioned leading block)")
+        return self._sparse.solve(rhs, trans=trans)
+
+    def det_sign_log(self) -> tuple[float, float]:
+        if self._sparse is not None:
+            return self._sparse.det_sign_log()
+        diag = self._lu[self.kl + self.ku, :]
+        if self.exactly_singular or np.any(diag == 0.0):
+            return 0.0, -math.inf
+        swaps = np.count_nonzero(self._piv != np.arange(self._piv.size))
+        negative = np.count_nonzero(diag < 0) + (1 if self.schur < 0 else 0)
+        sign = -1.0 if (swaps + negative) % 2 else 1.0
+        return sign, float(np.sum(np.log(np.abs(diag))) + math.log(abs(self.schur)))
+
+    def pivots(self) -> np.ndarray:
+        """Pivots of an LU of ``J`` indexed by the unknowns (small where ``J`` is near singular).
+
+        Block path: the banded LU's pivots of ``A`` followed by ``s`` (the diagonal of the block LU
+        ``J = [[P^T L, 0], [c^T U^{-1}, 1]] [[U, L^{-1} P b], [0, s]]``).  Sparse path: SuperLU's
+        pivots, each at the index of its column.
+        """
+        if self._sparse is not None:
+            lu = self._sparse._lu
+            d = np.empty(self.n)
+            d[lu.perm_c] = lu.U.diagonal()
+            return d
+        return np.append(self._lu[self.kl + self.ku, :], self.schur)
+
+
+def _bordered_csr(A: sp.csr_matrix, col: np.ndarray, d: float) -> sp.csr_matrix:
+    """``[[A, col], [col^T, d]]`` as canonical CSR, built in O(nnz) (only the nonzeros of ``col`` are stored)."""
+    A = sp.csr_matrix(A)
+    if not A.has_canonical_format:
+        A = A.copy()
+        A.sum_duplicates()
+    m = A.shape[0]
+    nz = np.flatnonzero(col)
+    # each bordered row ends with its column-m entry: insert it at the row's end (indices stay sorted)
+    ends = A.indptr[nz + 1]
+    indices = np.concatenate([np.insert(A.indices, ends, m), nz, [m]]).astype(np.int32, copy=False)
+    data = np.concatenate([np.insert(A.data, ends, col[nz]), col[nz], [d]])
+    shift = np.zeros(m + 1, dtype=np.int64)
+    shift[nz + 1] = 1
+    indptr = np.append(A.indptr + np.cumsum(shift), A.nnz + 2 * nz.size + 1)
+    return sp.csr_matrix((data, indices, indptr), shape=(m + 1, m + 1))
+
+
+class ShellIndentationForce(Problem):
+    """Spherical cap under a rigid sphere or plate carrying a dead load ``F``: force control of the indenter.
+
+    Unknowns ``U = [u, w_b]``: the shell unknowns ``u`` of :class:`ShellIndentation` (same order)
+    followed by the indenter travel ``w_b`` (the indenter position is ``c = c_0 - w_b`` as there).
+    Parameter: the dead load ``F`` on the indenter (positive pushing down).  Energy::
+
+        E(U, F) = E_shell(x) + E_barrier(x, c_0 - w_b) - F w_b,
+
+    so the last residual row is ``F_contact(u, w_b) - F`` (``F_contact = dE_barrier/dw_b``, the
+    indenter force of :class:`ShellIndentation`) and an equilibrium of this problem is one of
+    :class:`ShellIndentation` at the travel ``w_b`` whose contact force equals the load.
+
+    Jacobian: the displacement-control Hessian ``A`` (band of half-width 5) bordered by one row and
+    column, ``[[A, a], [a^T, d]]`` with ``a = d2E/du dw_b`` (nonzero at the contact nodes only) and
+    ``d = d2E/dw_b^2``.  :meth:`factorize` keeps the band: it returns a :class:`BorderedBandedLU`
+    (banded LU of ``A``, block elimination of ``w_b`` through a 1x1 Schur complement, a sparse LU of
+    the whole matrix only as a checked fallback; :attr:`linear_solver_stats` counts which path ran).
+
+    Starting state.  With ``F = 0`` and no node within ``dhat`` the barrier is zero and ``w_b`` does
+    not enter the energy: the indenter floats and the Jacobian is singular, so the trace cannot
+    start from the undeformed cap.  Start it from a contact state instead: a converged point
+    ``(u, w_b)`` of the displacement-controlled :class:`ShellIndentation` with ``w_b > 0`` and a
+    positive force there, mapped by :meth:`from_displacement_state` to ``(U, F)``;
+    :meth:`contact_start` traces displacement control from the undeformed cap to a given ``w_b`` and
+    does both.  From there the load can be raised to the force limit point (a fold in ``F``, the
+    maximum of ``F`` along the displacement path) or lowered towards ``F -> 0+``.
+
+    Stability labels: ``"force"`` (the full Hessian on ``U``, the primary label: the indenter is
+    free under its dead load) and ``"displacement"`` (its leading block: the indenter held), both
+    from one pivot-free ``L D L^T`` of the Jacobian (:meth:`stability_counts`).
+
+    Observables: the same names as :class:`ShellIndentation`'s, in its order (``F`` is now the
+    parameter and ``w_b`` the last unknown; every other one, e.g. ``w_s``, ``Delta_H``,
+    ``kappa_p_R``, ``n_contact``, is the displacement problem's at ``(u, w_b)``), with exact
+    derivatives of ``F``, ``w_b`` and their normalized forms.
+
+    Parameters
+    ----------
+    R, E, nu, h, phi_hat, N, indenter, K, dhat, pole_ratio
+        As in :class:`ShellIndentation`.  :meth:`from_displacement` wraps an existing
+        :class:`ShellIndentation` instead (same scene, shared caches).
+    """
+
+    def __init__(self, R: float = 1.0, E: float = 1e6, nu: float = 0.5, h: float = 0.02, phi_hat: float = 0.8,
+                 N: int = 200, indenter: Sphere | Plate | None = None, K: float | None = None,
+                 dhat: float | None = None, pole_ratio: float = POLE_RATIO) -> None:
+        self._setup(ShellIndentation(R=R, E=E, nu=nu, h=h, phi_hat=phi_hat, N=N, indenter=indenter, K=K,
+                                     dhat=dhat, pole_ratio=pole_ratio))
+
+    @classmethod
+    def from_displacement(cls, problem: ShellIndentation) -> "ShellIndentationForce":
+        """The force-controlled problem of the same scene as the displacement-controlled ``problem``."""
+        if not isinstance(problem, ShellIndentation):
+            raise TypeError(f"from_displacement: need a ShellIndentation, got {type(problem).__name__}")
+        self = cls.__new__(cls)
+        self._setup(problem)
+        return self
+
+    def _setup(self, P: ShellIndentation) -> None:
+        self.displacement = P
+        self.elastic = P.elastic
+        self.R, self.E, self.nu, self.h, self.phi_hat, self.N = P.R, P.E, P.nu, P.h, P.phi_hat, P.N
+        self.D, self.K, self.dhat = P.D, P.K, P.dhat
+        self.indenter, self.barrier, self.c0 = P.indenter, P.barrier, P.c0
+        self.n_shell = P.idx.size
+        self.n = self.n_shell + 1
+        #: which path :meth:`factorize`'s factorizations took (see :class:`BorderedBandedLU`)
+        self.linear_solver_stats: dict = {"factorizations": 0, "sparse": 0, "refined": 0, "reasons": {}}
+        f_norm = self.R / (2.0 * math.pi * self.D)
+        own = {"F": lambda U, p: float(p), "w_b": lambda U, p: float(U[-1]),
+               "w_b_over_R": lambda U, p: float(U[-1]) / self.R, "F_norm": lambda U, p: float(p) * f_norm}
+        # the displacement problem's observables, in its order: F and w_b (and their normalized
+        # forms) from the parameter and the last unknown, every other one evaluated at (u, w_b)
+        observables = {name: own.get(name) or self._obs(name) for name in P.observables}
+        observables.update({name: fun for name, fun in own.items() if name not in observables})
+        e_last = np.zeros(self.n)
+        e_last[-1] = 1.0
+        zero = np.zeros(self.n)
+        derivatives = {"F": lambda U, p: (zero, 1.0), "w_b": lambda U, p: (e_last, 0.0),
+                       "F_norm": lambda U, p: (zero, f_norm), "w_b_over_R": lambda U, p: (e_last / self.R, 0.0)}
+        ops = {"force": self._op_force, "displacement": self._op_displacement}
+        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
+                         stability_operators=ops, name=f"shell_{self.indenter.name}_indentation_force",
+                         parameter_name="F", residual_scale=P.residual_scale)
+
+    # ---- state maps ------------------------------------------------------------------------------
+    def split(self, U: np.ndarray) -> tuple[np.ndarray, float]:
+        """``(u, w_b)``: the shell unknowns and the indenter travel of ``U``."""
+        U = np.asarray(U, dtype=float)
+        if U.shape != (self.n,):
+            raise ValueError(f"unknown vector must have shape ({self.n},), got {U.shape}")
+        return U[:-1], float(U[-1])
+
+    def full_state(self, U: np.ndarray, p: float = 0.0) -> np.ndarray:
+        """Full interleaved shell state of ``U`` (the indenter does not enter it)."""
+        return self.displacement.full_state(self.split(U)[0])
+
+    def position(self, U: np.ndarray) -> float:
+        """Indenter position ``c = c_0 - w_b``."""
+        return self.displacement.position(self.split(U)[1])
+
+    def from_displacement_state(self, u: np.ndarray, w_b: float) -> tuple[np.ndarray, float]:
+        """Start ``(U, F)`` of force control from a displacement-control point ``(u, w_b)``.
+
+        ``U = [u, w_b]`` and ``F`` is the contact force there, so ``(U, F)`` is an equilibrium of
+        this problem exactly when ``(u, w_b)`` is one of :class:`ShellIndentation`.  Raises
+        ``ValueError`` without contact (``F <= 0``: the indenter would float, see the class docstring).
+        """
+        u = np.asarray(u, dtype=float)
+        if u.shape != (self.n_shell,):
+            raise ValueError(f"displacement-control unknowns must have shape ({self.n_shell},), got {u.shape}")
+        F = self.displacement.evaluate_one("F", u, w_b)
+        if not F > 0:
+            raise ValueError(f"{self.name}: no contact force at w_b = {w_b:g} (F = {F:g}); force control needs "
+                             "a contact state to start from (the indenter is undetermined without contact)")
+        return np.append(u, float(w_b)), F
+
+    def contact_start(self, w_b: float, **options) -> tuple[np.ndarray, float]:
+        """Trace displacement control from the undeformed cap to the travel ``w_b`` and return its ``(U, F)``.
+
+        ``options`` go to :func:`contin.continuation` (default ``ds = 0.005 R``, ``ds_max = 0.02 R``).
+        """
+        import contin  # the engine's driver; the model itself only needs its interface
+
+        P = self.displacement
+        opts = {"ds": 0.005 * self.R, "ds_max": 0.02 * self.R, "max_steps": 1000, "detect_branch_points": False}
+        opts.update(options)
+        br = contin.continuation(P, P.reference_unknowns(), 0.0, p_max=float(w_b), **opts)
+        if br.status != "bound":
+            raise RuntimeError(f"{self.name}: displacement control did not reach w_b = {w_b:g} ({br.message})")
+        return self.from_displacement_state(br.u[-1], float(br.p[-1]))
+
+    # ---- the Problem interface -------------------------------------------------------------------
+    def energy(self, U: np.ndarray, p: float) -> float:
+        u, w_b = self.split(U)
+        return self.displacement.energy(u, w_b) - float(p) * w_b
+
+    def residual(self, U: np.ndarray, p: float) -> np.ndarray:
+        u, w_b = self.split(U)
+        g = self.displacement.residual(u, w_b)
+        return np.append(g, self.displacement.contact(u, w_b, hessian=False).force - float(p))
+
+    def jacobian(self, U: np.ndarray, p: float) -> sp.csr_matrix:
+        u, w_b = self.split(U)
+        P = self.displacement
+        st = P.contact(u, w_b)
+        # d/dw_b = -d/dc: the border column is d(residual)/dw_b, the corner d2E_barrier/dc2
+        return _bordered_csr(P.jacobian(u, w_b), -st.hess_xc[P.idx], float(st.hess_cc))
+
+    def dresidual_dp(self, U: np.ndarray, p: float) -> np.ndarray:
+        d = np.zeros(self.n)
+        d[-1] = -1.0
+        return d
+
+    def jacobian_dp(self, U: np.ndarray, p: float) -> sp.csr_matrix:
+        """Exactly zero: the dead load enters the residual linearly."""
+        return sp.csr_matrix((self.n, self.n))
+
+    def factorize(self, J) -> Factorization:
+        """Block elimination of ``w_b`` on the banded LU of the leading block (:class:`BorderedBandedLU`)."""
+        try:
+            return BorderedBandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH, stats=self.linear_solver_stats)
+        except NotBorderedBandError:  # not this problem's structure (never for its own Jacobians)
+            return generic_factorize(J)
+
+    def max_step_fraction(self, U: np.ndarray, p: float, dU: np.ndarray, dp: float) -> float:
+        """The barrier's IPC filter along ``(du, dc = -dw_b)``: no node may reach the indenter."""
+        u, w_b = self.split(U)
+        P = self.displacement
+        dU = np.asarray(dU, dtype=float)
+        return self.barrier.max_safe_fraction(P.full_state(u), P.position(w_b), P._full_step(dU[:-1]),
+                                              -float(dU[-1]))
+
+    # ---- stability -------------------------------------------------------------------------------
+    def _op_force(self, U: np.ndarray, p: float) -> sp.csr_matrix:
+        return self.jacobian(U, p)  # the dead load is linear in w_b: the Hessian is the Jacobian
+
+    def _op_displacement(self, U: np.ndarray, p: float) -> sp.csr_matrix:
+        u, w_b = self.split(U)
+        return self.displacement.jacobian(u, w_b)
+
+    def stability_counts(self, U: np.ndarray, p: float) -> dict[str, int] | None:
+        """Both Morse indices from one pivot-free ``L D L^T``: the displacement operator is the leading block."""
+        counts = leading_inertias(self.jacobian(U, p), (self.n_shell, self.n))
+        if counts is None:
+            return None
+        return {"force": counts[1], "displacement": counts[0]}
+
+    # ---- observables -----------------------------------------------------------------------------
+    def _obs(self, name: str):
+        return lambda U, p: self.evaluate_one(name, U, p)
+
+    def evaluate_one(self, name: str, U: np.ndarray, p: float) -> float:
+        """One observable at ``(U, F)`` (see the class docstring)."""
+        if name in ("F", "w_b", "w_b_over_R", "F_norm"):
+            return float(self.observables[name](U, p))
+        u, w_b = self.split(U)
+        return float(self.displacement.observables[name](u, w_b))
