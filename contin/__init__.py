@@ -14,7 +14,7 @@ from .diagram import diagram, hysteresis_cycles, plot_branches
 from .jump import JumpError, JumpResult, jump
 from .palc import CorrectorFailure, Settings, continuation, locate_fold, switch_branch
 from .problem import NonFiniteError, Problem
-from .quasistatic import QuasiStaticResult, quasistatic
+from .quasistatic import QuasiStaticResult, quasistatic, restate_jump
 from .stability import StabilityInfo, stability_info
 
 __version__ = "0.1.0"
@@ -23,5 +23,5 @@ __all__ = [
     "Problem", "NonFiniteError", "Settings", "continuation", "locate_fold", "switch_branch", "CorrectorFailure",
     "jump", "JumpResult", "JumpError", "diagram", "hysteresis_cycles", "plot_branches",
     "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum",
-    "StabilityInfo", "stability_info", "BorderedSolver", "factorize", "quasistatic", "QuasiStaticResult",
+    "StabilityInfo", "stability_info", "BorderedSolver", "factorize", "quasistatic", "QuasiStaticResult", "restate_jump",
 ]

@@ -29,7 +29,7 @@ from .palc import CorrectorFailure, Curve, Settings, continuation
 from .problem import NonFiniteError, Problem
 from .stability import stability_info
 
-__all__ = ["quasistatic", "QuasiStaticResult", "DEFAULT_JUMP_ATTEMPTS"]
+__all__ = ["quasistatic", "QuasiStaticResult", "DEFAULT_JUMP_ATTEMPTS", "restate_jump"]
 
 #: Default ``jump_attempts`` of :func:`quasistatic`: ``(relative overshoot, perturbation)`` pairs
 #: tried in turn.  Exactly at a fold the energy is flat to third order along the null vector, so the
@@ -162,6 +162,19 @@ def _snap(problem: Problem, curve: Curve, fold: SpecialPoint, u_fold: np.ndarray
                         "separation": sep})
         return _restate_at_fold(problem, curve, jr, u_fold, p_fold, sep), reasons
     return None, reasons
+
+
+def restate_jump(problem: Problem, jr: JumpResult, u_fold: np.ndarray, p_fold: float,
+                 settings: Settings | None = None) -> JumpResult:
+    """Carry a jump minimised a hair past a fold back to the fold's own parameter ``p_fold``.
+
+    Newton from the landing at ``p_fold``; the result is the jump stated at the fold, or ``jr``
+    unchanged (``info["restated"]`` False, with the reason) if the landing branch is not regular,
+    stable and near there.  :func:`quasistatic` does this for every snap.
+    """
+    curve = Curve(problem, settings or Settings())
+    return _restate_at_fold(problem, curve, jr, np.asarray(u_fold, dtype=float), float(p_fold),
+                            _distance(jr.u_to, u_fold))
 
 
 def _restate_at_fold(problem: Problem, curve: Curve, jr: JumpResult, u_fold: np.ndarray, p_fold: float,

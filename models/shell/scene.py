@@ -50,7 +50,7 @@ import numpy as np
 
 import contin
 from contin.branch import Branch
-from contin.scene import (Classification, Constraint, SceneModel, Schema, TraceResult, boolean, choice,
+from contin.scene import (Classification, Constraint, SceneError, SceneModel, Schema, TraceResult, boolean, choice,
                           integer, real)
 
 from .problem import ShellPointLoad
@@ -81,7 +81,10 @@ SHELL_SCHEMA = Schema(
                                                     "graded towards the point load by default)"),
         },
         "load": {
-            "kind": choice("point", ("point",), help="indenter (a point at the pole)"),
+            "kind": choice("point", ("point", "sphere", "plate"),
+                           help="indenter: a point at the pole (bilateral), or a rigid sphere or plate through the "
+                                "log-barrier contact (indenter travel w_b prescribed)"),
+            "radius": real(0.5, gt=0, help="sphere radius [m] (load.kind = sphere)"),
             "control": choice("displacement", ("displacement", "force"),
                               help="prescribed pole displacement w (bilateral) or dead load F"),
         },
@@ -92,6 +95,10 @@ SHELL_SCHEMA = Schema(
             "max_steps": integer(3000, low=1, high=1_000_000, help="maximum number of steps per branch"),
             "overshoot": real(0.05, ge=0, le=1,
                               help="stop this fraction past eversion, w = 2 R (1 - sin phi_hat) (1 + overshoot)"),
+        },
+        "contact": {
+            "K_c": real(0.0, ge=0, help="barrier stiffness [N/m]; 0 = 100 E R (the paper's 1e8 for E = 1 MPa, R = 1 m)"),
+            "dhat": real(0.0, ge=0, help="barrier range [m]; 0 = 1e-3 R (the paper's 1e-3 for R = 1 m)"),
         },
         "output": {
             "figure": boolean(True, help="draw the force-displacement diagram (false: an empty placeholder)"),
@@ -328,6 +335,8 @@ def _problem(scene: Scene, control: str) -> ShellPointLoad:
 
 def _run_shell(scene: Scene, progress: bool) -> TraceResult:
     s, c, load = scene["shell"], scene["continuation"], scene["load"]
+    if load["kind"] in ("sphere", "plate"):
+        return _run_contact(scene, progress)
     if load["control"] == "force":
         return _run_force(scene, progress)
     R = s["R"]
@@ -337,6 +346,25 @@ def _run_shell(scene: Scene, progress: bool) -> TraceResult:
     br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end,
                              events=[contin.extremum("F", "max"), contin.extremum("F", "min")])
     return _result([br], [], problem, scene, ["path"], "")
+
+
+def _run_contact(scene: Scene, progress: bool) -> TraceResult:
+    """Sphere or plate indentation (see :mod:`models.contact.runner`); displacement control of the indenter."""
+    from models.contact.runner import run_contact  # only a contact scene builds the contact machinery
+
+    if scene["load"]["control"] != "displacement":
+        raise SceneError("load.control = \"force\" with a sphere or plate indenter is not available yet; allowed: "
+                         "\"displacement\" (the indenter travel w_b is prescribed)", "constraint")
+    s, c = scene["shell"], scene["continuation"]
+    R = s["R"]
+    w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
+    # lengths in units of R, as for the point load; the first contact is a sharp corner of the path
+    # (the barrier switches on), so the first step is a quarter of the scene's
+    ds_max = min(c["ds_max"], eversion_displacement(R, s["phi_hat"]) / _MIN_STEPS_PER_PATH / R)
+    ds = 0.25 * min(c["ds"], ds_max)
+    st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+                         stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R, progress=progress)
+    return run_contact(scene, progress, st, w_end)
 
 
 def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene: Scene, labels: list[str],

@@ -1,0 +1,70 @@
+"""``contin trace`` with a sphere or plate indenter (issue 4, work in progress): the snap and the jump."""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import json
+from pathlib import Path
+
+import pytest
+
+import contin
+from contin.cli import main
+from models.contact import Sphere
+from models.contact.indentation import ShellIndentation
+
+
+def _trace(out: Path, *sets: str) -> tuple[int, dict, list[dict]]:
+    args = ["trace", "-q", "--out", str(out), "--set", "shell.N=60", "--set", "output.figure=false"]
+    for s in sets:
+        args += ["--set", s]
+    with contextlib.redirect_stdout(io.StringIO()):
+        code = main(args)
+    summary = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
+    rows = list(csv.DictReader(open(out / "branch.csv"))) if (out / "branch.csv").exists() else []
+    return code, summary, rows
+
+
+@pytest.fixture(scope="module")
+def sphere_runs(tmp_path_factory) -> dict[float, tuple[int, dict, list[dict]]]:
+    return {r: _trace(tmp_path_factory.mktemp(f"r{r}"), "load.kind=sphere", f"load.radius={r}") for r in (0.5, 0.9)}
+
+
+def test_sphere_trace_snaps_and_jumps_to_the_everted_state(sphere_runs):
+    code, summary, rows = sphere_runs[0.5]
+    assert code == 0 and summary["status"] == "ok"
+    # the snap against an independent continuation of the same problem to its fold in w_b
+    P = ShellIndentation(N=60, indenter=Sphere(0.5))
+    br = contin.continuation(P, P.reference_unknowns(), 0.0, ds=0.005, ds_max=0.02, stop_at=("fold",), p_max=0.7)
+    (fold,) = [s for s in br.special_points if s.kind == "fold"]
+    assert summary["w_b_c"] == pytest.approx(fold.p, rel=1e-7)
+    snaps = [r for r in summary["special_points"] if r["kind"] in ("fold", "event")]
+    assert snaps[0]["parameter"] == "w_b" and snaps[0]["F_norm"] < 1e-5 and snaps[0]["Delta_H"] == 0.0
+    (jump,) = summary["jumps"]
+    assert jump["success"]
+    landing = [r for r in summary["special_points"] if r.get("label") == "jump_to"][0]
+    assert landing["w_b"] == pytest.approx(summary["w_b_c"], rel=1e-12)  # stated at the snap's travel
+    assert landing["n_contact"] == 0 and landing["Delta_H"] > 0.1 and landing["w_s"] > 0.5
+    for col in ("w", "F", "w_over_R", "F_norm", "w_s", "Delta_H", "kappa_p_R", "n_contact", "stable_force",
+                "stable_displacement", "n_negative"):
+        assert col in rows[0]
+
+
+def test_large_sphere_detaches_before_the_snap_with_the_same_pole_shape(sphere_runs):
+    # paper figures 6-8: above the transition the pole leaves the indenter before the snap, the snap
+    # comes earlier in w_b, and the shape at the snap (pole displacement, pole curvature) is universal
+    _, small, _ = sphere_runs[0.5]
+    code, large, _ = sphere_runs[0.9]
+    assert code == 0
+    assert large["Delta_H_at_snap"] > 0.005 and small["Delta_H_at_snap"] == 0.0
+    assert large["w_b_c"] < small["w_b_c"] - 0.005
+    assert large["kappa_p_R_at_snap"] == pytest.approx(small["kappa_p_R_at_snap"], rel=0.01)
+    assert large["w_s_at_snap_over_R"] == pytest.approx(small["w_s_at_snap_over_R"], rel=0.01)
+
+
+def test_force_control_of_an_indenter_is_refused_as_bad_input(tmp_path, capsys):
+    code, _, _ = _trace(tmp_path, "load.kind=sphere", "load.control=force")
+    err = capsys.readouterr().err
+    assert code == 2 and "load.control" in err and "Traceback" not in err
