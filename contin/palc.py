@@ -460,7 +460,7 @@ class _Segment:
             except CorrectorFailure:
                 u, p, res, _ = self.curve.correct(A.u, A.p, A.t_u, A.t_p, sigma, max_iter=20)
             out = (u, p, res)
-            # the corrector's last linearization lies within xtol of the point: reuse it for the tangent
+            # the corrector's last linearization is one small update from the point: reuse it for the tangent
             self._linearization[id(u)] = self.curve.last_linearization
         self._cache[sigma] = out
         return out
