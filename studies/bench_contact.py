@@ -1,0 +1,178 @@
+"""Benchmark of the contact snap (issue 4, Speed): one sphere indentation and the eight-radius sweep.
+
+Run ``python -m studies.bench_contact [--repeat 5] [--workers 2]``.  Medians of in-process wall times
+(imports warm, one untimed warm-up run first):
+
+(a) one sphere indentation, ``N = 200``, ``r/R = 0.5``: continuation from the first touch of the barrier
+    through the located snap (fold in ``w_b`` or the ``F -> 0`` event, exactly as
+    :func:`models.contact.runner.run_contact`) and the jump to the everted state; it stops right after
+    the jump.  Target <= 1 s.
+(b) the eight-radius sweep of issue 4 test 4 (``r/R`` in :data:`RADII`), each radius continued to its
+    snap (no jump), spread over ``--workers`` processes.  Target <= 10 s.
+
+Both use the settings the CLI builds for a sphere scene (:func:`snap_settings`, the scene defaults with
+``shell.N`` and ``load.radius`` set); ``--no-stability`` drops the stability counts along the path (the
+snap location does not depend on them).  The helpers :func:`run_to_snap` and :func:`snap_record` are
+also used by ``tests/test_contact_paper.py``.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
+import statistics  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from concurrent.futures import ProcessPoolExecutor  # noqa: E402
+from typing import Any  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import contin  # noqa: E402
+from contin.scene import load_scene  # noqa: E402
+from models.contact.indentation import ShellIndentation  # noqa: E402
+from models.contact.runner import SNAP_FORCE_NORM, _problem, _snap  # noqa: E402
+from models.shell import scene as shell_scene  # noqa: E402
+from models.shell.scene import SHELL_SCHEMA, eversion_displacement  # noqa: E402
+
+#: r/R of issue 4 test 4 (paper figures 6, 7)
+RADII = (0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.0)
+
+
+def snap_settings(r: float, N: int, extra: tuple[str, ...] = (), stability: bool = True
+                  ) -> tuple[ShellIndentation, contin.Settings, float]:
+    """The problem, the continuation settings and ``w_end`` that ``contin trace`` builds for a sphere scene.
+
+    Mirrors ``models.shell.scene._run_contact`` (first step a quarter of the scene's ``ds``, lengths in
+    units of R); ``extra`` are further ``--set`` overrides such as ``"contact.dhat=1e-4"``.
+    """
+    scene = load_scene(SHELL_SCHEMA, None, ["load.kind=sphere", f"load.radius={r}", f"shell.N={N}", *extra])
+    s, c = scene["shell"], scene["continuation"]
+    R = s["R"]
+    w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
+    ds_max = min(c["ds_max"], eversion_displacement(R, s["phi_hat"]) / shell_scene._MIN_STEPS_PER_PATH / R)
+    ds = 0.25 * min(c["ds"], ds_max)
+    st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+                         stability=stability, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R)
+    return _problem(scene), st, w_end
+
+
+def run_to_snap(problem: ShellIndentation, st: contin.Settings, w_end: float) -> contin.Branch:
+    """The runner's first loading stretch: from the first touch to the snap (fold in ``w_b`` or F -> 0)."""
+    event = contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
+    return contin.continuation(problem, problem.reference_unknowns(), 0.0, st, stop_at=("fold",), p_max=w_end,
+                               events=[event], bounds={"base_gap": (2.0 * problem.dhat, None)})
+
+
+def contact_mode(delta_h: np.ndarray, gap_tol: float = 0.0) -> tuple[str, float]:
+    """Contact mode of a loading path from its pole gap ``Delta_H`` up to and including the snap.
+
+    ``"continuous"`` (the pole never detaches: ``Delta_H <= gap_tol`` throughout), ``"detach"`` (the pole
+    is detached at the snap) or ``"detach-recontact"`` (detached somewhere before the snap, touching
+    again at the snap).  Returns the mode and the largest gap before the snap.
+    """
+    dh = np.asarray(delta_h, dtype=float)
+    before = float(dh[:-1].max()) if dh.size > 1 else 0.0
+    if dh[-1] > gap_tol:
+        return "detach", before
+    return ("detach-recontact" if before > gap_tol else "continuous"), before
+
+
+def snap_record(r: float, N: int = 200, extra: tuple[str, ...] = (), stability: bool = False,
+                gap_tol: float = 0.0) -> dict[str, Any]:
+    """Run one radius to its snap; the snap's observables, the contact mode and the wall time."""
+    t0 = time.perf_counter()
+    P, st, w_end = snap_settings(r, N, extra, stability)
+    br = run_to_snap(P, st, w_end)
+    dt = time.perf_counter() - t0
+    obs = P.evaluate_observables(br.u[-1], br.p[-1])
+    sp = br.special_points[-1] if br.special_points else None
+    mode, max_gap = contact_mode(br.observable("Delta_H"), gap_tol)
+    return {"r": r, "N": N, "status": br.status, "end": (sp.kind if sp is not None else "") + (
+            f" {sp.label}" if sp is not None and sp.label else ""),
+            "w_b_c": float(br.p[-1]), "w_b_c_over_R": float(obs["w_b_over_R"]), "F_norm": float(obs["F_norm"]),
+            "Delta_H_over_R": float(obs["Delta_H_over_R"]), "kappa_p_R": float(obs["kappa_p_R"]),
+            "w_s_over_R": float(obs["w_s_over_R"]), "n_contact": int(obs["n_contact"]), "mode": mode,
+            "max_gap_before_over_R": max_gap / P.R, "dhat": P.dhat, "K": P.K, "points": len(br.p),
+            "time": dt}
+
+
+def _sweep_one(args: tuple[float, int, bool]) -> dict[str, Any]:
+    r, N, stability = args
+    return snap_record(r, N, stability=stability)
+
+
+def sweep(N: int = 200, radii: tuple[float, ...] = RADII, workers: int = 2, stability: bool = False,
+          pool: ProcessPoolExecutor | None = None) -> list[dict[str, Any]]:
+    """Snap records for every radius, over ``workers`` processes (largest radii, the slowest, first)."""
+    order = sorted(radii, reverse=True)
+    jobs = [(r, N, stability) for r in order]
+    if workers <= 1:
+        recs = [_sweep_one(j) for j in jobs]
+    elif pool is not None:
+        recs = list(pool.map(_sweep_one, jobs))
+    else:
+        with ProcessPoolExecutor(max_workers=workers) as ex:
+            recs = list(ex.map(_sweep_one, jobs))
+    return sorted(recs, key=lambda d: d["r"])
+
+
+def one_indentation(N: int = 200, r: float = 0.5, stability: bool = True) -> dict[str, Any]:
+    """(a): first touch -> located snap -> jump to the everted state; stops right after the jump."""
+    P, st, w_end = snap_settings(r, N, stability=stability)
+    br = run_to_snap(P, st, w_end)
+    if br.status != "event":
+        raise RuntimeError(f"r/R = {r}: no snap ({br.status}: {br.message})")
+    jr, reason = _snap(P, br.u[-1], br.p[-1], st.tol)
+    if jr is None:
+        raise RuntimeError(f"r/R = {r}: the jump failed ({reason})")
+    return {"w_b_c_over_R": float(br.p[-1]) / P.R,
+            "w_s_after_over_R": P.evaluate_one("w_s", jr.u_to, jr.p) / P.R}
+
+
+def _median_time(fn, repeat: int) -> tuple[float, list[float]]:
+    fn()  # warm-up (imports, generated code, caches)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), times
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--repeat", type=int, default=5, help="timed repetitions (median reported)")
+    ap.add_argument("--N", type=int, default=200, help="nodes on the meridian")
+    ap.add_argument("--workers", type=int, default=2, help="processes for the sweep")
+    ap.add_argument("--no-stability", action="store_true", help="no stability counts along the paths")
+    args = ap.parse_args(argv)
+    stab = not args.no_stability
+    cmd = "python -m studies.bench_contact " + " ".join(argv if argv is not None else sys.argv[1:])
+    info = one_indentation(args.N, stability=stab)
+    ta, _ = _median_time(lambda: one_indentation(args.N, stability=stab), args.repeat)
+    with ProcessPoolExecutor(max_workers=args.workers) as pool:
+        recs = sweep(args.N, workers=args.workers, stability=stab, pool=pool)  # also warms the workers
+        tb, _ = _median_time(lambda: sweep(args.N, workers=args.workers, stability=stab, pool=pool), args.repeat)
+    serial = sum(d["time"] for d in recs)
+    print(f"`{cmd.strip()}` (N = {args.N}, stability {'on' if stab else 'off'}, median of {args.repeat}, "
+          f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')})\n")
+    print("| case | median wall time [s] | target [s] |")
+    print("|---|---:|---:|")
+    print(f"| (a) sphere r/R = 0.5: first touch -> snap (w_b^c/R = {info['w_b_c_over_R']:.6f}) -> jump "
+          f"(w_s/R = {info['w_s_after_over_R']:.4f}) | {ta:.3f} | 1 |")
+    print(f"| (b) eight-radius sweep to the snap, {args.workers} processes | {tb:.3f} | 10 |")
+    print(f"\nsweep per radius (one run, serial sum {serial:.2f} s):\n")
+    print("| r/R | w_b^c/R | Delta_H/R at snap | kappa_p R | mode | max gap before snap / R | end | time [s] |")
+    print("|---:|---:|---:|---:|---|---:|---|---:|")
+    for d in recs:
+        print(f"| {d['r']:g} | {d['w_b_c_over_R']:.6f} | {d['Delta_H_over_R']:.4e} | {d['kappa_p_R']:.5f} | "
+              f"{d['mode']} | {d['max_gap_before_over_R']:.2e} | {d['end']} | {d['time']:.2f} |")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
