@@ -29,10 +29,9 @@ import time  # noqa: E402
 from concurrent.futures import ProcessPoolExecutor  # noqa: E402
 from typing import Any  # noqa: E402
 
-import numpy as np  # noqa: E402
-
 import contin  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
+from models.contact.runner import contact_mode  # noqa: E402
 from models.contact.indentation import ShellIndentation  # noqa: E402
 from models.contact.runner import SNAP_FORCE_NORM, _problem, _snap  # noqa: E402
 from models.shell import scene as shell_scene  # noqa: E402
@@ -65,20 +64,6 @@ def run_to_snap(problem: ShellIndentation, st: contin.Settings, w_end: float) ->
     event = contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
     return contin.continuation(problem, problem.reference_unknowns(), 0.0, st, stop_at=("fold",), p_max=w_end,
                                events=[event], bounds={"base_gap": (2.0 * problem.dhat, None)})
-
-
-def contact_mode(delta_h: np.ndarray, gap_tol: float = 0.0) -> tuple[str, float]:
-    """Contact mode of a loading path from its pole gap ``Delta_H`` up to and including the snap.
-
-    ``"continuous"`` (the pole never detaches: ``Delta_H <= gap_tol`` throughout), ``"detach"`` (the pole
-    is detached at the snap) or ``"detach-recontact"`` (detached somewhere before the snap, touching
-    again at the snap).  Returns the mode and the largest gap before the snap.
-    """
-    dh = np.asarray(delta_h, dtype=float)
-    before = float(dh[:-1].max()) if dh.size > 1 else 0.0
-    if dh[-1] > gap_tol:
-        return "detach", before
-    return ("detach-recontact" if before > gap_tol else "continuous"), before
 
 
 def snap_record(r: float, N: int = 200, extra: tuple[str, ...] = (), stability: bool = False,

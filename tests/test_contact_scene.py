@@ -62,6 +62,10 @@ def test_large_sphere_detaches_before_the_snap_with_the_same_pole_shape(sphere_r
     assert large["w_b_c"] < small["w_b_c"] - 0.005
     assert large["kappa_p_R_at_snap"] == pytest.approx(small["kappa_p_R_at_snap"], rel=0.01)
     assert large["w_s_at_snap_over_R"] == pytest.approx(small["w_s_at_snap_over_R"], rel=0.01)
+    # contact modes (gap beyond dhat): the small sphere keeps the pole, the large one loses it
+    assert small["contact_mode"] == "continuous" and large["contact_mode"] == "detach"
+    snap = [r for r in large["special_points"] if r["kind"] in ("fold", "event")][0]
+    assert 0 < snap["contact_first"] <= snap["contact_last"] < 59  # a ring off the pole (N = 60)
 
 
 def test_force_control_of_an_indenter_is_refused_as_bad_input(tmp_path, capsys):

@@ -16,7 +16,8 @@ engine's minimally augmented system.
 Observables: ``F`` (indenter force, ``-dE/dc``, positive while it pushes), ``w_b``, ``w_s`` (pole
 displacement), ``Delta_H`` (pole-indenter gap beyond the barrier's range ``dhat``: zero while the
 pole is in contact, positive once it has detached), ``kappa_p_R`` (pole curvature times R),
-``n_contact`` (nodes within ``dhat``), ``base_gap`` (distance from the base node, which cannot move
+``n_contact`` (nodes within ``dhat``), ``contact_first`` / ``contact_last`` (the range of node
+indices in contact, base = 0, pole = N-1; -1 when none), ``base_gap`` (distance from the base node, which cannot move
 vertically, to the indenter: an indenter that reaches it presses on the support) and the normalized ``w_b_over_R``, ``w_s_over_R``,
 ``Delta_H_over_R``, ``F_norm = F R / (2 pi D)``.
 
@@ -96,7 +97,8 @@ class ShellIndentation(Problem):
                        "n_contact": self._obs("n_contact"),
                        "w_b_over_R": lambda u, p: float(p) / self.R, "w_s_over_R": self._obs("w_s_over_R"),
                        "Delta_H_over_R": self._obs("Delta_H_over_R"), "F_norm": self._obs("F_norm"),
-                       "base_gap": self._obs("base_gap")}
+                       "base_gap": self._obs("base_gap"), "contact_first": self._obs("contact_first"),
+                       "contact_last": self._obs("contact_last")}
         ops = {"displacement": self._op_displacement, "force": self._op_force}
         super().__init__(observables=observables, symmetric=True, stability_operators=ops,
                          name=f"shell_{self.indenter.name}_indentation", parameter_name="w_b",
@@ -208,6 +210,9 @@ class ShellIndentation(Problem):
             return el._pole.curvature(a, b)[0] * self.R
         if name == "base_gap":  # distance from the (vertically fixed) base node to the indenter
             return float(self.contact(u, p, hessian=False).distances[0])
+        if name in ("contact_first", "contact_last"):  # range of node indices in contact, -1 when none
+            active = self.contact(u, p, hessian=False).active
+            return float(-1 if active.size == 0 else (active.min() if name == "contact_first" else active.max()))
         if name == "n_contact":
             return float(self.contact(u, p, hessian=False).n_active)
         raise KeyError(name)

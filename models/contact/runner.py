@@ -17,7 +17,10 @@ and records that point as the snap (``label`` ``"F -> 0"``).
 
 Special points in ``summary.json``: the snap is ``kind = "fold"`` with ``"parameter": "w_b"`` (or the
 ``F -> 0`` event, ``kind = "event"``); every record carries ``w`` (= ``w_b``), ``F``, ``w_over_R``,
-``F_norm``, ``w_s``, ``Delta_H`` and their normalized forms, ``kappa_p_R`` and ``n_contact``.
+``F_norm``, ``w_s``, ``Delta_H`` and their normalized forms, ``kappa_p_R``, ``n_contact`` and the range
+of nodes in contact (``contact_first``, ``contact_last``; -1 when none).  ``summary.json`` also has
+the contact mode on the way to the snap (``contact_mode``: continuous / detach-recontact / detach,
+see :func:`contact_mode`; a gap counts once it exceeds ``dhat``).
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ from contin.scene import TraceResult
 from .barrier import Plate, Sphere
 from .indentation import ShellIndentation
 
-__all__ = ["run_contact", "SNAP_FORCE_NORM"]
+__all__ = ["run_contact", "contact_mode", "SNAP_FORCE_NORM"]
 
 #: ``F R / (2 pi D)`` below which a loading stretch counts as having reached the snap (F -> 0).
 SNAP_FORCE_NORM = 1e-6
@@ -43,7 +46,7 @@ SNAP_FORCE_NORM = 1e-6
 _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
 _MAX_SNAPS = 4
 _OBS = ("w_b", "F", "w_b_over_R", "F_norm", "w_s", "w_s_over_R", "Delta_H", "Delta_H_over_R", "kappa_p_R",
-        "n_contact")
+        "n_contact", "contact_first", "contact_last")
 
 
 def _problem(scene: dict[str, dict[str, Any]]) -> ShellIndentation:
@@ -104,6 +107,20 @@ def run_contact(scene: dict[str, dict[str, Any]], progress: bool, settings: cont
     return _result(problem, scene, branches, jumps, labels, failure)
 
 
+def contact_mode(delta_h: np.ndarray, gap_tol: float = 0.0) -> tuple[str, float]:
+    """Contact mode of a loading path from its pole gap ``Delta_H`` up to and including the snap.
+
+    ``"continuous"`` (the pole never detaches: ``Delta_H <= gap_tol`` throughout), ``"detach"`` (the
+    pole is detached at the snap) or ``"detach-recontact"`` (detached somewhere before the snap,
+    touching again at the snap).  Returns the mode and the largest gap before the snap.
+    """
+    dh = np.asarray(delta_h, dtype=float)
+    before = float(dh[:-1].max()) if dh.size > 1 else 0.0
+    if dh[-1] > gap_tol:
+        return "detach", before
+    return ("detach-recontact" if before > gap_tol else "continuous"), before
+
+
 def _result(problem: ShellIndentation, scene: dict[str, dict[str, Any]], branches: list[Branch], jumps: list,
             labels: list[str], failure: str) -> TraceResult:
     generic = TraceResult.from_branches(branches, jumps, problem=problem, x="w_b", y="F", labels=labels,
@@ -127,6 +144,12 @@ def _result(problem: ShellIndentation, scene: dict[str, dict[str, Any]], branche
         "control": "displacement", "classification": None,
         "classification_note": "the classification is defined on the bilateral point load (load.kind = \"point\")",
     }
+    if snaps and branches and len(branches[0]):
+        # the contact mode on the way to the first snap; a gap counts as a detachment once it exceeds
+        # the barrier's own range dhat (below that the pole is within the contact layer's resolution:
+        # lifts of 1e-6 .. 1e-4 R occur for r/R = 0.3 .. 0.5, unchanged by dhat and N)
+        mode, max_gap = contact_mode(branches[0].observables["Delta_H"], problem.dhat)
+        summary.update({"contact_mode": mode, "max_gap_before_snap": max_gap, "contact_mode_gap_tol": problem.dhat})
     if snaps:
         first = snaps[0]
         summary.update({"w_b_c": first["w_b"], "w_b_c_over_R": first["w_b_over_R"], "F_at_snap": first["F"],
