@@ -4,8 +4,8 @@ Run ``python -m studies.bench_contact [--repeat 5] [--workers 2]``.  Medians of 
 (imports warm, one untimed warm-up run first):
 
 (a) one sphere indentation, ``N = 200``, ``r/R = 0.5``: continuation from the first touch of the barrier
-    through the located snap (fold in ``w_b`` or the ``F -> 0`` event, exactly as
-    :func:`models.contact.runner.run_contact`) and the jump to the everted state; it stops right after
+    through the located snap (the fold in ``w_b``, located by the engine or, beyond the ``F -> 0``
+    event, as a release fold, exactly as :func:`models.contact.runner.run_contact`) and the jump to the everted state; it stops right after
     the jump.  Target <= 1 s.
 (b) the eight-radius sweep of issue 4 test 4 (``r/R`` in :data:`RADII`), each radius continued to its
     snap (no jump), spread over ``--workers`` processes.  Target <= 10 s.
@@ -31,9 +31,8 @@ from typing import Any  # noqa: E402
 
 import contin  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
-from models.contact.runner import contact_mode  # noqa: E402
 from models.contact.indentation import ShellIndentation  # noqa: E402
-from models.contact.runner import SNAP_FORCE_NORM, _problem, _snap  # noqa: E402
+from models.contact.runner import SNAP_FORCE_NORM, _problem, _snap, contact_mode, snap_point  # noqa: E402
 from models.shell import scene as shell_scene  # noqa: E402
 from models.shell.scene import SHELL_SCHEMA, eversion_displacement  # noqa: E402
 
@@ -48,7 +47,8 @@ def snap_settings(r: float, N: int, extra: tuple[str, ...] = (), stability: bool
     Mirrors ``models.shell.scene._run_contact`` (first step a quarter of the scene's ``ds``, lengths in
     units of R); ``extra`` are further ``--set`` overrides such as ``"contact.dhat=1e-4"``.
     """
-    scene = load_scene(SHELL_SCHEMA, None, ["load.kind=sphere", f"load.radius={r}", f"shell.N={N}", *extra])
+    load = ["load.kind=plate"] if r is None else ["load.kind=sphere", f"load.radius={r}"]
+    scene = load_scene(SHELL_SCHEMA, None, [*load, f"shell.N={N}", *extra])
     s, c = scene["shell"], scene["continuation"]
     R = s["R"]
     w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
@@ -59,26 +59,42 @@ def snap_settings(r: float, N: int, extra: tuple[str, ...] = (), stability: bool
     return _problem(scene), st, w_end
 
 
-def run_to_snap(problem: ShellIndentation, st: contin.Settings, w_end: float) -> contin.Branch:
-    """The runner's first loading stretch: from the first touch to the snap (fold in ``w_b`` or F -> 0)."""
-    event = contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
-    return contin.continuation(problem, problem.reference_unknowns(), 0.0, st, stop_at=("fold",), p_max=w_end,
-                               events=[event], bounds={"base_gap": (2.0 * problem.dhat, None)})
+def _force_event() -> contin.Event:
+    return contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
 
 
-def snap_record(r: float, N: int = 200, extra: tuple[str, ...] = (), stability: bool = False,
+def run_to_snap(problem: ShellIndentation, st: contin.Settings, w_end: float
+                ) -> tuple[contin.Branch, contin.SpecialPoint | None]:
+    """The runner's first loading stretch, from the first touch to its snap (:func:`snap_point`)."""
+    br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, stop_at=("fold",), p_max=w_end,
+                             events=[_force_event()], bounds={"base_gap": (2.0 * problem.dhat, None)})
+    return br, snap_point(problem, br, st.tol)
+
+
+def snap_record(r: float | None, N: int = 200, extra: tuple[str, ...] = (), stability: bool = False,
                 gap_tol: float = 0.0) -> dict[str, Any]:
     """Run one radius to its snap; the snap's observables, the contact mode and the wall time."""
     t0 = time.perf_counter()
     P, st, w_end = snap_settings(r, N, extra, stability)
-    br = run_to_snap(P, st, w_end)
+    br, sp = run_to_snap(P, st, w_end)
     dt = time.perf_counter() - t0
-    obs = P.evaluate_observables(br.u[-1], br.p[-1])
-    sp = br.special_points[-1] if br.special_points else None
-    mode, max_gap = contact_mode(br.observable("Delta_H"), gap_tol)
-    return {"r": r, "N": N, "status": br.status, "end": (sp.kind if sp is not None else "") + (
-            f" {sp.label}" if sp is not None and sp.label else ""),
-            "w_b_c": float(br.p[-1]), "w_b_c_over_R": float(obs["w_b_over_R"]), "F_norm": float(obs["F_norm"]),
+    if sp is None:
+        raise RuntimeError(f"r/R = {r}: no snap ({br.status}: {br.message})")
+    if r is None:  # the plate's first snaps are dimple snaps at a finite force: follow them to eversion
+        while sp.kind == "fold" and sp.observables["F_norm"] > 1e-3:
+            jr, reason = _snap(P, sp.u, sp.p, st.tol)
+            if jr is None:
+                raise RuntimeError(f"plate: the dimple snap at w_b = {sp.p:.8g} did not land ({reason})")
+            br = contin.continuation(P, jr.u_to, jr.p, st, stop_at=("fold",), p_max=w_end, origin=jr,
+                                     events=[_force_event()], bounds={"base_gap": (2.0 * P.dhat, None)})
+            sp = snap_point(P, br, st.tol)
+            if sp is None:
+                raise RuntimeError(f"plate: no snap after the dimple ({br.status}: {br.message})")
+        dt = time.perf_counter() - t0
+    obs = sp.observables
+    mode, max_gap = contact_mode(list(br.observable("Delta_H")) + [obs["Delta_H"]], gap_tol)
+    return {"r": r, "N": N, "status": br.status, "snap_kind": sp.kind, "end": sp.kind + (f" {sp.label}" if sp.label else ""),
+            "w_b_c": float(sp.p), "w_b_c_over_R": float(obs["w_b_over_R"]), "F_norm": float(obs["F_norm"]),
             "Delta_H_over_R": float(obs["Delta_H_over_R"]), "kappa_p_R": float(obs["kappa_p_R"]),
             "w_s_over_R": float(obs["w_s_over_R"]), "n_contact": int(obs["n_contact"]), "mode": mode,
             "max_gap_before_over_R": max_gap / P.R, "dhat": P.dhat, "K": P.K, "points": len(br.p),
@@ -108,13 +124,13 @@ def sweep(N: int = 200, radii: tuple[float, ...] = RADII, workers: int = 2, stab
 def one_indentation(N: int = 200, r: float = 0.5, stability: bool = True) -> dict[str, Any]:
     """(a): first touch -> located snap -> jump to the everted state; stops right after the jump."""
     P, st, w_end = snap_settings(r, N, stability=stability)
-    br = run_to_snap(P, st, w_end)
-    if br.status != "event":
+    br, sp = run_to_snap(P, st, w_end)
+    if sp is None:
         raise RuntimeError(f"r/R = {r}: no snap ({br.status}: {br.message})")
-    jr, reason = _snap(P, br.u[-1], br.p[-1], st.tol)
+    jr, reason = _snap(P, sp.u, sp.p, st.tol)
     if jr is None:
         raise RuntimeError(f"r/R = {r}: the jump failed ({reason})")
-    return {"w_b_c_over_R": float(br.p[-1]) / P.R,
+    return {"w_b_c_over_R": float(sp.p) / P.R,
             "w_s_after_over_R": P.evaluate_one("w_s", jr.u_to, jr.p) / P.R}
 
 
@@ -150,11 +166,13 @@ def main(argv: list[str] | None = None) -> int:
     print(f"| (a) sphere r/R = 0.5: first touch -> snap (w_b^c/R = {info['w_b_c_over_R']:.6f}) -> jump "
           f"(w_s/R = {info['w_s_after_over_R']:.4f}) | {ta:.3f} | 1 |")
     print(f"| (b) eight-radius sweep to the snap, {args.workers} processes | {tb:.3f} | 10 |")
-    print(f"\nsweep per radius (one run, serial sum {serial:.2f} s):\n")
+    print(f"\nsweep per radius (one run, serial sum {serial:.2f} s; the plate, not in the sweep, follows its dimple "
+          "snaps to the eversion snap):\n")
     print("| r/R | w_b^c/R | Delta_H/R at snap | kappa_p R | mode | max gap before snap / R | end | time [s] |")
     print("|---:|---:|---:|---:|---|---:|---|---:|")
+    recs.append(snap_record(None, args.N, stability=stab))
     for d in recs:
-        print(f"| {d['r']:g} | {d['w_b_c_over_R']:.6f} | {d['Delta_H_over_R']:.4e} | {d['kappa_p_R']:.5f} | "
+        print(f"| {d['r'] or 'plate'} | {d['w_b_c_over_R']:.6f} | {d['Delta_H_over_R']:.4e} | {d['kappa_p_R']:.5f} | "
               f"{d['mode']} | {d['max_gap_before_over_R']:.2e} | {d['end']} | {d['time']:.2f} |")
     return 0
 

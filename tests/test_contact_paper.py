@@ -28,8 +28,8 @@ DHAT_OVER_R = 1e-3  # the default barrier range (models.contact.barrier.default_
 
 
 def _located(rec: dict) -> bool:
-    # a snap was located: the run ended on the fold in w_b or on the F -> 0 event, with the force ~ 0
-    return rec["status"] == "event" and rec["F_norm"] < 1e-5
+    # the snap was located as a fold in w_b (by the engine, or as the release fold beyond F -> 0)
+    return rec["status"] == "event" and rec["snap_kind"] == "fold" and 0 < rec["F_norm"] < 1e-5
 
 
 # ---- test 3: the located snap does not depend on the barrier range or the mesh ----------------------

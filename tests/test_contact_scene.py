@@ -1,4 +1,4 @@
-"""``contin trace`` with a sphere or plate indenter (issue 4, work in progress): the snap and the jump."""
+"""``contin trace`` with a sphere or plate indenter (issue 4): the snap and the jump, both controls."""
 
 from __future__ import annotations
 
@@ -68,7 +68,22 @@ def test_large_sphere_detaches_before_the_snap_with_the_same_pole_shape(sphere_r
     assert 0 < snap["contact_first"] <= snap["contact_last"] < 59  # a ring off the pole (N = 60)
 
 
-def test_force_control_of_an_indenter_is_refused_as_bad_input(tmp_path, capsys):
-    code, _, _ = _trace(tmp_path, "load.kind=sphere", "load.control=force")
-    err = capsys.readouterr().err
-    assert code == 2 and "load.control" in err and "Traceback" not in err
+def test_force_control_of_an_indenter_snaps_at_the_limit_load(tmp_path):
+    code, summary, rows = _trace(tmp_path, "load.kind=sphere", "load.control=force")
+    assert code == 0 and summary["status"] == "ok" and summary["control"] == "force", summary.get("message")
+    # reference: the maximum of the force along the displacement-controlled path, located as an
+    # extremum event by an independent continuation of the displacement problem
+    P = ShellIndentation(N=60, indenter=Sphere(0.5))
+    br = contin.continuation(P, P.reference_unknowns(), 0.0, ds=0.005, ds_max=0.02, p_max=0.4,
+                             events=[contin.extremum("F", "max")], stability=False)
+    (fmax,) = br.events("max(F)")
+    assert summary["F_snap"] == pytest.approx(fmax.observables["F"], rel=1e-8)
+    assert summary["w_b_at_snap"] == pytest.approx(fmax.p, abs=1e-6)
+    # the shell everts under the load and the indenter follows it down, still in contact
+    (jump,) = summary["jumps"]
+    landing = [r for r in summary["special_points"] if r.get("label") == "jump_to"][0]
+    assert jump["success"] and landing["parameter"] == "F" and landing["n_contact"] > 0
+    assert summary["w_b_after_snap"] > summary["w_b_at_snap"] + 0.2
+    assert summary["snaps"][0]["nodes_in_contact_after"] > 0
+    # loading goes on until the indenter reaches the end of its travel or the base ring
+    assert float(rows[-1]["F"]) > summary["F_snap"] and float(rows[-1]["w"]) > summary["w_b_after_snap"]

@@ -8,15 +8,21 @@ from the first touch of the barrier until the snap, jumps to the stable state at
 the support itself, so the run ends there (status ``bound``).
 
 Where the snap is (``docs/physics.md`` section 4): the path turns back in ``w_b`` as the contact force
-falls to zero; the fold is located by the engine's extended system.  When the last contact node is
-off the axis (large spheres, after the pole has detached) that fold sits where the node leaves the
-barrier's range, where the barrier is only C2, and the continuation can stall within ~1e-7 of it;
-the runner therefore also ends a loading stretch when ``F R / (2 pi D)`` falls below
-:data:`SNAP_FORCE_NORM` (measured: within 2.4e-7 in ``w_b`` of the end of the branch for r/R = 0.9)
-and records that point as the snap (``label`` ``"F -> 0"``).
+falls to zero.  While the pole is the last node in contact the fold is a sizeable fraction of ``dhat``
+inside the barrier and the engine's extended system locates it.  When the last contact node is off
+the axis (large spheres and the plate, after the pole has detached) the fold lies ~1e-9 R before the
+node leaves the barrier, below any continuation step: a loading stretch then ends on the event
+``F R / (2 pi D) <`` :data:`SNAP_FORCE_NORM` and the fold is located from there with the node's gap
+as the parameter (:func:`models.contact.release.locate_release_fold`, label ``"release"``).
 
-Special points in ``summary.json``: the snap is ``kind = "fold"`` with ``"parameter": "w_b"`` (or the
-``F -> 0`` event, ``kind = "event"``); every record carries ``w`` (= ``w_b``), ``F``, ``w_over_R``,
+A plate (and a large sphere) may snap earlier at a finite force: the flattened contact region
+buckles inwards into a dimple held by a ring of contact.  Those snaps are jumped like the others;
+``summary.json`` lists every snap under ``"snaps"`` and reports as ``w_b_c`` the one after which the
+shell has left the indenter (eversion), the snap of the paper.
+
+Special points in ``summary.json``: a snap is ``kind = "fold"`` with ``"parameter": "w_b"`` (the
+``F -> 0`` event only if the release fold could not be located; its ``error`` says why); every record
+carries ``w`` (= ``w_b``), ``F``, ``w_over_R``,
 ``F_norm``, ``w_s``, ``Delta_H`` and their normalized forms, ``kappa_p_R``, ``n_contact`` and the range
 of nodes in contact (``contact_first``, ``contact_last``; -1 when none).  ``summary.json`` also has
 the contact mode on the way to the snap (``contact_mode``: continuous / detach-recontact / detach,
@@ -31,16 +37,22 @@ from typing import Any
 import numpy as np
 
 import contin
-from contin.branch import Branch
+from contin.branch import Branch, SpecialPoint
 from contin.scene import TraceResult
 
 from .barrier import Plate, Sphere
-from .indentation import ShellIndentation
+from .indentation import ShellIndentation, ShellIndentationForce
+from .release import ReleaseFoldError, locate_release_fold
 
-__all__ = ["run_contact", "contact_mode", "SNAP_FORCE_NORM"]
+__all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "SNAP_FORCE_NORM", "FORCE_START_NORM"]
 
 #: ``F R / (2 pi D)`` below which a loading stretch counts as having reached the snap (F -> 0).
 SNAP_FORCE_NORM = 1e-6
+#: ``F R / (2 pi D)`` at which a force-controlled trace takes over from displacement control.
+FORCE_START_NORM = 0.05
+#: Target load of a force-controlled trace in the same unit (beyond any limit point; the indenter's
+#: travel bounds end the trace first).
+FORCE_END_NORM = 100.0
 #: Relative travel past the snap at which the jump minimises, tried in turn (a hair past the snap
 #: no equilibrium is near, so the minimisation has to leave for the distant stable state).
 _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
@@ -86,6 +98,7 @@ def run_contact(scene: dict[str, dict[str, Any]], progress: bool, settings: cont
     labels: list[str] = []
     failure = ""
     u, p, origin = problem.reference_unknowns(), 0.0, None
+    snaps: list[dict[str, Any]] = []
     for k in range(_MAX_SNAPS + 1):
         # the indenter may not reach the base ring: it is held vertically, so the indenter would press
         # on the support itself (a plate or a large sphere gets there before eversion)
@@ -93,18 +106,83 @@ def run_contact(scene: dict[str, dict[str, Any]], progress: bool, settings: cont
                                  events=[snap_event], bounds={"base_gap": (2.0 * problem.dhat, None)})
         branches.append(br)
         labels.append("loading" if k == 0 else f"loading after snap {k}")
-        if br.status != "event":
+        snap_at = snap_point(problem, br, st.tol)
+        if snap_at is None:
             break
         if k == _MAX_SNAPS:
             failure = f"more than {_MAX_SNAPS} snaps before w_b = {w_end:.6g}"
             break
-        jr, reason = _snap(problem, br.u[-1], br.p[-1], st.tol)
+        jr, reason = _snap(problem, snap_at.u, snap_at.p, st.tol)
         if jr is None:
-            failure = f"the snap at w_b = {br.p[-1]:.8g} did not land on a stable state ({reason})"
+            failure = f"the snap at w_b = {snap_at.p:.8g} did not land on a stable state ({reason})"
             break
         jumps.append(jr)
+        snaps.append({"point": snap_at, "branch": k,
+                      "contact_after": int(problem.evaluate_one("n_contact", jr.u_to, jr.p))})
         u, p, origin = jr.u_to, jr.p, jr
-    return _result(problem, scene, branches, jumps, labels, failure)
+    return _result(problem, scene, branches, jumps, labels, failure, snaps)
+
+
+def run_contact_force(scene: dict[str, dict[str, Any]], progress: bool, settings: contin.Settings,
+                      w_end: float) -> TraceResult:
+    """Trace a sphere or plate indentation under a dead load on the indenter (``load.control = "force"``).
+
+    Without contact the indenter floats (its travel is undetermined), so displacement control first
+    brings it from the first touch to the small load ``F R / (2 pi D)`` = :data:`FORCE_START_NORM`;
+    from that contact state :func:`contin.quasistatic` raises the load on
+    :class:`models.contact.indentation.ShellIndentationForce`.  At each limit point of the load (a fold
+    in ``F``: the maximum of the force along the displacement path) the shell snaps, at that load, to
+    the everted shell still pressed by the indenter, and loading goes on until the indenter travel
+    reaches ``w_end`` or the indenter comes within ``2 dhat`` of the base ring.
+    """
+    problem = _problem(scene)
+    forced = ShellIndentationForce.from_displacement(problem)
+    f_unit = 2.0 * math.pi * problem.D / problem.R
+    start = contin.crossing("F_norm", FORCE_START_NORM, direction=+1, terminal=True, name="start of force control")
+    lead = contin.continuation(problem, problem.reference_unknowns(), 0.0, settings, p_max=w_end, events=[start],
+                               bounds={"base_gap": (2.0 * problem.dhat, None)})
+    if lead.status != "event":
+        return _result(forced, scene, [], [], [], f"displacement control did not reach the start load of force "
+                       f"control ({lead.message})", [], control="force")
+    U, F = forced.from_displacement_state(lead.u[-1], lead.p[-1])
+    # the load is measured in ten force units per unit of travel in the arclength, as for the point load;
+    # the target load is never reached: the travel bounds end the sweep
+    qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=_MAX_SNAPS,
+                            param_weight=1.0 / (10.0 * f_unit),
+                            bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
+    failure = "" if qs.status in ("completed", "stopped") and all(
+        br.status in ("bound", "event") for br in qs.branches) else qs.message
+    snaps = [{"point": fold, "branch": k, "contact_after": int(forced.evaluate_one("n_contact", j.u_to, j.p))}
+             for k, (fold, j) in enumerate(zip(qs.folds, qs.jumps))]
+    labels = ["loading" if k == 0 else f"loading after snap {k}" for k in range(len(qs.branches))]
+    return _result(forced, scene, qs.branches, qs.jumps, labels, failure, snaps, control="force")
+
+
+def snap_point(problem: ShellIndentation, br: Branch, tol: float) -> SpecialPoint | None:
+    """Where a loading stretch snaps: its located fold in ``w_b``, or the release fold beyond ``F -> 0``.
+
+    On the ``F -> 0`` event the release fold is located with the last contact node's gap as the
+    parameter (:mod:`models.contact.release`) and added to the branch's special points; if that
+    fails, the event itself is the snap and the reason is kept in its ``info``.
+    """
+    if br.status != "event" or not br.special_points:
+        return None
+    last = br.special_points[-1]
+    if last.kind == "fold" or last.label != "F -> 0":
+        return last
+    try:
+        rf = locate_release_fold(problem, br.u[-1], br.p[-1], tol=tol)
+    except ReleaseFoldError as exc:
+        last.info["error"] = f"release fold not located: {exc}"
+        return last
+    fold = SpecialPoint(kind="fold", p=rf.w_b, u=rf.u, observables=problem.evaluate_observables(rf.u, rf.w_b),
+                        residual=rf.residual, located=True, s=float(br.s[-1]), index=len(br.p) - 1,
+                        label="release",
+                        info={"stable_before": True, "stable_after": False, "node": rf.node, "gap": rf.gap,
+                              "dw_b_dgap": rf.dw_dx, "located_by": "the gap of the last contact node as parameter"})
+    br.special_points.append(fold)
+    br.message += f"; release fold located at w_b = {rf.w_b:.10g} (node {rf.node}, gap {rf.gap:.3g})"
+    return fold
 
 
 def contact_mode(delta_h: np.ndarray, gap_tol: float = 0.0) -> tuple[str, float]:
@@ -121,40 +199,56 @@ def contact_mode(delta_h: np.ndarray, gap_tol: float = 0.0) -> tuple[str, float]
     return ("detach-recontact" if before > gap_tol else "continuous"), before
 
 
-def _result(problem: ShellIndentation, scene: dict[str, dict[str, Any]], branches: list[Branch], jumps: list,
-            labels: list[str], failure: str) -> TraceResult:
+def _result(problem: ShellIndentation | ShellIndentationForce, scene: dict[str, dict[str, Any]],
+            branches: list[Branch], jumps: list, labels: list[str], failure: str, snaps: list[dict[str, Any]],
+            control: str = "displacement") -> TraceResult:
     generic = TraceResult.from_branches(branches, jumps, problem=problem, x="w_b", y="F", labels=labels,
                                         failure=failure)
     records = []
     for rec in generic.special_points:
         rec = dict(rec)
         obs = rec.get("observables", {})
-        rec["parameter"] = "w_b"
+        rec["parameter"] = problem.parameter_name
         for name in _OBS:
             if name in obs:
                 rec[name] = float(obs[name])
         if "w_b" in obs:
             rec["w"], rec["w_over_R"] = float(obs["w_b"]), float(obs["w_b_over_R"])
         records.append(rec)
-    snaps = [r for r in records if r["kind"] == "fold" or r.get("label") == "F -> 0"]
     R = problem.R
     summary: dict[str, Any] = {
         "indenter": scene["load"]["kind"], "radius": scene["load"]["radius"] if scene["load"]["kind"] == "sphere" else None,
         "K_c": problem.K, "dhat": problem.dhat, "D": problem.D, "F_unit": 2.0 * math.pi * problem.D / R,
-        "control": "displacement", "classification": None,
+        "control": control, "classification": None,
         "classification_note": "the classification is defined on the bilateral point load (load.kind = \"point\")",
     }
-    if snaps and branches and len(branches[0]):
-        # the contact mode on the way to the first snap; a gap counts as a detachment once it exceeds
-        # the barrier's own range dhat (below that the pole is within the contact layer's resolution:
+    summary["snaps"] = [{"w_b": float(sn["point"].p), "kind": sn["point"].kind, "label": sn["point"].label,
+                         "F": float(sn["point"].observables["F"]), "Delta_H": float(sn["point"].observables["Delta_H"]),
+                         "nodes_in_contact_after": sn["contact_after"]} for sn in snaps]
+    # the snap of the paper is the one after which the shell has left the indenter (eversion); a plate
+    # or a large sphere may snap before it into a dimpled shape that stays in contact
+    main = next((sn for sn in snaps if sn["contact_after"] == 0), snaps[-1] if snaps else None)
+    if control == "force" and snaps:
+        # under a dead load the snap is at the limit load; the everted shell stays under the indenter
+        first = snaps[0]["point"]
+        landing = jumps[0]
+        summary.update({"snap_kind": "fold", "snap_label": "max(F)", "F_snap": float(first.p),
+                        "F_snap_norm": float(first.observables["F_norm"]), "w_b_at_snap": float(first.observables["w_b"]),
+                        "w_b_at_snap_over_R": float(first.observables["w_b"]) / R,
+                        "w_b_after_snap": float(landing.u_to[-1]), "w_b_after_snap_over_R": float(landing.u_to[-1]) / R})
+    elif main is not None:
+        obs = main["point"].observables
+        # the contact mode on the way to that snap; a gap counts as a detachment once it exceeds the
+        # barrier's own range dhat (below that the pole is within the contact layer's resolution:
         # lifts of 1e-6 .. 1e-4 R occur for r/R = 0.3 .. 0.5, unchanged by dhat and N)
-        mode, max_gap = contact_mode(branches[0].observables["Delta_H"], problem.dhat)
+        gaps = np.concatenate([br.observables["Delta_H"] for br in branches[:main["branch"] + 1]] + [[obs["Delta_H"]]])
+        mode, max_gap = contact_mode(gaps, problem.dhat)
         summary.update({"contact_mode": mode, "max_gap_before_snap": max_gap, "contact_mode_gap_tol": problem.dhat})
-    if snaps:
-        first = snaps[0]
-        summary.update({"w_b_c": first["w_b"], "w_b_c_over_R": first["w_b_over_R"], "F_at_snap": first["F"],
-                        "Delta_H_at_snap": first["Delta_H"], "Delta_H_at_snap_over_R": first["Delta_H_over_R"],
-                        "w_s_at_snap_over_R": first["w_s_over_R"], "kappa_p_R_at_snap": first["kappa_p_R"]})
+        summary.update({"snap_kind": main["point"].kind, "snap_label": main["point"].label,
+                        "w_b_c": float(main["point"].p), "w_b_c_over_R": float(main["point"].p) / R,
+                        "F_at_snap": obs["F"], "Delta_H_at_snap": obs["Delta_H"],
+                        "Delta_H_at_snap_over_R": obs["Delta_H_over_R"], "w_s_at_snap_over_R": obs["w_s_over_R"],
+                        "kappa_p_R_at_snap": obs["kappa_p_R"]})
     cols = dict(generic.csv_columns)
     if all(br.stability_by for br in branches) and branches:
         for label in ("force", "displacement"):
@@ -165,5 +259,6 @@ def _result(problem: ShellIndentation, scene: dict[str, dict[str, Any]], branche
         cols = {"w": cols["w_b"], "F": cols.get("F"), "w_over_R": cols["w_b_over_R"], "F_norm": cols.get("F_norm"),
                 **{k: v for k, v in cols.items() if k not in ("F", "F_norm")}}
     return TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
-                       table=generic.table, csv_columns=cols, x="w_b", y="F", parameter_name="w_b", labels=labels,
+                       table=generic.table, csv_columns=cols, x="w_b", y="F", parameter_name=problem.parameter_name,
+                       labels=labels,
                        jump_observables=generic.jump_observables, failure=failure)

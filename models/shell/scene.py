@@ -9,9 +9,13 @@ under both controls and classifies the response (``docs/physics.md`` sections 4 
 Scene keys (public contract, ``--set section.key=value``)::
 
     [shell]         R, E, nu, h, phi_hat, N, pole_ratio (node spacing at the pole / elsewhere; 1 = uniform)
-    [load]          kind = "point", control = "displacement" | "force"
+    [load]          kind = "point" | "sphere" | "plate", radius (sphere), control = "displacement" | "force"
+    [contact]       K_c, dhat (0: the paper's values scaled with E and R; sphere and plate only)
     [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
     [output]        figure
+
+A sphere or plate indenter is run by :mod:`models.contact.runner` (its docstring describes that
+``summary.json``); what follows is the point load's.
 
 Special points in ``summary.json``
 ----------------------------------
@@ -50,7 +54,7 @@ import numpy as np
 
 import contin
 from contin.branch import Branch
-from contin.scene import (Classification, Constraint, SceneError, SceneModel, Schema, TraceResult, boolean, choice,
+from contin.scene import (Classification, Constraint, SceneModel, Schema, TraceResult, boolean, choice,
                           integer, real)
 
 from .problem import ShellPointLoad
@@ -83,10 +87,11 @@ SHELL_SCHEMA = Schema(
         "load": {
             "kind": choice("point", ("point", "sphere", "plate"),
                            help="indenter: a point at the pole (bilateral), or a rigid sphere or plate through the "
-                                "log-barrier contact (indenter travel w_b prescribed)"),
+                                "log-barrier contact"),
             "radius": real(0.5, gt=0, help="sphere radius [m] (load.kind = sphere)"),
             "control": choice("displacement", ("displacement", "force"),
-                              help="prescribed pole displacement w (bilateral) or dead load F"),
+                              help="displacement: the pole displacement w (point) or the indenter travel w_b "
+                                   "(sphere, plate) is prescribed; force: a dead load F on the pole or the indenter"),
         },
         "continuation": {
             "ds": real(0.02, gt=0, help="initial arclength step in units of R"),
@@ -349,12 +354,9 @@ def _run_shell(scene: Scene, progress: bool) -> TraceResult:
 
 
 def _run_contact(scene: Scene, progress: bool) -> TraceResult:
-    """Sphere or plate indentation (see :mod:`models.contact.runner`); displacement control of the indenter."""
-    from models.contact.runner import run_contact  # only a contact scene builds the contact machinery
+    """Sphere or plate indentation (see :mod:`models.contact.runner`): travel or dead load on the indenter."""
+    from models.contact.runner import run_contact, run_contact_force  # only a contact scene builds these
 
-    if scene["load"]["control"] != "displacement":
-        raise SceneError("load.control = \"force\" with a sphere or plate indenter is not available yet; allowed: "
-                         "\"displacement\" (the indenter travel w_b is prescribed)", "constraint")
     s, c = scene["shell"], scene["continuation"]
     R = s["R"]
     w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
@@ -364,6 +366,8 @@ def _run_contact(scene: Scene, progress: bool) -> TraceResult:
     ds = 0.25 * min(c["ds"], ds_max)
     st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
                          stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R, progress=progress)
+    if scene["load"]["control"] == "force":
+        return run_contact_force(scene, progress, st, w_end)
     return run_contact(scene, progress, st, w_end)
 
 
