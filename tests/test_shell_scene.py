@@ -53,6 +53,13 @@ def test_default_scene_writes_outputs_and_special_points(runs: dict) -> None:
     spts = summary["special_points"]
     params = {r["parameter"] for r in spts}
     assert params == {"w", "F"}
+    zeros = [r for r in spts if r["kind"] == "event"]
+    # falling zeros of F: where a one-sided point indenter would let go of the shell
+    assert zeros and all(r["label"] == "F = 0" and abs(r["F"]) < 1e-8 * summary["F_max"] for r in zeros)
+    assert summary["w_c_one_sided"] == zeros[0]["w"] and summary["one_sided_snap_kind"] == "F = 0"
+    # the first zero comes after the force maximum, on the way down
+    assert summary["w_at_F_max"] < summary["w_c_one_sided"]
+    spts = [r for r in spts if r["kind"] != "event"]
     for rec in spts:
         for key in FIELDS:
             assert key in rec, (key, rec)

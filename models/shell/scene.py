@@ -348,9 +348,27 @@ def _run_shell(scene: Scene, progress: bool) -> TraceResult:
     w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
     problem = _problem(scene, "displacement")
     st = _settings(scene, problem, w_end, progress)
+    # F = 0 (falling): where a one-sided point indenter, which can only push, would lose the shell
     br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end,
-                             events=[contin.extremum("F", "max"), contin.extremum("F", "min")])
+                             events=[contin.extremum("F", "max"), contin.extremum("F", "min"),
+                                     contin.crossing("F", 0.0, direction=-1, name=_F_ZERO)])
     return _result([br], [], problem, scene, ["path"], "")
+
+
+#: Label of the falling zero of the point force on the displacement path.
+_F_ZERO = "F = 0"
+
+
+def _one_sided_snap(records: list[dict[str, Any]]) -> dict[str, Any] | None:
+    """Where a point indenter that can only push would snap: the first of the first falling zero of F
+    and the first fold in ``w`` along the path (the bilateral path is the same up to there)."""
+    first = [r for r in records if r.get("branch", 0) == 0 and (
+        r.get("label") == _F_ZERO or (r["kind"] == "fold" and r.get("parameter") == "w"))]
+    if not first:
+        return None
+    rec = min(first, key=lambda r: r["index"] + (0.5 if r["kind"] == "fold" else 0.0))
+    return {"w_c_one_sided": rec["w"], "w_c_one_sided_over_R": rec["w_over_R"], "F_at_one_sided_snap": rec["F"],
+            "one_sided_snap_kind": "F = 0" if rec.get("label") == _F_ZERO else "fold in w"}
 
 
 def _run_contact(scene: Scene, progress: bool) -> TraceResult:
@@ -402,6 +420,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
             cls["classification_on_partial_path"] = cls["classification"]
             cls["classification"] = None
         summary.update(cls)
+        summary.update(_one_sided_snap(records) or {})
         summary["classification_note"] = (
             "from the displacement-controlled path to eversion" if complete else
             f"the path did not reach eversion ({branches[0].message}); a class other than bistable needs the "
