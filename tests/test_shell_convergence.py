@@ -239,7 +239,8 @@ def test_normalized_special_points_are_scale_invariant(tmp_path):
         # measured worst 1.0e-9, set by how tightly the folds are located (the default tol is
         # 1e-10); with tol = 1e-11 it is 3e-12
         assert b["w_over_R"] == pytest.approx(a["w_over_R"], rel=1e-8)
-        assert b["F_norm"] == pytest.approx(a["F_norm"], rel=1e-8)
+        # (the falling zeros of F are events with F_norm ~ 1e-12 by construction: absolute there)
+        assert b["F_norm"] == pytest.approx(a["F_norm"], rel=1e-8, abs=1e-10)
         # the raw values scale as they must: w with R, F with D / R = 1e6 / 10
         assert b["w"] == pytest.approx(10 * a["w"], rel=1e-8)
         assert b["F"] == pytest.approx(1e5 * a["F"], rel=1e-8)
