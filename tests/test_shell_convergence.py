@@ -243,4 +243,4 @@ def test_normalized_special_points_are_scale_invariant(tmp_path):
         assert b["F_norm"] == pytest.approx(a["F_norm"], rel=1e-8, abs=1e-10)
         # the raw values scale as they must: w with R, F with D / R = 1e6 / 10
         assert b["w"] == pytest.approx(10 * a["w"], rel=1e-8)
-        assert b["F"] == pytest.approx(1e5 * a["F"], rel=1e-8)
+        assert b["F"] == pytest.approx(1e5 * a["F"], rel=1e-8, abs=1e-3)  # F ~ 1e7 at the extrema
