@@ -1,0 +1,146 @@
+"""Fold curves in a second parameter (:class:`contin.twopar.FoldCurveProblem`), against closed forms.
+
+* Cusp normal form ``f = u^3 - q u - p``: folds at ``u = +-sqrt(q/3)``, ``p = -+2 (q/3)^(3/2)``, meeting
+  at the cusp ``q = 0``; the gap between the two fold loads is ``4 (q/3)^(3/2)`` (the 3/2 law).
+* Von Mises truss: the limit load ``P_max(b)`` as the height ``b`` changes, from the truss's closed form.
+* The shell under a dead point load (issue 5): the force-control fold continued in ``h`` is the fold
+  an independent force-controlled trace locates at the same ``h``; near the cusp where the two folds
+  meet (the monostable/monotonous boundary), ``F_max - F_min`` vanishes like the 3/2 power of the
+  distance in ``h``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import contin
+from contin.twopar import FoldCurveProblem
+from models.benchmarks.truss import VonMisesTruss
+from models.shell import ShellPointLoad
+
+
+class CuspNormalForm(contin.Problem):
+    """``f(u, p; q) = u^3 - q u - p``."""
+
+    def __init__(self, q: float) -> None:
+        super().__init__(symmetric=True, name="cusp", parameter_name="p")
+        self.q = float(q)
+        self._obs = {"u": lambda u, p: float(u[0])}
+
+    @property
+    def observables(self):
+        return self._obs
+
+    def residual(self, u, p):
+        return np.array([u[0] ** 3 - self.q * u[0] - p])
+
+    def jacobian(self, u, p):
+        return np.array([[3 * u[0] ** 2 - self.q]])
+
+    def dresidual_dp(self, u, p):
+        return np.array([-1.0])
+
+
+def _cusp_curve(stop: bool) -> tuple[FoldCurveProblem, contin.Branch]:
+    u0 = 1 / math.sqrt(3)
+    fp = FoldCurveProblem(CuspNormalForm, ([u0], u0 ** 3 - u0), 1.0)
+    br = contin.continuation(fp, fp.start, 1.0, ds=0.05, ds_max=0.1, p_min=-0.1, p_max=1.0, direction=-1,
+                             max_steps=400, stop_at=("fold",) if stop else (), stability=False)
+    return fp, br
+
+
+def test_cusp_is_located_as_the_fold_of_the_fold_curve():
+    _, br = _cusp_curve(stop=True)
+    assert br.status == "event"
+    (cusp,) = [s for s in br.special_points if s.kind == "fold"]
+    assert cusp.located and abs(cusp.p) < 1e-10 and abs(cusp.u[1]) < 1e-12
+
+
+def test_fold_curve_follows_the_closed_form_through_the_cusp_and_the_three_halves_law():
+    fp, br = _cusp_curve(stop=False)
+    assert br.status == "bound" and br.p[-1] == pytest.approx(1.0)  # back out to q = 1 on the other fold
+    u, p, q = br.u[:, 0], br.u[:, 1], br.p
+    assert np.all(q > -1e-12)
+    assert np.max(np.abs(np.abs(u) - np.sqrt(np.maximum(q, 0) / 3))) < 1e-8
+    assert np.max(np.abs(p + 2 * np.sign(u) * (np.maximum(q, 0) / 3) ** 1.5)) < 1e-10
+    # the gap between the two fold loads at the same q, from events located on either side of the cusp
+    qs = (0.01, 0.02, 0.04, 0.08)
+    br = contin.continuation(fp, fp.start, 1.0, ds=0.05, ds_max=0.1, p_min=-0.1, p_max=1.0, direction=-1,
+                             max_steps=400, stability=False, events=[contin.crossing("q", v) for v in qs])
+    gap = []
+    for v in qs:
+        a, b = (fp.split(e.u)[1] for e in br.events(f"q={v:g}"))
+        gap.append(abs(a - b))
+    slope = np.polyfit(np.log(qs), np.log(gap), 1)[0]
+    assert slope == pytest.approx(1.5, abs=1e-6)
+
+
+def test_truss_limit_load_follows_its_closed_form_in_the_height():
+    (y0, P0), _ = VonMisesTruss(1.0, 0.5, 1.0).limit_points()
+    fp = FoldCurveProblem(lambda b: VonMisesTruss(1.0, b, 1.0), ([0.0, y0], P0), 0.5, q_name="b")
+    for direction, bound in ((1, {"p_max": 1.0}), (-1, {"p_min": 0.2})):
+        br = contin.continuation(fp, fp.start, 0.5, ds=0.02, ds_max=0.05, direction=direction, max_steps=200,
+                                 stability=False, **bound)
+        assert br.status == "bound"
+        for U, b in zip(br.u, br.p):
+            (y_star, P_max), _ = VonMisesTruss(1.0, b, 1.0).limit_points()
+            assert U[1] == pytest.approx(y_star, abs=1e-9) and U[2] == pytest.approx(P_max, abs=1e-9)
+        assert br.observables["b"][-1] == pytest.approx(1.0 if direction > 0 else 0.2)
+
+
+N_SHELL = 40
+
+
+def _force_fold(h: float) -> contin.SpecialPoint:
+    """F_max of the dead-loaded shell at thickness h, from its own force-controlled trace."""
+    P = ShellPointLoad(N=N_SHELL, h=h, phi_hat=0.8, control="force")
+    br = contin.continuation(P, P.reference_unknowns(), 0.0, ds=0.5, ds_max=5.0, stop_at=("fold",), stability=False,
+                             max_steps=500, param_weight=1.0 / (10 * 2 * math.pi * P.D))
+    assert br.status == "event", br.message
+    return br.special_points[-1]
+
+
+@pytest.fixture(scope="module")
+def shell_fold_curve():
+    h0 = 0.12
+    fold = _force_fold(h0)
+    D = ShellPointLoad(N=N_SHELL, h=h0, phi_hat=0.8).D
+    fp = FoldCurveProblem(lambda h: ShellPointLoad(N=N_SHELL, h=h, phi_hat=0.8, control="force"), fold, h0,
+                          q_name="h", p_scale=100 * 2 * math.pi * D)
+    # through the cusp: up in h along the F_max fold, back down along the F_min fold
+    br = contin.continuation(fp, fp.start, h0, ds=0.001, ds_max=0.005, p_min=0.1, max_steps=300, stability=False)
+    (cusp,) = [s for s in br.special_points if s.kind == "fold"]
+    # again, with the loads of both folds located at fixed distances below the cusp
+    events = [contin.crossing("h", cusp.p - d, name=f"d={d:g}") for d in CUSP_DISTANCES]
+    br2 = contin.continuation(fp, fp.start, h0, ds=0.001, ds_max=0.005, p_min=0.1, max_steps=300, stability=False,
+                              events=events)
+    return fp, br, cusp, br2
+
+
+CUSP_DISTANCES = (1e-4, 2e-4, 4e-4, 8e-4)
+
+
+def test_shell_fold_curve_matches_independent_force_traces(shell_fold_curve):
+    fp, br, cusp, _ = shell_fold_curve
+    assert cusp.located
+    h_cusp = cusp.p
+    h = 0.5 * (0.12 + h_cusp)
+    k = int(np.argmin(np.abs(br.p[: np.searchsorted(br.p, h_cusp)] - h)))
+    ref = _force_fold(float(br.p[k]))
+    assert fp.split(br.u[k])[1] == pytest.approx(ref.p, rel=1e-7)
+
+
+def test_shell_folds_merge_at_a_cusp_with_the_three_halves_law(shell_fold_curve):
+    fp, _, cusp, br = shell_fold_curve
+    # the cusp lies at lambda ~ 3.7, near the paper's monotonous boundary lambda_d = 3.65 (N = 40 here)
+    lam = (12 * (1 - 0.5 ** 2)) ** 0.25 * (math.pi / 2 - 0.8) * math.sqrt(1 / cusp.p)
+    assert 3.5 < lam < 3.9
+    gap = []
+    for d in CUSP_DISTANCES:
+        F_a, F_b = (fp.split(e.u)[1] for e in br.events(f"d={d:g}"))
+        gap.append(abs(F_a - F_b))
+    slope = np.polyfit(np.log(CUSP_DISTANCES), np.log(gap), 1)[0]
+    assert slope == pytest.approx(1.5, abs=0.02)
