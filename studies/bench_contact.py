@@ -33,8 +33,7 @@ import contin  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
 from models.contact.indentation import ShellIndentation  # noqa: E402
 from models.contact.runner import SNAP_FORCE_NORM, _problem, _snap, contact_mode, snap_point  # noqa: E402
-from models.shell import scene as shell_scene  # noqa: E402
-from models.shell.scene import SHELL_SCHEMA, eversion_displacement  # noqa: E402
+from models.shell.scene import SHELL_SCHEMA, contact_settings  # noqa: E402
 
 #: r/R of issue 4 test 4 (paper figures 6, 7)
 RADII = (0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.0)
@@ -44,18 +43,11 @@ def snap_settings(r: float, N: int, extra: tuple[str, ...] = (), stability: bool
                   ) -> tuple[ShellIndentation, contin.Settings, float]:
     """The problem, the continuation settings and ``w_end`` that ``contin trace`` builds for a sphere scene.
 
-    Mirrors ``models.shell.scene._run_contact`` (first step a quarter of the scene's ``ds``, lengths in
-    units of R); ``extra`` are further ``--set`` overrides such as ``"contact.dhat=1e-4"``.
+    The settings are :func:`models.shell.scene.contact_settings`, as ``contin trace`` uses; ``extra`` are further ``--set`` overrides such as ``"contact.dhat=1e-4"``.
     """
     load = ["load.kind=plate"] if r is None else ["load.kind=sphere", f"load.radius={r}"]
     scene = load_scene(SHELL_SCHEMA, None, [*load, f"shell.N={N}", *extra])
-    s, c = scene["shell"], scene["continuation"]
-    R = s["R"]
-    w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
-    ds_max = min(c["ds_max"], eversion_displacement(R, s["phi_hat"]) / shell_scene._MIN_STEPS_PER_PATH / R)
-    ds = 0.25 * min(c["ds"], ds_max)
-    st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
-                         stability=stability, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R)
+    st, w_end = contact_settings(scene, stability=stability)
     return _problem(scene), st, w_end
 
 

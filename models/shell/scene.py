@@ -371,10 +371,8 @@ def _one_sided_snap(records: list[dict[str, Any]]) -> dict[str, Any] | None:
             "one_sided_snap_kind": "F = 0" if rec.get("label") == _F_ZERO else "fold in w"}
 
 
-def _run_contact(scene: Scene, progress: bool) -> TraceResult:
-    """Sphere or plate indentation (see :mod:`models.contact.runner`): travel or dead load on the indenter."""
-    from models.contact.runner import run_contact, run_contact_force  # only a contact scene builds these
-
+def contact_settings(scene: Scene, progress: bool = False, stability: bool = True) -> tuple[contin.Settings, float]:
+    """Continuation settings and the end of travel ``w_end`` of a sphere or plate scene."""
     s, c = scene["shell"], scene["continuation"]
     R = s["R"]
     w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
@@ -383,7 +381,15 @@ def _run_contact(scene: Scene, progress: bool) -> TraceResult:
     ds_max = min(c["ds_max"], eversion_displacement(R, s["phi_hat"]) / _MIN_STEPS_PER_PATH / R)
     ds = 0.25 * min(c["ds"], ds_max)
     st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
-                         stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R, progress=progress)
+                         stability=stability, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R, progress=progress)
+    return st, w_end
+
+
+def _run_contact(scene: Scene, progress: bool) -> TraceResult:
+    """Sphere or plate indentation (see :mod:`models.contact.runner`): travel or dead load on the indenter."""
+    from models.contact.runner import run_contact, run_contact_force  # only a contact scene builds these
+
+    st, w_end = contact_settings(scene, progress)
     if scene["load"]["control"] == "force":
         return run_contact_force(scene, progress, st, w_end)
     return run_contact(scene, progress, st, w_end)
