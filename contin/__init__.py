@@ -16,13 +16,13 @@ from .palc import CorrectorFailure, Settings, continuation, locate_fold, switch_
 from .problem import NonFiniteError, Problem
 from .quasistatic import QuasiStaticResult, quasistatic, restate_jump
 from .stability import StabilityInfo, stability_info
-from .twopar import FoldCurveProblem
+from .twopar import FamilyProblem, FoldCurveProblem, cusp_curve_problem
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Problem", "NonFiniteError", "Settings", "continuation", "locate_fold", "switch_branch", "CorrectorFailure",
     "jump", "JumpResult", "JumpError", "diagram", "hysteresis_cycles", "plot_branches",
-    "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum", "FoldCurveProblem",
+    "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum", "FoldCurveProblem", "FamilyProblem", "cusp_curve_problem",
     "StabilityInfo", "stability_info", "BorderedSolver", "factorize", "quasistatic", "QuasiStaticResult", "restate_jump",
 ]

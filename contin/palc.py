@@ -343,7 +343,9 @@ class Curve:
             # error of the new iterate: the update itself, or (once a contraction rate theta is
             # known) theta times the update, which bounds it while Newton converges quadratically
             error_estimate = step_norm if it == 1 else step_norm * min(1.0, step_norm / prev_step)
-            if it == 2:
+            if it == 2 and step_norm > x_tol:
+                # a second update already inside x_tol is rounding noise of a converged point, not a
+                # contraction rate: it says nothing about how far the step could go
                 self.last_contraction = step_norm / prev_step if prev_step > 0 else 0.0
             prev_step = step_norm
             if self.norm(u - u_pred, p - p_pred) > st.max_correction * abs(ds):
