@@ -6,6 +6,11 @@ Commands
     Trace the scene and write ``summary.json``, ``branch.csv`` and ``diagram.png`` into DIR.
 ``contin classify [SCENE.toml] [--model NAME] [--set section.key=value ...] [--json] [--quiet]``
     Run what the model needs to classify the scene and print the class (``--json``: a JSON object).
+``contin classify ... --sweep section.key=SPEC [--sweep ...] [--csv PATH] [--workers N] [--no-resume]``
+    Classify every combination of the swept values (SPEC: ``0.6,0.8,1.0``, ``start:stop:count`` or
+    ``log:start:stop:count``) in parallel worker processes, appending one row per finished combination
+    to PATH (default ``classify_sweep.csv``); a rerun reuses the rows already there (see
+    :mod:`contin.sweep`).  Prints a table of the combinations (``--json``: a JSON list).
 ``contin models [NAME ...] [--toml]``
     List the registered models with every scene key, its default and its allowed range.
 
@@ -14,10 +19,11 @@ model).  An entry point resolves to a :class:`contin.scene.ModelRunner` (or a ze
 returning one); a runner that also has the classification capability
 (:func:`contin.scene.can_classify`) can be used by ``contin classify``.
 
-Exit status: 0 success, 1 the run failed (numerically, or the class could not be decided; the outputs
-of ``trace`` are still written), 2 bad input (scene, ``--set``, unknown model, a model that cannot
-classify, unwritable output directory), 130 interrupted.  No command prints a traceback
-(set ``CONTIN_TRACEBACK=1`` to see one for an internal error).
+Exit status: 0 success, 1 the run failed (numerically, or the class could not be decided, for a sweep:
+of any combination; the outputs of ``trace`` are still written), 2 bad input (scene, ``--set``,
+``--sweep``, unknown model, a model that cannot classify, unwritable output directory, a sweep CSV
+that belongs to another sweep), 130 interrupted (a sweep's CSV keeps the finished rows).  No command
+prints a traceback (set ``CONTIN_TRACEBACK=1`` to see one for an internal error).
 """
 
 from __future__ import annotations
@@ -42,9 +48,10 @@ import numpy as np
 from . import __version__
 from .scene import (Classification, ModelRunner, SceneError, TraceResult, can_classify, format_toml_value,
                     load_scene, schema_as_toml)
+from .sweep import SWEEP_SYNTAX, parse_sweep, run_sweep, sweep_scenes
 
-__all__ = ["main", "DEFAULT_MODEL", "ENTRY_POINT_GROUP", "CliError", "registered_models", "load_model",
-           "summary_document", "classification_document", "write_outputs", "format_table"]
+__all__ = ["main", "DEFAULT_MODEL", "DEFAULT_SWEEP_CSV", "ENTRY_POINT_GROUP", "CliError", "registered_models",
+           "load_model", "summary_document", "classification_document", "write_outputs", "format_table"]
 
 #: Model traced or classified when ``--model`` is not given: the paper's point-indented shell.
 DEFAULT_MODEL = "shell"
@@ -52,6 +59,8 @@ DEFAULT_MODEL = "shell"
 ENTRY_POINT_GROUP = "contin.models"
 
 OUTPUT_FILES = ("summary.json", "branch.csv", "diagram.png")
+#: Results file of ``contin classify --sweep`` when ``--csv`` is not given (in the current directory).
+DEFAULT_SWEEP_CSV = "classify_sweep.csv"
 
 
 class CliError(Exception):
@@ -141,11 +150,24 @@ The model decides what has to be run. For the shell the class (monotonous, monos
 bistable) is defined on the displacement-controlled path to eversion, which is traced whatever
 load.control says. Printed: the class, F_max and F_min with the displacements where they occur,
 raw and normalized (w/R, F R/(2 pi D)). --json prints the same as one JSON object (with the
-resolved scene, the status, the wall time and the number of steps). Nothing is written to disk.
+resolved scene, the status, the wall time and the number of steps). Only a sweep writes a file.
 Models without a classification (e.g. bratu, truss) are rejected with exit status 2.
 
-{_exit_status("the run failed or the class could not be decided",
-              "scene, --set, model, a model that cannot classify")}
+sweeps (--sweep SECTION.KEY=SPEC, repeatable):
+{textwrap.fill(SWEEP_SYNTAX + ".", width=95, initial_indent="  ", subsequent_indent="  ")}
+  Every combination (first --sweep slowest) is resolved and checked like a --set scene before
+  anything runs, then classified in --workers processes (default: one per CPU). Each finished
+  combination is appended at once to the CSV (--csv, default ./classify_sweep.csv): the swept
+  keys, label (the class), the model's values (shell: F_max, F_min, F_max_norm, w_at_F_max_over_R,
+  ..., lambda), wall_time_s, failure (empty when classified) and scene (the resolved scene as
+  JSON). Run the same command again after an interrupt and the rows already in the CSV are
+  reused; a CSV of another sweep (other keys or another fixed scene) is refused, --no-resume
+  overwrites it. Progress is one line per combination on stderr. At the end a table is printed:
+  the swept values, the class, the normalized values (names ending in _norm) and the time;
+  --json prints the rows as a JSON list instead.
+
+{_exit_status("the run failed or the class could not be decided (a sweep: for any combination)",
+              "scene, --set, --sweep, model, a model that cannot classify, a CSV of another sweep")}
 
 {{keys}}
 
@@ -153,6 +175,8 @@ examples:
   contin classify                                # the default scene: bistable
   contin classify --set shell.phi_hat=1.2 --set shell.N=100
   contin classify scene.toml --json
+  contin classify --sweep shell.phi_hat=0.6:1.4:9 --sweep shell.h=0.01,0.02 --csv phi_h.csv
+  contin classify --set shell.N=100 --sweep shell.h=log:0.005:0.05:7 --workers 4 --json
 """
 
 
@@ -226,7 +250,19 @@ Run 'contin COMMAND --help' for the options of a command.""")
         description="Classify the scene of a model that can classify.\n\n"
                     "The scene is resolved as for 'contin trace' (defaults, SCENE.toml, each --set).")
     _add_scene_arguments(classify, "classify")
-    classify.add_argument("--json", action="store_true", help="print the result as one JSON object on stdout")
+    classify.add_argument("--json", action="store_true",
+                          help="print the result as one JSON object on stdout (a sweep: a JSON list of rows)")
+    classify.add_argument("--sweep", action="append", default=[], metavar="SECTION.KEY=SPEC",
+                          help="classify every combination of the values of this key with those of the other "
+                               "--sweep keys; SPEC: 0.6,0.8,1.0 or start:stop:count or log:start:stop:count; "
+                               "may be repeated")
+    classify.add_argument("--csv", metavar="PATH", default=None,
+                          help=f"with --sweep: the results file, one row per combination, appended as each "
+                               f"finishes and reused by a rerun (default: ./{DEFAULT_SWEEP_CSV})")
+    classify.add_argument("-j", "--workers", metavar="N", type=int, default=None,
+                          help="with --sweep: worker processes (default: one per CPU; 1 runs in this process)")
+    classify.add_argument("--no-resume", action="store_true",
+                          help="with --sweep: recompute every combination, overwriting the CSV")
 
     models = sub.add_parser(
         "models", help="list the registered models with their scene keys, defaults and allowed ranges",
@@ -373,13 +409,24 @@ def _classifying_models() -> list[str]:
     return names
 
 
-def _classify_scenes(model: ModelRunner, name: str, args: argparse.Namespace) -> list[dict[str, dict[str, Any]]]:
-    """The scenes a ``classify`` invocation asks for: one for now.
+def _classify_scenes(model: ModelRunner, name: str,
+                     args: argparse.Namespace) -> list[tuple[dict[str, Any], dict[str, dict[str, Any]]]]:
+    """The scenes a ``classify`` invocation asks for, each with its swept values by ``section.key``.
 
-    The single place that turns arguments into scenes, so that sweeps over ranges of keys can later
-    return several without touching the rest of the command.
+    Without ``--sweep``: the one scene of the file and ``--set`` (no swept values).  With it: every
+    combination, each resolved and validated like a ``--set`` scene; bad input raises :class:`CliError`.
     """
-    return [_resolve_scene(model, name, args)]
+    if not args.sweep:
+        return [({}, _resolve_scene(model, name, args))]
+    try:
+        axes = [parse_sweep(spec, model.schema) for spec in args.sweep]
+        return sweep_scenes(model.schema, axes, args.scene, args.overrides)
+    except SceneError as exc:
+        hint = ""
+        if exc.kind == "unknown" and args.model is None:
+            hint = (f" (the scene was checked against the default model {DEFAULT_MODEL!r}; choose another with "
+                    f"--model, see 'contin models')")
+        raise CliError(f"{exc}{hint}") from None
 
 
 def _classify_one(model: ModelRunner, scene: dict, progress: bool) -> Classification:
@@ -401,11 +448,21 @@ def _cmd_classify(args: argparse.Namespace) -> int:
         able = _classifying_models()
         raise CliError(f"model {name!r} cannot classify: it provides no classification "
                        f"(models that can: {', '.join(able) or 'none'}); 'contin trace --model {name}' traces it")
+    if not args.sweep:
+        given = [opt for opt, value in (("--csv", args.csv), ("--workers", args.workers),
+                                        ("--no-resume", args.no_resume)) if value not in (None, False)]
+        if given:
+            raise CliError(f"{', '.join(given)} {'applies' if len(given) == 1 else 'apply'} only to a sweep: add "
+                           f"--sweep SECTION.KEY=SPEC, where {SWEEP_SYNTAX}")
+    if args.workers is not None and args.workers < 1:
+        raise CliError(f"--workers {args.workers}: give at least 1 worker process")
     scenes = _classify_scenes(model, name, args)
+    if args.sweep:
+        return _classify_sweep(name, scenes, args)
     say = _say(args.quiet)
     docs: list[dict[str, Any]] = []
     results: list[Classification] = []
-    for scene in scenes:
+    for _, scene in scenes:
         say(f"classifying model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
         t0 = time.perf_counter()
         result = _classify_one(model, scene, progress=not args.quiet)
@@ -419,6 +476,59 @@ def _cmd_classify(args: argparse.Namespace) -> int:
         for result in results:
             print(format_classification(name, result))
     return 0 if all(r.success for r in results) else 1
+
+
+def _swept_cell(value: Any) -> Any:
+    # a float key's value reads as a float (1.0, not 1), to 8 significant digits like the other columns
+    if isinstance(value, float) and math.isfinite(value):
+        text = f"{value:.8g}"
+        return text if any(c in text for c in ".e") else text + ".0"
+    return value
+
+
+def _classify_sweep(name: str, scenes: list[tuple[dict[str, Any], dict[str, dict[str, Any]]]],
+                    args: argparse.Namespace) -> int:
+    """``contin classify --sweep``: run the combinations, print the table (or JSON), return the exit status."""
+    csv_path = Path(args.csv if args.csv is not None else DEFAULT_SWEEP_CSV)
+    axes = list(scenes[0][0])
+    say = _say(args.quiet)
+    say(f"sweeping model {name!r}{' from ' + repr(args.scene) if args.scene else ''}: {len(scenes)} combinations "
+        f"of {' x '.join(axes)}; rows go to {str(csv_path)!r}")
+    t0 = time.perf_counter()
+    try:
+        rows = run_sweep(name, scenes, csv_path, workers=args.workers, progress=not args.quiet,
+                         resume=not args.no_resume)
+    except SceneError as exc:  # the CSV belongs to another sweep or cannot be written: before any work
+        raise CliError(str(exc)) from None
+    except KeyboardInterrupt:
+        print(f"contin: the finished combinations are in {str(csv_path)!r}; run the same command again to "
+              f"resume", file=sys.stderr)
+        raise
+    failed = [row for row in rows if row["failure"]]
+    say(f"swept {len(rows)} combinations in {time.perf_counter() - t0:.2f} s; wrote {str(csv_path)!r}")
+    if args.json:
+        print(json.dumps(_json_ready(rows), indent=2, allow_nan=False))
+        return 1 if failed else 0
+    table = []
+    for row in rows:
+        line: dict[str, Any] = {axis: _swept_cell(row[axis]) for axis in axes}
+        line["class"] = row["label"] or ("failed" if row["failure"] else "undecided")
+        line.update({k: v for k, v in row.items() if k.endswith("_norm") and k not in axes})
+        line["time_s"] = f"{row['wall_time_s']:.2f}" if row["wall_time_s"] is not None else ""
+        line["failure"] = row["failure"]
+        table.append(line)
+    print(format_table(table, title=f"classification sweep ({name}): {len(rows)} combinations, rows in "
+                                     f"{str(csv_path)!r}"))
+    counts: dict[str, int] = {}
+    for line in table:
+        counts[line["class"]] = counts.get(line["class"], 0) + 1
+    print("classes: " + ", ".join(f"{label} {n}" for label, n in counts.items()))
+    if failed:
+        print(f"status: failed - {len(failed)} of {len(rows)} combinations could not be classified "
+              f"(see the failure column)")
+        return 1
+    print(f"status: ok - all {len(rows)} combinations classified")
+    return 0
 
 
 # ---------------------------------------------------------------------------------------------------

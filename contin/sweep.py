@@ -1,0 +1,883 @@
+"""Sweeps: classify every combination of values of some scene keys, in parallel and resumably.
+
+A *sweep axis* is a scene key with a list of values, written ``section.key=SPEC`` (the argument of
+``contin classify --sweep``):
+
+- a comma list ``0.6,0.8,1.0`` (each value read like a ``--set`` value),
+- a range ``start:stop:count``: ``count`` evenly spaced values, both ends included,
+- a geometric range ``log:start:stop:count``.
+
+:func:`parse_sweep` reads one axis, :func:`sweep_scenes` resolves and validates the scene of every
+combination (the cartesian product, first axis slowest) exactly as ``contin classify --set`` would,
+and :func:`run_sweep` classifies them with the model's ``classify``, in worker processes, appending
+one CSV row per finished combination.  Rerun with the same CSV and the rows already there are
+reused: an interrupted sweep loses only the combinations that were running.
+
+The CSV has one row per combination.  Its columns are the swept keys (``section.key``), ``label``
+(the class; empty when undecided), the scalar values of the model's
+:class:`~contin.scene.Classification` (numbers, booleans; empty when absent), ``wall_time_s``,
+``failure`` (empty when the combination was classified) and ``scene`` (the resolved scene as
+compact JSON, so that every row says exactly what it was computed for).
+
+Nothing here knows about any particular model: models are found through the registry
+(:func:`contin.cli.load_model`) or passed as runner objects.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import itertools
+import json
+import math
+import multiprocessing
+import os
+import pickle
+import signal
+import sys
+import tempfile
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .scene import Classification, ModelRunner, SceneError, Schema, can_classify, format_toml_value, load_scene, \
+    parse_override
+
+__all__ = ["SweepError", "SWEEP_SYNTAX", "parse_sweep", "sweep_scenes", "run_sweep", "default_workers",
+           "read_sweep_csv"]
+
+#: How a sweep axis is written (quoted in error messages and in the help).
+SWEEP_SYNTAX = ("SPEC is a comma list of values (0.6,0.8,1.0), a range start:stop:count (count evenly spaced "
+                "values, both ends included, e.g. 0.6:1.2:4) or a geometric range log:start:stop:count "
+                "(e.g. log:0.005:0.05:5)")
+#: Largest number of combinations a sweep may have.
+MAX_COMBINATIONS = 1_000_000
+#: Columns of the CSV after the swept keys and the model's values (``label`` comes right after the keys).
+TAIL_COLUMNS = ("wall_time_s", "failure", "scene")
+#: Start of the ``failure`` of a combination whose worker process died; such rows are recomputed on resume.
+WORKER_DIED = "the worker process died"
+# BLAS and OpenMP thread counts of the worker processes: parallelism is over combinations
+_THREAD_ENV = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
+               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
+_STANDARD = ("label",) + TAIL_COLUMNS
+
+Scene = dict[str, dict[str, Any]]
+Combination = tuple[dict[str, Any], Scene]
+
+
+class SweepError(SceneError):
+    """Bad sweep input: a malformed axis, a combination out of range, or a CSV that belongs to another sweep.
+
+    A :class:`~contin.scene.SceneError`, so the command line reports it as bad input (exit status 2).
+    ``kind`` is ``"syntax"`` (the axis), ``"unknown"`` (the key), ``"type"``, ``"range"``,
+    ``"constraint"`` (a combination's scene) or ``"file"`` (the CSV).
+    """
+
+
+# ---------------------------------------------------------------------------------------------------
+# axes
+# ---------------------------------------------------------------------------------------------------
+def _show(value: Any) -> str:
+    """A value as written on the command line (floats shortened to 10 significant digits)."""
+    if isinstance(value, float):
+        text = f"{value:.10g}"
+        return text if any(c in text for c in ".ein") else text + ".0"
+    try:
+        return format_toml_value(value) if not isinstance(value, str) else value
+    except TypeError:
+        return repr(value)
+
+
+def _canonical(value: Any) -> tuple[str, Any]:
+    """What two values of a swept key must share to count as the same value (12 significant digits)."""
+    if isinstance(value, bool):
+        return ("b", value)
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return ("n", float(f"{float(value):.12g}"))
+    return ("s", str(value))
+
+
+def _number(text: str, name: str, bad: Callable[[str], SweepError]) -> int | float:
+    value = parse_override(f"{name}={text}")[2] if text.strip() else None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise bad(f"{text.strip()!r} is not a number")
+    return value
+
+
+def _range_values(name: str, raw: str, bad: Callable[[str], SweepError]) -> list[Any]:
+    parts = raw.split(":")
+    geometric = parts[0].strip().lower() == "log"
+    if geometric:
+        parts = parts[1:]
+    if len(parts) != 3:
+        raise bad("a range has three parts, start:stop:count" + (" after log:" if geometric else ""))
+    start, stop = (_number(p, name, bad) for p in parts[:2])
+    count = parse_override(f"{name}={parts[2]}")[2] if parts[2].strip() else None
+    if isinstance(count, bool) or not isinstance(count, int) or count < 2:
+        raise bad(f"the count {parts[2].strip()!r} must be an integer >= 2 (for one value, give just the value)")
+    if count > MAX_COMBINATIONS:
+        raise bad(f"the count {count} is more than {MAX_COMBINATIONS}")
+    if start == stop:
+        raise bad(f"start and stop are both {start}: the range would repeat one value")
+    if geometric:
+        if start <= 0 or stop <= 0:
+            raise bad("a geometric range needs start > 0 and stop > 0")
+        points = np.geomspace(float(start), float(stop), count)
+    else:
+        points = np.linspace(float(start), float(stop), count)
+    # 12 significant digits, so that 0.6:1.0:5 gives 0.7 and not 0.7000000000000001; the ends exactly as given
+    values: list[Any] = [float(f"{x:.12g}") for x in points]
+    values[0], values[-1] = float(start), float(stop)
+    integral = all(abs(v - round(v)) <= 1e-9 * max(1.0, abs(v)) for v in values)
+    if isinstance(start, int) and isinstance(stop, int) and integral:
+        values = [int(round(v)) for v in values]
+    return values
+
+
+def parse_sweep(spec: str, schema: Schema | None = None) -> tuple[str, list[Any]]:
+    """Read one sweep axis, ``section.key=SPEC``.
+
+    Parameters
+    ----------
+    spec : str
+        ``section.key=SPEC`` where SPEC is a comma list ``0.6,0.8,1.0`` (each value read as a
+        ``--set`` value: TOML, else a bare string), a range ``start:stop:count`` (``count`` evenly
+        spaced values, both ends included) or ``log:start:stop:count`` (geometric).  Inner points of
+        a range are rounded to 12 significant digits.  A range whose ends are integers and whose
+        points are all integers gives integers (``shell.N=40:100:4`` is 40, 60, 80, 100).
+    schema : Schema, optional
+        The model's schema.  With it the key must exist, a range of an integer key must give
+        integers, numbers for a float key become floats, and a boolean or string key cannot take a
+        range.  The values themselves are checked by :func:`sweep_scenes`.
+
+    Returns
+    -------
+    name : str
+        ``"section.key"``.
+    values : list
+        The values, in the order given.
+
+    Raises
+    ------
+    SweepError
+        One paragraph naming the key and the allowed syntax, for a malformed SPEC, a repeated value,
+        or (with ``schema``) an unknown key or a range that does not fit the key's type.
+    """
+    name, sep, raw = spec.partition("=")
+    name, raw = name.strip(), raw.strip()
+    section, dot, key = name.partition(".")
+    if not sep or not dot or not section or not key or "." in key or not raw:
+        raise SweepError(f"bad --sweep argument {spec!r}: expected section.key=SPEC, where {SWEEP_SYNTAX}", "syntax")
+
+    def bad(why: str) -> SweepError:
+        return SweepError(f"bad --sweep {name}={raw}: {why}; {SWEEP_SYNTAX}", "syntax")
+
+    field = None
+    if schema is not None:
+        if section not in schema.sections:
+            raise SweepError(f"unknown scene section [{section}] in --sweep {spec}; allowed sections: "
+                             f"{', '.join(f'[{s}]' for s in schema.sections)}", "unknown")
+        if key not in schema.sections[section]:
+            raise SweepError(f"unknown scene key {name} in --sweep {spec}; section [{section}] allows: "
+                             f"{', '.join(schema.sections[section]) or '(none)'}", "unknown")
+        field = schema.field(section, key)
+
+    if ":" in raw:
+        if field is not None and field.type not in (int, float):
+            raise bad(f"{name} takes {field.allowed}, and only a numeric key takes a range: list its values")
+        values = _range_values(name, raw, bad)
+        if field is not None and field.type is int and not all(isinstance(v, int) for v in values):
+            odd = next(v for v in values if not (isinstance(v, float) and v.is_integer()) and not isinstance(v, int))
+            raise bad(f"{name} takes integers, but this range gives {odd:g}; choose start, stop and count so that "
+                      f"every value is an integer (e.g. 40:100:4), or list the values")
+    else:
+        values = []
+        for item in raw.split(","):
+            if not item.strip():
+                raise bad("an empty value in the list")
+            value = parse_override(f"{name}={item}")[2]
+            if isinstance(value, (list, dict)) or not isinstance(value, (bool, int, float, str)):
+                raise bad(f"{item.strip()!r} is not a single value")
+            values.append(value)
+    if field is not None and field.type is float:
+        values = [float(v) if isinstance(v, int) and not isinstance(v, bool) else v for v in values]
+    seen: set[tuple[str, Any]] = set()
+    for v in values:
+        if _canonical(v) in seen:
+            raise bad(f"the value {_show(v)} is given twice")
+        seen.add(_canonical(v))
+    return name, values
+
+
+def sweep_scenes(schema: Schema, axes: Sequence[tuple[str, Sequence[Any]]], path: str | Path | None = None,
+                 overrides: Iterable[str] = ()) -> list[Combination]:
+    """Resolve and validate the scene of every combination of the axes.
+
+    Each scene is what ``load_scene(schema, path, [*overrides, "section.key=value", ...])`` gives,
+    so it is resolved and checked exactly as ``contin classify --set`` would resolve it; every
+    combination is checked before the function returns, so a bad value is reported before any work.
+
+    Parameters
+    ----------
+    schema : Schema
+        The model's scene schema.
+    axes : sequence of (str, sequence)
+        ``(section.key, values)`` per axis, as :func:`parse_sweep` returns them.
+    path : str or Path, optional
+        A TOML scene file (a swept key may also be set there; the sweep's values replace it).
+    overrides : iterable of str
+        ``section.key=value`` settings for every combination (``--set``); a swept key may not be among them.
+
+    Returns
+    -------
+    list of (dict, dict)
+        Per combination, in cartesian-product order (first axis slowest): the swept values by
+        ``section.key`` (converted to the keys' types, as in the scene), and the resolved scene.
+
+    Raises
+    ------
+    SweepError
+        A key swept twice or also given by ``--set``, no axis, too many combinations, or a
+        combination whose scene is invalid (the message names the field, the value and what is
+        allowed, and the combination).
+    SceneError
+        When the scene without the sweep (file and overrides) is already invalid.
+    """
+    overrides = list(overrides)
+    names = [name for name, _ in axes]
+    if not names:
+        raise SweepError("a sweep needs at least one axis (--sweep section.key=SPEC)", "syntax")
+    for name in names:
+        if names.count(name) > 1:
+            raise SweepError(f"{name} is swept twice; give one --sweep per key ({SWEEP_SYNTAX})", "syntax")
+    fixed = {".".join(parse_override(item)[:2]) for item in overrides}
+    for name in names:
+        if name in fixed:
+            raise SweepError(f"{name} is given both by --set and by --sweep; drop one of them", "syntax")
+    total = math.prod(len(values) for _, values in axes)
+    if total == 0:
+        empty = next(name for name, values in axes if not len(values))
+        raise SweepError(f"the sweep of {empty} has no values; {SWEEP_SYNTAX}", "syntax")
+    if total > MAX_COMBINATIONS:
+        raise SweepError(f"the sweep has {total} combinations ({' x '.join(str(len(v)) for _, v in axes)}); at "
+                         f"most {MAX_COMBINATIONS} are allowed", "syntax")
+    load_scene(schema, path, overrides)  # the part every combination shares: its errors are plain scene errors
+    out: list[Combination] = []
+    for combo in itertools.product(*(values for _, values in axes)):
+        try:
+            items = [f"{name}={format_toml_value(value)}" for name, value in zip(names, combo)]
+        except TypeError:
+            raise SweepError(f"a swept value in {', '.join(map(repr, combo))} is not a scalar", "type") from None
+        try:
+            scene = load_scene(schema, path, [*overrides, *items])
+        except SceneError as exc:
+            message = str(exc)
+            for name, item in zip(names, items):
+                message = message.replace(f"(from --set {item})", f"(a value of --sweep {name})")
+            where = ", ".join(f"{name}={_show(v)}" for name, v in zip(names, combo))
+            raise SweepError(f"{message} (in the sweep combination {where})", exc.kind) from None
+        values = {name: scene[name.split(".")[0]][name.split(".")[1]] for name in names}
+        out.append((values, scene))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------------
+# CSV
+# ---------------------------------------------------------------------------------------------------
+def _cell_text(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value)) if math.isfinite(value) else ""
+    if isinstance(value, dict):
+        return json.dumps(value, separators=(",", ":"), allow_nan=False)
+    return str(value)
+
+
+def _parse_cell(text: str) -> Any:
+    if text == "":
+        return None
+    if text in ("true", "false"):
+        return text == "true"
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def _parse_row(raw: dict[str, str], columns: Sequence[str], n_axes: int,
+               axis_types: dict[str, type] | None = None) -> dict[str, Any]:
+    """A CSV row as :func:`run_sweep` returns rows: typed values, ``label`` None when empty.
+
+    ``axis_types`` gives the type of each swept key's values (a string key's ``"1"`` stays a string).
+    """
+    row: dict[str, Any] = {}
+    for i, col in enumerate(columns):
+        text = raw[col]
+        if axis_types is not None and axis_types.get(col) is str:
+            row[col] = text
+        elif col == "label":
+            row[col] = text or None
+        elif col == "failure":
+            row[col] = text
+        elif col == "scene":
+            row[col] = json.loads(text)
+        elif i < n_axes or col not in _STANDARD:
+            row[col] = _parse_cell(text)
+        else:
+            row[col] = float(text) if text else None
+    return row
+
+
+def _csv_line(columns: Sequence[str], row: dict[str, Any]) -> str:
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow([_cell_text(row.get(c)) for c in columns])
+    return buf.getvalue()
+
+
+def _fixed_part(scene: Scene, axes: Sequence[str]) -> Scene:
+    swept = {tuple(a.split(".", 1)) for a in axes}
+    return {sec: {k: v for k, v in keys.items() if (sec, k) not in swept} for sec, keys in scene.items()}
+
+
+def _first_difference(a: Scene, b: Scene) -> str:
+    for sec in sorted(set(a) | set(b)):
+        for key in sorted(set(a.get(sec, {})) | set(b.get(sec, {}))):
+            va, vb = a.get(sec, {}).get(key, "(absent)"), b.get(sec, {}).get(key, "(absent)")
+            if va != vb:
+                shown = [format_toml_value(v) if isinstance(v, str) and v != "(absent)" else _show(v) for v in (va, vb)]
+                return f"{sec}.{key} = {shown[0]} there, {shown[1]} in this sweep"
+    return "the scenes differ"
+
+
+def _starts_afresh() -> str:
+    return "write to another file (--csv PATH), delete it, or start afresh with --no-resume, which overwrites it"
+
+
+def read_sweep_csv(path: str | Path) -> tuple[list[str], list[dict[str, Any]]]:
+    """Read a sweep CSV written by :func:`run_sweep`.
+
+    Returns
+    -------
+    columns : list of str
+        The header.
+    rows : list of dict
+        Typed rows (numbers, booleans, None for empty cells; ``scene`` as a dict), in file order.
+        A last line cut short by an interrupted write is left out.
+
+    Raises
+    ------
+    SweepError
+        If the file cannot be read or is not a sweep CSV (the message names the file).
+    """
+    path = Path(path)
+    columns, rows, _ = _read_csv(path)
+    if columns is None:
+        return [], []
+    n_axes = columns.index("label")
+    out = []
+    for lineno, raw in enumerate(rows, start=2):
+        try:
+            out.append(_parse_row(raw, columns, n_axes))
+        except ValueError:
+            raise SweepError(f"line {lineno} of the sweep CSV {str(path)!r} cannot be read (its wall time or scene "
+                             f"is damaged)", "file") from None
+    return columns, out
+
+
+def _read_csv(path: Path) -> tuple[list[str] | None, list[dict[str, str]], bool]:
+    """Header, raw rows, and whether an unfinished last line was dropped."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise SweepError(f"cannot read the sweep CSV {str(path)!r}: {why}", "file") from None
+    cut = bool(text) and not text.endswith("\n")
+    if cut:  # a row whose write was interrupted: it is recomputed
+        text = text[: text.rfind("\n") + 1]
+    records = list(csv.reader(io.StringIO(text)))
+    if not records:
+        return None, [], cut
+    header = records[0]
+    tail = list(TAIL_COLUMNS)
+    if ("label" not in header or header[-len(tail):] != tail or len(set(header)) != len(header)
+            or header.index("label") == 0):
+        raise SweepError(f"{str(path)!r} is not a sweep CSV written by contin classify (its columns are "
+                         f"{', '.join(header[:8])}{', ...' if len(header) > 8 else ''}); {_starts_afresh()}", "file")
+    rows = []
+    for lineno, rec in enumerate(records[1:], start=2):
+        if len(rec) != len(header):
+            raise SweepError(f"line {lineno} of the sweep CSV {str(path)!r} has {len(rec)} fields, the header "
+                             f"{len(header)}; delete that line (it is recomputed) or {_starts_afresh()}", "file")
+        rows.append(dict(zip(header, rec)))
+    return header, rows, cut
+
+
+class _CsvStore:
+    """The sweep's CSV: reads what a previous run left, then appends one flushed row per combination."""
+
+    def __init__(self, path: str | Path, axes: list[str], combos: Sequence[Combination], resume: bool) -> None:
+        self.path = Path(path)
+        self.axes = axes
+        self.columns: list[str] | None = None
+        self.resumed: dict[int, dict[str, Any]] = {}
+        self.extra: list[dict[str, Any]] = []  # rows for other values of the same axes: kept in the file
+        self.written: list[dict[str, Any]] = []  # every row now in the file, in file order
+        self._fh: io.TextIOWrapper | None = None
+        if self.path.is_dir():
+            raise SweepError(f"the sweep CSV {str(self.path)!r} is a directory; give a file name", "file")
+        rewrite = False
+        if resume and self.path.exists():
+            rewrite = self._load(combos)
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            if rewrite:
+                self._rewrite(self.written)
+            self._fh = open(self.path, "a" if resume and self.columns else "w", encoding="utf-8", newline="")
+        except OSError as exc:
+            raise SweepError(f"cannot write the sweep CSV {str(self.path)!r}: {exc.strerror or exc}", "file") from None
+
+    def _load(self, combos: Sequence[Combination]) -> bool:
+        header, raw_rows, rewrite = _read_csv(self.path)
+        if header is None:
+            return rewrite
+        n = header.index("label")
+        if header[:n] != self.axes:
+            raise SweepError(f"the sweep CSV {str(self.path)!r} holds a sweep over {', '.join(header[:n])}, and this "
+                             f"sweep is over {', '.join(self.axes)}; {_starts_afresh()}", "file")
+        fixed = _fixed_part(combos[0][1], self.axes)
+        index = {tuple(_canonical(v) for v in values.values()): i for i, (values, _) in enumerate(combos)}
+        for lineno, raw in enumerate(raw_rows, start=2):
+            try:
+                row = _parse_row(raw, header, n, {a: type(v) for a, v in combos[0][0].items()})
+            except ValueError:
+                raise SweepError(f"line {lineno} of the sweep CSV {str(self.path)!r} cannot be read (its wall time or "
+                                 f"scene is damaged); delete that line (it is recomputed) or {_starts_afresh()}",
+                                 "file") from None
+            if not isinstance(row["scene"], dict) or _fixed_part(row["scene"], self.axes) != fixed:
+                theirs = row["scene"] if isinstance(row["scene"], dict) else {}
+                raise SweepError(f"the sweep CSV {str(self.path)!r} holds results for another scene "
+                                 f"({_first_difference(_fixed_part(theirs, self.axes), fixed)}, line {lineno}); "
+                                 f"{_starts_afresh()}", "file")
+            i = index.get(tuple(_canonical(row[a]) for a in self.axes))
+            if i is None:
+                self.extra.append(row)
+            elif str(row["failure"]).startswith(WORKER_DIED):
+                rewrite = True  # not a result of the combination: computed again
+            else:
+                rewrite = rewrite or i in self.resumed
+                self.resumed[i] = row  # the last row of a combination counts
+        self.columns = list(header)
+        self.written = [*self.extra, *self.resumed.values()]
+        return rewrite or len(self.written) != len(raw_rows)
+
+    def _rewrite(self, rows: Sequence[dict[str, Any]]) -> None:
+        """Replace the file by ``rows`` under ``self.columns``, atomically (temporary file, then rename)."""
+        if self.columns is None:
+            return
+        if self._fh is not None:
+            self._fh.close()
+            self._fh = None
+        mode = self.path.stat().st_mode & 0o777 if self.path.exists() else None
+        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=f".{self.path.name}.", suffix=".tmp")
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+                fh.write(_csv_line(self.columns, {c: c for c in self.columns}))
+                for row in rows:
+                    fh.write(_csv_line(self.columns, row))
+            if mode is None:
+                umask = os.umask(0)
+                os.umask(umask)
+                mode = 0o666 & ~umask
+            os.chmod(tmp, mode)
+            os.replace(tmp, self.path)
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+
+    def append(self, row: dict[str, Any]) -> None:
+        """Write one row and flush it; extend the header (rewriting the file) if the row has new columns."""
+        new = [k for k in row if k not in (self.columns or ()) and k not in self.axes and k not in _STANDARD]
+        self.written.append(row)
+        if self.columns is None:
+            self.columns = [*self.axes, "label", *new, *TAIL_COLUMNS]
+            assert self._fh is not None
+            self._fh.write(_csv_line(self.columns, {c: c for c in self.columns}))
+        elif new:
+            self.columns = [*self.columns[:-len(TAIL_COLUMNS)], *new, *TAIL_COLUMNS]
+            self._rewrite(self.written)
+            self._fh = open(self.path, "a", encoding="utf-8", newline="")
+            return
+        assert self._fh is not None
+        self._fh.write(_csv_line(self.columns, row))
+        self._fh.flush()
+
+    def finish(self, rows: Sequence[dict[str, Any]], columns: list[str]) -> None:
+        """Rewrite the file in combination order with the final columns (the rows are all there already)."""
+        self.columns = columns
+        self._rewrite([*rows, *self.extra])
+
+    def close(self) -> None:
+        if self._fh is not None:
+            self._fh.close()
+            self._fh = None
+
+
+# ---------------------------------------------------------------------------------------------------
+# classifying one combination (in this process or in a worker)
+# ---------------------------------------------------------------------------------------------------
+def _engine_failures() -> tuple[type[BaseException], ...]:
+    from .jump import JumpError
+    from .linalg import SingularMatrixError
+    from .palc import CorrectorFailure
+    from .problem import NonFiniteError
+
+    return (CorrectorFailure, NonFiniteError, JumpError, SingularMatrixError, np.linalg.LinAlgError)
+
+
+def _one_line(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {' '.join(str(exc).split())}"
+
+
+def _scalar_values(values: dict[str, Any]) -> dict[str, Any]:
+    """The values fit for a CSV column: numbers, booleans and None (strings, lists and tables are left out)."""
+    out: dict[str, Any] = {}
+    for key, v in values.items():
+        if v is None or isinstance(v, (bool, np.bool_)):
+            out[str(key)] = None if v is None else bool(v)
+        elif isinstance(v, (int, np.integer)):
+            out[str(key)] = int(v)
+        elif isinstance(v, (float, np.floating)):
+            out[str(key)] = float(v) if math.isfinite(v) else None
+    return out
+
+
+_Outcome = tuple[str | None, dict[str, Any], str, float]  # label, scalar values, failure, wall time
+
+
+def _classify_safely(runner: Any, scene: Scene) -> _Outcome:
+    """Classify one scene; every failure becomes the ``failure`` text, never an exception (but an interrupt)."""
+    t0 = time.perf_counter()
+    label: str | None = None
+    values: dict[str, Any] = {}
+    try:
+        result = runner.classify(scene, False)
+        if not isinstance(result, Classification):
+            failure = (f"internal error: classify() of {getattr(runner, 'name', 'the model')!r} returned "
+                       f"{type(result).__name__}, expected Classification")
+        else:
+            label, values = result.label, _scalar_values(result.values)
+            failure = "" if result.success else " ".join(result.message.split())
+    except SceneError as exc:
+        failure = f"the model rejected this scene: {' '.join(str(exc).split())}"
+    except _engine_failures() as exc:
+        failure = f"run failed: {_one_line(exc)}"
+    except Exception as exc:  # a bug in the model or in contin: reported in the row, the sweep goes on
+        failure = f"internal error: {_one_line(exc)}"
+    return label, values, failure, time.perf_counter() - t0
+
+
+def _load_runner(name: str) -> ModelRunner:
+    from . import cli  # the registry; looked up at call time (cli imports this module)
+
+    return cli.load_model(name)
+
+
+_WORKER: dict[str, Any] = {}
+
+
+def _init_worker(model: str | bytes) -> None:
+    """Initializer of a worker process: one BLAS thread, Ctrl-C left to the parent, the model loaded."""
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        if hasattr(signal, "pthread_sigmask"):
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    except (ValueError, OSError):
+        pass
+    for var in _THREAD_ENV:
+        os.environ[var] = "1"
+    try:
+        _WORKER["runner"] = _load_runner(model) if isinstance(model, str) else pickle.loads(model)
+    except BaseException as exc:  # reported with every combination, never a traceback from the pool
+        _WORKER["error"] = _one_line(exc)
+
+
+def _classify_in_worker(scene: Scene) -> _Outcome:
+    if "error" in _WORKER:
+        return None, {}, f"the model could not be loaded in the worker process: {_WORKER['error']}", 0.0
+    return _classify_safely(_WORKER["runner"], scene)
+
+
+# ---------------------------------------------------------------------------------------------------
+# the pool
+# ---------------------------------------------------------------------------------------------------
+@contextmanager
+def _spawning() -> Iterator[None]:
+    """Around starting worker processes: they inherit one BLAS thread and a blocked SIGINT.
+
+    The environment variables must be in place before a worker imports numpy, which happens before
+    its initializer runs; the blocked SIGINT keeps a Ctrl-C during a worker's start-up from printing
+    a traceback there (the initializer then ignores SIGINT; the parent handles it).
+    """
+    saved = {var: os.environ.get(var) for var in _THREAD_ENV}
+    os.environ.update(dict.fromkeys(_THREAD_ENV, "1"))
+    mask = hasattr(signal, "pthread_sigmask") and threading.current_thread() is threading.main_thread()
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if mask else None
+    try:
+        yield
+    finally:
+        if mask:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        for var, value in saved.items():
+            if value is None:
+                os.environ.pop(var, None)
+            else:
+                os.environ[var] = value
+
+
+def _stop(executor: ProcessPoolExecutor) -> None:
+    """Stop the workers now (an interrupt): pending work is cancelled, running work is killed."""
+    terminate = getattr(executor, "terminate_workers", None)  # Python >= 3.14
+    if terminate is not None:
+        terminate()
+        return
+    processes = list((getattr(executor, "_processes", None) or {}).values())
+    for p in processes:
+        if p.is_alive():
+            p.terminate()
+    executor.shutdown(wait=False, cancel_futures=True)
+    for p in processes:
+        p.join(timeout=5)
+
+
+def _pool_round(model_ref: str | bytes, queue: deque[int], scenes: Sequence[Combination], workers: int,
+                record: Callable[[int, _Outcome], None]) -> list[int]:
+    """Classify the queue on a pool of ``workers`` processes until it is empty or the pool breaks.
+
+    At most ``workers`` combinations are in flight, so when a worker dies the suspects are known:
+    they are returned (the rest stays in ``queue``).
+    """
+    executor = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_init_worker, initargs=(model_ref,))
+    inflight: dict[Future, int] = {}
+    broken: list[int] = []
+    try:
+        while queue or inflight:
+            while queue and len(inflight) < workers and not broken:
+                i = queue.popleft()
+                try:
+                    with _spawning():
+                        inflight[executor.submit(_classify_in_worker, scenes[i][1])] = i
+                except BrokenProcessPool:
+                    queue.appendleft(i)
+                    broken.append(-1)
+            if not inflight:
+                break
+            done, _ = wait(inflight, return_when=FIRST_COMPLETED)
+            for fut in done:
+                i = inflight.pop(fut)
+                try:
+                    outcome = fut.result()
+                except BrokenProcessPool:
+                    broken.append(i)
+                    continue
+                record(i, outcome)
+        executor.shutdown(wait=True)
+    except BaseException:
+        _stop(executor)
+        raise
+    return [i for i in broken if i >= 0]
+
+
+def _run_parallel(model_ref: str | bytes, todo: list[int], scenes: Sequence[Combination], workers: int,
+                  record: Callable[[int, _Outcome], None]) -> None:
+    queue = deque(todo)
+    while queue:
+        suspects = deque(_pool_round(model_ref, queue, scenes, workers, record))
+        # one at a time, so that a combination that kills its worker is the one named
+        while suspects:
+            for i in _pool_round(model_ref, suspects, scenes, 1, record):
+                record(i, (None, {}, f"{WORKER_DIED} while classifying this combination (killed, out of memory, "
+                                     f"or a crash in compiled code); it is computed again on resume", 0.0))
+
+
+def default_workers() -> int:
+    """The number of CPUs this process may use (at least 1)."""
+    count = getattr(os, "process_cpu_count", None)
+    if count is not None:
+        return max(1, count() or 1)
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return max(1, os.cpu_count() or 1)
+
+
+# ---------------------------------------------------------------------------------------------------
+# the sweep
+# ---------------------------------------------------------------------------------------------------
+def _duration(seconds: float) -> str:
+    if seconds < 60:
+        return f"{seconds:.0f} s" if seconds >= 10 else f"{seconds:.1f} s"
+    if seconds < 3600:
+        return f"{int(seconds // 60)} min {int(seconds % 60):02d} s"
+    return f"{int(seconds // 3600)} h {int(seconds % 3600 // 60):02d} min"
+
+
+def _make_row(values: dict[str, Any], scene: Scene, outcome: _Outcome) -> dict[str, Any]:
+    label, model_values, failure, wall = outcome
+    row: dict[str, Any] = dict(values)
+    row["label"] = label
+    for key, v in model_values.items():
+        if key not in row and key not in _STANDARD:
+            row[key] = v
+    row["wall_time_s"] = wall
+    row["failure"] = failure
+    row["scene"] = scene
+    return row
+
+
+def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path: str | Path | None = None,
+              workers: int | None = None, progress: bool = True, resume: bool = True) -> list[dict[str, Any]]:
+    """Classify every combination of a sweep, in parallel, writing each row to a CSV as it finishes.
+
+    Parameters
+    ----------
+    model : str or ModelRunner
+        A registered model's name (worker processes load it through the registry) or a runner that
+        can classify (sent to the workers by pickling: its functions must be importable).
+    scenes : sequence of (dict, dict)
+        The combinations, as :func:`sweep_scenes` returns them: the swept values by ``section.key``
+        and the resolved scene.
+    csv_path : str or Path, optional
+        The results file.  Each finished row is appended and flushed at once (the header is written
+        with the first row).  When the file exists and ``resume`` is true, the rows it holds for
+        combinations of this sweep are reused, not recomputed (matched on the swept values to 12
+        significant digits); rows of other values of the same keys are kept.  Rows whose worker
+        died are computed again.  When the sweep is complete, the file is rewritten in combination
+        order (atomically).  Without ``csv_path`` nothing is written.
+    workers : int, optional
+        Worker processes (default: the CPUs available, :func:`default_workers`).  With 1, or with one
+        combination to compute, the combinations are classified in this process.  Workers run with
+        one BLAS/OpenMP thread each.
+    progress : bool
+        Print one line per finished combination to stderr (with the class, the time and an estimate
+        of the time left), and how many rows were resumed.
+    resume : bool
+        Reuse the rows of an existing ``csv_path``; False overwrites the file.
+
+    Returns
+    -------
+    list of dict
+        One row per combination, in the order of ``scenes``: the swept keys, ``label`` (None when
+        undecided or failed), every scalar value of the model's classification (the union over the
+        rows; None where a row has none), ``wall_time_s``, ``failure`` (empty when classified) and
+        ``scene``.
+
+    Raises
+    ------
+    SweepError
+        When ``csv_path`` belongs to another sweep (other keys, or another scene for the keys not
+        swept), cannot be read or written, or when the model cannot classify.
+    KeyboardInterrupt
+        On Ctrl-C: the workers are stopped; the rows written so far stay in the CSV.
+
+    Notes
+    -----
+    A combination that fails (no class decided, a numerical failure, an exception in the model)
+    is a row with ``failure`` set; a worker that dies costs only the combination it was running.
+    The environment variables of the BLAS thread counts are set to 1 in this process while it
+    starts the workers, and restored afterwards.
+    """
+    scenes = list(scenes)
+    if not scenes:
+        return []
+    workers = default_workers() if workers is None else int(workers)
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    runner = _load_runner(model) if isinstance(model, str) else model
+    name = model if isinstance(model, str) else getattr(runner, "name", type(runner).__name__)
+    if not can_classify(runner):
+        raise SweepError(f"model {name!r} cannot classify: it provides no classification", "unknown")
+    axes = list(scenes[0][0])
+    total = len(scenes)
+    say = (lambda msg: print(f"contin: {msg}", file=sys.stderr, flush=True)) if progress else (lambda msg: None)
+
+    store = _CsvStore(csv_path, axes, scenes, resume) if csv_path is not None else None
+    rows: list[dict[str, Any] | None] = [None] * total
+    try:
+        if store is not None:
+            for i, row in store.resumed.items():
+                rows[i] = row
+        todo = [i for i in range(total) if rows[i] is None]
+        n_workers = min(workers, len(todo))
+        if store is not None and store.resumed:
+            say(f"resumed {len(store.resumed)} of {total} combinations from {str(store.path)!r}")
+        if todo:
+            where = f"on {n_workers} worker processes" if n_workers > 1 else "in this process"
+            say(f"classifying {len(todo)} of {total} combinations {where}")
+
+        t_start = time.perf_counter()
+        computed = 0
+
+        def record(i: int, outcome: _Outcome) -> None:
+            nonlocal computed
+            values, scene = scenes[i]
+            row = _make_row(values, scene, outcome)
+            rows[i] = row
+            if store is not None:
+                store.append(row)
+            computed += 1
+            done = total - len(todo) + computed
+            left = len(todo) - computed
+            eta = (time.perf_counter() - t_start) / computed * left
+            what = row["label"] if not row["failure"] else f"no class: {row['failure']}"
+            if len(what) > 160:
+                what = what[:157] + "..."
+            combo = " ".join(f"{k}={_show(v)}" for k, v in values.items())
+            say(f"[{done}/{total}] {combo} -> {what} ({row['wall_time_s']:.2f} s"
+                f"{'; ETA ' + _duration(eta) if left else ''})")
+
+        if n_workers > 1:
+            if isinstance(model, str):
+                ref: str | bytes = model
+            else:
+                try:
+                    ref = pickle.dumps(runner)
+                except Exception as exc:
+                    raise TypeError(f"the model {name!r} cannot be sent to worker processes ({_one_line(exc)}); "
+                                    f"pass its registered name, or workers=1") from None
+            _run_parallel(ref, todo, scenes, n_workers, record)
+        else:
+            for i in todo:
+                record(i, _classify_safely(runner, scenes[i][1]))
+
+        columns = [*axes, "label"]
+        for row in rows:
+            assert row is not None
+            columns += [k for k in row if k not in columns and k not in TAIL_COLUMNS]
+        columns += list(TAIL_COLUMNS)
+        out = [{c: row.get(c) for c in columns} for row in rows if row is not None]
+        if store is not None:
+            try:
+                store.finish(out, columns)
+            except OSError as exc:  # every row is in the file already, in completion order
+                say(f"warning: could not put {str(store.path)!r} in combination order: {exc.strerror or exc}")
+        return out
+    finally:
+        if store is not None:
+            store.close()
