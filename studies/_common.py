@@ -1,0 +1,140 @@
+"""What every study shares: its command line, its output directory and how results are written.
+
+A study is run as ``python -m studies.<name> [--out DIR] [--full]``: fast by default (under a minute
+on a laptop-class core), faithful to the paper with ``--full``.  It writes its figures as PNG and PDF,
+its data as CSV and a ``summary.json``, and prints a short table.  Every file is written to a temporary
+name in the output directory and moved into place when complete, so an interrupted study never leaves
+a half-written file behind.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+import tempfile
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["study_parser", "output_dir", "save_figure", "write_csv", "write_json", "json_ready",
+           "print_table", "shell_lambda", "say"]
+
+
+def study_parser(name: str, description: str) -> argparse.ArgumentParser:
+    """The command line shared by the studies: ``--out DIR`` (default ``out/<name>``) and ``--full``."""
+    parser = argparse.ArgumentParser(prog=f"python -m studies.{name}", description=description)
+    parser.add_argument("--out", default=os.path.join("out", name), metavar="DIR",
+                        help=f"output directory (default: out/{name})")
+    parser.add_argument("--full", action="store_true",
+                        help="the paper's resolution (N = 200, fine sweeps); slower")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress lines on stderr")
+    return parser
+
+
+def output_dir(path: str | os.PathLike) -> Path:
+    """Create the output directory (and parents); a clear error if that is impossible."""
+    out = Path(path)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SystemExit(f"error: cannot create the output directory {str(out)!r}: {exc.strerror or exc}")
+    return out
+
+
+def _atomic_write(path: Path, write: Any, mode: str = "w") -> Path:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, mode, **({"newline": ""} if "b" not in mode else {})) as fh:
+            write(fh)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def json_ready(obj: Any) -> Any:
+    """``obj`` with numpy scalars and arrays made plain, and NaN or infinity made None (JSON has neither)."""
+    if isinstance(obj, dict):
+        return {str(k): json_ready(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_ready(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return json_ready(obj.tolist())
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    return obj
+
+
+def write_json(path: str | os.PathLike, doc: dict[str, Any]) -> Path:
+    """Write ``doc`` as indented JSON (atomically)."""
+    text = json.dumps(json_ready(doc), indent=2, allow_nan=False)
+    return _atomic_write(Path(path), lambda fh: fh.write(text + "\n"))
+
+
+def write_csv(path: str | os.PathLike, rows: Sequence[dict[str, Any]], columns: Sequence[str] | None = None) -> Path:
+    """Write rows (dicts) as CSV with a header, floats in full precision, None as an empty cell."""
+    cols = list(columns) if columns is not None else list(dict.fromkeys(k for r in rows for k in r))
+
+    def cell(v: Any) -> Any:
+        v = json_ready(v)
+        return "" if v is None else (repr(v) if isinstance(v, float) else v)
+
+    def write(fh: Any) -> None:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        for r in rows:
+            w.writerow([cell(r.get(c)) for c in cols])
+    return _atomic_write(Path(path), write)
+
+
+def save_figure(fig: Any, out: str | os.PathLike, stem: str) -> list[Path]:
+    """Save a matplotlib figure as ``<stem>.png`` and ``<stem>.pdf`` in ``out`` (atomically) and close it."""
+    import matplotlib.pyplot as plt
+
+    paths = []
+    for ext, kw in (("png", {"dpi": 150}), ("pdf", {})):
+        path = Path(out) / f"{stem}.{ext}"
+        _atomic_write(path, lambda fh: fig.savefig(fh, format=ext, bbox_inches="tight", **kw), mode="wb")
+        paths.append(path)
+    plt.close(fig)
+    return paths
+
+
+def print_table(rows: Iterable[dict[str, Any]], columns: Sequence[str], digits: int = 6,
+                file: Any = None) -> None:
+    """Print rows as an aligned plain-text table (floats with ``digits`` significant digits)."""
+    def fmt(v: Any) -> str:
+        if v is None:
+            return "-"
+        if isinstance(v, (float, np.floating)):
+            return f"{float(v):.{digits}g}"
+        return str(v)
+    body = [[fmt(r.get(c)) for c in columns] for r in rows]
+    widths = [max([len(c)] + [len(b[i]) for b in body]) for i, c in enumerate(columns)]
+    out = file or sys.stdout
+    print("  ".join(c.ljust(w) for c, w in zip(columns, widths)), file=out)
+    for b in body:
+        print("  ".join(x.ljust(w) for x, w in zip(b, widths)), file=out)
+
+
+def shell_lambda(phi_hat: float | np.ndarray, h_over_R: float | np.ndarray, nu: float = 0.5) -> Any:
+    """Shell depth parameter ``lambda = (12 (1 - nu^2))^(1/4) (pi/2 - phi_hat) sqrt(R/h)`` (physics.md section 1)."""
+    return (12.0 * (1.0 - nu * nu)) ** 0.25 * (math.pi / 2 - np.asarray(phi_hat)) / np.sqrt(np.asarray(h_over_R))
+
+
+def say(quiet: bool, msg: str) -> None:
+    """A progress line on stderr unless ``quiet``."""
+    if not quiet:
+        print(msg, file=sys.stderr, flush=True)
