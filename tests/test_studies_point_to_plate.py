@@ -1,0 +1,112 @@
+"""``python -m studies.point_to_plate`` (paper figure 12), fast mode, end to end.
+
+The study runs once (module fixture) into a temporary directory.  Its point limit is checked against
+the falling zero of F traced here directly on :class:`models.shell.problem.ShellPointLoad` (no scene
+code) and against the point scene's ``w_c_one_sided``; its finite indenters against what holds
+without the paper: a small sphere touches the pole at the snap, so it snaps where the point does;
+the pole sits where the indenter is plus the gap; and the bounds verdict in ``summary.json`` against
+the numbers of ``fig12.csv``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import contin
+from contin.scene import load_scene
+from models.shell.problem import ShellPointLoad
+from models.shell.scene import SHELL_SCENE, SHELL_SCHEMA
+from studies import point_to_plate as study
+
+
+@pytest.fixture(scope="module")
+def result(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, dict[str, Any], list[dict[str, Any]]]:
+    out = tmp_path_factory.mktemp("point_to_plate")
+    rc = study.main(["--out", str(out), "--quiet"])
+    with open(out / "fig12.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    return out, rc, json.loads((out / "summary.json").read_text()), rows
+
+
+def _num(row: dict[str, str], key: str) -> float:
+    return float(row[key])
+
+
+def test_writes_every_file(result) -> None:
+    out, rc, summary, rows = result
+    assert rc == 0
+    png, pdf = out / "fig12.png", out / "fig12.pdf"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
+    assert pdf.read_bytes()[:5] == b"%PDF-"
+    assert summary["mode"] == "fast" and summary["N"] == study.N_FAST
+    assert [r["indenter"] for r in rows] == ["point"] + ["sphere"] * len(study.RADII_FAST) + ["plate"]
+    assert [_num(r, "r_over_R") for r in rows[1:-1]] == list(study.RADII_FAST)
+
+
+def test_point_limit_is_the_first_falling_zero_of_the_point_force(result) -> None:
+    _, _, summary, rows = result
+    N = summary["N"]
+    # directly on the problem: displacement control from the reference state to the first F = 0 going down
+    P = ShellPointLoad(R=1.0, phi_hat=study.PHI_HAT, h=study.H_OVER_R, N=N)
+    st = contin.Settings(ds=0.005, ds_max=0.01, ds_min=1e-12, state_weight=1.0, param_weight=1.0, max_steps=2000,
+                         stability=False)
+    br = contin.continuation(P, P.reference_unknowns(), 0.0, st, p_max=1.0,
+                             events=[contin.crossing("F", 0.0, direction=-1, terminal=True, name="F = 0")])
+    assert br.status == "event", br.message
+    zero = br.special_points[-1]
+    assert zero.label == "F = 0" and zero.located
+    # no fold in w before it (the one-sided point would otherwise snap there)
+    assert not br.folds()
+    point = rows[0]
+    assert _num(point, "w_b_c_over_R") == pytest.approx(zero.p, abs=1e-9)
+    assert _num(point, "w_s_over_R") == _num(point, "w_b_c_over_R") and _num(point, "Delta_H_over_R") == 0.0
+    # and the point scene's own field
+    scene = load_scene(SHELL_SCHEMA, None, [f"shell.phi_hat={study.PHI_HAT}", f"shell.h={study.H_OVER_R}",
+                                            f"shell.N={N}", "output.figure=false"])
+    w_c = SHELL_SCENE.runner(scene, False).summary["w_c_one_sided"]
+    assert summary["point"]["w_b_c_over_R"] == pytest.approx(w_c, abs=1e-12)
+
+
+def test_a_small_sphere_snaps_where_the_point_does(result) -> None:
+    _, _, _, rows = result
+    point, small = rows[0], rows[1]
+    assert _num(small, "r_over_R") == min(study.RADII_FAST) <= 0.1
+    # the pole touches the small sphere at the snap (no gap beyond the barrier range)
+    assert _num(small, "Delta_H_over_R") == 0.0
+    # so the indenter travel there is the point's, up to the barrier holding the pole a hair off the sphere
+    assert _num(small, "w_b_c_over_R") == pytest.approx(_num(point, "w_b_c_over_R"), abs=1e-6)
+
+
+def test_pole_is_where_the_indenter_is_plus_the_gap(result) -> None:
+    _, _, _, rows = result
+    for r in rows:
+        # w_s = w_b + Delta H: the gap is measured from the pole to the indenter beyond the barrier range,
+        # and w_b is counted from the first touch of that range
+        assert _num(r, "w_s_over_R") == pytest.approx(_num(r, "w_b_c_over_R") + _num(r, "Delta_H_over_R"), abs=1e-6)
+    plate = rows[-1]
+    assert plate["indenter"] == "plate" and plate["r_over_R"] == ""  # infinite radius: empty cell
+    assert _num(plate, "Delta_H_over_R") > 0.05  # the plate has lost the pole well before the snap
+
+
+def test_bounds_verdict_matches_the_numbers(result) -> None:
+    _, _, summary, rows = result
+    point, plate, spheres = rows[0], rows[-1], rows[1:-1]
+    tol = summary["bounds"]["w_b_c_over_R"]["tol"]
+    assert tol <= 1e-5  # well below the spread of w_b^c and Delta H over the radii (>= 1e-2)
+    verdicts = {}
+    for key in ("w_b_c_over_R", "w_s_over_R", "Delta_H_over_R"):
+        lo, hi = sorted((_num(point, key), _num(plate, key)))
+        inside = all(lo - tol <= _num(s, key) <= hi + tol for s in spheres)
+        assert summary["bounds"][key]["bounded"] is inside, key
+        verdicts[key] = inside
+    assert summary["statement"]["reproduced"] is all(verdicts.values())
+    # the non-trivial bounds: the point limit is the largest travel and the smallest gap, the plate the reverse
+    assert _num(point, "w_b_c_over_R") > _num(plate, "w_b_c_over_R") + 0.1
+    assert _num(point, "Delta_H_over_R") == 0.0 < _num(plate, "Delta_H_over_R")
+    assert math.isclose(summary["bounds"]["w_b_c_over_R"]["point"], _num(point, "w_b_c_over_R"))
