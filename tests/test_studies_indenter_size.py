@@ -1,0 +1,148 @@
+"""``python -m studies.indenter_size`` (paper figures 6-8), run end to end in its default (fast) mode.
+
+The study's numbers are checked against runs made here through other entry points
+(:func:`studies.bench_contact.run_to_snap` with :func:`studies.bench_contact.snap_settings`, the point
+scene's ``w_c_one_sided``), against the paper's statements (physics.md section 6: ``w_b^c`` flat below
+``r_c`` and decreasing above, ``r_c/R`` near 0.8-0.9, the contact modes, one pole curvature at the snap)
+and, for the resting-sphere helper, against closed forms.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+
+from contin.scene import load_scene
+from models.shell.scene import SHELL_SCENE, SHELL_SCHEMA
+from studies import indenter_size
+from studies.bench_contact import run_to_snap, snap_settings
+
+FIGURES = ("fig6_snap_vs_radius", "fig7_snap_configurations", "fig8_pole_curvature")
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory) -> tuple:
+    out = tmp_path_factory.mktemp("indenter_size")
+    assert indenter_size.main(["--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    return out, summary
+
+
+def _snap(r: float) -> tuple:
+    P, st, w_end = snap_settings(r, 200, stability=False)
+    br, sp = run_to_snap(P, st, w_end)
+    assert sp is not None and sp.kind == "fold", (r, br.message)
+    return P, br, sp
+
+
+def test_writes_figures_tables_and_summary(study):
+    out, S = study
+    for stem in FIGURES:
+        for ext in ("png", "pdf"):
+            f = out / f"{stem}.{ext}"
+            assert f.is_file() and f.stat().st_size > 1000, f
+        assert (out / f"{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert (out / f"{stem}.pdf").read_bytes()[:5] == b"%PDF-"
+    assert isinstance(S["r_c_over_R"], float)
+    assert S["mode"] == "fast" and S["scene"]["N"] == 200
+    required = {"r_over_R", "w_b_c_over_R", "Delta_H_over_R", "contact_mode"}
+    assert len(S["cases"]) >= 5
+    for c in S["cases"]:
+        assert required <= set(c), c
+        assert c["contact_mode"] in ("continuous", "detach-recontact", "detach")
+    radii = [c["r_over_R"] for c in S["cases"]]
+    assert min(radii) == pytest.approx(0.1) and max(radii) == pytest.approx(2.0)
+    with open(out / "cases.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [float(r["r_over_R"]) for r in rows] == radii
+    assert [float(r["w_b_c_over_R"]) for r in rows] == [c["w_b_c_over_R"] for c in S["cases"]]
+    with open(out / "paths.csv", newline="") as fh:
+        paths = list(csv.DictReader(fh))
+    assert {float(r["r_over_R"]) for r in paths} >= {0.0, 0.3, 0.5, 0.7, 0.9, 1.1}  # figure 8 and the point load
+    assert (out / "bisection.csv").is_file()
+
+
+def test_snap_of_a_case_equals_a_separate_contact_run(study):
+    """r/R = 0.9 (detached at the snap): the study's numbers against a run made here."""
+    _, S = study
+    case = next(c for c in S["cases"] if c["r_over_R"] == pytest.approx(0.9))
+    P, br, sp = _snap(0.9)
+    assert case["w_b_c_over_R"] == pytest.approx(sp.p / P.R, rel=1e-9)
+    assert case["Delta_H_over_R"] == pytest.approx(sp.observables["Delta_H"] / P.R, rel=1e-7)
+    assert case["kappa_p_R_at_snap"] == pytest.approx(sp.observables["kappa_p_R"], rel=1e-7)
+    # the mode read off that run: the pole is detached beyond the barrier's range at the snap
+    assert sp.observables["Delta_H"] > P.dhat and case["contact_mode"] == "detach"
+
+
+def test_transition_bracket_holds_in_separate_runs(study):
+    """Independent runs at the ends of the reported r_c bracket fall on either side of the gap tolerance."""
+    _, S = study
+    lo, hi = S["r_c_bracket"]
+    assert lo < S["r_c_over_R"] < hi and hi - lo <= 0.025 + 1e-12
+    tol = S["r_c_gap_tol_over_R"]
+    P, _, sp_lo = _snap(lo)
+    assert 0.0 < tol <= 0.01 * P.dhat / P.R  # tied to the barrier range, well below it
+    assert sp_lo.observables["Delta_H"] / P.R <= tol
+    _, _, sp_hi = _snap(hi)
+    assert sp_hi.observables["Delta_H"] / P.R > tol
+
+
+def test_paper_statements(study):
+    """physics.md section 6 (paper figures 6-8): the transition, the modes, one pole curvature."""
+    _, S = study
+    assert 0.7 < S["r_c_over_R"] < 0.9  # "near 0.8-0.9"; the radii 0.7 and 0.9 straddle it
+    cases = S["cases"]
+    below = [c for c in cases if c["r_over_R"] < S["r_c_bracket"][0]]
+    above = [c for c in cases if c["r_over_R"] > S["r_c_bracket"][1]]
+    assert len(below) >= 3 and len(above) >= 3
+    w_below = [c["w_b_c_over_R"] for c in below]
+    assert max(w_below) - min(w_below) < 1e-6  # constant below r_c
+    assert all(c["Delta_H_over_R"] == 0.0 for c in below)
+    w_above = [c["w_b_c_over_R"] for c in above]
+    assert all(b < a for a, b in zip(w_above, w_above[1:])) and w_above[0] < min(w_below) - 1e-3
+    gaps = [c["Delta_H_over_R"] for c in above]
+    assert all(g > 1e-3 for g in gaps) and all(b > a for a, b in zip(gaps, gaps[1:]))
+    modes = {c["r_over_R"]: c["contact_mode"] for c in cases}
+    for r, m in modes.items():
+        if r <= 0.5:
+            assert m == "continuous", (r, m)
+        elif r >= 0.9:
+            assert m == "detach", (r, m)
+    assert modes[0.7] == "detach-recontact"
+    kap = [c["kappa_p_R_at_snap"] for c in cases]
+    assert max(kap) - min(kap) < 1e-3 * abs(np.mean(kap))
+
+
+def test_universal_snap_state_is_the_point_scene_one_sided_snap(study):
+    """Every snap is the free shell at F = 0: its pole travel is the point scene's w_c_one_sided."""
+    _, S = study
+    scene = load_scene(SHELL_SCHEMA, None, [])
+    w_c = SHELL_SCENE.runner(scene, False).summary["w_c_one_sided"]
+    assert S["free_snap_state"]["w_s_over_R"] == pytest.approx(w_c, rel=1e-9)
+    for c in S["cases"]:
+        assert c["w_s_over_R"] == pytest.approx(w_c, abs=1e-7), c
+        assert c["shape_deviation_over_R"] < 1e-6
+        # the sphere lowered onto the free snap shape gives the gap and the snap travel
+        assert c["Delta_H_over_R"] == pytest.approx(c["Delta_H_predicted_over_R"], abs=1e-6)
+        assert c["w_b_c_over_R"] == pytest.approx(w_c - c["Delta_H_over_R"], abs=1e-6)
+
+
+def test_resting_sphere_closed_forms():
+    # the pole at z = 0 and one node at (a, b): a sphere through both has radius (a^2 + b^2) / (2 b)
+    a, b = 0.4, 0.1
+    r = np.array([a, 0.0])
+    z = np.array([b, 0.0])
+    rc = (a * a + b * b) / (2 * b)
+    small = indenter_size.resting_sphere(r, z, 0.9 * rc)
+    assert small["gap"] == 0.0 and small["node"] == 1 and small["centre"] == pytest.approx(0.9 * rc)
+    big = indenter_size.resting_sphere(r, z, 1.5 * rc)
+    R_ = 1.5 * rc
+    assert big["node"] == 0
+    assert big["gap"] == pytest.approx(b + math.sqrt(R_ * R_ - a * a) - R_, rel=1e-12)
+    # a node outside the sphere's radius never carries it
+    far = indenter_size.resting_sphere(np.array([2.0, 0.0]), np.array([5.0, 0.0]), 1.0)
+    assert far["gap"] == 0.0 and far["node"] == 1
