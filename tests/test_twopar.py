@@ -144,3 +144,59 @@ def test_shell_folds_merge_at_a_cusp_with_the_three_halves_law(shell_fold_curve)
         gap.append(abs(F_a - F_b))
     slope = np.polyfit(np.log(CUSP_DISTANCES), np.log(gap), 1)[0]
     assert slope == pytest.approx(1.5, abs=0.02)
+
+
+class UnfoldedCusp(contin.Problem):
+    """``f(u, p; q, r) = u^3 + r u^2 - q u - p``: its cusp in ``(p, q)`` sits at ``q = -r^2 / 3``, ``u = -r / 3``."""
+
+    def __init__(self, q: float, r: float) -> None:
+        super().__init__(symmetric=True, name="unfolded_cusp", parameter_name="p")
+        self.q, self.r = float(q), float(r)
+        self._obs = {"u": lambda u, p: float(u[0])}
+
+    @property
+    def observables(self):
+        return self._obs
+
+    def residual(self, u, p):
+        return np.array([u[0] ** 3 + self.r * u[0] ** 2 - self.q * u[0] - p])
+
+    def jacobian(self, u, p):
+        return np.array([[3 * u[0] ** 2 + 2 * self.r * u[0] - self.q]])
+
+    def dresidual_dp(self, u, p):
+        return np.array([-1.0])
+
+
+def test_cusp_curve_problem_follows_the_closed_form():
+    r0 = 0.3
+    u0 = 1 / math.sqrt(3)  # a fold of the r = r0 member: f_u = 0 there, at q0
+    q0 = 3 * u0 ** 2 + 2 * r0 * u0
+    fold = ([u0], u0 ** 3 + r0 * u0 ** 2 - q0 * u0)
+    fc = FoldCurveProblem(lambda q: UnfoldedCusp(q, r0), fold, q0, q_name="q", q_step=1e-5)
+    br = contin.continuation(fc, fc.start, q0, ds=0.05, ds_max=0.1, direction=-1, p_min=-1.0, max_steps=400,
+                             stop_at=("fold",), stability=False)
+    (cusp,) = [s for s in br.special_points if s.kind == "fold"]
+    assert cusp.p == pytest.approx(-r0 ** 2 / 3, abs=1e-8)
+    cc = contin.cusp_curve_problem(lambda r, q: UnfoldedCusp(q, r), fc, cusp, r0, r_name="r", r_step=1e-5)
+    for direction, end in ((1, 0.8), (-1, -0.5)):
+        curve = contin.continuation(cc, cc.start, r0, ds=0.02, ds_max=0.05, p_min=-0.5, p_max=0.8, max_steps=400,
+                                    stability=False, direction=direction)
+        assert curve.status == "bound" and curve.p[-1] == pytest.approx(end)
+        r, U = curve.p, curve.u
+        assert np.max(np.abs(U[:, -1] - (-r ** 2 / 3))) < 1e-6  # q on the cusp curve
+        assert np.max(np.abs(U[:, 0] + r / 3)) < 1e-5  # u at the cusp
+
+
+def test_family_problem_folds_in_the_second_parameter_at_fixed_load():
+    """``u^3 - q u = p0`` at fixed ``p0 > 0`` as a problem in ``q``: its fold is at ``q = 3 (p0/2)^(2/3)``."""
+    p0 = 0.25
+    q0 = 2.0
+    fam = contin.FamilyProblem(CuspNormalForm, p0, q0, q_name="q", q_step=1e-5)
+    u_mid = sorted(np.roots([1.0, 0.0, -q0, -p0]).real)[1]  # the middle root: it meets the lowest at the fold
+    br = contin.continuation(fam, np.array([u_mid]), q0, ds=0.05, ds_max=0.1, max_steps=400, p_min=-1, p_max=3,
+                             direction=-1, stop_at=("fold",), stability=False)
+    (fold,) = [s for s in br.special_points if s.kind == "fold"]
+    # folds of u^3 - q u - p0 in q: 3u^2 = q and u^3 - q u = p0  =>  u = -(p0/2)^(1/3)
+    assert fold.p == pytest.approx(3 * (p0 / 2) ** (2 / 3), abs=1e-8)
+    assert fold.u[0] == pytest.approx(-(p0 / 2) ** (1 / 3), abs=1e-7)
