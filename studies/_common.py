@@ -12,7 +12,6 @@ from __future__ import annotations
 import argparse
 import csv
 import json
-import math
 import os
 import sys
 import tempfile
@@ -21,6 +20,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from contin.cli import _json_ready as _cli_json_ready
+from models.shell.boundaries import depth_parameter
 
 __all__ = ["study_parser", "output_dir", "save_figure", "write_csv", "write_json", "json_ready",
            "print_table", "shell_lambda", "say"]
@@ -61,20 +63,11 @@ def _atomic_write(path: Path, write: Any, mode: str = "w") -> Path:
 
 
 def json_ready(obj: Any) -> Any:
-    """``obj`` with numpy scalars and arrays made plain, and NaN or infinity made None (JSON has neither)."""
-    if isinstance(obj, dict):
-        return {str(k): json_ready(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [json_ready(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return json_ready(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    return obj
+    """``obj`` with numpy scalars and arrays made plain, and NaN or infinity made None (JSON has neither).
+
+    The same conversion ``contin trace`` applies to ``summary.json``.
+    """
+    return _cli_json_ready(obj)
 
 
 def write_json(path: str | os.PathLike, doc: dict[str, Any]) -> Path:
@@ -130,8 +123,8 @@ def print_table(rows: Iterable[dict[str, Any]], columns: Sequence[str], digits: 
 
 
 def shell_lambda(phi_hat: float | np.ndarray, h_over_R: float | np.ndarray, nu: float = 0.5) -> Any:
-    """Shell depth parameter ``lambda = (12 (1 - nu^2))^(1/4) (pi/2 - phi_hat) sqrt(R/h)`` (physics.md section 1)."""
-    return (12.0 * (1.0 - nu * nu)) ** 0.25 * (math.pi / 2 - np.asarray(phi_hat)) / np.sqrt(np.asarray(h_over_R))
+    """Shell depth parameter ``lambda`` (physics.md section 1); see :func:`models.shell.boundaries.depth_parameter`."""
+    return depth_parameter(phi_hat, h_over_R, nu)
 
 
 def say(quiet: bool, msg: str) -> None:
