@@ -108,6 +108,21 @@ def _safe_energy(problem: Problem, u, p) -> float:
     return e if np.isfinite(e) else math.inf
 
 
+def _kick_inside(problem: Problem, u: np.ndarray, p: float, kick: np.ndarray) -> np.ndarray | None:
+    """The kick, shortened to half the way to the model's domain boundary if it would leave it.
+
+    A stiff contact barrier with a short range (e.g. ``dhat`` of 1e-5 R) puts the boundary much
+    closer than the default kick sizes; a kick that crossed it would count as an infinite energy in
+    both directions and no snap could start.  None when no positive fraction of the kick is allowed.
+    """
+    fraction = problem.max_step_fraction(u, p, kick, 0.0)
+    if fraction >= 1.0:
+        return kick
+    if not fraction > 0.0:
+        return None
+    return 0.5 * fraction * kick
+
+
 def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, tol: float = 1e-10,
          max_iter: int = 500, eig_tol: float = 1e-8, direction: np.ndarray | None = None) -> JumpResult:
     """Snap from an unstable point or a fold to a stable equilibrium at the same parameter.
@@ -162,13 +177,17 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     v = v / np.max(np.abs(v))
     sizes = [] if x is not None else ([perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref])
     for alpha in sizes:
-        # a kick outside the model's domain (e.g. into an indenter) counts as an infinite energy
-        e_plus = _safe_energy(problem, u0 + alpha * v, p) if problem.max_step_fraction(u0, p, alpha * v, 0.0) >= 1.0 else math.inf
-        e_minus = _safe_energy(problem, u0 - alpha * v, p) if problem.max_step_fraction(u0, p, -alpha * v, 0.0) >= 1.0 else math.inf
-        best = min(e_plus, e_minus)
-        if best < E0 - 1e-12 * max(1.0, abs(E0)):
-            x = u0 + alpha * v if e_plus <= e_minus else u0 - alpha * v
+        trials = [_kick_inside(problem, u0, p, sign * alpha * v) for sign in (1.0, -1.0)]
+        energies = [_safe_energy(problem, u0 + kick, p) if kick is not None else math.inf for kick in trials]
+        best = int(np.argmin(energies))
+        if energies[best] < E0 - 1e-12 * max(1.0, abs(E0)):
+            x = u0 + trials[best]
             break
+    if x is None and float(np.max(np.abs(problem.checked_residual(u0, p)))) > abs_tol:
+        # no kick along the soft mode lowers the energy measurably (a stiff, short-range barrier
+        # leaves room only for kicks far below round-off of the energy), but the start is out of
+        # equilibrium: the shifted-Newton descent below leaves it without a kick
+        x = u0.copy()
     if x is None:
         raise JumpError("no perturbation along the unstable eigenvector lowers the energy")
 

@@ -207,11 +207,13 @@ def test_classify_prints_the_class_and_the_extrema(capsys: pytest.CaptureFixture
 
 
 def test_classify_undecided_when_the_path_stops_early(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
-    code, stdout, stderr = _classify(capsys, "--json", "--set", "shell.N=40", "--set", "continuation.max_steps=5")
+    # a monostable cap: its everted branch carries no stable F < 0, so nothing but the whole path decides
+    code, stdout, stderr = _classify(capsys, "--json", "--set", "shell.N=40", "--set", "shell.phi_hat=1.2",
+                                     "--set", "continuation.max_steps=5")
     assert code == 1 and "Traceback" not in stderr
     doc = json.loads(stdout)
     assert doc["classification"] is None and doc["success"] is False and doc["path_complete"] is False
     assert "did not reach eversion" in doc["message"]
     # trace says the same in summary.json, with what the traced part looks like
-    code, summary = _trace(tmp_path, "shell.N=40", "continuation.max_steps=5")
+    code, summary = _trace(tmp_path, "shell.N=40", "shell.phi_hat=1.2", "continuation.max_steps=5")
     assert summary["classification"] is None and summary["classification_on_partial_path"] == "monotonous"

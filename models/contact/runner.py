@@ -79,6 +79,11 @@ def _snap(problem: ShellIndentation, u: np.ndarray, w_b: float, tol: float) -> t
         except contin.JumpError as exc:
             reasons.append(str(exc))
             continue
+        except contin.NonFiniteError:
+            # the overshoot alone moved the indenter through a node: a short-range barrier (small
+            # dhat) leaves less room than w_b * eps; larger overshoots only go further in
+            reasons.append(f"an overshoot of {eps:g} w_b puts the indenter through the shell (dhat = {problem.dhat:.3g})")
+            break
         moved = abs(problem.evaluate_one("w_s", jr.u_to, jr.p) - w_s0)
         if jr.success and moved > 1e-3 * problem.R:
             # state the snap at the travel where it happens (the detached landing does not depend on w_b)

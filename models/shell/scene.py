@@ -37,6 +37,12 @@ Classification (``docs/physics.md`` section 5)
 load); ``F_min`` is the last local minimum of F along the path, i.e. the minimum on the branch that
 reaches eversion (the force-control snap-back load on unloading).
 
+A path cut short (``continuation.max_steps``; thin deep caps wind through many folds: h/R = 0.002,
+``phi_hat`` = 0.8 needs 8341 steps to eversion) is completed from the other end: the everted branch
+is traced back in ``w`` from the cap's mirror image to its first fold.  Its first minimum of F is
+``F_min`` (at h/R = 0.002 it agrees with the whole path's to 1e-11), and a stable stretch of it with
+F < 0 shows the cap bistable.  Monotonous and monostable still need the whole path.
+
 ``summary.json`` always has ``"classification"``: the class under displacement control; None under
 force control (the force path skips the parts between the limit points, so the class is not
 defined on it; ``contin classify`` traces the displacement path whatever ``load.control`` says), and
@@ -54,7 +60,7 @@ import numpy as np
 
 import contin
 from contin.branch import Branch
-from contin.scene import (Classification, Constraint, SceneModel, Schema, TraceResult, boolean, choice,
+from contin.scene import (Classification, Constraint, Field, SceneModel, Schema, TraceResult, boolean, choice,
                           integer, real)
 
 from .problem import ShellPointLoad
@@ -71,6 +77,15 @@ _MIN_STEPS_PER_PATH = 20
 #: Relative size (of ``max |F|`` on the path) below which a negative force counts as round-off.
 _F_ROUNDOFF = 1e-8
 
+#: Largest ``shell.N``: 125 times the finest mesh of the studies (N = 800).  The cost is linear in N, but
+#: a mistyped huge N would otherwise run for hours or fail allocating instead of being rejected.
+MAX_NODES = 100_000
+
+
+def _nodes_ok(n: int) -> bool:
+    return 10 <= n <= MAX_NODES
+
+
 SHELL_SCHEMA = Schema(
     sections={
         "shell": {
@@ -80,7 +95,7 @@ SHELL_SCHEMA = Schema(
             "h": real(0.02, gt=0, help="thickness [m]"),
             "phi_hat": real(0.8, gt=0, lt=math.pi / 2,
                             help="base angle from the horizontal [rad] (small = deep cap)"),
-            "N": integer(200, low=10, help="number of nodes on the meridian"),
+            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}", "number of nodes on the meridian"),
             "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
                                                     "graded towards the point load by default)"),
         },
@@ -352,7 +367,29 @@ def _run_shell(scene: Scene, progress: bool) -> TraceResult:
     br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end,
                              events=[contin.extremum("F", "max"), contin.extremum("F", "min"),
                                      contin.crossing("F", 0.0, direction=-1, name=_F_ZERO)])
-    return _result([br], [], problem, scene, ["path"], "")
+    if _path_complete(br) or not len(br):
+        return _result([br], [], problem, scene, ["path"], "")
+    return _result([br, _everted_branch(problem, st, s["phi_hat"])], [], problem, scene, ["path", _EVERTED], "")
+
+
+#: Label of the branch traced back from the mirror image of the cap when the path stops before eversion.
+_EVERTED = "everted branch"
+
+
+def _everted_branch(problem: ShellPointLoad, st: contin.Settings, phi_hat: float) -> Branch:
+    """The everted cap's branch, traced back in ``w`` from the cap's mirror image to its first fold in w.
+
+    Thin deep caps (lambda above ~20) have a connected path that winds through many folds before it
+    reaches eversion (h/R = 0.002, phi_hat = 0.8: 8341 steps).  The everted state at the end of that
+    path is the mirror image of the cap at ``w = 2 R (1 - sin phi_hat)`` (stretch-free, with the
+    bending reversed), so its branch can be reached directly: a stable stretch of it carrying F < 0
+    shows the cap bistable without tracing the winding middle of the path.
+    """
+    x = problem.cap.x.copy()
+    x[1::2] = 2.0 * x[1] - x[1::2]  # reflect every node in the base plane (z_0 is held)
+    w_mirror = eversion_displacement(problem.R, phi_hat)
+    return contin.continuation(problem, problem.unknowns(x), w_mirror, st, direction=-1, p_min=0.0,
+                               stop_at=("fold",), events=[contin.extremum("F", "min")])
 
 
 #: Label of the falling zero of the point force on the displacement path.
@@ -395,6 +432,37 @@ def _run_contact(scene: Scene, progress: bool) -> TraceResult:
     return run_contact(scene, progress, st, w_end)
 
 
+def _use_everted_branch(cls: dict[str, Any], branches: list[Branch], records: list[dict[str, Any]],
+                        labels: list[str], D: float, R: float) -> str:
+    """Complete the class of a path cut short from the everted branch; returns a note for the summary.
+
+    ``F_min`` is the path's last minimum of F, on the branch that reaches eversion: the part traced
+    may have passed other minima, so it is taken from the everted branch (the first minimum met
+    going back from the mirror image) or left unknown.  A stable stretch of the everted branch with
+    F < 0 shows the cap bistable.
+    """
+    if labels[1:2] != [_EVERTED] or not len(branches[1]):
+        found = ("no everted branch" if labels[1:2] != [_EVERTED] else
+                 f"the everted branch could not be traced: {branches[1].message}")
+        for key in ("F_min", "w_at_F_min", "F_min_norm", "w_at_F_min_over_R"):
+            cls[key] = None
+        return f"; F_min is unknown ({found})"
+    everted = branches[1]
+    minima = sorted((r for r in records if r.get("branch") == 1 and r.get("label") == "min(F)"),
+                    key=lambda r: r["index"])
+    first = minima[0] if minima else None
+    cls["F_min"] = None if first is None else first["F"]
+    cls["w_at_F_min"] = None if first is None else first["w"]
+    cls["F_min_norm"] = None if first is None else first["F"] * R / (2.0 * math.pi * D)
+    cls["w_at_F_min_over_R"] = None if first is None else first["w"] / R
+    shown = classify(everted, [r for r in records if r.get("branch") == 1], D, R)["F_negative_on_stable_path"]
+    note = "; F_min is taken from the everted branch, traced back from the cap's mirror image"
+    if shown and not cls["F_negative_on_stable_path"]:
+        cls["classification"], cls["F_negative_on_stable_path"] = "bistable", True
+        note += ", which is stable with F < 0: the cap is bistable"
+    return note
+
+
 def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene: Scene, labels: list[str],
             failure: str) -> TraceResult:
     R = scene["shell"]["R"]
@@ -419,8 +487,11 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
     }
     _jump_fields(records, branches)
     if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
-        cls = classify(branches[0], records, problem.D, R)
+        cls = classify(branches[0], [r for r in records if r.get("branch", 0) == 0], problem.D, R)
         complete = _path_complete(branches[0])
+        everted_note = ""
+        if not complete:
+            everted_note = _use_everted_branch(cls, branches, records, labels, problem.D, R)
         if not complete and not cls["F_negative_on_stable_path"]:
             # monotonous and monostable need the whole path: an unfinished one cannot rule out F < 0 later
             cls["classification_on_partial_path"] = cls["classification"]
@@ -430,7 +501,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         summary["classification_note"] = (
             "from the displacement-controlled path to eversion" if complete else
             f"the path did not reach eversion ({branches[0].message}); a class other than bistable needs the "
-            f"whole path")
+            f"whole path{everted_note}")
         line = _classification_line(cls)
         branches[0].message = f"{branches[0].message}; {line}"
     elif scene["load"]["control"] == "displacement":
