@@ -6,10 +6,11 @@ Commands
     Trace the scene and write ``summary.json``, ``branch.csv`` and ``diagram.png`` into DIR.
 ``contin classify [SCENE.toml] [--model NAME] [--set section.key=value ...] [--json] [--quiet]``
     Run what the model needs to classify the scene and print the class (``--json``: a JSON object).
-``contin classify ... --sweep section.key=SPEC [--sweep ...] [--csv PATH] [--workers N] [--no-resume]``
+``contin classify ... --sweep section.key=SPEC [--sweep ...] [--csv PATH] [--workers N | --scheduler ADDR] [--no-resume]``
     Classify every combination of the swept values (SPEC: ``0.6,0.8,1.0``, ``start:stop:count`` or
-    ``log:start:stop:count``) in parallel worker processes, appending one row per finished combination
-    to PATH (default ``classify_sweep.csv``); a rerun reuses the rows already there (see
+    ``log:start:stop:count``) in parallel worker processes (``--workers 1``: in this process;
+    ``--scheduler``: on a Dask cluster, see :mod:`contin.executors`), appending one row per finished
+    combination to PATH (default ``classify_sweep.csv``); a rerun reuses the rows already there (see
     :mod:`contin.sweep`).  Prints a table of the combinations (``--json``: a JSON list).
 ``contin models [NAME ...] [--toml]``
     List the registered models with every scene key, its default and its allowed range.
@@ -22,8 +23,9 @@ returning one); a runner that also has the classification capability
 Exit status: 0 success, 1 the run failed (numerically, or the class could not be decided, for a sweep:
 of any combination; the outputs of ``trace`` are still written), 2 bad input (scene, ``--set``,
 ``--sweep``, unknown model, a model that cannot classify, unwritable output directory, a sweep CSV
-that belongs to another sweep), 130 interrupted (a sweep's CSV keeps the finished rows).  No command
-prints a traceback (set ``CONTIN_TRACEBACK=1`` to see one for an internal error).
+that belongs to another sweep, a Dask scheduler that cannot be used), 130 interrupted (a sweep's CSV
+keeps the finished rows).  No command prints a traceback (set ``CONTIN_TRACEBACK=1`` to see one for
+an internal error).
 """
 
 from __future__ import annotations
@@ -48,6 +50,7 @@ import numpy as np
 from . import __version__
 from .scene import (Classification, ModelRunner, SceneError, TraceResult, can_classify, format_toml_value,
                     load_scene, schema_as_toml)
+from .executors import ExecutorError, make_executor
 from .sweep import SWEEP_SYNTAX, parse_sweep, run_sweep, sweep_scenes
 
 __all__ = ["main", "DEFAULT_MODEL", "DEFAULT_SWEEP_CSV", "ENTRY_POINT_GROUP", "CliError", "registered_models",
@@ -156,18 +159,22 @@ Models without a classification (e.g. bratu, truss) are rejected with exit statu
 sweeps (--sweep SECTION.KEY=SPEC, repeatable):
 {textwrap.fill(SWEEP_SYNTAX + ".", width=95, initial_indent="  ", subsequent_indent="  ")}
   Every combination (first --sweep slowest) is resolved and checked like a --set scene before
-  anything runs, then classified in --workers processes (default: one per CPU). Each finished
-  combination is appended at once to the CSV (--csv, default ./classify_sweep.csv): the swept
-  keys, label (the class), the model's values (shell: F_max, F_min, F_max_norm, w_at_F_max_over_R,
-  ..., lambda), wall_time_s, failure (empty when classified) and scene (the resolved scene as
-  JSON). Run the same command again after an interrupt and the rows already in the CSV are
-  reused; a CSV of another sweep (other keys or another fixed scene) is refused, --no-resume
-  overwrites it. Progress is one line per combination on stderr. At the end a table is printed:
-  the swept values, the class, the normalized values (names ending in _norm) and the time;
-  --json prints the rows as a JSON list instead.
+  anything runs, then classified in --workers processes (default: one per CPU; 1 runs them in
+  this process) or, with --scheduler ADDRESS, on a Dask cluster (pip install 'contin[dask]';
+  start it with 'dask scheduler' and 'dask worker ADDRESS --nthreads 1'). The rows are the same
+  whichever runs them. Each finished combination is appended at once to the CSV (--csv, default
+  ./classify_sweep.csv): the swept keys, label (the class), the model's values (shell: F_max,
+  F_min, F_max_norm, w_at_F_max_over_R, ..., lambda), wall_time_s, failure (empty when
+  classified) and scene (the resolved scene as JSON). Run the same command again after an
+  interrupt and the rows already in the CSV are reused; a CSV of another sweep (other keys or
+  another fixed scene) is refused, --no-resume overwrites it. Progress is one line per
+  combination on stderr. At the end a table is printed: the swept values, the class, the
+  normalized values (names ending in _norm) and the time; --json prints the rows as a JSON list
+  instead.
 
 {_exit_status("the run failed or the class could not be decided (a sweep: for any combination)",
-              "scene, --set, --sweep, model, a model that cannot classify, a CSV of another sweep")}
+              "scene, --set, --sweep, model, a model that cannot classify, a CSV of another sweep, "
+              "a Dask scheduler that cannot be used")}
 
 {{keys}}
 
@@ -177,6 +184,7 @@ examples:
   contin classify scene.toml --json
   contin classify --sweep shell.phi_hat=0.6:1.4:9 --sweep shell.h=0.01,0.02 --csv phi_h.csv
   contin classify --set shell.N=100 --sweep shell.h=log:0.005:0.05:7 --workers 4 --json
+  contin classify --sweep shell.phi_hat=0.6:1.4:9 --scheduler tcp://127.0.0.1:8786
 """
 
 
@@ -261,6 +269,9 @@ Run 'contin COMMAND --help' for the options of a command.""")
                                f"finishes and reused by a rerun (default: ./{DEFAULT_SWEEP_CSV})")
     classify.add_argument("-j", "--workers", metavar="N", type=int, default=None,
                           help="with --sweep: worker processes (default: one per CPU; 1 runs in this process)")
+    classify.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                          help="with --sweep: run on the Dask cluster of this scheduler (tcp://HOST:8786; "
+                               "needs pip install 'contin[dask]'); not with --workers")
     classify.add_argument("--no-resume", action="store_true",
                           help="with --sweep: recompute every combination, overwriting the CSV")
 
@@ -321,9 +332,18 @@ def _cmd_models(args: argparse.Namespace) -> int:
     return status
 
 
-def _prepare_out(path: Path) -> Path:
+def _prepare_out(name: str | Path) -> Path:
+    if not str(name):  # Path("") would be the current directory
+        raise CliError("--out is empty; give a directory to write into")
+    path = Path(name)
     if path.exists() and not path.is_dir():
         raise CliError(f"--out {str(path)!r} exists and is not a directory; give a directory to write into")
+    # checked before the run: an output that cannot replace what is there would leave the others half-updated
+    blocked = [fname for fname in OUTPUT_FILES if (path / fname).is_dir()]
+    if blocked:
+        raise CliError(f"cannot write the outputs to {str(path)!r}: {', '.join(blocked)} "
+                       f"{'is a directory' if len(blocked) == 1 else 'are directories'} there; move "
+                       f"{'it' if len(blocked) == 1 else 'them'} away or give another --out")
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -360,7 +380,7 @@ def _cmd_trace(args: argparse.Namespace) -> int:
     name = args.model or DEFAULT_MODEL
     model = load_model(name)
     scene = _resolve_scene(model, name, args)
-    out = _prepare_out(Path(args.out))
+    out = _prepare_out(args.out)
     say = _say(args.quiet)
 
     say(f"tracing model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
@@ -450,12 +470,19 @@ def _cmd_classify(args: argparse.Namespace) -> int:
                        f"(models that can: {', '.join(able) or 'none'}); 'contin trace --model {name}' traces it")
     if not args.sweep:
         given = [opt for opt, value in (("--csv", args.csv), ("--workers", args.workers),
-                                        ("--no-resume", args.no_resume)) if value not in (None, False)]
+                                        ("--scheduler", args.scheduler), ("--no-resume", args.no_resume))
+                 if value not in (None, False)]
         if given:
             raise CliError(f"{', '.join(given)} {'applies' if len(given) == 1 else 'apply'} only to a sweep: add "
                            f"--sweep SECTION.KEY=SPEC, where {SWEEP_SYNTAX}")
     if args.workers is not None and args.workers < 1:
         raise CliError(f"--workers {args.workers}: give at least 1 worker process")
+    if args.scheduler is not None:
+        if args.workers is not None:
+            raise CliError(f"--workers {args.workers} and --scheduler {args.scheduler} exclude each other: with "
+                           f"--scheduler the Dask cluster's workers run the sweep (drop --workers)")
+        if not args.scheduler.strip():
+            raise CliError("--scheduler needs the address of a Dask scheduler, e.g. tcp://127.0.0.1:8786")
     scenes = _classify_scenes(model, name, args)
     if args.sweep:
         return _classify_sweep(name, scenes, args)
@@ -495,9 +522,14 @@ def _classify_sweep(name: str, scenes: list[tuple[dict[str, Any], dict[str, dict
     say(f"sweeping model {name!r}{' from ' + repr(args.scene) if args.scene else ''}: {len(scenes)} combinations "
         f"of {' x '.join(axes)}; rows go to {str(csv_path)!r}")
     t0 = time.perf_counter()
+    try:  # before the CSV is touched: a scheduler that cannot be used leaves no file behind
+        executor = make_executor(args.workers, args.scheduler)
+    except ExecutorError as exc:
+        raise CliError(f"--scheduler: {exc}" if args.scheduler is not None else str(exc)) from None
     try:
-        rows = run_sweep(name, scenes, csv_path, workers=args.workers, progress=not args.quiet,
-                         resume=not args.no_resume)
+        with executor:
+            rows = run_sweep(name, scenes, csv_path, progress=not args.quiet, resume=not args.no_resume,
+                             executor=executor)
     except SceneError as exc:  # the CSV belongs to another sweep or cannot be written: before any work
         raise CliError(str(exc)) from None
     except KeyboardInterrupt:

@@ -27,6 +27,7 @@ Nothing here knows about any particular model.
 
 from __future__ import annotations
 
+import datetime
 import math
 import tomllib
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -68,6 +69,8 @@ class SceneError(ValueError):
 # schema
 # ---------------------------------------------------------------------------------------------------
 _TYPE_NAMES = {bool: "a boolean (true or false)", int: "an integer", float: "a number", str: "a string"}
+#: Integers a scene accepts are within [-2**63, 2**63) whatever the field's own range.
+_INT64_LIMIT = 2 ** 63
 
 
 @dataclass(frozen=True)
@@ -111,7 +114,10 @@ class Field:
         elif t is float:
             ok = isinstance(value, (int, float)) and not isinstance(value, bool)
             if ok:
-                value = float(value)
+                try:
+                    value = float(value)
+                except OverflowError:  # an integer beyond the float range (TOML integers are unbounded)
+                    raise TypeError("a finite number") from None
                 if not math.isfinite(value):
                     raise TypeError("a finite number")
         else:
@@ -219,6 +225,8 @@ def defaults(schema: Schema) -> dict[str, dict[str, Any]]:
 def _show(value: Any) -> str:
     if isinstance(value, (dict, list)):
         return repr(value)
+    if isinstance(value, (datetime.date, datetime.time)):  # TOML dates and times, as written in TOML
+        return value.isoformat()
     try:
         return format_toml_value(value)
     except TypeError:
@@ -248,6 +256,9 @@ def parse_override(text_: str) -> tuple[str, str, Any]:
         value = doc["value"] if set(doc) == {"value"} else raw
     except tomllib.TOMLDecodeError:
         value = raw
+    except RecursionError:  # tomllib recurses once per level of nested arrays or tables
+        raise SceneError(f"bad value for {section}.{key}: arrays or tables nested too deeply; a scene value is a "
+                         f"single number, boolean or string", "syntax") from None
     return section, key, value
 
 
@@ -257,11 +268,20 @@ def _read_toml(path: Path) -> dict[str, Any]:
     except OSError as exc:
         raise SceneError(f"cannot read scene file {str(path)!r}: {exc.strerror or exc}", "file") from None
     try:
-        return tomllib.loads(data.decode("utf-8"))
+        text = data.decode("utf-8-sig")  # a byte-order mark, as some editors write, is not part of the TOML
     except UnicodeDecodeError as exc:
         raise SceneError(f"scene file {str(path)!r} is not UTF-8 text ({exc.reason} at byte {exc.start})", "file") from None
+    if not text.strip():
+        # a file cut to nothing (a full disk, an interrupted copy) would otherwise run the defaults silently
+        raise SceneError(f"scene file {str(path)!r} is empty; give a scene ('contin models NAME --toml' prints "
+                         f"one with every key), or leave the file out to use the model's defaults", "file")
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"scene file {str(path)!r} is not valid TOML: {exc}", "file") from None
+    except RecursionError:  # tomllib recurses once per level of nested arrays or tables
+        raise SceneError(f"scene file {str(path)!r} is not a scene: its arrays or tables are nested too deeply "
+                         f"(a scene is [section] tables of single values)", "file") from None
 
 
 def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterable[str] = ()) -> dict[str, dict[str, Any]]:
@@ -292,6 +312,9 @@ def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterab
     # value and where it came from, for error messages
     given: dict[str, dict[str, tuple[Any, str]]] = {}
     if path is not None:
+        if not str(path):  # Path("") would be the current directory
+            raise SceneError("the scene file name is empty; give a TOML file, or leave it out to use the model's "
+                             "defaults", "file")
         path = Path(path)
         where = f"in {str(path)!r}"
         for section, content in _read_toml(path).items():
@@ -324,9 +347,12 @@ def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterab
             except TypeError as exc:
                 raise SceneError(f"scene field {name} = {_show(value)} {where} has the wrong type: expected "
                                  f"{exc.args[0]}, got {_type_name(value)}; allowed: {fld.allowed}", "type") from None
-            if not fld.valid(converted):
+            # TOML integers are unbounded; numpy, array sizes and the models take 64-bit ones
+            fits = fld.type is not int or -_INT64_LIMIT <= converted < _INT64_LIMIT
+            if not fits or not fld.valid(converted):
+                limit = "" if fits else f" (and within 64-bit integers, at most {_INT64_LIMIT - 1} in size)"
                 raise SceneError(f"scene field {name} = {_show(value)} {where} is out of range; allowed: "
-                                 f"{fld.allowed}", "range")
+                                 f"{fld.allowed}{limit}", "range")
             scene[section][key] = converted
     for con in schema.constraints:
         if not con.check(scene):

@@ -9,8 +9,9 @@ A *sweep axis* is a scene key with a list of values, written ``section.key=SPEC`
 
 :func:`parse_sweep` reads one axis, :func:`sweep_scenes` resolves and validates the scene of every
 combination (the cartesian product, first axis slowest) exactly as ``contin classify --set`` would,
-and :func:`run_sweep` classifies them with the model's ``classify``, in worker processes, appending
-one CSV row per finished combination.  Rerun with the same CSV and the rows already there are
+and :func:`run_sweep` classifies them with the model's ``classify`` through an executor
+(:mod:`contin.executors`: local worker processes by default, this process, or a Dask cluster),
+appending one CSV row per finished combination.  Rerun with the same CSV and the rows already there are
 reused: an interrupted sweep loses only the combinations that were running.
 
 The CSV has one row per combination.  Its columns are the swept keys (``section.key``), ``label``
@@ -26,28 +27,25 @@ Nothing here knows about any particular model: models are found through the regi
 from __future__ import annotations
 
 import csv
+import functools
+import hashlib
 import io
 import itertools
 import json
 import math
-import multiprocessing
 import os
 import pickle
-import signal
 import sys
 import tempfile
-import threading
 import time
-from collections import deque
-from collections.abc import Callable, Iterable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
-from contextlib import contextmanager
+from collections.abc import Callable, Iterable, Sequence
+from contextlib import closing
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .executors import Executor, ProcessExecutor, SerialExecutor, WorkerDied, default_workers, make_executor
 from .scene import Classification, ModelRunner, SceneError, Schema, can_classify, format_toml_value, load_scene, \
     parse_override
 
@@ -64,12 +62,10 @@ MAX_COMBINATIONS = 1_000_000
 TAIL_COLUMNS = ("wall_time_s", "failure", "scene")
 #: Start of the ``failure`` of a combination whose worker process died; such rows are recomputed on resume.
 WORKER_DIED = "the worker process died"
-# BLAS and OpenMP thread counts of the worker processes: parallelism is over combinations
-_THREAD_ENV = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
-               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
 _STANDARD = ("label",) + TAIL_COLUMNS
 
 Scene = dict[str, dict[str, Any]]
+_FLOAT_MAX = sys.float_info.max
 Combination = tuple[dict[str, Any], Scene]
 
 
@@ -101,13 +97,22 @@ def _canonical(value: Any) -> tuple[str, Any]:
     if isinstance(value, bool):
         return ("b", value)
     if isinstance(value, (int, float, np.integer, np.floating)):
-        return ("n", float(f"{float(value):.12g}"))
+        try:
+            return ("n", float(f"{float(value):.12g}"))
+        except OverflowError:  # an integer beyond the float range: only equal to itself
+            return ("n", int(value))
     return ("s", str(value))
 
 
 def _number(text: str, name: str, bad: Callable[[str], SweepError]) -> int | float:
     value = parse_override(f"{name}={text}")[2] if text.strip() else None
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise bad(f"{text.strip()!r} is not a number")
+    try:
+        finite = math.isfinite(value)
+    except OverflowError:  # an integer beyond the float range
+        raise bad(f"{text.strip()!r} is beyond the range of floating-point numbers") from None
+    if not finite:
         raise bad(f"{text.strip()!r} is not a number")
     return value
 
@@ -132,6 +137,8 @@ def _range_values(name: str, raw: str, bad: Callable[[str], SweepError]) -> list
             raise bad("a geometric range needs start > 0 and stop > 0")
         points = np.geomspace(float(start), float(stop), count)
     else:
+        if not math.isfinite(float(stop) - float(start)):  # numpy would fill the range with inf and nan
+            raise bad("start and stop are too far apart: stop - start is beyond the range of floating-point numbers")
         points = np.linspace(float(start), float(stop), count)
     # 12 significant digits, so that 0.6:1.0:5 gives 0.7 and not 0.7000000000000001; the ends exactly as given
     values: list[Any] = [float(f"{x:.12g}") for x in points]
@@ -208,7 +215,9 @@ def parse_sweep(spec: str, schema: Schema | None = None) -> tuple[str, list[Any]
                 raise bad(f"{item.strip()!r} is not a single value")
             values.append(value)
     if field is not None and field.type is float:
-        values = [float(v) if isinstance(v, int) and not isinstance(v, bool) else v for v in values]
+        # an integer beyond the float range stays as it is: the scene check rejects it with the allowed range
+        values = [float(v) if isinstance(v, int) and not isinstance(v, bool) and abs(v) <= _FLOAT_MAX else v
+                  for v in values]
     seen: set[tuple[str, Any]] = set()
     for v in values:
         if _canonical(v) in seen:
@@ -326,6 +335,13 @@ def _parse_row(raw: dict[str, str], columns: Sequence[str], n_axes: int,
     """A CSV row as :func:`run_sweep` returns rows: typed values, ``label`` None when empty.
 
     ``axis_types`` gives the type of each swept key's values (a string key's ``"1"`` stays a string).
+
+    Raises
+    ------
+    ValueError
+        When a cell holds what the sweep never writes (the message names the column): a scene that is not
+        a JSON object of sections, a value that is neither a number, true, false nor empty, a number that
+        is not finite, a negative wall time, or neither a class nor a failure.
     """
     row: dict[str, Any] = {}
     for i, col in enumerate(columns):
@@ -337,12 +353,36 @@ def _parse_row(raw: dict[str, str], columns: Sequence[str], n_axes: int,
         elif col == "failure":
             row[col] = text
         elif col == "scene":
-            row[col] = json.loads(text)
-        elif i < n_axes or col not in _STANDARD:
-            row[col] = _parse_cell(text)
+            try:
+                scene = json.loads(text, parse_constant=_no_json_constant)
+            except ValueError:
+                raise _damaged(col, text, "is not a scene written as JSON") from None
+            if not isinstance(scene, dict) or not all(isinstance(keys, dict) for keys in scene.values()):
+                raise _damaged(col, text, "is not a scene (a JSON object of sections)")
+            row[col] = scene
         else:
-            row[col] = float(text) if text else None
+            value = _parse_cell(text)
+            if isinstance(value, float) and not math.isfinite(value):
+                raise _damaged(col, text, "is not a finite number (the sweep leaves a missing value empty)")
+            if col == "wall_time_s":
+                if isinstance(value, bool) or not isinstance(value, (int, float, type(None))) or (value or 0) < 0:
+                    raise _damaged(col, text, "is not a time in seconds (a number >= 0)")
+                value = None if value is None else float(value)
+            elif i >= n_axes and isinstance(value, str):
+                raise _damaged(col, text, "is not a number, true, false or empty")
+            row[col] = value
+    if "label" in row and "failure" in row and row["label"] is None and not row["failure"]:
+        raise ValueError("it has neither a class (label) nor a failure")
     return row
+
+
+def _no_json_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a value of a scene")
+
+
+def _damaged(column: str, text: str, why: str) -> ValueError:
+    shown = text if len(text) <= 60 else text[:57] + "..."
+    return ValueError(f"its {column} cell {shown!r} {why}")
 
 
 def _csv_line(columns: Sequence[str], row: dict[str, Any]) -> str:
@@ -395,23 +435,38 @@ def read_sweep_csv(path: str | Path) -> tuple[list[str], list[dict[str, Any]]]:
     for lineno, raw in enumerate(rows, start=2):
         try:
             out.append(_parse_row(raw, columns, n_axes))
-        except ValueError:
-            raise SweepError(f"line {lineno} of the sweep CSV {str(path)!r} cannot be read (its wall time or scene "
-                             f"is damaged)", "file") from None
+        except ValueError as exc:
+            raise SweepError(f"line {lineno} of the sweep CSV {str(path)!r} is damaged: {exc}", "file") from None
     return columns, out
 
 
-def _read_csv(path: Path) -> tuple[list[str] | None, list[dict[str, str]], bool]:
-    """Header, raw rows, and whether an unfinished last line was dropped."""
+def _read_csv(path: Path, axes: Sequence[str] | None = None) -> tuple[list[str] | None, list[dict[str, str]], bool]:
+    """Header, raw rows, and whether an unfinished last line was dropped.
+
+    With ``axes`` (the swept keys of the sweep about to write the file), a file without a complete line
+    counts as a header cut short only if it is the start of this sweep's header: any other such file is
+    not a sweep CSV (and is not overwritten).
+    """
     try:
         text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        raise SweepError(f"cannot read the sweep CSV {str(path)!r}: {why}", "file") from None
+    except UnicodeDecodeError as exc:
+        raise SweepError(f"{str(path)!r} is not a sweep CSV written by contin classify: it is not UTF-8 text "
+                         f"({exc.reason} at byte {exc.start}); {_starts_afresh()}", "file") from None
+    except OSError as exc:
+        raise SweepError(f"cannot read the sweep CSV {str(path)!r}: {exc.strerror or exc}", "file") from None
     cut = bool(text) and not text.endswith("\n")
     if cut:  # a row whose write was interrupted: it is recomputed
+        fragment = text[text.rfind("\n") + 1:]
         text = text[: text.rfind("\n") + 1]
-    records = list(csv.reader(io.StringIO(text)))
+        start = ",".join([*axes, "label"]) if axes else ""
+        if axes and not text and not (start.startswith(fragment) or fragment.startswith(start + ",")):
+            raise SweepError(f"{str(path)!r} is not a sweep CSV written by contin classify (it starts "
+                             f"{fragment[:40]!r} and has no complete line); {_starts_afresh()}", "file")
+    try:
+        records = list(csv.reader(io.StringIO(text)))
+    except csv.Error as exc:  # e.g. a field over the csv module's size limit
+        raise SweepError(f"{str(path)!r} is not a sweep CSV written by contin classify ({exc}); "
+                         f"{_starts_afresh()}", "file") from None
     if not records:
         return None, [], cut
     header = records[0]
@@ -454,7 +509,7 @@ class _CsvStore:
             raise SweepError(f"cannot write the sweep CSV {str(self.path)!r}: {exc.strerror or exc}", "file") from None
 
     def _load(self, combos: Sequence[Combination]) -> bool:
-        header, raw_rows, rewrite = _read_csv(self.path)
+        header, raw_rows, rewrite = _read_csv(self.path, self.axes)
         if header is None:
             return rewrite
         n = header.index("label")
@@ -466,10 +521,16 @@ class _CsvStore:
         for lineno, raw in enumerate(raw_rows, start=2):
             try:
                 row = _parse_row(raw, header, n, {a: type(v) for a, v in combos[0][0].items()})
-            except ValueError:
-                raise SweepError(f"line {lineno} of the sweep CSV {str(self.path)!r} cannot be read (its wall time or "
-                                 f"scene is damaged); delete that line (it is recomputed) or {_starts_afresh()}",
-                                 "file") from None
+                for a in self.axes:  # the swept values are also in the row's scene: they must agree
+                    sec, key = a.split(".", 1)
+                    if not isinstance(row["scene"].get(sec), dict) or key not in row["scene"][sec]:
+                        raise ValueError(f"its scene has no {a}")
+                    if _canonical(row[a]) != _canonical(row["scene"][sec][key]):
+                        raise _damaged(a, raw[a], f"is not the value of {a} in its scene "
+                                                  f"({_show(row['scene'][sec][key])})")
+            except ValueError as exc:
+                raise SweepError(f"line {lineno} of the sweep CSV {str(self.path)!r} is damaged: {exc}; delete that "
+                                 f"line (it is recomputed) or {_starts_afresh()}", "file") from None
             if not isinstance(row["scene"], dict) or _fixed_part(row["scene"], self.axes) != fixed:
                 theirs = row["scene"] if isinstance(row["scene"], dict) else {}
                 raise SweepError(f"the sweep CSV {str(self.path)!r} holds results for another scene "
@@ -599,132 +660,33 @@ def _load_runner(name: str) -> ModelRunner:
     return cli.load_model(name)
 
 
-_WORKER: dict[str, Any] = {}
+# in a worker process (of the pool or of a Dask cluster): the runners of its sweeps by model, or why
+# loading one failed
+_WORKER: dict[str, tuple[Any, str]] = {}
+
+
+def _model_key(model: str | bytes) -> str:
+    """The key of a model reference (a registered name, or a pickled runner) in a worker's cache."""
+    return model if isinstance(model, str) else "pickle:" + hashlib.sha1(model).hexdigest()
 
 
 def _init_worker(model: str | bytes) -> None:
-    """Initializer of a worker process: one BLAS thread, Ctrl-C left to the parent, the model loaded."""
-    try:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        if hasattr(signal, "pthread_sigmask"):
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-    except (ValueError, OSError):
-        pass
-    for var in _THREAD_ENV:
-        os.environ[var] = "1"
-    try:
-        _WORKER["runner"] = _load_runner(model) if isinstance(model, str) else pickle.loads(model)
-    except BaseException as exc:  # reported with every combination, never a traceback from the pool
-        _WORKER["error"] = _one_line(exc)
+    """Initializer of a worker: load the model (a registered name or a pickled runner) once.
 
-
-def _classify_in_worker(scene: Scene) -> _Outcome:
-    if "error" in _WORKER:
-        return None, {}, f"the model could not be loaded in the worker process: {_WORKER['error']}", 0.0
-    return _classify_safely(_WORKER["runner"], scene)
-
-
-# ---------------------------------------------------------------------------------------------------
-# the pool
-# ---------------------------------------------------------------------------------------------------
-@contextmanager
-def _spawning() -> Iterator[None]:
-    """Around starting worker processes: they inherit one BLAS thread and a blocked SIGINT.
-
-    The environment variables must be in place before a worker imports numpy, which happens before
-    its initializer runs; the blocked SIGINT keeps a Ctrl-C during a worker's start-up from printing
-    a traceback there (the initializer then ignores SIGINT; the parent handles it).
+    An exception is kept and reported in the row of every combination, never as a traceback.
     """
-    saved = {var: os.environ.get(var) for var in _THREAD_ENV}
-    os.environ.update(dict.fromkeys(_THREAD_ENV, "1"))
-    mask = hasattr(signal, "pthread_sigmask") and threading.current_thread() is threading.main_thread()
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if mask else None
     try:
-        yield
-    finally:
-        if mask:
-            signal.pthread_sigmask(signal.SIG_SETMASK, old)
-        for var, value in saved.items():
-            if value is None:
-                os.environ.pop(var, None)
-            else:
-                os.environ[var] = value
+        _WORKER[_model_key(model)] = (_load_runner(model) if isinstance(model, str) else pickle.loads(model), "")
+    except BaseException as exc:
+        _WORKER[_model_key(model)] = (None, _one_line(exc))
 
 
-def _stop(executor: ProcessPoolExecutor) -> None:
-    """Stop the workers now (an interrupt): pending work is cancelled, running work is killed."""
-    terminate = getattr(executor, "terminate_workers", None)  # Python >= 3.14
-    if terminate is not None:
-        terminate()
-        return
-    processes = list((getattr(executor, "_processes", None) or {}).values())
-    for p in processes:
-        if p.is_alive():
-            p.terminate()
-    executor.shutdown(wait=False, cancel_futures=True)
-    for p in processes:
-        p.join(timeout=5)
-
-
-def _pool_round(model_ref: str | bytes, queue: deque[int], scenes: Sequence[Combination], workers: int,
-                record: Callable[[int, _Outcome], None]) -> list[int]:
-    """Classify the queue on a pool of ``workers`` processes until it is empty or the pool breaks.
-
-    At most ``workers`` combinations are in flight, so when a worker dies the suspects are known:
-    they are returned (the rest stays in ``queue``).
-    """
-    executor = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=_init_worker, initargs=(model_ref,))
-    inflight: dict[Future, int] = {}
-    broken: list[int] = []
-    try:
-        while queue or inflight:
-            while queue and len(inflight) < workers and not broken:
-                i = queue.popleft()
-                try:
-                    with _spawning():
-                        inflight[executor.submit(_classify_in_worker, scenes[i][1])] = i
-                except BrokenProcessPool:
-                    queue.appendleft(i)
-                    broken.append(-1)
-            if not inflight:
-                break
-            done, _ = wait(inflight, return_when=FIRST_COMPLETED)
-            for fut in done:
-                i = inflight.pop(fut)
-                try:
-                    outcome = fut.result()
-                except BrokenProcessPool:
-                    broken.append(i)
-                    continue
-                record(i, outcome)
-        executor.shutdown(wait=True)
-    except BaseException:
-        _stop(executor)
-        raise
-    return [i for i in broken if i >= 0]
-
-
-def _run_parallel(model_ref: str | bytes, todo: list[int], scenes: Sequence[Combination], workers: int,
-                  record: Callable[[int, _Outcome], None]) -> None:
-    queue = deque(todo)
-    while queue:
-        suspects = deque(_pool_round(model_ref, queue, scenes, workers, record))
-        # one at a time, so that a combination that kills its worker is the one named
-        while suspects:
-            for i in _pool_round(model_ref, suspects, scenes, 1, record):
-                record(i, (None, {}, f"{WORKER_DIED} while classifying this combination (killed, out of memory, "
-                                     f"or a crash in compiled code); it is computed again on resume", 0.0))
-
-
-def default_workers() -> int:
-    """The number of CPUs this process may use (at least 1)."""
-    count = getattr(os, "process_cpu_count", None)
-    if count is not None:
-        return max(1, count() or 1)
-    if hasattr(os, "sched_getaffinity"):
-        return max(1, len(os.sched_getaffinity(0)))
-    return max(1, os.cpu_count() or 1)
+def _classify_in_worker(key: str, scene: Scene) -> _Outcome:
+    """Classify one scene with the model the worker loaded under ``key`` (:func:`_init_worker`)."""
+    runner, error = _WORKER.get(key, (None, "the worker was not initialized"))
+    if runner is None:
+        return None, {}, f"the model could not be loaded in the worker process: {error}", 0.0
+    return _classify_safely(runner, scene)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -752,7 +714,8 @@ def _make_row(values: dict[str, Any], scene: Scene, outcome: _Outcome) -> dict[s
 
 
 def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path: str | Path | None = None,
-              workers: int | None = None, progress: bool = True, resume: bool = True) -> list[dict[str, Any]]:
+              workers: int | None = None, progress: bool = True, resume: bool = True, *,
+              scheduler: str | None = None, executor: Executor | None = None) -> list[dict[str, Any]]:
     """Classify every combination of a sweep, in parallel, writing each row to a CSV as it finishes.
 
     Parameters
@@ -771,14 +734,20 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
         died are computed again.  When the sweep is complete, the file is rewritten in combination
         order (atomically).  Without ``csv_path`` nothing is written.
     workers : int, optional
-        Worker processes (default: the CPUs available, :func:`default_workers`).  With 1, or with one
-        combination to compute, the combinations are classified in this process.  Workers run with
-        one BLAS/OpenMP thread each.
+        Local worker processes (default: the CPUs available, :func:`default_workers`).  With 1, or
+        with one combination to compute, the combinations are classified in this process.  Workers
+        run with one BLAS/OpenMP thread each.  Not with ``scheduler`` or ``executor``.
     progress : bool
         Print one line per finished combination to stderr (with the class, the time and an estimate
         of the time left), and how many rows were resumed.
     resume : bool
         Reuse the rows of an existing ``csv_path``; False overwrites the file.
+    scheduler : str, optional
+        Run on the Dask cluster of this scheduler (``tcp://HOST:8786``; needs the ``dask`` extra).
+    executor : Executor, optional
+        Run on this executor (:mod:`contin.executors`; it is not closed here) instead of one made
+        from ``workers`` and ``scheduler``.  A :class:`~contin.executors.ProcessExecutor` with one
+        combination to compute classifies it in this process.
 
     Returns
     -------
@@ -786,13 +755,16 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
         One row per combination, in the order of ``scenes``: the swept keys, ``label`` (None when
         undecided or failed), every scalar value of the model's classification (the union over the
         rows; None where a row has none), ``wall_time_s``, ``failure`` (empty when classified) and
-        ``scene``.
+        ``scene``.  The rows do not depend on the executor (but for ``wall_time_s``).
 
     Raises
     ------
     SweepError
         When ``csv_path`` belongs to another sweep (other keys, or another scene for the keys not
         swept), cannot be read or written, or when the model cannot classify.
+    contin.executors.ExecutorError
+        Bad ``workers``, or a Dask scheduler that cannot be used (not installed, not reached); raised
+        before the CSV is touched.
     KeyboardInterrupt
         On Ctrl-C: the workers are stopped; the rows written so far stay in the CSV.
 
@@ -801,13 +773,15 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
     A combination that fails (no class decided, a numerical failure, an exception in the model)
     is a row with ``failure`` set; a worker that dies costs only the combination it was running.
     The environment variables of the BLAS thread counts are set to 1 in this process while it
-    starts the workers, and restored afterwards.
+    starts local workers, and restored afterwards.
     """
     scenes = list(scenes)
     if not scenes:
         return []
-    workers = default_workers() if workers is None else int(workers)
-    if workers < 1:
+    if executor is not None and (workers is not None or scheduler is not None):
+        raise ValueError("give an executor, or workers and scheduler to make one, not both")
+    workers = None if workers is None else int(workers)
+    if workers is not None and workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
     runner = _load_runner(model) if isinstance(model, str) else model
     name = model if isinstance(model, str) else getattr(runner, "name", type(runner).__name__)
@@ -817,19 +791,25 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
     total = len(scenes)
     say = (lambda msg: print(f"contin: {msg}", file=sys.stderr, flush=True)) if progress else (lambda msg: None)
 
-    store = _CsvStore(csv_path, axes, scenes, resume) if csv_path is not None else None
-    rows: list[dict[str, Any] | None] = [None] * total
+    own = executor is None
+    if executor is None:
+        if scheduler is None and workers is None:
+            workers = min(default_workers(), total)
+        executor = make_executor(workers, scheduler)
+    store: _CsvStore | None = None
     try:
+        store = _CsvStore(csv_path, axes, scenes, resume) if csv_path is not None else None
+        rows: list[dict[str, Any] | None] = [None] * total
         if store is not None:
             for i, row in store.resumed.items():
                 rows[i] = row
         todo = [i for i in range(total) if rows[i] is None]
-        n_workers = min(workers, len(todo))
+        # one combination: starting a worker process would only cost time
+        run_on = SerialExecutor() if len(todo) == 1 and isinstance(executor, ProcessExecutor) else executor
         if store is not None and store.resumed:
             say(f"resumed {len(store.resumed)} of {total} combinations from {str(store.path)!r}")
         if todo:
-            where = f"on {n_workers} worker processes" if n_workers > 1 else "in this process"
-            say(f"classifying {len(todo)} of {total} combinations {where}")
+            say(f"classifying {len(todo)} of {total} combinations {run_on.where(len(todo))}")
 
         t_start = time.perf_counter()
         computed = 0
@@ -852,7 +832,10 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
             say(f"[{done}/{total}] {combo} -> {what} ({row['wall_time_s']:.2f} s"
                 f"{'; ETA ' + _duration(eta) if left else ''})")
 
-        if n_workers > 1:
+        if run_on.in_process:
+            task: Callable[[Scene], _Outcome] = functools.partial(_classify_safely, runner)
+            initializer, initargs = None, ()
+        else:
             if isinstance(model, str):
                 ref: str | bytes = model
             else:
@@ -861,10 +844,15 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
                 except Exception as exc:
                     raise TypeError(f"the model {name!r} cannot be sent to worker processes ({_one_line(exc)}); "
                                     f"pass its registered name, or workers=1") from None
-            _run_parallel(ref, todo, scenes, n_workers, record)
-        else:
-            for i in todo:
-                record(i, _classify_safely(runner, scenes[i][1]))
+            task = functools.partial(_classify_in_worker, _model_key(ref))
+            initializer, initargs = _init_worker, (ref,)
+        items = [scenes[i][1] for i in todo]
+        with closing(run_on.map_unordered(task, items, initializer=initializer, initargs=initargs)) as results:
+            for k, outcome in results:
+                if isinstance(outcome, WorkerDied):
+                    outcome = (None, {}, f"{WORKER_DIED} while classifying this combination (killed, out of "
+                                         f"memory, or a crash in compiled code); it is computed again on resume", 0.0)
+                record(todo[k], outcome)
 
         columns = [*axes, "label"]
         for row in rows:
@@ -881,3 +869,5 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
     finally:
         if store is not None:
             store.close()
+        if own:
+            executor.close()

@@ -5,6 +5,11 @@ on a laptop-class core), faithful to the paper with ``--full``.  It writes its f
 its data as CSV and a ``summary.json``, and prints a short table.  Every file is written to a temporary
 name in the output directory and moved into place when complete, so an interrupted study never leaves
 a half-written file behind.
+
+A study whose cases are independent runs them through an executor (:mod:`contin.executors`):
+``--workers N`` local processes (1: in the study's process) or ``--scheduler ADDRESS``, a Dask
+cluster (:func:`study_parser` with ``executor_options=True``, then :func:`executor_from_args`); its
+results do not depend on which.
 """
 
 from __future__ import annotations
@@ -22,21 +27,92 @@ from typing import Any
 import numpy as np
 
 from contin.cli import _json_ready as _cli_json_ready
+from contin.executors import Executor, ExecutorError, make_executor
 from models.shell.boundaries import depth_parameter
 
-__all__ = ["study_parser", "output_dir", "save_figure", "write_csv", "write_json", "json_ready",
-           "print_table", "shell_lambda", "say"]
+__all__ = ["study_parser", "executor_from_args", "output_dir", "save_figure", "write_csv", "write_json",
+           "json_ready", "print_table", "shell_lambda", "say"]
 
 
-def study_parser(name: str, description: str) -> argparse.ArgumentParser:
-    """The command line shared by the studies: ``--out DIR`` (default ``out/<name>``) and ``--full``."""
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value}: give at least 1 worker process")
+    return value
+
+
+def study_parser(name: str, description: str, *, executor_options: bool = False,
+                 workers_default: str = "one per CPU") -> argparse.ArgumentParser:
+    """The command line shared by the studies.
+
+    Parameters
+    ----------
+    name : str
+        The study's module name (``python -m studies.<name>``).
+    description : str
+        One line for ``--help``.
+    executor_options : bool
+        Also ``--workers N`` and ``--scheduler ADDRESS`` (mutually exclusive), read by
+        :func:`executor_from_args`.  Off by default, because some studies define their own ``--workers``.
+    workers_default : str
+        What ``--workers`` is when not given, for its help (what the study passes to
+        :func:`executor_from_args`).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        With ``--out DIR`` (default ``out/<name>``), ``--full`` and ``--quiet``.
+    """
     parser = argparse.ArgumentParser(prog=f"python -m studies.{name}", description=description)
     parser.add_argument("--out", default=os.path.join("out", name), metavar="DIR",
                         help=f"output directory (default: out/{name})")
     parser.add_argument("--full", action="store_true",
                         help="the paper's resolution (N = 200, fine sweeps); slower")
     parser.add_argument("--quiet", "-q", action="store_true", help="no progress lines on stderr")
+    if executor_options:
+        where = parser.add_mutually_exclusive_group()
+        where.add_argument("--workers", "-j", type=_positive_int, default=None, metavar="N",
+                           help=f"local worker processes for the independent runs (1: in this process; "
+                                f"default: {workers_default})")
+        where.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                           help="run them on the Dask cluster of this scheduler instead (tcp://HOST:8786; "
+                                "needs pip install 'contin[dask]')")
     return parser
+
+
+def executor_from_args(args: argparse.Namespace, default_workers: int | None = None) -> Executor:
+    """The executor a study's ``--workers`` / ``--scheduler`` ask for (close it when done).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed by a :func:`study_parser` with ``executor_options=True`` (without them: the default).
+    default_workers : int, optional
+        Local processes when neither option is given (default: one per CPU).
+
+    Returns
+    -------
+    contin.executors.Executor
+        Serial for one worker, a local process pool for more, a Dask executor for ``--scheduler``.
+
+    Raises
+    ------
+    SystemExit
+        Status 2 with one line on stderr when the Dask scheduler cannot be used (dask not installed,
+        address not reached).
+    """
+    workers, scheduler = getattr(args, "workers", None), getattr(args, "scheduler", None)
+    if workers is None and scheduler is None:
+        workers = default_workers
+    try:
+        return make_executor(workers, scheduler)
+    except ExecutorError as exc:
+        option = "--scheduler" if scheduler is not None else "--workers"
+        print(f"error: {option}: {' '.join(str(exc).split())}", file=sys.stderr)
+        raise SystemExit(2) from None
 
 
 def output_dir(path: str | os.PathLike) -> Path:
@@ -54,6 +130,9 @@ def _atomic_write(path: Path, write: Any, mode: str = "w") -> Path:
     try:
         with os.fdopen(fd, mode, **({"newline": ""} if "b" not in mode else {})) as fh:
             write(fh)
+        umask = os.umask(0)  # mkstemp makes the file private; an output gets a new file's permissions
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

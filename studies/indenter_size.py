@@ -1,6 +1,6 @@
 """Indenter size: where a rigid sphere snaps the cap, against its radius (paper figures 6-8).
 
-Run ``python -m studies.indenter_size [--out DIR] [--full] [--workers K] [--quiet]``.
+Run ``python -m studies.indenter_size [--out DIR] [--full] [--workers K | --scheduler ADDRESS] [--quiet]``.
 
 The cap is the paper's (``phi_hat = 0.8``, ``h/R = 0.02``, ``nu = 0.5``, ``N = 200``, the default barrier
 ``K_c = 100 E R``, ``dhat = 1e-3 R``), indented by a rigid sphere of radius ``r`` whose travel ``w_b`` is
@@ -40,6 +40,12 @@ Outputs (in ``--out``, default ``out/indenter_size``): ``fig6_snap_vs_radius``, 
 ``fig8_pole_curvature`` (PNG and PDF), ``cases.csv`` (one row per radius), ``paths.csv`` (the loading
 paths), ``bisection.csv`` (every run of the bisections) and ``summary.json`` (``r_c_over_R``, ``cases``
 and the checks).  The default run takes about 15 s on one core; ``--full`` about a minute on two.
+
+The contact runs (the radii, then each round of a bisection) go through an executor
+(:mod:`contin.executors`): ``--workers K`` local processes (default 1, 2 with ``--full``) or a Dask
+cluster (``--scheduler ADDRESS``).  How many radii a bisection round runs is fixed by the mode
+(:data:`PER_ROUND_FAST`, :data:`PER_ROUND_FULL`), not by the executor, so the outputs (but the wall
+times) are the same whatever runs them.
 """
 
 from __future__ import annotations
@@ -52,7 +58,6 @@ import math  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Callable, Sequence  # noqa: E402
-from concurrent.futures import Executor, ProcessPoolExecutor  # noqa: E402
 from typing import Any  # noqa: E402
 
 import matplotlib  # noqa: E402
@@ -62,17 +67,18 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
+from contin.executors import Executor, make_executor  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
 from models.contact.runner import contact_mode  # noqa: E402
 from models.shell.problem import ShellPointLoad  # noqa: E402
 from models.shell.scene import SHELL_SCHEMA, _problem as _point_problem, _settings as _point_settings  # noqa: E402
 from models.shell.scene import eversion_displacement  # noqa: E402
-from studies._common import (output_dir, print_table, save_figure, say, study_parser, write_csv,  # noqa: E402
-                             write_json)
+from studies._common import (executor_from_args, output_dir, print_table, save_figure, say,  # noqa: E402
+                             study_parser, write_csv, write_json)
 from studies.bench_contact import run_to_snap, snap_settings  # noqa: E402
 
-__all__ = ["PHI_HAT", "H_OVER_R", "GAP_TOL_FACTOR", "RADII_FAST", "RADII_FULL", "FIG8_RADII", "free_snap_state",
-           "resting_sphere", "snap_case", "locate_transition", "run", "main"]
+__all__ = ["PHI_HAT", "H_OVER_R", "GAP_TOL_FACTOR", "RADII_FAST", "RADII_FULL", "FIG8_RADII", "PER_ROUND_FAST",
+           "PER_ROUND_FULL", "free_snap_state", "resting_sphere", "snap_case", "locate_transition", "run", "main"]
 
 #: The cap of the paper's contact study (figures 6-8).
 PHI_HAT = 0.8
@@ -88,6 +94,9 @@ FIG8_RADII = (0.3, 0.5, 0.7, 0.9, 1.1)
 TOL_FAST, TOL_FULL = 0.025, 1e-3
 #: Resolution in r/R of the continuous -> detach-recontact boundary (--full only).
 TOL_MODE = 0.01
+#: Radii per bisection round, by mode (the runs of a round are parallel; fixed so that the bisection,
+#: hence the outputs, do not depend on the executor).
+PER_ROUND_FAST, PER_ROUND_FULL = 1, 2
 
 _PATH_OBS = ("w_b_over_R", "w_s_over_R", "F_norm", "kappa_p_R", "Delta_H_over_R", "n_contact")
 
@@ -243,10 +252,11 @@ def _case_job(args: tuple) -> dict[str, Any]:
     return snap_case(r, N, extra, keep_path, keep_shape)
 
 
-def _map(jobs: list[tuple], pool: Executor | None) -> list[dict[str, Any]]:
-    if pool is None:
+def _map(jobs: list[tuple], executor: Executor | None) -> list[dict[str, Any]]:
+    """:func:`snap_case` of every job, in order, on ``executor`` (None: in this process)."""
+    if executor is None:
         return [_case_job(j) for j in jobs]
-    return list(pool.map(_case_job, jobs))
+    return executor.map(_case_job, jobs)
 
 
 def _detached(gap_tol_factor: float) -> Callable[[dict[str, Any]], bool]:
@@ -255,7 +265,8 @@ def _detached(gap_tol_factor: float) -> Callable[[dict[str, Any]], bool]:
 
 def locate_transition(lo: float, hi: float, *, N: int = 200, extra: Sequence[str] = (), tol: float = TOL_FULL,
                       gap_tol_factor: float = GAP_TOL_FACTOR, predicate: Callable[[dict[str, Any]], bool] | None = None,
-                      pool: Executor | None = None, workers: int = 1, known: dict[float, dict[str, Any]] | None = None,
+                      executor: Executor | None = None, workers: int = 1,
+                      known: dict[float, dict[str, Any]] | None = None,
                       max_expand: int = 6, r_min: float = 0.02, keep_shape: bool = False) -> dict[str, Any]:
     """Bisection in the sphere radius for the transition of the snap (by default: the pole detaches).
 
@@ -263,8 +274,9 @@ def locate_transition(lo: float, hi: float, *, N: int = 200, extra: Sequence[str
     ``Delta_H_at_snap > gap_tol_factor * dhat``.  The bracket ``[lo, hi]`` is checked first (runs at its
     ends unless ``known`` has them) and widened by its own width, up to ``max_expand`` times, until
     ``predicate`` is False at ``lo`` and True at ``hi``.  Each round then runs ``workers`` radii spaced
-    evenly inside the bracket (in parallel on ``pool``) and keeps the sub-bracket where the predicate
-    changes, until the bracket is at most ``tol`` wide.
+    evenly inside the bracket (in parallel on ``executor``) and keeps the sub-bracket where the predicate
+    changes, until the bracket is at most ``tol`` wide.  The result depends on ``workers`` (the
+    points of each round), not on ``executor``.
 
     Parameters
     ----------
@@ -278,8 +290,10 @@ def locate_transition(lo: float, hi: float, *, N: int = 200, extra: Sequence[str
         Gap tolerance of the default predicate in units of ``dhat``.
     predicate : callable, optional
         Replaces the default predicate.
-    pool, workers
-        Executor for the runs and the number of radii per round.
+    executor : contin.executors.Executor, optional
+        Where the runs go (default: this process).
+    workers : int
+        Radii per round.
     known : dict, optional
         Records of :func:`snap_case` already computed, keyed by r/R.
     max_expand : int
@@ -302,7 +316,7 @@ def locate_transition(lo: float, hi: float, *, N: int = 200, extra: Sequence[str
     def evaluate(radii: list[float]) -> list[bool]:
         nonlocal runs
         todo = [r for r in radii if r not in seen]
-        recs = _map([(r, N, tuple(extra), False, keep_shape) for r in todo], pool)
+        recs = _map([(r, N, tuple(extra), False, keep_shape) for r in todo], executor)
         runs += len(todo)
         for r, rec in zip(todo, recs):
             seen[r] = rec
@@ -345,7 +359,8 @@ def _spread(values: Sequence[float]) -> float:
     return float((v.max() - v.min()) / abs(v.mean()))
 
 
-def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200) -> dict[str, Any]:
+def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200,
+        executor: Executor | None = None) -> dict[str, Any]:
     """Run the study (no files written): the cases, the transition, the free snap state, the checks.
 
     Parameters
@@ -353,11 +368,13 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200) 
     full : bool
         20 radii and ``r_c`` to 1e-3 (and the mode boundaries) instead of 8 radii and ``r_c`` to 0.025.
     workers : int
-        Processes for the contact runs (1: all in this process).
+        Processes for the contact runs (1: all in this process), when no ``executor`` is given.
     quiet : bool
         No progress lines on stderr.
     N : int
         Nodes on the meridian.
+    executor : contin.executors.Executor, optional
+        Where the contact runs go (not closed here); the results do not depend on it.
 
     Returns
     -------
@@ -370,12 +387,14 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200) 
     free = free_snap_state(PHI_HAT, H_OVER_R, N, path=True)
     if not free["bistable"]:
         raise RuntimeError("the default cap is not bistable?")
-    pool = ProcessPoolExecutor(max_workers=workers) if workers > 1 else None
+    own = executor is None
+    ex = make_executor(workers) if executor is None else executor
+    per_round = PER_ROUND_FULL if full else PER_ROUND_FAST
     try:
-        say(quiet, f"indenter_size: {len(radii)} radii to the snap (N = {N}, {workers} process(es))")
-        # largest radii (the slowest) first, so that the pool ends evenly
+        say(quiet, f"indenter_size: {len(radii)} radii to the snap (N = {N}, {ex.where(len(radii))})")
+        # largest radii (the slowest) first, so that the workers end evenly
         jobs = [(r, N, (), True, True) for r in sorted(radii, reverse=True)]
-        cases = sorted(_map(jobs, pool), key=lambda d: d["r_over_R"])
+        cases = sorted(_map(jobs, ex), key=lambda d: d["r_over_R"])
         by_r = {d["r_over_R"]: d for d in cases}
         dhat = cases[0]["dhat"]
         detached = _detached(GAP_TOL_FACTOR)
@@ -385,7 +404,7 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200) 
         i = flags.index(True)
         lo, hi = cases[i - 1]["r_over_R"], cases[i]["r_over_R"]
         say(quiet, f"indenter_size: bisection for r_c in [{lo}, {hi}] to {TOL_FULL if full else TOL_FAST}")
-        rc = locate_transition(lo, hi, N=N, tol=TOL_FULL if full else TOL_FAST, pool=pool, workers=workers,
+        rc = locate_transition(lo, hi, N=N, tol=TOL_FULL if full else TOL_FAST, executor=ex, workers=per_round,
                                known=dict(by_r))
         boundaries: dict[str, Any] = {}
         if full:
@@ -394,15 +413,15 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200) 
             up = [r for r, d in sorted(known.items()) if d["Delta_H_over_R"] > dhat]
             down = [r for r, d in sorted(known.items()) if d["Delta_H_over_R"] <= dhat]
             say(quiet, "indenter_size: bisection for the detach boundary (gap at the snap > dhat)")
-            det = locate_transition(max(down), min(up), N=N, tol=TOL_FULL, gap_tol_factor=1.0, pool=pool,
-                                    workers=workers, known=known)
+            det = locate_transition(max(down), min(up), N=N, tol=TOL_FULL, gap_tol_factor=1.0, executor=ex,
+                                    workers=per_round, known=known)
             boundaries["detach"] = {k: det[k] for k in ("r_c", "lo", "hi", "tol", "gap_tol_over_R", "runs")}
             # continuous -> detach-recontact: the largest gap before the snap passes dhat
             cont = [d["r_over_R"] for d in cases if d["contact_mode"] == "continuous"]
             recon = [d["r_over_R"] for d in cases if d["contact_mode"] == "detach-recontact"]
             if cont and recon:
                 say(quiet, "indenter_size: bisection for the continuous -> detach-recontact boundary")
-                mb = locate_transition(max(cont), min(recon), N=N, tol=TOL_MODE, pool=pool, workers=workers,
+                mb = locate_transition(max(cont), min(recon), N=N, tol=TOL_MODE, executor=ex, workers=per_round,
                                        known=dict(by_r),
                                        predicate=lambda d: d["max_gap_before_snap_over_R"] > d["dhat"])
                 boundaries["recontact"] = {k: mb[k] for k in ("r_c", "lo", "hi", "tol", "runs")}
@@ -410,8 +429,8 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200) 
             known.update({d["r_over_R"]: d for d in det["evaluations"]})
             rc["evaluations"] = [known[r] for r in sorted(known)]
     finally:
-        if pool is not None:
-            pool.shutdown()
+        if own:
+            ex.close()
 
     # universality and the rigid-sphere prediction on the free snap shape
     rf, zf = free["r"], free["z"]
@@ -472,7 +491,8 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200) 
         "checks": checks,
         "cases": [{k: d[k] for k in keep} for d in cases],
         "wall_time_s": time.perf_counter() - t0,
-        "workers": workers,
+        "executor": ex.name,
+        "workers": ex.workers,
     }
     return {"summary": summary, "cases": cases, "free": free, "bisection": rc["evaluations"]}
 
@@ -611,15 +631,15 @@ def write_outputs(res: dict[str, Any], out: Any) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command line: ``python -m studies.indenter_size [--out DIR] [--full] [--workers K] [--quiet]``."""
-    ap = study_parser("indenter_size", __doc__.split("\n")[0])
-    ap.add_argument("--workers", type=int, default=None,
-                    help="processes for the contact runs (default: 2 with --full, else 1)")
+    """Command line: ``python -m studies.indenter_size [--out DIR] [--full] [--workers K | --scheduler ADDRESS]
+    [--quiet]``."""
+    ap = study_parser("indenter_size", __doc__.split("\n")[0], executor_options=True,
+                      workers_default="1, or 2 with --full")
     args = ap.parse_args(argv)
     out = output_dir(args.out)
-    workers = args.workers if args.workers is not None else (2 if args.full else 1)
     t0 = time.perf_counter()
-    res = run(full=args.full, workers=workers, quiet=args.quiet)
+    with executor_from_args(args, default_workers=2 if args.full else 1) as executor:
+        res = run(full=args.full, quiet=args.quiet, executor=executor)
     res["summary"]["command"] = "python -m studies.indenter_size " + " ".join(
         argv if argv is not None else sys.argv[1:])
     write_outputs(res, out)

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 import contin
-from contin.scene import Constraint, SceneModel, Schema, TraceResult, boolean, integer, real
+from contin.scene import Constraint, Field, SceneModel, Schema, TraceResult, boolean, integer, real
 
 from .bratu import LAMBDA_CRITICAL, Bratu
 from .truss import VonMisesTruss
@@ -27,9 +27,18 @@ def _step_order(section: str = "continuation") -> Constraint:
 
 
 # ---- Bratu -----------------------------------------------------------------------------------------
+#: Largest ``model.n``: five times the largest benchmarked grid (``studies.bench_bratu``, n = 200000); a
+#: mistyped huge n would otherwise run for hours or fail allocating instead of being rejected.
+MAX_GRID = 1_000_000
+
+
+def _grid_ok(n: int) -> bool:
+    return 2 <= n <= MAX_GRID
+
+
 BRATU_SCHEMA = Schema(
     sections={
-        "model": {"n": integer(200, low=2, help="interior grid points")},
+        "model": {"n": Field(int, 200, _grid_ok, f"an integer >= 2 and <= {MAX_GRID}", "interior grid points")},
         "continuation": {
             "ds": real(0.1, gt=0, help="initial arclength step"),
             "ds_max": real(0.2, gt=0, help="largest step"),

@@ -1,0 +1,46 @@
+"""Entry point of the ``contin`` command: a Ctrl-C while the command starts is an interrupt, not a traceback.
+
+``contin.cli`` imports numpy, scipy, networkx and the engine, which takes about a second; a Ctrl-C
+in that second would print Python's traceback of the import and kill the process by the signal.
+This package imports nothing but :mod:`sys` (it lives outside ``contin`` because importing any
+module of ``contin`` first runs ``contin/__init__.py``, which imports the engine).  :func:`main`
+imports and runs the command line and turns an interrupt at any point before the command handles
+it into the command's own message (``contin: interrupted``) and exit status 130.
+
+The console script names it in ``pyproject.toml``::
+
+    [project.scripts]
+    contin = "contin_launch:main"
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+
+__all__ = ["main"]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``contin`` (:func:`contin.cli.main`); an interrupt during start-up exits quietly with 130.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Arguments without the program name (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status of :func:`contin.cli.main`, or 130 when interrupted before it took over.
+    """
+    try:
+        from contin.cli import main as cli_main
+
+        return cli_main(argv)
+    except KeyboardInterrupt:  # while importing, or building the parser (contin.cli handles it after that)
+        try:
+            print("contin: interrupted", file=sys.stderr)
+        except (KeyboardInterrupt, OSError):
+            pass
+        return 130
