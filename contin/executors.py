@@ -277,7 +277,12 @@ def _stop(pool: ProcessPoolExecutor) -> None:
         if p.is_alive():
             p.terminate()
     pool.shutdown(wait=False, cancel_futures=True)
-    for p in processes:
+    # the pool's manager thread may have started a worker after the first look: stop those as well
+    late = [p for p in (getattr(pool, "_processes", None) or {}).values() if p not in processes]
+    for p in late:
+        if p.is_alive():
+            p.terminate()
+    for p in processes + late:
         p.join(timeout=5)
 
 

@@ -432,7 +432,9 @@ class TraceResult:
     jumps : list of JumpResult
         Snaps between branches (may be empty).
     summary : dict
-        Extra JSON fields for ``summary.json`` (e.g. a classification, closed-form references).
+        Extra JSON fields for ``summary.json`` (e.g. a classification, closed-form references).  Strings listed
+        under ``"warnings"`` (questionable but not failed, e.g. a strain beyond the material law) are
+        repeated in :attr:`message`.
     special_points : list of dict
         JSON records of the special points: ``kind``, ``label``, ``branch``, ``parameter``, ``p``,
         ``observables``, ``residual``, ``located`` and, when known, ``stable_before``/``stable_after``.
@@ -533,6 +535,7 @@ class TraceResult:
             parts.append(f"jump {i} at {self.parameter_name} = {j.p:.10g}: {j.message}")
         if self.failure:
             parts.append(self.failure)
+        parts += [f"warning: {w}" for w in self.summary.get("warnings", [])]
         return "; ".join(parts) if parts else "nothing traced"
 
 

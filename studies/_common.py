@@ -30,7 +30,7 @@ from contin.cli import _json_ready as _cli_json_ready
 from contin.executors import Executor, ExecutorError, make_executor
 from models.shell.boundaries import depth_parameter
 
-__all__ = ["study_parser", "executor_from_args", "output_dir", "save_figure", "write_csv", "write_json",
+__all__ = ["study_parser", "executor_from_args", "output_dir", "save_figure", "write_csv", "write_json", "write_text",
            "json_ready", "print_table", "shell_lambda", "say"]
 
 
@@ -153,6 +153,11 @@ def write_json(path: str | os.PathLike, doc: dict[str, Any]) -> Path:
     """Write ``doc`` as indented JSON (atomically)."""
     text = json.dumps(json_ready(doc), indent=2, allow_nan=False)
     return _atomic_write(Path(path), lambda fh: fh.write(text + "\n"))
+
+
+def write_text(path: str | os.PathLike, text: str) -> Path:
+    """Write ``text`` to ``path`` atomically (a temporary name in the same folder, then a rename)."""
+    return _atomic_write(Path(path), lambda fh: fh.write(text))
 
 
 def write_csv(path: str | os.PathLike, rows: Sequence[dict[str, Any]], columns: Sequence[str] | None = None) -> Path:

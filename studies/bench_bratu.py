@@ -36,6 +36,7 @@ import scipy.sparse as sp  # noqa: E402
 
 from contin import continuation  # noqa: E402
 from models.benchmarks.bratu import Bratu  # noqa: E402
+from studies._common import write_text  # noqa: E402
 
 
 def reference_fold(n: int) -> float:
@@ -130,8 +131,7 @@ def main(argv=None) -> int:
         report = render(raw)
         print(report)
         if args.out:
-            with open(args.out, "w") as fh:
-                fh.write(report)
+            write_text(args.out, report)
         return 0
 
     results: dict = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
@@ -192,11 +192,9 @@ def main(argv=None) -> int:
     report = render(results)
     print(report)
     if args.out:
-        with open(args.out, "w") as fh:
-            fh.write(report)
+        write_text(args.out, report)
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(results, fh, indent=2, default=str)
+        write_text(args.json, json.dumps(results, indent=2, default=str))
     return 0
 
 

@@ -38,6 +38,7 @@ import timeit  # noqa: E402
 import numpy as np  # noqa: E402
 
 from models.shell import ShellEnergy, ShellPointLoad, spherical_cap  # noqa: E402
+from studies._common import write_text  # noqa: E402
 
 SCENE = dict(R=1.0, E=1e6, nu=0.5, h=0.02, phi_hat=0.8)
 QUANTITIES = ("energy", "gradient", "hessian", "e+g+H", "residual", "jacobian")
@@ -120,9 +121,7 @@ def main(argv: list[str] | None = None) -> int:
             "python": sys.version.split()[0], "numpy": np.__version__, "machine": platform.machine(),
             "results": {str(N): res for N, res in results.items()},
         }
-        with open(args.json, "w", encoding="utf-8") as fh:
-            json.dump(payload, fh, indent=2)
-            fh.write("\n")
+        write_text(args.json, json.dumps(payload, indent=2) + "\n")
     return 0
 
 

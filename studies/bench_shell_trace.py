@@ -39,6 +39,7 @@ from typing import Any  # noqa: E402
 from contin.cli import main as cli_main  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
 from models.shell.scene import SHELL_SCENE  # noqa: E402
+from studies._common import write_text  # noqa: E402
 
 
 def _median_time(fun, repeat: int) -> tuple[float, list[float], Any]:
@@ -135,8 +136,7 @@ def main(argv: list[str] | None = None) -> int:
     text = render(data)
     print(text)
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(data, fh, indent=2)
+        write_text(args.json, json.dumps(data, indent=2))
     return 0
 
 

@@ -23,6 +23,10 @@ bookkeeping:
 - **units**: the scenes with other E and R must give the default scene's normalized results
   (``F R / (2 pi D)``, ``w / R``) to 1e-6.
 
+The largest membrane strain of each run (and of its finer mesh) is reported beside the checks; it is
+not a check of its own, but when the class of a point load changes with the mesh it names the cause
+(the strain at the singular pole, :mod:`models.shell.strain`).
+
 A scene *completes* when the run succeeded and every check holds; it *stops* when the run ended
 early with a stated reason and every stored point still passes the checks; anything else (an
 unconverged or non-finite stored point, a force that is not the energy's derivative, penetration,
@@ -48,8 +52,9 @@ import numpy as np  # noqa: E402
 
 from contin.branch import Branch  # noqa: E402
 from contin.scene import SceneError, TraceResult, load_scene  # noqa: E402
+from models.shell.strain import STRAIN_LIMIT  # noqa: E402
 from studies._common import (executor_from_args, output_dir, print_table, say, study_parser,  # noqa: E402
-                             write_csv, write_json)
+                             write_csv, write_json, write_text)
 
 #: Largest deviation of the reported force from the energy's derivative, relative to max|F| on the branch.
 ENERGY_TOLERANCE = 1e-5
@@ -230,13 +235,15 @@ def run_case(case: Case) -> dict[str, Any]:
         scene, result, wall = _trace(case.overrides)
         checks = check_branches(_problem_of(scene), result.branches, scene)
         row.update(time_s=wall, steps=int(sum(br.meta.get("n_steps", max(len(br) - 1, 0)) for br in result.branches)),
-                   status=result.status, message=result.message, **checks, **_key_result(result, scene))
+                   status=result.status, message=result.message, **checks, **_key_result(result, scene),
+                   max_strain=result.summary.get("max_strain"), max_strain_at=result.summary.get("max_strain_at"))
         if case.mesh_check:
             fine = [*case.overrides, f"shell.N={2 * scene['shell']['N']}"]
             _, fine_result, fine_wall = _trace(fine)
             fine_key = _key_result(fine_result, scene)
             row["fine_time_s"] = fine_wall
             row["fine_status"] = fine_result.status
+            row["fine_max_strain"] = fine_result.summary.get("max_strain")
             if scene["load"]["kind"] == "point":
                 row["fine_class"] = fine_key["class"]
             else:
@@ -265,7 +272,13 @@ def verdict(row: dict[str, Any], case: Case, reference: dict[str, Any] | None) -
     if row.get("min_gap") is not None and not row["min_gap"] > 0.0:
         problems.append("a node penetrates the indenter")
     if "fine_class" in row and row.get("fine_status") == "ok" and row["status"] == "ok" and row["fine_class"] != row["class"]:
-        problems.append(f"the class changes on the finer mesh ({row['class']} -> {row['fine_class']})")
+        why = f"the class changes on the finer mesh ({row['class']} -> {row['fine_class']})"
+        a, b = row.get("max_strain"), row.get("fine_max_strain")
+        if row.get("max_strain_at") == "pole" and a is not None and b is not None and max(a, b) > STRAIN_LIMIT:
+            why += (f": the point load's strain at the pole is {a:.3g} on the mesh and {b:.3g} on the finer one, "
+                    f"beyond the material law's range ({STRAIN_LIMIT:g}); the singular pole is resolved ever more "
+                    f"finely (models/shell/strain.py)")
+        problems.append(why)
     if row.get("mesh_change") is not None and row["mesh_change"] > MESH_TOLERANCE:
         problems.append(f"w_b^c changes by {row['mesh_change']:.2g} on the finer mesh")
     if case.units_check and reference is not None:
@@ -308,7 +321,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                       "result": row.get("class") or _fmt_w(row), "why": why[:90]})
     print_table(table, list(table[0]))
     write_csv(out / "matrix.csv", rows)
-    _atomic_text(out / "matrix.md", markdown_table(rows))
+    write_text(out / "matrix.md", markdown_table(rows))
     n_failed = sum(r["outcome"] == "FAILED" for r in rows)
     write_json(out / "summary.json", {"scenes": rows, "failed": n_failed, "wall_time_s": time.perf_counter() - t0,
                                       "command": "python -m studies.robustness" + (" --full" if args.full else "")})
@@ -323,9 +336,9 @@ def markdown_table(rows: Sequence[dict[str, Any]]) -> str:
     def num(v: Any, fmt: str) -> str:
         return "–" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, fmt)
 
-    lines = ["| scene | settings | outcome | time (s) | steps | worst residual / tol | max \|F − dE/dw\| / max\|F\| "
-             "| min gap | finer mesh | result | reason |",
-             "|---|---|---|---:|---:|---:|---:|---:|---|---|---|"]
+    lines = ["| scene | settings | outcome | time (s) | steps | worst residual / tol | max \\|F − dE/dw\\| / max\\|F\\| "
+             "| min gap | max strain (finer mesh) | finer mesh | result | reason |",
+             "|---|---|---|---:|---:|---:|---:|---:|---|---|---|---|"]
     for r in rows:
         fine = r.get("fine_class") or ("" if r.get("mesh_change") is None else f"w_b^c Δ {r['mesh_change']:.1e}")
         if r.get("units_change") is not None:
@@ -333,14 +346,16 @@ def markdown_table(rows: Sequence[dict[str, Any]]) -> str:
         lines.append("| " + " | ".join([
             r["scene"], f"`{r['settings']}`", f"**{r['outcome']}**", num(r.get("time_s"), ".1f"), str(r.get("steps", "–")),
             num(r.get("worst_residual"), ".2g"), num(r.get("energy_deviation"), ".1e"), num(r.get("min_gap"), ".1e"),
-            fine or "–", r.get("class") or _fmt_w(r) or "–", (r.get("why") or "").replace("|", "/")]) + " |")
+            _fmt_strain(r), fine or "–", r.get("class") or _fmt_w(r) or "–", (r.get("why") or "").replace("|", "/")]) + " |")
     return "\n".join(lines) + "\n"
 
 
-def _atomic_text(path: Any, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+def _fmt_strain(row: dict[str, Any]) -> str:
+    a, b = row.get("max_strain"), row.get("fine_max_strain")
+    if a is None:
+        return "–"
+    text = f"{a:.2g} {row.get('max_strain_at') or ''}".rstrip()
+    return text + (f" ({b:.2g})" if b is not None else "")
 
 
 def _fmt_w(row: dict[str, Any]) -> str:

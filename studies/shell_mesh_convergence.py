@@ -115,13 +115,23 @@ def force_at(shell: ShellPointLoad, w_over_R: float = 0.1) -> float:
 
 
 def first_force_maximum(shell: ShellPointLoad) -> tuple[float, float]:
-    """``(F_max, w/R)`` at the first maximum of F on the displacement-controlled path."""
+    """``(F_max, w/R)`` at the first maximum of F on the displacement-controlled path.
+
+    Raises
+    ------
+    RuntimeError
+        If no maximum is found before ``w = R/2``, or it is only bracketed between stored points.
+    """
     br = continuation(shell, shell.reference_unknowns(), 0.0, p_max=0.5 * shell.R, ds=0.02 * shell.R,
                       ds_max=0.05 * shell.R, detect_branch_points=False,
                       events=[extremum("F", "max", terminal=True)])
     found = br.events("max(F)")
     if not found:
         raise RuntimeError(f"{shell!r}: no maximum of F before w/R = 0.5 ({br.message})")
+    if not found[0].located:
+        # a bracketed maximum is a stored point near it, not the maximum: never report it as converged
+        raise RuntimeError(f"{shell!r}: the maximum of F was bracketed but not located "
+                           f"({found[0].info.get('error', '')}; {br.message})")
     return float(found[0].observables["F"]), float(found[0].observables["w_over_R"])
 
 

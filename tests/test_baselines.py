@@ -179,3 +179,18 @@ def test_displacement_ramp_on_the_shell_lags_in_proportion_to_the_rate() -> None
     assert errs[0] > errs[1] > 0
     assert errs[0] / errs[1] == pytest.approx(10.0, rel=0.2)
     assert errs[1] / F_palc < 1e-3
+
+
+def test_a_force_maximum_only_bracketed_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    # with tol = xtol = 1e-3 the corrector jumps across the maximum at N = 200 and the event cannot be
+    # located (docs/accuracy.md); the stored point next to it must not come back as F_max
+    import studies.shell_mesh_convergence as smc
+
+    loose = smc.continuation
+
+    def sloppy(*args, **kwargs):
+        return loose(*args, **{**kwargs, "tol": 1e-3, "xtol": 1e-3})
+
+    monkeypatch.setattr(smc, "continuation", sloppy)
+    with pytest.raises(RuntimeError, match="bracketed but not located|no maximum"):
+        first_force_maximum(ShellPointLoad(N=200))

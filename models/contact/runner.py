@@ -26,7 +26,10 @@ carries ``w`` (= ``w_b``), ``F``, ``w_over_R``,
 ``F_norm``, ``w_s``, ``Delta_H`` and their normalized forms, ``kappa_p_R``, ``n_contact`` and the range
 of nodes in contact (``contact_first``, ``contact_last``; -1 when none).  ``summary.json`` also has
 the contact mode on the way to the snap (``contact_mode``: continuous / detach-recontact / detach,
-see :func:`contact_mode`; a gap counts once it exceeds ``dhat``).
+see :func:`contact_mode`; a gap counts once it exceeds ``dhat``), the largest membrane strain over
+every stored point (``max_strain``, ``max_strain_at``, ``w_b_at_max_strain_over_R``) and
+``warnings``: a strain beyond :data:`models.shell.strain.STRAIN_LIMIT` is reported there and on the
+status line.
 """
 
 from __future__ import annotations
@@ -39,6 +42,8 @@ import numpy as np
 import contin
 from contin.branch import Branch, SpecialPoint
 from contin.scene import TraceResult
+
+from models.shell.strain import strain_peak, strain_warning
 
 from .barrier import Plate, Sphere
 from .indentation import ShellIndentation, ShellIndentationForce
@@ -254,6 +259,11 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: dict[str, 
                         "F_at_snap": obs["F"], "Delta_H_at_snap": obs["Delta_H"],
                         "Delta_H_at_snap_over_R": obs["Delta_H_over_R"], "w_s_at_snap_over_R": obs["w_s_over_R"],
                         "kappa_p_R_at_snap": obs["kappa_p_R"]})
+    peak = strain_peak(problem, branches, "w_b")
+    warning = strain_warning(peak, R, point_load=False, load_label="w_b")
+    if peak is not None:
+        summary.update(max_strain=peak.value, w_b_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
+    summary["warnings"] = [warning] if warning else []
     cols = dict(generic.csv_columns)
     if all(br.stability_by for br in branches) and branches:
         for label in ("force", "displacement"):

@@ -49,6 +49,12 @@ defined on it; ``contin classify`` traces the displacement path whatever ``load.
 None when the path stopped before eversion without having shown the bistable signature (then
 ``classification_on_partial_path`` says what the traced part looks like).  ``classification_note``
 says which case applies.  :func:`classify_scene` is the model's classifier (``contin classify``).
+
+``max_strain`` is the largest membrane strain over every stored point (``max_strain_at``: ``pole``,
+``base`` or ``interior``; ``w_at_max_strain_over_R``).  ``warnings`` lists what the run found
+questionable without failing: a strain beyond :data:`models.shell.strain.STRAIN_LIMIT`, which under
+a point load means the pole's singular strain has left the material law's range and results near
+there can change with N (:mod:`models.shell.strain`).  The status line repeats the warnings.
 """
 
 from __future__ import annotations
@@ -64,6 +70,7 @@ from contin.scene import (Classification, Constraint, Field, SceneModel, Schema,
                           integer, real)
 
 from .problem import ShellPointLoad
+from .strain import strain_peak, strain_warning
 
 __all__ = ["SHELL_SCENE", "SHELL_SCHEMA", "classify", "classify_scene", "eversion_displacement"]
 
@@ -486,6 +493,11 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         "control": scene["load"]["control"],
     }
     _jump_fields(records, branches)
+    peak = strain_peak(problem, branches, "w")
+    warning = strain_warning(peak, R, point_load=True)
+    if peak is not None:
+        summary.update(max_strain=peak.value, w_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
+    summary["warnings"] = [warning] if warning else []
     if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
         cls = classify(branches[0], [r for r in records if r.get("branch", 0) == 0], problem.D, R)
         complete = _path_complete(branches[0])
@@ -616,7 +628,7 @@ def _run_force(scene: Scene, progress: bool) -> TraceResult:
 #: Fields of :func:`classify` copied into a :class:`~contin.scene.Classification` (``contin classify --json``).
 _CLASSIFY_FIELDS = ("F_max", "w_at_F_max", "F_min", "w_at_F_min", "F_max_norm", "w_at_F_max_over_R", "F_min_norm",
                     "w_at_F_min_over_R", "n_folds_in_w", "n_limit_points_in_F", "F_negative_on_stable_path",
-                    "classification_on_partial_path")
+                    "classification_on_partial_path", "max_strain", "w_at_max_strain_over_R")
 
 
 def classify_scene(scene: Scene, progress: bool = False) -> Classification:
@@ -670,6 +682,10 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     if "n_folds_in_w" in summ:
         lines.append(f"path: {summ['n_limit_points_in_F']} limit points in F, {summ['n_folds_in_w']} folds in w; "
                      f"F < 0 on a displacement-stable part: {'yes' if summ['F_negative_on_stable_path'] else 'no'}")
+    if "max_strain" in summ:
+        lines.append(f"largest membrane strain: {summ['max_strain']:.3g} ({summ['max_strain_at']}, "
+                     f"w/R = {summ['w_at_max_strain_over_R']:.4g})")
+    lines += [f"warning: {w}" for w in summ.get("warnings", [])]
     values["path_complete"] = bool(trace.branches) and _path_complete(trace.branches[0])
     failure = "" if label is not None else summ.get("classification_note", "the path could not be traced")
     return Classification(label=label, values=values, lines=lines, trace=trace, failure=failure)
