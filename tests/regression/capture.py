@@ -1,0 +1,69 @@
+"""Record the special points of the regression scenes (run on a commit whose outputs are trusted).
+
+``python -m tests.regression.capture`` traces every scene of :data:`SCENES` through the command
+line and writes ``tests/regression/<name>.json``: the located special points (kind, label, which
+parameter folds, where, and the stability around them) and the scene's headline numbers.
+``tests/test_regression.py`` traces the same scenes and compares.  The files were written on
+commit 57912bb (before issue 14's redesign) and are not to be regenerated to make a test pass.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+#: name -> command-line overrides of the shell's default scene
+SCENES: dict[str, list[str]] = {
+    "point_default": [],
+    "point_phi_1.2": ["shell.phi_hat=1.2"],
+    "point_force": ["load.control=force"],
+    "sphere_0.5": ["load.kind=sphere", "load.radius=0.5"],
+    "sphere_1.1": ["load.kind=sphere", "load.radius=1.1"],
+    "plate": ["load.kind=plate"],
+}
+
+#: fields of a special point that are compared (numbers to 1e-8, the rest exactly)
+POINT_FIELDS = ("kind", "label", "parameter", "p", "w", "w_b", "F", "F_norm", "w_over_R", "w_b_over_R",
+                "stable_before", "stable_after")
+#: headline numbers of summary.json that are compared when present
+SUMMARY_FIELDS = ("classification", "w_b_c", "F_at_snap", "Delta_H_at_snap", "w_c_one_sided")
+
+
+def trace_summary(overrides: list[str]) -> dict:
+    """Run ``contin trace`` in-process with the overrides and return its summary.json."""
+    from contin.cli import main
+
+    with tempfile.TemporaryDirectory() as tmp:
+        argv = ["trace", "--out", tmp, "-q", "--set", "output.figure=false"]
+        for item in overrides:
+            argv += ["--set", item]
+        status = main(argv)
+        if status != 0:
+            raise RuntimeError(f"contin {' '.join(argv)} exited {status}")
+        return json.loads((Path(tmp) / "summary.json").read_text())
+
+
+def extract(summary: dict) -> dict:
+    """The compared part of a summary: special points in path order, headline numbers."""
+    points = [{k: sp[k] for k in POINT_FIELDS if k in sp} for sp in summary["special_points"]
+              if sp.get("located", True)]
+    return {"special_points": points,
+            "summary": {k: summary[k] for k in SUMMARY_FIELDS if k in summary}}
+
+
+def main() -> int:
+    names = sys.argv[1:] or list(SCENES)
+    for name in names:
+        record = extract(trace_summary(SCENES[name]))
+        record["overrides"] = SCENES[name]
+        (HERE / f"{name}.json").write_text(json.dumps(record, indent=1) + "\n")
+        print(f"{name}: {len(record['special_points'])} special points")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
