@@ -1,0 +1,186 @@
+"""Random scenes: how often does a scene drawn anywhere in the declared ranges run to its end?
+
+``python -m studies.fuzz [--count 40] [--seed 1] [--workers N] [--out DIR]`` draws ``count`` shell
+scenes at random (seeded, so a run is reproducible) over the ranges a user may set:
+
+- ``shell.phi_hat`` uniform in [0.3, 1.5] (deep to shallow caps), ``h/R`` log-uniform in [1e-3, 0.12],
+  ``nu`` uniform in [0, 0.5], ``N`` uniform in [20, 80];
+- ``E`` log-uniform in [1e3, 1e11] Pa and ``R`` log-uniform in [1e-3, 1e3] m (the units);
+- ``load.kind`` point, sphere or plate (sphere radius log-uniform in [0.2, 3] R), ``load.control``
+  displacement or force, each equally likely.
+
+Each scene runs as ``contin trace`` does (in-process, through :func:`contin.cli.main`), with the
+figure off.  A scene *completes* when the command exits 0; otherwise its status line is kept and
+sorted into a cause.  The study writes ``fuzz.csv`` (one row per scene: the drawn keys, exit
+status, time, steps, cause and message), ``summary.json`` (completion rate overall and for
+``N >= 40``, counts per cause) and ``fuzz.png`` / ``fuzz.pdf`` (each scene placed by ``phi_hat`` and
+``h/R``, marked by load kind, coloured by outcome).  It exits with status 1 when fewer than
+:data:`TARGET_COMPLETE` of the scenes with ``N >= 40`` complete, or when a failure's message names no
+cause a user can act on.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import contextlib  # noqa: E402
+import io  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+import re  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from collections import Counter  # noqa: E402
+from collections.abc import Sequence  # noqa: E402
+from pathlib import Path  # noqa: E402
+from typing import Any  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from studies._common import (executor_from_args, output_dir, print_table, save_figure, say, study_parser,  # noqa: E402
+                             write_csv, write_json)
+
+#: Fraction of the scenes with N >= 40 that must complete (issue 14, B8).
+TARGET_COMPLETE = 0.95
+#: Smallest mesh for which the completion target holds; coarser meshes are reported, not judged.
+TARGET_MIN_NODES = 40
+
+#: Causes a failure message can name, as (cause, pattern of the status line).  A message that
+#: matches none of them is "unexplained": the study then fails, since a user could not act on it.
+CAUSES: tuple[tuple[str, str], ...] = (
+    ("refine the mesh", r"refine|finer mesh|too few nodes|increase shell\.N"),
+    ("max_steps reached", r"max_steps"),
+    ("membrane strain beyond the linear law", r"strain"),
+    ("bad input", r"invalid|must be|allowed"),
+)
+
+
+def draw_scenes(count: int, seed: int) -> list[dict[str, Any]]:
+    """``count`` random scenes (``--set`` keys and values), reproducible from ``seed``."""
+    rng = np.random.default_rng(seed)
+    scenes = []
+    for index in range(count):
+        R = 10.0 ** rng.uniform(-3, 3)
+        h_over_R = 10.0 ** rng.uniform(-3, math.log10(0.12))
+        kind = str(rng.choice(["point", "sphere", "plate"]))
+        scene = {
+            "index": index,
+            "shell.R": R,
+            "shell.E": 10.0 ** rng.uniform(3, 11),
+            "shell.h": h_over_R * R,
+            "shell.phi_hat": rng.uniform(0.3, 1.5),
+            "shell.nu": rng.uniform(0.0, 0.5),
+            "shell.N": int(rng.integers(20, 81)),
+            "load.kind": kind,
+            "load.control": str(rng.choice(["displacement", "force"])),
+        }
+        if kind == "sphere":
+            scene["load.radius"] = 10.0 ** rng.uniform(math.log10(0.2), math.log10(3.0)) * R
+        scenes.append(scene)
+    return scenes
+
+
+def cause_of(message: str) -> str:
+    """The first of :data:`CAUSES` whose pattern the message matches, else ``"unexplained"``."""
+    for cause, pattern in CAUSES:
+        if re.search(pattern, message, flags=re.IGNORECASE):
+            return cause
+    return "unexplained"
+
+
+def run_scene(scene: dict[str, Any]) -> dict[str, Any]:
+    """Trace one drawn scene as ``contin trace`` does and return its row."""
+    from contin.cli import main as contin_main
+
+    argv = ["trace", "-q", "--set", "output.figure=false"]
+    for key, value in scene.items():
+        if key != "index":
+            argv += ["--set", f"{key}={value!r}" if isinstance(value, str) else f"{key}={value}"]
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        stdout, stderr = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+            status = contin_main([*argv, "--out", tmp])
+        summary_path = Path(tmp) / "summary.json"
+        summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
+    message = str(summary.get("message") or stderr.getvalue().strip().splitlines()[-1:] or "")
+    row = dict(scene)
+    row.update({"h_over_R": scene["shell.h"] / scene["shell.R"], "exit_status": status,
+                "time_s": round(time.perf_counter() - start, 3), "n_steps": summary.get("n_steps"),
+                "outcome": "complete" if status == 0 else "failed",
+                "cause": "" if status == 0 else cause_of(message), "message": "" if status == 0 else message})
+    return row
+
+
+def summarize(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """Completion rates (all scenes, and those with ``N >= TARGET_MIN_NODES``) and failures per cause."""
+    judged = [r for r in rows if r["shell.N"] >= TARGET_MIN_NODES]
+    rate = sum(r["outcome"] == "complete" for r in judged) / max(len(judged), 1)
+    causes = Counter(r["cause"] for r in rows if r["outcome"] != "complete")
+    return {"n_scenes": len(rows), "n_complete": sum(r["outcome"] == "complete" for r in rows),
+            "n_judged": len(judged), "complete_rate_judged": rate, "target_complete": TARGET_COMPLETE,
+            "failures_by_cause": dict(causes),
+            "target_met": rate >= TARGET_COMPLETE and causes.get("unexplained", 0) == 0}
+
+
+def plot(rows: Sequence[dict[str, Any]]) -> Any:
+    """Each scene at (phi_hat, h/R): marker by load kind, filled green if complete, red cross if not."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.0, 4.2))
+    markers = {"point": "o", "sphere": "s", "plate": "^"}
+    for kind, marker in markers.items():
+        for outcome, colour in (("complete", "tab:green"), ("failed", "tab:red")):
+            sel = [r for r in rows if r["load.kind"] == kind and r["outcome"] == outcome]
+            if sel:
+                ax.scatter([r["shell.phi_hat"] for r in sel], [r["h_over_R"] for r in sel], marker=marker,
+                           c=colour, s=[12 + r["shell.N"] / 2 for r in sel], alpha=0.8,
+                           label=f"{kind}, {outcome} ({len(sel)})")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"$\hat\phi$ (base angle, rad)")
+    ax.set_ylabel(r"$h/R$")
+    s = summarize(rows)
+    ax.set_title(f"{s['n_complete']} of {s['n_scenes']} random scenes complete "
+                 f"({100 * s['complete_rate_judged']:.0f} % with N >= {TARGET_MIN_NODES}); size ~ N",
+                 fontsize="medium")
+    ax.legend(fontsize="x-small", ncol=2)
+    fig.tight_layout()
+    return fig
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the study (see the module docstring); exit status 1 when the target is missed."""
+    parser = study_parser("fuzz", "random scenes over every declared range: how many complete", executor_options=True)
+    parser.add_argument("--count", type=int, default=40, help="number of random scenes (default 40)")
+    parser.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
+    args = parser.parse_args(argv)
+    out = output_dir(args.out)
+    scenes = draw_scenes(args.count, args.seed)
+    rows: list[dict[str, Any]] = []
+    with executor_from_args(args) as executor:
+        for done, (_, row) in enumerate(executor.map_unordered(run_scene, scenes), start=1):
+            rows.append(row)
+            say(args.quiet, f"[{done}/{len(scenes)}] scene {row['index']}: {row['load.kind']}/{row['load.control']} "
+                f"N = {row['shell.N']}: {row['outcome']} {row['cause']} ({row['time_s']:.1f} s)")
+    rows.sort(key=lambda r: r["index"])
+    summary = summarize(rows)
+    summary.update({"seed": args.seed, "count": args.count})
+    write_csv(out / "fuzz.csv", rows)
+    write_json(out / "summary.json", {**summary, "failures": [r for r in rows if r["outcome"] != "complete"]})
+    save_figure(plot(rows), out, "fuzz")
+    print_table(rows, ["index", "load.kind", "load.control", "shell.N", "shell.phi_hat", "h_over_R", "outcome",
+                       "cause", "time_s"], digits=3)
+    say(args.quiet, f"complete: {summary['n_complete']}/{summary['n_scenes']}; with N >= {TARGET_MIN_NODES}: "
+        f"{100 * summary['complete_rate_judged']:.1f} % (target {100 * TARGET_COMPLETE:.0f} %); "
+        f"failures by cause: {summary['failures_by_cause']}")
+    return 0 if summary["target_met"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
