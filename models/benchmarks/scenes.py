@@ -122,27 +122,22 @@ def _run_truss(scene: Scene, progress: bool) -> TraceResult:
         return TraceResult.from_branches([br], problem=problem, x="deflection", y="p", summary=summary,
                                          labels=["S-curve"], table_observables=["y", "deflection"])
 
+    # load to the snap, unload to the snap back, reload to the first fold again: three sweeps of the
+    # one load-snap loop, each without an end load (the folds end them)
     names = ["loading", "unloading", "reloading"]
     branches, jumps, failure = [], [], ""
-    u, p, direction = u0, 0.0, 1
+    u, p = u0, 0.0
     for i, name in enumerate(names):
-        br = contin.continuation(problem, u, p, st, direction=direction, stop_at=("fold",))
-        branches.append(br)
-        if not (br.success and br.folds() and br.special_points[-1].kind == "fold"):
-            failure = f"{name} did not end at a fold"
+        last = i == len(names) - 1
+        qs = contin.quasistatic(problem, u, p, None, st, direction=1 if i % 2 == 0 else -1,
+                                max_snaps=0 if last else 1, stop_after_jump=lambda jr: "snapped")
+        branches += qs.branches
+        jumps += qs.jumps
+        if qs.status != ("max_snaps" if last else "completed"):
+            failure = f"{name} did not end at a fold and snap ({qs.message})"
             break
-        if i == len(names) - 1:
-            break
-        try:
-            jr = contin.jump(problem, br.u[-1], br.p[-1], tol=c["tol"])
-        except contin.JumpError as exc:
-            failure = f"snap after {name} could not start: {exc}"
-            break
-        jumps.append(jr)
-        if not jr.success:
-            break
-        u, p, direction = jr.u_to, jr.p, -direction
-    if not failure and len(branches) == len(names):
+        u, p = qs.u_final, qs.p_final
+    if not failure:
         G = contin.diagram(branches, jumps)
         summary["hysteresis_loops"] = len(contin.hysteresis_cycles(G))
     return TraceResult.from_branches(branches, jumps, problem=problem, x="deflection", y="p", summary=summary,

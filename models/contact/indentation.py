@@ -150,14 +150,14 @@ class ShellIndentation(Problem):
 
     def _full_hessian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         x = self.full_state(u)
-        H = self.elastic._hessian(x).copy()  # the shell's cached matrix is shared: never modify it
+        H = self.elastic.elastic_hessian(x)  # a copy: the shell's cached matrix is shared
         st = self.contact(u, p)
         if st.active.size:
             np.add.at(H.data, self._node_slots[st.active].ravel(), st.hess_blocks.reshape(-1))
         return H
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        return self.elastic._sub["force"](self._full_hessian(u, p))
+        return self.elastic.free_block(self._full_hessian(u, p), "force")
 
     def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
         # c = c0 - w_b: d/dw_b of the barrier gradient is -d2E/dx dc
@@ -206,8 +206,7 @@ class ShellIndentation(Problem):
             gap = max(d_pole - self.dhat, 0.0)
             return gap if name == "Delta_H" else gap / self.R
         if name == "kappa_p_R":
-            a, b = el._pole_ab(x)
-            return el._pole.curvature(a, b)[0] * self.R
+            return el.pole_curvature(x) * self.R
         if name == "base_gap":  # distance from the (vertically fixed) base node to the indenter
             return float(self.contact(u, p, hessian=False).distances[0])
         if name in ("contact_first", "contact_last"):  # range of node indices in contact, -1 when none

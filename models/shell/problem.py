@@ -319,6 +319,23 @@ class ShellPointLoad(Problem):
     def _pole_ab(self, x: np.ndarray) -> tuple[float, float]:
         return float(x[-4]), float(x[-1] - x[-3])
 
+    def pole_curvature(self, x: np.ndarray) -> float:
+        """Curvature ``kappa11 = kappa22`` at the pole of a full state, by the pole's mirror element.
+
+        Raises ``ValueError`` for ``pole="skip"`` (the pole then carries no bending element).
+        """
+        if self._pole is None:
+            raise ValueError("pole_curvature needs the mirror pole treatment (pole='mirror')")
+        return float(self._pole.curvature(*self._pole_ab(x))[0])
+
+    def free_block(self, H: sp.csr_matrix, control: Literal["displacement", "force"]) -> sp.csr_matrix:
+        """The principal block of a full ``2N x 2N`` Hessian (this shell's pattern) on the unknowns of ``control``.
+
+        Other models that add terms to the shell's energy (a contact barrier) restrict their full
+        Hessian with it, in O(nnz), to the unknowns they share with the shell.
+        """
+        return self._sub[control](H)
+
     def elastic_energy(self, x: np.ndarray) -> float:
         """Elastic energy of a full state (stretching + bending + pole element)."""
         e = self.shell.energy(x)

@@ -1,4 +1,4 @@
-"""Command-line scene of the point-indented shell (``contin trace --model shell``).
+"""The point-indented shell's runs of the scene (``contin trace --model shell``, ``load.kind = "point"``).
 
 The scene traces the whole connected equilibrium path of a spherical cap loaded by a point at its
 pole, from the reference state until the shell is everted (the pole past the mirror image of its
@@ -6,16 +6,9 @@ start, ``w = 2 R (1 - sin phi_hat)``, by ``continuation.overshoot``), locates ev
 and every extremum of ``F`` (the limit points under force control), labels every point's stability
 under both controls and classifies the response (``docs/physics.md`` sections 4 and 5).
 
-Scene keys (public contract, ``--set section.key=value``)::
-
-    [shell]         R, E, nu, h, phi_hat, N, pole_ratio (node spacing at the pole / elsewhere; 1 = uniform)
-    [load]          kind = "point" | "sphere" | "plate", radius (sphere), control = "displacement" | "force"
-    [contact]       K_c, dhat (0: the paper's values scaled with E and R; sphere and plate only)
-    [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
-    [output]        figure
-
-A sphere or plate indenter is run by :mod:`models.contact.runner` (its docstring describes that
-``summary.json``); what follows is the point load's.
+The scene keys are :data:`models.shell_scene.schema.SHELL_SCHEMA`'s.  A sphere or plate indenter is
+run by :mod:`models.shell_scene.contact` (its docstring describes that ``summary.json``); what
+follows is the point load's.
 
 Special points in ``summary.json``
 ----------------------------------
@@ -66,85 +59,20 @@ import numpy as np
 
 import contin
 from contin.branch import Branch
-from contin.scene import (Classification, Constraint, Field, SceneModel, Schema, TraceResult, boolean, choice,
-                          integer, real)
+from contin.quasistatic import SnapRules
+from contin.scene import TraceResult
+from models.shell import ShellPointLoad
+from models.shell.strain import strain_peak, strain_warning
 
-from .problem import ShellPointLoad
-from .strain import strain_peak, strain_warning
+from .build import end_of_path, point_problem, point_settings
+from .schema import Scene, eversion_displacement
 
-__all__ = ["SHELL_SCENE", "SHELL_SCHEMA", "classify", "classify_scene", "eversion_displacement"]
-
-Scene = dict[str, dict[str, Any]]
+__all__ = ["classify", "force_snap_rules", "path_complete", "run_point", "run_point_force", "MAX_SNAPS"]
 
 #: Observables of :class:`ShellPointLoad` reported at every special point.
 _OBS = ("w", "F", "w_over_R", "F_norm")
-#: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
-#: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
-_MIN_STEPS_PER_PATH = 20
 #: Relative size (of ``max |F|`` on the path) below which a negative force counts as round-off.
 _F_ROUNDOFF = 1e-8
-
-#: Largest ``shell.N``: 125 times the finest mesh of the studies (N = 800).  The cost is linear in N, but
-#: a mistyped huge N would otherwise run for hours or fail allocating instead of being rejected.
-MAX_NODES = 100_000
-
-
-def _nodes_ok(n: int) -> bool:
-    return 10 <= n <= MAX_NODES
-
-
-SHELL_SCHEMA = Schema(
-    sections={
-        "shell": {
-            "R": real(1.0, gt=0, help="sphere radius [m]"),
-            "E": real(1e6, gt=0, help="Young's modulus [Pa]"),
-            "nu": real(0.5, gt=-1, le=0.5, help="Poisson's ratio"),
-            "h": real(0.02, gt=0, help="thickness [m]"),
-            "phi_hat": real(0.8, gt=0, lt=math.pi / 2,
-                            help="base angle from the horizontal [rad] (small = deep cap)"),
-            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}", "number of nodes on the meridian"),
-            "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
-                                                    "graded towards the point load by default)"),
-        },
-        "load": {
-            "kind": choice("point", ("point", "sphere", "plate"),
-                           help="indenter: a point at the pole (bilateral), or a rigid sphere or plate through the "
-                                "log-barrier contact"),
-            "radius": real(0.5, gt=0, help="sphere radius [m] (load.kind = sphere)"),
-            "control": choice("displacement", ("displacement", "force"),
-                              help="displacement: the pole displacement w (point) or the indenter travel w_b "
-                                   "(sphere, plate) is prescribed; force: a dead load F on the pole or the indenter"),
-        },
-        "continuation": {
-            "ds": real(0.02, gt=0, help="initial arclength step in units of R"),
-            "ds_max": real(0.1, gt=0, help="largest step in units of R (also capped at 1/20 of the eversion depth)"),
-            "tol": real(1e-10, gt=0, lt=1, help="relative residual tolerance"),
-            "max_steps": integer(3000, low=1, high=1_000_000, help="maximum number of steps per branch"),
-            "overshoot": real(0.05, ge=0, le=1,
-                              help="stop this fraction past eversion, w = 2 R (1 - sin phi_hat) (1 + overshoot)"),
-        },
-        "contact": {
-            "K_c": real(0.0, ge=0, help="barrier stiffness [N/m]; 0 = 100 E R (the paper's 1e8 for E = 1 MPa, R = 1 m)"),
-            "dhat": real(0.0, ge=0, help="barrier range [m]; 0 = 1e-3 R (the paper's 1e-3 for R = 1 m)"),
-        },
-        "output": {
-            "figure": boolean(True, help="draw the force-displacement diagram (false: an empty placeholder)"),
-        },
-    },
-    constraints=[
-        Constraint(("continuation.ds", "continuation.ds_max"),
-                   lambda s: s["continuation"]["ds"] <= s["continuation"]["ds_max"],
-                   "continuation.ds <= continuation.ds_max"),
-        Constraint(("shell.h", "shell.R"), lambda s: s["shell"]["h"] < s["shell"]["R"],
-                   "shell.h < shell.R", "the shell model is thin: its thickness must be below its radius"),
-    ],
-)
-
-
-def eversion_displacement(R: float, phi_hat: float) -> float:
-    """Pole displacement ``2 R (1 - sin phi_hat)`` at which the pole reaches the mirror image of its start."""
-    return 2.0 * R * (1.0 - math.sin(phi_hat))
-
 
 # ---------------------------------------------------------------------------------------------------
 # special points and classification
@@ -262,7 +190,7 @@ def classify(branch: Branch, records: list[dict[str, Any]], D: float, R: float) 
     return out
 
 
-def _path_complete(br: Branch) -> bool:
+def path_complete(br: Branch) -> bool:
     """Whether a displacement-controlled path reached eversion (its ``p_max`` bound)."""
     return br.status == "bound" and len(br) > 0
 
@@ -340,41 +268,17 @@ def _csv(branches: list[Branch], base: dict[str, np.ndarray]) -> dict[str, np.nd
 # ---------------------------------------------------------------------------------------------------
 # the runner
 # ---------------------------------------------------------------------------------------------------
-def _settings(scene: Scene, problem: ShellPointLoad, w_end: float, progress: bool) -> contin.Settings:
-    s, c = scene["shell"], scene["continuation"]
-    R = s["R"]
-    cap = eversion_displacement(R, s["phi_hat"]) / _MIN_STEPS_PER_PATH / R
-    ds_max = min(c["ds_max"], cap)
-    ds = min(c["ds"], ds_max)
-    # weights make ds dimensionless in units of R: positions and w are lengths; F is measured in
-    # units of 2 pi D / R times the Reissner-type scale of the path (F_norm ~ 1..10 over the path)
-    f_unit = 2.0 * math.pi * problem.D / R
-    param_weight = 1.0 / R if problem.control == "displacement" else 1.0 / (10.0 * f_unit)
-    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
-                           stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
-
-
-def _problem(scene: Scene, control: str) -> ShellPointLoad:
+def run_point(scene: Scene, progress: bool = False) -> TraceResult:
+    """Trace the point-loaded cap's displacement-controlled path to eversion (see the module docstring)."""
     s = scene["shell"]
-    return ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"], control=control,
-                          pole_ratio=s["pole_ratio"])
-
-
-def _run_shell(scene: Scene, progress: bool) -> TraceResult:
-    s, c, load = scene["shell"], scene["continuation"], scene["load"]
-    if load["kind"] in ("sphere", "plate"):
-        return _run_contact(scene, progress)
-    if load["control"] == "force":
-        return _run_force(scene, progress)
-    R = s["R"]
-    w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
-    problem = _problem(scene, "displacement")
-    st = _settings(scene, problem, w_end, progress)
+    w_end = end_of_path(scene)
+    problem = point_problem(scene, "displacement")
+    st = point_settings(scene, problem, progress)
     # F = 0 (falling): where a one-sided point indenter, which can only push, would lose the shell
     br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end,
                              events=[contin.extremum("F", "max"), contin.extremum("F", "min"),
                                      contin.crossing("F", 0.0, direction=-1, name=_F_ZERO)])
-    if _path_complete(br) or not len(br):
+    if path_complete(br) or not len(br):
         return _result([br], [], problem, scene, ["path"], "")
     return _result([br, _everted_branch(problem, st, s["phi_hat"])], [], problem, scene, ["path", _EVERTED], "")
 
@@ -413,30 +317,6 @@ def _one_sided_snap(records: list[dict[str, Any]]) -> dict[str, Any] | None:
     rec = min(first, key=lambda r: r["index"] + (0.5 if r["kind"] == "fold" else 0.0))
     return {"w_c_one_sided": rec["w"], "w_c_one_sided_over_R": rec["w_over_R"], "F_at_one_sided_snap": rec["F"],
             "one_sided_snap_kind": "F = 0" if rec.get("label") == _F_ZERO else "fold in w"}
-
-
-def contact_settings(scene: Scene, progress: bool = False, stability: bool = True) -> tuple[contin.Settings, float]:
-    """Continuation settings and the end of travel ``w_end`` of a sphere or plate scene."""
-    s, c = scene["shell"], scene["continuation"]
-    R = s["R"]
-    w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
-    # lengths in units of R, as for the point load; the first contact is a sharp corner of the path
-    # (the barrier switches on), so the first step is a quarter of the scene's
-    ds_max = min(c["ds_max"], eversion_displacement(R, s["phi_hat"]) / _MIN_STEPS_PER_PATH / R)
-    ds = 0.25 * min(c["ds"], ds_max)
-    st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
-                         stability=stability, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R, progress=progress)
-    return st, w_end
-
-
-def _run_contact(scene: Scene, progress: bool) -> TraceResult:
-    """Sphere or plate indentation (see :mod:`models.contact.runner`): travel or dead load on the indenter."""
-    from models.contact.runner import run_contact, run_contact_force  # only a contact scene builds these
-
-    st, w_end = contact_settings(scene, progress)
-    if scene["load"]["control"] == "force":
-        return run_contact_force(scene, progress, st, w_end)
-    return run_contact(scene, progress, st, w_end)
 
 
 def _use_everted_branch(cls: dict[str, Any], branches: list[Branch], records: list[dict[str, Any]],
@@ -500,7 +380,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
     summary["warnings"] = [warning] if warning else []
     if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
         cls = classify(branches[0], [r for r in records if r.get("branch", 0) == 0], problem.D, R)
-        complete = _path_complete(branches[0])
+        complete = path_complete(branches[0])
         everted_note = ""
         if not complete:
             everted_note = _use_everted_branch(cls, branches, records, labels, problem.D, R)
@@ -572,130 +452,39 @@ def _plot(ax: Any, result: TraceResult) -> None:
 #: the null vector; a load a hair above the limit load has no equilibrium nearby, so the
 #: minimisation has to leave for the distant stable state.
 _JUMP_ATTEMPTS = ((1e-6, 1e-4), (1e-4, None), (1e-4, 1e-4))
-_MAX_SNAPS = 4
+#: Snaps a force-controlled trace may make before eversion.
+MAX_SNAPS = 4
 
 
-def _snap(problem: ShellPointLoad, u: np.ndarray, F: float, tol: float) -> tuple[Any, str]:
-    """Jump from a force limit point to a distinct stable state; ``(JumpResult or None, reason)``."""
-    w_fold = problem.evaluate_observables(u, F)["w"]
-    reasons = []
-    for eps, kick in _JUMP_ATTEMPTS:
-        try:
-            jr = contin.jump(problem, u, F * (1.0 + eps), tol=tol,
-                             perturbation=None if kick is None else kick * problem.R)
-        except contin.JumpError as exc:
-            reasons.append(str(exc))
-            continue
-        w_to = problem.evaluate_observables(jr.u_to, jr.p)["w"]
-        if jr.success and abs(w_to - w_fold) > 1e-3 * problem.R:
-            return jr, ""
-        reasons.append(jr.message if not jr.success else "landed back at the limit point")
-    return None, "; ".join(reasons)
+def force_snap_rules(problem: ShellPointLoad) -> SnapRules:
+    """How the force-controlled point load leaves a limit point (for :func:`contin.quasistatic`).
 
-
-def _run_force(scene: Scene, progress: bool) -> TraceResult:
-    """Dead load at the pole: load to each force limit point, snap, keep loading until eversion."""
-    s, c = scene["shell"], scene["continuation"]
-    R = s["R"]
-    w_end = eversion_displacement(R, s["phi_hat"]) * (1.0 + c["overshoot"])
-    problem = _problem(scene, "force")
-    st = _settings(scene, problem, w_end, progress)
-    branches: list[Branch] = []
-    jumps: list[Any] = []
-    labels: list[str] = []
-    failure = ""
-    u, F, origin = problem.reference_unknowns(), 0.0, None
-    for k in range(_MAX_SNAPS + 1):
-        br = contin.continuation(problem, u, F, st, stop_at=("fold",), bounds={"w": (None, w_end)}, origin=origin)
-        branches.append(br)
-        labels.append("loading" if k == 0 else f"loading after snap {k}")
-        if br.status != "event":  # reached eversion (w bound), max_steps, or failed
-            break
-        if k == _MAX_SNAPS:
-            failure = f"more than {_MAX_SNAPS} snaps under force control before eversion"
-            break
-        jr, reason = _snap(problem, br.u[-1], br.p[-1], c["tol"])
-        if jr is None:
-            failure = f"the snap at the force limit point F = {br.p[-1]:.8g} did not land on a stable state ({reason})"
-            break
-        jumps.append(jr)
-        u, F, origin = jr.u_to, jr.p, jr
-        if problem.evaluate_observables(u, F)["w"] >= w_end:
-            break  # landed beyond eversion: nothing left to load
-    return _result(branches, jumps, problem, scene, labels, failure)
-
-
-#: Fields of :func:`classify` copied into a :class:`~contin.scene.Classification` (``contin classify --json``).
-_CLASSIFY_FIELDS = ("F_max", "w_at_F_max", "F_min", "w_at_F_min", "F_max_norm", "w_at_F_max_over_R", "F_min_norm",
-                    "w_at_F_min_over_R", "n_folds_in_w", "n_limit_points_in_F", "F_negative_on_stable_path",
-                    "classification_on_partial_path", "max_strain", "w_at_max_strain_over_R")
-
-
-def classify_scene(scene: Scene, progress: bool = False) -> Classification:
-    """Classify a shell scene (``contin classify --model shell``).
-
-    The class is defined on the displacement-controlled path to eversion (``docs/physics.md``
-    section 5), so that path is traced whatever ``load.control`` says; every other key of the scene
-    is used as given.
-
-    Parameters
-    ----------
-    scene : dict
-        A resolved scene of :data:`SHELL_SCHEMA`.
-    progress : bool
-        Print the continuation's progress to stderr.
-
-    Returns
-    -------
-    Classification
-        ``label`` is ``"monotonous"``, ``"monostable"`` or ``"bistable"``, or None when the path
-        did not reach eversion and F < 0 was not yet seen on a displacement-stable part of it.
-        ``values`` holds ``F_max``, ``w_at_F_max``, ``F_min``, ``w_at_F_min`` and their normalized
-        forms (``F R / (2 pi D)``, ``w / R``), the fold counts, ``lambda``, ``D``, ``F_unit`` and
-        ``eversion_w``; ``trace`` is the displacement-controlled run.
+    The load is raised by ``eps F`` past the limit load, the kick measured in units of R; a landing
+    is a snap when the pole has moved by more than 1e-3 R.  The jump stays at the load it was
+    minimised at: the snap's ``jump_from`` and ``jump_to`` records are stated there.
     """
-    path_scene = {section: dict(keys) for section, keys in scene.items()}
-    path_scene["load"]["control"] = "displacement"
-    path_scene["output"]["figure"] = False
-    trace = _run_shell(path_scene, progress)
-    summ = trace.summary
-    label = summ.get("classification")
-    values: dict[str, Any] = {"control_traced": "displacement"}
-    values.update({k: summ[k] for k in _CLASSIFY_FIELDS if k in summ})
-    values.update({k: summ[k] for k in ("lambda", "D", "F_unit", "eversion_w") if k in summ})
-    s = scene["shell"]
-    lines = [f"scene: R = {s['R']:g}, h/R = {s['h'] / s['R']:g}, phi_hat = {s['phi_hat']:g}, nu = {s['nu']:g}, "
-             f"N = {s['N']}; lambda = {summ['lambda']:.4g}"]
-    rows = [("", "F", "w", "F R/(2 pi D)", "w/R", "")]
-    for tag, what in (("max", "first local maximum of F: the snap load under force control"),
-                      ("min", "last local minimum of F: the snap-back load on unloading")):
-        F = summ.get(f"F_{tag}")
-        if F is None:
-            rows.append((f"F_{tag}", "-", "-", "-", "-", "none on the path"))
-        else:
-            rows.append((f"F_{tag}", f"{F:.6g}", f"{summ[f'w_at_F_{tag}']:.6g}", f"{summ[f'F_{tag}_norm']:.6g}",
-                         f"{summ[f'w_at_F_{tag}_over_R']:.6g}", what))
-    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-    for r in rows:
-        lines.append("  ".join(c.rjust(w) if 0 < i < 5 else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
-                     .rstrip())
-    if "n_folds_in_w" in summ:
-        lines.append(f"path: {summ['n_limit_points_in_F']} limit points in F, {summ['n_folds_in_w']} folds in w; "
-                     f"F < 0 on a displacement-stable part: {'yes' if summ['F_negative_on_stable_path'] else 'no'}")
-    if "max_strain" in summ:
-        lines.append(f"largest membrane strain: {summ['max_strain']:.3g} ({summ['max_strain_at']}, "
-                     f"w/R = {summ['w_at_max_strain_over_R']:.4g})")
-    lines += [f"warning: {w}" for w in summ.get("warnings", [])]
-    values["path_complete"] = bool(trace.branches) and _path_complete(trace.branches[0])
-    failure = "" if label is not None else summ.get("classification_note", "the path could not be traced")
-    return Classification(label=label, values=values, lines=lines, trace=trace, failure=failure)
+    def pole_moved(u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
+        w_to = problem.evaluate_observables(u_to, p_to)["w"]
+        return abs(w_to - problem.evaluate_observables(u_fold, p_fold)["w"]) / problem.R
+
+    return SnapRules(attempts=_JUMP_ATTEMPTS, overshoot_unit="fold", perturbation_unit=problem.R,
+                     separation=pole_moved, min_separation=1e-3, restate=False)
 
 
-SHELL_SCENE = SceneModel(
-    name="shell",
-    description="spherical cap under a point load at the pole: the whole path to eversion, folds in w and F, "
-                "stability under both controls, classification",
-    schema=SHELL_SCHEMA,
-    runner=_run_shell,
-    classifier=classify_scene,
-)
+def run_point_force(scene: Scene, progress: bool = False) -> TraceResult:
+    """Dead load at the pole: load to each force limit point, snap, keep loading until eversion."""
+    w_end = end_of_path(scene)
+    problem = point_problem(scene, "force")
+    st = point_settings(scene, problem, progress)
+
+    def beyond_eversion(jr: contin.JumpResult) -> str | None:
+        w_to = problem.evaluate_observables(jr.u_to, jr.p)["w"]
+        return f"landed beyond eversion (w = {w_to:.6g} >= {w_end:.6g})" if w_to >= w_end else None
+
+    # no end load: the pole displacement's bound at eversion ends the sweep
+    qs = contin.quasistatic(problem, problem.reference_unknowns(), 0.0, None, st, direction=1, max_snaps=MAX_SNAPS,
+                            snap=force_snap_rules(problem), stop_after_jump=beyond_eversion,
+                            stop_at_branch_points=False, bounds={"w": (None, w_end)})
+    failed = qs.status in ("jump_failed", "max_snaps", "lost_stability", "branch_point", "unstable_start")
+    labels = ["loading" if k == 0 else f"loading after snap {k}" for k in range(len(qs.branches))]
+    return _result(qs.branches, qs.jumps, problem, scene, labels, qs.message if failed else "")
