@@ -89,7 +89,13 @@ def test_state_maps_round_trip():
         u, p = _perturbed(P, 5)
         x = P.full_state(u, p)
         assert x[1] == P.cap.z[0] and x[-2] == 0.0
-        np.testing.assert_array_equal(P.unknowns(x), u)
+        back = P.unknowns(x)
+        if control == "force":
+            # the last unknown is the pole displacement w = zbar - z_pole (the dead load's generic
+            # unknown): its round trip through z_pole is exact up to the rounding of that subtraction
+            assert abs(back[-1] - u[-1]) <= 2 * np.finfo(float).eps * abs(P.z_pole_ref)
+            back, u = back[:-1], u[:-1]
+        np.testing.assert_array_equal(back, u)
     P = ShellPointLoad(N=12)
     assert P.pole_displacement(P.full_state(P.reference_unknowns(), 0.25)) == pytest.approx(0.25)
 
