@@ -106,6 +106,15 @@ class QuasiStaticResult:
         return self.status == "completed"
 
     @property
+    def failed(self) -> bool:
+        """True when the loop itself failed (a snap, the snap budget, stability, a branch point or the start).
+
+        False for ``"completed"`` and for ``"stopped"``, where a continuation run ended for its own
+        reason (a bound, ``max_steps``) and its branch says why.
+        """
+        return self.status in ("jump_failed", "max_snaps", "lost_stability", "branch_point", "unstable_start")
+
+    @property
     def jump_parameters(self) -> np.ndarray:
         """Parameters of the folds the sweep snapped at (one per jump, in sweep order)."""
         return np.array([jr.info["fold_p"] for jr in self.jumps], dtype=float)

@@ -271,3 +271,10 @@ def test_a_model_locates_its_own_snap_past_a_terminal_event() -> None:
                       stop_after_jump=lambda jr: "done", **KW)
     assert res.status == "completed" and res.folds[0].p == pytest.approx(P_MAX, abs=1e-9)
     assert res.jumps[0].u_to[1] == pytest.approx(y_lower(P_MAX), abs=1e-9)
+
+
+def test_failed_tells_the_loop_s_failures_from_a_stopped_run() -> None:
+    truss = VonMisesTruss(A, B, K)
+    assert quasistatic(truss, [0.0, B], 0.0, 1.5 * P_MAX, max_snaps=0, **KW).failed
+    assert not quasistatic(truss, [0.0, B], 0.0, 1.5 * P_MAX, max_steps=3, **KW).failed
+    assert not quasistatic(truss, [0.0, B], 0.0, 0.5 * P_MAX, **KW).failed

@@ -68,9 +68,6 @@ _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
 MAX_SNAPS = 4
 _OBS = ("w_b", "F", "w_b_over_R", "F_norm", "w_s", "w_s_over_R", "Delta_H", "Delta_H_over_R", "kappa_p_R",
         "n_contact", "contact_first", "contact_last")
-#: Sweep statuses that are failures of the trace; the others end it normally (eversion, the base ring,
-#: or a continuation run that stopped, whose branch says why).
-_FAILED = ("jump_failed", "max_snaps", "lost_stability", "branch_point", "unstable_start")
 
 
 def snap_rules(problem: ShellIndentation) -> SnapRules:
@@ -95,10 +92,6 @@ def snap_event() -> contin.Event:
     return contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
 
 
-def _failure(qs: QuasiStaticResult) -> str:
-    return qs.message if qs.status in _FAILED else ""
-
-
 def _snaps(problem: contin.Problem, qs: QuasiStaticResult) -> list[dict[str, Any]]:
     """Each snap's point, the branch it ends and the nodes in contact after it."""
     return [{"point": fold, "branch": k, "contact_after": int(problem.evaluate_one("n_contact", j.u_to, j.p))}
@@ -118,7 +111,7 @@ def run_contact(scene: Scene, progress: bool, settings: contin.Settings, w_end: 
                             snap=snap_rules(problem), locate_snap=lambda br: snap_point(problem, br, settings.tol),
                             stop_at_branch_points=False, events=[snap_event()],
                             bounds={"base_gap": (2.0 * problem.dhat, None)})
-    return _result(problem, scene, qs.branches, qs.jumps, _labels(len(qs.branches)), _failure(qs),
+    return _result(problem, scene, qs.branches, qs.jumps, _labels(len(qs.branches)), qs.message if qs.failed else "",
                    _snaps(problem, qs))
 
 

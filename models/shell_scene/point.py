@@ -485,6 +485,5 @@ def run_point_force(scene: Scene, progress: bool = False) -> TraceResult:
     qs = contin.quasistatic(problem, problem.reference_unknowns(), 0.0, None, st, direction=1, max_snaps=MAX_SNAPS,
                             snap=force_snap_rules(problem), stop_after_jump=beyond_eversion,
                             stop_at_branch_points=False, bounds={"w": (None, w_end)})
-    failed = qs.status in ("jump_failed", "max_snaps", "lost_stability", "branch_point", "unstable_start")
     labels = ["loading" if k == 0 else f"loading after snap {k}" for k in range(len(qs.branches))]
-    return _result(qs.branches, qs.jumps, problem, scene, labels, qs.message if failed else "")
+    return _result(qs.branches, qs.jumps, problem, scene, labels, qs.message if qs.failed else "")
