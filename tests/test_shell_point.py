@@ -174,3 +174,22 @@ def test_stability_counts_from_one_factorization_match_eigenvalues(control):
             assert counts[label] == expected, (label, w)
             seen.add(expected)
     assert len(seen) >= 2  # the path visits unstable states
+
+
+def test_a_replaced_pole_element_acts_under_both_controls():
+    from models.shell import PoleMirror
+
+    for control in ("displacement", "force"):
+        P = ShellPointLoad(N=20, control=control)
+        u = P.reference_unknowns()
+        u[-1] += 0.01 * P.R  # displace the pole (force control) or a node next to it
+        e0 = P.energy(u, 0.0)
+        old = P.pole_element
+        stiffer = PoleMirror(old.lbar, P.shell.kb, P.shell.nu, old.current_length, float(P.cap.r[-2]),
+                             float(P.cap.z[-1] - P.cap.z[-2]))
+        stiffer.K *= 2.0
+        P.use_pole_element(stiffer)
+        assert P.pole_element is stiffer
+        x = P.full_state(u, 0.0)
+        expected = P.shell.energy(x) + stiffer.energy(*(float(x[-4]), float(x[-1] - x[-3])))
+        assert P.energy(u, 0.0) == pytest.approx(expected, rel=1e-12) and P.energy(u, 0.0) > e0

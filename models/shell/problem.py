@@ -375,6 +375,27 @@ class ShellPointLoad(Problem):
             raise ValueError("pole_curvature needs the mirror pole treatment (pole='mirror')")
         return float(self._pole.curvature(*self._pole_ab(x))[0])
 
+    @property
+    def pole_element(self) -> PoleMirror | None:
+        """The pole's bending element (None for ``pole="skip"``)."""
+        return self._pole
+
+    def use_pole_element(self, element: PoleMirror) -> None:
+        """Replace the pole's bending element, e.g. to survey other pole treatments (mirror pole only).
+
+        The cached gradients and Hessians hold the old element and are dropped; under force control
+        the displacement-controlled twin that evaluates the energy gets the element too.
+        """
+        if self._pole is None:
+            raise ValueError("use_pole_element needs the mirror pole treatment (pole='mirror')")
+        shells = [self, self.twin] if self.control == "force" else [self]
+        for shell in shells:
+            shell._pole = element
+            for key in [k for k in vars(shell) if k.endswith("_cache")]:
+                del shell.__dict__[key]
+        if self.control == "force":
+            self._hess_cache = self.twin.__dict__.setdefault("_hess_cache", [])
+
     def free_block(self, H: sp.csr_matrix, control: Literal["displacement", "force"]) -> sp.csr_matrix:
         """The principal block of a full ``2N x 2N`` Hessian (this shell's pattern) on the unknowns of ``control``.
 
