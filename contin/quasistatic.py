@@ -391,7 +391,7 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
                 *, direction: int | None = None, max_snaps: int = 10, snap: SnapRules | None = None,
                 locate_snap: Callable[[Branch], SpecialPoint | None] | None = None,
                 stop_after_jump: Callable[[JumpResult], str | None] | None = None,
-                stop_at_branch_points: bool = True, events: Sequence[Event] = (),
+                stop_at_branch_points: bool = True, check_stability: bool = True, events: Sequence[Event] = (),
                 jump_attempts: Sequence[tuple[float, float | None]] | None = None, jump_tol: float | None = None,
                 jump_max_iter: int | None = None, min_separation: float | None = None,
                 **overrides: Any) -> QuasiStaticResult:
@@ -445,6 +445,10 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
         beyond the end of the loading path).
     stop_at_branch_points : bool
         End a branch at a branch point (status ``"branch_point"``); False continues through it.
+    check_stability : bool
+        End the sweep with status ``"lost_stability"`` at a stored point that is unstable although
+        no fold or branch point was located.  False trusts the located folds alone (for a model
+        whose stability labels are known to flicker between folds, the caller reports them).
     events : sequence of Event
         User events passed to every continuation run.
     jump_attempts, jump_tol, jump_max_iter, min_separation
@@ -518,7 +522,7 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
             return finish("stopped", f"continuation from {pname} = {p:.10g} failed: {br.message}", u, p)
         u_last, p_last = br.u[-1], float(br.p[-1])
         terminal = _terminal_point(br)
-        i = _first_unstable(br, terminal)
+        i = _first_unstable(br, terminal) if check_stability else None
         if i is not None:
             j = max(i - 1, 0)
             return finish("lost_stability", f"the branch became unstable at {pname} = {br.p[i]:.10g} (stored point "

@@ -106,10 +106,11 @@ def run_contact(scene: Scene, progress: bool, settings: contin.Settings, w_end: 
     """Trace a sphere or plate indentation through its snaps to ``w_b = w_end`` (see the module docstring)."""
     problem = contact_problem(scene)
     # the indenter may not reach the base ring: it is held vertically, so the indenter would press
-    # on the support itself (a plate or a large sphere gets there before eversion)
+    # on the support itself (a plate or a large sphere gets there before eversion); the located
+    # snaps alone end a stretch (the plate's dimple branch flickers in stability between nodes, B3)
     qs = contin.quasistatic(problem, problem.reference_unknowns(), 0.0, w_end, settings, max_snaps=MAX_SNAPS,
                             snap=snap_rules(problem), locate_snap=lambda br: snap_point(problem, br, settings.tol),
-                            stop_at_branch_points=False, events=[snap_event()],
+                            stop_at_branch_points=False, check_stability=False, events=[snap_event()],
                             bounds={"base_gap": (2.0 * problem.dhat, None)})
     return _result(problem, scene, qs.branches, qs.jumps, _labels(len(qs.branches)), qs.message if qs.failed else "",
                    _snaps(problem, qs))
