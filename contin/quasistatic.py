@@ -530,7 +530,8 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
                           "point", br.u[j], float(br.p[j]))
         if br.status == "bound" and (p_end is None or abs(p_last - p_end) <= 1e-9 * max(1.0, abs(p_end),
                                                                                        abs(p_end - p0))):
-            return finish("completed", f"reached {pname} = {p_last:.10g} after {len(out.jumps)} snap(s)",
+            reached = p_last if p_end is None else p_end
+            return finish("completed", f"reached {pname} = {reached:.10g} after {len(out.jumps)} snap(s)",
                           u_last, p_last)
         if terminal is None and br.status == "event" and locate_snap is not None:
             terminal = locate_snap(br)
@@ -544,8 +545,9 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
                           "(see contin.switch_branch)", u_last, p_last)
         out.folds.append(terminal)
         if len(out.jumps) >= max_snaps:
+            end = "" if p_end is None else f", before {pname} = {p_end:.10g}"
             return finish("max_snaps", f"reached a fold at {pname} = {terminal.p:.10g} after max_snaps = "
-                          f"{max_snaps} snap(s)", u_last, p_last)
+                          f"{max_snaps} snap(s){end}", u_last, p_last)
         u_fold = u_last if terminal.u is None else np.asarray(terminal.u, dtype=float)
         jr, reasons = sweep.snap(terminal, u_fold)
         out.info["jump_attempts"].append(reasons)
