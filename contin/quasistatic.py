@@ -4,12 +4,21 @@ A structure loaded slowly stays on a stable equilibrium branch until that branch
 (limit point) of the control parameter; there it snaps dynamically to another stable state at the
 same load and loading continues from there.  :func:`quasistatic` reproduces this: it alternates
 :func:`contin.continuation` (stopping at the first fold) and :func:`contin.jump` (from the fold to a
-distinct stable state), until the parameter reaches ``p_end``.  A loading sweep followed by an
+distinct stable state), until the parameter reaches ``p_end`` (or, for a sweep without an end
+load, until a bound or the caller's stop condition ends it).  A loading sweep followed by an
 unloading sweep gives the hysteresis loop; :func:`contin.diagram` of the two sweeps' branches and
 jumps shows it as a cycle.
 
+This is the toolkit's only load-snap loop.  Models adapt it, never copy it: :class:`SnapRules`
+says how a fold is left (overshoot and kick schedule, what counts as a distinct landing, whether
+the jump is restated at the fold), ``locate_snap`` says where a snap is when the engine stops on a
+precursor event, and ``stop_after_jump`` ends a sweep on a landing.  :func:`leave_fold` is one snap
+of the loop on its own.
+
 The module is generic: it knows nothing about any model beyond the :class:`contin.Problem`
-interface (a conservative problem with an energy and a stability operator).
+interface (a conservative problem with an energy and a stability operator).  It uses one engine
+internal, the fixed-parameter Newton of :class:`contin.palc.Curve` (to converge the start and to
+restate a landing at its fold).
 """
 
 from __future__ import annotations

@@ -5,7 +5,9 @@ from the first touch of the barrier until the snap, jumps to the stable state at
 (the shell everts and leaves the indenter) and keeps loading until ``w_b`` reaches the eversion depth
 ``2 R (1 - sin phi_hat)`` plus ``continuation.overshoot``, or until the indenter comes within
 ``2 dhat`` of the base ring, which is held vertically: a plate or a large sphere would then press on
-the support itself, so the run ends there (status ``bound``).
+the support itself, so the run ends there (status ``bound``).  The loading, snapping and resuming
+is :func:`contin.quasistatic`'s; this module gives it the contact's rules (:func:`snap_rules`,
+:func:`snap_point`) and reports the result.
 
 Where the snap is (``docs/physics.md`` section 4): the path turns back in ``w_b`` as the contact force
 falls to zero.  While the pole is the last node in contact the fold is a sizeable fraction of ``dhat``

@@ -13,7 +13,6 @@ from typing import Any
 from contin.scene import Classification, SceneModel, TraceResult
 
 from .build import contact_settings
-from .contact import run_contact, run_contact_force
 from .point import path_complete, run_point, run_point_force
 from .schema import SHELL_SCHEMA, Scene
 
@@ -24,6 +23,9 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
     """Trace a resolved shell scene: the point load or an indenter, under displacement or force control."""
     kind, control = scene["load"]["kind"], scene["load"]["control"]
     if kind in ("sphere", "plate"):
+        # imported here: a point-load trace never loads the contact runner (nor scipy.optimize)
+        from .contact import run_contact, run_contact_force
+
         st, w_end = contact_settings(scene, progress)
         run = run_contact_force if control == "force" else run_contact
         return run(scene, progress, st, w_end)
