@@ -278,3 +278,13 @@ def test_failed_tells_the_loop_s_failures_from_a_stopped_run() -> None:
     assert quasistatic(truss, [0.0, B], 0.0, 1.5 * P_MAX, max_snaps=0, **KW).failed
     assert not quasistatic(truss, [0.0, B], 0.0, 1.5 * P_MAX, max_steps=3, **KW).failed
     assert not quasistatic(truss, [0.0, B], 0.0, 0.5 * P_MAX, **KW).failed
+
+
+def test_leave_fold_is_one_snap_of_the_loop(loading: QuasiStaticResult) -> None:
+    from contin.quasistatic import leave_fold
+
+    fold = loading.folds[0]
+    jr, reasons = leave_fold(VonMisesTruss(A, B, K), fold, +1, u_fold=loading.branches[0].u[-1], p0=0.0,
+                             p_end=1.5 * P_MAX)
+    assert reasons == [] and jr.info["restated"] and jr.p == fold.p
+    np.testing.assert_allclose(jr.u_to, loading.jumps[0].u_to, atol=1e-12)
