@@ -4,18 +4,27 @@ A structure loaded slowly stays on a stable equilibrium branch until that branch
 (limit point) of the control parameter; there it snaps dynamically to another stable state at the
 same load and loading continues from there.  :func:`quasistatic` reproduces this: it alternates
 :func:`contin.continuation` (stopping at the first fold) and :func:`contin.jump` (from the fold to a
-distinct stable state), until the parameter reaches ``p_end``.  A loading sweep followed by an
+distinct stable state), until the parameter reaches ``p_end`` (or, for a sweep without an end
+load, until a bound or the caller's stop condition ends it).  A loading sweep followed by an
 unloading sweep gives the hysteresis loop; :func:`contin.diagram` of the two sweeps' branches and
 jumps shows it as a cycle.
 
+This is the toolkit's only load-snap loop.  Models adapt it, never copy it: :class:`SnapRules`
+says how a fold is left (overshoot and kick schedule, what counts as a distinct landing, whether
+the jump is restated at the fold), ``locate_snap`` says where a snap is when the engine stops on a
+precursor event, and ``stop_after_jump`` ends a sweep on a landing.  :func:`leave_fold` is one snap
+of the loop on its own.
+
 The module is generic: it knows nothing about any model beyond the :class:`contin.Problem`
-interface (a conservative problem with an energy and a stability operator).
+interface (a conservative problem with an energy and a stability operator).  It uses one engine
+internal, the fixed-parameter Newton of :class:`contin.palc.Curve` (to converge the start and to
+restate a landing at its fold).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -29,7 +38,7 @@ from .palc import CorrectorFailure, Curve, Settings, continuation
 from .problem import NonFiniteError, Problem
 from .stability import stability_info
 
-__all__ = ["quasistatic", "QuasiStaticResult", "DEFAULT_JUMP_ATTEMPTS", "restate_jump"]
+__all__ = ["quasistatic", "QuasiStaticResult", "SnapRules", "DEFAULT_JUMP_ATTEMPTS", "leave_fold", "restate_jump"]
 
 #: Default ``jump_attempts`` of :func:`quasistatic`: ``(relative overshoot, perturbation)`` pairs
 #: tried in turn.  Exactly at a fold the energy is flat to third order along the null vector, so the
@@ -50,10 +59,12 @@ class QuasiStaticResult:
 
     Attributes
     ----------
-    p0, p_end : float
-        Start and target of the control parameter.
+    p0 : float
+        Start of the control parameter.
+    p_end : float or None
+        Its target (None: the sweep had no end load).
     direction : int
-        ``+1`` when ``p_end > p0`` (loading), ``-1`` otherwise.
+        ``+1`` when loading (``p_end > p0``), ``-1`` otherwise.
     branches : list of Branch
         The stable branches in sweep order.  Branch ``k + 1`` starts at the landing state of
         ``jumps[k]`` (its first special point is that landing, ``kind="jump"``).
@@ -68,7 +79,8 @@ class QuasiStaticResult:
         The fold that ended each branch that was followed by a snap (or by a failed snap attempt),
         in sweep order.
     status : str
-        ``"completed"`` (reached ``p_end``), ``"jump_failed"`` (no snap attempt landed on a distinct
+        ``"completed"`` (reached ``p_end``; without ``p_end``: a bound of the settings, or
+        ``stop_after_jump`` said so), ``"jump_failed"`` (no snap attempt landed on a distinct
         stable state), ``"max_snaps"`` (a fold was reached after ``max_snaps`` snaps),
         ``"branch_point"`` (the stable branch ends in a branch point: the sweep does not choose a
         bifurcating branch), ``"lost_stability"`` (a stored point is unstable although no fold or
@@ -86,7 +98,7 @@ class QuasiStaticResult:
     """
 
     p0: float
-    p_end: float
+    p_end: float | None
     direction: int
     branches: list[Branch]
     jumps: list[JumpResult]
@@ -101,6 +113,15 @@ class QuasiStaticResult:
     def success(self) -> bool:
         """True when the sweep reached ``p_end``."""
         return self.status == "completed"
+
+    @property
+    def failed(self) -> bool:
+        """True when the loop itself failed (a snap, the snap budget, stability, a branch point or the start).
+
+        False for ``"completed"`` and for ``"stopped"``, where a continuation run ended for its own
+        reason (a bound, ``max_steps``) and its branch says why.
+        """
+        return self.status in ("jump_failed", "max_snaps", "lost_stability", "branch_point", "unstable_start")
 
     @property
     def jump_parameters(self) -> np.ndarray:
@@ -123,7 +144,8 @@ class QuasiStaticResult:
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def __repr__(self) -> str:
-        return (f"QuasiStaticResult({self.p0:.6g} -> {self.p_end:.6g}: {len(self.branches)} branches, "
+        end = "open" if self.p_end is None else f"{self.p_end:.6g}"
+        return (f"QuasiStaticResult({self.p0:.6g} -> {end}: {len(self.branches)} branches, "
                 f"{len(self.jumps)} jumps, status={self.status!r})")
 
 
@@ -131,37 +153,165 @@ def _distance(u_a: np.ndarray, u_b: np.ndarray) -> float:
     return float(np.max(np.abs(np.asarray(u_a) - np.asarray(u_b)), initial=0.0))
 
 
-def _snap(problem: Problem, curve: Curve, fold: SpecialPoint, u_fold: np.ndarray, direction: int, p_end: float,
-          scale: float, attempts: Sequence[tuple[float, float | None]], tol: float, max_iter: int,
-          min_separation: float) -> tuple[JumpResult | None, list[str]]:
-    """Try each ``(overshoot, perturbation)``; return the first jump landing on a distinct stable state."""
-    p_fold = float(fold.p)
-    reasons: list[str] = []
-    ref = max(1.0, float(np.max(np.abs(u_fold), initial=0.0)))
-    for k, (overshoot, kick) in enumerate(attempts):
-        p_jump = p_fold + direction * overshoot * scale
-        if direction * (p_jump - p_end) > 0:
-            p_jump = p_end  # never snap beyond the end of the sweep
-        tag = f"attempt {k + 1} (overshoot {overshoot:g}, perturbation {'default' if kick is None else f'{kick:g}'})"
-        try:
-            jr = jump(problem, u_fold, p_jump, tol=tol, max_iter=max_iter,
-                      perturbation=None if kick is None else kick * ref)
-        except (JumpError, NonFiniteError, CorrectorFailure, SingularMatrixError, np.linalg.LinAlgError,
-                ValueError) as exc:
-            reasons.append(f"{tag}: {exc}")
-            continue
-        if not jr.success:
-            reasons.append(f"{tag}: {jr.message or 'did not land on a stable state'}")
-            continue
-        sep = _distance(jr.u_to, u_fold)
-        if sep <= min_separation * ref:
-            reasons.append(f"{tag}: landed back next to the fold (max|u_to - u_fold| = {sep:.2e} "
-                           f"<= {min_separation:g} * {ref:.3g})")
-            continue
-        jr.info.update({"fold_p": p_fold, "p_minimised": p_jump, "overshoot": overshoot, "attempt": k + 1,
-                        "separation": sep})
-        return _restate_at_fold(problem, curve, jr, u_fold, p_fold, sep), reasons
-    return None, reasons
+#: Exceptions after which a jump attempt counts as failed and the next one is tried.
+_ATTEMPT_ERRORS = (JumpError, NonFiniteError, CorrectorFailure, SingularMatrixError, np.linalg.LinAlgError, ValueError)
+
+
+@dataclass(frozen=True)
+class SnapRules:
+    """How :func:`quasistatic` leaves a fold: the jump attempts and what counts as a landing.
+
+    Attributes
+    ----------
+    attempts : sequence of (float, float or None)
+        ``(overshoot, perturbation)`` pairs tried in turn until one lands on a distinct stable state
+        (default :data:`DEFAULT_JUMP_ATTEMPTS`).  The energy is minimised at ``p_fold + direction *
+        overshoot * unit`` (never beyond ``p_end``); ``perturbation`` is the initial kick of
+        :func:`contin.jump` along the unstable eigenvector in units of ``perturbation_unit`` (None:
+        the engine's default kick).
+    overshoot_unit : {"sweep", "fold"}
+        The ``unit`` of the overshoot: ``"sweep"`` is ``max(|p_fold|, |p_end - p0|)`` (``|p_fold|``
+        when the sweep has no end load), ``"fold"`` is ``|p_fold|`` alone, so that the snap load is
+        a fixed relative distance past the fold whatever the sweep's end.
+    perturbation_unit : float, optional
+        Unit of the kick (max-norm); default ``max(1, max|u_fold|)``.  A model whose state has a
+        natural length (a shell's radius) passes it here.
+    separation : callable ``(u_fold, p_fold, u_to, p_to) -> float``, optional
+        Distance of a landing from the fold state, in the units of ``min_separation``; default
+        ``max|u_to - u_fold| / max(1, max|u_fold|)``.  A model can measure it in the observable that
+        tells two states apart (a pole displacement in units of the radius).
+    min_separation : float
+        A landing with ``separation <= min_separation`` is the minimisation stalling next to the
+        fold, not a snap; the next attempt is tried.
+    restate : bool
+        Carry each landing back to the fold's own parameter by Newton's method (see
+        :func:`restate_jump`); False keeps the jump at the parameter it was minimised at.
+    give_up_on : tuple of exception types
+        Errors of an attempt after which the later attempts are not tried either (e.g. a larger
+        overshoot that could only push further out of the model's domain).
+    tol : float, optional
+        Relative gradient tolerance of the minimisation (default: the continuation ``tol``).
+    max_iter : int
+        Iteration limit of each minimisation.
+    """
+
+    attempts: tuple[tuple[float, float | None], ...] = DEFAULT_JUMP_ATTEMPTS
+    overshoot_unit: str = "sweep"
+    perturbation_unit: float | None = None
+    separation: Callable[[np.ndarray, float, np.ndarray, float], float] | None = None
+    min_separation: float = 1e-3
+    restate: bool = True
+    give_up_on: tuple[type[BaseException], ...] = ()
+    tol: float | None = None
+    max_iter: int = 500
+
+    def validate(self) -> None:
+        """Raise ``ValueError`` for rules that cannot snap."""
+        if not self.attempts:
+            raise ValueError("quasistatic: jump_attempts must contain at least one (overshoot, perturbation) pair")
+        if self.overshoot_unit not in ("sweep", "fold"):
+            raise ValueError(f"quasistatic: overshoot_unit must be 'sweep' or 'fold', got {self.overshoot_unit!r}")
+
+    def landing_distance(self, u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
+        """How far a landing is from the fold state (see ``separation``)."""
+        if self.separation is not None:
+            return float(self.separation(u_fold, p_fold, u_to, p_to))
+        return _distance(u_to, u_fold) / max(1.0, float(np.max(np.abs(u_fold), initial=0.0)))
+
+
+@dataclass
+class _Sweep:
+    """What one :func:`quasistatic` call keeps fixed: the problem, its settings and the snap rules."""
+
+    problem: Problem
+    curve: Curve
+    rules: SnapRules
+    direction: int
+    p0: float
+    p_end: float | None
+
+    def overshoot_unit(self, p_fold: float) -> float:
+        if self.rules.overshoot_unit == "fold" or self.p_end is None:
+            return abs(p_fold)
+        return max(abs(p_fold), abs(self.p_end - self.p0))
+
+    def jump_parameter(self, p_fold: float, overshoot: float) -> float:
+        p_jump = p_fold + self.direction * overshoot * self.overshoot_unit(p_fold)
+        if self.p_end is not None and self.direction * (p_jump - self.p_end) > 0:
+            p_jump = self.p_end  # never snap beyond the end of the sweep
+        return p_jump
+
+    def snap(self, fold: SpecialPoint, u_fold: np.ndarray) -> tuple[JumpResult | None, list[str]]:
+        """Try each attempt of the rules; return the first jump landing on a distinct stable state."""
+        rules, problem = self.rules, self.problem
+        p_fold = float(fold.p)
+        reasons: list[str] = []
+        kick_unit = rules.perturbation_unit or max(1.0, float(np.max(np.abs(u_fold), initial=0.0)))
+        tol = self.curve.settings.tol if rules.tol is None else float(rules.tol)
+        for k, (overshoot, kick) in enumerate(rules.attempts):
+            p_jump = self.jump_parameter(p_fold, overshoot)
+            tag = (f"attempt {k + 1} (overshoot {overshoot:g}, perturbation "
+                   f"{'default' if kick is None else f'{kick:g}'})")
+            try:
+                jr = jump(problem, u_fold, p_jump, tol=tol, max_iter=rules.max_iter,
+                          perturbation=None if kick is None else kick * kick_unit)
+            except _ATTEMPT_ERRORS as exc:
+                reasons.append(f"{tag}: {exc}")
+                if isinstance(exc, rules.give_up_on):
+                    break
+                continue
+            if not jr.success:
+                reasons.append(f"{tag}: {jr.message or 'did not land on a stable state'}")
+                continue
+            sep = rules.landing_distance(u_fold, p_fold, jr.u_to, jr.p)
+            if sep <= rules.min_separation:
+                reasons.append(f"{tag}: landed back next to the fold (separation {sep:.2e} <= "
+                               f"{rules.min_separation:g})")
+                continue
+            jr.info.update({"fold_p": p_fold, "p_minimised": p_jump, "overshoot": overshoot, "attempt": k + 1,
+                            "separation": _distance(jr.u_to, u_fold)})
+            if not rules.restate:
+                jr.info["restated"] = False
+                return jr, reasons
+            return _restate_at_fold(problem, self.curve, jr, u_fold, p_fold, jr.info["separation"]), reasons
+        return None, reasons
+
+def leave_fold(problem: Problem, fold: SpecialPoint, direction: int, settings: Settings | None = None,
+               rules: SnapRules | None = None, *, u_fold: np.ndarray | None = None,
+               p_end: float | None = None, p0: float | None = None) -> tuple[JumpResult | None, list[str]]:
+    """Snap from one fold as :func:`quasistatic` does: try the rules' attempts until one lands.
+
+    Parameters
+    ----------
+    problem : Problem
+        The conservative problem the fold belongs to.
+    fold : SpecialPoint
+        The fold (or the point a model located as its snap); its state is ``fold.u`` unless
+        ``u_fold`` is given.
+    direction : int
+        ``+1`` when the load was increasing into the fold, ``-1`` when decreasing.
+    settings : Settings, optional
+        Continuation settings (their ``tol`` is the default jump tolerance; the restating Newton
+        uses them).
+    rules : SnapRules, optional
+        The attempts and landing rules (default ``SnapRules()``).
+    u_fold : ndarray, optional
+        The fold state, if ``fold`` does not carry it.
+    p_end, p0 : float, optional
+        The sweep's end and start: the overshoot never passes ``p_end``, and ``overshoot_unit =
+        "sweep"`` measures it in ``max(|p_fold|, |p_end - p0|)``.
+
+    Returns
+    -------
+    (JumpResult or None, list of str)
+        The first jump that landed on a distinct stable state (None if none did) and the reasons
+        why the attempts before it failed.
+    """
+    st = settings or Settings()
+    u = np.asarray(fold.u if u_fold is None else u_fold, dtype=float)
+    start = float(fold.p) if p0 is None else float(p0)
+    sweep = _Sweep(problem, Curve(problem, st), rules or SnapRules(), int(direction), start, p_end)
+    return sweep.snap(fold, u)
 
 
 def restate_jump(problem: Problem, jr: JumpResult, u_fold: np.ndarray, p_fold: float,
@@ -170,7 +320,7 @@ def restate_jump(problem: Problem, jr: JumpResult, u_fold: np.ndarray, p_fold: f
 
     Newton from the landing at ``p_fold``; the result is the jump stated at the fold, or ``jr``
     unchanged (``info["restated"]`` False, with the reason) if the landing branch is not regular,
-    stable and near there.  :func:`quasistatic` does this for every snap.
+    stable and near there.  :func:`quasistatic` does this for every snap unless its rules say not to.
     """
     curve = Curve(problem, settings or Settings())
     return _restate_at_fold(problem, curve, jr, np.asarray(u_fold, dtype=float), float(p_fold),
@@ -207,22 +357,69 @@ def _restate_at_fold(problem: Problem, curve: Curve, jr: JumpResult, u_fold: np.
                    smallest_eigenvalue=float(stab.eigenvalues[0]), info=info)
 
 
-def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float, settings: Settings | None = None, *,
-                max_snaps: int = 10, jump_attempts: Sequence[tuple[float, float | None]] = DEFAULT_JUMP_ATTEMPTS,
-                jump_tol: float | None = None, jump_max_iter: int = 500, min_separation: float = 1e-3,
-                events: Sequence[Event] = (), **overrides: Any) -> QuasiStaticResult:
-    """Follow the stable equilibrium while the parameter goes monotonically from ``p0`` to ``p_end``.
+def _terminal_point(br: Branch) -> SpecialPoint | None:
+    """The fold or branch point that ends ``br`` (the engine stops exactly on it), if any."""
+    return next((s for s in br.special_points if s.info.get("ends_branch") and s.kind in ("fold", "branch_point")),
+                None)
+
+
+def _first_unstable(br: Branch, terminal: SpecialPoint | None) -> int | None:
+    """Index of the first stored point with a negative eigenvalue (a terminal fold's zero one excluded)."""
+    n_neg = np.asarray(br.n_negative)
+    bad = np.flatnonzero((n_neg[:-1] if terminal is not None else n_neg) > 0)
+    return int(bad[0]) if bad.size else None
+
+
+def _sweep_settings(settings: Settings | None, overrides: dict[str, Any], direction: int, p_end: float | None,
+                    stop_at_branch_points: bool) -> Settings:
+    unknown = set(overrides) - _SETTING_NAMES
+    if unknown:
+        raise TypeError(f"unknown quasistatic option(s): {', '.join(sorted(unknown))}")
+    st = replace(settings or Settings(), **overrides)
+    bound = {} if p_end is None else ({"p_max": p_end} if direction > 0 else {"p_min": p_end})
+    stop_at = ("fold", "branch_point") if stop_at_branch_points else ("fold",)
+    st = replace(st, direction=direction, stability=True, stop_at=stop_at, **bound)
+    st.validate()
+    return st
+
+
+def _sweep_direction(p0: float, p_end: float | None, direction: int | None) -> int:
+    if p_end is None:
+        if direction not in (1, -1):
+            raise ValueError(f"quasistatic without p_end needs direction = +1 or -1, got {direction!r}")
+        return int(direction)
+    if not (math.isfinite(p0) and math.isfinite(p_end)) or p_end == p0:
+        raise ValueError(f"quasistatic needs finite p0 != p_end (got p0 = {p0!r}, p_end = {p_end!r})")
+    implied = 1 if p_end > p0 else -1
+    if direction is not None and direction != implied:
+        raise ValueError(f"quasistatic: direction {direction!r} points away from p_end = {p_end!r}")
+    return implied
+
+
+def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None, settings: Settings | None = None,
+                *, direction: int | None = None, max_snaps: int = 10, snap: SnapRules | None = None,
+                locate_snap: Callable[[Branch], SpecialPoint | None] | None = None,
+                stop_after_jump: Callable[[JumpResult], str | None] | None = None,
+                stop_at_branch_points: bool = True, check_stability: bool = True, events: Sequence[Event] = (),
+                jump_attempts: Sequence[tuple[float, float | None]] | None = None, jump_tol: float | None = None,
+                jump_max_iter: int | None = None, min_separation: float | None = None,
+                **overrides: Any) -> QuasiStaticResult:
+    """Follow the stable equilibrium while the parameter goes monotonically from ``p0`` towards ``p_end``.
 
     The sweep traces the stable branch through ``(u0, p0)`` with :func:`contin.continuation` in the
     direction of ``p_end``, stopping at ``p_end`` or at the first fold, whichever comes first.  At a
     fold the branch cannot continue in the sweep direction, so the structure snaps:
     :func:`contin.jump` minimises the energy at a parameter slightly past the fold (in the sweep
-    direction) and the landing must be a stable state distinct from the fold state.  The landing is
-    then carried back to the fold's own parameter by Newton's method (the landing branch is regular
-    there), so the jump is stated at the fold load, as in the quasi-static idealisation, and joins
-    the fold in :func:`contin.diagram`.  Continuation resumes from the landing (``origin=`` the jump)
-    in the same direction.  Every stored point of every branch is checked to be stable under the
-    problem's primary stability operator (the one :func:`contin.jump` minimises with).
+    direction) and the landing must be a stable state distinct from the fold state.  By default the
+    landing is then carried back to the fold's own parameter by Newton's method (the landing branch
+    is regular there), so the jump is stated at the fold load, as in the quasi-static idealisation,
+    and joins the fold in :func:`contin.diagram`.  Continuation resumes from the landing
+    (``origin=`` the jump) in the same direction.  Every stored point of every branch is checked to
+    be stable under the problem's primary stability operator (the one :func:`contin.jump` minimises
+    with).
+
+    This is the toolkit's one load-snap loop; models adapt it through the hooks below rather than
+    writing their own.
 
     Parameters
     ----------
@@ -230,33 +427,42 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float, settings: Se
         A conservative problem (energy and symmetric Hessian, or a stability operator).
     u0 : array_like
         Starting state (corrected by Newton at ``p0``); it must be stable.
-    p0, p_end : float
-        Start and end of the parameter sweep (``p_end < p0`` unloads).
+    p0 : float
+        Start of the parameter sweep.
+    p_end : float, optional
+        End of the sweep (``p_end < p0`` unloads).  None: no end load; the sweep goes in
+        ``direction`` until a bound of ``settings`` (on an observable) ends it, which then counts as
+        completed, or until ``stop_after_jump`` says so.
     settings : Settings, optional
         Continuation options; fields may also be passed as keywords.  The sweep sets ``direction``,
-        the bound at ``p_end`` (``p_max`` when loading, ``p_min`` when unloading), ``stop_at`` (folds
-        and branch points) and ``stability=True``; every other option is used as given (e.g. a
-        bound on an observable, which then stops the sweep with status ``"stopped"``).
+        the bound at ``p_end`` (``p_max`` when loading, ``p_min`` when unloading), ``stop_at`` (folds,
+        and branch points unless ``stop_at_branch_points`` is False) and ``stability=True``; every
+        other option is used as given (e.g. a bound on an observable).
+    direction : int, optional
+        ``+1`` (loading) or ``-1``; required without ``p_end``, implied by it otherwise.
     max_snaps : int
         Maximum number of snaps; reaching one more fold ends the sweep with status ``"max_snaps"``.
-    jump_attempts : sequence of (float, float or None)
-        ``(overshoot, perturbation)`` pairs tried in turn at each fold until one lands on a distinct
-        stable state.  The snap is computed at ``p_fold + direction * overshoot * scale`` with
-        ``scale = max(|p_fold|, |p_end - p0|)`` (never beyond ``p_end``); ``perturbation`` is the
-        initial kick of :func:`contin.jump` along the unstable eigenvector, in max-norm and in units
-        of ``max(1, max|u_fold|)`` (None: the engine's default, the smallest of 1e-3, 1e-2, 1e-1 of
-        that size that lowers the energy).  A small overshoot keeps the snap load close to the fold
-        load; a small kick matters where the energy along the null vector rises within a short
-        distance.
-    jump_tol : float, optional
-        Relative gradient tolerance of the energy minimisation (default: the continuation ``tol``).
-    jump_max_iter : int
-        Iteration limit of each minimisation.
-    min_separation : float
-        A landing counts as a distinct state only when ``max|u_to - u_fold| > min_separation *
-        max(1, max|u_fold|)``; closer landings are the minimisation stalling next to the fold.
+    snap : SnapRules, optional
+        How a fold is left and what counts as a landing (default ``SnapRules()``).
+    locate_snap : callable ``(Branch) -> SpecialPoint or None``, optional
+        Where the snap is when a branch ends on a terminal user event rather than on a located fold
+        (a model whose fold is too sharp for the engine to resolve stops on a precursor event and
+        locates the fold itself).  The returned point (with its state ``u``) is snapped from; None
+        means the event is not a snap and the sweep stops there.
+    stop_after_jump : callable ``(JumpResult) -> str or None``, optional
+        Asked after every snap; a message ends the sweep as completed (e.g. the landing is already
+        beyond the end of the loading path).
+    stop_at_branch_points : bool
+        End a branch at a branch point (status ``"branch_point"``); False continues through it.
+    check_stability : bool
+        End the sweep with status ``"lost_stability"`` at a stored point that is unstable although
+        no fold or branch point was located.  False trusts the located folds alone (for a model
+        whose stability labels are known to flicker between folds, the caller reports them).
     events : sequence of Event
         User events passed to every continuation run.
+    jump_attempts, jump_tol, jump_max_iter, min_separation
+        Shorthands that override the same fields of ``snap`` (``attempts``, ``tol``, ``max_iter``,
+        ``min_separation``).
     **overrides
         Settings fields.
 
@@ -269,8 +475,8 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float, settings: Se
     Raises
     ------
     ValueError
-        If ``p_end == p0``, ``max_snaps < 0``, no jump attempt is given, or the problem has no
-        stability operator.
+        If ``p_end == p0``, ``max_snaps < 0``, no jump attempt is given, the direction is missing or
+        contradicts ``p_end``, or the problem has no stability operator.
     TypeError
         For an unknown keyword.
 
@@ -282,93 +488,86 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float, settings: Se
         unload = contin.quasistatic(problem, load.u_final, p_hi, 0.0)
         G = contin.diagram(load.branches + unload.branches, load.jumps + unload.jumps)
     """
-    unknown = set(overrides) - _SETTING_NAMES
-    if unknown:
-        raise TypeError(f"unknown quasistatic option(s): {', '.join(sorted(unknown))}")
-    p0, p_end = float(p0), float(p_end)
-    if not (math.isfinite(p0) and math.isfinite(p_end)) or p_end == p0:
-        raise ValueError(f"quasistatic needs finite p0 != p_end (got p0 = {p0!r}, p_end = {p_end!r})")
+    p0 = float(p0)
+    p_end = None if p_end is None else float(p_end)
+    direction = _sweep_direction(p0, p_end, direction)
     if max_snaps < 0:
         raise ValueError(f"quasistatic: max_snaps must be >= 0, got {max_snaps!r}")
-    if not jump_attempts:
-        raise ValueError("quasistatic: jump_attempts must contain at least one (overshoot, perturbation) pair")
-    direction = 1 if p_end > p0 else -1
-    bound = {"p_max": p_end} if direction > 0 else {"p_min": p_end}
-    st = replace(settings or Settings(), **overrides)
-    st = replace(st, direction=direction, stability=True, stop_at=("fold", "branch_point"), **bound)
-    st.validate()
-    tol = st.tol if jump_tol is None else float(jump_tol)
+    shorthand = {"attempts": None if jump_attempts is None else tuple(jump_attempts), "tol": jump_tol,
+                 "max_iter": jump_max_iter, "min_separation": min_separation}
+    rules = replace(snap or SnapRules(), **{k: v for k, v in shorthand.items() if v is not None})
+    rules.validate()
+    st = _sweep_settings(settings, overrides, direction, p_end, stop_at_branch_points)
+    sweep = _Sweep(problem, Curve(problem, st), rules, direction, p0, p_end)
     pname = problem.parameter_name
-    scale = abs(p_end - p0)
+    out = QuasiStaticResult(p0=p0, p_end=p_end, direction=direction, branches=[], jumps=[], folds=[], status="",
+                            message="", u_final=np.zeros(0), p_final=p0,
+                            info={"parameter_name": pname, "jump_attempts": []})
 
-    branches: list[Branch] = []
-    jumps: list[JumpResult] = []
-    folds: list[SpecialPoint] = []
-    attempts_log: list[list[str]] = []
-    info: dict[str, Any] = {"parameter_name": pname, "jump_attempts": attempts_log}
+    def finish(status: str, message: str, u_fin: np.ndarray, p_fin: float) -> QuasiStaticResult:
+        out.status, out.message, out.u_final, out.p_final = status, message, np.asarray(u_fin), float(p_fin)
+        return out
 
-    def result(status: str, message: str, u_fin: np.ndarray, p_fin: float) -> QuasiStaticResult:
-        return QuasiStaticResult(p0=p0, p_end=p_end, direction=direction, branches=branches, jumps=jumps,
-                                 folds=folds, status=status, message=message, u_final=np.asarray(u_fin),
-                                 p_final=float(p_fin), info=info)
-
-    curve = Curve(problem, st)
     # ---- the start must be a stable equilibrium
-    u_start = np.array(u0, dtype=float).ravel()
+    u_raw = np.array(u0, dtype=float).ravel()
     try:
-        u_start, _, _ = curve.newton_fixed_p(u_start, p0)
+        u_start, _, _ = sweep.curve.newton_fixed_p(u_raw, p0)
     except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
-        return result("stopped", f"could not converge the starting state at {pname} = {p0:.10g}: {exc}",
-                      u_start, p0)
+        return finish("stopped", f"could not converge the starting state at {pname} = {p0:.10g}: {exc}", u_raw, p0)
     op = problem.stability_operator(u_start, p0)
     if op is None:
         raise ValueError(f"quasistatic needs a stability operator; problem {problem.name!r} has none")
-    start_info = stability_info(op, 1)
-    if start_info.n_negative > 0:
-        return result("unstable_start", f"the starting state at {pname} = {p0:.10g} is unstable "
-                      f"({start_info.n_negative} negative eigenvalue(s)); a quasi-static sweep starts on a "
-                      "stable equilibrium", u_start, p0)
+    n_neg = stability_info(op, 1).n_negative
+    if n_neg > 0:
+        return finish("unstable_start", f"the starting state at {pname} = {p0:.10g} is unstable ({n_neg} negative "
+                      "eigenvalue(s)); a quasi-static sweep starts on a stable equilibrium", u_start, p0)
 
-    u, p, origin = u_start, p0, None
+    # the first run starts from u0 itself: continuation corrects it at p0 as it corrects any start
+    u, p, origin = u_raw, p0, None
     while True:
         br = continuation(problem, u, p, st, events=events, origin=origin)
-        branches.append(br)
+        out.branches.append(br)
         if len(br) == 0:
-            return result("stopped", f"continuation from {pname} = {p:.10g} failed: {br.message}", u, p)
+            return finish("stopped", f"continuation from {pname} = {p:.10g} failed: {br.message}", u, p)
         u_last, p_last = br.u[-1], float(br.p[-1])
-        # stability of every stored point except a terminal fold or branch point (zero eigenvalue there)
-        terminal = next((s for s in br.special_points
-                         if s.info.get("ends_branch") and s.kind in ("fold", "branch_point")), None)
-        n_neg = np.asarray(br.n_negative)
-        check = n_neg[:-1] if terminal is not None else n_neg
-        bad = np.flatnonzero(check > 0)
-        if bad.size:
-            i = int(bad[0])
-            return result("lost_stability",
-                          f"the branch became unstable at {pname} = {br.p[i]:.10g} (stored point {i}, "
-                          f"{int(n_neg[i])} negative eigenvalue(s)) without a located fold or branch point",
-                          br.u[max(i - 1, 0)], float(br.p[max(i - 1, 0)]))
-        if br.status == "bound" and abs(p_last - p_end) <= 1e-9 * max(1.0, abs(p_end), scale):
-            return result("completed", f"reached {pname} = {p_end:.10g} after {len(jumps)} snap(s)", u_last, p_last)
+        terminal = _terminal_point(br)
+        i = _first_unstable(br, terminal) if check_stability else None
+        if i is not None:
+            j = max(i - 1, 0)
+            return finish("lost_stability", f"the branch became unstable at {pname} = {br.p[i]:.10g} (stored point "
+                          f"{i}, {int(br.n_negative[i])} negative eigenvalue(s)) without a located fold or branch "
+                          "point", br.u[j], float(br.p[j]))
+        if br.status == "bound" and (p_end is None or abs(p_last - p_end) <= 1e-9 * max(1.0, abs(p_end),
+                                                                                       abs(p_end - p0))):
+            reached = p_last if p_end is None else p_end
+            return finish("completed", f"reached {pname} = {reached:.10g} after {len(out.jumps)} snap(s)",
+                          u_last, p_last)
+        if terminal is None and br.status == "event" and locate_snap is not None:
+            terminal = locate_snap(br)
         if terminal is None or br.status != "event":
-            return result("stopped", f"continuation stopped at {pname} = {p_last:.10g} before reaching "
-                          f"{pname} = {p_end:.10g} (status {br.status!r}: {br.message})", u_last, p_last)
+            end = "" if p_end is None else f" before reaching {pname} = {p_end:.10g}"
+            return finish("stopped", f"continuation stopped at {pname} = {p_last:.10g}{end} (status "
+                          f"{br.status!r}: {br.message})", u_last, p_last)
         if terminal.kind == "branch_point":
-            return result("branch_point", f"the stable branch ends in a branch point at {pname} = "
+            return finish("branch_point", f"the stable branch ends in a branch point at {pname} = "
                           f"{terminal.p:.10g}; the sweep does not choose a bifurcating branch "
                           "(see contin.switch_branch)", u_last, p_last)
-        folds.append(terminal)
-        if len(jumps) >= max_snaps:
-            return result("max_snaps", f"reached a fold at {pname} = {terminal.p:.10g} after max_snaps = "
-                          f"{max_snaps} snap(s), before {pname} = {p_end:.10g}", u_last, p_last)
-        jr, reasons = _snap(problem, curve, terminal, u_last, direction, p_end, max(abs(terminal.p), scale),
-                            jump_attempts, tol, jump_max_iter, min_separation)
-        attempts_log.append(reasons)
+        out.folds.append(terminal)
+        if len(out.jumps) >= max_snaps:
+            end = "" if p_end is None else f", before {pname} = {p_end:.10g}"
+            return finish("max_snaps", f"reached a fold at {pname} = {terminal.p:.10g} after max_snaps = "
+                          f"{max_snaps} snap(s){end}", u_last, p_last)
+        u_fold = u_last if terminal.u is None else np.asarray(terminal.u, dtype=float)
+        jr, reasons = sweep.snap(terminal, u_fold)
+        out.info["jump_attempts"].append(reasons)
         if jr is None:
-            return result("jump_failed", f"the snap at the fold {pname} = {terminal.p:.10g} did not land on a "
-                          f"distinct stable state: {'; '.join(reasons)}", u_last, p_last)
-        jumps.append(jr)
-        if jr.p == p_end:  # the snap was minimised at p_end and could not be restated at the fold
-            return result("completed", f"reached {pname} = {p_end:.10g} by the snap at the fold {pname} = "
-                          f"{terminal.p:.10g} ({len(jumps)} snap(s))", jr.u_to, jr.p)
+            return finish("jump_failed", f"the snap at the fold {pname} = {terminal.p:.10g} did not land on a "
+                          f"distinct stable state: {'; '.join(reasons)}", u_fold, float(terminal.p))
+        out.jumps.append(jr)
+        if p_end is not None and jr.p == p_end:  # minimised at p_end and not restated at the fold
+            return finish("completed", f"reached {pname} = {p_end:.10g} by the snap at the fold {pname} = "
+                          f"{terminal.p:.10g} ({len(out.jumps)} snap(s))", jr.u_to, jr.p)
+        enough = stop_after_jump(jr) if stop_after_jump is not None else None
+        if enough:
+            return finish("completed", f"{enough} ({len(out.jumps)} snap(s))", jr.u_to, jr.p)
         u, p, origin = jr.u_to, jr.p, jr

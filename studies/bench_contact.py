@@ -5,7 +5,7 @@ Run ``python -m studies.bench_contact [--repeat 5] [--workers 2]``.  Medians of 
 
 (a) one sphere indentation, ``N = 200``, ``r/R = 0.5``: continuation from the first touch of the barrier
     through the located snap (the fold in ``w_b``, located by the engine or, beyond the ``F -> 0``
-    event, as a release fold, exactly as :func:`models.contact.runner.run_contact`) and the jump to the everted state; it stops right after
+    event, as a release fold, exactly as :func:`models.shell_scene.contact.run_contact`) and the jump to the everted state; it stops right after
     the jump.  Target <= 1 s.
 (b) the eight-radius sweep of issue 4 test 4 (``r/R`` in :data:`RADII`), each radius continued to its
     snap (no jump), spread over ``--workers`` processes.  Target <= 10 s.
@@ -32,8 +32,9 @@ from typing import Any  # noqa: E402
 import contin  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
 from models.contact.indentation import ShellIndentation  # noqa: E402
-from models.contact.runner import SNAP_FORCE_NORM, _problem, _snap, contact_mode, snap_point  # noqa: E402
-from models.shell.scene import SHELL_SCHEMA, contact_settings  # noqa: E402
+from contin.quasistatic import leave_fold  # noqa: E402
+from models.shell_scene import SHELL_SCHEMA, contact_problem, contact_settings  # noqa: E402
+from models.shell_scene.contact import MAX_SNAPS, contact_mode, snap_event, snap_point, snap_rules  # noqa: E402
 
 #: r/R of issue 4 test 4 (paper figures 6, 7)
 RADII = (0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.0)
@@ -43,24 +44,39 @@ def snap_settings(r: float, N: int, extra: tuple[str, ...] = (), stability: bool
                   ) -> tuple[ShellIndentation, contin.Settings, float]:
     """The problem, the continuation settings and ``w_end`` that ``contin trace`` builds for a sphere scene.
 
-    The settings are :func:`models.shell.scene.contact_settings`, as ``contin trace`` uses; ``extra`` are further ``--set`` overrides such as ``"contact.dhat=1e-4"``.
+    The settings are :func:`models.shell_scene.contact_settings`, as ``contin trace`` uses; ``extra`` are further ``--set`` overrides such as ``"contact.dhat=1e-4"``.
     """
     load = ["load.kind=plate"] if r is None else ["load.kind=sphere", f"load.radius={r}"]
     scene = load_scene(SHELL_SCHEMA, None, [*load, f"shell.N={N}", *extra])
     st, w_end = contact_settings(scene, stability=stability)
-    return _problem(scene), st, w_end
-
-
-def _force_event() -> contin.Event:
-    return contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
+    return contact_problem(scene), st, w_end
 
 
 def run_to_snap(problem: ShellIndentation, st: contin.Settings, w_end: float
                 ) -> tuple[contin.Branch, contin.SpecialPoint | None]:
     """The runner's first loading stretch, from the first touch to its snap (:func:`snap_point`)."""
     br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, stop_at=("fold",), p_max=w_end,
-                             events=[_force_event()], bounds={"base_gap": (2.0 * problem.dhat, None)})
+                             events=[snap_event()], bounds={"base_gap": (2.0 * problem.dhat, None)})
     return br, snap_point(problem, br, st.tol)
+
+
+def _snap_to_eversion(P: ShellIndentation, st: contin.Settings, w_end: float
+                      ) -> tuple[contin.Branch, contin.SpecialPoint]:
+    """The plate's path through its dimple snaps (at a finite force) to the eversion snap (F -> 0).
+
+    The runner's load-snap loop (:func:`contin.quasistatic` with the contact's snap rules), stopped
+    after the snap whose force had fallen to ~0; the last stretch and that snap are returned.
+    """
+    def everted(jr: contin.JumpResult) -> str | None:
+        return "everted" if P.evaluate_one("F_norm", jr.u_from, jr.info["fold_p"]) <= 1e-3 else None
+
+    qs = contin.quasistatic(P, P.reference_unknowns(), 0.0, w_end, st, max_snaps=MAX_SNAPS, snap=snap_rules(P),
+                            locate_snap=lambda br: snap_point(P, br, st.tol), stop_after_jump=everted,
+                            stop_at_branch_points=False, check_stability=False, events=[snap_event()],
+                            bounds={"base_gap": (2.0 * P.dhat, None)})
+    if qs.status != "completed" or not qs.folds:
+        raise RuntimeError(f"plate: no eversion snap ({qs.status}: {qs.message})")
+    return qs.branches[-1], qs.folds[-1]
 
 
 def snap_record(r: float | None, N: int = 200, extra: tuple[str, ...] = (), stability: bool = False,
@@ -72,16 +88,9 @@ def snap_record(r: float | None, N: int = 200, extra: tuple[str, ...] = (), stab
     dt = time.perf_counter() - t0
     if sp is None:
         raise RuntimeError(f"r/R = {r}: no snap ({br.status}: {br.message})")
-    if r is None:  # the plate's first snaps are dimple snaps at a finite force: follow them to eversion
-        while sp.kind == "fold" and sp.observables["F_norm"] > 1e-3:
-            jr, reason = _snap(P, sp.u, sp.p, st.tol)
-            if jr is None:
-                raise RuntimeError(f"plate: the dimple snap at w_b = {sp.p:.8g} did not land ({reason})")
-            br = contin.continuation(P, jr.u_to, jr.p, st, stop_at=("fold",), p_max=w_end, origin=jr,
-                                     events=[_force_event()], bounds={"base_gap": (2.0 * P.dhat, None)})
-            sp = snap_point(P, br, st.tol)
-            if sp is None:
-                raise RuntimeError(f"plate: no snap after the dimple ({br.status}: {br.message})")
+    if r is None and sp.kind == "fold" and sp.observables["F_norm"] > 1e-3:
+        # the plate's first snaps are dimple snaps at a finite force: follow them to eversion
+        br, sp = _snap_to_eversion(P, st, w_end)
         dt = time.perf_counter() - t0
     obs = sp.observables
     mode, max_gap = contact_mode(list(br.observable("Delta_H")) + [obs["Delta_H"]], gap_tol)
@@ -119,9 +128,9 @@ def one_indentation(N: int = 200, r: float = 0.5, stability: bool = True) -> dic
     br, sp = run_to_snap(P, st, w_end)
     if sp is None:
         raise RuntimeError(f"r/R = {r}: no snap ({br.status}: {br.message})")
-    jr, reason = _snap(P, sp.u, sp.p, st.tol)
+    jr, reasons = leave_fold(P, sp, +1, st, snap_rules(P))
     if jr is None:
-        raise RuntimeError(f"r/R = {r}: the jump failed ({reason})")
+        raise RuntimeError(f"r/R = {r}: the jump failed ({'; '.join(reasons)})")
     return {"w_b_c_over_R": float(sp.p) / P.R,
             "w_s_after_over_R": P.evaluate_one("w_s", jr.u_to, jr.p) / P.R}
 

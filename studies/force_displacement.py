@@ -13,7 +13,7 @@ about 10 s fast, 25 s with ``--full``.  Both write into
     eversion.  (a) ``h/R = 0.02``, ``phi_hat`` = 0.6, 0.7, ..., 1.3; (b) ``phi_hat = 1.0``,
     ``h/R`` = 0.01, 0.02, ..., 0.08.  Parts stable under displacement control are solid, unstable
     parts dashed; each curve is labelled with the class of that same run
-    (:func:`models.shell.scene.classify` through the scene runner).  The located first maximum and
+    (:func:`models.shell_scene.classify` through the scene runner).  The located first maximum and
     last minimum of F (the force-control snap loads) are marked.  The paper's axis label reads
     ``F h / (2 pi D)``; its figure 6 and the text of section 4b use ``F R / (2 pi D)``, which is what
     is plotted (``R = 1`` in the paper, so the two differ only by the extraction).
@@ -61,7 +61,7 @@ import numpy as np  # noqa: E402
 import contin  # noqa: E402
 from contin.scene import TraceResult, load_scene  # noqa: E402
 from models.shell.problem import ShellPointLoad  # noqa: E402
-from models.shell.scene import SHELL_SCENE, SHELL_SCHEMA, _problem, _settings, eversion_displacement  # noqa: E402
+from models.shell_scene import SHELL_SCENE, SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
 from studies._common import (output_dir, print_table, save_figure, say, shell_lambda, study_parser,  # noqa: E402
                              write_csv, write_json)
 
@@ -262,16 +262,16 @@ def hysteresis_case(phi_hat: float, h_over_R: float, N: int, F_max: float | None
     w_end = eversion_displacement(R, phi_hat) * (1.0 + scene["continuation"]["overshoot"])
     out: dict[str, Any] = {}
     # ---- displacement control: load to past eversion and back
-    P = _problem(scene, "displacement")
-    st = _settings(scene, P, w_end, False)
+    P = point_problem(scene, "displacement")
+    st = point_settings(scene, P)
     load = contin.quasistatic(P, P.reference_unknowns(), 0.0, w_end, st)
     unload = contin.quasistatic(P, load.u_final, load.p_final, 0.0, st)
     sweeps = [("loading", load), ("unloading", unload)]
     out["displacement"] = {"problem": P, "sweeps": sweeps, "targets": {"w_end_over_R": w_end / R},
                            "status": [s.status for _, s in sweeps], "messages": [s.message for _, s in sweeps]}
     # ---- force control
-    Pf = _problem(scene, "force")
-    stf = _settings(scene, Pf, w_end, False)
+    Pf = point_problem(scene, "force")
+    stf = point_settings(scene, Pf)
     F_unit = 2.0 * math.pi * Pf.D / R
     if F_max is None:
         F_end = 2.0 * float(np.interp(w_end, load.observable("w"), load.observable("F")))

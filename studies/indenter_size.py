@@ -7,7 +7,7 @@ The cap is the paper's (``phi_hat = 0.8``, ``h/R = 0.02``, ``nu = 0.5``, ``N = 2
 prescribed.  Every radius is the runner's first loading stretch
 (:func:`studies.bench_contact.run_to_snap`, the settings of ``contin trace``), from the first touch of
 the barrier to the located snap: a fold in ``w_b`` while the pole is in contact, or the release fold
-beyond ``F -> 0`` once the last contact node is off the axis (``models/contact/runner.py``).
+beyond ``F -> 0`` once the last contact node is off the axis (``models/shell_scene/contact.py``).
 
 What it computes
 ----------------
@@ -69,10 +69,9 @@ import numpy as np  # noqa: E402
 import contin  # noqa: E402
 from contin.executors import Executor, make_executor  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
-from models.contact.runner import contact_mode  # noqa: E402
+from models.shell_scene.contact import contact_mode  # noqa: E402
 from models.shell.problem import ShellPointLoad  # noqa: E402
-from models.shell.scene import SHELL_SCHEMA, _problem as _point_problem, _settings as _point_settings  # noqa: E402
-from models.shell.scene import eversion_displacement  # noqa: E402
+from models.shell_scene import SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
 from studies._common import (executor_from_args, output_dir, print_table, save_figure, say,  # noqa: E402
                              study_parser, write_csv, write_json)
 from studies.bench_contact import run_to_snap, snap_settings  # noqa: E402
@@ -106,8 +105,7 @@ _PATH_OBS = ("w_b_over_R", "w_s_over_R", "F_norm", "kappa_p_R", "Delta_H_over_R"
 # ---------------------------------------------------------------------------------------------------
 def _pole_curvature_R(P: ShellPointLoad, x: np.ndarray) -> float:
     """Pole curvature times R of a full state, by the model's own pole element."""
-    a, b = P._pole_ab(x)
-    return float(P._pole.curvature(a, b)[0]) * P.R
+    return P.pole_curvature(x) * P.R
 
 
 def free_snap_state(phi_hat: float = PHI_HAT, h_over_R: float = H_OVER_R, N: int = 200, R: float = 1.0,
@@ -141,9 +139,9 @@ def free_snap_state(phi_hat: float = PHI_HAT, h_over_R: float = H_OVER_R, N: int
     """
     scene = load_scene(SHELL_SCHEMA, None, [f"shell.N={N}", f"shell.phi_hat={phi_hat}", f"shell.h={h_over_R * R}",
                                             f"shell.R={R}"])
-    P = _point_problem(scene, "displacement")
+    P = point_problem(scene, "displacement")
     w_end = eversion_displacement(R, phi_hat) * (1.0 + scene["continuation"]["overshoot"])
-    st = _point_settings(scene, P, w_end, False)
+    st = point_settings(scene, P)
     st.stability = False
     br = contin.continuation(P, P.reference_unknowns(), 0.0, st, p_max=w_end,
                              events=[contin.crossing("F", 0.0, direction=-1, terminal=True, name="F = 0")])

@@ -50,7 +50,7 @@ import numpy as np  # noqa: E402
 import contin  # noqa: E402
 from contin.sweep import run_sweep, sweep_scenes  # noqa: E402
 from models.shell.boundaries import BoundaryCurve, bistable_boundary, depth_parameter, monotonous_boundary  # noqa: E402
-from models.shell.scene import SHELL_SCHEMA  # noqa: E402
+from models.shell_scene import SHELL_SCHEMA  # noqa: E402
 from studies._common import output_dir, print_table, save_figure, say, study_parser, write_csv, write_json  # noqa: E402
 
 PHI_RANGE = (0.5, 1.45)

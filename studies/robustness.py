@@ -53,6 +53,7 @@ import numpy as np  # noqa: E402
 from contin.branch import Branch  # noqa: E402
 from contin.scene import SceneError, TraceResult, load_scene  # noqa: E402
 from models.shell.strain import STRAIN_LIMIT  # noqa: E402
+from models.shell_scene import contact_problem, point_problem  # noqa: E402
 from studies._common import (executor_from_args, output_dir, print_table, say, study_parser,  # noqa: E402
                              write_csv, write_json, write_text)
 
@@ -130,9 +131,7 @@ CASES: tuple[Case, ...] = (
 def _problem_of(scene: dict[str, dict[str, Any]]) -> Any:
     """The problem the scene's displacement-controlled run traced (point load, or sphere/plate)."""
     if scene["load"]["kind"] == "point":
-        from models.shell.scene import _problem
-        return _problem(scene, "displacement")
-    from models.contact.runner import _problem as contact_problem
+        return point_problem(scene, "displacement")
     return contact_problem(scene)
 
 

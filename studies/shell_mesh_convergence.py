@@ -197,17 +197,15 @@ def with_pole_variant(shell: ShellPointLoad, area_factor: float = 1.0,
                       current_length: bool | None = None) -> ShellPointLoad:
     """Replace the pole element of ``shell`` by a modified :class:`PoleMirror` (in place).
 
-    A survey tool, not a model option: it reaches into the problem's private pole element.
+    A survey tool, not a model option (:meth:`ShellPointLoad.use_pole_element`).
     """
-    old = shell._pole
+    old = shell.pole_element
     cap = shell.cap
     pole = PoleMirror(cap.edge_length[-1], shell.shell.kb, shell.shell.nu,
                       old.current_length if current_length is None else current_length,
                       float(cap.r[-2]), float(cap.z[-1] - cap.z[-2]))
     pole.K *= area_factor
-    shell._pole = pole
-    for key in [k for k in vars(shell) if k.endswith("_cache")]:
-        del shell.__dict__[key]  # cached Hessians and gradients hold the old pole element
+    shell.use_pole_element(pole)
     return shell
 
 

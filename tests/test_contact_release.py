@@ -25,7 +25,7 @@ from contin.cli import main as cli_main
 from models.contact import Plate, Sphere
 from models.contact.indentation import ShellIndentation
 from models.contact.release import ReleaseFoldError, locate_release_fold
-from models.contact.runner import SNAP_FORCE_NORM
+from models.shell_scene.contact import SNAP_FORCE_NORM
 
 
 @pytest.fixture(scope="module")
@@ -52,7 +52,7 @@ def test_release_fold_is_a_singular_point_of_the_displacement_control_hessian(la
 
 def test_release_gap_matches_the_barrier_closed_form(large_sphere):
     P, _, rf = large_sphere
-    H = P.elastic._sub["force"](P.elastic._hessian(P.full_state(rf.u))).toarray()  # shell alone
+    H = P.elastic.free_block(P.elastic.elastic_hessian(P.full_state(rf.u)), "force").toarray()  # shell alone
     # contact normal of the node on the unknowns: d(d_i)/du, from the sphere's geometry
     x = P.full_state(rf.u)
     r, z, zc = x[2 * rf.node], x[2 * rf.node + 1], P.position(rf.w_b)

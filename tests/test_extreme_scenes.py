@@ -23,8 +23,8 @@ def test_short_range_barrier_snaps_and_completes() -> None:
     result = load_model("shell").run(scene, False)
     assert result.success, result.message
     assert len(result.jumps) >= 1
-    from models.contact.runner import _problem
-    problem = _problem(scene)
+    from models.shell_scene import contact_problem
+    problem = contact_problem(scene)
     gaps = [float(np.min(problem.contact(u, float(p), hessian=False).distances))
             for br in result.branches for u, p in zip(br.u, br.p)]
     assert min(gaps) > 0.0

@@ -23,7 +23,7 @@ import pytest
 import contin
 from contin.scene import load_scene
 from models.shell import boundaries as B
-from models.shell.scene import SHELL_SCHEMA, classify_scene
+from models.shell_scene import SHELL_SCHEMA, classify_scene
 
 N = 60
 H_MARK = 0.02

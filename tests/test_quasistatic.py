@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from contin import Problem, QuasiStaticResult, diagram, hysteresis_cycles, quasistatic
-from contin.quasistatic import DEFAULT_JUMP_ATTEMPTS
+from contin import JumpError, Problem, QuasiStaticResult, diagram, hysteresis_cycles, quasistatic
+from contin.quasistatic import DEFAULT_JUMP_ATTEMPTS, SnapRules
 from models.benchmarks.truss import TrussDisplacementControl, VonMisesTruss
 
 A, B, K = 1.0, 0.5, 1.0
@@ -207,3 +207,84 @@ def test_bad_arguments() -> None:
         quasistatic(truss, [0.0, B], 0.0, 1.0, not_an_option=1)
     with pytest.raises(ValueError, match="jump_attempts"):
         quasistatic(truss, [0.0, B], 0.0, 1.0, jump_attempts=())
+
+
+# ---- the hooks the models use (contin.quasistatic is the one load-snap loop) -------------------------
+def test_an_open_sweep_ends_on_an_observable_bound_or_after_a_chosen_snap() -> None:
+    truss = VonMisesTruss(A, B, K)
+    # no end load: the sweep goes up until the apex passes y = -1.2 b (a bound of the settings)
+    res = quasistatic(truss, [0.0, B], 0.0, None, direction=1, bounds={"y": (-1.2 * B, None)}, **KW)
+    assert res.status == "completed" and res.p_end is None and len(res.jumps) == 1
+    assert res.u_final[1] == pytest.approx(-1.2 * B, abs=1e-9)
+    assert res.p_final == pytest.approx(P_of_y(-1.2 * B), abs=1e-9)
+    # stop_after_jump ends the sweep on the landing
+    res = quasistatic(truss, [0.0, B], 0.0, None, direction=1, stop_after_jump=lambda jr: "landed", **KW)
+    assert res.status == "completed" and res.message.startswith("landed") and len(res.branches) == 1
+    np.testing.assert_array_equal(res.u_final, res.jumps[0].u_to)
+    with pytest.raises(ValueError, match="direction"):
+        quasistatic(truss, [0.0, B], 0.0, None, **KW)
+    with pytest.raises(ValueError, match="direction"):
+        quasistatic(truss, [0.0, B], 0.0, 1.0, direction=-1, **KW)
+
+
+def test_snap_rules_measure_the_overshoot_from_the_fold_and_may_keep_the_jump_there() -> None:
+    rules = SnapRules(attempts=((1e-6, None),), overshoot_unit="fold", restate=False,
+                      separation=lambda uf, pf, ut, pt: abs(ut[1] - uf[1]) / B, min_separation=0.5)
+    res = quasistatic(VonMisesTruss(A, B, K), [0.0, B], 0.0, 100 * P_MAX, snap=rules, max_snaps=1,
+                      stop_after_jump=lambda jr: "done", **KW)
+    (jr,) = res.jumps
+    # 1e-6 of the fold load past it, not of the sweep's span (100 P_max)
+    assert jr.p == pytest.approx(res.folds[0].p * (1 + 1e-6), rel=1e-14)
+    assert jr.info["restated"] is False and jr.info["p_minimised"] == jr.p
+    assert jr.u_to[1] == pytest.approx(y_lower(jr.p), abs=1e-9)
+
+
+def test_attempts_stop_on_an_error_the_rules_give_up_on() -> None:
+    class Boom(ValueError):
+        pass
+
+    def refuse(uf: np.ndarray, pf: float, ut: np.ndarray, pt: float) -> float:
+        raise Boom("no distance here")
+
+    rules = SnapRules(separation=refuse, give_up_on=(Boom,))
+    with pytest.raises(Boom):  # an error of the separation hook is the caller's own: not swallowed
+        quasistatic(VonMisesTruss(A, B, K), [0.0, B], 0.0, 1.5 * P_MAX, snap=rules, **KW)
+    truss = VonMisesTruss(A, B, K)
+    # without an energy every attempt fails alike (JumpError); giving up on it tries only the first
+    no_energy = Problem(residual=truss.residual, jacobian=truss.jacobian, dresidual_dp=truss.dresidual_dp,
+                        observables=truss.observables, symmetric=True, parameter_name="P")
+    res = quasistatic(no_energy, [0.0, B], 0.0, 1.5 * P_MAX, snap=SnapRules(give_up_on=(JumpError,)), **KW)
+    assert res.status == "jump_failed" and len(res.info["jump_attempts"][0]) == 1
+
+
+def test_a_model_locates_its_own_snap_past_a_terminal_event() -> None:
+    # stop on a precursor event just before the limit load and hand the loop the engine's fold there
+    from contin import crossing, locate_fold
+
+    truss = VonMisesTruss(A, B, K)
+    near = crossing("y", Y_STAR + 0.02, direction=-1, terminal=True, name="near the fold")
+
+    def snap_at(br):
+        return locate_fold(truss, br.u[-1], float(br.p[-1]))
+
+    res = quasistatic(truss, [0.0, B], 0.0, 1.5 * P_MAX, events=[near], locate_snap=snap_at, max_snaps=1,
+                      stop_after_jump=lambda jr: "done", **KW)
+    assert res.status == "completed" and res.folds[0].p == pytest.approx(P_MAX, abs=1e-9)
+    assert res.jumps[0].u_to[1] == pytest.approx(y_lower(P_MAX), abs=1e-9)
+
+
+def test_failed_tells_the_loop_s_failures_from_a_stopped_run() -> None:
+    truss = VonMisesTruss(A, B, K)
+    assert quasistatic(truss, [0.0, B], 0.0, 1.5 * P_MAX, max_snaps=0, **KW).failed
+    assert not quasistatic(truss, [0.0, B], 0.0, 1.5 * P_MAX, max_steps=3, **KW).failed
+    assert not quasistatic(truss, [0.0, B], 0.0, 0.5 * P_MAX, **KW).failed
+
+
+def test_leave_fold_is_one_snap_of_the_loop(loading: QuasiStaticResult) -> None:
+    from contin.quasistatic import leave_fold
+
+    fold = loading.folds[0]
+    jr, reasons = leave_fold(VonMisesTruss(A, B, K), fold, +1, u_fold=loading.branches[0].u[-1], p0=0.0,
+                             p_end=1.5 * P_MAX)
+    assert reasons == [] and jr.info["restated"] and jr.p == fold.p
+    np.testing.assert_allclose(jr.u_to, loading.jumps[0].u_to, atol=1e-12)

@@ -12,7 +12,7 @@ import contin
 from contin.branch import Branch
 from contin.scene import load_scene
 from models.shell.problem import ShellPointLoad
-from models.shell.scene import SHELL_SCENE, eversion_displacement
+from models.shell_scene import SHELL_SCENE, eversion_displacement
 from models.shell.strain import STRAIN_LIMIT, StrainPeak, strain_peak, strain_warning
 
 

@@ -21,7 +21,7 @@ import pytest
 import contin
 from contin.scene import load_scene
 from models.shell.problem import ShellPointLoad
-from models.shell.scene import SHELL_SCENE, SHELL_SCHEMA
+from models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
 from studies import point_to_plate as study
 
 

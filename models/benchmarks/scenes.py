@@ -6,7 +6,7 @@ group (see ``pyproject.toml``); the engine finds it only through that registry.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -16,9 +16,18 @@ from contin.scene import Constraint, Field, SceneModel, Schema, TraceResult, boo
 from .bratu import LAMBDA_CRITICAL, Bratu
 from .truss import VonMisesTruss
 
-__all__ = ["BRATU_SCENE", "TRUSS_SCENE"]
+__all__ = ["BRATU_SCENE", "TRUSS_SCENE", "Start", "build_bratu", "build_truss"]
 
 Scene = dict[str, dict[str, Any]]
+
+
+class Start(NamedTuple):
+    """What a benchmark scene builds: the problem, its continuation settings and the starting point."""
+
+    problem: contin.Problem
+    settings: contin.Settings
+    u0: np.ndarray
+    p0: float
 
 
 def _step_order(section: str = "continuation") -> Constraint:
@@ -58,13 +67,18 @@ BRATU_SCHEMA = Schema(
 )
 
 
-def _run_bratu(scene: Scene, progress: bool) -> TraceResult:
+def build_bratu(scene: Scene, progress: bool = False) -> Start:
+    """The Bratu problem of a resolved :data:`BRATU_SCHEMA` scene, its settings and the trivial start."""
     c = scene["continuation"]
     problem = Bratu(scene["model"]["n"])
-    br = contin.continuation(
-        problem, np.zeros(problem.n), 0.0, ds=c["ds"], ds_max=c["ds_max"], ds_min=c["ds_min"], tol=c["tol"],
-        max_steps=c["max_steps"], bounds={"max_u": (None, c["max_u"])}, stability=c["stability"],
-        progress=progress)
+    st = contin.Settings(ds=c["ds"], ds_max=c["ds_max"], ds_min=c["ds_min"], tol=c["tol"], max_steps=c["max_steps"],
+                         bounds={"max_u": (None, c["max_u"])}, stability=c["stability"], progress=progress)
+    return Start(problem, st, np.zeros(problem.n), 0.0)
+
+
+def _run_bratu(scene: Scene, progress: bool) -> TraceResult:
+    problem, st, u0, p0 = build_bratu(scene, progress)
+    br = contin.continuation(problem, u0, p0, st)
     folds = br.folds()
     summary: dict[str, Any] = {"lambda_critical_continuum": LAMBDA_CRITICAL}
     if folds:
@@ -107,7 +121,8 @@ TRUSS_SCHEMA = Schema(
 )
 
 
-def _run_truss(scene: Scene, progress: bool) -> TraceResult:
+def build_truss(scene: Scene, progress: bool = False) -> Start:
+    """The truss of a resolved :data:`TRUSS_SCHEMA` scene, its settings and the unloaded start."""
     m, c = scene["model"], scene["continuation"]
     problem = VonMisesTruss(m["a"], m["b"], m["k"])
     (_, p_max), _ = problem.limit_points()
@@ -115,34 +130,34 @@ def _run_truss(scene: Scene, progress: bool) -> TraceResult:
     st = contin.Settings(ds=c["ds"], ds_max=c["ds_max"], tol=c["tol"], stability=True,
                          state_weight=np.sqrt(2) / m["b"], param_weight=1.0 / p_max, progress=progress,
                          bounds={"y": (-1.6 * m["b"], None)})
+    return Start(problem, st, np.array([0.0, m["b"]]), 0.0)
+
+
+def _run_truss(scene: Scene, progress: bool) -> TraceResult:
+    problem, st, u0, _ = build_truss(scene, progress)
+    (_, p_max), _ = problem.limit_points()
     summary = {"P_max_closed_form": p_max, "P_min_closed_form": -p_max}
-    u0 = np.array([0.0, m["b"]])
     if not scene["load"]["cycle"]:
         br = contin.continuation(problem, u0, 0.0, st)
         return TraceResult.from_branches([br], problem=problem, x="deflection", y="p", summary=summary,
                                          labels=["S-curve"], table_observables=["y", "deflection"])
 
+    # load to the snap, unload to the snap back, reload to the first fold again: three sweeps of the
+    # one load-snap loop, each without an end load (the folds end them)
     names = ["loading", "unloading", "reloading"]
     branches, jumps, failure = [], [], ""
-    u, p, direction = u0, 0.0, 1
+    u, p = u0, 0.0
     for i, name in enumerate(names):
-        br = contin.continuation(problem, u, p, st, direction=direction, stop_at=("fold",))
-        branches.append(br)
-        if not (br.success and br.folds() and br.special_points[-1].kind == "fold"):
-            failure = f"{name} did not end at a fold"
+        last = i == len(names) - 1
+        qs = contin.quasistatic(problem, u, p, None, st, direction=1 if i % 2 == 0 else -1,
+                                max_snaps=0 if last else 1, stop_after_jump=lambda jr: "snapped")
+        branches += qs.branches
+        jumps += qs.jumps
+        if qs.status != ("max_snaps" if last else "completed"):
+            failure = f"{name} did not end at a fold and snap ({qs.message})"
             break
-        if i == len(names) - 1:
-            break
-        try:
-            jr = contin.jump(problem, br.u[-1], br.p[-1], tol=c["tol"])
-        except contin.JumpError as exc:
-            failure = f"snap after {name} could not start: {exc}"
-            break
-        jumps.append(jr)
-        if not jr.success:
-            break
-        u, p, direction = jr.u_to, jr.p, -direction
-    if not failure and len(branches) == len(names):
+        u, p = qs.u_final, qs.p_final
+    if not failure:
         G = contin.diagram(branches, jumps)
         summary["hysteresis_loops"] = len(contin.hysteresis_cycles(G))
     return TraceResult.from_branches(branches, jumps, problem=problem, x="deflection", y="p", summary=summary,

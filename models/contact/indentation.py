@@ -4,8 +4,8 @@ Indenter travel ``w_b`` is the continuation parameter (displacement control of t
 indenter position is ``c = c_0 - w_b`` with ``c_0`` the position at which the barrier just reaches
 the undeformed pole (gap ``dhat``), so ``w_b = 0`` is the first touch of the barrier and no offset of
 order ``dhat`` enters ``w_b``.  The shell's unknowns are those of
-:class:`models.shell.ShellPointLoad` under force control: every dof except the base height ``z_0``
-and the pole radius ``r_{N-1} = 0``, the pole height last.  The energy is the shell's elastic energy
+the free shell (:meth:`models.shell.ShellPointLoad.free_state`): every dof except the base height
+``z_0`` and the pole radius ``r_{N-1} = 0``, the pole height last.  The energy is the shell's elastic energy
 plus the barrier (:class:`models.contact.ContactBarrier`); the barrier's node blocks lie inside the
 shell's band, so the Jacobian keeps half-bandwidth 5 and every solve stays O(N).
 
@@ -25,10 +25,10 @@ Stability labels: ``"displacement"`` (indenter position held: the Hessian on the
 and ``"force"`` (a dead load on the indenter: the same Hessian bordered by the indenter position),
 both counted from one pivot-free factorization of the bordered matrix.
 
-Force control of the indenter: :class:`ShellIndentationForce` (the indenter travel ``w_b`` an
-unknown, a dead load ``F`` on the indenter the parameter; its Jacobian is the displacement-control
-Hessian bordered by one row and column, solved by block elimination on the band with
-:class:`BorderedBandedLU`).
+Force control of the indenter: :class:`ShellIndentationForce`, the generic dead load
+(:class:`contin.deadload.DeadLoad`) on the indenter travel (``w_b`` an unknown, a dead load ``F`` on
+the indenter the parameter; its Jacobian is the displacement-control Hessian bordered by one row and
+column, solved by block elimination on the band with :class:`BorderedBandedLU`).
 """
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ from scipy.linalg import lapack
 
 from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU
 from contin.linalg import factorize as generic_factorize
+from contin.deadload import DeadLoad
 from contin.problem import NonFiniteError, Problem
 from contin.stability import leading_inertias
 from models.shell.energy import HALF_BANDWIDTH
@@ -108,11 +109,11 @@ class ShellIndentation(Problem):
     # ---- state maps ------------------------------------------------------------------------------
     def reference_unknowns(self) -> np.ndarray:
         """Unknowns of the undeformed cap (the equilibrium at ``w_b = 0``, where the barrier is just off)."""
-        return self.elastic.reference_unknowns()
+        return self.elastic.free_unknowns(self.elastic.cap.x)
 
     def full_state(self, u: np.ndarray, p: float = 0.0) -> np.ndarray:
         """Full interleaved state from the unknowns (the indenter does not enter it)."""
-        return self.elastic.full_state(u, 0.0)
+        return self.elastic.free_state(u)
 
     def position(self, w_b: float) -> float:
         """Indenter position ``c = c_0 - w_b``."""
@@ -150,18 +151,26 @@ class ShellIndentation(Problem):
 
     def _full_hessian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         x = self.full_state(u)
-        H = self.elastic._hessian(x).copy()  # the shell's cached matrix is shared: never modify it
+        H = self.elastic.elastic_hessian(x)  # a copy: the shell's cached matrix is shared
         st = self.contact(u, p)
         if st.active.size:
             np.add.at(H.data, self._node_slots[st.active].ravel(), st.hess_blocks.reshape(-1))
         return H
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        return self.elastic._sub["force"](self._full_hessian(u, p))
+        return self.elastic.free_block(self._full_hessian(u, p), "force")
 
     def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
         # c = c0 - w_b: d/dw_b of the barrier gradient is -d2E/dx dc
         return -self.contact(u, p).hess_xc[self.idx]
+
+    def conjugate_force(self, u: np.ndarray, p: float) -> float:
+        """``dE/dw_b``: the indenter force ``F`` (``c = c_0 - w_b``, so ``dE/dw_b = -dE/dc``)."""
+        return float(self.contact(u, p, hessian=False).force)
+
+    def conjugate_stiffness(self, u: np.ndarray, p: float) -> float:
+        """``d2E/dw_b^2 = d2E/dc^2`` of the barrier (the shell's energy does not depend on ``w_b``)."""
+        return float(self.contact(u, p).hess_cc)
 
     def factorize(self, J) -> Factorization:
         return BandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH)
@@ -206,8 +215,7 @@ class ShellIndentation(Problem):
             gap = max(d_pole - self.dhat, 0.0)
             return gap if name == "Delta_H" else gap / self.R
         if name == "kappa_p_R":
-            a, b = el._pole_ab(x)
-            return el._pole.curvature(a, b)[0] * self.R
+            return el.pole_curvature(x) * self.R
         if name == "base_gap":  # distance from the (vertically fixed) base node to the indenter
             return float(self.contact(u, p, hessian=False).distances[0])
         if name in ("contact_first", "contact_last"):  # range of node indices in contact, -1 when none
@@ -422,30 +430,13 @@ class BorderedBandedLU(Factorization):
         return np.append(self._lu[self.kl + self.ku, :], self.schur)
 
 
-def _bordered_csr(A: sp.csr_matrix, col: np.ndarray, d: float) -> sp.csr_matrix:
-    """``[[A, col], [col^T, d]]`` as canonical CSR, built in O(nnz) (only the nonzeros of ``col`` are stored)."""
-    A = sp.csr_matrix(A)
-    if not A.has_canonical_format:
-        A = A.copy()
-        A.sum_duplicates()
-    m = A.shape[0]
-    nz = np.flatnonzero(col)
-    # each bordered row ends with its column-m entry: insert it at the row's end (indices stay sorted)
-    ends = A.indptr[nz + 1]
-    indices = np.concatenate([np.insert(A.indices, ends, m), nz, [m]]).astype(np.int32, copy=False)
-    data = np.concatenate([np.insert(A.data, ends, col[nz]), col[nz], [d]])
-    shift = np.zeros(m + 1, dtype=np.int64)
-    shift[nz + 1] = 1
-    indptr = np.append(A.indptr + np.cumsum(shift), A.nnz + 2 * nz.size + 1)
-    return sp.csr_matrix((data, indices, indptr), shape=(m + 1, m + 1))
-
-
-class ShellIndentationForce(Problem):
+class ShellIndentationForce(DeadLoad):
     """Spherical cap under a rigid sphere or plate carrying a dead load ``F``: force control of the indenter.
 
-    Unknowns ``U = [u, w_b]``: the shell unknowns ``u`` of :class:`ShellIndentation` (same order)
-    followed by the indenter travel ``w_b`` (the indenter position is ``c = c_0 - w_b`` as there).
-    Parameter: the dead load ``F`` on the indenter (positive pushing down).  Energy::
+    The generic dead load (:class:`contin.deadload.DeadLoad`) on :class:`ShellIndentation`'s indenter
+    travel.  Unknowns ``U = [u, w_b]``: the shell unknowns ``u`` of :class:`ShellIndentation` (same
+    order) followed by the indenter travel ``w_b`` (the indenter position is ``c = c_0 - w_b`` as
+    there).  Parameter: the dead load ``F`` on the indenter (positive pushing down).  Energy::
 
         E(U, F) = E_shell(x) + E_barrier(x, c_0 - w_b) - F w_b,
 
@@ -470,7 +461,7 @@ class ShellIndentationForce(Problem):
 
     Stability labels: ``"force"`` (the full Hessian on ``U``, the primary label: the indenter is
     free under its dead load) and ``"displacement"`` (its leading block: the indenter held), both
-    from one pivot-free ``L D L^T`` of the Jacobian (:meth:`stability_counts`).
+    from one pivot-free ``L D L^T`` of the Jacobian.
 
     Observables: the same names as :class:`ShellIndentation`'s, in its order (``F`` is now the
     parameter and ``w_b`` the last unknown; every other one, e.g. ``w_s``, ``Delta_H``,
@@ -509,22 +500,10 @@ class ShellIndentationForce(Problem):
         self.n = self.n_shell + 1
         #: which path :meth:`factorize`'s factorizations took (see :class:`BorderedBandedLU`)
         self.linear_solver_stats: dict = {"factorizations": 0, "sparse": 0, "refined": 0, "reasons": {}}
-        f_norm = self.R / (2.0 * math.pi * self.D)
-        own = {"F": lambda U, p: float(p), "w_b": lambda U, p: float(U[-1]),
-               "w_b_over_R": lambda U, p: float(U[-1]) / self.R, "F_norm": lambda U, p: float(p) * f_norm}
-        # the displacement problem's observables, in its order: F and w_b (and their normalized
-        # forms) from the parameter and the last unknown, every other one evaluated at (u, w_b)
-        observables = {name: own.get(name) or self._obs(name) for name in P.observables}
-        observables.update({name: fun for name, fun in own.items() if name not in observables})
-        e_last = np.zeros(self.n)
-        e_last[-1] = 1.0
-        zero = np.zeros(self.n)
-        derivatives = {"F": lambda U, p: (zero, 1.0), "w_b": lambda U, p: (e_last, 0.0),
-                       "F_norm": lambda U, p: (zero, f_norm), "w_b_over_R": lambda U, p: (e_last / self.R, 0.0)}
-        ops = {"force": self._op_force, "displacement": self._op_displacement}
-        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
-                         stability_operators=ops, name=f"shell_{self.indenter.name}_indentation_force",
-                         parameter_name="F", residual_scale=P.residual_scale)
+        super().__init__(P, force="F", scaled={"F_norm": ("F", self.R / (2.0 * math.pi * self.D)),
+                                               "w_b_over_R": ("w_b", 1.0 / self.R)},
+                         factorize=self._bordered_band)
+        self.name = f"shell_{self.indenter.name}_indentation_force"
 
     # ---- state maps ------------------------------------------------------------------------------
     def split(self, U: np.ndarray) -> tuple[np.ndarray, float]:
@@ -552,11 +531,11 @@ class ShellIndentationForce(Problem):
         u = np.asarray(u, dtype=float)
         if u.shape != (self.n_shell,):
             raise ValueError(f"displacement-control unknowns must have shape ({self.n_shell},), got {u.shape}")
-        F = self.displacement.evaluate_one("F", u, w_b)
+        U, F = super().from_displacement_state(u, w_b)
         if not F > 0:
             raise ValueError(f"{self.name}: no contact force at w_b = {w_b:g} (F = {F:g}); force control needs "
                              "a contact state to start from (the indenter is undetermined without contact)")
-        return np.append(u, float(w_b)), F
+        return U, F
 
     def contact_start(self, w_b: float, **options) -> tuple[np.ndarray, float]:
         """Trace displacement control from the undeformed cap to the travel ``w_b`` and return its ``(U, F)``.
@@ -573,69 +552,14 @@ class ShellIndentationForce(Problem):
             raise RuntimeError(f"{self.name}: displacement control did not reach w_b = {w_b:g} ({br.message})")
         return self.from_displacement_state(br.u[-1], float(br.p[-1]))
 
-    # ---- the Problem interface -------------------------------------------------------------------
-    def energy(self, U: np.ndarray, p: float) -> float:
-        u, w_b = self.split(U)
-        return self.displacement.energy(u, w_b) - float(p) * w_b
-
-    def residual(self, U: np.ndarray, p: float) -> np.ndarray:
-        u, w_b = self.split(U)
-        g = self.displacement.residual(u, w_b)
-        return np.append(g, self.displacement.contact(u, w_b, hessian=False).force - float(p))
-
-    def jacobian(self, U: np.ndarray, p: float) -> sp.csr_matrix:
-        u, w_b = self.split(U)
-        P = self.displacement
-        st = P.contact(u, w_b)
-        # d/dw_b = -d/dc: the border column is d(residual)/dw_b, the corner d2E_barrier/dc2
-        return _bordered_csr(P.jacobian(u, w_b), -st.hess_xc[P.idx], float(st.hess_cc))
-
-    def dresidual_dp(self, U: np.ndarray, p: float) -> np.ndarray:
-        d = np.zeros(self.n)
-        d[-1] = -1.0
-        return d
-
-    def jacobian_dp(self, U: np.ndarray, p: float) -> sp.csr_matrix:
-        """Exactly zero: the dead load enters the residual linearly."""
-        return sp.csr_matrix((self.n, self.n))
-
-    def factorize(self, J) -> Factorization:
+    def _bordered_band(self, J) -> Factorization:
         """Block elimination of ``w_b`` on the banded LU of the leading block (:class:`BorderedBandedLU`)."""
         try:
             return BorderedBandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH, stats=self.linear_solver_stats)
         except NotBorderedBandError:  # not this problem's structure (never for its own Jacobians)
             return generic_factorize(J)
 
-    def max_step_fraction(self, U: np.ndarray, p: float, dU: np.ndarray, dp: float) -> float:
-        """The barrier's IPC filter along ``(du, dc = -dw_b)``: no node may reach the indenter."""
-        u, w_b = self.split(U)
-        P = self.displacement
-        dU = np.asarray(dU, dtype=float)
-        return self.barrier.max_safe_fraction(P.full_state(u), P.position(w_b), P._full_step(dU[:-1]),
-                                              -float(dU[-1]))
-
-    # ---- stability -------------------------------------------------------------------------------
-    def _op_force(self, U: np.ndarray, p: float) -> sp.csr_matrix:
-        return self.jacobian(U, p)  # the dead load is linear in w_b: the Hessian is the Jacobian
-
-    def _op_displacement(self, U: np.ndarray, p: float) -> sp.csr_matrix:
-        u, w_b = self.split(U)
-        return self.displacement.jacobian(u, w_b)
-
-    def stability_counts(self, U: np.ndarray, p: float) -> dict[str, int] | None:
-        """Both Morse indices from one pivot-free ``L D L^T``: the displacement operator is the leading block."""
-        counts = leading_inertias(self.jacobian(U, p), (self.n_shell, self.n))
-        if counts is None:
-            return None
-        return {"force": counts[1], "displacement": counts[0]}
-
     # ---- observables -----------------------------------------------------------------------------
-    def _obs(self, name: str):
-        return lambda U, p: self.evaluate_one(name, U, p)
-
     def evaluate_one(self, name: str, U: np.ndarray, p: float) -> float:
         """One observable at ``(U, F)`` (see the class docstring)."""
-        if name in ("F", "w_b", "w_b_over_R", "F_norm"):
-            return float(self.observables[name](U, p))
-        u, w_b = self.split(U)
-        return float(self.displacement.observables[name](u, w_b))
+        return float(self.observables[name](U, p))

@@ -50,11 +50,17 @@ Controls
 z_pole``, bilateral).  Unknowns: every dof except ``z_0``, ``r_{N-1}``, ``z_{N-1}``, in the
 interleaved order ``[r_0, r_1, z_1, ..., r_{N-2}, z_{N-2}]`` (``2N - 3`` values).
 
-``control="force"``: parameter ``F`` (dead load pushing the pole down).  The unknowns are the
-displacement-control ones followed by ``z_{N-1}`` (``2N - 2`` values); the energy is
-``E_el(x) - F w(x)``.
+``control="force"``: parameter ``F`` (dead load pushing the pole down), built once for every model
+by :class:`contin.deadload.DeadLoad` on the displacement-controlled shell.  The unknowns are the
+displacement-control ones followed by the pole displacement ``w`` (``2N - 2`` values); the energy
+is ``E_el(x) - F w``.
 
-In both orderings the Hessian keeps half-bandwidth at most 5 (:data:`HALF_BANDWIDTH`), and
+The *free shell* (used by models that add their own loads, such as the contact) has the unknowns
+:attr:`ShellPointLoad.idx_force` of the full state: every dof except ``z_0`` and ``r_{N-1}``, the
+pole height ``z_{N-1}`` last (:meth:`ShellPointLoad.free_state`, :meth:`ShellPointLoad.free_unknowns`,
+:meth:`ShellPointLoad.free_block`).
+
+In every ordering the Hessian keeps half-bandwidth at most 5 (:data:`HALF_BANDWIDTH`), and
 :meth:`ShellPointLoad.factorize` uses a banded LU.
 """
 
@@ -66,6 +72,7 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
+from contin.deadload import DeadLoad
 from contin.linalg import BandedLU, Factorization
 from contin.problem import Problem
 from contin.stability import leading_inertias
@@ -237,10 +244,15 @@ class ShellPointLoad(Problem):
             raise ValueError(f"ShellPointLoad: control must be 'displacement' or 'force', got {control!r}")
         if pole not in ("mirror", "skip"):
             raise ValueError(f"ShellPointLoad: pole must be 'mirror' or 'skip', got {pole!r}")
+        if control == "force":
+            # a dead load on the pole is the generic dead load on the displacement-controlled shell
+            twin = ShellPointLoad(R, E, nu, h, phi_hat, N, "displacement", kappa11_length, pole, pole_ratio)
+            self._load_by_force(twin)
+            return
         self.cap = spherical_cap(R, phi_hat, N, pole_ratio)
         self.shell = ShellEnergy(self.cap, E, h, nu, kappa11_length=kappa11_length)
         self.R, self.E, self.nu, self.h, self.phi_hat, self.N = float(R), float(E), float(nu), float(h), float(phi_hat), int(N)
-        self.control = control
+        self.control = "displacement"
         self.pole = pole
         self.D = self.shell.kb
         self.n_full = 2 * self.N
@@ -249,7 +261,7 @@ class ShellPointLoad(Problem):
         base = np.concatenate([[0], np.arange(2, n - 2)])
         self.idx_displacement = base
         self.idx_force = np.concatenate([base, [n - 1]])
-        self.idx = self.idx_force if control == "force" else self.idx_displacement
+        self.idx = self.idx_displacement
 
         H0 = self.shell.hessian(self.cap.x)
         self._sub = {"displacement": _SubMatrix(H0, self.idx_displacement),
@@ -267,23 +279,46 @@ class ShellPointLoad(Problem):
         else:
             self._pole = None
 
-        # residual scale: see the class Notes
-        H_inf = float(np.max(np.abs(self._sub[control](self._hessian(self.cap.x))).sum(axis=1)))
-        self.hessian_norm = H_inf
-        scale = max(self.E * self.h * self.R, ROUNDOFF_MARGIN * H_inf * self.R)
+        scale = self._residual_scale("displacement")
         observables = {"F": self._obs_F, "w": self._obs_w, "w_over_R": self._obs_w_over_R,
                        "F_norm": self._obs_F_norm}
         # the control's own stability comes first: it is the primary label (Branch.n_negative) and
         # the operator contin.jump minimises with
         ops = {"displacement": self._op_displacement, "force": self._op_force}
-        if control == "force":
-            ops = {"force": self._op_force, "displacement": self._op_displacement}
         derivatives = {"F": self._dobs_F, "w": self._dobs_w,
                        "w_over_R": lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.R),
                        "F_norm": lambda u, p: _scaled(self._dobs_F(u, p), self.R / (2.0 * math.pi * self.D))}
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          stability_operators=ops,
-                         name=f"shell_point_{control}", parameter_name="w" if control == "displacement" else "F",
+                         name="shell_point_displacement", parameter_name="w", residual_scale=scale)
+
+    def _residual_scale(self, control: str) -> float:
+        """``max(E h R, ROUNDOFF_MARGIN ||H_ref||_inf R)`` on the unknowns of ``control`` (class Notes)."""
+        H_inf = float(np.max(np.abs(self._sub[control](self._hessian(self.cap.x))).sum(axis=1)))
+        self.hessian_norm = H_inf
+        return max(self.E * self.h * self.R, ROUNDOFF_MARGIN * H_inf * self.R)
+
+    def _load_by_force(self, twin: "ShellPointLoad") -> None:
+        """Become the dead load ``F`` at the pole: :class:`contin.deadload.DeadLoad` of ``twin``.
+
+        The unknowns are the displacement-control ones followed by the pole displacement ``w``; the
+        energy is ``E_el(x) - F w``.  ``twin`` (the displacement-controlled shell of the same scene)
+        lends its mesh, energy, sparsity maps and Hessian cache, so both see the same states.
+        """
+        twin.__dict__.setdefault("_hess_cache", [])  # shared: the twin evaluates every state of this problem
+        vars(self).update(vars(twin))
+        self.twin = twin
+        self.control = "force"
+        self.idx = self.idx_force
+        scale = self._residual_scale("force")
+        f_norm = self.R / (2.0 * math.pi * self.D)
+        # the bordered Hessian keeps the band: the pole's column couples only to the last nodes
+        self.dead_load = DeadLoad(twin, force="F", scaled={"w_over_R": ("w", 1.0 / self.R), "F_norm": ("F", f_norm)},
+                                  factorize=twin.factorize, residual_scale=scale)
+        dead = self.dead_load
+        ops = {"force": dead.jacobian, "displacement": lambda U, p: twin.jacobian(U[:-1], float(U[-1]))}
+        Problem.__init__(self, observables=dead.observables, observable_derivatives=dead.observable_derivatives,
+                         symmetric=True, stability_operators=ops, name="shell_point_force", parameter_name="F",
                          residual_scale=scale)
 
     # ---- maps between the full state and the unknowns --------------------------------------------
@@ -294,22 +329,34 @@ class ShellPointLoad(Problem):
 
     def reference_unknowns(self) -> np.ndarray:
         """Unknown vector of the reference (stress-free) state, the equilibrium at ``p = 0``."""
-        return self.cap.x[self.idx].copy()
+        return self.unknowns(self.cap.x)
 
     def full_state(self, u: np.ndarray, p: float) -> np.ndarray:
         """Full interleaved state ``[r_0, z_0, ..., r_{N-1}, z_{N-1}]`` from unknowns and parameter."""
         u = np.asarray(u, dtype=float)
         if u.shape != (self.n,):
             raise ValueError(f"unknown vector must have shape ({self.n},), got {u.shape}")
+        if self.control == "force":  # the last unknown is the pole displacement
+            return self.twin.full_state(u[:-1], float(u[-1]))
         x = self.cap.x
         x[self.idx] = u
-        if self.control == "displacement":
-            x[-1] = self.z_pole_ref - float(p)
+        x[-1] = self.z_pole_ref - float(p)
         return x
 
     def unknowns(self, x: np.ndarray) -> np.ndarray:
         """Unknowns of this control from a full state (the fixed dofs are dropped, not checked)."""
-        return np.asarray(x, dtype=float)[self.idx].copy()
+        u = np.asarray(x, dtype=float)[self.idx_displacement].copy()
+        return np.append(u, self.pole_displacement(x)) if self.control == "force" else u
+
+    def free_state(self, v: np.ndarray) -> np.ndarray:
+        """Full state from the free shell's unknowns ``x[idx_force]`` (the pole height among them)."""
+        x = self.cap.x
+        x[self.idx_force] = np.asarray(v, dtype=float)
+        return x
+
+    def free_unknowns(self, x: np.ndarray) -> np.ndarray:
+        """The free shell's unknowns ``x[idx_force]`` of a full state."""
+        return np.asarray(x, dtype=float)[self.idx_force].copy()
 
     def pole_displacement(self, x: np.ndarray) -> float:
         """``w = zbar_pole - z_pole`` of a full state."""
@@ -318,6 +365,44 @@ class ShellPointLoad(Problem):
     # ---- elastic energy with the pole treatment --------------------------------------------------
     def _pole_ab(self, x: np.ndarray) -> tuple[float, float]:
         return float(x[-4]), float(x[-1] - x[-3])
+
+    def pole_curvature(self, x: np.ndarray) -> float:
+        """Curvature ``kappa11 = kappa22`` at the pole of a full state, by the pole's mirror element.
+
+        Raises ``ValueError`` for ``pole="skip"`` (the pole then carries no bending element).
+        """
+        if self._pole is None:
+            raise ValueError("pole_curvature needs the mirror pole treatment (pole='mirror')")
+        return float(self._pole.curvature(*self._pole_ab(x))[0])
+
+    @property
+    def pole_element(self) -> PoleMirror | None:
+        """The pole's bending element (None for ``pole="skip"``)."""
+        return self._pole
+
+    def use_pole_element(self, element: PoleMirror) -> None:
+        """Replace the pole's bending element, e.g. to survey other pole treatments (mirror pole only).
+
+        The cached gradients and Hessians hold the old element and are dropped; under force control
+        the displacement-controlled twin that evaluates the energy gets the element too.
+        """
+        if self._pole is None:
+            raise ValueError("use_pole_element needs the mirror pole treatment (pole='mirror')")
+        shells = [self, self.twin] if self.control == "force" else [self]
+        for shell in shells:
+            shell._pole = element
+            for key in [k for k in vars(shell) if k.endswith("_cache")]:
+                del shell.__dict__[key]
+        if self.control == "force":
+            self._hess_cache = self.twin.__dict__.setdefault("_hess_cache", [])
+
+    def free_block(self, H: sp.csr_matrix, control: Literal["displacement", "force"]) -> sp.csr_matrix:
+        """The principal block of a full ``2N x 2N`` Hessian (this shell's pattern) on the unknowns of ``control``.
+
+        Other models that add terms to the shell's energy (a contact barrier) restrict their full
+        Hessian with it, in O(nnz), to the unknowns they share with the shell.
+        """
+        return self._sub[control](H)
 
     def elastic_energy(self, x: np.ndarray) -> float:
         """Elastic energy of a full state (stretching + bending + pole element)."""
@@ -363,29 +448,41 @@ class ShellPointLoad(Problem):
         return H
 
     # ---- the Problem interface -------------------------------------------------------------------
+    # Under force control every method is the dead load's (contin.deadload.DeadLoad of the twin);
+    # what follows is the displacement control.
     def energy(self, u: np.ndarray, p: float) -> float:
-        x = self.full_state(u, p)
-        e = self.elastic_energy(x)
         if self.control == "force":
-            e -= float(p) * self.pole_displacement(x)
-        return e
+            return self.dead_load.energy(u, p)
+        return self.elastic_energy(self.full_state(u, p))
 
     def residual(self, u: np.ndarray, p: float) -> np.ndarray:
-        g = self.elastic_gradient(self.full_state(u, p))[self.idx]
         if self.control == "force":
-            g[-1] += float(p)  # d(-F w)/dz_pole = +F
-        return g
+            return self.dead_load.residual(u, p)
+        return self.elastic_gradient(self.full_state(u, p))[self.idx]
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        return self._sub[self.control](self._hessian(self.full_state(u, p)))
+        if self.control == "force":
+            return self.dead_load.jacobian(u, p)
+        return self._sub["displacement"](self._hessian(self.full_state(u, p)))
 
     def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
         if self.control == "force":
-            d = np.zeros(self.n)
-            d[-1] = 1.0
-            return d
+            return self.dead_load.dresidual_dp(u, p)
         col = self._pole_column(self._hessian(self.full_state(u, p)))
         return -col[self.idx]  # z_pole = zbar - w
+
+    def jacobian_dp(self, u: np.ndarray, p: float):
+        if self.control == "force":
+            return self.dead_load.jacobian_dp(u, p)
+        return super().jacobian_dp(u, p)
+
+    def conjugate_force(self, u: np.ndarray, p: float) -> float:
+        """``dE/dw`` under displacement control: the pole force ``F`` (the reaction of the prescribed ``w``)."""
+        return self.reaction_force(self.full_state(u, p))
+
+    def conjugate_stiffness(self, u: np.ndarray, p: float) -> float:
+        """``d2E/dw2`` under displacement control: the pole's diagonal entry of the Hessian."""
+        return float(self._pole_column(self._hessian(self.full_state(u, p)))[-1])
 
     def _pole_column(self, H: sp.csr_matrix) -> np.ndarray:
         """Dense column of ``z_pole`` of the symmetric full Hessian (read as the last row)."""
@@ -395,7 +492,7 @@ class ShellPointLoad(Problem):
         return col
 
     def factorize(self, J) -> Factorization:
-        """Banded LU with the model's half-bandwidth (O(N))."""
+        """Banded LU with the model's half-bandwidth (O(N)); the dead load's border stays in the band."""
         return BandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH)
 
     # ---- stability: the Hessian on the free dofs of each control ---------------------------------
@@ -409,45 +506,37 @@ class ShellPointLoad(Problem):
     def stability_counts(self, u: np.ndarray, p: float) -> dict[str, int] | None:
         """Both Morse indices from one pivot-free ``L D L^T`` of the force-control Hessian.
 
-        The force-control unknowns are the displacement-control ones followed by ``z_pole``, so the
-        displacement-control Hessian is its leading block and Sylvester's law counts both at once.
+        The force-control unknowns are the displacement-control ones followed by the pole's
+        position, so the displacement-control Hessian is its leading block and Sylvester's law
+        counts both at once.
         """
+        if self.control == "force":
+            return self.dead_load.stability_counts(u, p)
         H_force = self._sub["force"](self._hessian(self.full_state(u, p)))
         counts = leading_inertias(H_force, (self.idx_displacement.size, self.idx_force.size))
         if counts is None:
             return None
-        by_label = {"displacement": counts[0], "force": counts[1]}
-        return {label: by_label[label] for label in self._stability_operators}
+        return {"displacement": counts[0], "force": counts[1]}
 
-    # ---- observables -----------------------------------------------------------------------------
+    # ---- observables (displacement control; the dead load has its own) ---------------------------
     def reaction_force(self, x: np.ndarray) -> float:
         """``F = dE_el/dw = -dE_el/dz_pole`` of a full state (positive when pushing down)."""
         return -float(self.elastic_gradient(x)[-1])
 
     def _obs_F(self, u: np.ndarray, p: float) -> float:
-        if self.control == "force":
-            return float(p)
         return self.reaction_force(self.full_state(u, p))
 
     def _obs_w(self, u: np.ndarray, p: float) -> float:
-        if self.control == "displacement":
-            return float(p)
-        return self.pole_displacement(self.full_state(u, p))
+        return float(p)
 
     def _dobs_F(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
         """Exact ``(dF/du, dF/dp)``: the pole row of the Hessian (``F = -dE_el/dz_pole``)."""
-        if self.control == "force":
-            return np.zeros(self.n), 1.0
         row = self._pole_column(self._hessian(self.full_state(u, p)))
         return -row[self.idx], float(row[-1])  # z_pole = zbar - w
 
     def _dobs_w(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
         """Exact ``(dw/du, dw/dp)``."""
-        if self.control == "displacement":
-            return np.zeros(self.n), 1.0
-        d = np.zeros(self.n)
-        d[-1] = -1.0  # the last unknown is z_pole
-        return d, 0.0
+        return np.zeros(self.n), 1.0
 
     def _obs_w_over_R(self, u: np.ndarray, p: float) -> float:
         return self._obs_w(u, p) / self.R

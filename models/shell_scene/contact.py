@@ -5,7 +5,9 @@ from the first touch of the barrier until the snap, jumps to the stable state at
 (the shell everts and leaves the indenter) and keeps loading until ``w_b`` reaches the eversion depth
 ``2 R (1 - sin phi_hat)`` plus ``continuation.overshoot``, or until the indenter comes within
 ``2 dhat`` of the base ring, which is held vertically: a plate or a large sphere would then press on
-the support itself, so the run ends there (status ``bound``).
+the support itself, so the run ends there (status ``bound``).  The loading, snapping and resuming
+is :func:`contin.quasistatic`'s; this module gives it the contact's rules (:func:`snap_rules`,
+:func:`snap_point`) and reports the result.
 
 Where the snap is (``docs/physics.md`` section 4): the path turns back in ``w_b`` as the contact force
 falls to zero.  While the pole is the last node in contact the fold is a sizeable fraction of ``dhat``
@@ -43,13 +45,16 @@ import contin
 from contin.branch import Branch, SpecialPoint
 from contin.scene import TraceResult
 
+from contin.quasistatic import QuasiStaticResult, SnapRules
+from models.contact.indentation import ShellIndentation, ShellIndentationForce
+from models.contact.release import ReleaseFoldError, locate_release_fold
 from models.shell.strain import strain_peak, strain_warning
 
-from .barrier import Plate, Sphere
-from .indentation import ShellIndentation, ShellIndentationForce
-from .release import ReleaseFoldError, locate_release_fold
+from .build import contact_problem
+from .schema import Scene
 
-__all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "SNAP_FORCE_NORM", "FORCE_START_NORM"]
+__all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
+           "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS"]
 
 #: ``F R / (2 pi D)`` below which a loading stretch counts as having reached the snap (F -> 0).
 SNAP_FORCE_NORM = 1e-6
@@ -61,80 +66,59 @@ FORCE_END_NORM = 100.0
 #: Relative travel past the snap at which the jump minimises, tried in turn (a hair past the snap
 #: no equilibrium is near, so the minimisation has to leave for the distant stable state).
 _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
-_MAX_SNAPS = 4
+#: Snaps a trace may make before eversion (a plate dimples, then everts; more means the trace is lost).
+MAX_SNAPS = 4
 _OBS = ("w_b", "F", "w_b_over_R", "F_norm", "w_s", "w_s_over_R", "Delta_H", "Delta_H_over_R", "kappa_p_R",
         "n_contact", "contact_first", "contact_last")
 
 
-def _problem(scene: dict[str, dict[str, Any]]) -> ShellIndentation:
-    s, load, c = scene["shell"], scene["load"], scene["contact"]
-    indenter = Sphere(load["radius"]) if load["kind"] == "sphere" else Plate()
-    return ShellIndentation(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
-                            indenter=indenter, K=c["K_c"] or None, dhat=c["dhat"] or None,
-                            pole_ratio=s["pole_ratio"])
+def snap_rules(problem: ShellIndentation) -> SnapRules:
+    """How a displacement-controlled indentation leaves its snap (for :func:`contin.quasistatic`).
+
+    The jump minimises at a travel ``w_b (1 + eps)`` for each ``eps`` of ``_OVERSHOOTS`` with the
+    engine's default kick; a landing is a snap when the pole has moved by more than 1e-3 R.  An
+    overshoot that pushes the indenter through a node (a short-range barrier leaves less room than
+    ``eps w_b``) ends the attempts: larger ones only go further.  The landing is stated at the
+    snap's own travel (the detached landing does not depend on ``w_b``).
+    """
+    def pole_moved(u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
+        return abs(problem.evaluate_one("w_s", u_to, p_to) - problem.evaluate_one("w_s", u_fold, p_fold)) / problem.R
+
+    return SnapRules(attempts=tuple((eps, None) for eps in _OVERSHOOTS), overshoot_unit="fold",
+                     separation=pole_moved, min_separation=1e-3, give_up_on=(contin.NonFiniteError,))
 
 
-def _snap(problem: ShellIndentation, u: np.ndarray, w_b: float, tol: float) -> tuple[Any, str]:
-    """Jump from the snap point to a distinct stable state at a travel a hair past it."""
-    w_s0 = problem.evaluate_one("w_s", u, w_b)
-    reasons = []
-    for eps in _OVERSHOOTS:
-        try:
-            jr = contin.jump(problem, u, w_b * (1.0 + eps), tol=tol)
-        except contin.JumpError as exc:
-            reasons.append(str(exc))
-            continue
-        except contin.NonFiniteError:
-            # the overshoot alone moved the indenter through a node: a short-range barrier (small
-            # dhat) leaves less room than w_b * eps; larger overshoots only go further in
-            reasons.append(f"an overshoot of {eps:g} w_b puts the indenter through the shell (dhat = {problem.dhat:.3g})")
-            break
-        moved = abs(problem.evaluate_one("w_s", jr.u_to, jr.p) - w_s0)
-        if jr.success and moved > 1e-3 * problem.R:
-            # state the snap at the travel where it happens (the detached landing does not depend on w_b)
-            return contin.restate_jump(problem, jr, u, w_b), ""
-        reasons.append(jr.message if not jr.success else "landed next to the snap point")
-    return None, "; ".join(reasons)
+def snap_event() -> contin.Event:
+    """The terminal event on which a loading stretch has reached its snap: ``F R / (2 pi D)`` falls to
+    :data:`SNAP_FORCE_NORM` (the release fold beyond it is located by :func:`snap_point`)."""
+    return contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
 
 
-def run_contact(scene: dict[str, dict[str, Any]], progress: bool, settings: contin.Settings,
-                w_end: float) -> TraceResult:
+def _snaps(problem: contin.Problem, qs: QuasiStaticResult) -> list[dict[str, Any]]:
+    """Each snap's point, the branch it ends and the nodes in contact after it."""
+    return [{"point": fold, "branch": k, "contact_after": int(problem.evaluate_one("n_contact", j.u_to, j.p))}
+            for k, (fold, j) in enumerate(zip(qs.folds, qs.jumps))]
+
+
+def _labels(n: int) -> list[str]:
+    return ["loading" if k == 0 else f"loading after snap {k}" for k in range(n)]
+
+
+def run_contact(scene: Scene, progress: bool, settings: contin.Settings, w_end: float) -> TraceResult:
     """Trace a sphere or plate indentation through its snaps to ``w_b = w_end`` (see the module docstring)."""
-    problem = _problem(scene)
-    st = settings
-    snap_event = contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
-    branches: list[Branch] = []
-    jumps: list[Any] = []
-    labels: list[str] = []
-    failure = ""
-    u, p, origin = problem.reference_unknowns(), 0.0, None
-    snaps: list[dict[str, Any]] = []
-    for k in range(_MAX_SNAPS + 1):
-        # the indenter may not reach the base ring: it is held vertically, so the indenter would press
-        # on the support itself (a plate or a large sphere gets there before eversion)
-        br = contin.continuation(problem, u, p, st, stop_at=("fold",), p_max=w_end, origin=origin,
-                                 events=[snap_event], bounds={"base_gap": (2.0 * problem.dhat, None)})
-        branches.append(br)
-        labels.append("loading" if k == 0 else f"loading after snap {k}")
-        snap_at = snap_point(problem, br, st.tol)
-        if snap_at is None:
-            break
-        if k == _MAX_SNAPS:
-            failure = f"more than {_MAX_SNAPS} snaps before w_b = {w_end:.6g}"
-            break
-        jr, reason = _snap(problem, snap_at.u, snap_at.p, st.tol)
-        if jr is None:
-            failure = f"the snap at w_b = {snap_at.p:.8g} did not land on a stable state ({reason})"
-            break
-        jumps.append(jr)
-        snaps.append({"point": snap_at, "branch": k,
-                      "contact_after": int(problem.evaluate_one("n_contact", jr.u_to, jr.p))})
-        u, p, origin = jr.u_to, jr.p, jr
-    return _result(problem, scene, branches, jumps, labels, failure, snaps)
+    problem = contact_problem(scene)
+    # the indenter may not reach the base ring: it is held vertically, so the indenter would press
+    # on the support itself (a plate or a large sphere gets there before eversion); the located
+    # snaps alone end a stretch (the plate's dimple branch flickers in stability between nodes, B3)
+    qs = contin.quasistatic(problem, problem.reference_unknowns(), 0.0, w_end, settings, max_snaps=MAX_SNAPS,
+                            snap=snap_rules(problem), locate_snap=lambda br: snap_point(problem, br, settings.tol),
+                            stop_at_branch_points=False, check_stability=False, events=[snap_event()],
+                            bounds={"base_gap": (2.0 * problem.dhat, None)})
+    return _result(problem, scene, qs.branches, qs.jumps, _labels(len(qs.branches)), qs.message if qs.failed else "",
+                   _snaps(problem, qs))
 
 
-def run_contact_force(scene: dict[str, dict[str, Any]], progress: bool, settings: contin.Settings,
-                      w_end: float) -> TraceResult:
+def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w_end: float) -> TraceResult:
     """Trace a sphere or plate indentation under a dead load on the indenter (``load.control = "force"``).
 
     Without contact the indenter floats (its travel is undetermined), so displacement control first
@@ -145,7 +129,7 @@ def run_contact_force(scene: dict[str, dict[str, Any]], progress: bool, settings
     the everted shell still pressed by the indenter, and loading goes on until the indenter travel
     reaches ``w_end`` or the indenter comes within ``2 dhat`` of the base ring.
     """
-    problem = _problem(scene)
+    problem = contact_problem(scene)
     forced = ShellIndentationForce.from_displacement(problem)
     f_unit = 2.0 * math.pi * problem.D / problem.R
     start = contin.crossing("F_norm", FORCE_START_NORM, direction=+1, terminal=True, name="start of force control")
@@ -157,15 +141,13 @@ def run_contact_force(scene: dict[str, dict[str, Any]], progress: bool, settings
     U, F = forced.from_displacement_state(lead.u[-1], lead.p[-1])
     # the load is measured in ten force units per unit of travel in the arclength, as for the point load;
     # the target load is never reached: the travel bounds end the sweep
-    qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=_MAX_SNAPS,
+    qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=MAX_SNAPS,
                             param_weight=1.0 / (10.0 * f_unit),
                             bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
     failure = "" if qs.status in ("completed", "stopped") and all(
         br.status in ("bound", "event") for br in qs.branches) else qs.message
-    snaps = [{"point": fold, "branch": k, "contact_after": int(forced.evaluate_one("n_contact", j.u_to, j.p))}
-             for k, (fold, j) in enumerate(zip(qs.folds, qs.jumps))]
-    labels = ["loading" if k == 0 else f"loading after snap {k}" for k in range(len(qs.branches))]
-    return _result(forced, scene, qs.branches, qs.jumps, labels, failure, snaps, control="force")
+    return _result(forced, scene, qs.branches, qs.jumps, _labels(len(qs.branches)), failure, _snaps(forced, qs),
+                   control="force")
 
 
 def snap_point(problem: ShellIndentation, br: Branch, tol: float) -> SpecialPoint | None:
@@ -209,7 +191,7 @@ def contact_mode(delta_h: np.ndarray, gap_tol: float = 0.0) -> tuple[str, float]
     return ("detach-recontact" if before > gap_tol else "continuous"), before
 
 
-def _result(problem: ShellIndentation | ShellIndentationForce, scene: dict[str, dict[str, Any]],
+def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
             branches: list[Branch], jumps: list, labels: list[str], failure: str, snaps: list[dict[str, Any]],
             control: str = "displacement") -> TraceResult:
     generic = TraceResult.from_branches(branches, jumps, problem=problem, x="w_b", y="F", labels=labels,

@@ -1,0 +1,139 @@
+"""Public ways in: a resolved shell scene -> the problem, its continuation settings and its start.
+
+The command line (:data:`models.shell_scene.SHELL_SCENE`), the studies, the tests and users build
+the shell's problems here, so that a scene means the same thing everywhere::
+
+    from contin.scene import load_scene
+    from models.shell_scene import SHELL_SCHEMA, build
+
+    scene = load_scene(SHELL_SCHEMA, None, ["shell.phi_hat=1.2"])
+    b = build(scene)
+    branch = contin.continuation(b.problem, b.u0, b.p0, b.settings, p_max=b.w_end)
+
+:func:`point_problem` / :func:`point_settings` and :func:`contact_problem` / :func:`contact_settings`
+are the pieces :func:`build` is made of, for callers that want one of them alone.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import contin
+from contin.problem import Problem
+from models.contact import Plate, Sphere
+from models.contact.indentation import ShellIndentation
+from models.shell import ShellPointLoad
+
+from .schema import Scene, eversion_displacement
+
+__all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path", "point_problem",
+           "point_settings", "MIN_STEPS_PER_PATH"]
+
+#: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
+#: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
+MIN_STEPS_PER_PATH = 20
+
+
+@dataclass
+class Build:
+    """What a scene builds: the problem the trace starts on, its settings and its start.
+
+    Attributes
+    ----------
+    problem : Problem
+        :class:`models.shell.ShellPointLoad` (point load, either control) or
+        :class:`models.contact.indentation.ShellIndentation` (sphere or plate, indenter travel
+        prescribed).
+    settings : contin.Settings
+        The continuation settings ``contin trace`` uses for it.
+    u0 : ndarray
+        The starting state: the undeformed cap (an equilibrium at ``p0``).
+    p0 : float
+        The starting parameter (0: no load, or the first touch of the indenter's barrier).
+    w_end : float
+        End of the loading path in pole displacement or indenter travel: the eversion depth
+        ``2 R (1 - sin phi_hat)`` plus ``continuation.overshoot``.
+    """
+
+    problem: Problem
+    settings: contin.Settings
+    u0: np.ndarray
+    p0: float
+    w_end: float
+
+
+def end_of_path(scene: Scene) -> float:
+    """Pole displacement (or indenter travel) that ends a loading path: eversion plus the overshoot."""
+    s = scene["shell"]
+    return eversion_displacement(s["R"], s["phi_hat"]) * (1.0 + scene["continuation"]["overshoot"])
+
+
+def _step_cap(scene: Scene) -> float:
+    """Largest step in units of R: ``continuation.ds_max``, at most 1/20 of the eversion depth."""
+    s = scene["shell"]
+    return min(scene["continuation"]["ds_max"], eversion_displacement(s["R"], s["phi_hat"]) / MIN_STEPS_PER_PATH
+               / s["R"])
+
+
+def point_problem(scene: Scene, control: str | None = None) -> ShellPointLoad:
+    """The point-loaded cap of the scene, under ``control`` (default: the scene's ``load.control``)."""
+    s = scene["shell"]
+    return ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
+                          control=control or scene["load"]["control"], pole_ratio=s["pole_ratio"])
+
+
+def point_settings(scene: Scene, problem: ShellPointLoad, progress: bool = False) -> contin.Settings:
+    """Continuation settings of a point-load trace (steps in units of R, both labels' stability)."""
+    c, R = scene["continuation"], scene["shell"]["R"]
+    ds_max = _step_cap(scene)
+    ds = min(c["ds"], ds_max)
+    # weights make ds dimensionless in units of R: positions and w are lengths; F is measured in
+    # units of 2 pi D / R times the Reissner-type scale of the path (F_norm ~ 1..10 over the path)
+    f_unit = 2.0 * math.pi * problem.D / R
+    param_weight = 1.0 / R if problem.control == "displacement" else 1.0 / (10.0 * f_unit)
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+                           stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
+
+
+def contact_problem(scene: Scene) -> ShellIndentation:
+    """The cap under the scene's rigid sphere or plate, indenter travel ``w_b`` prescribed."""
+    s, load, c = scene["shell"], scene["load"], scene["contact"]
+    if load["kind"] not in ("sphere", "plate"):
+        raise ValueError(f"contact_problem: load.kind must be 'sphere' or 'plate', got {load['kind']!r}")
+    indenter = Sphere(load["radius"]) if load["kind"] == "sphere" else Plate()
+    return ShellIndentation(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
+                            indenter=indenter, K=c["K_c"] or None, dhat=c["dhat"] or None,
+                            pole_ratio=s["pole_ratio"])
+
+
+def contact_settings(scene: Scene, progress: bool = False, stability: bool = True) -> tuple[contin.Settings, float]:
+    """Continuation settings and the end of travel ``w_end`` of a sphere or plate scene."""
+    c, R = scene["continuation"], scene["shell"]["R"]
+    # lengths in units of R, as for the point load; the first contact is a sharp corner of the path
+    # (the barrier switches on), so the first step is a quarter of the scene's
+    ds_max = _step_cap(scene)
+    ds = 0.25 * min(c["ds"], ds_max)
+    st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+                         stability=stability, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R, progress=progress)
+    return st, end_of_path(scene)
+
+
+def build(scene: Scene, progress: bool = False) -> Build:
+    """The problem, settings and start of a scene, as ``contin trace`` starts it.
+
+    A point load is built under the scene's ``load.control``.  A sphere or plate is built under
+    displacement control of the indenter whatever ``load.control`` says: force control of an
+    indenter starts from a contact state that displacement control reaches first
+    (:func:`models.shell_scene.contact.run_contact_force`).
+    """
+    if scene["load"]["kind"] == "point":
+        problem = point_problem(scene)
+        settings = point_settings(scene, problem, progress)
+    else:
+        problem = contact_problem(scene)
+        settings, _ = contact_settings(scene, progress)
+    return Build(problem=problem, settings=settings, u0=problem.reference_unknowns(), p0=0.0,
+                 w_end=end_of_path(scene))

@@ -1,0 +1,490 @@
+"""The point-indented shell's runs of the scene (``contin trace --model shell``, ``load.kind = "point"``).
+
+The scene traces the whole connected equilibrium path of a spherical cap loaded by a point at its
+pole, from the reference state until the shell is everted (the pole past the mirror image of its
+start, ``w = 2 R (1 - sin phi_hat)``, by ``continuation.overshoot``), locates every fold in ``w``
+and every extremum of ``F`` (the limit points under force control), labels every point's stability
+under both controls and classifies the response (``docs/physics.md`` sections 4 and 5).
+
+The scene keys are :data:`models.shell_scene.schema.SHELL_SCHEMA`'s.  A sphere or plate indenter is
+run by :mod:`models.shell_scene.contact` (its docstring describes that ``summary.json``); what
+follows is the point load's.
+
+Special points in ``summary.json``
+----------------------------------
+``"parameter"`` names the quantity that folds: ``"w"`` for a fold of the path in the prescribed
+pole displacement (a snap-back under displacement control), ``"F"`` for a local extremum of the
+force along the path (a limit point under force control, ``kind = "fold"`` with ``label`` ``max(F)``
+or ``min(F)``).  ``"stable_before"`` / ``"stable_after"`` give the stability, under the control in
+which the point is a fold (displacement for ``w``, force for ``F``), at the stored points on either
+side.  Every record also carries ``w``, ``F``, ``w_over_R``, ``F_norm = F R / (2 pi D)`` and the
+residual of its defining system.  Under force control each snap adds two ``"kind": "jump"`` records
+(``parameter`` ``"F"``, the load held fixed): ``jump_from`` (the limit point it leaves, with that
+point's residual and ``stable_before``) and ``jump_to`` (the stable landing state, ``stable_after``).
+
+Classification (``docs/physics.md`` section 5)
+----------------------------------------------
+``monotonous``: no extremum of F and no fold in w on the path.  Otherwise ``bistable`` when F < 0
+(below round-off) at some point of the path that is stable under displacement control, else
+``monostable``.  ``F_max`` is the first local maximum of F along the path (the force-control snap
+load); ``F_min`` is the last local minimum of F along the path, i.e. the minimum on the branch that
+reaches eversion (the force-control snap-back load on unloading).
+
+A path cut short (``continuation.max_steps``; thin deep caps wind through many folds: h/R = 0.002,
+``phi_hat`` = 0.8 needs 8341 steps to eversion) is completed from the other end: the everted branch
+is traced back in ``w`` from the cap's mirror image to its first fold.  Its first minimum of F is
+``F_min`` (at h/R = 0.002 it agrees with the whole path's to 1e-11), and a stable stretch of it with
+F < 0 shows the cap bistable.  Monotonous and monostable still need the whole path.
+
+``summary.json`` always has ``"classification"``: the class under displacement control; None under
+force control (the force path skips the parts between the limit points, so the class is not
+defined on it; ``contin classify`` traces the displacement path whatever ``load.control`` says), and
+None when the path stopped before eversion without having shown the bistable signature (then
+``classification_on_partial_path`` says what the traced part looks like).  ``classification_note``
+says which case applies.  :func:`classify_scene` is the model's classifier (``contin classify``).
+
+``max_strain`` is the largest membrane strain over every stored point (``max_strain_at``: ``pole``,
+``base`` or ``interior``; ``w_at_max_strain_over_R``).  ``warnings`` lists what the run found
+questionable without failing: a strain beyond :data:`models.shell.strain.STRAIN_LIMIT`, which under
+a point load means the pole's singular strain has left the material law's range and results near
+there can change with N (:mod:`models.shell.strain`).  The status line repeats the warnings.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+import contin
+from contin.branch import Branch
+from contin.quasistatic import SnapRules
+from contin.scene import TraceResult
+from models.shell import ShellPointLoad
+from models.shell.strain import strain_peak, strain_warning
+
+from .build import end_of_path, point_problem, point_settings
+from .schema import Scene, eversion_displacement
+
+__all__ = ["classify", "force_snap_rules", "path_complete", "run_point", "run_point_force", "MAX_SNAPS"]
+
+#: Observables of :class:`ShellPointLoad` reported at every special point.
+_OBS = ("w", "F", "w_over_R", "F_norm")
+#: Relative size (of ``max |F|`` on the path) below which a negative force counts as round-off.
+_F_ROUNDOFF = 1e-8
+
+# ---------------------------------------------------------------------------------------------------
+# special points and classification
+# ---------------------------------------------------------------------------------------------------
+def _stability_pair(br: Branch, label: str, index: int) -> tuple[bool | None, bool | None, int | None, int | None]:
+    """Stability (and negative-eigenvalue counts) under ``label`` at stored points ``index`` and ``index + 1``."""
+    if label not in br.stability_by or index < 0:
+        return None, None, None, None
+    nneg = br.stability_by[label][0]
+    before = int(nneg[index]) if index < len(nneg) else None
+    after = int(nneg[index + 1]) if index + 1 < len(nneg) else None
+    return (None if before is None else before == 0, None if after is None else after == 0, before, after)
+
+
+def _shell_records(branches: list[Branch], base: list[dict[str, Any]], R: float) -> list[dict[str, Any]]:
+    """Rewrite the generic special-point records for the shell (parameter, observables, stability).
+
+    ``base`` is :attr:`TraceResult.special_points` as built by :meth:`TraceResult.from_branches`, in
+    the same order as the branches' special points followed by the jumps.
+    """
+    out: list[dict[str, Any]] = []
+    k = 0
+    for bi, br in enumerate(branches):
+        pname = br.meta.get("parameter_name", "w")
+        for spt in br.special_points:
+            rec = dict(base[k])
+            k += 1
+            obs = rec.get("observables", {})
+            extremum_of_F = spt.kind == "event" and spt.label in ("max(F)", "min(F)")
+            if spt.kind == "fold" or extremum_of_F:
+                # which quantity folds: the traced parameter for a PALC fold, F for an F extremum
+                folds_in = "F" if extremum_of_F else pname
+                rec["kind"] = "fold"
+                rec["parameter"] = folds_in
+                if extremum_of_F:
+                    rec["label"] = spt.label
+                label = "force" if folds_in == "F" else "displacement"
+                # a point that ends the branch is stored last: the side it came from is the point before
+                ends = bool(spt.info.get("ends_branch"))
+                sb, sa, nb, na = _stability_pair(br, label, spt.index - 1 if ends else spt.index)
+                rec.pop("stable_before", None)
+                rec.pop("stable_after", None)
+                if sb is not None:
+                    rec["stable_before"] = sb
+                    rec["n_negative_before"] = nb
+                if sa is not None and not spt.info.get("ends_branch"):
+                    rec["stable_after"] = sa
+                    rec["n_negative_after"] = na
+                rec["stability_control"] = label
+            else:
+                rec["parameter"] = pname
+            for name in _OBS:
+                if name in obs:
+                    rec[name] = float(obs[name])
+            out.append(rec)
+    for rec in base[k:]:  # jumps: F is the fixed parameter
+        rec = dict(rec)
+        obs = rec.get("observables", {})
+        rec["parameter"] = "F"
+        for name in _OBS:
+            if name in obs:
+                rec[name] = float(obs[name])
+        out.append(rec)
+    return out
+
+
+def classify(branch: Branch, records: list[dict[str, Any]], D: float, R: float) -> dict[str, Any]:
+    """Classify a displacement-controlled path (``docs/physics.md`` section 5).
+
+    Parameters
+    ----------
+    branch : Branch
+        The traced path with stability data (label ``"displacement"``).
+    records : list of dict
+        Its special-point records as produced by :func:`_shell_records`.
+    D, R : float
+        Bending stiffness and sphere radius (for the normalized force).
+
+    Returns
+    -------
+    dict
+        ``classification``, ``F_max``, ``w_at_F_max``, ``F_min``, ``w_at_F_min`` (None when absent),
+        their normalized forms ``F_max_norm``, ``w_at_F_max_over_R``, ... and the counts of folds.
+    """
+    F = branch.observables["F"]
+    stable_d = branch.stable_under("displacement")
+    maxima = [r for r in records if r.get("parameter") == "F" and r.get("label") == "max(F)"]
+    minima = [r for r in records if r.get("parameter") == "F" and r.get("label") == "min(F)"]
+    w_folds = [r for r in records if r.get("kind") == "fold" and r.get("parameter") == "w"]
+    threshold = -_F_ROUNDOFF * float(np.max(np.abs(F), initial=0.0))
+    negative_stable = bool(np.any((F < threshold) & stable_d))
+    # a located F minimum on a displacement-stable stretch also counts (it lies between stored points)
+    for r in minima:
+        i = int(r.get("index", -1)) if "index" in r else -1
+        if r["F"] < threshold and 0 <= i < len(stable_d) - 1 and stable_d[i] and stable_d[i + 1]:
+            negative_stable = True
+    if not maxima and not minima and not w_folds:
+        kind = "monotonous"
+    elif negative_stable:
+        kind = "bistable"
+    else:
+        kind = "monostable"
+    scale = R / (2.0 * math.pi * D)
+    out: dict[str, Any] = {"classification": kind}
+    first_max = maxima[0] if maxima else None
+    last_min = minima[-1] if minima else None
+    for tag, rec in (("max", first_max), ("min", last_min)):
+        out[f"F_{tag}"] = None if rec is None else rec["F"]
+        out[f"w_at_F_{tag}"] = None if rec is None else rec["w"]
+        out[f"F_{tag}_norm"] = None if rec is None else rec["F"] * scale
+        out[f"w_at_F_{tag}_over_R"] = None if rec is None else rec["w"] / R
+    out["n_folds_in_w"] = len(w_folds)
+    out["n_limit_points_in_F"] = len(maxima) + len(minima)
+    out["F_negative_on_stable_path"] = negative_stable
+    return out
+
+
+def path_complete(br: Branch) -> bool:
+    """Whether a displacement-controlled path reached eversion (its ``p_max`` bound)."""
+    return br.status == "bound" and len(br) > 0
+
+
+def _jump_fields(records: list[dict[str, Any]], branches: list[Branch]) -> None:
+    """Complete the jump records in place with what is known about their two ends.
+
+    Jump ``j`` leaves the force limit point that ends branch ``j`` (the same state, at a load a hair
+    above the limit load, where no equilibrium is near): ``jump_from`` takes that fold's residual and
+    ``stable_before``.  ``jump_to`` is a minimum of the energy at fixed load: ``stable_after`` is its
+    stability under force control.
+    """
+    for rec in records:
+        if rec["kind"] != "jump" or "jump" not in rec:
+            continue
+        if rec.get("label") == "jump_from":
+            folds = [r for r in records if r["kind"] == "fold" and r.get("branch") == rec["jump"]]
+            if folds:
+                fold = folds[-1]
+                rec["residual"] = fold.get("residual")
+                rec["residual_of"] = "the force limit point the jump leaves"
+                if "stable_before" in fold:
+                    rec["stable_before"] = fold["stable_before"]
+        elif rec.get("label") == "jump_to" and "stable" in rec:
+            rec["stable_after"] = rec["stable"]
+
+
+def _classification_line(c: dict[str, Any]) -> str:
+    if c["classification"] is None:
+        return (f"classification: undecided (the path did not reach eversion; on the part traced it looks "
+                f"{c.get('classification_on_partial_path')})")
+    if c["F_max"] is None and c["F_min"] is None:
+        return f"classification: {c['classification']} (no extremum of F)"
+
+    def fmt(v: Any) -> str:
+        return "-" if v is None else f"{v:.6g}"
+    return (f"classification: {c['classification']} (F_max = {fmt(c['F_max'])} at w = {fmt(c['w_at_F_max'])}, "
+            f"F_min = {fmt(c['F_min'])} at w = {fmt(c['w_at_F_min'])}; normalized F_max R/(2 pi D) = "
+            f"{fmt(c['F_max_norm'])} at w/R = {fmt(c['w_at_F_max_over_R'])}, F_min R/(2 pi D) = "
+            f"{fmt(c['F_min_norm'])} at w/R = {fmt(c['w_at_F_min_over_R'])})")
+
+
+def _table(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    word = {True: "stable", False: "unstable", None: "?"}
+    rows = []
+    for rec in records:
+        if rec["kind"] == "jump":
+            stab = word[rec.get("stable")] if "stable" in rec else ""
+            what = rec.get("label", "")
+        else:
+            b, a = rec.get("stable_before"), rec.get("stable_after")
+            stab = "" if b is None and a is None else f"{word[b]} -> {word[a]}"
+            if rec.get("stability_control"):
+                stab += f" ({rec['stability_control']})"
+            what = rec.get("label", "")
+        rows.append({"kind": rec["kind"], "folds_in": rec["parameter"], "label": what,
+                     "w": rec.get("w"), "F": rec.get("F"), "w/R": rec.get("w_over_R"),
+                     "F_norm": rec.get("F_norm"), "residual": rec.get("residual"), "stability": stab})
+    return rows
+
+
+def _csv(branches: list[Branch], base: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """branch.csv: the generic columns plus both stability labels (``n_negative`` is the displacement one)."""
+    cols = dict(base)
+    cols.pop("stable", None)
+    cols.pop("n_negative", None)
+    if all(br.stability_by for br in branches) and branches:
+        for label in ("force", "displacement"):
+            cols[f"stable_{label}"] = np.concatenate([br.stable_under(label) for br in branches]).astype(int)
+        cols["n_negative"] = np.concatenate([br.stability_by["displacement"][0] for br in branches]).astype(int)
+        cols["n_negative_force"] = np.concatenate([br.stability_by["force"][0] for br in branches]).astype(int)
+    return cols
+
+
+# ---------------------------------------------------------------------------------------------------
+# the runner
+# ---------------------------------------------------------------------------------------------------
+def run_point(scene: Scene, progress: bool = False) -> TraceResult:
+    """Trace the point-loaded cap's displacement-controlled path to eversion (see the module docstring)."""
+    s = scene["shell"]
+    w_end = end_of_path(scene)
+    problem = point_problem(scene, "displacement")
+    st = point_settings(scene, problem, progress)
+    # F = 0 (falling): where a one-sided point indenter, which can only push, would lose the shell
+    br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end,
+                             events=[contin.extremum("F", "max"), contin.extremum("F", "min"),
+                                     contin.crossing("F", 0.0, direction=-1, name=_F_ZERO)])
+    if path_complete(br) or not len(br):
+        return _result([br], [], problem, scene, ["path"], "")
+    return _result([br, _everted_branch(problem, st, s["phi_hat"])], [], problem, scene, ["path", _EVERTED], "")
+
+
+#: Label of the branch traced back from the mirror image of the cap when the path stops before eversion.
+_EVERTED = "everted branch"
+
+
+def _everted_branch(problem: ShellPointLoad, st: contin.Settings, phi_hat: float) -> Branch:
+    """The everted cap's branch, traced back in ``w`` from the cap's mirror image to its first fold in w.
+
+    Thin deep caps (lambda above ~20) have a connected path that winds through many folds before it
+    reaches eversion (h/R = 0.002, phi_hat = 0.8: 8341 steps).  The everted state at the end of that
+    path is the mirror image of the cap at ``w = 2 R (1 - sin phi_hat)`` (stretch-free, with the
+    bending reversed), so its branch can be reached directly: a stable stretch of it carrying F < 0
+    shows the cap bistable without tracing the winding middle of the path.
+    """
+    x = problem.cap.x.copy()
+    x[1::2] = 2.0 * x[1] - x[1::2]  # reflect every node in the base plane (z_0 is held)
+    w_mirror = eversion_displacement(problem.R, phi_hat)
+    return contin.continuation(problem, problem.unknowns(x), w_mirror, st, direction=-1, p_min=0.0,
+                               stop_at=("fold",), events=[contin.extremum("F", "min")])
+
+
+#: Label of the falling zero of the point force on the displacement path.
+_F_ZERO = "F = 0"
+
+
+def _one_sided_snap(records: list[dict[str, Any]]) -> dict[str, Any] | None:
+    """Where a point indenter that can only push would snap: the first of the first falling zero of F
+    and the first fold in ``w`` along the path (the bilateral path is the same up to there)."""
+    first = [r for r in records if r.get("branch", 0) == 0 and (
+        r.get("label") == _F_ZERO or (r["kind"] == "fold" and r.get("parameter") == "w"))]
+    if not first:
+        return None
+    rec = min(first, key=lambda r: r["index"] + (0.5 if r["kind"] == "fold" else 0.0))
+    return {"w_c_one_sided": rec["w"], "w_c_one_sided_over_R": rec["w_over_R"], "F_at_one_sided_snap": rec["F"],
+            "one_sided_snap_kind": "F = 0" if rec.get("label") == _F_ZERO else "fold in w"}
+
+
+def _use_everted_branch(cls: dict[str, Any], branches: list[Branch], records: list[dict[str, Any]],
+                        labels: list[str], D: float, R: float) -> str:
+    """Complete the class of a path cut short from the everted branch; returns a note for the summary.
+
+    ``F_min`` is the path's last minimum of F, on the branch that reaches eversion: the part traced
+    may have passed other minima, so it is taken from the everted branch (the first minimum met
+    going back from the mirror image) or left unknown.  A stable stretch of the everted branch with
+    F < 0 shows the cap bistable.
+    """
+    if labels[1:2] != [_EVERTED] or not len(branches[1]):
+        found = ("no everted branch" if labels[1:2] != [_EVERTED] else
+                 f"the everted branch could not be traced: {branches[1].message}")
+        for key in ("F_min", "w_at_F_min", "F_min_norm", "w_at_F_min_over_R"):
+            cls[key] = None
+        return f"; F_min is unknown ({found})"
+    everted = branches[1]
+    minima = sorted((r for r in records if r.get("branch") == 1 and r.get("label") == "min(F)"),
+                    key=lambda r: r["index"])
+    first = minima[0] if minima else None
+    cls["F_min"] = None if first is None else first["F"]
+    cls["w_at_F_min"] = None if first is None else first["w"]
+    cls["F_min_norm"] = None if first is None else first["F"] * R / (2.0 * math.pi * D)
+    cls["w_at_F_min_over_R"] = None if first is None else first["w"] / R
+    shown = classify(everted, [r for r in records if r.get("branch") == 1], D, R)["F_negative_on_stable_path"]
+    note = "; F_min is taken from the everted branch, traced back from the cap's mirror image"
+    if shown and not cls["F_negative_on_stable_path"]:
+        cls["classification"], cls["F_negative_on_stable_path"] = "bistable", True
+        note += ", which is stable with F < 0: the cap is bistable"
+    return note
+
+
+def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene: Scene, labels: list[str],
+            failure: str) -> TraceResult:
+    R = scene["shell"]["R"]
+    generic = TraceResult.from_branches(branches, jumps, problem=problem, x="w", y="F", labels=labels,
+                                        failure=failure)
+    records = _shell_records(branches, generic.special_points, R)
+    # the index of each special point is needed by classify (located minima between stored points)
+    k = 0
+    for br in branches:
+        for spt in br.special_points:
+            records[k]["index"] = int(spt.index)
+            k += 1
+    # a branch resumed after a snap repeats the jump's landing as its first special point
+    records = [r for r in records if not (r["kind"] == "jump" and "branch" in r)]
+    summary: dict[str, Any] = {
+        "eversion_w": eversion_displacement(R, scene["shell"]["phi_hat"]),
+        "w_end": eversion_displacement(R, scene["shell"]["phi_hat"]) * (1.0 + scene["continuation"]["overshoot"]),
+        "D": problem.D,
+        "F_unit": 2.0 * math.pi * problem.D / R,
+        "lambda": (12 * (1 - problem.nu ** 2)) ** 0.25 * (math.pi / 2 - problem.phi_hat) * math.sqrt(R / problem.h),
+        "control": scene["load"]["control"],
+    }
+    _jump_fields(records, branches)
+    peak = strain_peak(problem, branches, "w")
+    warning = strain_warning(peak, R, point_load=True)
+    if peak is not None:
+        summary.update(max_strain=peak.value, w_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
+    summary["warnings"] = [warning] if warning else []
+    if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
+        cls = classify(branches[0], [r for r in records if r.get("branch", 0) == 0], problem.D, R)
+        complete = path_complete(branches[0])
+        everted_note = ""
+        if not complete:
+            everted_note = _use_everted_branch(cls, branches, records, labels, problem.D, R)
+        if not complete and not cls["F_negative_on_stable_path"]:
+            # monotonous and monostable need the whole path: an unfinished one cannot rule out F < 0 later
+            cls["classification_on_partial_path"] = cls["classification"]
+            cls["classification"] = None
+        summary.update(cls)
+        summary.update(_one_sided_snap(records) or {})
+        summary["classification_note"] = (
+            "from the displacement-controlled path to eversion" if complete else
+            f"the path did not reach eversion ({branches[0].message}); a class other than bistable needs the "
+            f"whole path{everted_note}")
+        line = _classification_line(cls)
+        branches[0].message = f"{branches[0].message}; {line}"
+    elif scene["load"]["control"] == "displacement":
+        summary["classification"] = None
+        summary["classification_note"] = "nothing was traced on the displacement-controlled path"
+    else:
+        summary["classification"] = None
+        summary["classification_note"] = ("the classification is defined on the displacement-controlled path; "
+                                          "'contin classify' traces it whatever load.control says")
+    result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
+                         table=_table(records), csv_columns=_csv(branches, generic.csv_columns), x="w", y="F",
+                         parameter_name=generic.parameter_name, labels=labels,
+                         jump_observables=generic.jump_observables, failure=failure)
+    if not scene["output"]["figure"]:
+        result.plot = lambda ax: ax.text(0.5, 0.5, "figure disabled (output.figure = false)", ha="center",
+                                         va="center", transform=ax.transAxes)
+    else:
+        result.plot = lambda ax: _plot(ax, result)
+    return result
+
+
+def _plot(ax: Any, result: TraceResult) -> None:
+    """Force-displacement diagram: stable (under the scene's control) solid, unstable dashed."""
+    control = result.summary.get("control", "displacement")
+    for i, br in enumerate(result.branches):
+        if not len(br):
+            continue
+        w, F = br.observables["w"], br.observables["F"]
+        ok = br.stable_under(control) if br.stability_by else np.ones(len(br), bool)
+        color = f"C{i}"
+        for lo in range(len(br) - 1):
+            style = "-" if ok[lo] and ok[lo + 1] else "--"
+            ax.plot(w[lo:lo + 2], F[lo:lo + 2], style, color=color, lw=1.4 if style == "-" else 1.0)
+        ax.plot([], [], "-", color=color, label=(result.labels[i] if i < len(result.labels) else f"branch {i}"))
+    for rec in result.special_points:
+        if rec["kind"] == "fold":
+            marker = "o" if rec["parameter"] == "w" else "^"
+            ax.plot(rec["w"], rec["F"], marker, color="k", ms=5, mfc="none" if rec["parameter"] == "w" else "k")
+    for a, b in result.jump_observables:
+        if "w" in a and "w" in b:
+            ax.annotate("", xy=(b["w"], b["F"]), xytext=(a["w"], a["F"]),
+                        arrowprops={"arrowstyle": "->", "ls": ":", "color": "k"})
+    ax.plot([], [], "ko", mfc="none", ms=5, label="fold in w")
+    ax.plot([], [], "k^", ms=5, label="limit point in F")
+    ax.axhline(0.0, color="0.7", lw=0.6)
+    ax.set_xlabel("w (pole displacement)")
+    ax.set_ylabel("F (point force)")
+    ax.legend(fontsize="small")
+    cls = result.summary.get("classification")
+    if cls:
+        ax.text(0.02, 0.02, f"{cls}, stability under {control} control", transform=ax.transAxes, fontsize="small")
+
+
+#: Attempts to leave a force limit point: (relative load increment past the fold, kick in units of R
+#: or None for the engine's default).  Exactly at the fold the energy is flat to third order along
+#: the null vector; a load a hair above the limit load has no equilibrium nearby, so the
+#: minimisation has to leave for the distant stable state.
+_JUMP_ATTEMPTS = ((1e-6, 1e-4), (1e-4, None), (1e-4, 1e-4))
+#: Snaps a force-controlled trace may make before eversion.
+MAX_SNAPS = 4
+
+
+def force_snap_rules(problem: ShellPointLoad) -> SnapRules:
+    """How the force-controlled point load leaves a limit point (for :func:`contin.quasistatic`).
+
+    The load is raised by ``eps F`` past the limit load, the kick measured in units of R; a landing
+    is a snap when the pole has moved by more than 1e-3 R.  The jump stays at the load it was
+    minimised at: the snap's ``jump_from`` and ``jump_to`` records are stated there.
+    """
+    def pole_moved(u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
+        w_to = problem.evaluate_observables(u_to, p_to)["w"]
+        return abs(w_to - problem.evaluate_observables(u_fold, p_fold)["w"]) / problem.R
+
+    return SnapRules(attempts=_JUMP_ATTEMPTS, overshoot_unit="fold", perturbation_unit=problem.R,
+                     separation=pole_moved, min_separation=1e-3, restate=False)
+
+
+def run_point_force(scene: Scene, progress: bool = False) -> TraceResult:
+    """Dead load at the pole: load to each force limit point, snap, keep loading until eversion."""
+    w_end = end_of_path(scene)
+    problem = point_problem(scene, "force")
+    st = point_settings(scene, problem, progress)
+
+    def beyond_eversion(jr: contin.JumpResult) -> str | None:
+        w_to = problem.evaluate_observables(jr.u_to, jr.p)["w"]
+        return f"landed beyond eversion (w = {w_to:.6g} >= {w_end:.6g})" if w_to >= w_end else None
+
+    # no end load: the pole displacement's bound at eversion ends the sweep; the located limit
+    # points alone end a stretch, as they always did for this scene
+    qs = contin.quasistatic(problem, problem.reference_unknowns(), 0.0, None, st, direction=1, max_snaps=MAX_SNAPS,
+                            snap=force_snap_rules(problem), stop_after_jump=beyond_eversion,
+                            stop_at_branch_points=False, check_stability=False, bounds={"w": (None, w_end)})
+    labels = ["loading" if k == 0 else f"loading after snap {k}" for k in range(len(qs.branches))]
+    return _result(qs.branches, qs.jumps, problem, scene, labels, qs.message if qs.failed else "")

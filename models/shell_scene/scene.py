@@ -1,0 +1,108 @@
+"""The shell with its loads as one command-line scene (``contin trace --model shell``).
+
+This is the one place that combines the shell (:mod:`models.shell`) with its loads: the point load
+(:mod:`models.shell_scene.point`) and the rigid indenters through the contact
+(:mod:`models.contact`, run by :mod:`models.shell_scene.contact`).  Knowledge flows one way:
+``models.shell`` <- ``models.contact`` <- ``models.shell_scene``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from contin.scene import Classification, SceneModel, TraceResult
+
+from .build import contact_settings
+from .point import path_complete, run_point, run_point_force
+from .schema import SHELL_SCHEMA, Scene
+
+__all__ = ["SHELL_SCENE", "classify_scene", "run_scene"]
+
+
+def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
+    """Trace a resolved shell scene: the point load or an indenter, under displacement or force control."""
+    kind, control = scene["load"]["kind"], scene["load"]["control"]
+    if kind in ("sphere", "plate"):
+        # imported here: a point-load trace never loads the contact runner (nor scipy.optimize)
+        from .contact import run_contact, run_contact_force
+
+        st, w_end = contact_settings(scene, progress)
+        run = run_contact_force if control == "force" else run_contact
+        return run(scene, progress, st, w_end)
+    return run_point_force(scene, progress) if control == "force" else run_point(scene, progress)
+
+
+#: Fields of :func:`classify` copied into a :class:`~contin.scene.Classification` (``contin classify --json``).
+_CLASSIFY_FIELDS = ("F_max", "w_at_F_max", "F_min", "w_at_F_min", "F_max_norm", "w_at_F_max_over_R", "F_min_norm",
+                    "w_at_F_min_over_R", "n_folds_in_w", "n_limit_points_in_F", "F_negative_on_stable_path",
+                    "classification_on_partial_path", "max_strain", "w_at_max_strain_over_R")
+
+
+def classify_scene(scene: Scene, progress: bool = False) -> Classification:
+    """Classify a shell scene (``contin classify --model shell``).
+
+    The class is defined on the displacement-controlled path to eversion (``docs/physics.md``
+    section 5), so that path is traced whatever ``load.control`` says; every other key of the scene
+    is used as given.
+
+    Parameters
+    ----------
+    scene : dict
+        A resolved scene of :data:`SHELL_SCHEMA`.
+    progress : bool
+        Print the continuation's progress to stderr.
+
+    Returns
+    -------
+    Classification
+        ``label`` is ``"monotonous"``, ``"monostable"`` or ``"bistable"``, or None when the path
+        did not reach eversion and F < 0 was not yet seen on a displacement-stable part of it.
+        ``values`` holds ``F_max``, ``w_at_F_max``, ``F_min``, ``w_at_F_min`` and their normalized
+        forms (``F R / (2 pi D)``, ``w / R``), the fold counts, ``lambda``, ``D``, ``F_unit`` and
+        ``eversion_w``; ``trace`` is the displacement-controlled run.
+    """
+    path_scene = {section: dict(keys) for section, keys in scene.items()}
+    path_scene["load"]["control"] = "displacement"
+    path_scene["output"]["figure"] = False
+    trace = run_scene(path_scene, progress)
+    summ = trace.summary
+    label = summ.get("classification")
+    values: dict[str, Any] = {"control_traced": "displacement"}
+    values.update({k: summ[k] for k in _CLASSIFY_FIELDS if k in summ})
+    values.update({k: summ[k] for k in ("lambda", "D", "F_unit", "eversion_w") if k in summ})
+    s = scene["shell"]
+    lines = [f"scene: R = {s['R']:g}, h/R = {s['h'] / s['R']:g}, phi_hat = {s['phi_hat']:g}, nu = {s['nu']:g}, "
+             f"N = {s['N']}; lambda = {summ['lambda']:.4g}"]
+    rows = [("", "F", "w", "F R/(2 pi D)", "w/R", "")]
+    for tag, what in (("max", "first local maximum of F: the snap load under force control"),
+                      ("min", "last local minimum of F: the snap-back load on unloading")):
+        F = summ.get(f"F_{tag}")
+        if F is None:
+            rows.append((f"F_{tag}", "-", "-", "-", "-", "none on the path"))
+        else:
+            rows.append((f"F_{tag}", f"{F:.6g}", f"{summ[f'w_at_F_{tag}']:.6g}", f"{summ[f'F_{tag}_norm']:.6g}",
+                         f"{summ[f'w_at_F_{tag}_over_R']:.6g}", what))
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    for r in rows:
+        lines.append("  ".join(c.rjust(w) if 0 < i < 5 else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
+                     .rstrip())
+    if "n_folds_in_w" in summ:
+        lines.append(f"path: {summ['n_limit_points_in_F']} limit points in F, {summ['n_folds_in_w']} folds in w; "
+                     f"F < 0 on a displacement-stable part: {'yes' if summ['F_negative_on_stable_path'] else 'no'}")
+    if "max_strain" in summ:
+        lines.append(f"largest membrane strain: {summ['max_strain']:.3g} ({summ['max_strain_at']}, "
+                     f"w/R = {summ['w_at_max_strain_over_R']:.4g})")
+    lines += [f"warning: {w}" for w in summ.get("warnings", [])]
+    values["path_complete"] = bool(trace.branches) and path_complete(trace.branches[0])
+    failure = "" if label is not None else summ.get("classification_note", "the path could not be traced")
+    return Classification(label=label, values=values, lines=lines, trace=trace, failure=failure)
+
+
+SHELL_SCENE = SceneModel(
+    name="shell",
+    description="spherical cap under a point load at the pole: the whole path to eversion, folds in w and F, "
+                "stability under both controls, classification",
+    schema=SHELL_SCHEMA,
+    runner=run_scene,
+    classifier=classify_scene,
+)

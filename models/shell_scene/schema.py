@@ -1,0 +1,83 @@
+"""The scene schema of the shell with its loads (``contin trace --model shell``) and its geometry helpers.
+
+Scene keys (public contract, ``--set section.key=value``)::
+
+    [shell]         R, E, nu, h, phi_hat, N, pole_ratio (node spacing at the pole / elsewhere; 1 = uniform)
+    [load]          kind = "point" | "sphere" | "plate", radius (sphere), control = "displacement" | "force"
+    [contact]       K_c, dhat (0: the paper's values scaled with E and R; sphere and plate only)
+    [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
+    [output]        figure
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from contin.scene import Constraint, Field, Schema, boolean, choice, integer, real
+
+__all__ = ["SHELL_SCHEMA", "MAX_NODES", "Scene", "eversion_displacement"]
+
+Scene = dict[str, dict[str, Any]]
+
+#: Largest ``shell.N``: 125 times the finest mesh of the studies (N = 800).  The cost is linear in N, but
+#: a mistyped huge N would otherwise run for hours or fail allocating instead of being rejected.
+MAX_NODES = 100_000
+
+
+def _nodes_ok(n: int) -> bool:
+    return 10 <= n <= MAX_NODES
+
+
+SHELL_SCHEMA = Schema(
+    sections={
+        "shell": {
+            "R": real(1.0, gt=0, help="sphere radius [m]"),
+            "E": real(1e6, gt=0, help="Young's modulus [Pa]"),
+            "nu": real(0.5, gt=-1, le=0.5, help="Poisson's ratio"),
+            "h": real(0.02, gt=0, help="thickness [m]"),
+            "phi_hat": real(0.8, gt=0, lt=math.pi / 2,
+                            help="base angle from the horizontal [rad] (small = deep cap)"),
+            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}", "number of nodes on the meridian"),
+            "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
+                                                    "graded towards the point load by default)"),
+        },
+        "load": {
+            "kind": choice("point", ("point", "sphere", "plate"),
+                           help="indenter: a point at the pole (bilateral), or a rigid sphere or plate through the "
+                                "log-barrier contact"),
+            "radius": real(0.5, gt=0, help="sphere radius [m] (load.kind = sphere)"),
+            "control": choice("displacement", ("displacement", "force"),
+                              help="displacement: the pole displacement w (point) or the indenter travel w_b "
+                                   "(sphere, plate) is prescribed; force: a dead load F on the pole or the indenter"),
+        },
+        "continuation": {
+            "ds": real(0.02, gt=0, help="initial arclength step in units of R"),
+            "ds_max": real(0.1, gt=0, help="largest step in units of R (also capped at 1/20 of the eversion depth)"),
+            "tol": real(1e-10, gt=0, lt=1, help="relative residual tolerance"),
+            "max_steps": integer(3000, low=1, high=1_000_000, help="maximum number of steps per branch"),
+            "overshoot": real(0.05, ge=0, le=1,
+                              help="stop this fraction past eversion, w = 2 R (1 - sin phi_hat) (1 + overshoot)"),
+        },
+        "contact": {
+            "K_c": real(0.0, ge=0, help="barrier stiffness [N/m]; 0 = 100 E R (the paper's 1e8 for E = 1 MPa, R = 1 m)"),
+            "dhat": real(0.0, ge=0, help="barrier range [m]; 0 = 1e-3 R (the paper's 1e-3 for R = 1 m)"),
+        },
+        "output": {
+            "figure": boolean(True, help="draw the force-displacement diagram (false: an empty placeholder)"),
+        },
+    },
+    constraints=[
+        Constraint(("continuation.ds", "continuation.ds_max"),
+                   lambda s: s["continuation"]["ds"] <= s["continuation"]["ds_max"],
+                   "continuation.ds <= continuation.ds_max"),
+        Constraint(("shell.h", "shell.R"), lambda s: s["shell"]["h"] < s["shell"]["R"],
+                   "shell.h < shell.R", "the shell model is thin: its thickness must be below its radius"),
+    ],
+)
+
+
+def eversion_displacement(R: float, phi_hat: float) -> float:
+    """Pole displacement ``2 R (1 - sin phi_hat)`` at which the pole reaches the mirror image of its start."""
+    return 2.0 * R * (1.0 - math.sin(phi_hat))
+
