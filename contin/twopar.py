@@ -35,7 +35,7 @@ import scipy.sparse as sp
 
 from .branch import SpecialPoint
 from .linalg import BorderedSolver
-from .palc import _inverse_iteration, _safe_factorize
+from .fold import inverse_iteration as _inverse_iteration, safe_factorize as _safe_factorize
 from .problem import Problem
 
 __all__ = ["FoldCurveProblem", "FamilyProblem", "cusp_curve_problem"]
