@@ -12,8 +12,9 @@ from .events import Event, crossing, extremum
 from .linalg import BorderedSolver, factorize
 from .diagram import diagram, hysteresis_cycles, plot_branches
 from .jump import JumpError, JumpResult, jump
-from .palc import CorrectorFailure, Settings, continuation, locate_fold, switch_branch
-from .problem import NonFiniteError, Problem
+from .palc import CorrectorFailure, continuation, locate_fold, switch_branch
+from .problem import LeadingBlock, NonFiniteError, Problem
+from .settings import Settings, SettingsError
 from .quasistatic import QuasiStaticResult, quasistatic, restate_jump
 from .stability import StabilityInfo, stability_info
 from .twopar import FamilyProblem, FoldCurveProblem, cusp_curve_problem
@@ -21,7 +22,7 @@ from .twopar import FamilyProblem, FoldCurveProblem, cusp_curve_problem
 __version__ = "0.1.0"
 
 __all__ = [
-    "Problem", "NonFiniteError", "Settings", "continuation", "locate_fold", "switch_branch", "CorrectorFailure",
+    "Problem", "LeadingBlock", "NonFiniteError", "Settings", "SettingsError", "continuation", "locate_fold", "switch_branch", "CorrectorFailure",
     "jump", "JumpResult", "JumpError", "diagram", "hysteresis_cycles", "plot_branches",
     "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum", "FoldCurveProblem", "FamilyProblem", "cusp_curve_problem",
     "StabilityInfo", "stability_info", "BorderedSolver", "factorize", "quasistatic", "QuasiStaticResult", "restate_jump",

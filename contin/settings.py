@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
-__all__ = ["Settings", "ROUNDOFF_FLOOR", "resolve_settings"]
+__all__ = ["Settings", "SettingsError", "ROUNDOFF_FLOOR", "resolve_settings"]
 
 #: Smallest relative tolerance ``tol`` and ``xtol`` accepted.  A residual component is a sum of a
 #: few tens of terms of size ``residual_scale`` (the element contributions meeting at a node), each
@@ -15,6 +15,10 @@ __all__ = ["Settings", "ROUNDOFF_FLOOR", "resolve_settings"]
 #: converged point is likewise rounding noise of that relative size.  A tolerance below 1e-14 asks for
 #: digits below that noise: the corrector would iterate on noise and fail at the first point.
 ROUNDOFF_FLOOR = 1e-14
+
+
+class SettingsError(ValueError):
+    """A continuation setting out of its range; the message names the field and the allowed range."""
 
 
 @dataclass
@@ -118,10 +122,10 @@ class Settings:
     progress_every: int = 25
 
     def validate(self) -> None:
-        """Raise ``ValueError`` naming the field when a setting is out of range."""
+        """Raise :class:`SettingsError` (a ``ValueError``) naming the field and its range when a setting is out of range."""
         def need(cond: bool, name: str, rule: str) -> None:
             if not cond:
-                raise ValueError(f"continuation setting {name!r} = {getattr(self, name)!r} is invalid: {rule}")
+                raise SettingsError(f"continuation setting {name!r} = {getattr(self, name)!r} is invalid: {rule}")
         need(self.ds_min > 0, "ds_min", "must be > 0")
         need(self.ds_max >= self.ds_min, "ds_max", "must be >= ds_min")
         need(self.ds_min <= self.ds <= self.ds_max, "ds", "must lie in [ds_min, ds_max]")
@@ -152,7 +156,7 @@ def resolve_settings(settings: Settings | None, overrides: dict[str, Any]) -> Se
     ------
     TypeError
         An override that is not a field of :class:`Settings`.
-    ValueError
+    SettingsError
         A setting out of range (:meth:`Settings.validate`).
     """
     unknown = set(overrides) - {f.name for f in fields(Settings)}
