@@ -5,6 +5,29 @@ The engine is generic: a :class:`Problem` gives a residual ``f(u, p)``, its spar
 :func:`continuation` traces a branch and returns a :class:`Branch` with located folds, branch
 points and events; :func:`jump` finds the stable state a snap lands on; :func:`diagram` assembles
 branches and jumps into a ``networkx`` graph.
+
+Where each part of the engine lives:
+
+==================  ===============================================================================
+``problem``         the model interface (:class:`Problem`, stability operators, :class:`LeadingBlock`)
+``settings``        :class:`Settings` and their ranges
+``palc``            the continuation loop (:func:`continuation`, :func:`switch_branch`)
+``curve``           the curve ``f = 0``: arclength metric, linearization, tangent, :class:`~contin.curve.Point`
+``corrector``       predictors and the PALC corrector (:class:`~contin.corrector.Correction`)
+``stepsize``        the step-size controller
+``testfunctions``   what a branch watches: folds, branch points, events, bounds (one protocol)
+``segment``         the curve between two accepted points, where special points are located
+``fold``            fold location by the minimally augmented system (also used by ``twopar``)
+``recorder``        accepted points, their stability, special points -> :class:`Branch`
+``branch``          results as data (:class:`Branch`, :class:`SpecialPoint`), saved and loaded
+``events``          user events (:func:`crossing`, :func:`extremum`)
+``stability``       Morse index and smallest eigenvalues of symmetric operators
+``linalg``          factorizations and bordered solves
+``jump``            snaps to a stable state at fixed load
+``quasistatic``     load to a fold, snap, resume
+``diagram``         bifurcation diagrams as graphs, and plots
+``twopar``          fold curves in a second parameter
+==================  ===============================================================================
 """
 
 from .branch import Branch, BranchFileError, SpecialPoint
