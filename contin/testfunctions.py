@@ -67,13 +67,21 @@ class TestFunction:
         A bound: the run ends on it with status ``"bound"`` and it is not recorded.
     stop_on_located : bool
         A located detection ends the run (``Settings.stop_at`` names the kind).
+
+    Parameters
+    ----------
+    curve : Curve
+        The curve the branch is traced on (its settings say which kinds stop the run).
     """
 
     kind = "event"
     name = ""
     terminal = False
     bound = False
-    stop_on_located = False
+
+    def __init__(self, curve: Curve) -> None:
+        self.curve = curve
+        self.stop_on_located = self.kind in curve.settings.stop_at
 
     def value(self, pt: Point) -> float:
         """The test function at an accepted point."""
@@ -123,10 +131,6 @@ class FoldTest(TestFunction):
     """Folds in the continuation parameter: sign changes of the tangent's parameter component."""
 
     kind = name = "fold"
-
-    def __init__(self, curve: Curve) -> None:
-        self.curve = curve
-        self.stop_on_located = "fold" in curve.settings.stop_at
 
     def value(self, pt: Point) -> float:
         return pt.t_p
@@ -189,10 +193,6 @@ class BranchPointTest(TestFunction):
     """Simple branch points: sign changes of the determinant of the bordered Jacobian."""
 
     kind = name = "branch_point"
-
-    def __init__(self, curve: Curve) -> None:
-        self.curve = curve
-        self.stop_on_located = "branch_point" in curve.settings.stop_at
 
     def value(self, pt: Point) -> float:
         return pt.det_sign
@@ -282,10 +282,10 @@ class EventTest(TestFunction):
     kind = "event"
 
     def __init__(self, curve: Curve, event: Event, bound: bool = False) -> None:
-        self.curve, self.event, self.bound = curve, event, bound
+        super().__init__(curve)
+        self.event, self.bound = event, bound
         self.name = event.name
         self.terminal = bool(event.terminal)
-        self.stop_on_located = "event" in curve.settings.stop_at
         observable_function(curve.problem, event.observable)  # fail early on unknown observables
 
     @property
