@@ -20,7 +20,8 @@ from .curve import max_abs
 from .linalg import BorderedSolver, SingularMatrixError
 from .problem import Problem
 
-__all__ = ["locate_fold", "safe_factorize", "inverse_iteration", "fold_test_function"]
+__all__ = ["locate_fold", "safe_factorize", "inverse_iteration", "fold_test_function", "fold_function",
+           "fold_borders"]
 
 
 def safe_factorize(problem: Problem, J: Any) -> Any:
@@ -58,8 +59,24 @@ def fold_test_function(problem: Problem, F_bord: BorderedSolver) -> tuple[float,
     return float(g[0]), v, w
 
 
-def _borders(problem: Problem, u: np.ndarray, p: float, v0: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-    """Borders ``(b, c)``: ``b`` out of range(J) (a left null vector is), ``c`` out of range(J^T)."""
+def fold_function(problem: Problem, u: np.ndarray, p: float, b: np.ndarray,
+                  c: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, Any, Any]:
+    """``(g, v, w, J, F)``: the fold function with borders ``b``, ``c`` at ``(u, p)``, its null vectors,
+    and the Jacobian and factorization they come from."""
+    J = problem.checked_jacobian(u, p)
+    F = safe_factorize(problem, J)
+    M = BorderedSolver(J, F, b.reshape(-1, 1), c.reshape(1, -1), np.zeros((1, 1)), refactor=problem.factorize)
+    g, v, w = fold_test_function(problem, M)
+    return g, v, w, J, F
+
+
+def fold_borders(problem: Problem, u: np.ndarray, p: float,
+                 v0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Borders ``(b, c)``: ``b`` out of range(J) (a left null vector is), ``c`` out of range(J^T).
+
+    ``c`` is ``v0`` (an approximate right null vector) normalised, or one found by inverse
+    iteration; for a symmetric ``J`` they coincide.
+    """
     J = problem.checked_jacobian(u, p)
     F = safe_factorize(problem, J)
     if v0 is None or not np.any(v0):
@@ -110,15 +127,11 @@ def locate_fold(problem: Problem, u: np.ndarray, p: float, v0: np.ndarray | None
         ``kind="fold"``, ``located`` True on convergence, ``residual`` the max-norm of ``(f, g)``.
     """
     u, p = np.array(u, dtype=float), float(p)
-    n = u.size
-    b, c = _borders(problem, u, p, v0)
+    b, c = fold_borders(problem, u, p, v0)
     converged, res, g, dp, history = False, math.inf, math.inf, math.inf, []
     for it in range(max_iter + 1):
         r = problem.checked_residual(u, p)
-        J = problem.checked_jacobian(u, p)
-        F = safe_factorize(problem, J)
-        M = BorderedSolver(J, F, b.reshape(n, 1), c.reshape(1, n), np.zeros((1, 1)), refactor=problem.factorize)
-        g, v, w = fold_test_function(problem, M)
+        g, v, w, J, F = fold_function(problem, u, p, b, c)
         f_res = max_abs(r)
         res = max(f_res, abs(g))
         history.append(res)

@@ -28,8 +28,7 @@ from .branch import Branch, SpecialPoint
 from .corrector import Correction, check_curvature_consistency, correct, quadratic_predictor
 from .curve import CorrectorFailure, Curve, Point, max_abs
 from .events import Event
-from .fold import inverse_iteration as _inverse_iteration  # noqa: F401  (old private name, kept for importers)
-from .fold import locate_fold, safe_factorize as _safe_factorize  # noqa: F401
+from .fold import locate_fold
 from .linalg import SingularMatrixError
 from .problem import NonFiniteError, Problem
 from .recorder import Recorder
