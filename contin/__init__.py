@@ -45,8 +45,10 @@ from .twopar import FamilyProblem, FoldCurveProblem, cusp_curve_problem
 __version__ = "0.1.0"
 
 __all__ = [
-    "Problem", "LeadingBlock", "NonFiniteError", "Settings", "SettingsError", "continuation", "locate_fold", "switch_branch", "CorrectorFailure",
+    "Problem", "LeadingBlock", "NonFiniteError", "Settings", "SettingsError",
+    "continuation", "locate_fold", "switch_branch", "CorrectorFailure",
     "jump", "JumpResult", "JumpError", "diagram", "hysteresis_cycles", "plot_branches",
-    "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum", "FoldCurveProblem", "FamilyProblem", "cusp_curve_problem",
+    "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum",
+    "FoldCurveProblem", "FamilyProblem", "cusp_curve_problem",
     "StabilityInfo", "stability_info", "BorderedSolver", "factorize", "quasistatic", "QuasiStaticResult", "restate_jump",
 ]

@@ -84,7 +84,8 @@ def _residual(curve: Curve, u: np.ndarray, p: float, where: str) -> tuple[np.nda
     return r, max_abs(r)
 
 
-def _newton_update(curve: Curve, u: np.ndarray, p: float, r: np.ndarray, origin: Point, ds: float):
+def _newton_update(curve: Curve, u: np.ndarray, p: float, r: np.ndarray, origin: Point,
+                   ds: float) -> tuple[np.ndarray, float, Linearization]:
     """One bordered Newton update ``(du, dp)``, shortened to the model's domain, and its linearization."""
     wu, wp = curve.weights(u.size)
     try:
@@ -104,7 +105,9 @@ def _newton_update(curve: Curve, u: np.ndarray, p: float, r: np.ndarray, origin:
     return du, dp, lin
 
 
-def _predict(curve: Curve, origin: Point, ds: float, start) -> tuple[np.ndarray, float]:
+def _predict(curve: Curve, origin: Point, ds: float,
+             start: tuple[np.ndarray, float] | None) -> tuple[np.ndarray, float]:
+    """The first iterate: ``start``, or the linear predictor; refused outside the model's domain."""
     if start is None:
         u_pred, p_pred = origin.u + ds * origin.t_u, origin.p + ds * origin.t_p
     else:

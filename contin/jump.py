@@ -200,7 +200,10 @@ def _start(problem: Problem, u0: np.ndarray, p: float, abs_tol: float, perturbat
         x = u0.copy()
     v = np.asarray(direction, dtype=float) if direction is not None else info0.eigenvectors[:, 0]
     v = v / np.max(np.abs(v))
-    sizes = [] if x is not None else ([perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref])
+    if x is not None:
+        sizes = []
+    else:
+        sizes = [perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref]
     for alpha in sizes:
         trials = [_kick_inside(problem, u0, p, sign * alpha * v) for sign in (1.0, -1.0)]
         energies = [_safe_energy(problem, u0 + kick, p) if kick is not None else math.inf for kick in trials]

@@ -180,7 +180,8 @@ def _step(curve: Curve, previous: Point | None, current: Point, ds: float) -> tu
     return Point(c.u, c.p, t_u, t_p, c.residual, c.iterations, det_sign, current.s + ds), c.contraction, cos_turn
 
 
-def _watch(tests: list[TestFunction], seg: Segment, values: list[float], locate: bool) -> tuple[list[Found], list[float]]:
+def _watch(tests: list[TestFunction], seg: Segment, values: list[float],
+           locate: bool) -> tuple[list[Found], list[float]]:
     """Test functions at the segment's end; the special points of those that changed sign on it."""
     new_values = [test.value(seg.B) for test in tests]
     found = [(test, test.find(seg, a, b, locate))

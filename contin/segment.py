@@ -84,7 +84,7 @@ class Segment:
             return b
         f_small = ftol * max(abs(f_A), abs(f_B))
 
-        def g(s):
+        def g(s: float) -> float:
             if s == a:
                 return f_A
             if s == b:

@@ -122,7 +122,7 @@ class Settings:
     progress_every: int = 25
 
     def validate(self) -> None:
-        """Raise :class:`SettingsError` (a ``ValueError``) naming the field and its range when a setting is out of range."""
+        """Raise :class:`SettingsError` (a ``ValueError``) naming the field and its range if one is out of range."""
         def need(cond: bool, name: str, rule: str) -> None:
             if not cond:
                 raise SettingsError(f"continuation setting {name!r} = {getattr(self, name)!r} is invalid: {rule}")

@@ -150,7 +150,10 @@ def _dense_info(H, k: int, vectors: bool) -> StabilityInfo:
 
 
 def _banded_info(H, b: int, k: int, vectors: bool) -> StabilityInfo:
-    """The ``k`` smallest eigenvalues by LAPACK's banded solver; the Morse index by inertia when they are all negative."""
+    """The ``k`` smallest eigenvalues by LAPACK's banded solver.
+
+    When all of them are negative the Morse index comes from the inertia (or all negative eigenvalues).
+    """
     ab = _lower_band(H, b)
     w = sla.eig_banded(ab, lower=True, eigvals_only=True, select="i", select_range=(0, k - 1))
     if w[-1] < 0:

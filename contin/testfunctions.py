@@ -258,7 +258,8 @@ class _BorderedBranchTest:
                 "branch_tangent": (np.concatenate([sec_u, [sec_p]]) / curve.norm(sec_u, sec_p)).tolist()}
 
 
-def _augmented_null_vectors(curve: Curve, u: np.ndarray, p: float, t_u: np.ndarray, t_p: float):
+def _augmented_null_vectors(curve: Curve, u: np.ndarray, p: float, t_u: np.ndarray,
+                            t_p: float) -> list[np.ndarray]:
     """Approximate right and left null vectors of the augmented Jacobian [[J, fp], [t^T W]]."""
     J, fp, F = curve.linearize(u, p)
     wu, wp = curve.weights(u.size)
