@@ -6,11 +6,14 @@ the (sparse, symmetric) Hessian; the engine then uses the energy for jumps and t
 for stability.
 
 Stability: the engine asks :meth:`Problem.stability` for the Morse index (and, on request, the
-smallest eigenvalues) under every *stability label*.  A model declares its labelled operators once,
-``stability_operators={label: operator}``; an operator that is the leading block of another one
-(e.g. the Hessian of a displacement-controlled structure inside that of the force-controlled one) is
-declared as ``LeadingBlock(of=label, size=m)`` and then shares that operator's factorization, so both
-Morse indices cost one pivot-free ``L D L^T``.
+smallest eigenvalues) under every *stability label*.  A model declares its labelled operators in one
+place, ``stability_operators={label: operator}`` (the first label is the primary one); an operator
+that is the leading block of another one (e.g. the Hessian of a displacement-controlled structure
+inside that of the force-controlled one) is declared as ``LeadingBlock(of=label, size=m)`` and then
+shares that operator's factorization, so both Morse indices cost one pivot-free ``L D L^T``.
+Shorthands: ``stability_operator=op`` is ``{"stability": op}``, and ``symmetric=True`` alone uses
+the Jacobian.  Overriding :meth:`Problem.stability_counts` (the way nested operators were counted
+before ``LeadingBlock``) still works and is consulted first.
 
 Two ways to build one:
 
