@@ -90,33 +90,42 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     recorder.add(current)
     if origin is not None:
         recorder.special(_landing(problem, origin, current))
-    values = [test.value(current) for test in tests]
     control = StepController(st)
+    status, message = _trace(curve, tests, recorder, control, current)
+    branch = recorder.finish(status, message, t_start)
+    branch.meta["n_factorizations"] = curve.n_factorizations
+    branch.meta["rejected_steps"] = control.rejections
+    return branch
+
+
+def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control: StepController,
+           current: Point) -> tuple[str, str]:
+    """The continuation loop from the first point: predict and correct, watch, record, adapt the step.
+
+    Returns the status and message the branch ends with.
+    """
+    st = curve.settings
+    values = [test.value(current) for test in tests]
     previous: Point | None = None
-    status, message, steps = "completed", f"reached max_steps = {st.max_steps}", 0
+    steps = 0
     while steps < st.max_steps:
         try:
             new, contraction, cos_turn = _step(curve, previous, current, control.ds)
         except STEP_FAILURES as exc:
             if control.reject(exc):
                 continue
-            status, message = "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
-            break
+            return "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
         steps += 1
         found, values = _watch(tests, Segment(curve, current, new), values, st.locate)
         stop = _first_stop(found)
         if stop is not None:
-            status, message = _end_on(recorder, curve, found, stop, current)
-            break
+            return _end_on(recorder, curve, found, stop, current)
         _record(recorder, [spt for _, spt in found], new)
         if st.progress and steps % st.progress_every == 0:
             _progress(steps, new, control.ds)
         control.accept(new.iterations, contraction, cos_turn)
         previous, current = current, new
-    branch = recorder.finish(status, message, t_start)
-    branch.meta["n_factorizations"] = curve.n_factorizations
-    branch.meta["rejected_steps"] = control.rejections
-    return branch
+    return "completed", f"reached max_steps = {st.max_steps}"
 
 
 def _progress(steps: int, new: Point, ds: float) -> None:
