@@ -50,7 +50,14 @@ class SpecialPoint:
     label : str
         Event name, ``"start"``/``"end"`` of a jump, etc.
     info : dict
-        Extra data: the bracket, stability before and after, the jump's source, ...
+        Extra data: the bracket (``bracket_p``), the jump's source, ...  Folds, branch points and
+        extremum events of a branch traced with stability carry ``info["stability"]``:
+        ``{label: {"n_negative_before", "stable_before", "n_negative_after", "stable_after"}}`` for
+        every stability label (the stored points on either side; only ``*_before`` when the point
+        ends its branch), and the same four keys flat under ``info["stability_label"]`` (the
+        primary label for folds and branch points, the declared one for an extremum event, see
+        :func:`contin.extremum`).  ``info["folds"]`` names the quantity that has a limit point
+        there (the continuation parameter for a fold; what an extremum event declares).
     """
 
     kind: str
@@ -67,6 +74,15 @@ class SpecialPoint:
     def __post_init__(self) -> None:
         if self.kind not in SPECIAL_KINDS:
             raise ValueError(f"special point kind must be one of {SPECIAL_KINDS}, got {self.kind!r}")
+
+    def stability_under(self, label: str | None = None) -> dict[str, Any]:
+        """``{"n_negative_before", "stable_before", "n_negative_after", "stable_after"}`` under ``label``.
+
+        Default: the point's own ``info["stability_label"]``.  Empty when not known (no stability
+        data, or a kind that does not carry it); see :attr:`info`.
+        """
+        label = self.info.get("stability_label") if label is None else label
+        return dict(self.info.get("stability", {}).get(label, {}))
 
     def header(self) -> dict[str, Any]:
         """JSON-serialisable description (everything but the state vector)."""
@@ -125,6 +141,7 @@ class Branch:
     stability_by : dict
         ``{label: (n_negative, eigenvalues)}`` for every stability operator of the problem (the
         first label is the primary one, also given as ``n_negative`` and ``eigenvalues``).
+        :meth:`columns` gives them as ``stable_<label>`` and ``n_negative_<label>``.
     special_points : list of SpecialPoint
         Located folds, branch points, events and jumps, in path order.
     status : str
@@ -162,12 +179,42 @@ class Branch:
             return None
         return self.n_negative == 0
 
-    def stable_under(self, label: str) -> np.ndarray:
-        """Boolean stability of every point under the stability operator ``label``."""
+    @property
+    def stability_labels(self) -> list[str]:
+        """Stability labels in order (the first is the primary one); empty without stability data."""
+        return list(self.stability_by)
+
+    def n_negative_under(self, label: str | None = None) -> np.ndarray:
+        """Morse index of every point under the stability operator ``label`` (default: the primary one)."""
+        if label is None:
+            if self.n_negative is None:
+                raise KeyError("branch has no stability data")
+            return self.n_negative
         try:
-            return self.stability_by[label][0] == 0
+            return self.stability_by[label][0]
         except KeyError:
             raise KeyError(f"branch has no stability label {label!r}; it has {sorted(self.stability_by)}") from None
+
+    def stable_under(self, label: str | None = None) -> np.ndarray:
+        """Boolean stability of every point under the stability operator ``label`` (default: the primary one)."""
+        return self.n_negative_under(label) == 0
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """One column per quantity, one row per stored point, in a fixed order (for tables and CSV).
+
+        Columns: ``p``, ``s``, every observable (in the problem's order), ``residual``,
+        ``newton_iterations``, then for every stability label (primary first) ``stable_<label>``
+        (1 stable, 0 not) and ``n_negative_<label>`` (the Morse index).  A model adds its own
+        columns to this dictionary rather than rebuilding it.
+        """
+        cols: dict[str, np.ndarray] = {"p": self.p, "s": self.s}
+        cols.update((name, values) for name, values in self.observables.items() if name not in cols)
+        cols["residual"] = self.residual
+        cols["newton_iterations"] = self.newton_iterations
+        for label, (nneg, _) in self.stability_by.items():
+            cols[f"stable_{label}"] = (np.asarray(nneg) == 0).astype(int)
+            cols[f"n_negative_{label}"] = np.asarray(nneg, dtype=int)
+        return cols
 
     @property
     def success(self) -> bool:

@@ -43,7 +43,8 @@ class _NodeIndex:
         return name
 
 
-def diagram(branches: Sequence[Branch], jumps: Iterable[JumpResult] = (), rtol: float = 1e-6) -> "nx.MultiDiGraph":
+def diagram(branches: Sequence[Branch], jumps: Iterable[JumpResult] = (), rtol: float = 1e-6,
+            stability: str | None = None) -> "nx.MultiDiGraph":
     """Assemble branches and jumps into a directed multigraph.
 
     Parameters
@@ -54,6 +55,9 @@ def diagram(branches: Sequence[Branch], jumps: Iterable[JumpResult] = (), rtol: 
         Snaps between branches.
     rtol : float
         Relative tolerance under which two points are the same node.
+    stability : str, optional
+        Stability label of the edges' ``stable`` and ``n_negative`` (default: each branch's primary
+        label).
 
     Returns
     -------
@@ -70,43 +74,48 @@ def diagram(branches: Sequence[Branch], jumps: Iterable[JumpResult] = (), rtol: 
     for bi, br in enumerate(branches):
         if len(br) == 0:
             continue
-        # stops: (index, node, lo, hi) where points lo..hi-1 after the stop belong to the next segment
-        stops: list[tuple[int, str, bool]] = []
-        start = index.find_or_add(G, "start", br.p[0], br.u[0], observables=_obs_at(br, 0))
-        stops.append((0, start, False))
-        last = len(br) - 1
-        for spt in sorted(br.special_points, key=lambda s: (s.index, s.s)):
-            if spt.kind == "jump":
-                continue
-            idx = min(max(spt.index, 0), last)
-            node = index.find_or_add(G, spt.kind, spt.p, np.asarray(spt.u), observables=dict(spt.observables),
-                                     label=spt.label, located=spt.located)
-            # a special point that is also a stored point (a run that ended on it) is not interior
-            on_point = spt.p == br.p[idx] and (br.u.shape[0] != len(br) or np.array_equal(spt.u, br.u[idx]))
-            stops.append((idx, node, on_point))
-        end = index.find_or_add(G, "end", br.p[last], br.u[last if br.u.shape[0] == len(br) else -1],
-                                observables=_obs_at(br, last))
-        stops.append((last, end, False))
+        nneg = br.n_negative if stability is None else br.stability_by.get(stability, (None,))[0]
+        stops = _stops(G, index, br)
         for k, ((i0, a, on0), (i1, b, on1)) in enumerate(zip(stops[:-1], stops[1:])):
-            if a == b:
-                continue
-            attrs: dict[str, Any] = {"kind": "branch", "branch": bi, "start": int(i0), "stop": int(i1)}
-            if br.n_negative is not None:
-                # interior points only: a fold or branch point itself has a zero eigenvalue
-                lo = i0 if k == 0 else i0 + 1
-                hi = i1 if on1 else i1 + 1
-                inner = br.n_negative[lo:hi] if hi > lo else br.n_negative[i0:i1 + 1]
-                vals = sorted({int(v) for v in inner})
-                attrs["n_negative"] = vals
-                attrs["stable"] = (vals == [0]) if len(vals) == 1 else None
-            else:
-                attrs["stable"] = None
-            G.add_edge(a, b, **attrs)
+            if a != b:
+                G.add_edge(a, b, kind="branch", branch=bi, start=int(i0), stop=int(i1),
+                           **_segment_stability(nneg, i0, i1, k == 0, on1))
     for ji, jr in enumerate(jumps):
         a = index.find_or_add(G, "jump_from", jr.p, jr.u_from)
         b = index.find_or_add(G, "jump_to", jr.p, jr.u_to)
         G.add_edge(a, b, kind="jump", jump=ji, success=jr.success, energy_drop=jr.energy_from - jr.energy_to)
     return G
+
+
+def _stops(G: "nx.MultiDiGraph", index: _NodeIndex, br: Branch) -> list[tuple[int, str, bool]]:
+    """Nodes along a branch: ``(point index, node, whether the node is a stored point)``, start to end."""
+    stops = [(0, index.find_or_add(G, "start", br.p[0], br.u[0], observables=_obs_at(br, 0)), False)]
+    last = len(br) - 1
+    for spt in sorted(br.special_points, key=lambda s: (s.index, s.s)):
+        if spt.kind == "jump":
+            continue
+        idx = min(max(spt.index, 0), last)
+        node = index.find_or_add(G, spt.kind, spt.p, np.asarray(spt.u), observables=dict(spt.observables),
+                                 label=spt.label, located=spt.located)
+        # a special point that is also a stored point (a run that ended on it) is not interior
+        on_point = spt.p == br.p[idx] and (br.u.shape[0] != len(br) or np.array_equal(spt.u, br.u[idx]))
+        stops.append((idx, node, on_point))
+    end = index.find_or_add(G, "end", br.p[last], br.u[last if br.u.shape[0] == len(br) else -1],
+                            observables=_obs_at(br, last))
+    stops.append((last, end, False))
+    return stops
+
+
+def _segment_stability(nneg: np.ndarray | None, i0: int, i1: int, first: bool, on1: bool) -> dict[str, Any]:
+    """``stable`` and ``n_negative`` of the segment between stops at points ``i0`` and ``i1``."""
+    if nneg is None:
+        return {"stable": None}
+    # interior points only: a fold or branch point itself has a zero eigenvalue
+    lo = i0 if first else i0 + 1
+    hi = i1 if on1 else i1 + 1
+    inner = nneg[lo:hi] if hi > lo else nneg[i0:i1 + 1]
+    vals = sorted({int(v) for v in inner})
+    return {"n_negative": vals, "stable": (vals == [0]) if len(vals) == 1 else None}
 
 
 def _obs_at(br: Branch, i: int) -> dict[str, float]:
@@ -139,10 +148,51 @@ def _coordinate(name: str, p: float, observables: dict, br: Branch) -> float | N
     return observables.get(name)
 
 
+def _stability_of(br: Branch, stability: str | None) -> np.ndarray | None:
+    """Per-point stability under ``stability`` (default: the primary label); None when unknown."""
+    if stability is None:
+        return br.stable
+    return br.stable_under(stability) if stability in br.stability_by else None
+
+
+def _plot_by_stability(ax, xs: np.ndarray, ys: np.ndarray, stable: np.ndarray | None, color: str,
+                       label: str | None) -> None:
+    """One branch: runs of equal stability, stable solid and unstable dashed (thin when unknown)."""
+    if stable is None:
+        ax.plot(xs, ys, "-", color=color, lw=1.0, label=label)
+        return
+    # split into runs of equal stability; neighbouring runs share their boundary point
+    start, n = 0, len(xs)
+    for i in range(1, n + 1):
+        if i == n or stable[i] != stable[start]:
+            sl = slice(start, min(i + 1, n))
+            ax.plot(xs[sl], ys[sl], "-" if stable[start] else "--", color=color, lw=1.6,
+                    label=label if start == 0 else None)
+            start = i
+
+
+_MARKERS = {"fold": ("o", "fold"), "branch_point": ("s", "branch point"), "event": ("^", "event"),
+            "jump": ("x", "jump")}
+
+
+def _mark_special_points(ax, br: Branch, x: str, y: str, kinds: Sequence[str], seen: set[str]) -> None:
+    for spt in br.special_points:
+        if spt.kind not in kinds:
+            continue
+        px, py = _coordinate(x, spt.p, spt.observables, br), _coordinate(y, spt.p, spt.observables, br)
+        if px is None or py is None:
+            continue
+        mk, name = _MARKERS[spt.kind]
+        ax.plot([px], [py], mk, color="k", mfc="none" if not spt.located else "w", ms=7,
+                label=name if name not in seen else None, zorder=5)
+        seen.add(name)
+
+
 def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | None = None, ax=None,
                   jumps: Iterable[tuple[JumpResult, dict[str, float], dict[str, float]]] = (),
                   colors: Sequence[str] | None = None, labels: Sequence[str] | None = None,
-                  special_kinds: Sequence[str] = ("fold", "branch_point", "event")):
+                  special_kinds: Sequence[str] = ("fold", "branch_point", "event"),
+                  stability: str | None = None):
     """Plot branches: stable solid, unstable dashed, unknown stability thin; special points marked.
 
     Parameters
@@ -156,6 +206,9 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
         Snaps drawn as dotted arrows between the two points (observable dicts give coordinates).
     colors, labels : per-branch colours and legend labels.
     special_kinds : which special point kinds to mark.
+    stability : str, optional
+        The stability label to style by (e.g. ``"displacement"``); default the primary label of
+        each branch.  A branch without that label is drawn thin (stability unknown).
 
     Returns
     -------
@@ -169,36 +222,13 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
         _, ax = plt.subplots(figsize=(6, 4.5))
     if y is None:
         y = next(iter(branches[0].observables), "p")
-    markers = {"fold": ("o", "fold"), "branch_point": ("s", "branch point"), "event": ("^", "event"),
-               "jump": ("x", "jump")}
     seen: set[str] = set()
     prop = plt.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
     for bi, br in enumerate(branches):
         color = colors[bi] if colors else prop[bi % len(prop)]
-        xs, ys = br.observable(x), br.observable(y)
-        stable = br.stable
-        label = labels[bi] if labels else None
-        if stable is None:
-            ax.plot(xs, ys, "-", color=color, lw=1.0, label=label)
-        else:
-            # split into runs of equal stability; neighbouring runs share their boundary point
-            start = 0
-            for i in range(1, len(br) + 1):
-                if i == len(br) or stable[i] != stable[start]:
-                    sl = slice(start, min(i + 1, len(br)))
-                    ax.plot(xs[sl], ys[sl], "-" if stable[start] else "--", color=color, lw=1.6,
-                            label=label if start == 0 else None)
-                    start = i
-        for spt in br.special_points:
-            if spt.kind not in special_kinds:
-                continue
-            px, py = _coordinate(x, spt.p, spt.observables, br), _coordinate(y, spt.p, spt.observables, br)
-            if px is None or py is None:
-                continue
-            mk, name = markers[spt.kind]
-            ax.plot([px], [py], mk, color="k", mfc="none" if not spt.located else "w", ms=7,
-                    label=name if name not in seen else None, zorder=5)
-            seen.add(name)
+        _plot_by_stability(ax, br.observable(x), br.observable(y), _stability_of(br, stability), color,
+                           labels[bi] if labels else None)
+        _mark_special_points(ax, br, x, y, special_kinds, seen)
     for jr, obs_a, obs_b in jumps:
         pa = (_coordinate(x, jr.p, obs_a, branches[0]), _coordinate(y, jr.p, obs_a, branches[0]))
         pb = (_coordinate(x, jr.p, obs_b, branches[0]), _coordinate(y, jr.p, obs_b, branches[0]))

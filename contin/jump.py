@@ -160,6 +160,33 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     u0 = np.array(u, dtype=float)
     p = float(p)
     abs_tol = tol * getattr(problem, "residual_scale", 1.0)
+    start = _start(problem, u0, p, abs_tol, perturbation, eig_tol, direction)
+    x, it, res, success, message = _descend(problem, start, p, abs_tol, max_iter)
+    final = stability_info(problem.stability_operator(x, p), k=1)
+    return JumpResult(p=p, u_from=u0, u_to=x, energy_from=start.E0, energy_to=_safe_energy(problem, x, p),
+                      iterations=it, residual=res, n_negative=final.n_negative,
+                      smallest_eigenvalue=float(final.eigenvalues[0]),
+                      success=success and final.n_negative == 0, message=message,
+                      info={"kick": float(np.max(np.abs(x - u0)))})
+
+
+@dataclass
+class _Start:
+    """The first iterate of a snap and the scales of its start."""
+
+    x: np.ndarray
+    E0: float
+    scale_H: float
+    ref: float
+
+
+def _start(problem: Problem, u0: np.ndarray, p: float, abs_tol: float, perturbation: float | None,
+           eig_tol: float, direction: np.ndarray | None) -> _Start:
+    """Kick the start off along its unstable (or given) direction, the smallest kick that lowers the energy.
+
+    A stable Hessian is a snap start only if the state is out of equilibrium: a fold state with the
+    parameter moved past the fold (where no equilibrium is near) minimises as it is.
+    """
     H0 = problem.stability_operator(u0, p)
     info0 = stability_info(H0, k=1, vectors=True)
     scale_H = float(np.max(np.abs(H0.data if sp.issparse(H0) else H0), initial=1.0))
@@ -168,14 +195,15 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     ref = max(1.0, float(np.max(np.abs(u0), initial=0.0)))
     x = None
     if info0.n_negative == 0 and lam0 > eig_tol * scale_H:
-        # a stable Hessian is a snap start only if the state is out of equilibrium: a fold state
-        # with the parameter moved past the fold (where no equilibrium is near) minimises as it is
         if float(np.max(np.abs(problem.checked_residual(u0, p)))) <= abs_tol:
             raise JumpError(f"the start is stable (smallest eigenvalue {lam0:.3e} > 0): nothing to snap from")
         x = u0.copy()
     v = np.asarray(direction, dtype=float) if direction is not None else info0.eigenvectors[:, 0]
     v = v / np.max(np.abs(v))
-    sizes = [] if x is not None else ([perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref])
+    if x is not None:
+        sizes = []
+    else:
+        sizes = [perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref]
     for alpha in sizes:
         trials = [_kick_inside(problem, u0, p, sign * alpha * v) for sign in (1.0, -1.0)]
         energies = [_safe_energy(problem, u0 + kick, p) if kick is not None else math.inf for kick in trials]
@@ -186,66 +214,75 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     if x is None and float(np.max(np.abs(problem.checked_residual(u0, p)))) > abs_tol:
         # no kick along the soft mode lowers the energy measurably (a stiff, short-range barrier
         # leaves room only for kicks far below round-off of the energy), but the start is out of
-        # equilibrium: the shifted-Newton descent below leaves it without a kick
+        # equilibrium: the shifted-Newton descent leaves it without a kick
         x = u0.copy()
     if x is None:
         raise JumpError("no perturbation along the unstable eigenvector lowers the energy")
+    return _Start(x, E0, scale_H, ref)
 
-    mu = 0.0
+
+def _descend(problem: Problem, start: _Start, p: float, abs_tol: float,
+             max_iter: int) -> tuple[np.ndarray, int, float, bool, str]:
+    """Shifted-Newton energy descent at fixed ``p`` to a stable state: ``(x, iterations, residual, success, message)``.
+
+    A converged saddle is kicked off along its unstable direction and the descent continues.
+    """
+    x, mu, it = start.x, 0.0, 0
     E = _safe_energy(problem, x, p)
-    message, success, it = "", False, 0
     res = math.inf
     for it in range(1, max_iter + 1):
         g = problem.checked_residual(x, p)
         res = float(np.max(np.abs(g)))
         H = problem.checked_jacobian(x, p)
         if res <= abs_tol:
-            final = stability_info(problem.stability_operator(x, p), k=1)
-            if final.n_negative == 0:
-                success, message = True, f"landed on a stable state after {it - 1} iterations"
-                break
-            # a saddle: kick off it along its unstable direction and continue
-            vec = stability_info(problem.stability_operator(x, p), k=1, vectors=True).eigenvectors[:, 0]
-            kick = 1e-3 * ref * vec / np.max(np.abs(vec))
-            x = x + min(1.0, problem.max_step_fraction(x, p, kick, 0.0)) * kick
+            if stability_info(problem.stability_operator(x, p), k=1).n_negative == 0:
+                return x, it, res, True, f"landed on a stable state after {it - 1} iterations"
+            x = _kick_off_saddle(problem, x, p, start.ref)
             E = _safe_energy(problem, x, p)
             continue
-        # Levenberg shift: the smallest mu >= 0 making H + mu I positive definite
-        solve = _shifted_cholesky_solver(H, 0.0) if mu == 0.0 else None
-        trial_mu = mu
-        while solve is None:
-            trial_mu = max(2 * trial_mu, 1e-8 * scale_H) if trial_mu > 0 else 1e-8 * scale_H
-            solve = _shifted_cholesky_solver(H, trial_mu)
-            if trial_mu > 1e12 * scale_H:
-                raise JumpError("could not make the Hessian positive definite by a shift")
-        mu = trial_mu
-        d = -solve(g)
-        slope = float(g @ d)
-        t, accepted = min(1.0, problem.max_step_fraction(x, p, d, 0.0)), False
-        while t > 1e-12:
-            x_new = x + t * d
-            E_new = _safe_energy(problem, x_new, p)
-            if E_new <= E + 1e-4 * t * slope:
-                accepted = True
-                break
-            # a full Newton step that barely changes the energy near the minimum is fine if the
-            # gradient drops (the energy difference is below roundoff there)
-            if abs(E_new - E) <= 1e-14 * max(1.0, abs(E)):
-                g_new = problem.checked_residual(x_new, p)
-                if np.max(np.abs(g_new)) < res:
-                    accepted = True
-                    break
-            t *= 0.5
-        if not accepted:
-            message = "line search failed to lower the energy"
-            break
-        x, E = x_new, E_new
-        mu = 0.0 if t == 1.0 else max(mu * 4, 1e-8 * scale_H)
-    else:
-        message = f"no stable state within {max_iter} iterations (gradient {res:.3e})"
-    final = stability_info(problem.stability_operator(x, p), k=1)
-    return JumpResult(p=p, u_from=u0, u_to=x, energy_from=E0, energy_to=_safe_energy(problem, x, p),
-                      iterations=it, residual=res, n_negative=final.n_negative,
-                      smallest_eigenvalue=float(final.eigenvalues[0]),
-                      success=success and final.n_negative == 0, message=message,
-                      info={"kick": float(np.max(np.abs(x - u0)))})
+        d, mu = _shifted_newton_direction(H, g, mu, start.scale_H)
+        step = _line_search(problem, x, p, d, g, E, res)
+        if step is None:
+            return x, it, res, False, "line search failed to lower the energy"
+        t, x, E = step
+        mu = 0.0 if t == 1.0 else max(mu * 4, 1e-8 * start.scale_H)
+    return x, it, res, False, f"no stable state within {max_iter} iterations (gradient {res:.3e})"
+
+
+def _kick_off_saddle(problem: Problem, x: np.ndarray, p: float, ref: float) -> np.ndarray:
+    """A small kick (1e-3 of the state's scale) along the unstable direction of a converged saddle."""
+    vec = stability_info(problem.stability_operator(x, p), k=1, vectors=True).eigenvectors[:, 0]
+    kick = 1e-3 * ref * vec / np.max(np.abs(vec))
+    return x + min(1.0, problem.max_step_fraction(x, p, kick, 0.0)) * kick
+
+
+def _shifted_newton_direction(H: Any, g: np.ndarray, mu: float, scale_H: float) -> tuple[np.ndarray, float]:
+    """Descent direction ``-(H + mu I)^-1 g`` with the Levenberg shift: the smallest ``mu >= 0`` tried
+    (doubling from ``1e-8 * scale_H``) that makes ``H + mu I`` positive definite.  Returns it and ``mu``."""
+    solve = _shifted_cholesky_solver(H, 0.0) if mu == 0.0 else None
+    trial_mu = mu
+    while solve is None:
+        trial_mu = max(2 * trial_mu, 1e-8 * scale_H) if trial_mu > 0 else 1e-8 * scale_H
+        solve = _shifted_cholesky_solver(H, trial_mu)
+        if trial_mu > 1e12 * scale_H:
+            raise JumpError("could not make the Hessian positive definite by a shift")
+    return -solve(g), trial_mu
+
+
+def _line_search(problem: Problem, x: np.ndarray, p: float, d: np.ndarray, g: np.ndarray, E: float,
+                 res: float) -> tuple[float, np.ndarray, float] | None:
+    """Backtracking (Armijo) along ``d`` inside the model's domain: ``(t, x + t d, energy)`` or None."""
+    slope = float(g @ d)
+    t = min(1.0, problem.max_step_fraction(x, p, d, 0.0))
+    while t > 1e-12:
+        x_new = x + t * d
+        E_new = _safe_energy(problem, x_new, p)
+        if E_new <= E + 1e-4 * t * slope:
+            return t, x_new, E_new
+        # a full Newton step that barely changes the energy near the minimum is fine if the
+        # gradient drops (the energy difference is below roundoff there)
+        if abs(E_new - E) <= 1e-14 * max(1.0, abs(E)):
+            if np.max(np.abs(problem.checked_residual(x_new, p))) < res:
+                return t, x_new, E_new
+        t *= 0.5
+    return None

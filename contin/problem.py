@@ -5,6 +5,16 @@ parameter ``p``.  For a conservative model ``f`` is the gradient of an energy an
 the (sparse, symmetric) Hessian; the engine then uses the energy for jumps and the Hessian's inertia
 for stability.
 
+Stability: the engine asks :meth:`Problem.stability` for the Morse index (and, on request, the
+smallest eigenvalues) under every *stability label*.  A model declares its labelled operators in one
+place, ``stability_operators={label: operator}`` (the first label is the primary one); an operator
+that is the leading block of another one (e.g. the Hessian of a displacement-controlled structure
+inside that of the force-controlled one) is declared as ``LeadingBlock(of=label, size=m)`` and then
+shares that operator's factorization, so both Morse indices cost one pivot-free ``L D L^T``.
+Shorthands: ``stability_operator=op`` is ``{"stability": op}``, and ``symmetric=True`` alone uses
+the Jacobian.  Overriding :meth:`Problem.stability_counts` (the way nested operators were counted
+before ``LeadingBlock``) still works and is consulted first.
+
 Two ways to build one:
 
 * wrap plain callables: ``Problem(residual=f, jacobian=J, energy=E, symmetric=True)``;
@@ -15,20 +25,40 @@ Two ways to build one:
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
 from .linalg import Factorization, factorize
+from .stability import StabilityInfo, leading_inertias, stability_info
 
-__all__ = ["Problem", "NonFiniteError"]
+__all__ = ["Problem", "NonFiniteError", "LeadingBlock"]
 
 Array = np.ndarray
 
 
 class NonFiniteError(FloatingPointError):
     """A model returned NaN or inf.  The engine treats it as a failed evaluation, never a result."""
+
+
+@dataclass(frozen=True)
+class LeadingBlock:
+    """A stability operator that is the leading ``size`` x ``size`` block of label ``of``'s operator.
+
+    Declared as a value of ``Problem(stability_operators=...)``.  Sylvester's law of inertia then
+    counts both Morse indices from one factorization of the larger operator
+    (:func:`contin.stability.leading_inertias`).
+    """
+
+    of: str
+    size: int
+
+
+def _leading(H: Any, m: int) -> Any:
+    """Leading ``m`` x ``m`` block of a sparse or dense matrix (sparse stays CSR)."""
+    return sp.csr_matrix(H)[:m, :m] if sp.issparse(H) else np.asarray(H)[:m, :m]
 
 
 def _fd_step(x: float) -> float:
@@ -59,10 +89,11 @@ class Problem:
     stability_operator : callable ``(u, p) -> matrix``, optional
         Symmetric matrix whose negative eigenvalues count the unstable directions; defaults to the
         Jacobian when ``symmetric``.
-    stability_operators : mapping of label to callable ``(u, p) -> matrix``, optional
+    stability_operators : mapping of label to callable ``(u, p) -> matrix`` or :class:`LeadingBlock`
         Several stability notions at once (e.g. ``{"displacement": ..., "force": ...}`` for a
         structure that can be loaded either way); the first one is the primary label.  Overrides
-        ``stability_operator``.
+        ``stability_operator``.  A :class:`LeadingBlock` value declares a label whose operator is the
+        leading block of another label's, counted from the same factorization.
     name, parameter_name : str
         Labels used in output.
     residual_scale : float
@@ -92,6 +123,11 @@ class Problem:
         self._energy = energy
         self._stability_operator = stability_operator
         self._stability_operators = dict(stability_operators or {})
+        for label, op in self._stability_operators.items():
+            if isinstance(op, LeadingBlock) and (op.of not in self._stability_operators
+                                                 or isinstance(self._stability_operators[op.of], LeadingBlock)):
+                raise ValueError(f"stability operator {label!r} is a LeadingBlock of {op.of!r}, which must be "
+                                 f"a declared operator (one of {sorted(self._stability_operators)}), not a block")
         self._observables = dict(observables or {})
         self._observable_derivatives = dict(observable_derivatives or {})
         self.symmetric = bool(symmetric)
@@ -146,7 +182,7 @@ class Problem:
         With several labelled operators this is the primary (first) one.
         """
         if self._stability_operators:
-            return next(iter(self._stability_operators.values()))(u, p)
+            return self._labelled_operator(next(iter(self._stability_operators)), u, p)
         if self._stability_operator is not None:
             return self._stability_operator(u, p)
         if self.symmetric:
@@ -159,10 +195,48 @@ class Problem:
         The default is ``{"stability": stability_operator(u, p)}`` (empty when there is none).
         Override (or pass ``stability_operators=``) to label each point under several controls.
         """
-        if self._stability_operators:
-            return {label: op(u, p) for label, op in self._stability_operators.items()}
+        declared = getattr(self, "_stability_operators", {})
+        if declared:
+            full = {label: op(u, p) for label, op in declared.items() if not isinstance(op, LeadingBlock)}
+            return {label: _leading(full[op.of], op.size) if isinstance(op, LeadingBlock) else full[label]
+                    for label, op in declared.items()}
         op = self.stability_operator(u, p)
         return {} if op is None else {"stability": op}
+
+    def _labelled_operator(self, label: str, u: Array, p: float) -> Any:
+        op = self._stability_operators[label]
+        if isinstance(op, LeadingBlock):
+            return _leading(self._stability_operators[op.of](u, p), op.size)
+        return op(u, p)
+
+    def stability(self, u: Array, p: float, n_eigs: int = 0) -> dict[str, StabilityInfo]:
+        """Morse index (and the ``n_eigs`` smallest eigenvalues) under every stability label.
+
+        The one way the engine asks for stability.  With ``n_eigs = 0`` nested operators
+        (:class:`LeadingBlock`) are counted from one factorization of the enclosing operator, as is a
+        model's :meth:`stability_counts` (kept for models that override it); when such a count is not
+        trustworthy every operator is counted on its own.  Empty when the problem has no operator.
+        """
+        if n_eigs == 0:
+            counts = self.stability_counts(u, p)
+            if counts is None:
+                counts = self._nested_counts(u, p)
+            if counts is not None:
+                return {label: StabilityInfo(int(n), np.zeros(0)) for label, n in counts.items()}
+        return {label: stability_info(op, n_eigs) for label, op in self.stability_operators(u, p).items()}
+
+    def _nested_counts(self, u: Array, p: float) -> dict[str, int] | None:
+        """Morse indices of operators declared as leading blocks of one other operator, from one ``L D L^T``."""
+        declared = getattr(self, "_stability_operators", {})
+        blocks = {label: op for label, op in declared.items() if isinstance(op, LeadingBlock)}
+        roots = {op.of for op in blocks.values()}
+        if len(roots) != 1 or len(blocks) + 1 != len(declared):
+            return None
+        root = roots.pop()
+        H = declared[root](u, p)
+        sizes = [blocks[label].size if label in blocks else H.shape[0] for label in declared]
+        counts = leading_inertias(H, sizes)
+        return None if counts is None else dict(zip(declared, counts))
 
     def max_step_fraction(self, u: Array, p: float, du: Array, dp: float) -> float:
         """Largest fraction ``t`` in (0, 1] of the step ``(du, dp)`` from ``(u, p)`` the model can take.
@@ -176,10 +250,10 @@ class Problem:
         return 1.0
 
     def stability_counts(self, u: Array, p: float) -> dict[str, int] | None:
-        """Morse index of every stability operator at once, or None to let the engine count each.
+        """Morse index of every stability operator at once, or None to let :meth:`stability` count each.
 
-        Models whose operators are nested (one a leading block of another) can override this to
-        count all of them from one factorization (:func:`contin.stability.leading_inertias`).
+        Kept for models written before :class:`LeadingBlock`: declaring nested operators as
+        ``LeadingBlock`` gives the same one-factorization count without overriding anything.
         """
         return None
 

@@ -131,32 +131,49 @@ def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:
     b = max(kl, ku)
     banded = n > BANDED_MIN and b + 1 <= 0.1 * n
     if n <= DENSE_LIMIT and not banded:
-        A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
-        if vectors:
-            w, V = np.linalg.eigh(A)
-        else:
-            w, V = np.linalg.eigvalsh(A), None
-        n_neg = int(np.count_nonzero(w < 0))
-        m = max(k, n_neg) if vectors else k
-        return StabilityInfo(n_neg, w[:k], None if V is None else V[:, :m])
+        return _dense_info(H, k, vectors)
     if banded:
-        ab = _lower_band(H, b)
-        w = sla.eig_banded(ab, lower=True, eigvals_only=True, select="i", select_range=(0, k - 1))
-        if w[-1] < 0:
-            counted = inertia(H)
-            if counted is None:
-                neg = sla.eig_banded(ab, lower=True, eigvals_only=True, select="v",
-                                     select_range=(-np.inf, 0.0))
-                counted = int(np.count_nonzero(neg < 0))
-            n_neg = counted
-        else:
-            n_neg = int(np.count_nonzero(w < 0))
-        V = None
-        if vectors:
-            m = max(k, n_neg)
-            w_all, V = sla.eig_banded(ab, lower=True, select="i", select_range=(0, m - 1))
-        return StabilityInfo(n_neg, np.asarray(w), V)
-    # general sparse: ARPACK for the algebraically smallest, widened until a non-negative one shows
+        return _banded_info(H, b, k, vectors)
+    return _sparse_info(H, k, vectors)
+
+
+def _dense_info(H, k: int, vectors: bool) -> StabilityInfo:
+    """All eigenvalues of a small matrix (dense ``eigh``)."""
+    A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
+    if vectors:
+        w, V = np.linalg.eigh(A)
+    else:
+        w, V = np.linalg.eigvalsh(A), None
+    n_neg = int(np.count_nonzero(w < 0))
+    m = max(k, n_neg) if vectors else k
+    return StabilityInfo(n_neg, w[:k], None if V is None else V[:, :m])
+
+
+def _banded_info(H, b: int, k: int, vectors: bool) -> StabilityInfo:
+    """The ``k`` smallest eigenvalues by LAPACK's banded solver.
+
+    When all of them are negative the Morse index comes from the inertia (or all negative eigenvalues).
+    """
+    ab = _lower_band(H, b)
+    w = sla.eig_banded(ab, lower=True, eigvals_only=True, select="i", select_range=(0, k - 1))
+    if w[-1] < 0:
+        counted = inertia(H)
+        if counted is None:
+            neg = sla.eig_banded(ab, lower=True, eigvals_only=True, select="v", select_range=(-np.inf, 0.0))
+            counted = int(np.count_nonzero(neg < 0))
+        n_neg = counted
+    else:
+        n_neg = int(np.count_nonzero(w < 0))
+    V = None
+    if vectors:
+        m = max(k, n_neg)
+        _, V = sla.eig_banded(ab, lower=True, select="i", select_range=(0, m - 1))
+    return StabilityInfo(n_neg, np.asarray(w), V)
+
+
+def _sparse_info(H, k: int, vectors: bool) -> StabilityInfo:
+    """ARPACK for the algebraically smallest, widened until a non-negative one shows."""
+    n = H.shape[0]
     m = k
     while True:
         w, V = spla.eigsh(sp.csr_matrix(H), k=min(m, n - 1), which="SA")

@@ -34,8 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .branch import SpecialPoint
-from .linalg import BorderedSolver
-from .palc import _inverse_iteration, _safe_factorize
+from .fold import fold_borders, fold_function
 from .problem import Problem
 
 __all__ = ["FoldCurveProblem", "FamilyProblem", "cusp_curve_problem"]
@@ -153,10 +152,7 @@ class FoldCurveProblem(Problem):
             if self.b.size != self.n or self.c.size != self.n:
                 raise ValueError(f"FoldCurveProblem: borders must have {self.n} entries each")
         else:
-            J = base.checked_jacobian(u0, float(p0))
-            F = _safe_factorize(base, J)
-            self.c = _inverse_iteration(J, F, self.n)
-            self.b = self.c.copy() if base.symmetric else _inverse_iteration(J, F, self.n, start=self.c, trans=True)
+            self.b, self.c = fold_borders(base, u0, float(p0))
         self.start = np.append(u0, float(p0) / self.p_scale)
         # g is measured against the Jacobian's scale, as contin.locate_fold does, not the residual's:
         # convergence then asks |g| <= tol * |J|, which stays above the rounding floor of g even
@@ -187,15 +183,7 @@ class FoldCurveProblem(Problem):
 
     # ---- the extended system -------------------------------------------------------------------
     def _fold_function(self, P: Problem, u: np.ndarray, p: float) -> tuple[float, np.ndarray, np.ndarray, Any, Any]:
-        J = P.checked_jacobian(u, p)
-        F = _safe_factorize(P, J)
-        M = BorderedSolver(J, F, self.b.reshape(-1, 1), self.c.reshape(1, -1), np.zeros((1, 1)), refactor=P.factorize)
-        v, g = M.solve(np.zeros(self.n), np.array([1.0]))
-        if P.symmetric:
-            w = v
-        else:
-            w, _ = M.solve(np.zeros(self.n), np.array([1.0]), trans=True)
-        return float(g[0]), v, w, J, F
+        return fold_function(P, u, p, self.b, self.c)
 
     def residual(self, U: np.ndarray, q: float) -> np.ndarray:
         u, p = self.split(U)

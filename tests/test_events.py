@@ -57,3 +57,12 @@ def test_parameter_bounds_end_exactly():
 def test_unknown_observable_is_a_clear_error():
     with pytest.raises(ValueError, match="unknown observable 'nope'"):
         continuation(VonMisesTruss(), [0.0, 0.5], 0.0, events=[crossing("nope", 1.0)])
+
+
+def test_only_an_extremum_declares_a_fold():
+    import contin
+
+    ev = contin.extremum("F", "max", folds="F", stability_label="force")
+    assert (ev.kind, ev.folds, ev.stability_label, ev.direction) == ("extremum", "F", "force", -1)
+    with pytest.raises(ValueError, match="extremum events only"):
+        contin.Event("F", 1.0, folds="F")

@@ -1,0 +1,199 @@
+"""The equilibrium curve ``f(u, p) = 0`` as the continuation engine sees it.
+
+:class:`Curve` holds the arclength metric, the linearization (Jacobian, ``df/dp`` and the model's
+factorization), the bordered solves, the unit tangent and Newton at a fixed parameter.  A converged
+point with its tangent is a :class:`Point`.
+
+The arclength norm is ``||X||_W^2 = w_u^2 |u|^2 / n + w_p^2 p^2``: the state enters through its
+root-mean-square, so the number of steps does not grow with the number of unknowns.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .linalg import BorderedSolver, SingularMatrixError
+from .problem import NonFiniteError, Problem
+from .settings import Settings
+
+__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization"]
+
+#: ``(J, df/dp, factorization of J or None)`` at one point
+Linearization = tuple[Any, np.ndarray, Any]
+
+
+class CorrectorFailure(RuntimeError):
+    """The corrector did not converge (the message says why)."""
+
+
+def max_abs(r: np.ndarray) -> float:
+    """Max-norm of a residual vector (0 for an empty one)."""
+    return float(np.max(np.abs(r), initial=0.0))
+
+
+@dataclass
+class Point:
+    """A converged point with its unit tangent.
+
+    Attributes
+    ----------
+    u, p : state and parameter.
+    t_u, t_p : unit tangent (in the arclength metric), oriented along the path.
+    residual : max-norm of ``f(u, p)``.
+    iterations : corrector iterations it took.
+    det_sign : sign of the determinant of the bordered Jacobian (0 when unknown).
+    s : arclength from the start of the branch.
+    """
+
+    u: np.ndarray
+    p: float
+    t_u: np.ndarray
+    t_p: float
+    residual: float
+    iterations: int
+    det_sign: float = 0.0
+    s: float = 0.0
+
+
+class Curve:
+    """The equilibrium curve of a problem, with the operations PALC needs.
+
+    Parameters
+    ----------
+    problem : Problem
+    settings : Settings
+
+    Attributes
+    ----------
+    tol : float
+        Absolute residual tolerance: ``settings.tol`` times the model's ``residual_scale``.
+    n_evals, n_factorizations : int
+        Counters of residual evaluations and linearizations.
+    """
+
+    def __init__(self, problem: Problem, settings: Settings) -> None:
+        self.problem = problem
+        self.settings = settings
+        self.n_evals = 0
+        self.n_factorizations = 0
+        self.tol = settings.tol * getattr(problem, "residual_scale", 1.0)
+
+    # ---- norms -----------------------------------------------------------------------------------
+    def weights(self, n: int) -> tuple[float, float]:
+        """Weights ``(w_u^2 / n, w_p^2)`` of the arclength inner product for ``n`` unknowns."""
+        st = self.settings
+        return st.state_weight ** 2 / max(n, 1), st.param_weight ** 2
+
+    def inner(self, au: np.ndarray, ap: float, bu: np.ndarray, bp: float) -> float:
+        """Arclength inner product of ``(au, ap)`` and ``(bu, bp)``."""
+        wu, wp = self.weights(au.size)
+        return float(wu * np.dot(au, bu) + wp * ap * bp)
+
+    def norm(self, au: np.ndarray, ap: float) -> float:
+        """Arclength norm of ``(au, ap)``."""
+        return math.sqrt(max(self.inner(au, ap, au, ap), 0.0))
+
+    # ---- linearization ---------------------------------------------------------------------------
+    def residual(self, u: np.ndarray, p: float) -> np.ndarray:
+        """``f(u, p)``; raises :class:`NonFiniteError` on NaN or inf."""
+        self.n_evals += 1
+        return self.problem.checked_residual(u, p)
+
+    def linearize(self, u: np.ndarray, p: float) -> Linearization:
+        """``(J, df/dp, F)`` at ``(u, p)``; ``F`` is None when the model's factorization fails."""
+        J = self.problem.checked_jacobian(u, p)
+        fp = self.problem.dresidual_dp(u, p)
+        if not np.all(np.isfinite(fp)):
+            raise NonFiniteError(f"df/dp of {self.problem.name!r} is not finite at p = {p!r}")
+        try:
+            F = self.problem.factorize(J)
+        except (SingularMatrixError, np.linalg.LinAlgError, RuntimeError):
+            F = None  # the bordered solver factorizes the full matrix instead
+        self.n_factorizations += 1
+        return J, fp, F
+
+    def bordered(self, J: Any, F: Any, fp: np.ndarray, row_u: np.ndarray, row_p: float,
+                 extra_cols: np.ndarray | None = None, extra_rows: np.ndarray | None = None,
+                 extra_D: np.ndarray | None = None) -> BorderedSolver:
+        """Bordered solver for ``[[J, fp, extra_cols], [row, D]]``."""
+        n = J.shape[0]
+        B = fp.reshape(n, 1)
+        C = np.asarray(row_u, dtype=float).reshape(1, n)
+        D = np.array([[row_p]], dtype=float)
+        if extra_cols is not None:
+            B = np.hstack([B, extra_cols.reshape(n, -1)])
+            C = np.vstack([C, extra_rows.reshape(-1, n)])
+            D = np.asarray(extra_D, dtype=float)
+        return BorderedSolver(J, F, B, C, D, refactor=self.problem.factorize)
+
+    def tangent(self, u: np.ndarray, p: float, t_u_prev: np.ndarray, t_p_prev: float,
+                lin: Linearization | None = None) -> tuple[np.ndarray, float, float]:
+        """Unit tangent at ``(u, p)`` oriented like the previous one, and det sign of the bordered Jacobian.
+
+        ``lin`` reuses a linearization taken at (or one small corrector update from) the point.
+        """
+        J, fp, F = lin if lin is not None else self.linearize(u, p)
+        wu, wp = self.weights(u.size)
+        solver = self.bordered(J, F, fp, wu * t_u_prev, wp * t_p_prev)
+        x, z = solver.solve(np.zeros(u.size), np.array([1.0]))
+        t_u, t_p = x, float(z[0])
+        nrm = self.norm(t_u, t_p)
+        if not np.isfinite(nrm) or nrm == 0.0:
+            raise CorrectorFailure("tangent computation failed (singular bordered Jacobian)")
+        sign, _ = solver.det_sign_log()
+        return t_u / nrm, t_p / nrm, sign
+
+    # ---- Newton at fixed parameter ---------------------------------------------------------------
+    def newton_fixed_p(self, u: np.ndarray, p: float, max_iter: int = 30) -> tuple[np.ndarray, float, int]:
+        """Damped Newton on ``f(u, p) = 0`` at fixed ``p`` (used to converge a starting point).
+
+        Returns
+        -------
+        (u, residual, iterations)
+
+        Raises
+        ------
+        CorrectorFailure
+            No convergence within ``max_iter`` iterations.
+        """
+        tol = self.tol
+        u = np.array(u, dtype=float)
+        r = self.residual(u, p)
+        res = max_abs(r)
+        du_norm = math.inf
+        for it in range(max_iter + 1):
+            if res <= tol and (du_norm <= self.settings.xtol * (1.0 + self.norm(u, 0.0)) or res <= 1e-6 * tol):
+                return u, res, it
+            if it == max_iter:
+                break
+            du = -self.problem.factorize(self.problem.checked_jacobian(u, p)).solve(r)
+            du_norm = self.norm(du, 0.0)
+            lam, r_new, res_new = self._damped(u, p, du, res)
+            if not np.isfinite(res_new):
+                break
+            u, r, res = u + lam * du, r_new, res_new
+            du_norm *= lam
+        raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge (residual {res:.3e} > tol {tol:.1e})")
+
+    def _damped(self, u: np.ndarray, p: float, du: np.ndarray, res: float) -> tuple[float, np.ndarray | None, float]:
+        """Fraction of the Newton update ``du`` to take: halved until the residual decreases.
+
+        Never past the model's domain (:meth:`Problem.max_step_fraction`).  Returns the fraction,
+        the residual there and its max-norm (inf when no fraction is usable).
+        """
+        lam = min(1.0, self.problem.max_step_fraction(u, p, du, 0.0))
+        if not lam > 1e-12:
+            return lam, None, math.inf
+        while True:
+            try:
+                r_new = self.residual(u + lam * du, p)
+                res_new = max_abs(r_new)
+            except NonFiniteError:
+                r_new, res_new = None, math.inf
+            if res_new < res or lam < 1e-4:
+                return lam, r_new, res_new
+            lam *= 0.5

@@ -1,0 +1,151 @@
+"""Recording of a traced branch: accepted points, their stability, and the special points.
+
+:class:`Recorder` collects what the continuation accepts and builds the :class:`Branch`.  At the end
+it gives every fold, branch point and extremum event its stability on either side (see
+:func:`stability_around`).
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from .branch import Branch, SpecialPoint
+from .curve import Curve, Point
+from .problem import Problem
+from .settings import Settings
+
+__all__ = ["Recorder", "stability_around"]
+
+
+def stability_around(spt: SpecialPoint, n_negative_by: dict[str, np.ndarray], primary: str) -> None:
+    """Record the stability on either side of a special point, under every label, in ``spt.info``.
+
+    The sides are the stored points around it: ``index`` and ``index + 1``, or, for a point that ends
+    its branch (``info["ends_branch"]``, stored last), only the point before.  The shape is::
+
+        info["stability"] = {label: {"n_negative_before": int, "stable_before": bool,
+                                     "n_negative_after": int, "stable_after": bool}}   # per label
+        info["stability_label"] = label        # the label of the flat keys below
+        info["n_negative_before"], info["stable_before"], info["n_negative_after"], info["stable_after"]
+
+    The flat keys are given under ``info["stability_label"]``: the primary (first) label for folds
+    and branch points (the control of the traced problem), the label an extremum event declares
+    (:class:`contin.events.Event`; none without one).  ``*_after`` is absent for a point that ends
+    the branch.
+    """
+    ends = bool(spt.info.get("ends_branch"))
+    before = spt.index - 1 if ends else spt.index
+    after = None if ends else spt.index + 1
+    table: dict[str, dict[str, Any]] = {}
+    for label, nneg in n_negative_by.items():
+        entry: dict[str, Any] = {}
+        for side, i in (("before", before), ("after", after)):
+            if i is not None and 0 <= i < len(nneg):
+                entry[f"n_negative_{side}"] = int(nneg[i])
+                entry[f"stable_{side}"] = bool(nneg[i] == 0)
+        table[label] = entry
+    spt.info["stability"] = table
+    label = spt.info.get("stability_label", primary if spt.kind != "event" else None)
+    if label in table:
+        spt.info["stability_label"] = label
+        spt.info.update(table[label])
+
+
+def _watched(spt: SpecialPoint) -> bool:
+    """Special points that get stability data: folds, branch points and extremum events."""
+    return spt.kind in ("fold", "branch_point") or "extremum_of" in spt.info
+
+
+class Recorder:
+    """Accumulates accepted points and special points into a :class:`Branch`.
+
+    Parameters
+    ----------
+    problem : Problem
+    st : Settings
+    curve : Curve
+        Gives the absolute tolerance every stored point must meet.
+    """
+
+    def __init__(self, problem: Problem, st: Settings, curve: Curve) -> None:
+        self.problem, self.st, self.curve = problem, st, curve
+        self.p: list[float] = []
+        self.u: list[np.ndarray] = []
+        self.s: list[float] = []
+        self.t_p: list[float] = []
+        self.res: list[float] = []
+        self.iters: list[int] = []
+        self.obs: dict[str, list[float]] = {name: [] for name in problem.observables}
+        self.n_neg_by: dict[str, list[int]] = {}
+        self.eigs_by: dict[str, list[np.ndarray]] = {}
+        self.specials: list[SpecialPoint] = []
+
+    def add(self, pt: Point) -> None:
+        """Store an accepted point (its observables and, when asked, its stability)."""
+        if not (pt.residual <= self.curve.tol):
+            raise AssertionError("internal error: attempted to store an unconverged point")
+        self.p.append(pt.p)
+        if self.st.store_states or not self.u:
+            self.u.append(pt.u.copy())
+        else:
+            self.u[-1] = pt.u.copy()
+        self.s.append(pt.s)
+        self.t_p.append(pt.t_p)
+        self.res.append(pt.residual)
+        self.iters.append(pt.iterations)
+        for name, fun in self.problem.observables.items():
+            self.obs[name].append(float(fun(pt.u, pt.p)))
+        if self.st.stability:
+            self._add_stability(pt)
+
+    def _add_stability(self, pt: Point) -> None:
+        infos = self.problem.stability(pt.u, pt.p, self.st.n_eigs)
+        if not infos:
+            raise ValueError(f"stability requested but problem {self.problem.name!r} has no stability operator")
+        if not self.n_neg_by:  # the first point fixes the labels and their order
+            self.n_neg_by = {label: [] for label in infos}
+            self.eigs_by = {label: [] for label in infos}
+        k = self.st.n_eigs
+        for label in self.n_neg_by:
+            info = infos[label]
+            e = np.full(k, np.nan)
+            m = min(info.eigenvalues.size, k)
+            e[:m] = info.eigenvalues[:m]
+            self.n_neg_by[label].append(info.n_negative)
+            self.eigs_by[label].append(e)
+
+    def special(self, spt: SpecialPoint) -> None:
+        """Store a special point; without an index it lies after the last stored point."""
+        if spt.index < 0:
+            spt.index = len(self.p) - 1
+        self.specials.append(spt)
+
+    def finish(self, status: str, message: str, t_start: float) -> Branch:
+        """The :class:`Branch` of everything recorded, ended for ``status`` / ``message``."""
+        n = self.u[0].size if self.u else 0
+        stab = self.st.stability and any(self.n_neg_by.values())
+        by_label = {label: (np.array(self.n_neg_by[label], dtype=int), np.array(self.eigs_by[label]))
+                    for label in self.n_neg_by} if stab else {}
+        if stab:
+            primary = next(iter(by_label))
+            nneg = {label: v[0] for label, v in by_label.items()}
+            for spt in self.specials:
+                if _watched(spt):
+                    stability_around(spt, nneg, primary)
+        first = next(iter(by_label.values()), (None, None))
+        return Branch(
+            p=np.array(self.p), u=np.array(self.u) if self.u else np.zeros((0, n)), s=np.array(self.s),
+            tangent_p=np.array(self.t_p), residual=np.array(self.res),
+            newton_iterations=np.array(self.iters, dtype=int),
+            observables={k: np.array(v) for k, v in self.obs.items()},
+            n_negative=first[0], eigenvalues=first[1], stability_by=by_label,
+            special_points=self.specials, status=status, message=message, meta=self._meta(t_start))
+
+    def _meta(self, t_start: float) -> dict[str, Any]:
+        return {"problem": self.problem.name, "parameter_name": self.problem.parameter_name,
+                "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),
+                "tol": self.st.tol, "abs_tol": self.curve.tol, "state_weight": self.st.state_weight,
+                "param_weight": self.st.param_weight}

@@ -1,0 +1,109 @@
+"""The stretch of curve between two accepted points, where special points are located.
+
+A test function that changes sign between accepted points ``A`` and ``B`` is located on the curve
+itself: points between them are parametrised by their distance ``sigma`` from ``A`` along ``A``'s
+tangent, each converged by the corrector (started from a cubic Hermite interpolant), and the root in
+``sigma`` is found by Brent's method.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from .corrector import correct
+from .curve import CorrectorFailure, Curve, Linearization, Point
+
+__all__ = ["Segment"]
+
+
+class Segment:
+    """Points on the curve between A and B parametrised by the hyperplane coordinate sigma of A."""
+
+    def __init__(self, curve: Curve, A: Point, B: Point) -> None:
+        self.curve, self.A, self.B = curve, A, B
+        self.sigma_B = curve.inner(A.t_u, A.t_p, B.u - A.u, B.p - A.p)
+        self._cache: dict[float, tuple[np.ndarray, float, float]] = {}
+        self._linearization: dict[int, Linearization | None] = {}
+
+    def interpolate(self, sigma: float) -> tuple[np.ndarray, float]:
+        """Cubic Hermite interpolant through A and B (values and tangents) at hyperplane distance ``sigma``.
+
+        Its error is O(ds^4), so a correction started from it converges in one or two Newton steps.
+        """
+        A, B, h = self.A, self.B, self.sigma_B
+        if h == 0.0:
+            return A.u.copy(), A.p
+        # dX/dsigma at B: the tangent scaled so that its component along t_A is one
+        c = self.curve.inner(A.t_u, A.t_p, B.t_u, B.t_p)
+        scale_B = 1.0 / c if abs(c) > 1e-3 else 1.0
+        x = sigma / h
+        h00, h10 = 2 * x**3 - 3 * x**2 + 1, x**3 - 2 * x**2 + x
+        h01, h11 = -2 * x**3 + 3 * x**2, x**3 - x**2
+        u = h00 * A.u + h10 * h * A.t_u + h01 * B.u + h11 * h * scale_B * B.t_u
+        p = h00 * A.p + h10 * h * A.t_p + h01 * B.p + h11 * h * scale_B * B.t_p
+        return u, float(p)
+
+    def point(self, sigma: float) -> tuple[np.ndarray, float, float]:
+        """Converged point at hyperplane distance ``sigma`` from A: ``(u, p, residual)``."""
+        if sigma in self._cache:
+            return self._cache[sigma]
+        A = self.A
+        if sigma == 0.0:
+            out = (A.u, A.p, A.residual)
+        else:
+            try:
+                # correct() refuses a start outside the model's domain; the linear predictor is the fallback
+                c = correct(self.curve, A, sigma, max_iter=20, start=self.interpolate(sigma))
+            except CorrectorFailure:
+                c = correct(self.curve, A, sigma, max_iter=20)
+            out = (c.u, c.p, c.residual)
+            # the corrector's last linearization is one small update from the point: reuse it for the tangent
+            self._linearization[id(c.u)] = c.linearization
+        self._cache[sigma] = out
+        return out
+
+    def tangent(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        """Unit tangent at a point returned by :meth:`point`, oriented like A's."""
+        lin = self._linearization.get(id(u))
+        t_u, t_p, _ = self.curve.tangent(u, p, self.A.t_u, self.A.t_p, lin=lin)
+        return t_u, t_p
+
+    def root(self, fun: Callable[[float], float], f_A: float, f_B: float, rtol: float, ftol: float = 0.0) -> float:
+        """Root of ``fun(sigma)`` in (0, sigma_B) given its end values.
+
+        Brent's method to a bracket of ``rtol * sigma_B``, or until ``|fun| <= ftol * max(|f_A|, |f_B|)``:
+        below that the test function's value is noise from the converged points' own tolerance, and
+        bisecting on noise only costs corrections.
+        """
+        a, b = 0.0, self.sigma_B
+        if f_A == 0.0:
+            return a
+        if f_B == 0.0:
+            return b
+        f_small = ftol * max(abs(f_A), abs(f_B))
+
+        def g(s: float) -> float:
+            if s == a:
+                return f_A
+            if s == b:
+                return f_B
+            v = fun(s)
+            if abs(v) <= f_small:
+                raise _RootFound(s)
+            return v
+        from scipy.optimize import brentq  # imported here: scipy.optimize is slow to import
+
+        try:
+            return brentq(g, a, b, xtol=rtol * abs(b) + 1e-300, rtol=4 * np.finfo(float).eps, maxiter=100)
+        except _RootFound as found:
+            return found.sigma
+
+
+class _RootFound(Exception):
+    """Raised inside a root search when the test function is zero to within its noise."""
+
+    def __init__(self, sigma: float) -> None:
+        super().__init__(sigma)
+        self.sigma = sigma

@@ -1,0 +1,167 @@
+"""Options of the continuation engine: :class:`Settings` and the checks on their ranges."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
+
+__all__ = ["Settings", "SettingsError", "ROUNDOFF_FLOOR", "resolve_settings"]
+
+#: Smallest relative tolerance ``tol`` and ``xtol`` accepted.  A residual component is a sum of a
+#: few tens of terms of size ``residual_scale`` (the element contributions meeting at a node), each
+#: rounded to a relative ``eps`` = 2.2e-16, so a converged residual is only known to about
+#: ``n_terms * eps * residual_scale``, i.e. 1e-15 to 1e-14 of the scale; a Newton update of a
+#: converged point is likewise rounding noise of that relative size.  A tolerance below 1e-14 asks for
+#: digits below that noise: the corrector would iterate on noise and fail at the first point.
+ROUNDOFF_FLOOR = 1e-14
+
+
+class SettingsError(ValueError):
+    """A continuation setting out of its range; the message names the field and the allowed range."""
+
+
+@dataclass
+class Settings:
+    """Options of :func:`continuation` (every field can also be passed as a keyword).
+
+    Attributes
+    ----------
+    ds, ds_min, ds_max : float
+        Initial, minimum and maximum step in the weighted arclength norm.
+    max_steps : int
+        Maximum number of accepted steps.
+    direction : int
+        +1 to start with increasing parameter, -1 decreasing.
+    p_min, p_max : float
+        Parameter bounds; the run stops exactly on a bound (located like an event).
+    bounds : dict
+        Observable bounds ``{name: (low, high)}`` (either may be None); the run stops exactly on them.
+    tol : float
+        Relative residual tolerance: a stored point has ``max|f| <= tol * problem.residual_scale``.
+        At least :data:`ROUNDOFF_FLOOR`.
+    xtol : float
+        Newton-update tolerance: a point is accepted only once its estimated error (the last
+        corrector update, times the observed contraction rate once there is one) is below
+        ``xtol * (1 + ||X||)`` in the arclength norm.  Both tests must hold: in ill-conditioned
+        discretizations a small residual alone does not pin the solution down.
+    max_newton : int
+        Corrector iterations before a step is declared failed.
+    fast_newton : int
+        The step grows when the corrector needed at most this many iterations.
+    target_contraction : float
+        Step-size control by the corrector's first contraction rate ``theta = |dX_2| / |dX_1|``:
+        the next step is scaled by ``sqrt(target_contraction / theta)`` (within ``shrink`` and
+        ``grow``), since ``theta`` grows like the step for a Newton corrector.  Steps that sit at
+        the rate where the corrector starts to fail are avoided instead of repeatedly retried.
+    grow, shrink : float
+        Step-size factors after an easy step and after a failed one.
+    state_weight, param_weight : float
+        Weights of the state (RMS) and parameter parts of the arclength norm.
+    max_correction : float
+        Guard against branch jumping: the corrector may move at most this multiple of the step away
+        from the predicted point.
+    max_contraction : float
+        Guard against branch jumping: from the second corrector iteration on, each Newton update
+        must be at most this fraction of the previous one; a slowly contracting corrector started
+        between branches and may end on the wrong one, so the step is retried smaller.
+    min_tangent_cos : float
+        Guard against branch jumping: consecutive unit tangents must have at least this cosine.
+    target_angle : float
+        Curvature control: the next step is scaled so that the tangent turns by about this angle
+        (radians) per step, keeping the predictor error small compared with the local curvature.
+    detect_folds, detect_branch_points, locate : bool
+        Which test functions run, and whether special points are located (else only bracketed).
+    stability : bool
+        Compute the stability operator's inertia and smallest eigenvalues at every point.
+    n_eigs : int
+        Number of smallest eigenvalues stored per point.  0 stores only the Morse index, which for
+        a sparse (banded) operator costs one pivot-free factorization per point, O(n), instead of
+        a banded eigensolve, O(n^2 b).
+    locate_tol : float
+        Relative tolerance of the arclength root-finding that locates events and branch points.
+    store_states : bool
+        Keep every state vector (False keeps only the special points' states and the last one).
+    stop_at : tuple of str
+        Special point kinds (``"fold"``, ``"branch_point"``) that end the run; the run then ends
+        exactly on the first located one (e.g. load until the structure snaps).
+    progress : bool
+        Print a progress line every ``progress_every`` steps to stderr.
+    """
+
+    ds: float = 0.02
+    ds_min: float = 1e-9
+    ds_max: float = 0.2
+    max_steps: int = 1000
+    direction: int = 1
+    p_min: float = -math.inf
+    p_max: float = math.inf
+    bounds: dict[str, tuple[float | None, float | None]] = field(default_factory=dict)
+    tol: float = 1e-10
+    xtol: float = 1e-10
+    max_newton: int = 10
+    fast_newton: int = 4
+    target_contraction: float = 0.1
+    grow: float = 1.5
+    shrink: float = 0.5
+    state_weight: float = 1.0
+    param_weight: float = 1.0
+    max_correction: float = 0.5
+    max_contraction: float = 0.5
+    min_tangent_cos: float = 0.9
+    target_angle: float = 0.15
+    detect_folds: bool = True
+    detect_branch_points: bool = True
+    locate: bool = True
+    stability: bool = False
+    n_eigs: int = 3
+    locate_tol: float = 1e-10
+    store_states: bool = True
+    stop_at: tuple[str, ...] = ()
+    progress: bool = False
+    progress_every: int = 25
+
+    def validate(self) -> None:
+        """Raise :class:`SettingsError` (a ``ValueError``) naming the field and its range if one is out of range."""
+        def need(cond: bool, name: str, rule: str) -> None:
+            if not cond:
+                raise SettingsError(f"continuation setting {name!r} = {getattr(self, name)!r} is invalid: {rule}")
+        need(self.ds_min > 0, "ds_min", "must be > 0")
+        need(self.ds_max >= self.ds_min, "ds_max", "must be >= ds_min")
+        need(self.ds_min <= self.ds <= self.ds_max, "ds", "must lie in [ds_min, ds_max]")
+        need(self.max_steps >= 1, "max_steps", "must be >= 1")
+        need(self.direction in (-1, 1), "direction", "must be +1 or -1")
+        need(self.p_min < self.p_max, "p_min", "must be < p_max")
+        floor = f"must be >= {ROUNDOFF_FLOOR:g} (the roundoff floor of a relative tolerance) and < 1"
+        need(ROUNDOFF_FLOOR <= self.tol < 1, "tol", floor)
+        need(ROUNDOFF_FLOOR <= self.xtol < 1, "xtol", floor)
+        need(self.max_newton >= 1, "max_newton", "must be >= 1")
+        need(self.grow >= 1, "grow", "must be >= 1")
+        need(0 < self.shrink < 1, "shrink", "must lie in (0, 1)")
+        need(self.state_weight >= 0 and self.param_weight >= 0 and self.state_weight + self.param_weight > 0,
+             "state_weight", "weights must be >= 0 and not both 0")
+        need(0 < self.max_correction, "max_correction", "must be > 0")
+        need(-1 <= self.min_tangent_cos < 1, "min_tangent_cos", "must lie in [-1, 1)")
+        need(0 < self.max_contraction < 1, "max_contraction", "must lie in (0, 1)")
+        need(0 < self.target_contraction <= self.max_contraction, "target_contraction",
+             "must lie in (0, max_contraction]")
+        need(0 < self.target_angle < math.pi / 2, "target_angle", "must lie in (0, pi/2)")
+        need(self.n_eigs >= 0, "n_eigs", "must be >= 0")
+
+
+def resolve_settings(settings: Settings | None, overrides: dict[str, Any]) -> Settings:
+    """``settings`` (default: :class:`Settings`) with keyword ``overrides`` applied, validated.
+
+    Raises
+    ------
+    TypeError
+        An override that is not a field of :class:`Settings`.
+    SettingsError
+        A setting out of range (:meth:`Settings.validate`).
+    """
+    unknown = set(overrides) - {f.name for f in fields(Settings)}
+    if unknown:
+        raise TypeError(f"unknown continuation option(s): {', '.join(sorted(unknown))}")
+    st = replace(settings or Settings(), **overrides)
+    st.validate()
+    return st

@@ -1,0 +1,159 @@
+"""Stability labels are engine data (issue 14, A2): every fold, branch point and extremum event records
+its stability on either side under every label; ``Branch.columns`` gives ``stable_<label>`` and
+``n_negative_<label>``; an extremum can declare what folds there; ``plot_branches`` styles by a label;
+nested operators are declared once (``LeadingBlock``) and counted from one factorization."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import contin
+from contin import Branch, LeadingBlock, Problem, continuation, extremum
+from models.benchmarks.truss import TrussDisplacementControl
+
+A, B, K = 1.0, 0.5, 1.0
+
+
+class LabelledTruss(TrussDisplacementControl):
+    """The displacement-controlled truss with both stability notions: with ``y`` prescribed
+    (``"displacement"``: the ``x`` stiffness) and with the load ``P`` prescribed (``"force"``: the
+    whole Hessian in ``(x, y)``, of which the displacement operator is the leading block)."""
+
+    def __init__(self, nested: bool = True) -> None:
+        super().__init__(A, B, K)
+        force = lambda u, y: self.truss.jacobian(np.array([u[0], y]), 0.0)  # noqa: E731
+        self._stability_operators = {
+            "displacement": LeadingBlock("force", 1) if nested else (lambda u, y: force(u, y)[:1, :1]),
+            "force": force}
+
+
+def _trace(nested: bool = True, n_eigs: int = 0, **kw) -> Branch:
+    P = LabelledTruss(nested)
+    return continuation(P, [0.0], B, ds=0.02, ds_max=0.05, direction=-1, p_min=-B, stability=True,
+                        n_eigs=n_eigs, events=[extremum("P", "max", folds="P", stability_label="force"),
+                                               extremum("P", "min")], **kw)
+
+
+@pytest.fixture(scope="module")
+def branch() -> Branch:
+    return _trace()
+
+
+def test_extremum_declares_the_fold_and_its_stability(branch: Branch) -> None:
+    (pmax,) = branch.events("max(P)")
+    assert pmax.located and pmax.info["folds"] == "P" and pmax.info["extremum_of"] == "P"
+    assert pmax.info["stability_label"] == "force"
+    # a maximum of the reaction is the limit load: stable before, one unstable direction after, under force
+    assert pmax.stability_under() == {"n_negative_before": 0, "stable_before": True,
+                                      "n_negative_after": 1, "stable_after": False}
+    assert pmax.info["stable_before"] is True and pmax.info["stable_after"] is False
+    assert pmax.info["stability"]["displacement"]["stable_before"] is True
+    assert pmax.info["stability"]["displacement"]["stable_after"] is True
+    # without a declaration the event carries the per-label data but no flat keys
+    (pmin,) = branch.events("min(P)")
+    assert pmin.info["stability"]["force"] == {"n_negative_before": 1, "stable_before": False,
+                                               "n_negative_after": 0, "stable_after": True}
+    assert "folds" not in pmin.info and "stable_before" not in pmin.info
+
+
+def test_stability_on_either_side_matches_the_stored_points(branch: Branch) -> None:
+    for spt in branch.special_points:
+        for label, entry in spt.info["stability"].items():
+            nneg = branch.n_negative_under(label)
+            assert entry["n_negative_before"] == nneg[spt.index]
+            assert entry["n_negative_after"] == nneg[spt.index + 1]
+
+
+def test_columns(branch: Branch) -> None:
+    cols = branch.columns()
+    assert list(cols) == ["p", "s", "P", "residual", "newton_iterations", "stable_displacement",
+                          "n_negative_displacement", "stable_force", "n_negative_force"]
+    assert all(len(v) == len(branch) for v in cols.values())
+    np.testing.assert_array_equal(cols["n_negative_force"], branch.stability_by["force"][0])
+    np.testing.assert_array_equal(cols["stable_force"], (branch.stability_by["force"][0] == 0).astype(int))
+    assert set(cols["stable_displacement"]) == {1} and set(cols["n_negative_force"]) == {0, 1}
+    # the old names keep working
+    np.testing.assert_array_equal(branch.n_negative, cols["n_negative_displacement"])
+    np.testing.assert_array_equal(branch.stable_under("force"), cols["stable_force"] == 1)
+
+
+def test_saved_and_loaded_with_the_stability_records(tmp_path, branch: Branch) -> None:
+    back = Branch.load(branch.save(tmp_path / "b.npz"))
+    for a, b in zip(back.special_points, branch.special_points):
+        assert a.info["stability"] == b.info["stability"]
+    assert list(back.columns()) == list(branch.columns())
+
+
+def test_nested_operators_counted_like_separate_ones(branch: Branch) -> None:
+    separate = _trace(nested=False)
+    eigs = _trace(n_eigs=1)  # counted by eigenvalues, the blocks sliced from the enclosing operator
+    for other in (separate, eigs):
+        assert len(other) == len(branch)
+        for label in ("displacement", "force"):
+            np.testing.assert_array_equal(other.n_negative_under(label), branch.n_negative_under(label))
+    P = LabelledTruss()
+    u, y = np.array([0.0]), 0.3
+    ops = P.stability_operators(u, y)
+    np.testing.assert_array_equal(ops["displacement"], ops["force"][:1, :1])
+    assert {k: v.n_negative for k, v in P.stability(u, y).items()} == \
+        {k: v.n_negative for k, v in P.stability(u, y, n_eigs=2).items()}
+
+
+def test_leading_block_must_name_a_declared_operator() -> None:
+    with pytest.raises(ValueError, match="LeadingBlock"):
+        Problem(residual=lambda u, p: u, stability_operators={"a": LeadingBlock("b", 1)})
+
+
+def test_fold_ending_the_branch_has_only_the_side_it_came_from() -> None:
+    from models.benchmarks.truss import VonMisesTruss
+
+    tr = VonMisesTruss(A, B, K)
+    br = continuation(tr, [0.0, B], 0.0, ds=0.02, ds_max=0.05, stability=True, n_eigs=0, stop_at=("fold",))
+    fold = br.special_points[-1]
+    assert fold.kind == "fold" and fold.info["ends_branch"] and fold.info["folds"] == "P"
+    assert fold.info["stability"] == {"stability": {"n_negative_before": 0, "stable_before": True}}
+
+
+def test_plot_branches_styles_by_the_label(branch: Branch) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    def styles(label):
+        _, ax = plt.subplots()
+        contin.plot_branches(branch, x="p", y="P", stability=label, special_kinds=())
+        lines = [ln.get_linestyle() for ln in plt.gca().lines]
+        plt.close("all")
+        return lines
+
+    assert styles("displacement") == ["-"]  # stable all along under displacement control
+    assert styles("force") == ["-", "--", "-"]  # unstable between the limit loads under force control
+    assert styles(None) == ["-"]  # the primary label
+
+
+def test_the_shell_can_declare_its_nested_operators() -> None:
+    """Migration check for the model side: the point-loaded shell's displacement Hessian declared as the
+    leading block of its force Hessian gives the operators and the counts of its own ``stability_counts``."""
+    from models.shell import ShellPointLoad
+
+    class Declared(ShellPointLoad):
+        stability_counts = Problem.stability_counts  # the engine counts the declared blocks itself
+
+        def __init__(self, **kw) -> None:
+            super().__init__(**kw)
+            self._stability_operators = {"displacement": LeadingBlock("force", self.idx_displacement.size),
+                                         "force": self._op_force}
+
+    P = ShellPointLoad(N=40, phi_hat=0.8, control="displacement")
+    Q = Declared(N=40, phi_hat=0.8, control="displacement")
+    br = continuation(P, P.reference_unknowns(), 0.0, ds=0.02, ds_max=0.05, p_max=0.45, max_steps=200)
+    seen = set()
+    for u, w in zip(br.u[::3], br.p[::3]):
+        declared = {label: info.n_negative for label, info in Q.stability(u, w).items()}
+        assert declared == P.stability_counts(u, w)
+        seen.add(declared["displacement"])
+        np.testing.assert_array_equal(Q.stability_operators(u, w)["displacement"].toarray(),
+                                      P.stability_operators(u, w)["displacement"].toarray())
+    assert len(seen) >= 2
