@@ -1,0 +1,93 @@
+"""Studies behave like the command line (issue 14, B4): Ctrl-C exits 130 quietly, an output directory that
+cannot be written exits 2 with one paragraph, and no empty directory the study made is left behind."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from studies import _common
+from studies._common import output_dir, run_study, write_json
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_an_interrupted_study_exits_130_and_removes_the_directory_it_made(tmp_path: Path,
+                                                                           capsys: pytest.CaptureFixture) -> None:
+    def main(argv: list[str]) -> int:
+        output_dir(tmp_path / "new" / "out")
+        raise KeyboardInterrupt
+
+    assert run_study(main, []) == 130
+    err = capsys.readouterr().err
+    assert err.endswith("interrupted\n") and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_study_keeps_what_it_wrote_and_what_was_there(tmp_path: Path) -> None:
+    (tmp_path / "old").mkdir()
+
+    def main(argv: list[str]) -> int:
+        write_json(output_dir(tmp_path / "new") / "summary.json", {"a": 1})
+        output_dir(tmp_path / "old")
+        return 0
+
+    assert run_study(main, []) == 0
+    assert (tmp_path / "new" / "summary.json").exists() and (tmp_path / "old").is_dir()
+    assert not _common._MADE
+
+
+def test_an_output_directory_that_cannot_be_made_exits_2(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    (tmp_path / "file").write_text("")
+
+    def main(argv: list[str]) -> int:
+        output_dir(tmp_path / "file" / "out")
+        return 0
+
+    with pytest.raises(SystemExit) as exc:
+        run_study(main, [])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: cannot create the output directory") and err.count("\n") == 1
+
+
+def _ready(proc: subprocess.Popen, out: Path, within: float = 60.0) -> bool:
+    # the study has made its output directory: it is past its imports and running
+    end = time.monotonic() + within
+    while time.monotonic() < end and proc.poll() is None:
+        if out.is_dir():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def test_ctrl_c_in_a_real_study(tmp_path: Path) -> None:
+    out = tmp_path / "run" / "out"
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    proc = subprocess.Popen([sys.executable, "-m", "studies.pole_strain", "--quiet", "--out", str(out)], cwd=ROOT,
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert _ready(proc, out), proc.communicate(timeout=60)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130 and "Traceback" not in err
+    assert err.strip() == "python -m studies.pole_strain: interrupted"
+    assert not (tmp_path / "run").exists()
+
+
+def test_an_unwritable_study_output_exits_2(tmp_path: Path) -> None:
+    (tmp_path / "file").write_text("")
+    proc = subprocess.run([sys.executable, "-m", "studies.pole_strain", "--out", str(tmp_path / "file" / "out")],
+                          cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)}, capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 2 and proc.stdout == "" and "Traceback" not in proc.stderr
+    assert proc.stderr.startswith("error: cannot create the output directory") and proc.stderr.count("\n") == 1
