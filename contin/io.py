@@ -42,7 +42,8 @@ def _new_file_mode() -> int:
 
 
 #: What :func:`atomic_write` writes: ``(path, write)`` or ``(path, write, binary)``.
-FileWriter = tuple[str | os.PathLike, Callable[[IO[Any]], Any]] | tuple[str | os.PathLike, Callable[[IO[Any]], Any], bool]
+_Write = Callable[[IO[Any]], Any]
+FileWriter = tuple[str | os.PathLike, _Write] | tuple[str | os.PathLike, _Write, bool]
 
 
 def atomic_write(files: Sequence[FileWriter], *, binary: bool = False, keep_mode: bool = False) -> list[Path]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 import os
 import stat
 from pathlib import Path
@@ -49,6 +50,19 @@ def test_a_branch_saves_through_the_helper(tmp_path: Path) -> None:
     path = br.save(tmp_path / "sub" / "b")
     assert path == tmp_path / "sub" / "b.npz" and [p.name for p in path.parent.iterdir()] == ["b.npz"]
     assert contin.Branch.load(path).status == "bound"
+
+
+def test_one_atomic_write_in_the_tree() -> None:
+    # mkstemp + os.replace is the atomic write: it lives in contin/io.py only
+    found = []
+    for folder in ("contin", "models", "studies"):
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            tree = ast.parse(path.read_text())
+            calls = {node.func.attr for node in ast.walk(tree)
+                     if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)}
+            if {"mkstemp", "replace"} <= calls:
+                found.append(str(path.relative_to(ROOT)))
+    assert found == ["contin/io.py"]
 
 
 def test_json_ready() -> None:

@@ -118,7 +118,10 @@ SHELL_SCHEMA = Schema(
         "continuation": {
             "ds": real(0.02, gt=0, help="initial arclength step in units of R"),
             "ds_max": real(0.1, gt=0, help="largest step in units of R (also capped at 1/20 of the eversion depth)"),
-            "tol": real(1e-10, gt=0, lt=1, help="relative residual tolerance"),
+            # the floor is measured: at tol = 1e-12 the default scene (N = 200 and 800) stops at its first
+            # points with Newton stalled at round-off; 5e-12 and 1e-11 run every load kind and control
+            "tol": real(1e-10, ge=1e-11, lt=1, help="relative residual tolerance (below 1e-11 round-off in the "
+                                                     "shell's residual keeps Newton from converging)"),
             "max_steps": integer(3000, low=1, high=1_000_000, help="maximum number of steps per branch"),
             "overshoot": real(0.05, ge=0, le=1,
                               help="stop this fraction past eversion, w = 2 R (1 - sin phi_hat) (1 + overshoot)"),
@@ -691,6 +694,16 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     return Classification(label=label, values=values, lines=lines, trace=trace, failure=failure)
 
 
+#: The class is defined on the point-load path (``docs/physics.md`` section 5): ``contin classify``
+#: refuses an indenter and says what to run instead.
+_CLASSIFY_REQUIRES = (
+    Constraint(("load.kind",), lambda s: s["load"]["kind"] == "point", 'load.kind = "point"',
+               "the classes monotonous, monostable and bistable are defined on the displacement path of the point "
+               "load at the pole, docs/physics.md section 5; an indenter can only push, so its path has no F < 0 to "
+               "classify. The class of this cap: the same command with --set load.kind=point. The indenter's own "
+               "snap (w_b_c, F at the snaps): 'contin trace' with this scene, in summary.json"),
+)
+
 SHELL_SCENE = SceneModel(
     name="shell",
     description="spherical cap under a point load at the pole: the whole path to eversion, folds in w and F, "
@@ -698,4 +711,25 @@ SHELL_SCENE = SceneModel(
     schema=SHELL_SCHEMA,
     runner=_run_shell,
     classifier=classify_scene,
+    classify_requires=_CLASSIFY_REQUIRES,
+    default=True,
+    examples={
+        "trace": (("--set shell.phi_hat=1.2 --set shell.N=100 --out /tmp/run", "a monostable cap"),
+                  ("--set load.control=force", "dead load: snaps at the limit points of F"),
+                  ("--set load.kind=sphere --set load.radius=0.5", "a rigid sphere through the barrier contact")),
+        "classify": (("--set shell.phi_hat=1.2 --set shell.N=100", "monostable"),
+                     ("scene.toml --json", ""),
+                     ("--sweep shell.phi_hat=0.6:1.4:9 --sweep shell.h=0.01,0.02 --csv phi_h.csv", ""),
+                     ("--set shell.N=100 --sweep shell.h=log:0.005:0.05:7 --workers 4 --json", ""),
+                     ("--sweep shell.phi_hat=0.6:1.4:9 --scheduler tcp://127.0.0.1:8786", "on a Dask cluster")),
+    },
+    help={
+        "trace": "branch.csv has w, F, w_over_R, F_norm, stable_force, stable_displacement and n_negative; the path "
+                 "ends at eversion, w = 2 R (1 - sin phi_hat) (1 + continuation.overshoot).",
+        "classify": "the class (monotonous, monostable or bistable) is defined on the displacement-controlled path "
+                    "of the point load to eversion, which is traced whatever load.control says; a sphere or plate "
+                    "indenter is refused. Printed: the class, F_max and F_min with the displacements where they "
+                    "occur, raw and normalized (w/R, F R/(2 pi D)); the sweep CSV adds F_max, F_min, F_max_norm, "
+                    "w_at_F_max_over_R, ..., lambda.",
+    },
 )
