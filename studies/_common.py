@@ -216,8 +216,8 @@ def save_figure(fig: Any, out: str | os.PathLike, stem: str) -> list[Path]:
         return lambda fh: fig.savefig(fh, format=ext, bbox_inches="tight", **kw)
 
     try:
-        return atomic_write([(Path(out) / f"{stem}.png", draw("png", dpi=150)), (Path(out) / f"{stem}.pdf", draw("pdf"))],
-                            binary=True)
+        return atomic_write([(Path(out) / f"{stem}.png", draw("png", dpi=150)),
+                             (Path(out) / f"{stem}.pdf", draw("pdf"))], binary=True)
     finally:
         plt.close(fig)
 
