@@ -20,7 +20,15 @@ Its ``run`` returns a :class:`TraceResult`; :meth:`TraceResult.from_branches` de
 point records, the CSV columns and the printed table from the branches, so a runner stays small.
 A model may also classify a scene (``contin classify``): it then provides a ``classify`` callable
 returning a :class:`Classification` (see :class:`Classifier`; a :class:`SceneModel` takes it as
-``classifier``).  Models without one are traced but not classified.
+``classifier``), and may restrict the scenes it classifies with ``classify_requires`` (checked by
+:func:`check_classifiable` before anything runs).  Models without one are traced but not classified.
+A :class:`SceneModel` may also say that it is the default model and give the command line its
+examples and help (``default``, ``examples``, ``help``; see :mod:`contin.registry`).
+
+A run is complete when every branch reached the end its runner planned for it: a branch that stopped
+because its step budget ran out (:data:`BUDGET_STATUSES`) makes :attr:`TraceResult.complete` false,
+the status ``"incomplete"`` and the run unsuccessful.  A scene's ``[output] figure = false``
+(:func:`wants_figure`) means no figure file.
 
 Nothing here knows about any particular model.
 """

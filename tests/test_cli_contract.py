@@ -197,3 +197,21 @@ def test_studies_use_the_public_json_conversion() -> None:
 
     assert _common.json_ready is json_ready
     assert json_ready({"a": np.float64("nan"), 1: np.arange(2)}) == {"a": None, "1": [0, 1]}
+
+
+def test_no_private_name_is_imported_from_another_package() -> None:
+    # the command line, the engine's scene machinery and the studies' shared helpers use public ways in
+    import ast
+
+    paths = [*sorted((ROOT / "contin").glob("*.py")), ROOT / "contin_launch" / "__init__.py",
+             ROOT / "studies" / "_common.py"]
+    offenders = []
+    for path in paths:
+        package = path.relative_to(ROOT).parts[0]
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                top = node.module.split(".")[0]
+                private = [a.name for a in node.names if a.name.startswith("_")]
+                if top != package and top in ("contin", "models", "studies") and private:
+                    offenders.append(f"{path.relative_to(ROOT)}: from {node.module} import {', '.join(private)}")
+    assert not offenders
