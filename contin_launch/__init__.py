@@ -44,12 +44,16 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     # an interrupt inside a compiled extension's import may come out as an ImportError (numpy wraps
     # it so); the flag tells such an ImportError from a broken installation
-    previous = signal.signal(signal.SIGINT, on_sigint)
+    try:
+        previous = signal.signal(signal.SIGINT, on_sigint)
+    except ValueError:  # not the main thread: signals are not ours to handle there
+        previous = None
     try:
         try:
             from contin.cli import main as cli_main
         finally:
-            signal.signal(signal.SIGINT, previous)
+            if previous is not None:
+                signal.signal(signal.SIGINT, previous)
         return cli_main(argv)
     except KeyboardInterrupt:  # while importing, or building the parser (contin.cli handles it after that)
         return _interrupted()
