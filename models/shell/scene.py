@@ -66,8 +66,8 @@ import numpy as np
 
 import contin
 from contin.branch import Branch
-from contin.scene import (Classification, Constraint, Field, SceneModel, Schema, TraceResult, boolean, choice,
-                          integer, real)
+from contin.scene import (Classification, Constraint, Field, SceneModel, Schema, TraceResult, boolean,
+                          check_classifiable, choice, integer, real)
 
 from .problem import ShellPointLoad
 from .strain import strain_peak, strain_warning
@@ -656,7 +656,13 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
         ``values`` holds ``F_max``, ``w_at_F_max``, ``F_min``, ``w_at_F_min`` and their normalized
         forms (``F R / (2 pi D)``, ``w / R``), the fold counts, ``lambda``, ``D``, ``F_unit`` and
         ``eversion_w``; ``trace`` is the displacement-controlled run.
+
+    Raises
+    ------
+    contin.scene.SceneError
+        For a sphere or plate indenter: the class is defined on the point-load path.
     """
+    check_classifiable(SHELL_SCENE, scene)  # an indenter has no class: refused, also when called directly
     path_scene = {section: dict(keys) for section, keys in scene.items()}
     path_scene["load"]["control"] = "displacement"
     path_scene["output"]["figure"] = False
