@@ -164,9 +164,13 @@ def run_study(main: Callable[..., int | None], argv: Sequence[str] | None = None
         2 for a scene the models refuse, with its one-paragraph message.  Whatever the end, an
         output directory the study made and left empty is removed.
     """
-    # run as python -m studies.NAME, the module is __main__: its spec still knows the name
+    # run as python -m studies.NAME, the module is __main__: its spec still knows the name (a script has none)
     spec = getattr(sys.modules.get(main.__module__), "__spec__", None)
-    prog = f"python -m {spec.name if spec is not None else main.__module__}"
+    if spec is not None:
+        prog = f"python -m {spec.name}"
+    else:
+        prog = os.path.basename(sys.argv[0]) if main.__module__ == "__main__" else main.__module__
+        prog = prog if prog and not prog.startswith("-") else "study"  # python -c gives argv[0] = "-c"
     try:
         status = main() if argv is None else main(argv)
         return int(status or 0)

@@ -7,7 +7,6 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
@@ -57,30 +56,41 @@ def test_an_output_directory_that_cannot_be_made_exits_2(tmp_path: Path, capsys:
     assert err.startswith("error: cannot create the output directory") and err.count("\n") == 1
 
 
-def _ready(proc: subprocess.Popen, out: Path, within: float = 60.0) -> bool:
-    # the study has made its output directory: it is past its imports and running
-    end = time.monotonic() + within
-    while time.monotonic() < end and proc.poll() is None:
-        if out.is_dir():
-            return True
-        time.sleep(0.05)
-    return False
+#: A study as the real ones are built (its __main__ block runs it through run_study), that makes its
+#: output directory, says so, and then works until it is interrupted.
+_STUDY = """
+import sys, time
+from studies._common import output_dir, run_study
 
 
-def test_ctrl_c_in_a_real_study(tmp_path: Path) -> None:
+def main():
+    output_dir(sys.argv[1])
+    print("ready", flush=True)
+    time.sleep(120)
+
+
+if __name__ == "__main__":
+    raise SystemExit(run_study(main))
+"""
+
+
+def test_ctrl_c_in_a_study_process(tmp_path: Path) -> None:
     out = tmp_path / "run" / "out"
+    script = tmp_path / "study.py"
+    script.write_text(_STUDY)
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    proc = subprocess.Popen([sys.executable, "-m", "studies.pole_strain", "--quiet", "--out", str(out)], cwd=ROOT,
-                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen([sys.executable, str(script), str(out)], cwd=ROOT, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
     try:
-        assert _ready(proc, out), proc.communicate(timeout=60)
+        assert proc.stdout is not None and proc.stdout.readline() == "ready\n"
+        assert out.is_dir()
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 130 and "Traceback" not in err
-    assert err.strip() == "python -m studies.pole_strain: interrupted"
+    assert err == "study.py: interrupted\n"
     assert not (tmp_path / "run").exists()
 
 
