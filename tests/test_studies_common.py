@@ -15,6 +15,8 @@ from studies import _common
 from studies._common import output_dir, run_study, write_json
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The processes import this tree first (and whatever the test run's own path adds).
+ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)}
 
 
 def test_an_interrupted_study_exits_130_and_removes_the_directory_it_made(tmp_path: Path,
@@ -78,8 +80,7 @@ def test_ctrl_c_in_a_study_process(tmp_path: Path) -> None:
     out = tmp_path / "run" / "out"
     script = tmp_path / "study.py"
     script.write_text(_STUDY)
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    proc = subprocess.Popen([sys.executable, str(script), str(out)], cwd=ROOT, env=env, stdout=subprocess.PIPE,
+    proc = subprocess.Popen([sys.executable, str(script), str(out)], cwd=ROOT, env=ENV, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     try:
         assert proc.stdout is not None and proc.stdout.readline() == "ready\n"
@@ -97,7 +98,7 @@ def test_ctrl_c_in_a_study_process(tmp_path: Path) -> None:
 def test_an_unwritable_study_output_exits_2(tmp_path: Path) -> None:
     (tmp_path / "file").write_text("")
     proc = subprocess.run([sys.executable, "-m", "studies.pole_strain", "--out", str(tmp_path / "file" / "out")],
-                          cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)}, capture_output=True, text=True,
+                          cwd=ROOT, env=ENV, capture_output=True, text=True,
                           timeout=120)
     assert proc.returncode == 2 and proc.stdout == "" and "Traceback" not in proc.stderr
     assert proc.stderr.startswith("error: cannot create the output directory") and proc.stderr.count("\n") == 1
