@@ -275,19 +275,9 @@ class Branch:
         }
         arrays["header"] = np.frombuffer(json.dumps(header).encode(), dtype=np.uint8)
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-        try:
-            with os.fdopen(fd, "wb") as fh:
-                np.savez_compressed(fh, **arrays)
-            # mkstemp makes the file private; a saved branch gets the permissions of any new file
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(tmp, 0o666 & ~umask)
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        from .io import atomic_write  # the toolkit's one atomic write (contin.io imports nothing of contin)
+
+        atomic_write([(path, lambda fh: np.savez_compressed(fh, **arrays))], binary=True)
         return path
 
     @classmethod

@@ -15,17 +15,20 @@ Commands
 ``contin models [NAME ...] [--toml]``
     List the registered models with every scene key, its default and its allowed range.
 
-Models are found only through the ``contin.models`` entry-point group (the engine never imports a
-model).  An entry point resolves to a :class:`contin.scene.ModelRunner` (or a zero-argument factory
-returning one); a runner that also has the classification capability
-(:func:`contin.scene.can_classify`) can be used by ``contin classify``.
+Models are found only through :mod:`contin.registry` (the ``contin.models`` entry-point group; the
+engine never imports a model), and this module names none: the default model (the one whose runner
+says ``default = True``), the examples and the model-specific help come from the registered runners.
+An entry point resolves to a :class:`contin.scene.ModelRunner` (or a zero-argument factory returning
+one); a runner that also has the classification capability (:func:`contin.scene.can_classify`) can
+be used by ``contin classify``, for the scenes its ``classify_requires`` admit.
 
-Exit status: 0 success, 1 the run failed (numerically, or the class could not be decided, for a sweep:
-of any combination; the outputs of ``trace`` are still written), 2 bad input (scene, ``--set``,
-``--sweep``, unknown model, a model that cannot classify, unwritable output directory, a sweep CSV
-that belongs to another sweep, a Dask scheduler that cannot be used), 130 interrupted (a sweep's CSV
-keeps the finished rows).  No command prints a traceback (set ``CONTIN_TRACEBACK=1`` to see one for
-an internal error).
+Exit status: 0 success, 1 the run failed (numerically, or it stopped at its step limit before the end
+of its path, or the class could not be decided, for a sweep: of any combination; the outputs of
+``trace`` are still written), 2 bad input (scene, ``--set``, ``--sweep``, unknown model, a model or
+scene that cannot be classified, unwritable output directory, a sweep CSV that belongs to another
+sweep, a Dask scheduler that cannot be used), 130 interrupted (a sweep's CSV keeps the finished rows;
+an output directory the run made and wrote nothing into is removed).  No command prints a traceback
+(set ``CONTIN_TRACEBACK=1`` to see one for an internal error).
 """
 
 from __future__ import annotations
@@ -37,33 +40,32 @@ import json
 import math
 import os
 import sys
-import tempfile
 import textwrap
 import time
-from collections.abc import Callable, Sequence
-from importlib.metadata import EntryPoint, entry_points
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from . import __version__
-from .scene import (Classification, ModelRunner, SceneError, TraceResult, can_classify, format_toml_value,
-                    load_scene, schema_as_toml)
+from . import __version__, registry
 from .executors import ExecutorError, make_executor
-from .sweep import SWEEP_SYNTAX, parse_sweep, run_sweep, sweep_scenes
+from .io import FileWriter, OutputDirectory, OutputError, atomic_write, json_ready
+from .registry import ENTRY_POINT_GROUP, ModelNotFound, registered_models
+from .scene import (Classification, ModelRunner, SceneError, TraceResult, can_classify, engine_failures,
+                    format_toml_value, load_scene, schema_as_toml, wants_figure)
+from .sweep import SWEEP_SYNTAX, check_sweep_classifiable, parse_sweep, run_sweep, sweep_scenes
 
-__all__ = ["main", "DEFAULT_MODEL", "DEFAULT_SWEEP_CSV", "ENTRY_POINT_GROUP", "CliError", "registered_models",
-           "load_model", "summary_document", "classification_document", "write_outputs", "format_table"]
-
-#: Model traced or classified when ``--model`` is not given: the paper's point-indented shell.
-DEFAULT_MODEL = "shell"
-#: Entry-point group in which models register their scene runners.
-ENTRY_POINT_GROUP = "contin.models"
+__all__ = ["main", "DEFAULT_SWEEP_CSV", "ENTRY_POINT_GROUP", "CliError", "registered_models", "load_model",
+           "summary_document", "classification_document", "write_outputs", "format_table"]
 
 OUTPUT_FILES = ("summary.json", "branch.csv", "diagram.png")
 #: Results file of ``contin classify --sweep`` when ``--csv`` is not given (in the current directory).
 DEFAULT_SWEEP_CSV = "classify_sweep.csv"
+#: Where the help texts name the default model and list the models' examples (filled in only when a
+#: help text is printed: that loads the models).
+_DEFAULT = "{default_model}"
 
 
 class CliError(Exception):
@@ -77,125 +79,100 @@ class _ArgumentParser(argparse.ArgumentParser):
 
 
 # ---------------------------------------------------------------------------------------------------
-# model registry
+# models (through contin.registry)
 # ---------------------------------------------------------------------------------------------------
-def registered_models() -> dict[str, EntryPoint]:
-    """Entry points of the ``contin.models`` group, by name (the first registration wins)."""
-    found: dict[str, EntryPoint] = {}
-    for ep in entry_points(group=ENTRY_POINT_GROUP):
-        found.setdefault(ep.name, ep)
-    return dict(sorted(found.items()))
-
-
 def load_model(name: str) -> ModelRunner:
-    """Load the runner registered as ``name``.
+    """Load the runner registered as ``name`` (:func:`contin.registry.load_model`).
 
     Raises
     ------
     CliError
         If no such model is registered or its entry point does not load a runner.
     """
-    models = registered_models()
-    if name not in models:
-        if not models:
-            raise CliError(f"unknown model {name!r}: no models are registered in the entry-point group "
-                           f"{ENTRY_POINT_GROUP!r} (is the package installed with 'pip install -e .'?)")
-        raise CliError(f"unknown model {name!r}; registered models: {', '.join(models)} (see 'contin models')")
-    ep = models[name]
     try:
-        obj = ep.load()
-    except Exception as exc:  # any import-time failure of a plugin is reported, not raised
-        raise CliError(f"model {name!r} could not be loaded from {ep.value}: {type(exc).__name__}: {exc}") from None
-    if not hasattr(obj, "run") and callable(obj):
-        obj = obj()
-    missing = [a for a in ("name", "description", "schema", "run") if not hasattr(obj, a)]
-    if missing:
-        raise CliError(f"model {name!r} ({ep.value}) is not a scene runner: it lacks {', '.join(missing)}")
-    return obj
+        return registry.load_model(name)
+    except ModelNotFound as exc:
+        raise CliError(str(exc)) from None
+
+
+def _model_name(args: argparse.Namespace) -> str:
+    """The model a command runs: ``--model``, else the registered default."""
+    if args.model is not None:
+        return args.model
+    name = registry.default_model()
+    if name is None:
+        raise CliError(f"no default model is registered; choose one with --model NAME (registered: "
+                       f"{', '.join(registered_models()) or 'none'}; see 'contin models')")
+    return name
 
 
 # ---------------------------------------------------------------------------------------------------
-# argument parsing
+# help texts: what names a model comes from the registered models, when a help text is printed
 # ---------------------------------------------------------------------------------------------------
-
-
 def _exit_status(failed: str, bad: str) -> str:
     return textwrap.fill(f"exit status: 0 success, 1 {failed}, 2 bad input ({bad}), 130 interrupted. Errors are one "
                          f"paragraph on stderr, never a traceback.", width=95)
 
 
-_TRACE_EPILOG = f"""\
-outputs (in DIR):
-  summary.json   the resolved scene, the classification (where the model has one), the special
-                 points (kind, parameter, position, stability on both sides, residual), status,
-                 wall time, number of steps
-  branch.csv     one row per converged point: parameter, observables, residual, stability
-                 (shell: w, F, w_over_R, F_norm, stable_force, stable_displacement, n_negative)
-  diagram.png    the bifurcation diagram (stable solid, unstable dashed, special points marked)
-The table of special points and a status line are printed on stdout, progress on stderr.
+def _example(command: str, args: str, comment: str) -> str:
+    line = f"  contin {command}{' ' + args if args else ''}"
+    return f"{line:<47}  # {comment}" if comment else line
 
-{_exit_status("the run failed numerically (the outputs are still written)",
-              "scene, --set, model, output directory")}
 
-{{keys}}
+def _loaded_models() -> dict[str, Any]:
+    """Every registered model that loads, by name (one that does not is left out of the help)."""
+    found = {}
+    for name in registered_models():
+        try:
+            found[name] = registry.load_model(name)
+        except ModelNotFound:
+            continue
+    return found
 
-examples:
-  contin trace                                   # the default scene: {DEFAULT_MODEL}, the paper's point load
-  contin trace --set shell.phi_hat=1.2 --set shell.N=100 --out /tmp/run
-  contin trace --set load.control=force          # dead load: snaps at the limit points of F
-  contin trace --model bratu --set model.n=50
-  contin trace scene.toml --model truss --set load.cycle=true
-  contin models                                  # the models and all their scene keys
-"""
 
-_CLASSIFY_EPILOG = f"""\
-The model decides what has to be run. For the shell the class (monotonous, monostable or
-bistable) is defined on the displacement-controlled path to eversion, which is traced whatever
-load.control says. Printed: the class, F_max and F_min with the displacements where they occur,
-raw and normalized (w/R, F R/(2 pi D)). --json prints the same as one JSON object (with the
-resolved scene, the status, the wall time and the number of steps). Only a sweep writes a file.
-Models without a classification (e.g. bratu, truss) are rejected with exit status 2.
+def _examples(command: str) -> str:
+    """The examples of ``contin COMMAND``: the default scene, then each model's own (``--model`` where needed)."""
+    default = registry.default_model()
+    lines = ["examples:"]
+    if default is not None:
+        lines.append(_example(command, "", f"the default model ({default}) at its default scene"))
+    models = _loaded_models()
+    # the default model's examples first: they need no --model
+    for name in sorted(models, key=lambda n: n != default):
+        for args, comment in registry.model_examples(models[name], command):
+            lines.append(_example(command, args if name == default else f"--model {name} {args}".rstrip(), comment))
+    lines.append(_example("models", "", "the models and all their scene keys"))
+    return "\n".join(lines)
 
-sweeps (--sweep SECTION.KEY=SPEC, repeatable):
-{textwrap.fill(SWEEP_SYNTAX + ".", width=95, initial_indent="  ", subsequent_indent="  ")}
-  Every combination (first --sweep slowest) is resolved and checked like a --set scene before
-  anything runs, then classified in --workers processes (default: one per CPU; 1 runs them in
-  this process) or, with --scheduler ADDRESS, on a Dask cluster (pip install 'contin[dask]';
-  start it with 'dask scheduler' and 'dask worker ADDRESS --nthreads 1'). The rows are the same
-  whichever runs them. Each finished combination is appended at once to the CSV (--csv, default
-  ./classify_sweep.csv): the swept keys, label (the class), the model's values (shell: F_max,
-  F_min, F_max_norm, w_at_F_max_over_R, ..., lambda), wall_time_s, failure (empty when
-  classified) and scene (the resolved scene as JSON). Run the same command again after an
-  interrupt and the rows already in the CSV are reused; a CSV of another sweep (other keys or
-  another fixed scene) is refused, --no-resume overwrites it. Progress is one line per
-  combination on stderr. At the end a table is printed: the swept values, the class, the
-  normalized values (names ending in _norm) and the time; --json prints the rows as a JSON list
-  instead.
 
-{_exit_status("the run failed or the class could not be decided (a sweep: for any combination)",
-              "scene, --set, --sweep, model, a model that cannot classify, a CSV of another sweep, "
-              "a Dask scheduler that cannot be used")}
+def _models_examples() -> str:
+    name = registry.default_model() or "NAME"
+    return "\n".join(["examples:", _example("models", "", "every model"),
+                      _example("models", name, "one model's keys"),
+                      _example("models", f"{name} --toml > scene.toml", "a scene file to edit, for SCENE.toml")])
 
-{{keys}}
 
-examples:
-  contin classify                                # the default scene: bistable
-  contin classify --set shell.phi_hat=1.2 --set shell.N=100
-  contin classify scene.toml --json
-  contin classify --sweep shell.phi_hat=0.6:1.4:9 --sweep shell.h=0.01,0.02 --csv phi_h.csv
-  contin classify --set shell.N=100 --sweep shell.h=log:0.005:0.05:7 --workers 4 --json
-  contin classify --sweep shell.phi_hat=0.6:1.4:9 --scheduler tcp://127.0.0.1:8786
-"""
+def _model_help(command: str) -> str:
+    """What ``command`` does for each model that says so (its ``help``), one paragraph per model."""
+    parts = []
+    for name, model in _loaded_models().items():
+        text = (getattr(model, "help", None) or {}).get(command)  # a runner's help; a SceneModel's is a mapping
+        if text:
+            parts.append(textwrap.fill(f"{name}: {text}", width=95, subsequent_indent="  "))
+    return "\n" + "\n".join(parts) if parts else ""
 
 
 def _default_keys_help() -> str:
     """The default model's scene keys with their defaults, for the help texts (never raises)."""
+    name = registry.default_model()
     try:
-        model = load_model(DEFAULT_MODEL)
-    except CliError:
+        model = registry.load_model(name) if name is not None else None
+    except ModelNotFound:
+        model = None
+    if model is None:
         return "scene keys: 'contin models' lists every model's keys with defaults and allowed ranges."
-    lines = [f"scene keys of the default model ({DEFAULT_MODEL}), with their defaults; "
-             f"'contin models {DEFAULT_MODEL}' shows their allowed ranges:"]
+    lines = [f"scene keys of the default model ({name}), with their defaults; "
+             f"'contin models {name}' shows their allowed ranges:"]
     width = max(len(sec) for sec in model.schema.sections) + 2
     for section, keys in model.schema.sections.items():
         body = ", ".join(f"{k} = {format_toml_value(f.default)}" for k, f in keys.items())
@@ -204,12 +181,99 @@ def _default_keys_help() -> str:
     return "\n".join(lines)
 
 
-class _LazyEpilogFormatter(argparse.RawDescriptionHelpFormatter):
-    # the key list loads the default model: do it only when a help text is actually printed
+def _default_line() -> str:
+    name = registry.default_model()
+    if name is None:
+        return "No default model is registered: give --model NAME ('contin models' lists them)."
+    try:
+        description = registry.load_model(name).description
+    except ModelNotFound:
+        description = "it does not load; see 'contin models'"
+    return textwrap.fill(f"Without --model, trace and classify use the default model '{name}': {description}.",
+                         width=95)
+
+
+#: Placeholders of the help texts and what fills them (each called only when its text is printed).
+_PLACEHOLDERS: dict[str, Callable[[], str]] = {
+    "{keys}": _default_keys_help,
+    "{default_line}": _default_line,
+    "{trace_examples}": lambda: _examples("trace"),
+    "{classify_examples}": lambda: _examples("classify"),
+    "{models_examples}": _models_examples,
+    "{trace_models}": lambda: _model_help("trace"),
+    "{classify_models}": lambda: _model_help("classify"),
+    _DEFAULT: lambda: registry.default_model() or "none registered",
+}
+
+
+class _LazyHelpFormatter(argparse.RawDescriptionHelpFormatter):
+    # the help names models: load them only when a help text is actually printed
     def add_text(self, text: str | None) -> None:
-        if text and "{keys}" in text:
-            text = text.replace("{keys}", _default_keys_help())
-        super().add_text(text)
+        super().add_text(_fill_placeholders(text))
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        return _fill_placeholders(action.help)
+
+
+def _fill_placeholders(text: str | None) -> str | None:
+    if text:
+        for mark, fill in _PLACEHOLDERS.items():
+            if mark in text:
+                text = text.replace(mark, fill())
+    return text
+
+
+_TRACE_EPILOG = f"""\
+outputs (in DIR):
+  summary.json   the resolved scene, the classification (where the model has one), the special
+                 points (kind, parameter, position, stability on both sides, residual), status,
+                 whether the path was completed, wall time, number of steps
+  branch.csv     one row per converged point: parameter, observables, residual, stability
+  diagram.png    the bifurcation diagram (stable solid, unstable dashed, special points marked);
+                 not written when the scene sets output.figure = false
+The table of special points and a status line are printed on stdout, progress on stderr. A run
+that stops before the end of its path (its step limit, max_steps, was reached) has the status
+'incomplete' and exits with 1; its outputs are written.
+{{trace_models}}
+
+{_exit_status("the run failed numerically or stopped before its end (the outputs are still written)",
+              "scene, --set, model, output directory")}
+
+{{keys}}
+
+{{trace_examples}}
+"""
+
+_CLASSIFY_EPILOG = f"""\
+The model decides what has to be run, and which scenes it can classify (others are refused with
+exit status 2). Printed: the class and the values behind it. --json prints the same as one JSON
+object (with the resolved scene, the status, the wall time and the number of steps). Only a sweep
+writes a file. Models without a classification are rejected with exit status 2.
+{{classify_models}}
+
+sweeps (--sweep SECTION.KEY=SPEC, repeatable):
+{textwrap.fill(SWEEP_SYNTAX + ".", width=95, initial_indent="  ", subsequent_indent="  ")}
+  Every combination (first --sweep slowest) is resolved and checked like a --set scene before
+  anything runs, then classified in --workers processes (default: one per CPU; 1 runs them in
+  this process) or, with --scheduler ADDRESS, on a Dask cluster (pip install 'contin[dask]';
+  start it with 'dask scheduler' and 'dask worker ADDRESS --nthreads 1'). The rows are the same
+  whichever runs them. Each finished combination is appended at once to the CSV (--csv, default
+  ./classify_sweep.csv): the swept keys, label (the class), the model's values, wall_time_s,
+  failure (empty when classified) and scene (the resolved scene as JSON). Run the same command
+  again after an interrupt and the rows already in the CSV are reused; a CSV of another sweep
+  (other keys or another fixed scene) is refused, --no-resume overwrites it. Progress is one line
+  per combination on stderr. At the end a table is printed: the swept values, the class, the
+  normalized values (names ending in _norm) and the time; --json prints the rows as a JSON list
+  instead.
+
+{_exit_status("the run failed or the class could not be decided (a sweep: for any combination)",
+              "scene, --set, --sweep, model, a model or scene that cannot be classified, a CSV of "
+              "another sweep, a Dask scheduler that cannot be used")}
+
+{{keys}}
+
+{{classify_examples}}
+"""
 
 
 def _add_scene_arguments(parser: argparse.ArgumentParser, verb: str) -> None:
@@ -218,7 +282,7 @@ def _add_scene_arguments(parser: argparse.ArgumentParser, verb: str) -> None:
                         help="scene file (TOML; 'contin models NAME --toml' prints a template); default: the "
                              "model's defaults")
     parser.add_argument("-m", "--model", metavar="NAME", default=None,
-                        help=f"registered model to {verb} (default: {DEFAULT_MODEL}; list them with 'contin models')")
+                        help=f"registered model to {verb} (default: {_DEFAULT}; list them with 'contin models')")
     parser.add_argument("-s", "--set", dest="overrides", action="append", default=[], metavar="SECTION.KEY=VALUE",
                         help="override one scene key; VALUE is read as TOML (1e-8, true, \"text\"), else as a "
                              "bare string; may be repeated; the keys are listed below and by 'contin models'")
@@ -227,17 +291,16 @@ def _add_scene_arguments(parser: argparse.ArgumentParser, verb: str) -> None:
 
 def _build_parser() -> _ArgumentParser:
     parser = _ArgumentParser(
-        prog="contin", formatter_class=argparse.RawDescriptionHelpFormatter,
+        prog="contin", formatter_class=_LazyHelpFormatter,
         description="Pseudo-arclength continuation: trace equilibrium branches of a registered model,\n"
                     "locate folds, branch points and snaps, and classify stability.",
-        epilog=f"""\
-Without --model, trace and classify use the default model '{DEFAULT_MODEL}' (a spherical cap
-indented at its pole; default scene: phi_hat = 0.8, h/R = 0.02, N = 200, as in the paper).
+        epilog="""\
+{default_line}
 
 examples:
   contin trace                     # trace the default scene into ./out
-  contin classify                  # print its class: bistable, with F_max and F_min
-  {'contin models ' + DEFAULT_MODEL:<31}  # its scene keys, defaults and allowed ranges
+  contin classify                  # print its class
+  contin models                    # the models, their scene keys, defaults and allowed ranges
 
 Run 'contin COMMAND --help' for the options of a command.""")
     parser.add_argument("--version", action="version", version=f"contin {__version__}")
@@ -245,7 +308,7 @@ Run 'contin COMMAND --help' for the options of a command.""")
 
     trace = sub.add_parser(
         "trace", help="trace a scene and write summary.json, branch.csv and diagram.png",
-        formatter_class=_LazyEpilogFormatter, epilog=_TRACE_EPILOG,
+        formatter_class=_LazyHelpFormatter, epilog=_TRACE_EPILOG,
         description="Trace the scene of a model.\n\n"
                     "The scene is the model's defaults, updated by the optional TOML file SCENE.toml and\n"
                     "then by each --set, in order. It is validated completely before anything runs.")
@@ -253,8 +316,8 @@ Run 'contin COMMAND --help' for the options of a command.""")
     trace.add_argument("-o", "--out", metavar="DIR", default="out", help="output directory (default: ./out)")
 
     classify = sub.add_parser(
-        "classify", help="classify a scene (shell: monotonous, monostable or bistable) and print why",
-        formatter_class=_LazyEpilogFormatter, epilog=_CLASSIFY_EPILOG,
+        "classify", help="classify a scene (the model defines the classes) and print why",
+        formatter_class=_LazyHelpFormatter, epilog=_CLASSIFY_EPILOG,
         description="Classify the scene of a model that can classify.\n\n"
                     "The scene is resolved as for 'contin trace' (defaults, SCENE.toml, each --set).")
     _add_scene_arguments(classify, "classify")
@@ -277,15 +340,11 @@ Run 'contin COMMAND --help' for the options of a command.""")
 
     models = sub.add_parser(
         "models", help="list the registered models with their scene keys, defaults and allowed ranges",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        formatter_class=_LazyHelpFormatter,
         description="List the models registered in the 'contin.models' entry-point group, each with what it\n"
                     "can do (trace, classify) and its scene as commented TOML: every key, its default and\n"
                     "its allowed range.",
-        epilog="examples:\n"
-               f"  {'contin models':<39}  # every model\n"
-               f"  {'contin models ' + DEFAULT_MODEL:<39}  # one model's keys\n"
-               f"  {'contin models ' + DEFAULT_MODEL + ' --toml > scene.toml':<39}  # a scene file to edit, for "
-               f"SCENE.toml")
+        epilog="{models_examples}")
     models.add_argument("names", nargs="*", metavar="NAME", help="only these models")
     models.add_argument("--toml", action="store_true",
                         help="print only the scene of one model (default: the default model) as a TOML file")
@@ -297,10 +356,14 @@ Run 'contin COMMAND --help' for the options of a command.""")
 # ---------------------------------------------------------------------------------------------------
 def _cmd_models(args: argparse.Namespace) -> int:
     available = registered_models()
+    default = registry.default_model()
     if args.toml:
         if len(args.names) > 1:
             raise CliError(f"--toml prints the scene of one model; got {len(args.names)}: {', '.join(args.names)}")
-        name = args.names[0] if args.names else DEFAULT_MODEL
+        if not args.names and default is None:
+            raise CliError("--toml without a NAME prints the default model's scene, and no default model is "
+                           f"registered; name one of: {', '.join(available) or '(none)'}")
+        name = args.names[0] if args.names else default
         model = load_model(name)
         print(f"# scene of the model {name!r}: every key at its default (edit, then run "
               f"'contin trace --model {name} SCENE.toml')")
@@ -324,7 +387,7 @@ def _cmd_models(args: argparse.Namespace) -> int:
             continue
         if i:
             print()
-        tags = (["default"] if name == DEFAULT_MODEL else []) + ["trace"] + (["classify"] if can_classify(model) else [])
+        tags = (["default"] if name == default else []) + ["trace"] + (["classify"] if can_classify(model) else [])
         print(f"{name} ({', '.join(tags)}): {model.description}")
         print(schema_as_toml(model.schema, indent="    "))
     if not args.names:
@@ -332,29 +395,27 @@ def _cmd_models(args: argparse.Namespace) -> int:
     return status
 
 
-def _prepare_out(name: str | Path) -> Path:
+@contextmanager
+def _output_dir(name: str) -> Iterator[Path]:
+    """``--out``: created (and checked) before the run, removed again if the run writes nothing into it."""
     if not str(name):  # Path("") would be the current directory
         raise CliError("--out is empty; give a directory to write into")
-    path = Path(name)
-    if path.exists() and not path.is_dir():
-        raise CliError(f"--out {str(path)!r} exists and is not a directory; give a directory to write into")
-    # checked before the run: an output that cannot replace what is there would leave the others half-updated
-    blocked = [fname for fname in OUTPUT_FILES if (path / fname).is_dir()]
-    if blocked:
-        raise CliError(f"cannot write the outputs to {str(path)!r}: {', '.join(blocked)} "
-                       f"{'is a directory' if len(blocked) == 1 else 'are directories'} there; move "
-                       f"{'it' if len(blocked) == 1 else 'them'} away or give another --out")
     try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise CliError(f"cannot create the output directory {str(path)!r}: {exc.strerror or exc}") from None
+        # checked before the run: an output that cannot replace what is there would leave the others half-updated
+        directory = OutputDirectory(name, reserved=OUTPUT_FILES)
+    except OutputError as exc:
+        raise CliError(f"--out: {exc}") from None
     try:
-        fd, probe = tempfile.mkstemp(dir=path, prefix=".contin-probe.", suffix=".tmp")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise CliError(f"the output directory {str(path)!r} is not writable: {exc.strerror or exc}") from None
-    return path
+        yield directory.path
+    finally:
+        directory.remove_if_empty()
+
+
+def _unknown_key_hint(exc: SceneError, args: argparse.Namespace, name: str) -> str:
+    if exc.kind == "unknown" and args.model is None:
+        return (f" (the scene was checked against the default model {name!r}; choose another with --model, see "
+                f"'contin models')")
+    return ""
 
 
 def _resolve_scene(model: ModelRunner, name: str, args: argparse.Namespace) -> dict[str, dict[str, Any]]:
@@ -362,11 +423,7 @@ def _resolve_scene(model: ModelRunner, name: str, args: argparse.Namespace) -> d
     try:
         return load_scene(model.schema, args.scene, args.overrides)
     except SceneError as exc:
-        hint = ""
-        if exc.kind == "unknown" and args.model is None:
-            hint = (f" (the scene was checked against the default model {DEFAULT_MODEL!r}; choose another with "
-                    f"--model, see 'contin models')")
-        raise CliError(f"{exc}{hint}") from None
+        raise CliError(f"{exc}{_unknown_key_hint(exc, args, name)}") from None
 
 
 def _say(quiet: bool) -> Callable[[str], None]:
@@ -376,34 +433,34 @@ def _say(quiet: bool) -> Callable[[str], None]:
     return say
 
 
+def _status_message(model: ModelRunner, scene: dict, result: TraceResult) -> str:
+    """The result's message; for a run cut short by its step limit, which scene key raises it."""
+    message = result.message
+    if not result.complete:
+        keys = [f"{section}.{key} (now {scene[section][key]})" for section, fields in model.schema.sections.items()
+                for key in fields if key == "max_steps"]
+        if keys:
+            message += f"; to reach the end, raise {' or '.join(keys)}"
+    return message
+
+
 def _cmd_trace(args: argparse.Namespace) -> int:
-    name = args.model or DEFAULT_MODEL
+    name = _model_name(args)
     model = load_model(name)
     scene = _resolve_scene(model, name, args)
-    out = _prepare_out(args.out)
     say = _say(args.quiet)
-
-    say(f"tracing model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
-    t0 = time.perf_counter()
-    result = _run(model, scene, progress=not args.quiet)
-    wall = time.perf_counter() - t0
-    written = write_outputs(out, name, scene, result, wall)
+    with _output_dir(args.out) as out:
+        say(f"tracing model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
+        t0 = time.perf_counter()
+        result = _run(model, scene, progress=not args.quiet)
+        wall = time.perf_counter() - t0
+        message = _status_message(model, scene, result)
+        written = write_outputs(out, name, scene, result, wall, message=message)
     say(f"wrote {', '.join(str(p) for p in written)} ({wall:.2f} s)")
 
     print(format_table(result.table, title=f"special points ({name}):"))
-    print(f"status: {result.status} - {result.message}")
+    print(f"status: {result.status} - {message}")
     return 0 if result.success else 1
-
-
-def _engine_failures() -> tuple[type[BaseException], ...]:
-    # a runner normally reports numerical failure in its result; these are the engine's exceptions for
-    # failures it cannot put into a branch
-    from .jump import JumpError
-    from .linalg import SingularMatrixError
-    from .palc import CorrectorFailure
-    from .problem import NonFiniteError
-
-    return (CorrectorFailure, NonFiniteError, JumpError, SingularMatrixError, np.linalg.LinAlgError)
 
 
 def _run(model: ModelRunner, scene: dict, progress: bool) -> TraceResult:
@@ -411,7 +468,7 @@ def _run(model: ModelRunner, scene: dict, progress: bool) -> TraceResult:
         result = model.run(scene, progress)
     except SceneError as exc:  # a runner may reject a combination only it can judge: still bad input
         raise CliError(str(exc)) from None
-    except _engine_failures() as exc:  # the outputs are still written for these
+    except engine_failures() as exc:  # the outputs are still written for these
         return TraceResult(branches=[], failure=f"run failed: {type(exc).__name__}: {exc}")
     if not isinstance(result, TraceResult):
         raise TypeError(f"model {model.name!r}: run() returned {type(result).__name__}, expected TraceResult")
@@ -436,17 +493,17 @@ def _classify_scenes(model: ModelRunner, name: str,
     Without ``--sweep``: the one scene of the file and ``--set`` (no swept values).  With it: every
     combination, each resolved and validated like a ``--set`` scene; bad input raises :class:`CliError`.
     """
-    if not args.sweep:
-        return [({}, _resolve_scene(model, name, args))]
     try:
-        axes = [parse_sweep(spec, model.schema) for spec in args.sweep]
-        return sweep_scenes(model.schema, axes, args.scene, args.overrides)
+        if not args.sweep:
+            scenes = [({}, load_scene(model.schema, args.scene, args.overrides))]
+        else:
+            axes = [parse_sweep(spec, model.schema) for spec in args.sweep]
+            scenes = sweep_scenes(model.schema, axes, args.scene, args.overrides)
+        # a scene the model traces but cannot classify is refused before anything runs
+        check_sweep_classifiable(model, scenes)
     except SceneError as exc:
-        hint = ""
-        if exc.kind == "unknown" and args.model is None:
-            hint = (f" (the scene was checked against the default model {DEFAULT_MODEL!r}; choose another with "
-                    f"--model, see 'contin models')")
-        raise CliError(f"{exc}{hint}") from None
+        raise CliError(f"{exc}{_unknown_key_hint(exc, args, name)}") from None
+    return scenes
 
 
 def _classify_one(model: ModelRunner, scene: dict, progress: bool) -> Classification:
@@ -454,7 +511,7 @@ def _classify_one(model: ModelRunner, scene: dict, progress: bool) -> Classifica
         result = model.classify(scene, progress)  # type: ignore[attr-defined]
     except SceneError as exc:
         raise CliError(str(exc)) from None
-    except _engine_failures() as exc:
+    except engine_failures() as exc:
         return Classification(label=None, failure=f"run failed: {type(exc).__name__}: {exc}")
     if not isinstance(result, Classification):
         raise TypeError(f"model {model.name!r}: classify() returned {type(result).__name__}, expected Classification")
@@ -462,7 +519,7 @@ def _classify_one(model: ModelRunner, scene: dict, progress: bool) -> Classifica
 
 
 def _cmd_classify(args: argparse.Namespace) -> int:
-    name = args.model or DEFAULT_MODEL
+    name = _model_name(args)
     model = load_model(name)
     if not can_classify(model):
         able = _classifying_models()
@@ -485,7 +542,7 @@ def _cmd_classify(args: argparse.Namespace) -> int:
             raise CliError("--scheduler needs the address of a Dask scheduler, e.g. tcp://127.0.0.1:8786")
     scenes = _classify_scenes(model, name, args)
     if args.sweep:
-        return _classify_sweep(name, scenes, args)
+        return _classify_sweep(name, model, scenes, args)
     say = _say(args.quiet)
     docs: list[dict[str, Any]] = []
     results: list[Classification] = []
@@ -513,7 +570,7 @@ def _swept_cell(value: Any) -> Any:
     return value
 
 
-def _classify_sweep(name: str, scenes: list[tuple[dict[str, Any], dict[str, dict[str, Any]]]],
+def _classify_sweep(name: str, model: ModelRunner, scenes: list[tuple[dict[str, Any], dict[str, dict[str, Any]]]],
                     args: argparse.Namespace) -> int:
     """``contin classify --sweep``: run the combinations, print the table (or JSON), return the exit status."""
     csv_path = Path(args.csv if args.csv is not None else DEFAULT_SWEEP_CSV)
@@ -529,7 +586,7 @@ def _classify_sweep(name: str, scenes: list[tuple[dict[str, Any], dict[str, dict
     try:
         with executor:
             rows = run_sweep(name, scenes, csv_path, progress=not args.quiet, resume=not args.no_resume,
-                             executor=executor)
+                             executor=executor, runner=model)
     except SceneError as exc:  # the CSV belongs to another sweep or cannot be written: before any work
         raise CliError(str(exc)) from None
     except KeyboardInterrupt:
@@ -539,7 +596,7 @@ def _classify_sweep(name: str, scenes: list[tuple[dict[str, Any], dict[str, dict
     failed = [row for row in rows if row["failure"]]
     say(f"swept {len(rows)} combinations in {time.perf_counter() - t0:.2f} s; wrote {str(csv_path)!r}")
     if args.json:
-        print(json.dumps(_json_ready(rows), indent=2, allow_nan=False))
+        print(json.dumps(json_ready(rows), indent=2, allow_nan=False))
         return 1 if failed else 0
     table = []
     for row in rows:
@@ -566,30 +623,19 @@ def _classify_sweep(name: str, scenes: list[tuple[dict[str, Any], dict[str, dict
 # ---------------------------------------------------------------------------------------------------
 # outputs
 # ---------------------------------------------------------------------------------------------------
-def _json_ready(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {str(k): _json_ready(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_json_ready(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _json_ready(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        # JSON has no NaN or infinity
-        return float(obj) if math.isfinite(obj) else None
-    return obj
+def summary_document(model_name: str, scene: dict, result: TraceResult, wall_time_s: float,
+                     message: str | None = None) -> dict[str, Any]:
+    """The content of ``summary.json``; the runner's extra fields never replace the standard ones.
 
-
-def summary_document(model_name: str, scene: dict, result: TraceResult, wall_time_s: float) -> dict[str, Any]:
-    """The content of ``summary.json``; the runner's extra fields never replace the standard ones."""
+    ``complete`` is false when a branch stopped at its step limit before the end of its path
+    (:attr:`TraceResult.complete`); ``message`` replaces the result's own when given.
+    """
     doc: dict[str, Any] = {
         "model": model_name,
         "status": result.status,
         "success": result.success,
-        "message": result.message,
+        "complete": result.complete,
+        "message": result.message if message is None else message,
         "parameter": result.parameter_name,
         "scene": scene,
         "special_points": result.special_points,
@@ -608,7 +654,7 @@ def summary_document(model_name: str, scene: dict, result: TraceResult, wall_tim
     }
     for key, value in result.summary.items():
         doc.setdefault(key, value)
-    return _json_ready(doc)
+    return json_ready(doc)
 
 
 def classification_document(model_name: str, scene: dict, result: Classification,
@@ -627,7 +673,7 @@ def classification_document(model_name: str, scene: dict, result: Classification
     doc.setdefault("n_steps", result.n_steps)
     doc.setdefault("scene", scene)
     doc.setdefault("contin_version", __version__)
-    return _json_ready(doc)
+    return json_ready(doc)
 
 
 def format_classification(model_name: str, result: Classification) -> str:
@@ -638,8 +684,8 @@ def format_classification(model_name: str, result: Classification) -> str:
     return "\n".join(lines)
 
 
-def _write_json(fh: io.BufferedWriter, doc: dict) -> None:
-    fh.write((json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
+def _write_json(fh: io.TextIOBase, doc: dict) -> None:
+    fh.write(json.dumps(doc, indent=2, allow_nan=False) + "\n")
 
 
 def _csv_cell(v: Any) -> str:
@@ -651,19 +697,16 @@ def _csv_cell(v: Any) -> str:
     return repr(f) if math.isfinite(f) else ""
 
 
-def _write_csv(fh: io.BufferedWriter, columns: dict[str, np.ndarray]) -> None:
-    text = io.TextIOWrapper(fh, encoding="utf-8", newline="")
-    writer = csv.writer(text, lineterminator="\n")
+def _write_csv(fh: io.TextIOBase, columns: dict[str, np.ndarray]) -> None:
+    writer = csv.writer(fh, lineterminator="\n")
     names = list(columns)
     writer.writerow(names)
     cols = [np.asarray(columns[n]).tolist() for n in names]
     for row in zip(*cols):
         writer.writerow([_csv_cell(v) for v in row])
-    text.flush()
-    text.detach()
 
 
-def _write_figure(fh: io.BufferedWriter, model_name: str, result: TraceResult) -> None:
+def _write_figure(fh: io.BufferedIOBase, model_name: str, result: TraceResult) -> None:
     # an explicit Agg canvas: no pyplot state, no GUI backend, safe in-process
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -691,42 +734,38 @@ def _write_figure(fh: io.BufferedWriter, model_name: str, result: TraceResult) -
     fig.savefig(fh, format="png", dpi=120)
 
 
-def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, wall_time_s: float) -> list[Path]:
+def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, wall_time_s: float,
+                  message: str | None = None) -> list[Path]:
     """Write ``summary.json``, ``branch.csv`` and ``diagram.png`` into ``out``.
 
-    Every file is first written under a temporary name in ``out``; only when all three are complete
-    are they moved into place, so a failure or an interrupt never leaves a partial output.
+    All files are written at once (:func:`contin.io.atomic_write`): a failure or an interrupt never
+    leaves a partial output or a mix of two runs.  A scene with ``output.figure = false``
+    (:func:`contin.scene.wants_figure`) gets no figure, and a figure of an earlier run is removed.
 
     Returns
     -------
     list of Path
         The written files.
+
+    Raises
+    ------
+    CliError
+        When a file cannot be written.
     """
-    writers: list[tuple[str, Callable[[Any], None]]] = [
-        ("summary.json", lambda fh: _write_json(fh, summary_document(model_name, scene, result, wall_time_s))),
-        ("branch.csv", lambda fh: _write_csv(fh, result.csv_columns)),
-        ("diagram.png", lambda fh: _write_figure(fh, model_name, result)),
-    ]
-    temps: list[tuple[str, Path]] = []
-    # mkstemp creates private files; outputs get the permissions of an ordinary new file
-    umask = os.umask(0)
-    os.umask(umask)
+    files: list[FileWriter] = [
+        (out / "summary.json", lambda fh: _write_json(fh, summary_document(model_name, scene, result, wall_time_s,
+                                                                            message))),
+        (out / "branch.csv", lambda fh: _write_csv(fh, result.csv_columns))]
+    figure = out / "diagram.png"
+    if wants_figure(scene):
+        files.append((figure, lambda fh: _write_figure(fh, model_name, result), True))
     try:
-        for fname, write in writers:
-            fd, tmp = tempfile.mkstemp(dir=out, prefix=f".{fname}.", suffix=".tmp")
-            temps.append((fname, Path(tmp)))
-            with os.fdopen(fd, "wb") as fh:
-                write(fh)
-            os.chmod(tmp, 0o666 & ~umask)
-        for fname, tmp in temps:
-            os.replace(tmp, out / fname)
+        written = atomic_write(files)
+        if not wants_figure(scene) and figure.exists():  # it would show another run than the summary beside it
+            figure.unlink()
     except OSError as exc:
         raise CliError(f"cannot write the outputs to {str(out)!r}: {exc.strerror or exc}") from None
-    finally:
-        for _, tmp in temps:
-            if tmp.exists():
-                tmp.unlink()
-    return [out / fname for fname, _ in writers]
+    return written
 
 
 def _cell(key: str, v: Any) -> str:

@@ -20,7 +20,15 @@ Its ``run`` returns a :class:`TraceResult`; :meth:`TraceResult.from_branches` de
 point records, the CSV columns and the printed table from the branches, so a runner stays small.
 A model may also classify a scene (``contin classify``): it then provides a ``classify`` callable
 returning a :class:`Classification` (see :class:`Classifier`; a :class:`SceneModel` takes it as
-``classifier``).  Models without one are traced but not classified.
+``classifier``), and may restrict the scenes it classifies with ``classify_requires`` (checked by
+:func:`check_classifiable` before anything runs).  Models without one are traced but not classified.
+A :class:`SceneModel` may also say that it is the default model and give the command line its
+examples and help (``default``, ``examples``, ``help``; see :mod:`contin.registry`).
+
+A run is complete when every branch reached the end its runner planned for it: a branch that stopped
+because its step budget ran out (:data:`BUDGET_STATUSES`) makes :attr:`TraceResult.complete` false,
+the status ``"incomplete"`` and the run unsuccessful.  A scene's ``[output] figure = false``
+(:func:`wants_figure`) means no figure file.
 
 Nothing here knows about any particular model.
 """
@@ -45,7 +53,9 @@ __all__ = [
     "format_toml_value", "schema_as_toml",
     "integer", "real", "boolean", "choice", "text",
     "TraceResult", "Classification", "ModelRunner", "Classifier", "SceneModel", "can_classify",
-    "special_point_records", "special_point_table", "branch_columns",
+    "special_point_records", "special_point_table", "branch_columns", "check_classifiable", "wants_figure",
+    "engine_failures",
+    "BUDGET_STATUSES",
 ]
 
 
@@ -354,13 +364,56 @@ def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterab
                 raise SceneError(f"scene field {name} = {_show(value)} {where} is out of range; allowed: "
                                  f"{fld.allowed}{limit}", "range")
             scene[section][key] = converted
-    for con in schema.constraints:
+    _check_constraints(schema.constraints, scene, "are not allowed together")
+    return scene
+
+
+def _check_constraints(constraints: Iterable[Constraint], scene: dict[str, dict[str, Any]], verdict: str) -> None:
+    """Raise :class:`SceneError` (``"constraint"``) naming the fields and values of the first constraint that fails."""
+    for con in constraints:
         if not con.check(scene):
             values = ", ".join(f"{n} = {_show(scene[n.split('.')[0]][n.split('.')[1]])}" for n in con.fields)
             reason = f" ({con.reason})" if con.reason else ""
-            raise SceneError(f"scene fields {values} are not allowed together; allowed: {con.allowed}{reason}",
-                             "constraint")
-    return scene
+            noun = "field" if len(con.fields) == 1 else "fields"
+            raise SceneError(f"scene {noun} {values} {verdict}; allowed: {con.allowed}{reason}", "constraint")
+
+
+def check_classifiable(model: Any, scene: dict[str, dict[str, Any]]) -> None:
+    """Refuse a scene that the model can trace but not classify.
+
+    A runner lists what a scene must satisfy to be classified in ``classify_requires`` (a sequence of
+    :class:`Constraint`; none when absent).
+
+    Raises
+    ------
+    SceneError
+        Kind ``"constraint"``: one paragraph naming the fields, their values, what classification
+        needs and why (the constraint's reason, which says what to run instead).
+    """
+    _check_constraints(getattr(model, "classify_requires", ()), scene, "cannot be classified")
+
+
+def engine_failures() -> tuple[type[BaseException], ...]:
+    """The engine's exceptions for a numerical failure that a runner let through instead of reporting it.
+
+    The command line and the sweeps turn these into a failed run (exit status 1, a ``failure`` row),
+    not an internal error.  Imported when called: the continuation core is not needed to read a scene.
+    """
+    from .jump import JumpError
+    from .linalg import SingularMatrixError
+    from .palc import CorrectorFailure
+    from .problem import NonFiniteError
+
+    return (CorrectorFailure, NonFiniteError, JumpError, SingularMatrixError, np.linalg.LinAlgError)
+
+
+def wants_figure(scene: Mapping[str, Mapping[str, Any]]) -> bool:
+    """Whether a run of ``scene`` should draw its diagram: the standard key ``output.figure``.
+
+    A schema may declare ``[output] figure`` (a boolean); false means no figure file is written.
+    Without that key the figure is always drawn.
+    """
+    return bool(scene.get("output", {}).get("figure", True))
 
 
 def _type_name(value: Any) -> str:
@@ -421,6 +474,11 @@ def schema_as_toml(schema: Schema, indent: str = "") -> str:
 # ---------------------------------------------------------------------------------------------------
 # what a model runner returns
 # ---------------------------------------------------------------------------------------------------
+#: Statuses of a branch that stopped because its step budget (``max_steps``) ran out: the engine calls it
+#: ``"completed"`` (all the steps it was given are done); ``"max_steps"`` is accepted as the same.
+BUDGET_STATUSES = ("completed", "max_steps")
+
+
 @dataclass
 class TraceResult:
     """Result of a scene run, in the form the command line writes out.
@@ -509,30 +567,48 @@ class TraceResult:
 
     # ---- overall outcome ---------------------------------------------------------------------------
     @property
+    def complete(self) -> bool:
+        """True when no branch stopped because its step budget ran out (:data:`BUDGET_STATUSES`).
+
+        Every other planned end (a bound, a terminal event, a closed loop) is where the runner meant
+        the branch to end; a spent budget is not, so the run did not reach the end of its path.
+        """
+        return not any(br.status in BUDGET_STATUSES for br in self.branches)
+
+    @property
     def success(self) -> bool:
-        """True when every branch ended for a planned reason, every jump landed, and the runner finished."""
-        return (not self.failure and all(br.success for br in self.branches)
+        """True when every branch reached its planned end, every jump landed, and the runner finished."""
+        return (not self.failure and self.complete and all(br.success for br in self.branches)
                 and all(j.success for j in self.jumps))
 
     @property
     def status(self) -> str:
-        """``"ok"``, or the status of the first failure (``"min_step"``, ``"failed"``, ``"jump_failed"``)."""
+        """``"ok"``, or the status of the first failure (``"min_step"``, ``"failed"``, ``"incomplete"``, ...)."""
         for br in self.branches:
-            if not br.success:
+            if not br.success and br.status not in BUDGET_STATUSES:
                 return br.status
+        if not self.complete:
+            return "incomplete"
         if any(not j.success for j in self.jumps):
             return "jump_failed"
         return "failed" if self.failure else "ok"
 
+    def _name(self, i: int) -> str:
+        return self.labels[i] if i < len(self.labels) else (f"branch {i}" if len(self.branches) > 1 else "")
+
     @property
     def message(self) -> str:
-        """One line per branch and jump, joined: why each ended."""
+        """One line per branch and jump, joined: why each ended (and which stopped short of its end)."""
         parts = []
         for i, br in enumerate(self.branches):
-            name = self.labels[i] if i < len(self.labels) else (f"branch {i}" if len(self.branches) > 1 else "")
+            name = self._name(i)
             parts.append(f"{name}: {br.message}" if name else br.message)
         for i, j in enumerate(self.jumps):
             parts.append(f"jump {i} at {self.parameter_name} = {j.p:.10g}: {j.message}")
+        short = [self._name(i) or "the branch" for i, br in enumerate(self.branches) if br.status in BUDGET_STATUSES]
+        if short:
+            parts.append(f"incomplete: {', '.join(short)} stopped when the step limit (max_steps) was reached, before "
+                         f"the end of the path")
         if self.failure:
             parts.append(self.failure)
         parts += [f"warning: {w}" for w in self.summary.get("warnings", [])]
@@ -747,6 +823,17 @@ class SceneModel:
     runner : callable ``(scene, progress) -> TraceResult``
     classifier : callable ``(scene, progress) -> Classification``, optional
         What ``contin classify`` calls; without it the model cannot classify.
+    classify_requires : sequence of Constraint
+        What a scene must satisfy to be classified (:func:`check_classifiable`); each constraint's
+        ``reason`` says why and what to run instead.  :meth:`classify` refuses other scenes.
+    default : bool
+        This is the model the command line uses when none is named (:func:`contin.registry.default_model`;
+        exactly one registered model should say so).
+    examples : mapping
+        Command (``"trace"``, ``"classify"``, ``"models"``) to pairs of (arguments after the command,
+        comment), shown in the command line's help.
+    help : mapping
+        Command to a paragraph on what the command does for this model, shown in its help.
     """
 
     name: str
@@ -754,6 +841,10 @@ class SceneModel:
     schema: Schema
     runner: Callable[[dict[str, dict[str, Any]], bool], TraceResult]
     classifier: Callable[[dict[str, dict[str, Any]], bool], Classification] | None = None
+    classify_requires: Sequence[Constraint] = ()
+    default: bool = False
+    examples: Mapping[str, Sequence[tuple[str, str]]] = field(default_factory=dict)
+    help: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def can_classify(self) -> bool:
@@ -771,7 +862,10 @@ class SceneModel:
         ------
         NotImplementedError
             If the model has no classifier (check :attr:`can_classify` first).
+        SceneError
+            If the scene fails one of :attr:`classify_requires`.
         """
         if self.classifier is None:
             raise NotImplementedError(f"model {self.name!r} cannot classify a scene")
+        check_classifiable(self, scene)
         return self.classifier(scene, progress)

@@ -21,7 +21,7 @@ The CSV has one row per combination.  Its columns are the swept keys (``section.
 compact JSON, so that every row says exactly what it was computed for).
 
 Nothing here knows about any particular model: models are found through the registry
-(:func:`contin.cli.load_model`) or passed as runner objects.
+(:func:`contin.registry.load_model`) or passed as runner objects.
 """
 
 from __future__ import annotations
@@ -36,7 +36,6 @@ import math
 import os
 import pickle
 import sys
-import tempfile
 import time
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import closing
@@ -45,12 +44,14 @@ from typing import Any
 
 import numpy as np
 
+from . import registry
 from .executors import Executor, ProcessExecutor, SerialExecutor, WorkerDied, default_workers, make_executor
-from .scene import Classification, ModelRunner, SceneError, Schema, can_classify, format_toml_value, load_scene, \
-    parse_override
+from .io import atomic_write
+from .scene import (Classification, ModelRunner, SceneError, Schema, can_classify, check_classifiable,
+                    engine_failures, format_toml_value, load_scene, parse_override)
 
 __all__ = ["SweepError", "SWEEP_SYNTAX", "parse_sweep", "sweep_scenes", "run_sweep", "default_workers",
-           "read_sweep_csv"]
+           "read_sweep_csv", "check_sweep_classifiable"]
 
 #: How a sweep axis is written (quoted in error messages and in the help).
 SWEEP_SYNTAX = ("SPEC is a comma list of values (0.6,0.8,1.0), a range start:stop:count (count evenly spaced "
@@ -159,7 +160,7 @@ def parse_sweep(spec: str, schema: Schema | None = None) -> tuple[str, list[Any]
         ``--set`` value: TOML, else a bare string), a range ``start:stop:count`` (``count`` evenly
         spaced values, both ends included) or ``log:start:stop:count`` (geometric).  Inner points of
         a range are rounded to 12 significant digits.  A range whose ends are integers and whose
-        points are all integers gives integers (``shell.N=40:100:4`` is 40, 60, 80, 100).
+        points are all integers gives integers (``model.N=40:100:4`` is 40, 60, 80, 100).
     schema : Schema, optional
         The model's schema.  With it the key must exist, a range of an integer key must give
         integers, numbers for a float key become floats, and a boolean or string key cannot take a
@@ -549,28 +550,19 @@ class _CsvStore:
         return rewrite or len(self.written) != len(raw_rows)
 
     def _rewrite(self, rows: Sequence[dict[str, Any]]) -> None:
-        """Replace the file by ``rows`` under ``self.columns``, atomically (temporary file, then rename)."""
+        """Replace the file by ``rows`` under ``self.columns``, atomically (it keeps its permissions)."""
         if self.columns is None:
             return
         if self._fh is not None:
             self._fh.close()
             self._fh = None
-        mode = self.path.stat().st_mode & 0o777 if self.path.exists() else None
-        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=f".{self.path.name}.", suffix=".tmp")
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-                fh.write(_csv_line(self.columns, {c: c for c in self.columns}))
-                for row in rows:
-                    fh.write(_csv_line(self.columns, row))
-            if mode is None:
-                umask = os.umask(0)
-                os.umask(umask)
-                mode = 0o666 & ~umask
-            os.chmod(tmp, mode)
-            os.replace(tmp, self.path)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+        columns = self.columns
+
+        def write(fh: Any) -> None:
+            fh.write(_csv_line(columns, {c: c for c in columns}))
+            for row in rows:
+                fh.write(_csv_line(columns, row))
+        atomic_write([(self.path, write)], keep_mode=True)
 
     def append(self, row: dict[str, Any]) -> None:
         """Write one row and flush it; extend the header (rewriting the file) if the row has new columns."""
@@ -603,15 +595,6 @@ class _CsvStore:
 # ---------------------------------------------------------------------------------------------------
 # classifying one combination (in this process or in a worker)
 # ---------------------------------------------------------------------------------------------------
-def _engine_failures() -> tuple[type[BaseException], ...]:
-    from .jump import JumpError
-    from .linalg import SingularMatrixError
-    from .palc import CorrectorFailure
-    from .problem import NonFiniteError
-
-    return (CorrectorFailure, NonFiniteError, JumpError, SingularMatrixError, np.linalg.LinAlgError)
-
-
 def _one_line(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {' '.join(str(exc).split())}"
 
@@ -647,7 +630,7 @@ def _classify_safely(runner: Any, scene: Scene) -> _Outcome:
             failure = "" if result.success else " ".join(result.message.split())
     except SceneError as exc:
         failure = f"the model rejected this scene: {' '.join(str(exc).split())}"
-    except _engine_failures() as exc:
+    except engine_failures() as exc:
         failure = f"run failed: {_one_line(exc)}"
     except Exception as exc:  # a bug in the model or in contin: reported in the row, the sweep goes on
         failure = f"internal error: {_one_line(exc)}"
@@ -655,9 +638,27 @@ def _classify_safely(runner: Any, scene: Scene) -> _Outcome:
 
 
 def _load_runner(name: str) -> ModelRunner:
-    from . import cli  # the registry; looked up at call time (cli imports this module)
+    try:
+        return registry.load_model(name)
+    except registry.ModelNotFound as exc:
+        raise SweepError(str(exc), "unknown") from None
 
-    return cli.load_model(name)
+
+def check_sweep_classifiable(runner: Any, scenes: Sequence[Combination]) -> None:
+    """Refuse a sweep with a combination the model can trace but not classify, before anything runs.
+
+    Raises
+    ------
+    SweepError
+        Kind ``"constraint"``: the refusal of :func:`contin.scene.check_classifiable`, naming the
+        combination (when a key is swept).
+    """
+    for values, scene in scenes:
+        try:
+            check_classifiable(runner, scene)
+        except SceneError as exc:
+            where = ", ".join(f"{name}={_show(v)}" for name, v in values.items())
+            raise SweepError(f"{exc}{f' (in the sweep combination {where})' if where else ''}", exc.kind) from None
 
 
 # in a worker process (of the pool or of a Dask cluster): the runners of its sweeps by model, or why
@@ -715,7 +716,8 @@ def _make_row(values: dict[str, Any], scene: Scene, outcome: _Outcome) -> dict[s
 
 def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path: str | Path | None = None,
               workers: int | None = None, progress: bool = True, resume: bool = True, *,
-              scheduler: str | None = None, executor: Executor | None = None) -> list[dict[str, Any]]:
+              scheduler: str | None = None, executor: Executor | None = None,
+              runner: ModelRunner | None = None) -> list[dict[str, Any]]:
     """Classify every combination of a sweep, in parallel, writing each row to a CSV as it finishes.
 
     Parameters
@@ -748,6 +750,9 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
         Run on this executor (:mod:`contin.executors`; it is not closed here) instead of one made
         from ``workers`` and ``scheduler``.  A :class:`~contin.executors.ProcessExecutor` with one
         combination to compute classifies it in this process.
+    runner : ModelRunner, optional
+        With ``model`` a registered name: its runner, already loaded by the caller.  It classifies
+        what runs in this process; worker processes still load the model by name.
 
     Returns
     -------
@@ -783,10 +788,12 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
     workers = None if workers is None else int(workers)
     if workers is not None and workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
-    runner = _load_runner(model) if isinstance(model, str) else model
+    if runner is None:
+        runner = _load_runner(model) if isinstance(model, str) else model
     name = model if isinstance(model, str) else getattr(runner, "name", type(runner).__name__)
     if not can_classify(runner):
         raise SweepError(f"model {name!r} cannot classify: it provides no classification", "unknown")
+    check_sweep_classifiable(runner, scenes)
     axes = list(scenes[0][0])
     total = len(scenes)
     say = (lambda msg: print(f"contin: {msg}", file=sys.stderr, flush=True)) if progress else (lambda msg: None)

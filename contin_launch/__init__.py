@@ -2,7 +2,7 @@
 
 ``contin.cli`` imports numpy, scipy, networkx and the engine, which takes about a second; a Ctrl-C
 in that second would print Python's traceback of the import and kill the process by the signal.
-This package imports nothing but :mod:`sys` (it lives outside ``contin`` because importing any
+This package imports nothing but :mod:`sys` and :mod:`signal` (it lives outside ``contin`` because importing any
 module of ``contin`` first runs ``contin/__init__.py``, which imports the engine).  :func:`main`
 imports and runs the command line and turns an interrupt at any point before the command handles
 it into the command's own message (``contin: interrupted``) and exit status 130.
@@ -15,8 +15,10 @@ The console script names it in ``pyproject.toml``::
 
 from __future__ import annotations
 
+import signal
 import sys
 from collections.abc import Sequence
+from typing import Any
 
 __all__ = ["main"]
 
@@ -34,13 +36,36 @@ def main(argv: Sequence[str] | None = None) -> int:
     int
         The exit status of :func:`contin.cli.main`, or 130 when interrupted before it took over.
     """
-    try:
-        from contin.cli import main as cli_main
+    interrupted: list[int] = []
 
+    def on_sigint(signum: int, frame: Any) -> None:
+        interrupted.append(signum)
+        raise KeyboardInterrupt
+
+    # an interrupt inside a compiled extension's import may come out as an ImportError (numpy wraps
+    # it so); the flag tells such an ImportError from a broken installation
+    try:
+        previous = signal.signal(signal.SIGINT, on_sigint)
+    except ValueError:  # not the main thread: signals are not ours to handle there
+        previous = None
+    try:
+        try:
+            from contin.cli import main as cli_main
+        finally:
+            if previous is not None:
+                signal.signal(signal.SIGINT, previous)
         return cli_main(argv)
     except KeyboardInterrupt:  # while importing, or building the parser (contin.cli handles it after that)
-        try:
-            print("contin: interrupted", file=sys.stderr)
-        except (KeyboardInterrupt, OSError):
-            pass
-        return 130
+        return _interrupted()
+    except ImportError:
+        if interrupted:
+            return _interrupted()
+        raise
+
+
+def _interrupted() -> int:
+    try:
+        print("contin: interrupted", file=sys.stderr)
+    except (KeyboardInterrupt, OSError):
+        pass
+    return 130

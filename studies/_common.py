@@ -3,8 +3,11 @@
 A study is run as ``python -m studies.<name> [--out DIR] [--full]``: fast by default (under a minute
 on a laptop-class core), faithful to the paper with ``--full``.  It writes its figures as PNG and PDF,
 its data as CSV and a ``summary.json``, and prints a short table.  Every file is written to a temporary
-name in the output directory and moved into place when complete, so an interrupted study never leaves
-a half-written file behind.
+name in the output directory and moved into place when complete (:func:`contin.io.atomic_write`), so an
+interrupted study never leaves a half-written file behind.  Run through :func:`run_study` (its
+``__main__`` block), a study behaves like the ``contin`` command: Ctrl-C exits with 130 and one line,
+an output directory that cannot be written with 2 and one paragraph, never a traceback, and no empty
+output directory is left behind.
 
 A study whose cases are independent runs them through an executor (:mod:`contin.executors`):
 ``--workers N`` local processes (1: in the study's process) or ``--scheduler ADDRESS``, a Dask
@@ -19,19 +22,19 @@ import csv
 import json
 import os
 import sys
-import tempfile
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
-from contin.cli import _json_ready as _cli_json_ready
 from contin.executors import Executor, ExecutorError, make_executor
+from contin.io import OutputDirectory, OutputError, atomic_write, json_ready
+from contin.scene import SceneError
 from models.shell.boundaries import depth_parameter
 
-__all__ = ["study_parser", "executor_from_args", "output_dir", "save_figure", "write_csv", "write_json", "write_text",
-           "json_ready", "print_table", "shell_lambda", "say"]
+__all__ = ["study_parser", "executor_from_args", "output_dir", "run_study", "save_figure", "write_csv", "write_json",
+           "write_text", "json_ready", "print_table", "shell_lambda", "say"]
 
 
 def _positive_int(text: str) -> int:
@@ -115,49 +118,82 @@ def executor_from_args(args: argparse.Namespace, default_workers: int | None = N
         raise SystemExit(2) from None
 
 
+#: Output directories made by :func:`output_dir` in this run: :func:`run_study` removes them again if empty.
+_MADE: list[OutputDirectory] = []
+
+
+def _refuse(message: str) -> NoReturn:
+    """Bad input, as the command line reports it: one paragraph on stderr, exit status 2."""
+    print(f"error: {' '.join(message.split())}", file=sys.stderr)
+    raise SystemExit(2)
+
+
 def output_dir(path: str | os.PathLike) -> Path:
-    """Create the output directory (and parents); a clear error if that is impossible."""
-    out = Path(path)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise SystemExit(f"error: cannot create the output directory {str(out)!r}: {exc.strerror or exc}")
-    return out
+    """Create the output directory (and parents) and check that it can be written.
 
+    A directory this makes is removed again by :func:`run_study` if the study ends without writing
+    into it (an interrupt, an error).
 
-def _atomic_write(path: Path, write: Any, mode: str = "w") -> Path:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, mode, **({"newline": ""} if "b" not in mode else {})) as fh:
-            write(fh)
-        umask = os.umask(0)  # mkstemp makes the file private; an output gets a new file's permissions
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
-
-
-def json_ready(obj: Any) -> Any:
-    """``obj`` with numpy scalars and arrays made plain, and NaN or infinity made None (JSON has neither).
-
-    The same conversion ``contin trace`` applies to ``summary.json``.
+    Raises
+    ------
+    SystemExit
+        Status 2 with one paragraph on stderr when the directory cannot be created or written.
     """
-    return _cli_json_ready(obj)
+    try:
+        made = OutputDirectory(path)
+    except OutputError as exc:
+        _refuse(str(exc))
+    _MADE.append(made)
+    return made.path
+
+
+def run_study(main: Callable[..., int | None], argv: Sequence[str] | None = None) -> int:
+    """Run a study's ``main`` as the ``contin`` command runs: the exit status, and no traceback for the user.
+
+    Parameters
+    ----------
+    main : callable
+        The study's entry point, called as ``main(argv)`` (``main()`` when ``argv`` is None).
+    argv : sequence of str, optional
+        Its arguments.
+
+    Returns
+    -------
+    int
+        What ``main`` returned (None: 0); 130 after an interrupt (Ctrl-C), with one line on stderr;
+        2 for a scene the models refuse, with its one-paragraph message.  Whatever the end, an
+        output directory the study made and left empty is removed.
+    """
+    # run as python -m studies.NAME, the module is __main__: its spec still knows the name (a script has none)
+    spec = getattr(sys.modules.get(main.__module__), "__spec__", None)
+    if spec is not None:
+        prog = f"python -m {spec.name}"
+    else:
+        prog = os.path.basename(sys.argv[0]) if main.__module__ == "__main__" else main.__module__
+        prog = prog if prog and not prog.startswith("-") else "study"  # python -c gives argv[0] = "-c"
+    try:
+        status = main() if argv is None else main(argv)
+        return int(status or 0)
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
+    except SceneError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        while _MADE:
+            _MADE.pop().remove_if_empty()
 
 
 def write_json(path: str | os.PathLike, doc: dict[str, Any]) -> Path:
     """Write ``doc`` as indented JSON (atomically)."""
     text = json.dumps(json_ready(doc), indent=2, allow_nan=False)
-    return _atomic_write(Path(path), lambda fh: fh.write(text + "\n"))
+    return write_text(path, text + "\n")
 
 
 def write_text(path: str | os.PathLike, text: str) -> Path:
     """Write ``text`` to ``path`` atomically (a temporary name in the same folder, then a rename)."""
-    return _atomic_write(Path(path), lambda fh: fh.write(text))
+    return atomic_write([(path, lambda fh: fh.write(text))])[0]
 
 
 def write_csv(path: str | os.PathLike, rows: Sequence[dict[str, Any]], columns: Sequence[str] | None = None) -> Path:
@@ -173,20 +209,21 @@ def write_csv(path: str | os.PathLike, rows: Sequence[dict[str, Any]], columns: 
         w.writerow(cols)
         for r in rows:
             w.writerow([cell(r.get(c)) for c in cols])
-    return _atomic_write(Path(path), write)
+    return atomic_write([(path, write)])[0]
 
 
 def save_figure(fig: Any, out: str | os.PathLike, stem: str) -> list[Path]:
     """Save a matplotlib figure as ``<stem>.png`` and ``<stem>.pdf`` in ``out`` (atomically) and close it."""
     import matplotlib.pyplot as plt
 
-    paths = []
-    for ext, kw in (("png", {"dpi": 150}), ("pdf", {})):
-        path = Path(out) / f"{stem}.{ext}"
-        _atomic_write(path, lambda fh: fig.savefig(fh, format=ext, bbox_inches="tight", **kw), mode="wb")
-        paths.append(path)
-    plt.close(fig)
-    return paths
+    def draw(ext: str, **kw: Any) -> Callable[[Any], None]:
+        return lambda fh: fig.savefig(fh, format=ext, bbox_inches="tight", **kw)
+
+    try:
+        return atomic_write([(Path(out) / f"{stem}.png", draw("png", dpi=150)),
+                             (Path(out) / f"{stem}.pdf", draw("pdf"))], binary=True)
+    finally:
+        plt.close(fig)
 
 
 def print_table(rows: Iterable[dict[str, Any]], columns: Sequence[str], digits: int = 6,

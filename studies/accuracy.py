@@ -934,4 +934,6 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from studies._common import run_study
+
+    raise SystemExit(run_study(main))

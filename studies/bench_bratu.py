@@ -272,4 +272,6 @@ def render(r: dict) -> str:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from studies._common import run_study
+
+    raise SystemExit(run_study(main))

@@ -82,4 +82,6 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from studies._common import run_study
+
+    raise SystemExit(run_study(main))

@@ -530,4 +530,6 @@ if __name__ == "__main__":
     # set before numpy is first imported.
     for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(_var, "1")
-    raise SystemExit(_main())
+    from studies._common import run_study
+
+    raise SystemExit(run_study(_main))

@@ -324,4 +324,6 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from studies._common import run_study
+
+    raise SystemExit(run_study(main))

@@ -311,4 +311,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from studies._common import run_study
+
+    raise SystemExit(run_study(main))

@@ -42,7 +42,6 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import math  # noqa: E402
-import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Sequence  # noqa: E402
 from dataclasses import dataclass, field  # noqa: E402
@@ -51,7 +50,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 from contin.branch import Branch  # noqa: E402
-from contin.scene import SceneError, TraceResult, load_scene  # noqa: E402
+from contin.scene import TraceResult, load_scene  # noqa: E402
 from models.shell.strain import STRAIN_LIMIT  # noqa: E402
 from models.shell_scene import contact_problem, point_problem  # noqa: E402
 from studies._common import (executor_from_args, output_dir, print_table, say, study_parser,  # noqa: E402
@@ -218,7 +217,7 @@ def _key_result(result: TraceResult, scene: dict[str, dict[str, Any]]) -> dict[s
 
 
 def _trace(overrides: Sequence[str]) -> tuple[dict[str, dict[str, Any]], TraceResult, float]:
-    from contin.cli import load_model
+    from contin.registry import load_model
 
     model = load_model("shell")
     scene = load_scene(model.schema, None, [*overrides, "output.figure=false", "load.control=displacement"])
@@ -363,8 +362,6 @@ def _fmt_w(row: dict[str, Any]) -> str:
 
 
 if __name__ == "__main__":
-    try:
-        sys.exit(main())
-    except SceneError as exc:
-        print(f"robustness: error: {exc}", file=sys.stderr)
-        sys.exit(2)
+    from studies._common import run_study
+
+    raise SystemExit(run_study(main))

@@ -388,4 +388,6 @@ def main(argv: Sequence[str] | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from studies._common import run_study
+
+    raise SystemExit(run_study(main))

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin import cli
+from contin import cli, registry
 from contin.scene import (Classification, SceneError, SceneModel, Schema, TraceResult, can_classify, integer,
                           load_scene, real)
 
@@ -147,8 +147,9 @@ def test_models_toml_is_a_scene_file_of_the_defaults(tmp_path, capsys):
 
 
 def test_default_model_is_the_papers_shell_scene():
-    assert cli.DEFAULT_MODEL == "shell"
-    scene = load_scene(cli.load_model(cli.DEFAULT_MODEL).schema)
+    # the registry names the default (the shell's runner says default = True); the command line names none
+    assert registry.default_model() == "shell"
+    scene = load_scene(cli.load_model(registry.default_model()).schema)
     shell = scene["shell"]
     assert (shell["phi_hat"], shell["h"] / shell["R"], shell["N"]) == (0.8, 0.02, 200)
     assert scene["load"]["kind"] == "point" and scene["load"]["control"] == "displacement"
@@ -282,7 +283,15 @@ def test_ctrl_c_during_run_exits_130(tmp_path, capsys, monkeypatch):
     out = tmp_path / "out"
     code, _, stderr = run_cli(capsys, "trace", "--out", str(out))
     assert code == 130 and "Traceback" not in stderr and "interrupted" in stderr
-    assert not any(out.iterdir())
+    assert not out.exists()  # the run made it and wrote nothing: it is removed again (issue 14, B4)
+    # a directory that was there before the run stays, with what it held
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    code, _, _ = run_cli(capsys, "trace", "-q", "--out", str(out / "a" / "b"))
+    assert code == 130 and [p.name for p in out.iterdir()] == ["notes.txt"]
+    out.joinpath("empty").mkdir()
+    code, _, _ = run_cli(capsys, "trace", "-q", "--out", str(out / "empty"))
+    assert code == 130 and (out / "empty").is_dir()
 
 
 def test_ctrl_c_while_writing_leaves_no_partial_files(tmp_path, capsys, monkeypatch):
@@ -298,7 +307,7 @@ def test_ctrl_c_while_writing_leaves_no_partial_files(tmp_path, capsys, monkeypa
     out = tmp_path / "out"
     code, _, _ = run_cli(capsys, "trace", "-q", "--out", str(out))
     assert code == 130
-    assert not any(out.iterdir())
+    assert not out.exists()  # no partial file, and not the empty directory the run made
 
 
 def test_runner_protocol_with_stand_in(tmp_path, capsys, monkeypatch):

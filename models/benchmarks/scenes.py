@@ -35,6 +35,13 @@ def _step_order(section: str = "continuation") -> Constraint:
                       f"{section}.ds <= {section}.ds_max")
 
 
+#: Smallest ``continuation.tol``: a relative residual within a few round-offs of double precision
+#: (2.2e-16) is no target a converged point can be held to (both benchmarks still converge at 1e-15 on
+#: the grids tried, n = 200 and 20000, by luck of their conditioning; the shell stops at 1e-12).
+TOL_FLOOR = 1e-14
+_TOL_HELP = "relative residual tolerance (at least 1e-14: below that it is round-off of double precision)"
+
+
 # ---- Bratu -----------------------------------------------------------------------------------------
 #: Largest ``model.n``: five times the largest benchmarked grid (``studies.bench_bratu``, n = 200000); a
 #: mistyped huge n would otherwise run for hours or fail allocating instead of being rejected.
@@ -52,7 +59,7 @@ BRATU_SCHEMA = Schema(
             "ds": real(0.1, gt=0, help="initial arclength step"),
             "ds_max": real(0.2, gt=0, help="largest step"),
             "ds_min": real(1e-9, gt=0, help="smallest step before the run gives up"),
-            "tol": real(1e-10, gt=0, lt=1, help="relative residual tolerance"),
+            "tol": real(1e-10, ge=TOL_FLOOR, lt=1, help=_TOL_HELP),
             "max_steps": integer(1000, low=1, high=100000, help="maximum number of steps"),
             "max_u": real(4.0, gt=0, help="stop when max(u) reaches this value"),
             "stability": boolean(True, help="count negative Hessian eigenvalues at every point"),
@@ -92,6 +99,7 @@ BRATU_SCENE = SceneModel(
     description="1-D Bratu problem u'' + lam exp(u) = 0 on (0, 1): the branch from lam = 0 around its fold",
     schema=BRATU_SCHEMA,
     runner=_run_bratu,
+    examples={"trace": (("--set model.n=50", "the fold at lam = 3.51 on a coarse grid"),)},
 )
 
 
@@ -106,7 +114,7 @@ TRUSS_SCHEMA = Schema(
         "continuation": {
             "ds": real(0.05, gt=0, help="initial step, in units of b and the limit load"),
             "ds_max": real(0.2, gt=0, help="largest step (same units)"),
-            "tol": real(1e-10, gt=0, lt=1, help="residual tolerance"),
+            "tol": real(1e-10, ge=TOL_FLOOR, lt=1, help=_TOL_HELP),
         },
         "load": {"cycle": boolean(False, help="load to the snap, unload to the snap back, reload (hysteresis "
                                               "loop) instead of tracing the whole S-curve")},
@@ -171,4 +179,5 @@ TRUSS_SCENE = SceneModel(
                 "or the snap-through hysteresis loop",
     schema=TRUSS_SCHEMA,
     runner=_run_truss,
+    examples={"trace": (("--set load.cycle=true", "the snap-through hysteresis loop"),)},
 )

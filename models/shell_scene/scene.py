@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from contin.scene import Classification, SceneModel, TraceResult
+from contin.scene import Classification, Constraint, SceneModel, TraceResult, check_classifiable
 
 from .build import contact_settings
 from .point import path_complete, run_point, run_point_force
@@ -60,7 +60,13 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
         ``values`` holds ``F_max``, ``w_at_F_max``, ``F_min``, ``w_at_F_min`` and their normalized
         forms (``F R / (2 pi D)``, ``w / R``), the fold counts, ``lambda``, ``D``, ``F_unit`` and
         ``eversion_w``; ``trace`` is the displacement-controlled run.
+
+    Raises
+    ------
+    contin.scene.SceneError
+        For a sphere or plate indenter: the class is defined on the point-load path.
     """
+    check_classifiable(SHELL_SCENE, scene)  # an indenter has no class: refused, also when called directly
     path_scene = {section: dict(keys) for section, keys in scene.items()}
     path_scene["load"]["control"] = "displacement"
     path_scene["output"]["figure"] = False
@@ -98,6 +104,16 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     return Classification(label=label, values=values, lines=lines, trace=trace, failure=failure)
 
 
+#: The class is defined on the point-load path (``docs/physics.md`` section 5): ``contin classify``
+#: refuses an indenter and says what to run instead.
+_CLASSIFY_REQUIRES = (
+    Constraint(("load.kind",), lambda s: s["load"]["kind"] == "point", 'load.kind = "point"',
+               "the classes monotonous, monostable and bistable are defined on the displacement path of the point "
+               "load at the pole, docs/physics.md section 5; an indenter can only push, so its path has no F < 0 to "
+               "classify. The class of this cap: the same command with --set load.kind=point. The indenter's own "
+               "snap (w_b_c, F at the snaps): 'contin trace' with this scene, in summary.json"),
+)
+
 SHELL_SCENE = SceneModel(
     name="shell",
     description="spherical cap under a point load at the pole: the whole path to eversion, folds in w and F, "
@@ -105,4 +121,25 @@ SHELL_SCENE = SceneModel(
     schema=SHELL_SCHEMA,
     runner=run_scene,
     classifier=classify_scene,
+    classify_requires=_CLASSIFY_REQUIRES,
+    default=True,
+    examples={
+        "trace": (("--set shell.phi_hat=1.2 --set shell.N=100 --out /tmp/run", "a monostable cap"),
+                  ("--set load.control=force", "dead load: snaps at the limit points of F"),
+                  ("--set load.kind=sphere --set load.radius=0.5", "a rigid sphere through the barrier contact")),
+        "classify": (("--set shell.phi_hat=1.2 --set shell.N=100", "monostable"),
+                     ("scene.toml --json", ""),
+                     ("--sweep shell.phi_hat=0.6:1.4:9 --sweep shell.h=0.01,0.02 --csv phi_h.csv", ""),
+                     ("--set shell.N=100 --sweep shell.h=log:0.005:0.05:7 --workers 4 --json", ""),
+                     ("--sweep shell.phi_hat=0.6:1.4:9 --scheduler tcp://127.0.0.1:8786", "on a Dask cluster")),
+    },
+    help={
+        "trace": "branch.csv has w, F, w_over_R, F_norm, stable_force, stable_displacement and n_negative; the path "
+                 "ends at eversion, w = 2 R (1 - sin phi_hat) (1 + continuation.overshoot).",
+        "classify": "the class (monotonous, monostable or bistable) is defined on the displacement-controlled path "
+                    "of the point load to eversion, which is traced whatever load.control says; a sphere or plate "
+                    "indenter is refused. Printed: the class, F_max and F_min with the displacements where they "
+                    "occur, raw and normalized (w/R, F R/(2 pi D)); the sweep CSV adds F_max, F_min, F_max_norm, "
+                    "w_at_F_max_over_R, ..., lambda.",
+    },
 )

@@ -1,0 +1,191 @@
+"""Writing results: atomic files, JSON-ready values and output directories that clean up after themselves.
+
+Everything the toolkit writes goes through here:
+
+- :func:`atomic_write` writes one or several files so that a reader never sees a partial one: each is
+  written under a temporary name in its own directory and renamed into place only when every file of
+  the group is complete.  An interrupt or an error leaves the previous files as they were and no
+  temporary file behind.
+- :func:`json_ready` turns numpy values into plain Python and NaN or infinity into None (JSON has
+  neither), for ``summary.json``, ``contin classify --json`` and the studies' summaries.
+- :func:`output_directory` creates an output directory, checks that it can be written, and removes
+  again what it created if nothing was written into it (an interrupted or failed run leaves no
+  empty directory behind).  Its errors are :class:`OutputError`: one paragraph fit to show a user.
+
+Nothing here knows about any model.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import tempfile
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+from typing import IO, Any
+
+import numpy as np
+
+__all__ = ["OutputError", "FileWriter", "atomic_write", "json_ready", "output_directory", "OutputDirectory"]
+
+
+class OutputError(OSError):
+    """An output that cannot be written: the message is one paragraph naming the path and the reason."""
+
+
+def _new_file_mode() -> int:
+    # mkstemp makes private files; an output gets the permissions of an ordinary new file
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
+#: What :func:`atomic_write` writes: ``(path, write)`` or ``(path, write, binary)``.
+_Write = Callable[[IO[Any]], Any]
+FileWriter = tuple[str | os.PathLike, _Write] | tuple[str | os.PathLike, _Write, bool]
+
+
+def atomic_write(files: Sequence[FileWriter], *, binary: bool = False, keep_mode: bool = False) -> list[Path]:
+    """Write files all at once: each to a temporary name beside it, then all renamed into place.
+
+    Parameters
+    ----------
+    files : sequence of (path, write) or (path, write, binary)
+        ``write(fh)`` fills the open file ``fh``: text (UTF-8, ``newline=""``) or, when the item's
+        third element (else ``binary``) is true, binary.
+    binary : bool
+        Open the files without their own flag in binary mode.
+    keep_mode : bool
+        A file that already exists keeps its permissions (else: those of a new file).
+
+    Returns
+    -------
+    list of Path
+        The written paths, in the order given.
+
+    Raises
+    ------
+    OSError
+        From the file system or from ``write``; then no file has been replaced and no temporary
+        file is left.  Any exception of ``write`` (and an interrupt) is re-raised the same way.
+    """
+    temps: list[tuple[Path, Path]] = []
+    try:
+        for item in files:
+            path, write, as_bytes = Path(item[0]), item[1], bool(item[2]) if len(item) > 2 else binary
+            mode = path.stat().st_mode & 0o777 if keep_mode and path.exists() else _new_file_mode()
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+            temps.append((path, Path(tmp)))
+            opened = os.fdopen(fd, "wb") if as_bytes else os.fdopen(fd, "w", encoding="utf-8", newline="")
+            with opened as fh:
+                write(fh)
+            os.chmod(tmp, mode)
+        # only now, with every file complete, does any of them replace what was there
+        for path, tmp in temps:
+            os.replace(tmp, path)
+    finally:
+        for _, tmp in temps:
+            if tmp.exists():
+                tmp.unlink()
+    return [path for path, _ in temps]
+
+
+def json_ready(obj: Any) -> Any:
+    """``obj`` with numpy scalars and arrays made plain and NaN or infinity made None.
+
+    Dict keys become strings, tuples become lists; anything else is returned as it is.
+    """
+    if isinstance(obj, dict):
+        return {str(k): json_ready(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_ready(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return json_ready(obj.tolist())
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    return obj
+
+
+class OutputDirectory:
+    """An output directory, and the directories that creating it made (removed again if left empty).
+
+    Attributes
+    ----------
+    path : Path
+        The directory.
+    created : list of Path
+        The directories that did not exist before, deepest first.
+    """
+
+    def __init__(self, path: str | os.PathLike, *, reserved: Sequence[str] = ()) -> None:
+        """Create ``path`` (and its parents) and check that a file can be written there.
+
+        Parameters
+        ----------
+        path : str or PathLike
+            The directory.
+        reserved : sequence of str
+            File names the run will write: each may not be a directory there (a file cannot
+            replace a directory, and the others would then be half-updated).
+
+        Raises
+        ------
+        OutputError
+            Empty name, a file in the way, a reserved name that is a directory, a directory that
+            cannot be created or written.
+        """
+        if not str(path):  # Path("") would be the current directory
+            raise OutputError("the output directory name is empty; give a directory to write into")
+        self.path = Path(path)
+        if self.path.exists() and not self.path.is_dir():
+            raise OutputError(f"the output directory {str(self.path)!r} exists and is not a directory; give a "
+                              f"directory to write into")
+        blocked = [name for name in reserved if (self.path / name).is_dir()]
+        if blocked:
+            raise OutputError(f"cannot write the outputs to {str(self.path)!r}: {', '.join(blocked)} "
+                              f"{'is a directory' if len(blocked) == 1 else 'are directories'} there; move "
+                              f"{'it' if len(blocked) == 1 else 'them'} away or give another output directory")
+        missing = [p for p in (self.path, *self.path.parents) if not p.exists()]
+        try:
+            self.path.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputError(f"cannot create the output directory {str(self.path)!r}: "
+                              f"{exc.strerror or exc}") from None
+        self.created = [p for p in missing if p.is_dir()]
+        try:
+            fd, probe = tempfile.mkstemp(dir=self.path, prefix=".contin-probe.", suffix=".tmp")
+            os.close(fd)
+            os.unlink(probe)
+        except OSError as exc:
+            self.remove_if_empty()
+            raise OutputError(f"the output directory {str(self.path)!r} is not writable: "
+                              f"{exc.strerror or exc}") from None
+
+    def remove_if_empty(self) -> None:
+        """Remove the directories this object created, deepest first, as long as they are empty."""
+        for p in self.created:
+            try:
+                p.rmdir()  # fails on a directory that holds anything: that one and its parents stay
+            except OSError:
+                break
+        self.created = []
+
+
+@contextlib.contextmanager
+def output_directory(path: str | os.PathLike, *, reserved: Sequence[str] = ()) -> Iterator[Path]:
+    """Context of a run that writes into ``path``: created on entry, removed on exit if left empty.
+
+    See :class:`OutputDirectory` for the parameters and the errors (raised on entry).  Whatever ends
+    the context (success, an error, an interrupt), a directory it created and nothing was written
+    into is removed again.
+    """
+    out = OutputDirectory(path, reserved=reserved)
+    try:
+        yield out.path
+    finally:
+        out.remove_if_empty()
