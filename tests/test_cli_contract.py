@@ -63,7 +63,7 @@ def test_the_shell_runner_refuses_an_indenter_to_any_caller() -> None:
     scene = load_scene(model.schema, None, ["load.kind=sphere", "shell.N=40"])
     with pytest.raises(contin.scene.SceneError, match="cannot be classified"):
         model.classify(scene, False)
-    from models.shell.scene import classify_scene
+    from models.shell_scene import classify_scene
 
     with pytest.raises(contin.scene.SceneError, match="cannot be classified"):
         classify_scene(scene)
