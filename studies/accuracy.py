@@ -310,9 +310,9 @@ def equal_error_ratios(baseline: Sequence[tuple[float, float]], ours: Sequence[t
 def ours_force_maximum(N: int, **overrides: float) -> tuple[float, float]:
     """``(F_max, w)`` of the default scene by PALC and event location; ``overrides`` change the settings.
 
-    Without overrides this is :func:`studies.shell_mesh_convergence.first_force_maximum`; with them,
-    the same continuation (from rest, ``ds = 0.02 R``, ``ds_max = 0.05 R``, up to ``w = 0.5 R``, the
-    maximum of F a terminal event) with the given :class:`contin.Settings` fields changed.
+    This is :func:`studies.shell_mesh_convergence.first_force_maximum` (from rest, ``ds = 0.02 R``,
+    ``ds_max = 0.05 R``, up to ``w = 0.5 R``, the maximum of F a terminal event) with the given
+    :class:`contin.Settings` fields changed.
 
     Raises
     ------
@@ -320,21 +320,8 @@ def ours_force_maximum(N: int, **overrides: float) -> tuple[float, float]:
         If no maximum is found.
     """
     shell = _scene_shell(N)
-    if not overrides:
-        F, w_over_R = first_force_maximum(shell)
-        return F, w_over_R * shell.R
-    opts: dict[str, Any] = {"p_max": 0.5 * shell.R, "ds": 0.02 * shell.R, "ds_max": 0.05 * shell.R,
-                            "detect_branch_points": False}
-    opts.update(overrides)
-    br = contin.continuation(shell, shell.reference_unknowns(), 0.0, events=[contin.extremum("F", "max", terminal=True)],
-                             **opts)
-    found = br.events("max(F)")
-    if not found:
-        raise RuntimeError(f"N = {N}, {overrides}: no maximum of F before w/R = 0.5 ({br.status}: {br.message})")
-    if not found[0].located:
-        raise RuntimeError(f"N = {N}, {overrides}: the maximum of F was only bracketed, not located "
-                           f"({found[0].info.get('error', '')})")
-    return float(found[0].observables["F"]), float(found[0].observables["w"])
+    F, w_over_R = first_force_maximum(shell, **overrides)
+    return F, w_over_R * shell.R
 
 
 def natural_parameter_run(N: int, dp0_units: float, bracket_units: float) -> dict[str, Any]:

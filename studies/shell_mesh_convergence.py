@@ -48,6 +48,7 @@ import tempfile  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Sequence  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 from scipy.optimize import least_squares  # noqa: E402
@@ -114,23 +115,37 @@ def force_at(shell: ShellPointLoad, w_over_R: float = 0.1) -> float:
     return float(br.observables["F"][-1])
 
 
-def first_force_maximum(shell: ShellPointLoad) -> tuple[float, float]:
+def first_force_maximum(shell: ShellPointLoad, **overrides: Any) -> tuple[float, float]:
     """``(F_max, w/R)`` at the first maximum of F on the displacement-controlled path.
+
+    Parameters
+    ----------
+    shell : ShellPointLoad
+        The displacement-controlled problem, traced from its reference state.
+    **overrides
+        :class:`contin.Settings` fields that replace the defaults of this trace (up to ``w = R/2``,
+        ``ds = 0.02 R``, ``ds_max = 0.05 R``, no branch-point detection).
+
+    Returns
+    -------
+    tuple of float
+        ``F`` and ``w/R`` at the located maximum.
 
     Raises
     ------
     RuntimeError
         If no maximum is found before ``w = R/2``, or it is only bracketed between stored points.
     """
-    br = continuation(shell, shell.reference_unknowns(), 0.0, p_max=0.5 * shell.R, ds=0.02 * shell.R,
-                      ds_max=0.05 * shell.R, detect_branch_points=False,
-                      events=[extremum("F", "max", terminal=True)])
+    opts: dict[str, Any] = {"p_max": 0.5 * shell.R, "ds": 0.02 * shell.R, "ds_max": 0.05 * shell.R,
+                            "detect_branch_points": False, **overrides}
+    br = continuation(shell, shell.reference_unknowns(), 0.0, events=[extremum("F", "max", terminal=True)], **opts)
+    where = f"{shell!r}" + (f", {overrides}" if overrides else "")
     found = br.events("max(F)")
     if not found:
-        raise RuntimeError(f"{shell!r}: no maximum of F before w/R = 0.5 ({br.message})")
+        raise RuntimeError(f"{where}: no maximum of F before w/R = 0.5 ({br.status}: {br.message})")
     if not found[0].located:
         # a bracketed maximum is a stored point near it, not the maximum: never report it as converged
-        raise RuntimeError(f"{shell!r}: the maximum of F was bracketed but not located "
+        raise RuntimeError(f"{where}: the maximum of F was bracketed but not located "
                            f"({found[0].info.get('error', '')}; {br.message})")
     return float(found[0].observables["F"]), float(found[0].observables["w_over_R"])
 
