@@ -20,7 +20,6 @@ import dataclasses
 import datetime
 import importlib.util
 import io
-import json
 import math
 import os
 import signal
@@ -37,7 +36,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from contin import cli
-from contin.scene import Classification, Field, SceneModel, Schema, TraceResult, can_classify
+from contin.scene import Classification, Field, SceneModel, Schema, TraceResult, can_classify, format_toml_value
 from contin.sweep import SweepError, read_sweep_csv
 
 MODELS = ("shell", "bratu", "truss")
@@ -116,23 +115,14 @@ def toml_literal(value: Any) -> str:
     """``value`` written as a TOML value (strings as basic strings, bare words are passed as str subclasses)."""
     if isinstance(value, BareWord):
         return value.text
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if math.isnan(value):
-            return "nan"
-        return ("inf" if value > 0 else "-inf") if math.isinf(value) else repr(value)
-    if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)  # no control characters are drawn: valid TOML too
     if isinstance(value, list):
         return "[" + ", ".join(toml_literal(v) for v in value) + "]"
     if isinstance(value, dict):
         return "{" + ", ".join(f"{k} = {toml_literal(v)}" for k, v in value.items()) + "}"
     if isinstance(value, (datetime.date, datetime.time)):
         return value.isoformat()
-    raise TypeError(value)
+    # scalars as the toolkit writes them (strings as basic strings; no control characters are drawn)
+    return format_toml_value(value)
 
 
 @dataclasses.dataclass(frozen=True)
