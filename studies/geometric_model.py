@@ -520,6 +520,27 @@ def _fig9(res: dict[str, Any]) -> Any:
     return fig
 
 
+def _plot_r_c(ax: Any, cases: list[dict[str, Any]], x_key: str) -> list[dict[str, Any]]:
+    """Plot the critical indenter size of ``cases`` against ``c[x_key]`` on ``ax``; return the simulated cases.
+
+    The geometric model (open marks where the fold in w comes before F = 0) and the contact
+    simulations with their bisection brackets.
+    """
+    ax.plot([c[x_key] for c in cases], [c["r_c_geometric"] for c in cases], "o-", color="C0", ms=4,
+            label="geometric model")
+    ff = [c for c in cases if c["fold_first"]]
+    if ff:
+        ax.plot([c[x_key] for c in ff], [c["r_c_geometric"] for c in ff], "o", mfc="w", color="C0", ms=7,
+                label="fold in w before F = 0")
+    sims = [c for c in cases if c["r_c_simulated"] is not None]
+    if sims:
+        ax.errorbar([c[x_key] for c in sims], [c["r_c_simulated"] for c in sims],
+                    yerr=[[c["r_c_simulated"] - c["r_c_simulated_bracket"][0] for c in sims],
+                          [c["r_c_simulated_bracket"][1] - c["r_c_simulated"] for c in sims]],
+                    fmt="s", color="C3", ms=5, capsize=3, label="contact simulation (bisection)")
+    return sims
+
+
 def _fig10(res: dict[str, Any]) -> Any:
     import matplotlib.pyplot as plt
 
@@ -535,17 +556,7 @@ def _fig10(res: dict[str, Any]) -> Any:
     a.set_title(f"(a) snap shapes, $\\hat\\phi$ = {PHI_HAT} (z exaggerated)", fontsize="small")
     a.legend(fontsize="xx-small", ncol=2)
     h = np.array([c["h_over_R"] for c in cases])
-    b.plot(h, [c["r_c_geometric"] for c in cases], "o-", color="C0", ms=4, label="geometric model")
-    ff = [c for c in cases if c["fold_first"]]
-    if ff:
-        b.plot([c["h_over_R"] for c in ff], [c["r_c_geometric"] for c in ff], "o", mfc="w", color="C0", ms=7,
-               label="fold in w before F = 0")
-    sims = [c for c in cases if c["r_c_simulated"] is not None]
-    if sims:
-        b.errorbar([c["h_over_R"] for c in sims], [c["r_c_simulated"] for c in sims],
-                   yerr=[[c["r_c_simulated"] - c["r_c_simulated_bracket"][0] for c in sims],
-                         [c["r_c_simulated_bracket"][1] - c["r_c_simulated"] for c in sims]],
-                   fmt="s", color="C3", ms=5, capsize=3, label="contact simulation (bisection)")
+    _plot_r_c(b, cases, "h_over_R")
     f = fits["r_c_vs_h_geometric_h_le_0.035"]
     if f["slope"] is not None:
         hh = np.linspace(h.min(), H_LINEAR_MAX, 50)
@@ -583,17 +594,7 @@ def _fig11(res: dict[str, Any]) -> Any:
                  f"({100 * col['all_bistable']['relative_max_spread']:.0f} % of the range; unscaled z: "
                  f"{100 * col['baseline_r_scaled_z_unscaled_all_bistable']['relative_max_spread']:.0f} %)", fontsize="small")
     phi = np.array([c["phi_hat"] for c in cases])
-    b.plot(phi, [c["r_c_geometric"] for c in cases], "o-", ms=4, color="C0", label="geometric model")
-    ff = [c for c in cases if c["fold_first"]]
-    if ff:
-        b.plot([c["phi_hat"] for c in ff], [c["r_c_geometric"] for c in ff], "o", mfc="w", color="C0", ms=7,
-               label="fold in w before F = 0")
-    sims = [c for c in cases if c["r_c_simulated"] is not None]
-    if sims:
-        b.errorbar([c["phi_hat"] for c in sims], [c["r_c_simulated"] for c in sims],
-                   yerr=[[c["r_c_simulated"] - c["r_c_simulated_bracket"][0] for c in sims],
-                         [c["r_c_simulated_bracket"][1] - c["r_c_simulated"] for c in sims]],
-                   fmt="s", color="C3", ms=5, capsize=3, label="contact simulation (bisection)")
+    sims = _plot_r_c(b, cases, "phi_hat")
     nb = S["not_bistable"]
     nbp = [x["phi_hat"] for x in nb if x["h_over_R"] == H_OVER_R]
     if nbp:
