@@ -153,12 +153,8 @@ def trace_case(phi_hat: float, h_over_R: float, N: int, steps: int = STEPS_FULL
 
     Parameters
     ----------
-    phi_hat, h_over_R : float
-        Base angle and relative thickness.
-    N : int
-        Nodes on the meridian.
-    steps : int
-        Continuation steps per eversion depth (:func:`case_overrides`).
+    phi_hat, h_over_R, N, steps
+        The case, as in :func:`case_overrides`.
 
     Returns
     -------
@@ -579,17 +575,10 @@ def run(full: bool = False, quiet: bool = True) -> dict[str, Any]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the study and write its figures, CSV files and ``summary.json`` (see the module docstring).
+    """Command line: ``python -m studies.force_displacement [--out DIR] [--full] [--quiet]``.
 
-    Parameters
-    ----------
-    argv : list of str, optional
-        Command-line arguments (default: ``sys.argv[1:]``): ``--out DIR``, ``--full``, ``--quiet``.
-
-    Returns
-    -------
-    int
-        0 when every run finished and every statement was decided, 1 otherwise.
+    Runs the study and writes its figures, CSV files and ``summary.json`` (see the module docstring);
+    returns 0 when every run finished and every statement was decided, 1 otherwise.
     """
     args = study_parser(NAME, "Force-displacement curves and hysteresis of the point-indented cap "
                               "(paper figures 3 and 4)").parse_args(argv)

@@ -245,17 +245,10 @@ def run(full: bool = False, quiet: bool = True) -> dict[str, Any]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the study and write ``fig12.png``/``.pdf``, ``fig12.csv`` and ``summary.json``.
+    """Command line: ``python -m studies.point_to_plate [--out DIR] [--full] [--quiet]``.
 
-    Parameters
-    ----------
-    argv : list of str, optional
-        Command-line arguments (default: ``sys.argv[1:]``): ``--out DIR``, ``--full``, ``--quiet``.
-
-    Returns
-    -------
-    int
-        0 (a failed run raises).
+    Runs the study and writes ``fig12.png``/``.pdf``, ``fig12.csv`` and ``summary.json``; returns 0
+    (a failed run raises).
     """
     args = study_parser(NAME, "Point and plate indentation bound the finite indenters (paper figure 12)"
                         ).parse_args(argv)
