@@ -318,14 +318,7 @@ class ShellEnergy:
                          for block in self._blocks for term, loc, params, _ in block.arguments(local, part)))
 
     def gradient(self, x: np.ndarray, part: Literal["stretch", "bend"] | None = None) -> np.ndarray:
-        """Exact gradient of :meth:`energy`.
-
-        Parameters
-        ----------
-        x : ndarray, shape ``(2 N,)``
-            State vector.
-        part : {"stretch", "bend"} or None
-            As in :meth:`energy`.
+        """Exact gradient of :meth:`energy`, with the same parameters ``x`` and ``part``.
 
         Returns
         -------
@@ -335,14 +328,7 @@ class ShellEnergy:
         return self._scatter(x, part, "grad", self.n)
 
     def hessian(self, x: np.ndarray, part: Literal["stretch", "bend"] | None = None) -> sp.csr_matrix:
-        """Exact Hessian of :meth:`energy`, assembled into a fixed banded CSR pattern.
-
-        Parameters
-        ----------
-        x : ndarray, shape ``(2 N,)``
-            State vector.
-        part : {"stretch", "bend"} or None
-            As in :meth:`energy`.
+        """Exact Hessian of :meth:`energy` (same parameters ``x`` and ``part``) in a fixed banded CSR pattern.
 
         Returns
         -------
@@ -372,12 +358,9 @@ class ShellEnergy:
                                         cap.edge_radius, self.ks, self.nu)
 
     def curvatures(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Discrete curvatures at the bending nodes :attr:`bend_nodes` (``1 .. N-2``).
+        """Discrete curvatures of the state vector ``x`` (as in :meth:`strains`) at the bending nodes.
 
-        Parameters
-        ----------
-        x : ndarray, shape ``(2 N,)``
-            State vector.
+        The bending nodes are :attr:`bend_nodes` (``1 .. N-2``).
 
         Returns
         -------
