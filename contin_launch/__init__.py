@@ -24,12 +24,7 @@ __all__ = ["main"]
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run ``contin`` (:func:`contin.cli.main`); an interrupt during start-up exits quietly with 130.
-
-    Parameters
-    ----------
-    argv : sequence of str, optional
-        Arguments without the program name (default: ``sys.argv[1:]``).
+    """Run ``contin``: :func:`contin.cli.main` with ``argv``; an interrupt during start-up exits quietly with 130.
 
     Returns
     -------
