@@ -33,6 +33,16 @@ the plain Euclidean norm of ``(u, lam)``, which grows like ``sqrt(n)``, so
 the initial step is ``0.3 * sqrt(n)`` and the maximum step ``2 * sqrt(n)``
 (i.e. about 0.3 and 2 in root-mean-square units of ``u``).
 
+Results
+-------
+Each adapter returns a dict with ``available`` (bool), ``reason`` (str, empty
+on success), ``time_s`` (float, wall time of the run), ``cpu_s``, ``steps``
+(int), ``fold_lam`` (float), ``settings`` (str, the peer's settings in
+words), ``final_lam``, ``final_max_u`` and ``version``; what ``time_s``,
+``cpu_s`` and ``steps`` count is the peer's own (see each adapter).  It never
+raises: a missing package or any failure inside the run gives
+``available=False`` and the reason (:func:`_unavailable`).
+
 Command line
 ------------
 ``python studies/peers.py --n 200 2000 --repeat 3 --peer bice auto`` prints
@@ -134,25 +144,18 @@ def run_bice(n: int) -> dict[str, Any]:
     Parameters
     ----------
     n : int
-        Number of interior grid points.
+        Number of interior grid points (the size of the ``bice.Equation``).
 
     Returns
     -------
     dict
-        ``available`` (bool), ``reason`` (str, empty on success),
-        ``time_s`` (float, wall time of this one run: problem set-up, trace
-        and fold location; excludes importing ``bice``/numpy/scipy),
-        ``steps`` (int, calls to ``Problem.continuation_step``; the
-        bisection sub-steps of the fold location are reported separately
-        in ``locate_steps``), ``fold_lam`` (float), ``settings`` (str), plus
-        ``fold_converged`` (bool, whether ``locate_bifurcation`` reported
-        convergence), ``cpu_s`` (process CPU time of the same interval),
-        ``final_lam``, ``final_max_u`` and ``version``.
-
-    Notes
-    -----
-    Never raises: a missing package or any failure inside the run gives
-    ``available=False`` and the reason.
+        The fields of the module's *Results*: ``time_s`` is this one run
+        (problem set-up, trace and fold location; excludes importing
+        ``bice``/numpy/scipy), ``cpu_s`` the process CPU time of the same
+        interval, ``steps`` the calls to ``Problem.continuation_step`` (the
+        bisection sub-steps of the fold location are reported separately in
+        ``locate_steps``); plus ``fold_converged`` (bool, whether
+        ``locate_bifurcation`` reported convergence) and ``locate_steps``.
     """
     n = _as_size(n)
     if n is None:
@@ -321,27 +324,24 @@ def run_auto(n: int) -> dict[str, Any]:
     Parameters
     ----------
     n : int
-        Number of interior grid points.
+        Number of interior grid points (AUTO's ``NDIM``).
 
     Returns
     -------
     dict
-        ``available`` (bool), ``reason`` (str, empty on success),
-        ``time_s`` (float, wall time of this one ``bifpy.auto.run`` call:
-        forking the worker, the AUTO run with its Python callbacks, and
-        parsing ``fort.7``/``fort.8``; excludes importing ``bifpy`` and
-        compiling AUTO, which happens once at ``pip install`` time),
-        ``steps`` (int, continuation points after the starting point, i.e.
-        AUTO's final ``PT`` minus one; includes the ``LP`` and final ``UZ``
-        points, excludes the secant iterations that locate them),
-        ``fold_lam`` (float, as written by AUTO: 11 significant digits),
-        ``settings`` (str), plus ``cpu_s`` (user CPU time of bifpy's
-        worker process), ``final_lam``, ``final_max_u`` and ``version``.
+        The fields of the module's *Results*: ``time_s`` is this one
+        ``bifpy.auto.run`` call (forking the worker, the AUTO run with its
+        Python callbacks, and parsing ``fort.7``/``fort.8``; excludes
+        importing ``bifpy`` and compiling AUTO, which happens once at
+        ``pip install`` time), ``cpu_s`` the user CPU time of bifpy's worker
+        process, ``steps`` the continuation points after the starting point,
+        i.e. AUTO's final ``PT`` minus one (includes the ``LP`` and final
+        ``UZ`` points, excludes the secant iterations that locate them), and
+        ``fold_lam`` as written by AUTO (11 significant digits).
 
     Notes
     -----
-    Never raises: a missing package, a missing compiled library or any AUTO
-    failure gives ``available=False`` and the reason.  AUTO's algebraic
+    A missing compiled library is one more way to ``available=False``.  AUTO's algebraic
     solver factors the dense ``(n+1) x (n+1)`` bordered Jacobian by Gauss
     elimination with complete pivoting at every Newton iteration, so the
     cost grows like ``n**3``: expect tens of minutes for ``n = 2000``.
