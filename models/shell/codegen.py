@@ -92,6 +92,7 @@ from __future__ import annotations
 
 import ast
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import sympy as sp
@@ -845,26 +846,21 @@ def _emit_energy(el: Element, printer: NumPyPrinter) -> list[str]:
         "    return _out"]
 
 
-def _emit_gradient(el: Element, printer: NumPyPrinter) -> list[str]:
+def _emit_derivative(el: Element, printer: NumPyPrinter, suffix: str) -> list[str]:
+    """The broadcasting ``<name>_gradient`` or ``<name>_hessian`` around its packed fast kernel."""
     n = len(el.dofs)
     dofs = ", ".join(str(q) for q in el.dofs)
-    doc = [f"Gradient of the {el.doc}.", "", "Returns", "-------",
-           f"ndarray, shape ``(m, {n})``", f"    Derivatives with respect to ``[{dofs}]``."]
-    return _header(el, "gradient", doc) + [
-        f"    _g = {_call_fast(el, 'gradient', printer, f'numpy.empty(({n},) + _shape)')}",
-        "    return numpy.moveaxis(_g, 0, -1).copy()"]
-
-
-def _emit_hessian(el: Element, printer: NumPyPrinter) -> list[str]:
-    n = len(el.dofs)
-    dofs = ", ".join(str(q) for q in el.dofs)
-    doc = [f"Hessian of the {el.doc}.", "", "Returns", "-------",
-           f"ndarray, shape ``(m, {n}, {n})``",
-           f"    Symmetric second derivatives with respect to ``[{dofs}]``."]
-    npk = n * (n + 1) // 2
-    return _header(el, "hessian", doc) + [
-        f"    _h = {_call_fast(el, 'hessian', printer, f'numpy.empty(({npk},) + _shape)')}",
-        f"    return _unpack(_h, {n})"]
+    if suffix == "gradient":
+        shape, what, packed = f"{n}", "Derivatives", n
+        var, ret = "_g", "numpy.moveaxis(_g, 0, -1).copy()"
+    else:
+        shape, what, packed = f"{n}, {n}", "Symmetric second derivatives", n * (n + 1) // 2
+        var, ret = "_h", f"_unpack(_h, {n})"
+    doc = [f"{suffix.capitalize()} of the {el.doc}.", "", "Returns", "-------",
+           f"ndarray, shape ``(m, {shape})``", f"    {what} with respect to ``[{dofs}]``."]
+    return _header(el, suffix, doc) + [
+        f"    {var} = {_call_fast(el, suffix, printer, f'numpy.empty(({packed},) + _shape)')}",
+        f"    return {ret}"]
 
 
 def _emit_strains(el: Element, printer: NumPyPrinter) -> list[str]:
@@ -932,7 +928,8 @@ def generate_source() -> str:
         el.check_names()
         emitters = ((_emit_fast_energy, "fast_energy"), (_emit_fast_gradient, "fast_gradient"),
                     (_emit_fast_hessian, "fast_hessian"), (_emit_fast_strains, f"fast_{el.strains_name}"),
-                    (_emit_energy, "energy"), (_emit_gradient, "gradient"), (_emit_hessian, "hessian"),
+                    (_emit_energy, "energy"), (partial(_emit_derivative, suffix="gradient"), "gradient"),
+                    (partial(_emit_derivative, suffix="hessian"), "hessian"),
                     (_emit_strains, el.strains_name))
         for emit, suffix in emitters:
             chunks.append("\n".join(emit(el, printer)))
