@@ -47,7 +47,7 @@ from models.shell.energy import HALF_BANDWIDTH
 from models.shell.geometry import POLE_RATIO
 from models.shell.problem import ShellPointLoad
 
-from .barrier import ContactBarrier, ContactState, Plate, Sphere, default_barrier
+from .barrier import ContactBarrier, ContactState, Plate, Sphere, default_barrier, length_weights
 
 __all__ = ["ShellIndentation", "ShellIndentationForce", "BorderedBandedLU"]
 
@@ -83,15 +83,15 @@ class ShellIndentation(Problem):
             # through it; the point load is ShellPointLoad (bilateral) or a small sphere
             raise ValueError("ShellIndentation: the sphere radius must be > 0 (for a point load use "
                              "models.shell.ShellPointLoad, or a sphere much smaller than the cap)")
-        self.barrier = ContactBarrier(self.indenter, self.K, self.dhat)
+        # the barrier per unit meridian length (the paper's nodal one on its mesh): converges with N
+        self.barrier = ContactBarrier(self.indenter, self.K, self.dhat, cell_weights=length_weights(el.cap.x))
         self.c0 = float(self.indenter.contact_position(el.z_pole_ref)) + self.dhat
         self.idx = el.idx_force
         self.n_full = el.n_full
-        # CSR slots of each node's (r, z) diagonal block in the shell's full Hessian pattern
+        # CSR slots of each contact cell's block (nodes i-1, i, i+1) in the shell's full Hessian pattern
         H0 = el.elastic_hessian(el.cap.x)
         self._pattern = H0
-        self._node_slots = np.array([[_slot(H0, 2 * i + a, 2 * i + b) for a in (0, 1) for b in (0, 1)]
-                                     for i in range(self.N)])
+        self._node_slots = self.barrier.hessian_slots(H0)
         observables = {"F": self._obs("F"), "w_b": lambda u, p: float(p), "w_s": self._obs("w_s"),
                        "Delta_H": self._obs("Delta_H"), "kappa_p_R": self._obs("kappa_p_R"),
                        "n_contact": self._obs("n_contact"),
@@ -216,15 +216,6 @@ class ShellIndentation(Problem):
         if name == "n_contact":
             return float(self.contact(u, p, hessian=False).n_active)
         raise KeyError(name)
-
-
-def _slot(H: sp.csr_matrix, i: int, j: int) -> int:
-    """Index into ``H.data`` of the stored entry ``(i, j)`` (it must be in the pattern)."""
-    lo, hi = H.indptr[i], H.indptr[i + 1]
-    hits = np.nonzero(H.indices[lo:hi] == j)[0]
-    if hits.size != 1:
-        raise ValueError(f"entry ({i}, {j}) is not in the shell's Hessian pattern")
-    return int(lo + hits[0])
 
 
 # ---------------------------------------------------------------------------------------------------
