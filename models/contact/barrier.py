@@ -751,6 +751,8 @@ class ContactBarrier:
             Hp[:, 1, 0] = h[1]
             blocks = np.zeros((act.size, 6, 6))
             np.add.at(blocks, where, np.einsum("s,sai,sab,sbj->sij", w, C, Hp, C))
+            lower = np.tril_indices(6, -1)  # exactly symmetric, not only to roundoff: mirror the upper triangle
+            blocks[:, lower[0], lower[1]] = blocks[:, lower[1], lower[0]]
             xc_local = np.einsum("s,sai,as->si", w, C, np.stack([h[2], h[4]]))
             xc = np.zeros(n)
             np.add.at(xc, _stencil_dofs(stencils)[where].ravel(), xc_local.ravel())

@@ -40,6 +40,10 @@ from .indentation import BorderedBandedLU, ShellIndentation
 __all__ = ["ReleaseFold", "ReleaseFoldError", "locate_release_fold"]
 
 
+#: How many times the gap may be doubled from a start that lies past the fold.
+_MAX_DOUBLINGS = 8
+
+
 class ReleaseFoldError(RuntimeError):
     """The release fold could not be bracketed or a gap-constrained solve did not converge."""
 
@@ -181,14 +185,21 @@ def locate_release_fold(problem: ShellIndentation, u: np.ndarray, w_b: float, *,
         x_start, s_start = x_hi, s_hi
         x_lo, s_lo = x_hi, s_hi
         # the barrier spread over a cell's sample points softens each of them, so the fold can sit at
-        # a larger gap than the F -> 0 event's: a start past it is bracketed by doubling the gap
-        while s_hi >= 0 and 2.0 * x_hi < problem.dhat:
+        # a somewhat larger gap than the F -> 0 event's: a start just past it is bracketed by doubling
+        # the gap (a few times: far from a fold, e.g. at the first touch, there is none to find)
+        for _ in range(_MAX_DOUBLINGS):
+            if s_hi < 0 or not 0.0 < x_hi < 0.5 * problem.dhat:
+                break
             x_lo, s_lo = x_hi, s_hi
+            try:
+                s_hi = curve.dw_dx(2.0 * x_hi)
+            except ReleaseFoldError:
+                break
             x_hi = 2.0 * x_hi
-            s_hi = curve.dw_dx(x_hi)
         if s_hi >= 0:
             raise ReleaseFoldError(f"locate_release_fold: dw_b/dx = {s_start:.3g} >= 0 at the start (node {node}, "
-                                   f"gap {x_start:.3g}) and at every larger gap: no release fold")
+                                   f"gap {x_start:.3g}): the start is not on the stable side of a release fold "
+                                   "(nor just past one)")
         if x_hi == x_start:  # the start is on the stable side: halve the gap until dw_b/dx turns positive
             for _ in range(max_halvings):
                 x_lo = 0.5 * x_lo
