@@ -6,7 +6,7 @@ the undeformed pole (gap ``dhat``), so ``w_b = 0`` is the first touch of the bar
 order ``dhat`` enters ``w_b``.  The shell's unknowns are those of
 :class:`models.shell.ShellPointLoad` under force control: every dof except the base height ``z_0``
 and the pole radius ``r_{N-1} = 0``, the pole height last.  The energy is the shell's elastic energy
-plus the barrier (:class:`models.contact.ContactBarrier`); the barrier's node blocks lie inside the
+plus the barrier (:class:`models.contact.ContactBarrier`); the barrier's cell blocks lie inside the
 shell's band, so the Jacobian keeps half-bandwidth 5 and every solve stays O(N).
 
 Snap under displacement control (``docs/physics.md`` section 4): as the contact force falls towards
