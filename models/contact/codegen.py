@@ -69,7 +69,8 @@ the nodes, so the exact derivatives of a cell are the point kernels' times the b
 
     dW/dr_j = L_j dW/dr,    d2W/dr_j dz_k = L_j L_k d2W/dr dz,    d2W/dr_j dc = L_j d2W/dr dc, ...
 
-(the generator checks this chain rule against ``sympy.diff`` of the cell's energy at 30 digits).
+(the generator checks this chain rule against ``sympy.diff`` of the cell point's distance at 30
+digits; the energy follows through ``d``).
 ``cell_basis`` is emitted alongside the kernels.
 """
 
@@ -225,16 +226,18 @@ def cell_basis() -> list[sp.Expr]:
 def check_cell_chain_rule(ind: Indenter) -> None:
     """Assert that a cell's exact derivatives are the point kernel's derivatives times the basis.
 
-    The cell's energy ``W(d(x(t), c))`` with ``x(t) = sum_j L_j(t) x_j`` is differentiated by sympy
-    with respect to the nine nodal coordinates and ``c`` and compared, at a fixed point inside the
-    barrier's range and 30 digits, with ``L_j dW/da`` and ``L_j L_k d2W/da db`` of the point kernel.
+    The distance ``d(x(t), c)`` of a cell's point ``x(t) = sum_j L_j(t) x_j`` is differentiated by
+    sympy with respect to the six nodal coordinates and ``c`` and compared, at a fixed point and 30
+    digits, with ``L_j dd/da`` and ``L_j L_k d2d/da db`` of the point's distance; the energy
+    ``W(d)`` then follows by the chain rule through ``d`` that :meth:`Indenter.check` verifies for
+    the point kernels (checking the distance keeps generation fast).
     """
     basis = cell_basis()
     nodes = sp.symbols("r0 z0 r1 z1 r2 z2", real=True)
     c = ind.position
     point = {_r: sum(L * nodes[2 * j] for j, L in enumerate(basis)),
              _z: sum(L * nodes[2 * j + 1] for j, L in enumerate(basis))}
-    cell = ind.energy.subs(point, simultaneous=True)
+    cell = ind.distance.subs(point, simultaneous=True)
     local = list(nodes) + [c]
     # where: a cell through three points just under the indenter (the sphere centred 1/2 above)
     values = {nodes[0]: sp.Rational(1, 5), nodes[1]: sp.Rational(-3, 10000), nodes[2]: sp.Rational(-1, 5),
@@ -253,12 +256,12 @@ def check_cell_chain_rule(ind: Indenter) -> None:
     for a in local:
         wa, va = role(a)
         exact = sp.diff(cell, a).evalf(30, subs=values)
-        chain = (wa * sp.diff(ind.energy, va)).subs(_t, values[_t]).evalf(30, subs=at_point)
+        chain = (wa * sp.diff(ind.distance, va)).subs(_t, values[_t]).evalf(30, subs=at_point)
         assert abs(exact - chain) <= sp.Float("1e-20", 30) * (1 + abs(exact)), (ind.name, a)
         for b in local[local.index(a):]:
             wb, vb = role(b)
             exact = sp.diff(cell, a, b).evalf(30, subs=values)
-            chain = (wa * wb * sp.diff(ind.energy, va, vb)).subs(_t, values[_t]).evalf(30, subs=at_point)
+            chain = (wa * wb * sp.diff(ind.distance, va, vb)).subs(_t, values[_t]).evalf(30, subs=at_point)
             assert abs(exact - chain) <= sp.Float("1e-20", 30) * (1 + abs(exact)), (ind.name, a, b)
 
 
