@@ -42,7 +42,7 @@ from scipy.linalg import lapack
 from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU
 from contin.linalg import factorize as generic_factorize
 from contin.problem import NonFiniteError, Problem
-from contin.stability import leading_inertias
+from contin.stability import leading_inertias, stability_info
 from models.shell.energy import HALF_BANDWIDTH
 from models.shell.geometry import POLE_RATIO
 from models.shell.problem import ShellPointLoad
@@ -184,8 +184,27 @@ class ShellIndentation(Problem):
     def stability_counts(self, u: np.ndarray, p: float) -> dict[str, int] | None:
         counts = leading_inertias(self._op_force(u, p), (self.idx.size, self.idx.size + 1))
         if counts is None:
-            return None
+            return self._counts_by_schur(u, p)
         return {"displacement": counts[0], "force": counts[1]}
+
+    def _counts_by_schur(self, u: np.ndarray, p: float) -> dict[str, int] | None:
+        """Both counts when the pivot-free ``L D L^T`` of the bordered matrix cannot be trusted.
+
+        At a fold in ``w_b`` the displacement Hessian ``A`` is singular and the border row is divided
+        by its vanishing pivot (growth beyond the engine's limit; the general sparse eigensolver
+        then need not converge on the bordered matrix).  ``A`` itself is banded: its count comes from
+        the banded path, and the force count adds the sign of the Schur complement
+        ``s = d - b^T A^{-1} b`` (Sylvester's law of inertia).
+        """
+        J = self.jacobian(u, p)
+        n_disp = stability_info(J, 0).n_negative
+        st = self.contact(u, p)
+        col = st.hess_xc[self.idx]
+        try:
+            schur = float(st.hess_cc) - float(col @ BandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH).solve(col))
+        except SingularMatrixError:  # exactly at the fold: the count is decided by roundoff there
+            schur = 1.0
+        return {"displacement": n_disp, "force": n_disp + (1 if schur < 0 else 0)}
 
     # ---- observables -----------------------------------------------------------------------------
     def _obs(self, name: str):
