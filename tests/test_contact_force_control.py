@@ -127,7 +127,7 @@ def test_stability_labels_agree_between_the_controls(traces):
     assert np.all(bd.stability_by["displacement"][0] == 0)
     # the same states counted by each problem (both labels), on both sides of the peak
     picks = np.flatnonzero(bd.p >= W_START)
-    picks = picks[:: max(1, picks.size // 12)]
+    picks = np.append(picks[:: max(1, picks.size // 12)], len(bd.p) - 1)  # the last point is past the peak
     assert np.any(bd.p[picks] > w_peak)
     for k in picks:
         U, F = Pf.from_displacement_state(bd.u[k], bd.p[k])
@@ -149,7 +149,8 @@ def test_the_band_is_kept_by_block_elimination(traces):
     # the leading block is the displacement-control Jacobian; the border lives on the contact nodes
     u, w_b = Pf.split(U)
     assert abs(J[:-1, :-1] - P.jacobian(u, w_b)).max() == 0
-    assert 0 < np.count_nonzero(J[:-1, -1].toarray()) <= 2 * P.evaluate_one("n_contact", u, w_b)
+    # (at most the r and z of the three nodes of each contact cell)
+    assert 0 < np.count_nonzero(J[:-1, -1].toarray()) <= 6 * P.evaluate_one("n_contact", u, w_b)
     Jd = J.toarray()
     assert np.array_equal(Jd, Jd.T)
     rng = np.random.default_rng(5)

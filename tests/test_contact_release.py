@@ -53,15 +53,17 @@ def test_release_fold_is_a_singular_point_of_the_displacement_control_hessian(la
 def test_release_gap_matches_the_barrier_closed_form(large_sphere):
     P, _, rf = large_sphere
     H = P.elastic.free_block(P.elastic.elastic_hessian(P.full_state(rf.u)), "force").toarray()  # shell alone
-    # contact normal of the node on the unknowns: d(d_i)/du, from the sphere's geometry
-    x = P.full_state(rf.u)
-    r, z, zc = x[2 * rf.node], x[2 * rf.node + 1], P.position(rf.w_b)
-    n_full = np.zeros(P.n_full)
-    n_full[2 * rf.node], n_full[2 * rf.node + 1] = np.array([r, z - zc]) / np.hypot(r, z - zc)
+    # the last point of the meridian in contact: the barrier's sample point nearest to the sphere,
+    # its contact normal on the unknowns (d(d_s)/du) and its share of the barrier (quadrature weight)
+    x, c = P.full_state(rf.u), P.position(rf.w_b)
+    sample, d = P.barrier.nearest_sample(x, c)
+    assert P.dhat - d == pytest.approx(rf.gap, rel=1e-6)
+    _, n_full, _ = P.barrier.sample_gap(x, c, sample)
     n = n_full[P.idx]
+    weight = P.barrier.cells(P.N).weight[sample]
     compliance = float(n @ np.linalg.solve(H, n))
-    assert compliance < 0  # the free shell at the snap is a saddle that pulls the node away
-    x_closed = P.dhat / (6.0 * P.K * abs(compliance))
+    assert compliance < 0  # the free shell at the snap is a saddle that pulls the point away
+    x_closed = P.dhat / (6.0 * P.K * weight * abs(compliance))
     assert rf.gap == pytest.approx(x_closed, rel=1e-3)
     assert rf.gap < 1e-4 * P.dhat  # why the continuation cannot turn round it
 
@@ -90,8 +92,10 @@ def test_plate_scene_reports_the_dimple_snaps_and_the_eversion_release_fold(tmp_
     # stay in contact), then the shell everts off the plate at the release fold
     assert all(s["kind"] == "fold" for s in snaps)
     assert snaps[0]["F"] > 10.0 and snaps[0]["nodes_in_contact_after"] > 0
-    assert snaps[-1]["label"] == "release" and snaps[-1]["nodes_in_contact_after"] == 0
-    assert summary["snap_label"] == "release" and summary["w_b_c"] == pytest.approx(snaps[-1]["w_b"])
+    # (the contact cells make the eversion fold wide enough for the engine to go round it; otherwise
+    # the release search locates it)
+    assert snaps[-1]["label"] in ("", "release") and snaps[-1]["nodes_in_contact_after"] == 0
+    assert summary["snap_label"] == snaps[-1]["label"] and summary["w_b_c"] == pytest.approx(snaps[-1]["w_b"])
     assert summary["contact_mode"] == "detach" and summary["Delta_H_at_snap_over_R"] > 0.1
     # the snap shape is universal (paper figure 8): the plate's pole curvature at its release fold is
     # the large sphere's on the same mesh

@@ -61,7 +61,8 @@ def test_geometric_r_c_against_spheres_on_a_contact_snap_shape(study):
     rc = S["base"]["r_c_geometric_over_R"]
     P, st, w_end = snap_settings(0.9, 200, stability=False)
     br, sp = run_to_snap(P, st, w_end)
-    assert sp is not None and sp.label == "release", br.message
+    # (located by the engine or, where it is too sharp for it, as the release fold)
+    assert sp is not None and sp.kind == "fold" and sp.label in ("", "release"), br.message
     x = P.full_state(sp.u) / P.R
     r, z = x[0::2], x[1::2]
     zp = z[-1]

@@ -8,7 +8,9 @@ Every kernel takes ``(r, z, c, *params, K, dhat)``: the node coordinates, the in
 (``zc``: sphere centre height; ``zp``: plate height), the geometric parameters (``rho`` for the
 sphere) and the barrier constants.  Local variables are ``(r, z, c)``; gradients are ``(3, m)`` and
 packed upper-triangle Hessians ``(6, m)`` with rows :data:`PAIRS`.  Energy and derivative kernels are
-valid for ``0 < d < dhat`` only.
+valid for ``0 < d < dhat`` only.  :func:`cell_basis` is the quadratic basis of a contact cell (the
+meridian between the nodes, see the generator's docstring): a point of a cell is linear in its three
+nodes, so the kernels evaluated there give the cell's exact derivatives by the chain rule.
 """
 
 import numpy
@@ -16,6 +18,7 @@ import numpy
 
 __all__ = [
     "PAIRS",
+    "cell_basis",
     "plate_derivatives",
     "plate_distance",
     "plate_energy",
@@ -302,3 +305,20 @@ def plate_derivatives(r, z, zp, K, dhat):
     _h[4] = -w2
     _h[5] = w2
     return _e, _g, _h
+
+
+def cell_basis(t):
+    """Quadratic Lagrange basis of a contact cell through the nodes ``i-1, i, i+1`` at ``t = -1, 0, 1``.
+
+    The cell's point ``x(t) = L_0 x_{i-1} + L_1 x_i + L_2 x_{i+1}``; the cell spans ``t`` in ``[-1/2, 1/2]``.
+
+    Returns
+    -------
+    ndarray, shape ``(3,) + shape(t)``
+    """
+    t = numpy.asarray(t, dtype=float)
+    _L = numpy.empty((3,) + t.shape)
+    _L[0] = (1/2)*t**2 - 1/2*t
+    _L[1] = 1 - t**2
+    _L[2] = (1/2)*t**2 + (1/2)*t
+    return _L

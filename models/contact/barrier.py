@@ -1,16 +1,56 @@
-"""Log-barrier contact between the shell's nodes and a rigid indenter (paper section 3(b)).
+"""Log-barrier contact between the shell's meridian and a rigid indenter (paper section 3(b)).
 
 Barrier
 -------
-Every shell node ``i`` at distance ``d_i`` from the indenter surface carries the energy
-(``docs/physics.md`` eq. 3.16)::
+A point at distance ``d`` from the indenter surface carries the energy (``docs/physics.md``
+eq. 3.16)::
 
     W(d) = -K_c (d - dhat)^2 log(d / dhat)   for 0 < d < dhat,    0 for d >= dhat,
 
-C2 at ``d = dhat`` and ``+inf`` as ``d -> 0+``.  Only the *active* nodes (``d_i < dhat``) are
-evaluated; the kernels and their exact derivatives come from :mod:`models.contact._generated`
-(emitted by ``python -m models.contact.codegen``).  The contact is frictionless: the barrier only
-depends on the distance.
+C2 at ``d = dhat`` and ``+inf`` as ``d -> 0+``.  The kernels and their exact derivatives come from
+:mod:`models.contact._generated` (emitted by ``python -m models.contact.codegen``).  The contact is
+frictionless: the barrier only depends on the distance.
+
+Contact cells: the barrier sees the meridian between the nodes
+--------------------------------------------------------------
+The paper sums ``W`` over the nodes.  Where the indenter touches the shell along a ring (a plate
+on a dimpled cap), the contact zone is then about one node spacing wide and the ring can only sit
+on a node: as it moves over the meridian it hops from node to node and the force along the path is
+a discretisation artefact (about 150 sign changes of ``dF/dw_b`` on the plate's dimple branch at
+``N = 200``).  Here every node ``i`` owns a *cell*, the quadratic through the nodes ``i-1, i, i+1``::
+
+    x_i(t) = L_0(t) x_{i-1} + L_1(t) x_i + L_2(t) x_{i+1},    t in [-1/2, 1/2]
+
+(Lagrange basis of the nodes at ``t = -1, 0, 1``, :func:`models.contact._generated.cell_basis`),
+and the barrier is integrated over the cells::
+
+    E(x, c) = a_0 W(d(x_0, c)) + sum_{i >= 1} a_i int_{-1/2}^{1/2} W(d(x_i(t), c)) dt,
+
+by a Gauss-Legendre rule of :data:`QUADRATURE_POINTS` points per cell.  A smooth ring between two
+nodes is then seen where it is (the quadratic follows the shell's curvature, which the polygon of
+the nodes does not: its highest point is always a node), and the energy of a ring does not depend
+on where it sits relative to the nodes.  For a uniform gap ``d`` a cell gives ``a_i W(d)``.
+
+Cell weights ``a_i``.  With ``a_i = 1`` (the default of :class:`ContactBarrier`) every cell counts
+one node's worth, as the paper's nodal sum.  But a nodal sum makes the barrier's stiffness per unit
+length of meridian grow with ``N``, and the plate's dimple snap (the flattened contact region
+lifting off the plate) depends on it: its travel moves by 8.9e-5 R from N = 200 to 400 and by
+1.6e-4 R from 400 to 800 with the paper's nodal barrier (7.9e-5 R and 1.6e-4 R with the cells and
+``a_i = 1``: not converging), by 9.6e-5 R and 2.3e-5 R with the barrier per unit length (second
+order).  :class:`models.contact.ShellIndentation` therefore weighs each cell by
+its reference length in units of the mean spacing of the paper's ``N = 200`` mesh
+(:func:`length_weights`): ``K_c`` and ``dhat`` keep the paper's values and meaning on the paper's
+mesh, and the contact law per unit length stays the same on any other.  Special cells:
+
+* the pole ``N-1`` lies on the axis; its cell uses the mirror image ``(-r_{N-2}, z_{N-2})`` of its
+  neighbour as the third node (the meridian continues symmetrically across the axis);
+* the base node ``0`` has no neighbour beyond the support and keeps the nodal term ``W(d_0)``
+  (the indenter never comes near the base: the runners stop at ``2 dhat`` from it).
+
+With an odd number of points the node itself is the middle one.  ``quadrature = 1`` is the
+paper's nodal barrier exactly (one point, the node, weight 1).  A cell's point is linear in the
+three nodes, so the cell's exact gradient and Hessian are the point kernels' times the basis
+weights (chain rule; the generator checks it against sympy).
 
 Indenters and their position parameter ``c``
 --------------------------------------------
@@ -27,30 +67,34 @@ decreases as it indents).
 
 Sign conventions
 ----------------
-* ``E(x, c) = sum_i W(d_i)`` is the total barrier energy; ``x`` is the interleaved full state
-  ``[r_0, z_0, ..., r_{N-1}, z_{N-1}]`` of the shell.
+* ``E(x, c)`` is the total barrier energy (the sum over the cells above); ``x`` is the interleaved
+  full state ``[r_0, z_0, ..., r_{N-1}, z_{N-1}]`` of the shell.
 * ``-dE/dx`` is the contact force on the nodes (pointing away from the indenter); the barrier
   adds ``+dE/dx`` to the shell's residual (the gradient of the total energy).
 * The contact force is ``F = -dE/dc = dE/dw_b``: the (downward) load the indenter transmits to the
   shell, equal to the upward reaction the shell exerts on the indenter.  A pushing indenter has
-  ``F > 0`` (``W' < 0`` and ``dd/dc > 0`` for both shapes).  ``F = 0`` when no node is within
+  ``F > 0`` (``W' < 0`` and ``dd/dc > 0`` for both shapes).  ``F = 0`` when no cell comes within
   ``dhat``.
 
 Hessian layout
 --------------
-Each node's barrier depends on its own ``(r_i, z_i)`` and ``c`` only, so the Hessian with respect
-to ``x`` is block diagonal with one 2x2 block ``[[W_rr, W_rz], [W_rz, W_zz]]`` per active node on
-the diagonal: it fits inside the shell's band without changing it
-(:meth:`ContactState.hessian_triplets` gives global ``(row, col, value)`` entries).  The border
-column ``d2E/dx dc`` (:attr:`ContactState.hess_xc`, length ``2N``) and ``d2E/dc2``
-(:attr:`ContactState.hess_cc`) complete the Jacobian for displacement control (``df/dp``) and for
-force control (the indenter position as an extra unknown).
+A cell depends on the ``(r, z)`` of its three nodes and ``c`` only, so its Hessian with respect to
+``x`` is a 6x6 block on the nodes ``i-1, i, i+1``: the same stencil as the shell's bending energy
+at node ``i``, so the blocks fit inside the shell's band (half-bandwidth 5 in the interleaved
+state) without widening it (:meth:`ContactState.hessian_triplets` gives global
+``(row, col, value)`` entries, :meth:`ContactBarrier.hessian_slots` the places of the blocks in a
+CSR pattern).  The border column ``d2E/dx dc`` (:attr:`ContactState.hess_xc`, length ``2N``) and
+``d2E/dc2`` (:attr:`ContactState.hess_cc`) complete the Jacobian for displacement control
+(``df/dp``) and for force control (the indenter position as an extra unknown).
 
 Step filter
 -----------
-:meth:`ContactBarrier.max_safe_fraction` returns the largest fraction of a step ``(dx, dc)`` that
-keeps every node strictly outside the indenter along the whole segment (incremental-potential
-contact's filter), times a safety factor; it considers all nodes, not only the active ones.
+The barrier is finite while every quadrature point of every cell (and the base node) is strictly
+outside the indenter; these *sample points* are its domain.  A sample point is linear in the nodes,
+so it moves along a straight segment in a step, and :meth:`ContactBarrier.max_safe_fraction`
+returns the largest fraction of a step ``(dx, dc)`` that keeps every sample point strictly outside
+along the whole segment (incremental-potential contact's filter), times a safety factor; it
+considers all sample points, not only the active ones.
 
 Scaling of ``K_c`` and ``dhat`` (:func:`default_barrier`)
 ------------------------------------------------------
@@ -76,8 +120,8 @@ the same fraction of ``dhat`` and the gap shrinks in proportion to ``dhat``.
 
 Where a loaded node sits
 ------------------------
-Near ``d = dhat``, ``-W'(dhat (1 - eps)) = 3 K_c dhat eps^2 (1 + O(eps))``: a node carrying a
-load ``f`` sits at ``d = dhat (1 - eps)`` with ``eps = sqrt(f / (3 K_c dhat))``.  With the paper's
+Near ``d = dhat``, ``-W'(dhat (1 - eps)) = 3 K_c dhat eps^2 (1 + O(eps))``: a cell carrying a
+load ``f`` at a uniform gap sits at ``d = dhat (1 - eps)`` with ``eps = sqrt(f / (3 K_c dhat))``.  With the paper's
 constants (``K_c dhat = 1e5`` N/m at ``E = 1 MPa``, ``R = 1 m``) and shell forces of order
 ``2 pi D`` (about 5 N for ``h/R = 0.02``), ``eps`` is a few 1e-3: the contact acts at a gap of
 almost exactly ``dhat``, so the indenter travel measured from geometric first contact carries an
@@ -92,14 +136,25 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 
 from . import _generated as gen
 
-__all__ = ["Sphere", "Plate", "ContactBarrier", "ContactState", "default_barrier", "barrier_value",
-           "PAPER_K", "PAPER_DHAT", "PAPER_E", "PAPER_R"]
+__all__ = ["Sphere", "Plate", "ContactBarrier", "ContactState", "ContactCells", "default_barrier", "barrier_value",
+           "length_weights", "PAPER_K", "PAPER_DHAT", "PAPER_E", "PAPER_R", "PAPER_N", "QUADRATURE_POINTS"]
 
 #: The paper's barrier constants and the modulus and radius they were chosen for.
 PAPER_K, PAPER_DHAT, PAPER_E, PAPER_R = 1e8, 1e-3, 1e6, 1.0
+#: The number of nodes of the paper's meridian, for which its nodal ``K_c`` was chosen.
+PAPER_N = 200
+
+#: Gauss-Legendre points per contact cell (module docstring).  Odd, so that the node is one of them.
+#: A ring contact is about two cells wide at N = 200 (h/R = 0.02) and the barrier is C2 only at
+#: ``dhat``, so a Gauss rule integrates it approximately: the energy of a ring keeps a small
+#: dependence on where it sits relative to the nodes.  With 9 points the force-controlled plate
+#: still met three spurious limit points near its eversion load; from 11 points on it met none
+#: (``contin trace --set load.kind=plate --set load.control=force``); 15 leaves a margin.
+QUADRATURE_POINTS = 15
 
 
 def default_barrier(E: float, R: float, dhat_over_R: float = PAPER_DHAT / PAPER_R) -> tuple[float, float]:
@@ -132,6 +187,37 @@ def default_barrier(E: float, R: float, dhat_over_R: float = PAPER_DHAT / PAPER_
             raise ValueError(f"default_barrier: {name} must be a positive number, got {v!r}")
     K = PAPER_K * (E / PAPER_E) * (R / PAPER_R) * ((PAPER_DHAT / PAPER_R) / ratio)
     return K, ratio * R
+
+
+def length_weights(x_ref: ArrayLike, n_paper: int = PAPER_N) -> np.ndarray:
+    """Cell weights that make the barrier a density per unit meridian length (module docstring).
+
+    Cell ``i`` weighs its reference Voronoi length (half of each adjacent edge; the pole's cell a
+    whole last edge, its mirror half included; the base a half edge) divided by the mean spacing of
+    the same meridian cut into ``n_paper`` nodes.  On a uniform mesh of ``n_paper`` nodes every
+    interior weight is 1: the paper's nodal barrier.
+
+    Parameters
+    ----------
+    x_ref : array_like, shape ``(2N,)``
+        The reference (undeformed) interleaved state, the pole last.
+    n_paper : int
+        Number of nodes at which the weights are 1 (default :data:`PAPER_N`).
+
+    Returns
+    -------
+    ndarray, shape ``(N,)``
+    """
+    x = np.asarray(x_ref, dtype=float)
+    r, z = x[0::2], x[1::2]
+    edges = np.hypot(np.diff(r), np.diff(z))
+    if r.size < 2 or not np.all(edges > 0):
+        raise ValueError("length_weights: need at least two distinct nodes")
+    cell = np.zeros(r.size)
+    cell[:-1] += 0.5 * edges
+    cell[1:] += 0.5 * edges
+    cell[-1] *= 2.0  # the pole's cell reaches across the axis into the mirrored half-edge
+    return cell * (n_paper - 1) / float(np.sum(edges))
 
 
 def barrier_value(d, K: float, dhat: float) -> np.ndarray:
@@ -202,39 +288,134 @@ class Plate:
         return float(z_pole)
 
 
+class ContactCells:
+    """Sample points of the contact cells of an ``N``-node meridian (module docstring).
+
+    Sample point ``s`` of cell ``cell[s]`` is at ``r = sum_j cr[s, j] r[stencil[cell, j]]``,
+    ``z = sum_j cz[s, j] z[stencil[cell, j]]`` and carries the quadrature weight ``weight[s]``.
+    The samples of a cell are contiguous, cells in increasing order: the base node's single sample
+    first (the node itself), then ``quadrature`` samples for each of the cells ``1 .. N-1``.
+
+    Parameters
+    ----------
+    n_nodes : int
+        Number of nodes ``N >= 1`` (node ``N-1`` is the pole on the axis).
+    quadrature : int
+        Gauss-Legendre points per cell, ``>= 1``.
+    cell_weights : array_like, shape ``(N,)``, optional
+        A factor on each cell's energy (:func:`length_weights`); default 1 (one node's worth each).
+
+    Attributes
+    ----------
+    stencil : ndarray of int, shape ``(N, 3)``
+        The three nodes of each cell (``i-1, i, i+1``; the pole's is ``N-2, N-1, N-2`` with the third
+        mirrored; the base's ``0, 0, 0`` with weights ``0, 1, 0``).
+    cell : ndarray of int, shape ``(S,)``
+    cr, cz : ndarray, shape ``(S, 3)``
+        Coefficients of the stencil's ``r`` and ``z`` in each sample point.
+    weight : ndarray, shape ``(S,)``
+        Quadrature weight times the cell's weight.
+    first : ndarray of int, shape ``(N + 1,)``
+        Samples of cell ``i`` are ``first[i] .. first[i+1] - 1``.
+    """
+
+    def __init__(self, n_nodes: int, quadrature: int, cell_weights: ArrayLike | None = None) -> None:
+        N, q = int(n_nodes), int(quadrature)
+        if N < 1 or q < 1:
+            raise ValueError(f"ContactCells: need at least one node and one quadrature point, got N = {N}, q = {q}")
+        t, w = np.polynomial.legendre.leggauss(q)
+        t, w = 0.5 * t, 0.5 * w  # the cell is t in [-1/2, 1/2]
+        if q % 2:
+            t[q // 2] = 0.0  # the node itself, exactly
+        L = gen.cell_basis(t).T  # (q, 3)
+        i = np.arange(N)
+        self.stencil = np.stack([i - 1, i, i + 1], axis=1)
+        self.stencil[0] = 0
+        mirror = np.ones(3)
+        if N >= 2:
+            # the pole: the meridian continues across the axis, its neighbour mirrored (r -> -r)
+            self.stencil[-1] = [N - 2, N - 1, N - 2]
+            mirror[2] = -1.0
+        n_cells = N - 1
+        self.cell = np.concatenate([[0], np.repeat(np.arange(1, N), q)]).astype(int)
+        self.cz = np.concatenate([[[0.0, 1.0, 0.0]], np.tile(L, (n_cells, 1))])
+        self.cr = self.cz.copy()
+        # the mirror as a sign on each cell's stencil r (the pole's third node is -r_{N-2})
+        self._sign_r = np.ones((N, 3))
+        if N >= 2:
+            self.cr[-q:] *= mirror
+            self._sign_r[-1] = mirror
+        self._basis = np.ascontiguousarray(L.T)  # (3, q)
+        self.weight = np.concatenate([[1.0], np.tile(w, n_cells)])
+        if cell_weights is not None:
+            cw = np.asarray(cell_weights, dtype=float)
+            if cw.shape != (N,) or not np.all(cw > 0):
+                raise ValueError(f"ContactCells: cell_weights must be {N} positive numbers, got shape {cw.shape}")
+            self.weight = self.weight * cw[self.cell]
+        self.first = np.concatenate([[0], 1 + q * np.arange(N)]).astype(int)
+        self.n_nodes, self.quadrature = N, q
+
+    def points(self, r: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Sample points ``(r_s, z_s)`` of the nodal coordinates ``r, z`` (each shape ``(N,)``)."""
+        # every cell but the base's: its three nodes times the basis at the q points (one product)
+        inner = self.stencil[1:]
+        rs = (r[inner] * self._sign_r[1:]) @ self._basis
+        zs = z[inner] @ self._basis
+        return np.concatenate([r[:1], rs.ravel()]), np.concatenate([z[:1], zs.ravel()])
+
+    def cell_minimum(self, values: np.ndarray) -> np.ndarray:
+        """Smallest value of each cell's samples, shape ``(N,)``."""
+        return np.minimum.reduceat(values, self.first[:-1])
+
+    def samples_of(self, cells: np.ndarray) -> np.ndarray:
+        """Indices of the samples of the given cells (in order)."""
+        counts = self.first[cells + 1] - self.first[cells]
+        offsets = np.arange(int(np.sum(counts))) - np.repeat(np.cumsum(counts) - counts, counts)
+        return np.repeat(self.first[cells], counts) + offsets
+
+
 @dataclass
 class ContactState:
     """Barrier energy and exact derivatives at one state (from :meth:`ContactBarrier.evaluate`).
+
+    Cells are named by their node (module docstring): cell ``i`` is the meridian around node ``i``.
 
     Attributes
     ----------
     position : float
         The indenter position ``c`` (``zc`` or ``zp``).
     distances : ndarray, shape ``(N,)``
-        ``d_i`` of every node (all ``> 0``).
+        ``d_i`` of every node (the pole's is the last, the base's the first).
+    gaps : ndarray, shape ``(N,)``
+        Smallest distance over each cell's sample points (all ``> 0``).
     active : ndarray of int, shape ``(m,)``
-        Indices of the nodes with ``d_i < dhat``, increasing.
+        The cells with a sample point within ``dhat`` (``gaps < dhat``), increasing.
+    stencils : ndarray of int, shape ``(m, 3)``
+        The nodes of each active cell (``i-1, i, i+1``; see :class:`ContactCells`).
     energy : float
-        ``E = sum_i W(d_i)``.
+        ``E``, the barrier energy.
     gradient : ndarray, shape ``(2N,)``
-        ``dE/dx`` (interleaved; zero outside the active nodes).
+        ``dE/dx`` (interleaved; zero outside the active cells' nodes).
     dE_dc : float
         ``dE/dc`` (``<= 0`` for a pushing indenter).
     node_energy : ndarray, shape ``(m,)``
-        ``W(d_i)`` of the active nodes.
+        Energy of each active cell.
     node_force : ndarray, shape ``(m,)``
-        ``-dW_i/dc`` of the active nodes: each node's share of :attr:`force` (``>= 0``).
-    hess_blocks : ndarray, shape ``(m, 2, 2)`` or None
-        ``d2E / d(r_i, z_i)^2`` of each active node (None when evaluated without Hessian).
+        ``-dE_i/dc`` of each active cell: its share of :attr:`force` (``>= 0``).
+    hess_blocks : ndarray, shape ``(m, 6, 6)`` or None
+        ``d2E_i / d(r_{i-1}, z_{i-1}, r_i, z_i, r_{i+1}, z_{i+1})^2`` of each active cell, in the
+        order of its :attr:`stencils` (None when evaluated without Hessian).
     hess_xc : ndarray, shape ``(2N,)`` or None
-        ``d2E / dx dc`` (interleaved; zero outside the active nodes).
+        ``d2E / dx dc`` (interleaved).
     hess_cc : float or None
         ``d2E / dc^2``.
     """
 
     position: float
     distances: np.ndarray
+    gaps: np.ndarray
     active: np.ndarray
+    stencils: np.ndarray
     energy: float
     gradient: np.ndarray
     dE_dc: float
@@ -251,7 +432,7 @@ class ContactState:
 
     @property
     def n_active(self) -> int:
-        """Number of nodes within ``dhat`` of the indenter."""
+        """Number of cells within ``dhat`` of the indenter."""
         return int(self.active.size)
 
     def force_gradient(self) -> tuple[np.ndarray, float]:
@@ -264,30 +445,38 @@ class ContactState:
             raise ValueError("ContactState: evaluated without the Hessian (use hessian=True)")
 
     def hessian_triplets(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Global entries of ``d2E/dx2``: the 2x2 block of each active node, full (both triangles).
+        """Global entries of ``d2E/dx2``: the 6x6 block of each active cell, full (both triangles).
 
         Returns
         -------
-        rows, cols : ndarray of int, shape ``(4 m,)``
-            Indices into the interleaved state: per active node ``i``, in this order,
-            ``(2i, 2i), (2i, 2i+1), (2i+1, 2i), (2i+1, 2i+1)``.
-        values : ndarray, shape ``(4 m,)``
+        rows, cols : ndarray of int, shape ``(36 m,)``
+            Indices into the interleaved state, per active cell in row-major order of its block
+            (local index ``2 j + a`` is coordinate ``a`` of stencil node ``j``).  A node that occurs
+            twice in a stencil (the pole's mirrored neighbour) gives repeated entries, to be summed.
+        values : ndarray, shape ``(36 m,)``
         """
         self._need_hessian()
-        base = 2 * self.active
-        rows = (base[:, None] + np.array([0, 0, 1, 1])).ravel()
-        cols = (base[:, None] + np.array([0, 1, 0, 1])).ravel()
+        dofs = _stencil_dofs(self.stencils)
+        rows = np.repeat(dofs, 6, axis=1).ravel()
+        cols = np.tile(dofs, (1, 6)).ravel()
         return rows, cols, self.hess_blocks.reshape(-1).copy()
 
     def hessian_matrix(self) -> sp.csr_matrix:
-        """``d2E/dx2`` as a ``2N x 2N`` CSR matrix (block diagonal, only the active nodes' blocks)."""
+        """``d2E/dx2`` as a ``2N x 2N`` CSR matrix (the active cells' blocks summed)."""
         n = self.gradient.size
         rows, cols, vals = self.hessian_triplets()
-        return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        H = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        H.sum_duplicates()
+        return H
+
+
+def _stencil_dofs(stencils: np.ndarray) -> np.ndarray:
+    """Interleaved dofs ``(r_j, z_j)`` of each stencil node, shape ``(m, 6)``."""
+    return (2 * stencils[:, :, None] + np.array([0, 1])).reshape(len(stencils), 6)
 
 
 class ContactBarrier:
-    """Log-barrier contact of the shell's nodes with a rigid indenter (eq. 3.16).
+    """Log-barrier contact of the shell's meridian with a rigid indenter (eq. 3.16, integrated over cells).
 
     Parameters
     ----------
@@ -296,13 +485,19 @@ class ContactBarrier:
     K : float
         Barrier stiffness ``K_c > 0`` (energy / length^2).
     dhat : float
-        Barrier width ``dhat > 0`` (length): nodes farther than ``dhat`` feel nothing.
+        Barrier width ``dhat > 0`` (length): points farther than ``dhat`` feel nothing.
+    quadrature : int
+        Gauss-Legendre points per contact cell (:data:`QUADRATURE_POINTS`); ``1`` with no
+        ``cell_weights`` is the paper's nodal barrier.
+    cell_weights : array_like, shape ``(N,)``, optional
+        A factor on each cell (:func:`length_weights` for a barrier per unit length); default 1.
+        Given, the barrier only accepts states of ``N`` nodes.
 
     Notes
     -----
-    See the module docstring for the sign conventions (``F = -dE/dc > 0`` when pushing) and the
-    Hessian layout.  No method ever returns NaN or inf: a state with a node at ``d <= 0`` (or a
-    non-finite state) raises :class:`ValueError` naming the node and its distance.
+    See the module docstring for the cells, the sign conventions (``F = -dE/dc > 0`` when pushing)
+    and the Hessian layout.  No method ever returns NaN or inf: a state with a sample point at
+    ``d <= 0`` (or a non-finite state) raises :class:`ValueError` naming the cell and its distance.
 
     Examples
     --------
@@ -314,7 +509,8 @@ class ContactBarrier:
     ([0], True)
     """
 
-    def __init__(self, indenter: Sphere | Plate, K: float, dhat: float) -> None:
+    def __init__(self, indenter: Sphere | Plate, K: float, dhat: float, quadrature: int = QUADRATURE_POINTS,
+                 cell_weights: ArrayLike | None = None) -> None:
         if not isinstance(indenter, (Sphere, Plate)):
             raise TypeError(f"ContactBarrier: indenter must be a Sphere or a Plate, got {indenter!r}")
         K, dhat = float(K), float(dhat)
@@ -322,27 +518,41 @@ class ContactBarrier:
             raise ValueError(f"ContactBarrier: K must be a positive number, got {K!r}")
         if not (dhat > 0 and math.isfinite(dhat)):
             raise ValueError(f"ContactBarrier: dhat must be a positive number, got {dhat!r}")
+        if int(quadrature) != quadrature or quadrature < 1:
+            raise ValueError(f"ContactBarrier: quadrature must be a positive integer, got {quadrature!r}")
         self.indenter = indenter
         self.K = K
         self.dhat = dhat
+        self.quadrature = int(quadrature)
+        self.cell_weights = None if cell_weights is None else np.array(cell_weights, dtype=float)
         self._params = indenter.params
         self._distance = getattr(gen, f"{indenter.name}_distance")
         self._energy = getattr(gen, f"{indenter.name}_energy")
         self._derivatives = getattr(gen, f"{indenter.name}_derivatives")
         self._gradient = getattr(gen, f"{indenter.name}_gradient")
+        self._cells_cache: ContactCells | None = None
 
     @classmethod
     def for_shell(cls, indenter: Sphere | Plate, E: float, R: float,
-                  dhat_over_R: float = PAPER_DHAT / PAPER_R) -> ContactBarrier:
+                  dhat_over_R: float = PAPER_DHAT / PAPER_R, quadrature: int = QUADRATURE_POINTS) -> ContactBarrier:
         """A barrier with the constants of :func:`default_barrier` for modulus ``E`` and radius ``R``."""
         K, dhat = default_barrier(E, R, dhat_over_R)
-        return cls(indenter, K, dhat)
+        return cls(indenter, K, dhat, quadrature)
+
+    def cells(self, n_nodes: int) -> ContactCells:
+        """The contact cells of an ``n_nodes``-node meridian (cached for the last ``n_nodes``)."""
+        if self._cells_cache is None or self._cells_cache.n_nodes != n_nodes:
+            if self.cell_weights is not None and self.cell_weights.size != n_nodes:
+                raise ValueError(f"ContactBarrier: the cell weights are for {self.cell_weights.size} nodes, "
+                                 f"the state has {n_nodes}")
+            self._cells_cache = ContactCells(n_nodes, self.quadrature, self.cell_weights)
+        return self._cells_cache
 
     # ---- distances and checks ---------------------------------------------------------------------
     @staticmethod
     def _state(x, what: str = "x") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x = np.asarray(x, dtype=float)
-        if x.ndim != 1 or x.size % 2:
+        if x.ndim != 1 or x.size % 2 or x.size == 0:
             raise ValueError(f"ContactBarrier: {what} must be the interleaved state [r_0, z_0, ...] "
                              f"of even length, got shape {x.shape}")
         if not np.all(np.isfinite(x)):
@@ -356,6 +566,9 @@ class ContactBarrier:
         if not math.isfinite(c):
             raise ValueError(f"ContactBarrier: indenter position {what} = {c!r} is not finite")
         return c
+
+    def _dist(self, r: np.ndarray, z: np.ndarray, c: float) -> np.ndarray:
+        return self._distance(r, z, c, *self._params, self.K, self.dhat)
 
     def distances(self, x, c: float) -> np.ndarray:
         """Distance of every node from the indenter surface (negative inside); no checks on the sign.
@@ -372,43 +585,100 @@ class ContactBarrier:
         ndarray, shape ``(N,)``
         """
         _, r, z = self._state(x)
-        return self._distance(r, z, self._position(c), *self._params, self.K, self.dhat)
+        return self._dist(r, z, self._position(c))
 
-    def _checked_distances(self, r: np.ndarray, z: np.ndarray, c: float) -> np.ndarray:
-        d = self._distance(r, z, c, *self._params, self.K, self.dhat)
-        if not np.all(d > 0):
-            bad = np.flatnonzero(~(d > 0))
-            i = int(bad[np.argmin(d[bad])]) if np.all(np.isfinite(d[bad])) else int(bad[0])
+    def sample_distances(self, x: ArrayLike, c: float) -> np.ndarray:
+        """Distance of every sample point of the cells (:class:`ContactCells`) from the indenter surface.
+
+        Returns
+        -------
+        ndarray, shape ``(S,)``
+            Negative inside; no checks on the sign.
+        """
+        _, r, z = self._state(x)
+        return self._dist(*self.cells(r.size).points(r, z), self._position(c))
+
+    def _checked_samples(self, r: np.ndarray, z: np.ndarray, c: float) -> tuple[ContactCells, np.ndarray]:
+        cells = self.cells(r.size)
+        ds = self._dist(*cells.points(r, z), c)
+        if not np.all(ds > 0):
+            bad = np.flatnonzero(~(ds > 0))
+            s = int(bad[np.argmin(ds[bad])]) if np.all(np.isfinite(ds[bad])) else int(bad[0])
+            i = int(cells.cell[s])
             raise ValueError(
                 f"ContactBarrier: node {i} at (r, z) = ({r[i]:.17g}, {z[i]:.17g}) is not outside the "
-                f"{self.indenter.name} indenter at c = {c:.17g}: distance d = {d[i]:.6g} <= 0 "
-                f"({bad.size} node(s) with d <= 0); the barrier is infinite there")
-        return d
+                f"{self.indenter.name} indenter at c = {c:.17g}: its cell's sample point {s - cells.first[i]} "
+                f"has distance d = {ds[s]:.6g} <= 0 ({bad.size} sample point(s) with d <= 0); the barrier "
+                "is infinite there")
+        return cells, ds
 
     def check(self, x, c: float) -> np.ndarray:
-        """Distances of every node, raising :class:`ValueError` if any node has ``d <= 0``.
+        """Distances of every node, raising :class:`ValueError` if any sample point has ``d <= 0``.
 
         Returns
         -------
         ndarray, shape ``(N,)``
         """
         _, r, z = self._state(x)
-        return self._checked_distances(r, z, self._position(c))
+        c = self._position(c)
+        self._checked_samples(r, z, c)
+        return self._dist(r, z, c)
 
     def active_set(self, x, c: float) -> np.ndarray:
-        """Indices of the nodes within ``dhat`` of the indenter (after :meth:`check`)."""
-        return np.flatnonzero(self.check(x, c) < self.dhat)
+        """Indices of the cells with a sample point within ``dhat`` of the indenter (after :meth:`check`)."""
+        _, r, z = self._state(x)
+        cells, ds = self._checked_samples(r, z, self._position(c))
+        return np.flatnonzero(cells.cell_minimum(ds) < self.dhat)
+
+    def hessian_slots(self, pattern: sp.csr_matrix) -> np.ndarray:
+        """Places of every cell's 6x6 Hessian block in the data array of a CSR matrix.
+
+        Parameters
+        ----------
+        pattern : scipy.sparse.csr_matrix, shape ``(2N, 2N)``
+            A matrix in canonical form (sorted indices, no duplicates) whose pattern holds every
+            entry coupling the nodes ``i-1, i, i+1`` (the shell's Hessian does).
+
+        Returns
+        -------
+        ndarray of int, shape ``(N, 36)``
+            ``slots[i]`` indexes ``pattern.data`` in the order of :meth:`ContactState.hessian_triplets`
+            (repeated slots for the pole's mirrored neighbour: accumulate with ``numpy.add.at``).
+
+        Raises
+        ------
+        ValueError
+            If an entry is missing from the pattern.
+        """
+        H = sp.csr_matrix(pattern)
+        n = H.shape[0]
+        if not H.has_canonical_format:
+            raise ValueError("hessian_slots: the pattern must be a canonical CSR matrix")
+        cells = self.cells(n // 2)
+        dofs = _stencil_dofs(cells.stencil)
+        rows = np.repeat(dofs, 6, axis=1)
+        cols = np.tile(dofs, (1, 6))
+        # sorted keys of the stored entries: the slot of (i, j) is where i * n + j sits among them
+        keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr)) * n + H.indices
+        want = rows.astype(np.int64) * n + cols
+        slots = np.searchsorted(keys, want)
+        found = (slots < keys.size) & (keys[np.minimum(slots, keys.size - 1)] == want)
+        if not np.all(found):
+            k = np.flatnonzero(~found.ravel())[0]
+            raise ValueError(f"hessian_slots: entry ({rows.ravel()[k]}, {cols.ravel()[k]}) is not in the pattern")
+        return slots
 
     # ---- energy and derivatives -------------------------------------------------------------------
     def energy(self, x, c: float) -> float:
-        """Total barrier energy ``E(x, c)`` (raises :class:`ValueError` if a node has ``d <= 0``)."""
+        """Total barrier energy ``E(x, c)`` (raises :class:`ValueError` if a sample point has ``d <= 0``)."""
         _, r, z = self._state(x)
         c = self._position(c)
-        d = self._checked_distances(r, z, c)
-        act = np.flatnonzero(d < self.dhat)
-        if act.size == 0:
+        cells, ds = self._checked_samples(r, z, c)
+        near = np.flatnonzero(ds < self.dhat)
+        if near.size == 0:
             return 0.0
-        return float(np.sum(self._energy(r[act], z[act], c, *self._params, self.K, self.dhat)))
+        rs, zs = cells.points(r, z)
+        return float(np.sum(cells.weight[near] * self._energy(rs[near], zs[near], c, *self._params, self.K, self.dhat)))
 
     def gradient(self, x, c: float) -> tuple[np.ndarray, float]:
         """``(dE/dx, dE/dc)``: gradient with respect to the interleaved state and the position."""
@@ -425,11 +695,11 @@ class ContactBarrier:
         Parameters
         ----------
         x : array_like, shape ``(2N,)``
-            Interleaved state ``[r_0, z_0, ..., r_{N-1}, z_{N-1}]``.
+            Interleaved state ``[r_0, z_0, ..., r_{N-1}, z_{N-1}]`` (node ``N-1`` the pole).
         c : float
             Indenter position (``zc`` for a sphere, ``zp`` for a plate).
         hessian : bool
-            Also compute the 2x2 node blocks, ``d2E/dx dc`` and ``d2E/dc2``.
+            Also compute the 6x6 cell blocks, ``d2E/dx dc`` and ``d2E/dc2``.
 
         Returns
         -------
@@ -438,62 +708,125 @@ class ContactBarrier:
         Raises
         ------
         ValueError
-            If ``x`` or ``c`` is not finite or a node has ``d <= 0`` (the message names the node
-            with the smallest distance).
+            If ``x`` or ``c`` is not finite or a sample point has ``d <= 0`` (the message names the
+            cell with the smallest distance).
         """
         x, r, z = self._state(x)
         c = self._position(c)
-        d = self._checked_distances(r, z, c)
-        act = np.flatnonzero(d < self.dhat)
+        cells, ds = self._checked_samples(r, z, c)
+        gaps = cells.cell_minimum(ds)
+        act = np.flatnonzero(gaps < self.dhat)
         n = x.size
         grad = np.zeros(n)
+        d_nodes = self._dist(r, z, c)
+        stencils = cells.stencil[act]
         if act.size == 0:
             empty = np.zeros(0)
-            st = ContactState(c, d, act, 0.0, grad, 0.0, empty, empty)
+            st = ContactState(c, d_nodes, gaps, act, stencils, 0.0, grad, 0.0, empty, empty)
             if hessian:
-                st.hess_blocks, st.hess_xc, st.hess_cc = np.zeros((0, 2, 2)), np.zeros(n), 0.0
+                st.hess_blocks, st.hess_xc, st.hess_cc = np.zeros((0, 6, 6)), np.zeros(n), 0.0
             return st
-        ra, za = r[act], z[act]
+        # only the samples within dhat carry energy (W and its derivatives vanish beyond it)
+        samples = cells.samples_of(act)
+        samples = samples[ds[samples] < self.dhat]
+        rs, zs = cells.points(r, z)
+        rs, zs = rs[samples], zs[samples]
+        w = cells.weight[samples]
         if hessian:
-            e, g, h = self._derivatives(ra, za, c, *self._params, self.K, self.dhat)
+            e, g, h = self._derivatives(rs, zs, c, *self._params, self.K, self.dhat)
         else:
-            e, g = self._energy(ra, za, c, *self._params, self.K, self.dhat), \
-                self._gradient(ra, za, c, *self._params, self.K, self.dhat)
+            e, g = self._energy(rs, zs, c, *self._params, self.K, self.dhat), \
+                self._gradient(rs, zs, c, *self._params, self.K, self.dhat)
         if not (np.all(np.isfinite(g)) and (not hessian or np.all(np.isfinite(h)))):
             # only for d so small (d / dhat < ~1e-150) that W'' overflows; never return inf
-            bad = int(act[np.argmin(d[act])])
-            raise ValueError(f"ContactBarrier: node {bad} is too close to the {self.indenter.name} indenter "
-                             f"(d = {d[bad]:.6g}): the barrier derivatives overflow")
-        grad[2 * act] = g[0]
-        grad[2 * act + 1] = g[1]
-        st = ContactState(c, d, act, float(np.sum(e)), grad, float(np.sum(g[2])), e, -g[2])
+            bad = int(cells.cell[samples[np.argmin(ds[samples])]])
+            raise ValueError(f"ContactBarrier: node {bad}'s cell is too close to the {self.indenter.name} indenter "
+                             f"(d = {gaps[bad]:.6g}): the barrier derivatives overflow")
+        # chain rule through the sample point x_s = sum_j c_sj x_j (linear in the nodes)
+        where = np.searchsorted(act, cells.cell[samples])  # each sample's row among the active cells
+        cr, cz = cells.cr[samples] * w[:, None], cells.cz[samples] * w[:, None]
+        node_g = np.zeros((act.size, 3, 2))
+        np.add.at(node_g, where, np.stack([cr * g[0][:, None], cz * g[1][:, None]], axis=2))
+        np.add.at(grad, _stencil_dofs(stencils).ravel(), node_g.reshape(-1))
+        cell_e = np.bincount(where, weights=w * e, minlength=act.size)
+        cell_f = -np.bincount(where, weights=w * g[2], minlength=act.size)
+        st = ContactState(c, d_nodes, gaps, act, stencils, float(np.sum(cell_e)), grad, -float(np.sum(cell_f)),
+                          cell_e, cell_f)
         if hessian:
-            blocks = np.empty((act.size, 2, 2))
-            blocks[:, 0, 0] = h[0]
-            blocks[:, 0, 1] = blocks[:, 1, 0] = h[1]
-            blocks[:, 1, 1] = h[3]
+            # C_s maps the cell's (r_0, z_0, r_1, z_1, r_2, z_2) to the sample point's (r, z)
+            C = np.zeros((samples.size, 2, 6))
+            C[:, 0, 0::2], C[:, 1, 1::2] = cells.cr[samples], cells.cz[samples]
+            Hp = np.empty((samples.size, 2, 2))
+            Hp[:, 0, 0], Hp[:, 0, 1], Hp[:, 1, 1] = h[0], h[1], h[3]
+            Hp[:, 1, 0] = h[1]
+            blocks = np.zeros((act.size, 6, 6))
+            np.add.at(blocks, where, np.einsum("s,sai,sab,sbj->sij", w, C, Hp, C))
+            lower = np.tril_indices(6, -1)  # exactly symmetric, not only to roundoff: mirror the upper triangle
+            blocks[:, lower[0], lower[1]] = blocks[:, lower[1], lower[0]]
+            xc_local = np.einsum("s,sai,as->si", w, C, np.stack([h[2], h[4]]))
             xc = np.zeros(n)
-            xc[2 * act] = h[2]
-            xc[2 * act + 1] = h[4]
-            st.hess_blocks, st.hess_xc, st.hess_cc = blocks, xc, float(np.sum(h[5]))
+            np.add.at(xc, _stencil_dofs(stencils)[where].ravel(), xc_local.ravel())
+            st.hess_blocks, st.hess_xc, st.hess_cc = blocks, xc, float(np.sum(w * h[5]))
         return st
+
+    def nearest_sample(self, x: ArrayLike, c: float) -> tuple[int, float]:
+        """The sample point closest to the indenter: its index and distance (after :meth:`check`)."""
+        _, r, z = self._state(x)
+        _, ds = self._checked_samples(r, z, self._position(c))
+        s = int(np.argmin(ds))
+        return s, float(ds[s])
+
+    def sample_gap(self, x: ArrayLike, c: float, sample: int) -> tuple[float, np.ndarray, float]:
+        """Distance of one sample point from the indenter and its exact first derivatives.
+
+        Parameters
+        ----------
+        x, c
+            The interleaved state ``(2N,)`` and the indenter position.
+        sample : int
+            Index of the sample point (:class:`ContactCells`).
+
+        Returns
+        -------
+        d : float
+            Its distance (negative inside).
+        dd_dx : ndarray, shape ``(2N,)``
+            ``dd/dx`` (nonzero on its cell's three nodes only).
+        dd_dc : float
+        """
+        x, r, z = self._state(x)
+        c = self._position(c)
+        cells = self.cells(r.size)
+        cell = int(cells.cell[sample])
+        nodes = cells.stencil[cell]
+        rs, zs = float(np.dot(cells.cr[sample], r[nodes])), float(np.dot(cells.cz[sample], z[nodes]))
+        if isinstance(self.indenter, Plate):  # d = c - z
+            d, dr, dz, dc = c - zs, 0.0, -1.0, 1.0
+        else:  # d = |(r, z - c)| - rho
+            q = math.hypot(rs, zs - c)
+            d, dr, dz, dc = q - self.indenter.radius, rs / q, (zs - c) / q, -(zs - c) / q
+        grad = np.zeros(x.size)
+        np.add.at(grad, 2 * nodes, cells.cr[sample] * dr)
+        np.add.at(grad, 2 * nodes + 1, cells.cz[sample] * dz)
+        return d, grad, dc
 
     # ---- step filter ------------------------------------------------------------------------------
     def max_safe_fraction(self, x, c: float, dx, dc: float = 0.0, safety: float = 0.9) -> float:
         """Largest safe fraction of the step ``(dx, dc)`` from ``(x, c)``, times ``safety``.
 
-        With ``t*`` the first ``s`` in ``(0, 1]`` at which some node reaches the indenter surface
-        (``d_i(x + s dx, c + s dc) = 0``), returns ``safety * t*``; returns ``1.0`` when no node
-        reaches it for ``s`` in ``[0, 1]`` (the whole step is safe).  All nodes are considered, not
-        only the active ones.  Plate: ``d_i(s) = d_i - s (dz_i - dc)`` is linear.  Sphere: the
-        first root in ``(0, 1]`` of ``|u_i + s v_i|^2 = rho^2`` with ``u_i = (r_i, z_i - zc)``,
-        ``v_i = (dr_i, dz_i - dc)``, computed exactly (in the cancellation-free form
+        With ``t*`` the first ``s`` in ``(0, 1]`` at which some sample point reaches the indenter
+        surface (``d_k(x + s dx, c + s dc) = 0``), returns ``safety * t*``; returns ``1.0`` when no
+        sample point reaches it for ``s`` in ``[0, 1]`` (the whole step is safe).  All sample points
+        are considered, not only the active ones; a sample point is linear in the nodes, so it moves
+        along a straight segment.  Plate: ``d_k(s) = d_k - s (dz_k - dc)`` is linear.  Sphere: the
+        first root in ``(0, 1]`` of ``|u_k + s v_k|^2 = rho^2`` with ``u_k = (r_k, z_k - zc)``,
+        ``v_k = (dr_k, dz_k - dc)``, computed exactly (in the cancellation-free form
         ``s = (|u|^2 - rho^2) / (-u.v + sqrt((u.v)^2 - |v|^2 (|u|^2 - rho^2)))``).
 
         Parameters
         ----------
         x : array_like, shape ``(2N,)``
-            Current interleaved state (every node must have ``d > 0``).
+            Current interleaved state (every sample point must have ``d > 0``).
         c : float
             Current indenter position.
         dx : array_like, shape ``(2N,)``
@@ -511,7 +844,7 @@ class ContactBarrier:
         Raises
         ------
         ValueError
-            If the current state has a node at ``d <= 0``, or an argument is not finite.
+            If the current state has a sample point at ``d <= 0``, or an argument is not finite.
         """
         safety = float(safety)
         if not (0 < safety < 1):
@@ -522,9 +855,11 @@ class ContactBarrier:
         if dx.size != x.size:
             raise ValueError(f"ContactBarrier.max_safe_fraction: dx has {dx.size} entries, x has {x.size}")
         dc = self._position(dc, "dc")
-        d = self._checked_distances(r, z, c)
+        cells, d = self._checked_samples(r, z, c)
+        r, z = cells.points(r, z)
+        dr, dz = cells.points(dr, dz)
         if isinstance(self.indenter, Plate):
-            rate = dz - dc  # d_i(s) = d_i - s * rate
+            rate = dz - dc  # d_k(s) = d_k - s * rate
             closing = rate > 0
             if not np.any(closing):
                 return 1.0
@@ -545,4 +880,4 @@ class ContactBarrier:
         return 1.0 if t > 1.0 else safety * t
 
     def __repr__(self) -> str:
-        return f"ContactBarrier({self.indenter!r}, K={self.K!r}, dhat={self.dhat!r})"
+        return f"ContactBarrier({self.indenter!r}, K={self.K!r}, dhat={self.dhat!r}, quadrature={self.quadrature!r})"

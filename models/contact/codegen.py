@@ -54,6 +54,24 @@ taking ``(r, z, c, *params)``:
 The energy and derivative kernels are only valid for ``0 < d < dhat``: the caller evaluates them on
 the active set alone (:class:`models.contact.ContactBarrier`).  ``r`` and ``z`` are arrays of one
 shape ``(m,)``; ``c`` and the parameters are scalars or arrays of that shape.
+
+Contact cells: the barrier between the nodes
+--------------------------------------------
+The barrier does not act on the nodes alone but on the meridian between them
+(:mod:`models.contact.barrier`): the cell of node ``i`` is the quadratic through the nodes
+``i-1, i, i+1``, ``x(t) = sum_j L_j(t) x_j`` with the Lagrange basis of the nodes ``t = -1, 0, 1``::
+
+    L_0(t) = t (t - 1) / 2,    L_1(t) = 1 - t^2,    L_2(t) = t (t + 1) / 2,
+
+for ``t`` in ``[-1/2, 1/2]``, and its energy ``int W(d(x(t))) dt`` is taken by a Gauss rule, so a
+cell is a sum of the point kernels above at the points ``x(t_q)``.  The point ``x(t)`` is linear in
+the nodes, so the exact derivatives of a cell are the point kernels' times the basis::
+
+    dW/dr_j = L_j dW/dr,    d2W/dr_j dz_k = L_j L_k d2W/dr dz,    d2W/dr_j dc = L_j d2W/dr dc, ...
+
+(the generator checks this chain rule against ``sympy.diff`` of the cell point's distance at 30
+digits; the energy follows through ``d``).
+``cell_basis`` is emitted alongside the kernels.
 """
 
 from __future__ import annotations
@@ -66,8 +84,8 @@ from sympy.printing.numpy import NumPyPrinter
 
 from models.codegen_cli import generator_main, write_generated
 
-__all__ = ["Indenter", "build_indenters", "barrier_definition", "generate_source", "generate", "main",
-           "DEFAULT_OUTPUT", "PAIRS"]
+__all__ = ["Indenter", "build_indenters", "barrier_definition", "cell_basis", "check_cell_chain_rule",
+           "generate_source", "generate", "main", "DEFAULT_OUTPUT", "PAIRS"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_generated.py")
 
@@ -185,6 +203,66 @@ def _plate() -> Indenter:
     zero = sp.Integer(0)
     return Indenter("plate", zp, [], zp - _z, [(_d, zp - _z)], [zero, sp.Integer(-1), sp.Integer(1)],
                     [zero] * 6, "flat horizontal plate at height ``zp`` pushing down")
+
+
+_t = sp.Symbol("t", real=True)
+
+
+def cell_basis() -> list[sp.Expr]:
+    """Quadratic Lagrange basis ``L_0, L_1, L_2`` of a contact cell in ``t``, through ``t = -1, 0, 1``.
+
+    Returns
+    -------
+    list of sympy.Expr
+        ``[t (t - 1) / 2, 1 - t^2, t (t + 1) / 2]`` (checked: ``L_j(t_k) = delta_jk``).
+    """
+    basis = [_t * (_t - 1) / 2, 1 - _t**2, _t * (_t + 1) / 2]
+    for j, L in enumerate(basis):
+        for k, tk in enumerate((-1, 0, 1)):
+            assert L.subs(_t, tk) == (1 if j == k else 0), (j, k)
+    return basis
+
+
+def check_cell_chain_rule(ind: Indenter) -> None:
+    """Assert that a cell's exact derivatives are the point kernel's derivatives times the basis.
+
+    The distance ``d(x(t), c)`` of a cell's point ``x(t) = sum_j L_j(t) x_j`` is differentiated by
+    sympy with respect to the six nodal coordinates and ``c`` and compared, at a fixed point and 30
+    digits, with ``L_j dd/da`` and ``L_j L_k d2d/da db`` of the point's distance; the energy
+    ``W(d)`` then follows by the chain rule through ``d`` that :meth:`Indenter.check` verifies for
+    the point kernels (checking the distance keeps generation fast).
+    """
+    basis = cell_basis()
+    nodes = sp.symbols("r0 z0 r1 z1 r2 z2", real=True)
+    c = ind.position
+    point = {_r: sum(L * nodes[2 * j] for j, L in enumerate(basis)),
+             _z: sum(L * nodes[2 * j + 1] for j, L in enumerate(basis))}
+    cell = ind.distance.subs(point, simultaneous=True)
+    local = list(nodes) + [c]
+    # where: a cell through three points just under the indenter (the sphere centred 1/2 above)
+    values = {nodes[0]: sp.Rational(1, 5), nodes[1]: sp.Rational(-3, 10000), nodes[2]: sp.Rational(-1, 5),
+              nodes[3]: sp.Rational(1, 10000), nodes[4]: sp.Rational(-1, 5), nodes[5]: sp.Rational(-7, 10000),
+              _t: sp.Rational(1, 7), _K: 10**8, _dhat: sp.Rational(1, 1000)}
+    values[c] = sp.Rational(1, 1000) if ind.name == "plate" else sp.Rational(5, 10) + sp.Rational(1, 1000)
+    values.update({p: sp.Rational(1, 2) for p in ind.params})
+
+    def role(v: sp.Symbol) -> tuple[sp.Expr, sp.Symbol]:  # (basis weight, point variable) of a local variable
+        if v == c:
+            return sp.Integer(1), c
+        k = nodes.index(v)
+        return basis[k // 2], (_r, _z)[k % 2]
+
+    at_point = {**values, **{sym: expr.subs(values) for sym, expr in point.items()}}
+    for a in local:
+        wa, va = role(a)
+        exact = sp.diff(cell, a).evalf(30, subs=values)
+        chain = (wa * sp.diff(ind.distance, va)).subs(_t, values[_t]).evalf(30, subs=at_point)
+        assert abs(exact - chain) <= sp.Float("1e-20", 30) * (1 + abs(exact)), (ind.name, a)
+        for b in local[local.index(a):]:
+            wb, vb = role(b)
+            exact = sp.diff(cell, a, b).evalf(30, subs=values)
+            chain = (wa * wb * sp.diff(ind.distance, va, vb)).subs(_t, values[_t]).evalf(30, subs=at_point)
+            assert abs(exact - chain) <= sp.Float("1e-20", 30) * (1 + abs(exact)), (ind.name, a, b)
 
 
 def build_indenters() -> list[Indenter]:
@@ -318,6 +396,24 @@ def _emit_derivatives(ind: Indenter, printer: NumPyPrinter) -> list[str]:
     return lines
 
 
+def _emit_cell_basis(printer: NumPyPrinter) -> list[str]:
+    basis = cell_basis()
+    lines = ["def cell_basis(t):",
+             '    """Quadratic Lagrange basis of a contact cell through the nodes ``i-1, i, i+1`` at ``t = -1, 0, 1``.',
+             "",
+             "    The cell's point ``x(t) = L_0 x_{i-1} + L_1 x_i + L_2 x_{i+1}``; the cell spans ``t`` in ``[-1/2, 1/2]``.",
+             "",
+             "    Returns",
+             "    -------",
+             "    ndarray, shape ``(3,) + shape(t)``",
+             '    """',
+             "    t = numpy.asarray(t, dtype=float)",
+             "    _L = numpy.empty((3,) + t.shape)"]
+    lines += [f"    _L[{j}] = {printer.doprint(sp.expand(L))}" for j, L in enumerate(basis)]
+    lines.append("    return _L")
+    return lines
+
+
 _PREAMBLE = '''"""Contact barrier kernels: a shell node against a sphere or a plate indenter, exact derivatives.
 
 GENERATED by ``python -m models.contact.codegen`` from the sympy definitions in
@@ -328,7 +424,9 @@ Every kernel takes ``(r, z, c, *params, K, dhat)``: the node coordinates, the in
 (``zc``: sphere centre height; ``zp``: plate height), the geometric parameters (``rho`` for the
 sphere) and the barrier constants.  Local variables are ``(r, z, c)``; gradients are ``(3, m)`` and
 packed upper-triangle Hessians ``(6, m)`` with rows :data:`PAIRS`.  Energy and derivative kernels are
-valid for ``0 < d < dhat`` only.
+valid for ``0 < d < dhat`` only.  :func:`cell_basis` is the quadratic basis of a contact cell (the
+meridian between the nodes, see the generator's docstring): a point of a cell is linear in its three
+nodes, so the kernels evaluated there give the cell's exact derivatives by the chain rule.
 """
 
 import numpy
@@ -348,11 +446,14 @@ def generate_source() -> str:
     chunks, functions = [], []
     for ind in build_indenters():
         ind.check()
+        check_cell_chain_rule(ind)
         for emit, suffix in ((_emit_distance, "distance"), (_emit_energy, "energy"),
                              (_emit_gradient, "gradient"), (_emit_hessian, "hessian"),
                              (_emit_derivatives, "derivatives")):
             chunks.append("\n".join(emit(ind, printer)))
             functions.append(f"{ind.name}_{suffix}")
+    chunks.append("\n".join(_emit_cell_basis(printer)))
+    functions.append("cell_basis")
     parts = [_PREAMBLE.rstrip("\n")]
     parts.append("__all__ = [\n" + "".join(f'    "{f}",\n' for f in sorted(functions + ["PAIRS"])) + "]")
     parts.append("PAIRS = " + repr(PAIRS) + "\n"

@@ -6,7 +6,7 @@ the undeformed pole (gap ``dhat``), so ``w_b = 0`` is the first touch of the bar
 order ``dhat`` enters ``w_b``.  The shell's unknowns are those of
 the free shell (:meth:`models.shell.ShellPointLoad.free_state`): every dof except the base height
 ``z_0`` and the pole radius ``r_{N-1} = 0``, the pole height last.  The energy is the shell's elastic energy
-plus the barrier (:class:`models.contact.ContactBarrier`); the barrier's node blocks lie inside the
+plus the barrier (:class:`models.contact.ContactBarrier`); the barrier's cell blocks lie inside the
 shell's band, so the Jacobian keeps half-bandwidth 5 and every solve stays O(N).
 
 Snap under displacement control (``docs/physics.md`` section 4): as the contact force falls towards
@@ -43,12 +43,12 @@ from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU
 from contin.linalg import factorize as generic_factorize
 from contin.deadload import DeadLoad
 from contin.problem import NonFiniteError, Problem
-from contin.stability import leading_inertias
+from contin.stability import leading_inertias, stability_info
 from models.shell.energy import HALF_BANDWIDTH
 from models.shell.geometry import POLE_RATIO
 from models.shell.problem import ShellPointLoad
 
-from .barrier import ContactBarrier, ContactState, Plate, Sphere, default_barrier
+from .barrier import ContactBarrier, ContactState, Plate, Sphere, default_barrier, length_weights
 
 __all__ = ["ShellIndentation", "ShellIndentationForce", "BorderedBandedLU"]
 
@@ -84,15 +84,15 @@ class ShellIndentation(Problem):
             # through it; the point load is ShellPointLoad (bilateral) or a small sphere
             raise ValueError("ShellIndentation: the sphere radius must be > 0 (for a point load use "
                              "models.shell.ShellPointLoad, or a sphere much smaller than the cap)")
-        self.barrier = ContactBarrier(self.indenter, self.K, self.dhat)
+        # the barrier per unit meridian length (the paper's nodal one on its mesh): converges with N
+        self.barrier = ContactBarrier(self.indenter, self.K, self.dhat, cell_weights=length_weights(el.cap.x))
         self.c0 = float(self.indenter.contact_position(el.z_pole_ref)) + self.dhat
         self.idx = el.idx_force
         self.n_full = el.n_full
-        # CSR slots of each node's (r, z) diagonal block in the shell's full Hessian pattern
+        # CSR slots of each contact cell's block (nodes i-1, i, i+1) in the shell's full Hessian pattern
         H0 = el.elastic_hessian(el.cap.x)
         self._pattern = H0
-        self._node_slots = np.array([[_slot(H0, 2 * i + a, 2 * i + b) for a in (0, 1) for b in (0, 1)]
-                                     for i in range(self.N)])
+        self._node_slots = self.barrier.hessian_slots(H0)
         observables = {"F": self._obs("F"), "w_b": lambda u, p: float(p), "w_s": self._obs("w_s"),
                        "Delta_H": self._obs("Delta_H"), "kappa_p_R": self._obs("kappa_p_R"),
                        "n_contact": self._obs("n_contact"),
@@ -193,8 +193,27 @@ class ShellIndentation(Problem):
     def stability_counts(self, u: np.ndarray, p: float) -> dict[str, int] | None:
         counts = leading_inertias(self._op_force(u, p), (self.idx.size, self.idx.size + 1))
         if counts is None:
-            return None
+            return self._counts_by_schur(u, p)
         return {"displacement": counts[0], "force": counts[1]}
+
+    def _counts_by_schur(self, u: np.ndarray, p: float) -> dict[str, int] | None:
+        """Both counts when the pivot-free ``L D L^T`` of the bordered matrix cannot be trusted.
+
+        At a fold in ``w_b`` the displacement Hessian ``A`` is singular and the border row is divided
+        by its vanishing pivot (growth beyond the engine's limit; the general sparse eigensolver
+        then need not converge on the bordered matrix).  ``A`` itself is banded: its count comes from
+        the banded path, and the force count adds the sign of the Schur complement
+        ``s = d - b^T A^{-1} b`` (Sylvester's law of inertia).
+        """
+        J = self.jacobian(u, p)
+        n_disp = stability_info(J, 0).n_negative
+        st = self.contact(u, p)
+        col = st.hess_xc[self.idx]
+        try:
+            schur = float(st.hess_cc) - float(col @ BandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH).solve(col))
+        except SingularMatrixError:  # exactly at the fold: the count is decided by roundoff there
+            schur = 1.0
+        return {"displacement": n_disp, "force": n_disp + (1 if schur < 0 else 0)}
 
     # ---- observables -----------------------------------------------------------------------------
     def _obs(self, name: str):
@@ -224,15 +243,6 @@ class ShellIndentation(Problem):
         if name == "n_contact":
             return float(self.contact(u, p, hessian=False).n_active)
         raise KeyError(name)
-
-
-def _slot(H: sp.csr_matrix, i: int, j: int) -> int:
-    """Index into ``H.data`` of the stored entry ``(i, j)`` (it must be in the pattern)."""
-    lo, hi = H.indptr[i], H.indptr[i + 1]
-    hits = np.nonzero(H.indices[lo:hi] == j)[0]
-    if hits.size != 1:
-        raise ValueError(f"entry ({i}, {j}) is not in the shell's Hessian pattern")
-    return int(lo + hits[0])
 
 
 # ---------------------------------------------------------------------------------------------------

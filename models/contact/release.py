@@ -35,10 +35,13 @@ from contin.linalg import SingularMatrixError
 from contin.problem import NonFiniteError
 from models.shell.energy import HALF_BANDWIDTH
 
-from .barrier import Plate
 from .indentation import BorderedBandedLU, ShellIndentation
 
 __all__ = ["ReleaseFold", "ReleaseFoldError", "locate_release_fold"]
+
+
+#: How many times the gap may be doubled from a start that lies past the fold.
+_MAX_DOUBLINGS = 8
 
 
 class ReleaseFoldError(RuntimeError):
@@ -75,36 +78,22 @@ class ReleaseFold:
 
 
 class _GapCurve:
-    """Equilibria with node ``i``'s gap prescribed: solutions ``(u, w_b)`` and ``dw_b/dx`` by ``x``."""
+    """Equilibria with one barrier sample point's gap prescribed: solutions ``(u, w_b)`` and ``dw_b/dx`` by ``x``."""
 
-    def __init__(self, problem: ShellIndentation, node: int, tol: float, max_iter: int) -> None:
-        self.P, self.i = problem, int(node)
+    def __init__(self, problem: ShellIndentation, sample: int, tol: float, max_iter: int) -> None:
+        self.P, self.sample = problem, int(sample)
         self.tol = tol * problem.residual_scale
         self.max_iter = max_iter
         # the gap is a difference of coordinates of order R: its rounding floor
         self.gap_floor = 64 * np.finfo(float).eps * problem.R
         self.solutions: dict[float, tuple[np.ndarray, float, np.ndarray, float]] = {}
         self.evaluations = 0
-        # the node's (r, z) dofs within the unknowns (the pole's r is not an unknown)
-        full_to_unknown = -np.ones(problem.n_full, dtype=int)
-        full_to_unknown[problem.idx] = np.arange(problem.idx.size)
-        self._dofs = full_to_unknown[[2 * self.i, 2 * self.i + 1]]
 
     def gap_and_gradient(self, u: np.ndarray, w_b: float) -> tuple[float, np.ndarray, float]:
-        """``x = dhat - d_i``, ``dx/du`` (on the unknowns) and ``dx/dw_b``."""
+        """``x = dhat - d_s`` of the sample point, ``dx/du`` (on the unknowns) and ``dx/dw_b``."""
         P = self.P
-        xs = P.full_state(u)
-        r, z, c = xs[2 * self.i], xs[2 * self.i + 1], P.position(w_b)
-        if isinstance(P.indenter, Plate):  # d = c - z
-            d, dd_dr, dd_dz, dd_dc = c - z, 0.0, -1.0, 1.0
-        else:  # d = |(r, z - c)| - rho
-            q = math.hypot(r, z - c)
-            d, dd_dr, dd_dz, dd_dc = q - P.indenter.radius, r / q, (z - c) / q, -(z - c) / q
-        grad = np.zeros(u.size)
-        for dof, val in zip(self._dofs, (dd_dr, dd_dz)):
-            if dof >= 0:
-                grad[dof] = -val
-        return P.dhat - d, grad, dd_dc  # dx/dw_b = -dd/dw_b = +dd/dc (c = c0 - w_b)
+        d, dd_dx, dd_dc = P.barrier.sample_gap(P.full_state(u), P.position(w_b), self.sample)
+        return P.dhat - d, -dd_dx[P.idx], dd_dc  # dx/dw_b = -dd/dw_b = +dd/dc (c = c0 - w_b)
 
     def _system(self, u: np.ndarray, w_b: float) -> tuple[BorderedBandedLU, np.ndarray, float]:
         P = self.P
@@ -163,8 +152,9 @@ def locate_release_fold(problem: ShellIndentation, u: np.ndarray, w_b: float, *,
     Parameters
     ----------
     problem : ShellIndentation
-    u, w_b : a converged equilibrium on the stable side of the fold, with at least one node in contact
-        (e.g. where ``F`` has fallen to nearly zero).
+    u, w_b : a converged equilibrium near the fold, with at least one node in contact (e.g. where
+        ``F`` has fallen to nearly zero); on its stable side, or past it (then the gap is doubled
+        until ``dw_b/dx < 0``).
     tol : float
         Relative residual tolerance of every gap-constrained solve (times ``problem.residual_scale``).
     max_halvings : int
@@ -179,30 +169,47 @@ def locate_release_fold(problem: ShellIndentation, u: np.ndarray, w_b: float, *,
     Raises
     ------
     ReleaseFoldError
-        No node in contact, the start is not on the stable side (``dw_b/dx >= 0`` there), no sign
-        change of ``dw_b/dx`` within ``max_halvings`` halvings, or a solve failed.
+        No node in contact, ``dw_b/dx >= 0`` at the start and at every larger gap below ``dhat``, no
+        sign change of ``dw_b/dx`` within ``max_halvings`` halvings, or a solve failed.
     """
     st = problem.contact(u, w_b, hessian=False)
     if st.n_active == 0:
         raise ReleaseFoldError("locate_release_fold: no node is in contact at the start")
-    node = int(st.active[np.argmax(st.distances[st.active])])
-    curve = _GapCurve(problem, node, tol, max_iter)
-    x_hi = problem.dhat - float(st.distances[node])
+    # the barrier's sample point nearest to the indenter: the last to leave its range
+    sample, d_near = problem.barrier.nearest_sample(problem.full_state(u), problem.position(w_b))
+    node = int(problem.barrier.cells(problem.N).cell[sample])
+    curve = _GapCurve(problem, sample, tol, max_iter)
+    x_hi = problem.dhat - d_near
     try:
         _, _, _, s_hi = curve.solve(x_hi, u, w_b)
-        if s_hi >= 0:
-            raise ReleaseFoldError(f"locate_release_fold: dw_b/dx = {s_hi:.3g} >= 0 at the start (node {node}, "
-                                   f"gap {x_hi:.3g}): the start is not on the stable side of a release fold")
+        x_start, s_start = x_hi, s_hi
         x_lo, s_lo = x_hi, s_hi
-        for _ in range(max_halvings):
-            x_lo = 0.5 * x_lo
-            s_lo = curve.dw_dx(x_lo)
-            if s_lo > 0:
+        # the barrier spread over a cell's sample points softens each of them, so the fold can sit at
+        # a somewhat larger gap than the F -> 0 event's: a start just past it is bracketed by doubling
+        # the gap (a few times: far from a fold, e.g. at the first touch, there is none to find)
+        for _ in range(_MAX_DOUBLINGS):
+            if s_hi < 0 or not 0.0 < x_hi < 0.5 * problem.dhat:
                 break
-            x_hi = x_lo
-        else:
-            raise ReleaseFoldError(f"locate_release_fold: dw_b/dx stayed negative down to gap {x_lo:.3g} "
-                                   f"(node {node}): no release fold")
+            x_lo, s_lo = x_hi, s_hi
+            try:
+                s_hi = curve.dw_dx(2.0 * x_hi)
+            except ReleaseFoldError:
+                break
+            x_hi = 2.0 * x_hi
+        if s_hi >= 0:
+            raise ReleaseFoldError(f"locate_release_fold: dw_b/dx = {s_start:.3g} >= 0 at the start (node {node}, "
+                                   f"gap {x_start:.3g}): the start is not on the stable side of a release fold "
+                                   "(nor just past one)")
+        if x_hi == x_start:  # the start is on the stable side: halve the gap until dw_b/dx turns positive
+            for _ in range(max_halvings):
+                x_lo = 0.5 * x_lo
+                s_lo = curve.dw_dx(x_lo)
+                if s_lo > 0:
+                    break
+                x_hi = x_lo
+            else:
+                raise ReleaseFoldError(f"locate_release_fold: dw_b/dx stayed negative down to gap {x_lo:.3g} "
+                                       f"(node {node}): no release fold")
         x_f = brentq(curve.dw_dx, x_lo, x_hi, xtol=1e-14 * x_hi, rtol=1e-12)
         curve.dw_dx(x_f)
     except (NonFiniteError, SingularMatrixError) as exc:
