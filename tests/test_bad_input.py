@@ -640,6 +640,12 @@ def _with_cell(column: str, text: str, line: int = 2) -> bytes:
     return buf.getvalue().encode()
 
 
+def _named(value: object) -> str:
+    """Test ids from a case's name: its data hold the toy sweep's wall times, which differ between
+    processes, and pytest-xdist requires every worker to collect the same ids."""
+    return value if isinstance(value, str) else type(value).__name__
+
+
 DAMAGED_CELLS = [(col, text) for col in ("product", "even", "absent", "wall_time_s")
                  for text in ("nan", "NaN", "inf", "-inf", "1e999", "garbage", "[]", "null")]
 DAMAGED_CELLS += [("wall_time_s", "-1"), ("wall_time_s", "true"), ("toy.n", "7"), ("toy.n", "nan"), ("toy.n", ""),
@@ -674,7 +680,7 @@ def test_a_damaged_cell_names_the_line_and_the_column(tmp_path, column, text):
     ("one line, no newline", b"precious data", ["not a sweep CSV", "precious data"]),
     ("a field over the csv limit", HEADER.encode() + b"\n\"" + b"x" * 200_000 + b"\"\n", ["not a sweep CSV"]),
     ("no class and no failure", _with_cell("label", ""), ["line 2", "neither a class (label) nor a failure"]),
-])
+], ids=_named)
 def test_a_csv_that_cannot_be_resumed_is_left_as_it_was(tmp_path, name, data, needles):
     """Wrong header, another sweep or scene, binary, cut or blank lines, a one-line file, an oversized field."""
     path = tmp_path / "toy.csv"
@@ -698,7 +704,7 @@ def test_a_csv_path_that_is_a_directory(tmp_path):
     ("the last row cut short", COMPLETE[:-30]),
     ("rows missing", b"\n".join(COMPLETE.split(b"\n")[:3]) + b"\n"),
     ("a duplicated row (the last one counts)", COMPLETE + COMPLETE.split(b"\n")[2] + b"\n"),
-])
+], ids=_named)
 def test_what_an_interrupted_sweep_leaves_is_resumed(tmp_path, name, data):
     """The states an interrupt can leave (by design not errors) are completed into a sound CSV."""
     path = tmp_path / "toy.csv"

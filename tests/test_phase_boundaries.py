@@ -127,7 +127,8 @@ def test_phase_diagram_study_runs_in_fast_mode(tmp_path, curves, monkeypatch):
 
     monkeypatch.setattr(phase_diagram, "trace_boundaries", traced)
     monkeypatch.setattr(phase_diagram, "classify_grid", shallow_grid)
-    assert phase_diagram.main(["--out", str(tmp_path), "-q"]) == 0
+    # in this process: the sweep's worker processes are covered by the slow run and tests/test_executors.py
+    assert phase_diagram.main(["--out", str(tmp_path), "-q", "--workers", "1"]) == 0
     s = _check_study_outputs(tmp_path)
     assert s["agreement"]["cells"] == 5 * 7  # five columns of the 10 x 7 grid have phi_hat > 1
     # the shallow columns hold every class, so both boundaries are crossed by the grid and fitted from it
