@@ -27,7 +27,6 @@ import signal
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 from typing import Any
 from unittest import mock
@@ -801,11 +800,21 @@ def test_ctrl_c_while_the_modules_load_is_an_interrupt_not_a_traceback(capsys):
 
 def test_ctrl_c_at_start_up_as_a_process():
     """SIGINT while numpy and the engine load: no traceback; 130 and the interrupt message."""
-    started = "import sys; print('started', flush=True); "  # Python runs (its SIGINT handler is in place)
-    proc = subprocess.Popen([sys.executable, "-c", started + LAUNCH, "models"], stdout=subprocess.PIPE,
+    # The signal must land inside the import of contin.cli.  A fixed delay after start-up misses it on a
+    # busy machine (the import ends first and the command exits 0), so the child announces the moment
+    # its import of numpy begins and waits there, inside the real import statement, for the signal.
+    stall = ("import sys, time\n"
+             "class Stall:\n"
+             "    def find_spec(self, name, path=None, target=None):\n"
+             "        if name == 'numpy':\n"
+             "            sys.meta_path.remove(self)\n"
+             "            print('importing numpy', flush=True)\n"
+             "            time.sleep(60)\n"
+             "        return None\n"
+             "sys.meta_path.insert(0, Stall())\n")
+    proc = subprocess.Popen([sys.executable, "-c", stall + LAUNCH, "models"], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, cwd=ROOT)
-    assert proc.stdout.readline() == "started\n"
-    time.sleep(0.1)  # inside the import of contin.cli, which takes about a second
+    assert proc.stdout.readline() == "importing numpy\n"  # inside main(), in the import of contin.cli
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert "Traceback" not in err
