@@ -26,7 +26,6 @@ import signal
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 from typing import Any
 from unittest import mock
@@ -630,6 +629,12 @@ def _with_cell(column: str, text: str, line: int = 2) -> bytes:
     return buf.getvalue().encode()
 
 
+def _named(value: object) -> str:
+    """Test ids from a case's name: its data hold the toy sweep's wall times, which differ between
+    processes, and pytest-xdist requires every worker to collect the same ids."""
+    return value if isinstance(value, str) else type(value).__name__
+
+
 DAMAGED_CELLS = [(col, text) for col in ("product", "even", "absent", "wall_time_s")
                  for text in ("nan", "NaN", "inf", "-inf", "1e999", "garbage", "[]", "null")]
 DAMAGED_CELLS += [("wall_time_s", "-1"), ("wall_time_s", "true"), ("toy.n", "7"), ("toy.n", "nan"), ("toy.n", ""),
@@ -664,7 +669,7 @@ def test_a_damaged_cell_names_the_line_and_the_column(tmp_path, column, text):
     ("one line, no newline", b"precious data", ["not a sweep CSV", "precious data"]),
     ("a field over the csv limit", HEADER.encode() + b"\n\"" + b"x" * 200_000 + b"\"\n", ["not a sweep CSV"]),
     ("no class and no failure", _with_cell("label", ""), ["line 2", "neither a class (label) nor a failure"]),
-])
+], ids=_named)
 def test_a_csv_that_cannot_be_resumed_is_left_as_it_was(tmp_path, name, data, needles):
     """Wrong header, another sweep or scene, binary, cut or blank lines, a one-line file, an oversized field."""
     path = tmp_path / "toy.csv"
@@ -688,7 +693,7 @@ def test_a_csv_path_that_is_a_directory(tmp_path):
     ("the last row cut short", COMPLETE[:-30]),
     ("rows missing", b"\n".join(COMPLETE.split(b"\n")[:3]) + b"\n"),
     ("a duplicated row (the last one counts)", COMPLETE + COMPLETE.split(b"\n")[2] + b"\n"),
-])
+], ids=_named)
 def test_what_an_interrupted_sweep_leaves_is_resumed(tmp_path, name, data):
     """The states an interrupt can leave (by design not errors) are completed into a sound CSV."""
     path = tmp_path / "toy.csv"
@@ -785,11 +790,21 @@ def test_ctrl_c_while_the_modules_load_is_an_interrupt_not_a_traceback(capsys):
 
 def test_ctrl_c_at_start_up_as_a_process():
     """SIGINT while numpy and the engine load: no traceback; 130 and the interrupt message."""
-    started = "import sys; print('started', flush=True); "  # Python runs (its SIGINT handler is in place)
-    proc = subprocess.Popen([sys.executable, "-c", started + LAUNCH, "models"], stdout=subprocess.PIPE,
+    # The signal must land inside the import of contin.cli.  A fixed delay after start-up misses it on a
+    # busy machine (the import ends first and the command exits 0), so the child announces the moment
+    # its import of numpy begins and waits there, inside the real import statement, for the signal.
+    stall = ("import sys, time\n"
+             "class Stall:\n"
+             "    def find_spec(self, name, path=None, target=None):\n"
+             "        if name == 'numpy':\n"
+             "            sys.meta_path.remove(self)\n"
+             "            print('importing numpy', flush=True)\n"
+             "            time.sleep(60)\n"
+             "        return None\n"
+             "sys.meta_path.insert(0, Stall())\n")
+    proc = subprocess.Popen([sys.executable, "-c", stall + LAUNCH, "models"], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, cwd=ROOT)
-    assert proc.stdout.readline() == "started\n"
-    time.sleep(0.1)  # inside the import of contin.cli, which takes about a second
+    assert proc.stdout.readline() == "importing numpy\n"  # inside main(), in the import of contin.cli
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert "Traceback" not in err

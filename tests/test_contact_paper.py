@@ -49,6 +49,14 @@ def test_snap_travel_converged_in_barrier_range_and_mesh():
 
 
 # ---- tests 4 and 5: the eight radii at N = 200 ------------------------------------------------------
+# Under -m slow: the same runs (run_to_snap at N = 200, default barrier) are the cases of the indenter-size
+# study, whose test (tests/test_studies_indenter_size.py, default run) checks these statements on seven of
+# the eight radii (all but 1.5): every snap located, w_b^c flat below r_c and falling above it, the gap
+# zero below and above dhat and growing above, the three contact modes (and the strict criterion), one
+# pole curvature and one snap shape.
+RADII_SWEEP = pytest.mark.slow
+
+
 @pytest.fixture(scope="module")
 def radii_sweep() -> dict[float, dict]:
     recs = sweep(N=200, workers=2)  # ~ 7 s on two cores
@@ -68,12 +76,14 @@ def _mode(rec: dict, gap_tol: float) -> str:
     return "detach-recontact" if rec["max_gap_before_over_R"] > gap_tol else "continuous"
 
 
+@RADII_SWEEP
 def test_all_radii_reach_a_located_snap(radii_sweep):
     assert sorted(radii_sweep) == sorted(RADII)
     for r, rec in radii_sweep.items():
         assert _located(rec), rec
 
 
+@RADII_SWEEP
 def test_snap_travel_flat_below_and_decreasing_above_the_transition(radii_sweep):
     small = [radii_sweep[r]["w_b_c_over_R"] for r in RADII if r <= 0.7]
     large = [radii_sweep[r]["w_b_c_over_R"] for r in RADII if r >= 0.9]
@@ -83,6 +93,7 @@ def test_snap_travel_flat_below_and_decreasing_above_the_transition(radii_sweep)
     assert large[0] < min(small)
 
 
+@RADII_SWEEP
 def test_pole_gap_at_the_snap_opens_above_the_transition(radii_sweep):
     for r in RADII:
         gap = radii_sweep[r]["Delta_H_over_R"]
@@ -94,6 +105,7 @@ def test_pole_gap_at_the_snap_opens_above_the_transition(radii_sweep):
     assert all(b > a for a, b in zip(gaps, gaps[1:]))  # the gap grows with the indenter
 
 
+@RADII_SWEEP
 def test_contact_modes_follow_the_three_regimes_of_the_paper(radii_sweep):
     modes = {r: _mode(radii_sweep[r], DHAT_OVER_R) for r in RADII}
     expected = {r: "continuous" if r <= 0.5 else "detach-recontact" if r < 0.9 else "detach" for r in RADII}
@@ -103,6 +115,7 @@ def test_contact_modes_follow_the_three_regimes_of_the_paper(radii_sweep):
     assert all(_mode(radii_sweep[r], 0.0) != "detach" for r in RADII if r <= 0.7)
 
 
+@RADII_SWEEP
 def test_pole_curvature_at_the_snap_is_universal(radii_sweep):
     kappa = [radii_sweep[r]["kappa_p_R"] for r in RADII]
     assert _spread(kappa) < 0.01, kappa  # within 1 %, below and above r_c

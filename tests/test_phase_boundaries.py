@@ -10,6 +10,9 @@
   the second parameter (here ``phi_hat`` at fixed ``h/R``), the cusp normal form.  (The same law in
   ``h`` at fixed ``phi_hat`` is in ``tests/test_twopar.py``.)
 * ``python -m studies.phase_diagram`` runs end to end in its fast mode and writes what it promises.
+  The default run gives the study the boundaries traced once here (the same call at the same ``N``)
+  and classifies only the shallow half of its grid (``phi_hat > 1``: every class, both boundaries); the
+  whole fast grid, whose deep thin caps cost four fifths of its time, runs under ``-m slow``.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ import contin
 from contin.scene import load_scene
 from models.shell import boundaries as B
 from models.shell_scene import SHELL_SCHEMA, classify_scene
+from studies import phase_diagram
 
 N = 60
 H_MARK = 0.02
@@ -38,9 +42,9 @@ def _class(phi: float, h: float = H_MARK) -> str:
 
 @pytest.fixture(scope="module")
 def curves():
-    mark = [contin.crossing("h_over_R", H_MARK, name="h_mark")]
-    return {"bistable": B.bistable_boundary(N, (0.9, 1.3), events=mark),
-            "monotonous": B.monotonous_boundary(N, (0.95, 1.45), events=mark)}
+    # both boundaries over the phase diagram's phi_hat range with h/R = H_MARK located as "h_mark":
+    # the study's own call, traced once for this module (and handed to the study's run below)
+    return phase_diagram.trace_boundaries(N, H_MARK)
 
 
 def _phi_mark(curve) -> float:
@@ -92,13 +96,10 @@ def test_cusp_three_halves_law_in_phi(curves):
     assert slope == pytest.approx(1.5, abs=0.02)
 
 
-def test_phase_diagram_study_runs_in_fast_mode(tmp_path):
-    from studies import phase_diagram
-
-    assert phase_diagram.main(["--out", str(tmp_path), "-q"]) == 0
+def _check_study_outputs(out) -> dict:
     for name in ("phase_diagram.png", "phase_diagram.pdf", "boundaries.csv", "grid.csv", "summary.json"):
-        assert (tmp_path / name).stat().st_size > 0
-    s = json.loads((tmp_path / "summary.json").read_text())
+        assert (out / name).stat().st_size > 0
+    s = json.loads((out / "summary.json").read_text())
     for kind in ("bistable", "monotonous"):
         assert set(s["lambda_d"][kind]) == {"value", "stderr"}
         assert s["lambda_d"][kind]["stderr"] > 0
@@ -110,3 +111,33 @@ def test_phase_diagram_study_runs_in_fast_mode(tmp_path):
     for kind in ("bistable", "monotonous"):
         lam_mark = B.depth_parameter(s["phi_c_at_h_0.02"][kind], H_MARK)
         assert lam_mark == pytest.approx(s["lambda_d"][kind]["value"], rel=0.02)
+    return s
+
+
+def test_phase_diagram_study_runs_in_fast_mode(tmp_path, curves, monkeypatch):
+    """The study's main in fast mode, with its boundaries traced once (``curves``) and the shallow grid."""
+    real_grid = phase_diagram.classify_grid
+
+    def traced(n: int, h_mark: float = H_MARK):
+        assert (n, h_mark) == (N, H_MARK)  # the fast mode's call: the module's curves are its result
+        return curves
+
+    def shallow_grid(n, phis, hs, *args, **kwargs):
+        return real_grid(n, [p for p in phis if p > 1.0], hs, *args, **kwargs)
+
+    monkeypatch.setattr(phase_diagram, "trace_boundaries", traced)
+    monkeypatch.setattr(phase_diagram, "classify_grid", shallow_grid)
+    # in this process: the sweep's worker processes are covered by the slow run and tests/test_executors.py
+    assert phase_diagram.main(["--out", str(tmp_path), "-q", "--workers", "1"]) == 0
+    s = _check_study_outputs(tmp_path)
+    assert s["agreement"]["cells"] == 5 * 7  # five columns of the 10 x 7 grid have phi_hat > 1
+    # the shallow columns hold every class, so both boundaries are crossed by the grid and fitted from it
+    assert set(s["routes"]["grid"]) == {"bistable", "monotonous"}
+
+
+@pytest.mark.slow
+def test_phase_diagram_study_runs_in_fast_mode_whole_grid(tmp_path):
+    """The same, unpatched: the study traces its own boundaries and classifies the whole 10 x 7 grid."""
+    assert phase_diagram.main(["--out", str(tmp_path), "-q"]) == 0
+    s = _check_study_outputs(tmp_path)
+    assert s["agreement"]["cells"] == 10 * 7

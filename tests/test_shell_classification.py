@@ -13,6 +13,7 @@ negative eigenvalues only across a fold in w, the force-control count only acros
 
 from __future__ import annotations
 
+import copy
 import csv
 import json
 import math
@@ -26,8 +27,22 @@ from contin.cli import main
 from models.shell.problem import ShellPointLoad
 
 
+_TRACES: dict[tuple[int, float, float], tuple[dict, dict[str, np.ndarray]]] = {}
+
+
 def trace(tmp_path: Path, N: int, phi_hat: float, h: float = 0.02) -> tuple[dict, dict[str, np.ndarray]]:
-    """Run the shell scene; return ``summary.json`` and the columns of ``branch.csv``."""
+    """Run the shell scene; return ``summary.json`` and the columns of ``branch.csv``.
+
+    Several tests check the same scene (a class, then its labels): each scene is traced once per
+    session and every caller gets its own copy of the result.
+    """
+    key = (N, float(phi_hat), float(h))
+    if key not in _TRACES:
+        _TRACES[key] = _trace(tmp_path, N, phi_hat, h)
+    return copy.deepcopy(_TRACES[key])
+
+
+def _trace(tmp_path: Path, N: int, phi_hat: float, h: float) -> tuple[dict, dict[str, np.ndarray]]:
     code = main(["trace", "--model", "shell", "-q", "--out", str(tmp_path), "--set", f"shell.N={N}",
                  "--set", f"shell.phi_hat={phi_hat}", "--set", f"shell.h={h}", "--set", "output.figure=false"])
     assert code == 0

@@ -113,6 +113,12 @@ def test_paper_statements(study):
         elif r >= 0.9:
             assert m == "detach", (r, m)
     assert modes[0.7] == "detach-recontact"
+    # with the strict criterion (any gap) no sphere below the transition counts as "detach" either
+    assert all(c["contact_mode_strict"] != "detach" for c in cases if c["r_over_R"] <= 0.7)
+    # every snap was located: a fold in w_b (by the engine, or the release fold beyond F -> 0) at a
+    # vanishing force (these runs are also tests/test_contact_paper.py's radii sweep, under -m slow)
+    for c in cases:
+        assert c["snap_label"] in ("", "release") and 0 < c["F_norm_at_snap"] < 1e-5, c
     kap = [c["kappa_p_R_at_snap"] for c in cases]
     assert max(kap) - min(kap) < 1e-3 * abs(np.mean(kap))
 
