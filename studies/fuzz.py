@@ -40,7 +40,7 @@ from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from studies._common import (executor_from_args, output_dir, print_table, save_figure, say, study_parser,  # noqa: E402
+from studies._common import (executor_from_args, output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
                              write_csv, write_json)
 
 #: Fraction of the scenes with N >= 40 that must complete (issue 14, B8).
@@ -183,4 +183,4 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -1,0 +1,79 @@
+"""Benchmark: the default shell trace of this tree against another checkout, side by side in one run.
+
+Run ``python -m studies.bench_side_by_side --baseline DIR [--repeat 7]`` where DIR is a checkout of
+the baseline (e.g. ``git worktree add /tmp/base 57912bb``).  Each repetition traces the default
+scene (the model's runner in-process, no output files, BLAS single-threaded) once in a fresh
+process of each tree, alternating, so that both see the same load of a shared machine.  It prints
+the median wall and CPU time of each and their ratio, and the work done (steps, special points),
+so that a change of speed can be told apart from a change of work.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import statistics  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+from studies._common import run_study  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: Run in a child process with the tree first on sys.path: the scene runner is found under the name
+#: the tree uses (before issue 14 the package was ``models`` and the scene ``models.shell.scene``).
+CHILD = r"""
+import importlib, json, time
+from contin.scene import load_scene
+for name in ("contin_models.shell_scene", "models.shell_scene", "models.shell.scene"):
+    try:
+        module = importlib.import_module(name)
+        break
+    except ImportError:
+        continue
+model = module.SHELL_SCENE
+scene = load_scene(model.schema, None, ["output.figure=false"])
+wall, cpu = time.perf_counter(), time.process_time()
+result = model.run(scene, False)
+wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+print(json.dumps({"wall": wall, "cpu": cpu, "n_steps": sum(max(len(b.p) - 1, 0) for b in result.branches),
+                  "n_special": sum(len(b.special_points) for b in result.branches), "module": name}))
+"""
+
+
+def one_run(tree: Path) -> dict:
+    """Trace the default scene once in a fresh process importing ``tree``; its times and work."""
+    env = dict(os.environ, PYTHONPATH=str(tree))
+    out = subprocess.run([sys.executable, "-c", CHILD], cwd="/", env=env, capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command line: see the module docstring."""
+    parser = argparse.ArgumentParser(prog="python -m studies.bench_side_by_side", description=__doc__.splitlines()[0])
+    parser.add_argument("--baseline", required=True, type=Path, help="checkout of the baseline")
+    parser.add_argument("--repeat", type=int, default=7, help="repetitions per tree (default 7)")
+    args = parser.parse_args(argv)
+    runs: dict[str, list[dict]] = {"this": [], "baseline": []}
+    for i in range(args.repeat):
+        for label, tree in (("this", ROOT), ("baseline", args.baseline.resolve())):
+            runs[label].append(one_run(tree))
+        print(f"[{i + 1}/{args.repeat}] this {runs['this'][-1]['wall']:.3f} s, "
+              f"baseline {runs['baseline'][-1]['wall']:.3f} s", file=sys.stderr)
+    med = {label: {k: statistics.median(r[k] for r in rs) for k in ("wall", "cpu")} for label, rs in runs.items()}
+    for label, rs in runs.items():
+        print(f"{label:9s} median wall {med[label]['wall']:.3f} s, cpu {med[label]['cpu']:.3f} s; "
+              f"{rs[0]['n_steps']} steps, {rs[0]['n_special']} special points ({rs[0]['module']})")
+    print(f"ratio this/baseline: wall {med['this']['wall'] / med['baseline']['wall']:.3f}, "
+          f"cpu {med['this']['cpu'] / med['baseline']['cpu']:.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(run_study(main))
