@@ -150,3 +150,30 @@ def test_the_shell_declares_its_nested_operators() -> None:
         assert list(declared) == ["displacement", "force"]
         seen.add(declared["displacement"])
     assert len(seen) >= 2
+
+
+def test_records_read_the_engine_stability(branch: Branch) -> None:
+    """``special_point_records`` records a declared extremum as a limit point of what folds there, with
+    its stability under the declared label, and adds a model's own fields."""
+    from contin.scene import special_point_records
+
+    records = special_point_records([branch], parameter_name="y", fields=lambda spt: {"index": spt.index})
+    by_label = {rec["label"]: rec for rec in records}
+    pmax, pmin = by_label["max(P)"], by_label["min(P)"]
+    assert (pmax["kind"], pmax["parameter"]) == ("fold", "P")
+    assert (pmax["stable_before"], pmax["stable_after"]) == (True, False)  # under "force"
+    assert (pmin["kind"], pmin["parameter"]) == ("event", "y") and "stable_before" not in pmin
+    assert [rec["index"] for rec in records] == [spt.index for spt in branch.special_points]
+
+
+def test_branch_columns_take_the_named_stability_columns(branch: Branch) -> None:
+    from contin.scene import branch_columns
+
+    plain = branch_columns([branch, branch])
+    assert list(plain)[-2:] == ["stable", "n_negative"]
+    named = branch_columns([branch, branch], {"stable_force": "stable_force",
+                                              "n_negative": "n_negative_displacement"})
+    assert list(named) == [k for k in plain if k not in ("stable", "n_negative")] + ["stable_force", "n_negative"]
+    np.testing.assert_array_equal(named["stable_force"], np.tile(branch.columns()["stable_force"], 2))
+    np.testing.assert_array_equal(named["n_negative"], np.tile(branch.n_negative_under("displacement"), 2))
+    assert "stable_x" not in branch_columns([branch], {"stable_x": "stable_nothing"})
