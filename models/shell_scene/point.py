@@ -194,6 +194,12 @@ def _classification_line(c: dict[str, Any]) -> str:
 
 
 def _table(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The printed special-point table, read from the records.
+
+    The shell's own layout (which quantity folds, the normalized observables, the stability under
+    the control in which the point is a limit point); :func:`contin.scene.special_point_table` has
+    the engine's columns instead.
+    """
     word = {True: "stable", False: "unstable", None: "?"}
     rows = []
     for rec in records:
@@ -374,7 +380,11 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
 
 
 def _plot(ax: Any, result: TraceResult) -> None:
-    """Force-displacement diagram: stable (under the scene's control) solid, unstable dashed."""
+    """Force-displacement diagram: stable (under the scene's control) solid, unstable dashed.
+
+    Segment by segment (stable where both ends are), folds in ``w`` and limit points in ``F`` marked
+    apart: the look of the shell's figures, which :func:`contin.plot_branches` draws otherwise.
+    """
     control = result.summary.get("control", "displacement")
     for i, br in enumerate(result.branches):
         if not len(br):
