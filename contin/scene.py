@@ -673,30 +673,57 @@ class Classification:
         return int(sum(br.meta.get("n_steps", max(len(br) - 1, 0)) for br in self.trace.branches))
 
 
-def _stability_around(br: Branch, spt: SpecialPoint) -> tuple[bool | None, bool | None]:
-    return spt.info.get("stable_before"), spt.info.get("stable_after")
+def _stability_fields(spt: SpecialPoint) -> dict[str, bool]:
+    """``stable_before`` / ``stable_after`` of a special point, where known.
+
+    Under the point's own stability label (:meth:`SpecialPoint.stability_under`), else as a model
+    stated them in ``info`` (a point it located itself, without the engine's stability table).
+    """
+    known = spt.stability_under() or spt.info
+    return {key: bool(known[key]) for key in ("stable_before", "stable_after") if known.get(key) is not None}
 
 
 def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult] = (),
-                          jump_observables: Sequence[tuple[dict, dict]] = (), parameter_name: str = "p") -> list[dict[str, Any]]:
-    """JSON records of the branches' special points, then two per jump (``jump_from``, ``jump_to``)."""
+                          jump_observables: Sequence[tuple[dict, dict]] = (), parameter_name: str = "p", *,
+                          fields: Callable[[SpecialPoint], Mapping[str, Any]] | None = None) -> list[dict[str, Any]]:
+    """JSON records of the branches' special points, then two per jump (``jump_from``, ``jump_to``).
+
+    Parameters
+    ----------
+    branches, jumps : the traced branches and the snaps between them.
+    jump_observables : sequence of (dict, dict)
+        Observables at the start and the landing of each jump.
+    parameter_name : str
+        The continuation parameter's name (``"parameter"`` of every record but declared limit points).
+    fields : callable, optional
+        ``fields(special_point) -> mapping`` of a model's own fields, added to each branch record.
+
+    Returns
+    -------
+    list of dict
+        A branch record has ``kind``, ``label``, ``branch``, ``parameter``, ``p``, ``observables``,
+        ``residual``, ``located``, ``bracket_p`` and ``error`` where known, and ``stable_before`` /
+        ``stable_after`` under the point's stability label.  An extremum event that declares a limit
+        point (``contin.extremum(..., folds=...)``) is recorded as ``kind = "fold"`` with the quantity
+        that folds as ``parameter``.
+    """
     out: list[dict[str, Any]] = []
     for bi, br in enumerate(branches):
         for spt in br.special_points:
+            declared = spt.kind == "event" and spt.info.get("folds") is not None
             rec: dict[str, Any] = {
-                "kind": spt.kind, "label": spt.label, "branch": bi, "parameter": parameter_name,
+                "kind": "fold" if declared else spt.kind, "label": spt.label, "branch": bi,
+                "parameter": spt.info["folds"] if declared else parameter_name,
                 "p": float(spt.p), "observables": {k: float(v) for k, v in spt.observables.items()},
                 "residual": float(spt.residual), "located": bool(spt.located),
             }
-            before, after = _stability_around(br, spt)
-            if before is not None:
-                rec["stable_before"] = bool(before)
-            if after is not None:
-                rec["stable_after"] = bool(after)
+            rec.update(_stability_fields(spt))
             if "bracket_p" in spt.info and spt.info["bracket_p"] is not None:
                 rec["bracket_p"] = [float(v) for v in spt.info["bracket_p"]]
             if "error" in spt.info:
                 rec["error"] = str(spt.info["error"])
+            if fields is not None:
+                rec.update(fields(spt))
             out.append(rec)
     for ji, j in enumerate(jumps):
         obs_from, obs_to = jump_observables[ji] if ji < len(jump_observables) else ({}, {})
@@ -742,12 +769,25 @@ def special_point_table(records: Sequence[Mapping[str, Any]], parameter_name: st
     return rows
 
 
-def branch_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
+def branch_columns(branches: Sequence[Branch],
+                   stability_columns: Mapping[str, str] | None = None) -> dict[str, np.ndarray]:
     """CSV columns: one row per stored point of every branch.
 
-    Columns: ``branch``, ``p``, every observable, ``s``, ``residual`` and, when any branch has
-    stability data, ``stable`` (1/0) and ``n_negative`` (integers; floats with NaN where some branch has
-    no stability data).
+    Parameters
+    ----------
+    branches : sequence of Branch
+    stability_columns : mapping of str to str, optional
+        Stability columns by name, each taken from :meth:`Branch.columns` (``stable_<label>`` or
+        ``n_negative_<label>``), in this order, in place of the primary label's ``stable`` and
+        ``n_negative``; e.g. ``{"stable_force": "stable_force", "n_negative": "n_negative_displacement"}``.
+        Left out when some branch has no such column.
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``branch``, ``p``, every observable, ``s``, ``residual`` and, when any branch has stability
+        data (and ``stability_columns`` is not given), ``stable`` (1/0) and ``n_negative`` (integers;
+        floats with NaN where some branch has no stability data).
     """
     cols: dict[str, np.ndarray] = {}
     if not branches:
@@ -761,7 +801,12 @@ def branch_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
         cols[name] = np.concatenate([br.observables.get(name, np.full(len(br), np.nan)) for br in branches])
     cols["s"] = np.concatenate([br.s for br in branches])
     cols["residual"] = np.concatenate([br.residual for br in branches])
-    if all(br.n_negative is not None for br in branches):
+    if stability_columns is not None:
+        per_branch = [br.columns() for br in branches]
+        for name, column in stability_columns.items():
+            if all(column in c for c in per_branch):
+                cols[name] = np.concatenate([c[column] for c in per_branch])
+    elif all(br.n_negative is not None for br in branches):
         nneg_int = np.concatenate([br.n_negative for br in branches]).astype(int)
         cols["stable"] = (nneg_int == 0).astype(int)
         cols["n_negative"] = nneg_int

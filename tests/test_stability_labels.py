@@ -133,27 +133,47 @@ def test_plot_branches_styles_by_the_label(branch: Branch) -> None:
     assert styles(None) == ["-"]  # the primary label
 
 
-def test_the_shell_can_declare_its_nested_operators() -> None:
-    """Migration check for the model side: the point-loaded shell's displacement Hessian declared as the
-    leading block of its force Hessian gives the operators and the counts of its own ``stability_counts``."""
+def test_the_shell_declares_its_nested_operators() -> None:
+    """The point-loaded shell declares its displacement Hessian as the leading block of its force Hessian
+    (no ``stability_counts`` of its own): the engine's one-factorization counts equal each operator's own."""
+    from contin.stability import stability_info
     from models.shell import ShellPointLoad
 
-    class Declared(ShellPointLoad):
-        stability_counts = Problem.stability_counts  # the engine counts the declared blocks itself
-
-        def __init__(self, **kw) -> None:
-            super().__init__(**kw)
-            self._stability_operators = {"displacement": LeadingBlock("force", self.idx_displacement.size),
-                                         "force": self._op_force}
-
     P = ShellPointLoad(N=40, phi_hat=0.8, control="displacement")
-    Q = Declared(N=40, phi_hat=0.8, control="displacement")
+    assert type(P).stability_counts is Problem.stability_counts
     br = continuation(P, P.reference_unknowns(), 0.0, ds=0.02, ds_max=0.05, p_max=0.45, max_steps=200)
     seen = set()
     for u, w in zip(br.u[::3], br.p[::3]):
-        declared = {label: info.n_negative for label, info in Q.stability(u, w).items()}
-        assert declared == P.stability_counts(u, w)
+        declared = {label: info.n_negative for label, info in P.stability(u, w).items()}
+        each = {label: stability_info(op, 0).n_negative for label, op in P.stability_operators(u, w).items()}
+        assert declared == each
+        assert list(declared) == ["displacement", "force"]
         seen.add(declared["displacement"])
-        np.testing.assert_array_equal(Q.stability_operators(u, w)["displacement"].toarray(),
-                                      P.stability_operators(u, w)["displacement"].toarray())
     assert len(seen) >= 2
+
+
+def test_records_read_the_engine_stability(branch: Branch) -> None:
+    """``special_point_records`` records a declared extremum as a limit point of what folds there, with
+    its stability under the declared label, and adds a model's own fields."""
+    from contin.scene import special_point_records
+
+    records = special_point_records([branch], parameter_name="y", fields=lambda spt: {"index": spt.index})
+    by_label = {rec["label"]: rec for rec in records}
+    pmax, pmin = by_label["max(P)"], by_label["min(P)"]
+    assert (pmax["kind"], pmax["parameter"]) == ("fold", "P")
+    assert (pmax["stable_before"], pmax["stable_after"]) == (True, False)  # under "force"
+    assert (pmin["kind"], pmin["parameter"]) == ("event", "y") and "stable_before" not in pmin
+    assert [rec["index"] for rec in records] == [spt.index for spt in branch.special_points]
+
+
+def test_branch_columns_take_the_named_stability_columns(branch: Branch) -> None:
+    from contin.scene import branch_columns
+
+    plain = branch_columns([branch, branch])
+    assert list(plain)[-2:] == ["stable", "n_negative"]
+    named = branch_columns([branch, branch], {"stable_force": "stable_force",
+                                              "n_negative": "n_negative_displacement"})
+    assert list(named) == [k for k in plain if k not in ("stable", "n_negative")] + ["stable_force", "n_negative"]
+    np.testing.assert_array_equal(named["stable_force"], np.tile(branch.columns()["stable_force"], 2))
+    np.testing.assert_array_equal(named["n_negative"], np.tile(branch.n_negative_under("displacement"), 2))
+    assert "stable_x" not in branch_columns([branch], {"stable_x": "stable_nothing"})

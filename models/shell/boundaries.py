@@ -36,6 +36,7 @@ import numpy as np
 
 import contin
 from contin.problem import Problem
+from contin.stability import StabilityInfo
 
 from .geometry import POLE_RATIO
 from .problem import ShellPointLoad
@@ -100,8 +101,8 @@ class DisplacementForm(Problem):
     def stability_operator(self, u: np.ndarray, p: float) -> Any:
         return self.shell.stability_operator(u + self.origin, p)
 
-    def stability_counts(self, u: np.ndarray, p: float) -> dict[str, int] | None:
-        return self.shell.stability_counts(u + self.origin, p)
+    def stability(self, u: np.ndarray, p: float, n_eigs: int = 0) -> dict[str, StabilityInfo]:
+        return self.shell.stability(u + self.origin, p, n_eigs)
 
     def factorize(self, J: Any) -> Any:
         return self.shell.factorize(J)

@@ -74,8 +74,7 @@ import scipy.sparse as sp
 
 from contin.deadload import DeadLoad
 from contin.linalg import BandedLU, Factorization
-from contin.problem import Problem
-from contin.stability import leading_inertias
+from contin.problem import LeadingBlock, Problem
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
 from .geometry import POLE_RATIO, spherical_cap
@@ -283,8 +282,10 @@ class ShellPointLoad(Problem):
         observables = {"F": self._obs_F, "w": self._obs_w, "w_over_R": self._obs_w_over_R,
                        "F_norm": self._obs_F_norm}
         # the control's own stability comes first: it is the primary label (Branch.n_negative) and
-        # the operator contin.jump minimises with
-        ops = {"displacement": self._op_displacement, "force": self._op_force}
+        # the operator contin.jump minimises with; the force-control unknowns are the displacement
+        # ones followed by the pole's position, so the displacement Hessian is the leading block of
+        # the force one and one L D L^T counts both Morse indices
+        ops = {"displacement": LeadingBlock("force", self.idx_displacement.size), "force": self._op_force}
         derivatives = {"F": self._dobs_F, "w": self._dobs_w,
                        "w_over_R": lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.R),
                        "F_norm": lambda u, p: _scaled(self._dobs_F(u, p), self.R / (2.0 * math.pi * self.D))}
@@ -316,7 +317,8 @@ class ShellPointLoad(Problem):
         self.dead_load = DeadLoad(twin, force="F", scaled={"w_over_R": ("w", 1.0 / self.R), "F_norm": ("F", f_norm)},
                                   factorize=twin.factorize, residual_scale=scale)
         dead = self.dead_load
-        ops = {"force": dead.jacobian, "displacement": lambda U, p: twin.jacobian(U[:-1], float(U[-1]))}
+        # the displacement Hessian is the bordered dead-load Jacobian without its border
+        ops = {"force": dead.jacobian, "displacement": LeadingBlock("force", self.idx_displacement.size)}
         Problem.__init__(self, observables=dead.observables, observable_derivatives=dead.observable_derivatives,
                          symmetric=True, stability_operators=ops, name="shell_point_force", parameter_name="F",
                          residual_scale=scale)
@@ -495,30 +497,12 @@ class ShellPointLoad(Problem):
         """Banded LU with the model's half-bandwidth (O(N)); the dead load's border stays in the band."""
         return BandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH)
 
-    # ---- stability: the Hessian on the free dofs of each control ---------------------------------
-    def _op_displacement(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        return self._sub["displacement"](self._hessian(self.full_state(u, p)))
-
+    # ---- stability: the Hessian on the free dofs of the force control ---------------------------
     def _op_force(self, u: np.ndarray, p: float) -> sp.csr_matrix:
+        """The force-control Hessian; the displacement-control one is its leading block (``LeadingBlock``)."""
         # the dead-load term is linear in the state: its Hessian is zero
         return self._sub["force"](self._hessian(self.full_state(u, p)))
 
-    def stability_counts(self, u: np.ndarray, p: float) -> dict[str, int] | None:
-        """Both Morse indices from one pivot-free ``L D L^T`` of the force-control Hessian.
-
-        The force-control unknowns are the displacement-control ones followed by the pole's
-        position, so the displacement-control Hessian is its leading block and Sylvester's law
-        counts both at once.
-        """
-        if self.control == "force":
-            return self.dead_load.stability_counts(u, p)
-        H_force = self._sub["force"](self._hessian(self.full_state(u, p)))
-        counts = leading_inertias(H_force, (self.idx_displacement.size, self.idx_force.size))
-        if counts is None:
-            return None
-        return {"displacement": counts[0], "force": counts[1]}
-
-    # ---- observables (displacement control; the dead load has its own) ---------------------------
     def reaction_force(self, x: np.ndarray) -> float:
         """``F = dE_el/dw = -dE_el/dz_pole`` of a full state (positive when pushing down)."""
         return -float(self.elastic_gradient(x)[-1])

@@ -43,7 +43,7 @@ import numpy as np
 
 import contin
 from contin.branch import Branch, SpecialPoint
-from contin.scene import TraceResult
+from contin.scene import TraceResult, branch_columns, special_point_records
 
 from contin.quasistatic import QuasiStaticResult, SnapRules
 from models.contact.indentation import ShellIndentation, ShellIndentationForce
@@ -51,7 +51,7 @@ from models.contact.release import ReleaseFoldError, locate_release_fold
 from models.shell.strain import strain_peak, strain_warning
 
 from .build import contact_problem
-from .schema import Scene
+from .schema import STABILITY_COLUMNS, Scene
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
            "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS"]
@@ -191,22 +191,23 @@ def contact_mode(delta_h: np.ndarray, gap_tol: float = 0.0) -> tuple[str, float]
     return ("detach-recontact" if before > gap_tol else "continuous"), before
 
 
+def _flat(observables: dict[str, float]) -> dict[str, float]:
+    """The observables every record carries at its top level (``w``, ``w_over_R``: the indenter travel)."""
+    out = {name: float(observables[name]) for name in _OBS if name in observables}
+    if "w_b" in observables:
+        out["w"], out["w_over_R"] = float(observables["w_b"]), float(observables["w_b_over_R"])
+    return out
+
+
 def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
             branches: list[Branch], jumps: list, labels: list[str], failure: str, snaps: list[dict[str, Any]],
             control: str = "displacement") -> TraceResult:
     generic = TraceResult.from_branches(branches, jumps, problem=problem, x="w_b", y="F", labels=labels,
                                         failure=failure)
-    records = []
-    for rec in generic.special_points:
-        rec = dict(rec)
-        obs = rec.get("observables", {})
-        rec["parameter"] = problem.parameter_name
-        for name in _OBS:
-            if name in obs:
-                rec[name] = float(obs[name])
-        if "w_b" in obs:
-            rec["w"], rec["w_over_R"] = float(obs["w_b"]), float(obs["w_b_over_R"])
-        records.append(rec)
+    records = special_point_records(branches, jumps, generic.jump_observables, generic.parameter_name,
+                                    fields=lambda spt: _flat(spt.observables))
+    for rec in records[len(records) - 2 * len(jumps):]:
+        rec.update(_flat(rec["observables"]))
     R = problem.R
     summary: dict[str, Any] = {
         "indenter": scene["load"]["kind"], "radius": scene["load"]["radius"] if scene["load"]["kind"] == "sphere" else None,
@@ -246,12 +247,9 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
     if peak is not None:
         summary.update(max_strain=peak.value, w_b_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
     summary["warnings"] = [warning] if warning else []
-    cols = dict(generic.csv_columns)
-    if all(br.stability_by for br in branches) and branches:
-        for label in ("force", "displacement"):
-            cols[f"stable_{label}"] = np.concatenate([br.stable_under(label) for br in branches]).astype(int)
-        cols["n_negative"] = np.concatenate([br.stability_by["displacement"][0] for br in branches]).astype(int)
-        cols["n_negative_force"] = np.concatenate([br.stability_by["force"][0] for br in branches]).astype(int)
+    # branch.csv keeps the primary label's "stable" (the traced control's) before the shell's columns
+    stability = {"stable": f"stable_{control}", "n_negative": STABILITY_COLUMNS["n_negative"], **STABILITY_COLUMNS}
+    cols = branch_columns(branches, stability)
     if "w_b" in cols:
         cols = {"w": cols["w_b"], "F": cols.get("F"), "w_over_R": cols["w_b_over_R"], "F_norm": cols.get("F_norm"),
                 **{k: v for k, v in cols.items() if k not in ("F", "F_norm")}}

@@ -58,14 +58,14 @@ from typing import Any
 import numpy as np
 
 import contin
-from contin.branch import Branch
+from contin.branch import Branch, SpecialPoint
 from contin.quasistatic import SnapRules
-from contin.scene import TraceResult
+from contin.scene import TraceResult, branch_columns, special_point_records
 from models.shell import ShellPointLoad
 from models.shell.strain import strain_peak, strain_warning
 
 from .build import end_of_path, point_problem, point_settings
-from .schema import Scene, eversion_displacement
+from .schema import STABILITY_COLUMNS, Scene, eversion_displacement
 
 __all__ = ["classify", "force_snap_rules", "path_complete", "run_point", "run_point_force", "MAX_SNAPS"]
 
@@ -77,65 +77,25 @@ _F_ROUNDOFF = 1e-8
 # ---------------------------------------------------------------------------------------------------
 # special points and classification
 # ---------------------------------------------------------------------------------------------------
-def _stability_pair(br: Branch, label: str, index: int) -> tuple[bool | None, bool | None, int | None, int | None]:
-    """Stability (and negative-eigenvalue counts) under ``label`` at stored points ``index`` and ``index + 1``."""
-    if label not in br.stability_by or index < 0:
-        return None, None, None, None
-    nneg = br.stability_by[label][0]
-    before = int(nneg[index]) if index < len(nneg) else None
-    after = int(nneg[index + 1]) if index + 1 < len(nneg) else None
-    return (None if before is None else before == 0, None if after is None else after == 0, before, after)
+def _flat(observables: dict[str, float]) -> dict[str, float]:
+    """The observables every record carries at its top level."""
+    return {name: float(observables[name]) for name in _OBS if name in observables}
 
 
-def _shell_records(branches: list[Branch], base: list[dict[str, Any]], R: float) -> list[dict[str, Any]]:
-    """Rewrite the generic special-point records for the shell (parameter, observables, stability).
+def _point_fields(spt: SpecialPoint) -> dict[str, Any]:
+    """The shell's own fields of a special point's record (:func:`contin.scene.special_point_records`).
 
-    ``base`` is :attr:`TraceResult.special_points` as built by :meth:`TraceResult.from_branches`, in
-    the same order as the branches' special points followed by the jumps.
+    A limit point (a fold in ``w``, or an extremum of ``F`` declared as a fold in ``F``) carries
+    the Morse index on either side and, as ``stability_control``, the control under which it is
+    one (the engine's stability label); every point its observables and ``index``.
     """
-    out: list[dict[str, Any]] = []
-    k = 0
-    for bi, br in enumerate(branches):
-        pname = br.meta.get("parameter_name", "w")
-        for spt in br.special_points:
-            rec = dict(base[k])
-            k += 1
-            obs = rec.get("observables", {})
-            extremum_of_F = spt.kind == "event" and spt.label in ("max(F)", "min(F)")
-            if spt.kind == "fold" or extremum_of_F:
-                # which quantity folds: the traced parameter for a PALC fold, F for an F extremum
-                folds_in = "F" if extremum_of_F else pname
-                rec["kind"] = "fold"
-                rec["parameter"] = folds_in
-                if extremum_of_F:
-                    rec["label"] = spt.label
-                label = "force" if folds_in == "F" else "displacement"
-                # a point that ends the branch is stored last: the side it came from is the point before
-                ends = bool(spt.info.get("ends_branch"))
-                sb, sa, nb, na = _stability_pair(br, label, spt.index - 1 if ends else spt.index)
-                rec.pop("stable_before", None)
-                rec.pop("stable_after", None)
-                if sb is not None:
-                    rec["stable_before"] = sb
-                    rec["n_negative_before"] = nb
-                if sa is not None and not spt.info.get("ends_branch"):
-                    rec["stable_after"] = sa
-                    rec["n_negative_after"] = na
-                rec["stability_control"] = label
-            else:
-                rec["parameter"] = pname
-            for name in _OBS:
-                if name in obs:
-                    rec[name] = float(obs[name])
-            out.append(rec)
-    for rec in base[k:]:  # jumps: F is the fixed parameter
-        rec = dict(rec)
-        obs = rec.get("observables", {})
-        rec["parameter"] = "F"
-        for name in _OBS:
-            if name in obs:
-                rec[name] = float(obs[name])
-        out.append(rec)
+    out: dict[str, Any] = {}
+    if spt.kind == "fold" or spt.info.get("folds") is not None:
+        out.update(spt.stability_under())
+        if spt.info.get("stability_label") is not None:
+            out["stability_control"] = spt.info["stability_label"]
+    out.update(_flat(spt.observables))
+    out["index"] = int(spt.index)
     return out
 
 
@@ -147,7 +107,7 @@ def classify(branch: Branch, records: list[dict[str, Any]], D: float, R: float) 
     branch : Branch
         The traced path with stability data (label ``"displacement"``).
     records : list of dict
-        Its special-point records as produced by :func:`_shell_records`.
+        Its special-point records (see :func:`_records`).
     D, R : float
         Bending stiffness and sphere radius (for the normalized force).
 
@@ -234,6 +194,12 @@ def _classification_line(c: dict[str, Any]) -> str:
 
 
 def _table(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The printed special-point table, read from the records.
+
+    The shell's own layout (which quantity folds, the normalized observables, the stability under
+    the control in which the point is a limit point); :func:`contin.scene.special_point_table` has
+    the engine's columns instead.
+    """
     word = {True: "stable", False: "unstable", None: "?"}
     rows = []
     for rec in records:
@@ -252,19 +218,6 @@ def _table(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return rows
 
 
-def _csv(branches: list[Branch], base: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """branch.csv: the generic columns plus both stability labels (``n_negative`` is the displacement one)."""
-    cols = dict(base)
-    cols.pop("stable", None)
-    cols.pop("n_negative", None)
-    if all(br.stability_by for br in branches) and branches:
-        for label in ("force", "displacement"):
-            cols[f"stable_{label}"] = np.concatenate([br.stable_under(label) for br in branches]).astype(int)
-        cols["n_negative"] = np.concatenate([br.stability_by["displacement"][0] for br in branches]).astype(int)
-        cols["n_negative_force"] = np.concatenate([br.stability_by["force"][0] for br in branches]).astype(int)
-    return cols
-
-
 # ---------------------------------------------------------------------------------------------------
 # the runner
 # ---------------------------------------------------------------------------------------------------
@@ -276,7 +229,7 @@ def run_point(scene: Scene, progress: bool = False) -> TraceResult:
     st = point_settings(scene, problem, progress)
     # F = 0 (falling): where a one-sided point indenter, which can only push, would lose the shell
     br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end,
-                             events=[contin.extremum("F", "max"), contin.extremum("F", "min"),
+                             events=[_limit_load("max"), _limit_load("min"),
                                      contin.crossing("F", 0.0, direction=-1, name=_F_ZERO)])
     if path_complete(br) or not len(br):
         return _result([br], [], problem, scene, ["path"], "")
@@ -300,7 +253,7 @@ def _everted_branch(problem: ShellPointLoad, st: contin.Settings, phi_hat: float
     x[1::2] = 2.0 * x[1] - x[1::2]  # reflect every node in the base plane (z_0 is held)
     w_mirror = eversion_displacement(problem.R, phi_hat)
     return contin.continuation(problem, problem.unknowns(x), w_mirror, st, direction=-1, p_min=0.0,
-                               stop_at=("fold",), events=[contin.extremum("F", "min")])
+                               stop_at=("fold",), events=[_limit_load("min")])
 
 
 #: Label of the falling zero of the point force on the displacement path.
@@ -350,20 +303,31 @@ def _use_everted_branch(cls: dict[str, Any], branches: list[Branch], records: li
     return note
 
 
+def _limit_load(which: str) -> contin.Event:
+    """An extremum of ``F`` along the displacement path: a limit point under force control."""
+    return contin.extremum("F", which, folds="F", stability_label="force")
+
+
+def _records(branches: list[Branch], generic: TraceResult) -> list[dict[str, Any]]:
+    """The engine's special-point records with the shell's fields (:func:`_point_fields`).
+
+    A branch resumed after a snap repeats the jump's landing as its first special point: that
+    record is left out (the jump's own ``jump_to`` states it).
+    """
+    records = special_point_records(branches, generic.jumps, generic.jump_observables, generic.parameter_name,
+                                    fields=_point_fields)
+    for rec in records:
+        if rec["kind"] == "jump" and "jump" in rec:
+            rec.update(_flat(rec["observables"]))
+    return [r for r in records if not (r["kind"] == "jump" and "branch" in r)]
+
+
 def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene: Scene, labels: list[str],
             failure: str) -> TraceResult:
     R = scene["shell"]["R"]
     generic = TraceResult.from_branches(branches, jumps, problem=problem, x="w", y="F", labels=labels,
                                         failure=failure)
-    records = _shell_records(branches, generic.special_points, R)
-    # the index of each special point is needed by classify (located minima between stored points)
-    k = 0
-    for br in branches:
-        for spt in br.special_points:
-            records[k]["index"] = int(spt.index)
-            k += 1
-    # a branch resumed after a snap repeats the jump's landing as its first special point
-    records = [r for r in records if not (r["kind"] == "jump" and "branch" in r)]
+    records = _records(branches, generic)
     summary: dict[str, Any] = {
         "eversion_w": eversion_displacement(R, scene["shell"]["phi_hat"]),
         "w_end": eversion_displacement(R, scene["shell"]["phi_hat"]) * (1.0 + scene["continuation"]["overshoot"]),
@@ -404,7 +368,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         summary["classification_note"] = ("the classification is defined on the displacement-controlled path; "
                                           "'contin classify' traces it whatever load.control says")
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
-                         table=_table(records), csv_columns=_csv(branches, generic.csv_columns), x="w", y="F",
+                         table=_table(records), csv_columns=branch_columns(branches, STABILITY_COLUMNS), x="w", y="F",
                          parameter_name=generic.parameter_name, labels=labels,
                          jump_observables=generic.jump_observables, failure=failure)
     if not scene["output"]["figure"]:
@@ -416,7 +380,11 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
 
 
 def _plot(ax: Any, result: TraceResult) -> None:
-    """Force-displacement diagram: stable (under the scene's control) solid, unstable dashed."""
+    """Force-displacement diagram: stable (under the scene's control) solid, unstable dashed.
+
+    Segment by segment (stable where both ends are), folds in ``w`` and limit points in ``F`` marked
+    apart: the look of the shell's figures, which :func:`contin.plot_branches` draws otherwise.
+    """
     control = result.summary.get("control", "displacement")
     for i, br in enumerate(result.branches):
         if not len(br):

@@ -16,7 +16,7 @@ from typing import Any
 
 from contin.scene import Constraint, Field, Schema, boolean, choice, integer, real
 
-__all__ = ["SHELL_SCHEMA", "MAX_NODES", "Scene", "eversion_displacement"]
+__all__ = ["SHELL_SCHEMA", "MAX_NODES", "STABILITY_COLUMNS", "Scene", "eversion_displacement"]
 
 Scene = dict[str, dict[str, Any]]
 
@@ -84,3 +84,8 @@ def eversion_displacement(R: float, phi_hat: float) -> float:
     """Pole displacement ``2 R (1 - sin phi_hat)`` at which the pole reaches the mirror image of its start."""
     return 2.0 * R * (1.0 - math.sin(phi_hat))
 
+
+#: ``branch.csv``'s stability columns (name -> the engine's :meth:`contin.Branch.columns` name): stability
+#: under both controls, ``n_negative`` being the displacement control's Morse index.
+STABILITY_COLUMNS = {"stable_force": "stable_force", "stable_displacement": "stable_displacement",
+                     "n_negative": "n_negative_displacement", "n_negative_force": "n_negative_force"}
