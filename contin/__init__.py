@@ -30,25 +30,60 @@ Where each part of the engine lives:
 ==================  ===============================================================================
 """
 
-from .branch import Branch, BranchFileError, SpecialPoint
-from .events import Event, crossing, extremum
-from .linalg import BorderedSolver, factorize
-from .diagram import diagram, hysteresis_cycles, plot_branches
-from .jump import JumpError, JumpResult, jump
-from .palc import CorrectorFailure, continuation, locate_fold, switch_branch
-from .problem import LeadingBlock, NonFiniteError, Problem
-from .settings import Settings, SettingsError
-from .quasistatic import QuasiStaticResult, quasistatic, restate_jump
-from .stability import StabilityInfo, stability_info
-from .twopar import FamilyProblem, FoldCurveProblem, cusp_curve_problem
+import sys
+import types
+from importlib import import_module
+from typing import Any
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "Problem", "LeadingBlock", "NonFiniteError", "Settings", "SettingsError",
-    "continuation", "locate_fold", "switch_branch", "CorrectorFailure",
-    "jump", "JumpResult", "JumpError", "diagram", "hysteresis_cycles", "plot_branches",
-    "Branch", "BranchFileError", "SpecialPoint", "Event", "crossing", "extremum",
-    "FoldCurveProblem", "FamilyProblem", "cusp_curve_problem",
-    "StabilityInfo", "stability_info", "BorderedSolver", "factorize", "quasistatic", "QuasiStaticResult", "restate_jump",
-]
+#: Public name -> the engine module that defines it.  The names are imported on first use (PEP 562),
+#: so ``import contin`` (and ``contin.launch``, the console script's entry) costs nothing until an
+#: engine function is touched: ``contin --help`` and a refused scene need neither scipy nor the engine.
+_EXPORTS: dict[str, str] = {
+    **dict.fromkeys(("Branch", "BranchFileError", "SpecialPoint"), "branch"),
+    **dict.fromkeys(("Event", "crossing", "extremum"), "events"),
+    **dict.fromkeys(("BorderedSolver", "factorize"), "linalg"),
+    **dict.fromkeys(("diagram", "hysteresis_cycles", "plot_branches"), "diagram"),
+    **dict.fromkeys(("JumpError", "JumpResult", "jump"), "jump"),
+    **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch"), "palc"),
+    **dict.fromkeys(("LeadingBlock", "NonFiniteError", "Problem"), "problem"),
+    **dict.fromkeys(("Settings", "SettingsError"), "settings"),
+    **dict.fromkeys(("QuasiStaticResult", "quasistatic", "restate_jump"), "quasistatic"),
+    **dict.fromkeys(("StabilityInfo", "stability_info"), "stability"),
+    **dict.fromkeys(("FamilyProblem", "FoldCurveProblem", "cusp_curve_problem"), "twopar"),
+}
+
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        value = getattr(import_module(f".{_EXPORTS[name]}", __name__), name)
+        globals()[name] = value  # later look-ups skip this function
+        return value
+    try:  # a submodule used as an attribute (``contin.scene.load_scene`` after ``import contin``)
+        return import_module(f".{name}", __name__)
+    except ModuleNotFoundError as exc:
+        if exc.name != f"{__name__}.{name}":
+            raise  # the submodule exists but needs something missing
+        raise AttributeError(f"module 'contin' has no attribute {name!r}") from None
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
+
+
+class _Package(types.ModuleType):
+    """The ``contin`` package, whose public functions ``jump``, ``diagram`` and ``quasistatic`` share
+    their modules' names: importing such a module binds it to the package under that name, which
+    would hide the function, so the binding takes the function instead (as the eager
+    ``from .jump import jump`` did)."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if isinstance(value, types.ModuleType) and _EXPORTS.get(name) == name and hasattr(value, name):
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

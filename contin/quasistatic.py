@@ -45,7 +45,7 @@ __all__ = ["quasistatic", "QuasiStaticResult", "SnapRules", "DEFAULT_JUMP_ATTEMP
 #: minimisation may stall next to the fold; a parameter a hair past the fold has no equilibrium
 #: nearby and the minimisation has to leave for the distant stable state.
 #: The engine's default kick (1e-3 to 1e-1 of the state's size) can be too large: where the energy
-#: along the null vector stiffens quickly (a thin shell's membrane stretching does this) it rises on
+#: along the null vector stiffens quickly (a thin structure's membrane stretching does this) it rises on
 #: both sides of the fold state at that distance, so a smaller kick is tried next.
 DEFAULT_JUMP_ATTEMPTS: tuple[tuple[float, float | None], ...] = ((1e-6, None), (1e-6, 1e-4), (1e-4, None),
                                                                  (1e-4, 1e-4))
@@ -175,7 +175,7 @@ class SnapRules:
         a fixed relative distance past the fold whatever the sweep's end.
     perturbation_unit : float, optional
         Unit of the kick (max-norm); default ``max(1, max|u_fold|)``.  A model whose state has a
-        natural length (a shell's radius) passes it here.
+        natural length (e.g. a radius) passes it here.
     separation : callable ``(u_fold, p_fold, u_to, p_to) -> float``, optional
         Distance of a landing from the fold state, in the units of ``min_separation``; default
         ``max|u_to - u_fold| / max(1, max|u_fold|)``.  A model can measure it in the observable that

@@ -222,7 +222,7 @@ class FamilyProblem(Problem):
     Folds and fold curves live in any parameter: the folds of ``f(u, p; q)`` in ``q`` at fixed
     ``p = p_fixed`` are the points of the fold curves (in ``p``) where ``p = p_fixed``.  Continuing
     such a fold in a third parameter traces, for instance, where a limit load equals a given value
-    (a shell's lower limit load at zero force: the bistable boundary).
+    (e.g. a lower limit load at zero force: where a structure becomes bistable).
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """Writing and checking a generated kernel module: shared by the models' sympy generators.
 
-Each generator (``models.shell.codegen``, ``models.contact.codegen``) builds its module's text with
+Each generator (``contin_models.shell.codegen``, ``contin_models.contact.codegen``) builds its module's text with
 a ``generate_source()`` function; :func:`write_generated` writes it and :func:`generator_main` is the
 command line (``--output``, ``--check``).  No sympy here: it only handles the text.
 """

@@ -31,7 +31,7 @@ import numpy as np
 from contin.executors import Executor, ExecutorError, make_executor
 from contin.io import OutputDirectory, OutputError, atomic_write, json_ready
 from contin.scene import SceneError
-from models.shell.boundaries import depth_parameter
+from contin_models.shell.boundaries import depth_parameter
 
 __all__ = ["study_parser", "executor_from_args", "output_dir", "run_study", "save_figure", "write_csv", "write_json",
            "write_text", "json_ready", "print_table", "shell_lambda", "say"]
@@ -244,7 +244,7 @@ def print_table(rows: Iterable[dict[str, Any]], columns: Sequence[str], digits: 
 
 
 def shell_lambda(phi_hat: float | np.ndarray, h_over_R: float | np.ndarray, nu: float = 0.5) -> Any:
-    """Shell depth parameter ``lambda`` (physics.md section 1); see :func:`models.shell.boundaries.depth_parameter`."""
+    """Shell depth parameter ``lambda`` (physics.md section 1); see :func:`contin_models.shell.boundaries.depth_parameter`."""
     return depth_parameter(phi_hat, h_over_R, nu)
 
 

@@ -3,7 +3,7 @@
 Run ``python -m studies.accuracy [--out DIR] [--full] [--repeat K] [--quiet]``.
 
 The default scene: ``R = 1``, ``h/R = 0.02``, ``phi_hat = 0.8``, ``nu = 0.5``, ``E = 1e6``
-(:class:`models.shell.ShellPointLoad`'s defaults, the paper's N = 200).
+(:class:`contin_models.shell.ShellPointLoad`'s defaults, the paper's N = 200).
 
 Quantities and their references
 -------------------------------
@@ -74,8 +74,8 @@ import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
 from contin.palc import Curve, Settings  # noqa: E402
-from models.shell import ShellPointLoad  # noqa: E402
-from models.shell.boundaries import BoundaryCurve, bistable_boundary, monotonous_boundary  # noqa: E402
+from contin_models.shell import ShellPointLoad  # noqa: E402
+from contin_models.shell.boundaries import BoundaryCurve, bistable_boundary, monotonous_boundary  # noqa: E402
 from studies._common import output_dir, print_table, save_figure, say, study_parser, write_csv, write_json  # noqa: E402
 from studies.baselines import (critical_damping, dr_reaction_maximum, lowest_frequency, lumped_masses,  # noqa: E402
                                natural_parameter_limit)

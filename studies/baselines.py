@@ -287,7 +287,7 @@ def natural_parameter_limit(problem: Problem, u0: np.ndarray, p0: float, dp0: fl
 # implicit dynamic relaxation
 # ---------------------------------------------------------------------------------------------------
 def lumped_masses(shell: Any, density: float) -> np.ndarray:
-    """Lumped mass of every unknown of a :class:`models.shell.ShellPointLoad`: ``density h A_i``.
+    """Lumped mass of every unknown of a :class:`contin_models.shell.ShellPointLoad`: ``density h A_i``.
 
     ``A_i`` is the reference area of node ``i``'s cell: the ring ``2 pi r_i l_i`` (``l_i`` the Voronoi
     length, half an edge at the base) for every node but the pole, whose cell is the disc

@@ -35,7 +35,7 @@ import scipy.linalg as sla  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
 
 from contin import continuation  # noqa: E402
-from models.benchmarks.bratu import Bratu  # noqa: E402
+from contin_models.benchmarks.bratu import Bratu  # noqa: E402
 from studies._common import write_text  # noqa: E402
 
 

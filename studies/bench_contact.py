@@ -5,7 +5,7 @@ Run ``python -m studies.bench_contact [--repeat 5] [--workers 2]``.  Medians of 
 
 (a) one sphere indentation, ``N = 200``, ``r/R = 0.5``: continuation from the first touch of the barrier
     through the located snap (the fold in ``w_b``, located by the engine or, beyond the ``F -> 0``
-    event, as a release fold, exactly as :func:`models.shell_scene.contact.run_contact`) and the jump to the everted state; it stops right after
+    event, as a release fold, exactly as :func:`contin_models.shell_scene.contact.run_contact`) and the jump to the everted state; it stops right after
     the jump.  Target <= 1 s.
 (b) the eight-radius sweep of issue 4 test 4 (``r/R`` in :data:`RADII`), each radius continued to its
     snap (no jump), spread over ``--workers`` processes.  Target <= 10 s.
@@ -31,10 +31,10 @@ from typing import Any  # noqa: E402
 
 import contin  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
-from models.contact.indentation import ShellIndentation  # noqa: E402
+from contin_models.contact.indentation import ShellIndentation  # noqa: E402
 from contin.quasistatic import leave_fold  # noqa: E402
-from models.shell_scene import SHELL_SCHEMA, contact_problem, contact_settings  # noqa: E402
-from models.shell_scene.contact import MAX_SNAPS, contact_mode, snap_event, snap_point, snap_rules  # noqa: E402
+from contin_models.shell_scene import SHELL_SCHEMA, contact_problem, contact_settings  # noqa: E402
+from contin_models.shell_scene.contact import MAX_SNAPS, contact_mode, snap_event, snap_point, snap_rules  # noqa: E402
 
 #: r/R of issue 4 test 4 (paper figures 6, 7)
 RADII = (0.1, 0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.0)
@@ -44,7 +44,7 @@ def snap_settings(r: float, N: int, extra: tuple[str, ...] = (), stability: bool
                   ) -> tuple[ShellIndentation, contin.Settings, float]:
     """The problem, the continuation settings and ``w_end`` that ``contin trace`` builds for a sphere scene.
 
-    The settings are :func:`models.shell_scene.contact_settings`, as ``contin trace`` uses; ``extra`` are further ``--set`` overrides such as ``"contact.dhat=1e-4"``.
+    The settings are :func:`contin_models.shell_scene.contact_settings`, as ``contin trace`` uses; ``extra`` are further ``--set`` overrides such as ``"contact.dhat=1e-4"``.
     """
     load = ["load.kind=plate"] if r is None else ["load.kind=sphere", f"load.radius={r}"]
     scene = load_scene(SHELL_SCHEMA, None, [*load, f"shell.N={N}", *extra])

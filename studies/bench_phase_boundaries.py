@@ -28,7 +28,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 from contin.sweep import run_sweep, sweep_scenes  # noqa: E402
-from models.shell_scene import SHELL_SCHEMA  # noqa: E402
+from contin_models.shell_scene import SHELL_SCHEMA  # noqa: E402
 from studies.phase_diagram import PHI_RANGE, phi_at_mark, trace_boundaries  # noqa: E402
 
 SPACING = 2e-3

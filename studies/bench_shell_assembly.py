@@ -4,7 +4,7 @@ Run ``python -m studies.bench_shell_assembly [--N 200 2000 20000] [--repeat 7]
 [--kappa11-length current|reference] [--json PATH]``.
 
 What is measured (wall time per call, one process, BLAS single-threaded): for every ``N`` a
-:class:`models.shell.ShellEnergy` (default scene: ``R = 1``, ``E = 1e6``, ``nu = 0.5``,
+:class:`contin_models.shell.ShellEnergy` (default scene: ``R = 1``, ``E = 1e6``, ``nu = 0.5``,
 ``h = 0.02``, ``phi_hat = 0.8``, ``kappa11_length`` as given, default ``"current"``) is evaluated at
 a deformed full state (the reference state plus a random perturbation of 1e-3 times the edge
 length, plus a pole indentation of ``0.05 R`` spread smoothly over the cap), and
@@ -37,7 +37,7 @@ import timeit  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from models.shell import ShellEnergy, ShellPointLoad, spherical_cap  # noqa: E402
+from contin_models.shell import ShellEnergy, ShellPointLoad, spherical_cap  # noqa: E402
 from studies._common import write_text  # noqa: E402
 
 SCENE = dict(R=1.0, E=1e6, nu=0.5, h=0.02, phi_hat=0.8)

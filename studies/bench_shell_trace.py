@@ -38,7 +38,7 @@ from typing import Any  # noqa: E402
 
 from contin.cli import main as cli_main  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
-from models.shell_scene import SHELL_SCENE  # noqa: E402
+from contin_models.shell_scene import SHELL_SCENE  # noqa: E402
 from studies._common import write_text  # noqa: E402
 
 

@@ -27,11 +27,11 @@ from studies._common import run_study  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 
 #: Run in a child process with the tree first on sys.path: the scene runner is found under the name
-#: the tree uses (before issue 14 the package was ``models`` and the scene ``models.shell.scene``).
+#: the tree uses (before issue 14 the package was ``models`` and the scene ``contin_models.shell.scene``).
 CHILD = r"""
 import importlib, json, time
 from contin.scene import load_scene
-for name in ("contin_models.shell_scene", "models.shell_scene", "models.shell.scene"):
+for name in ("contin_models.shell_scene", "contin_models.shell_scene", "contin_models.shell.scene"):
     try:
         module = importlib.import_module(name)
         break

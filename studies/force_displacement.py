@@ -13,7 +13,7 @@ about 10 s fast, 25 s with ``--full``.  Both write into
     eversion.  (a) ``h/R = 0.02``, ``phi_hat`` = 0.6, 0.7, ..., 1.3; (b) ``phi_hat = 1.0``,
     ``h/R`` = 0.01, 0.02, ..., 0.08.  Parts stable under displacement control are solid, unstable
     parts dashed; each curve is labelled with the class of that same run
-    (:func:`models.shell_scene.classify` through the scene runner).  The located first maximum and
+    (:func:`contin_models.shell_scene.classify` through the scene runner).  The located first maximum and
     last minimum of F (the force-control snap loads) are marked.  The paper's axis label reads
     ``F h / (2 pi D)``; its figure 6 and the text of section 4b use ``F R / (2 pi D)``, which is what
     is plotted (``R = 1`` in the paper, so the two differ only by the extraction).
@@ -60,8 +60,8 @@ import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
 from contin.scene import TraceResult, load_scene  # noqa: E402
-from models.shell.problem import ShellPointLoad  # noqa: E402
-from models.shell_scene import SHELL_SCENE, SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
+from contin_models.shell.problem import ShellPointLoad  # noqa: E402
+from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
 from studies._common import (output_dir, print_table, save_figure, say, shell_lambda, study_parser,  # noqa: E402
                              write_csv, write_json)
 

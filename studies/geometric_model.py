@@ -339,7 +339,7 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200) 
     # simulated transitions, bracketed around the node-based prediction for an effective radius r + dhat
     sims_wanted = SIM_FULL if full else SIM_FAST
     half, tol = (HALF_FULL, TOL_FULL) if full else (HALF_FAST, TOL_FAST)
-    dhat = 1e-3  # the default barrier range, in units of R (models.contact.barrier.default_barrier)
+    dhat = 1e-3  # the default barrier range, in units of R (contin_models.contact.barrier.default_barrier)
     jobs = []
     for phi, h in sims_wanted:
         c = case(phi, h)

@@ -69,9 +69,9 @@ import numpy as np  # noqa: E402
 import contin  # noqa: E402
 from contin.executors import Executor, make_executor  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
-from models.shell_scene.contact import contact_mode  # noqa: E402
-from models.shell.problem import ShellPointLoad  # noqa: E402
-from models.shell_scene import SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
+from contin_models.shell_scene.contact import contact_mode  # noqa: E402
+from contin_models.shell.problem import ShellPointLoad  # noqa: E402
+from contin_models.shell_scene import SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
 from studies._common import (executor_from_args, output_dir, print_table, save_figure, say,  # noqa: E402
                              study_parser, write_csv, write_json)
 from studies.bench_contact import run_to_snap, snap_settings  # noqa: E402

@@ -7,7 +7,7 @@ automatically, monotonous / monostable / bistable, from its displacement-control
 (``contin classify`` over a sweep, :mod:`contin.sweep`, in parallel, resumable through ``grid.csv``).
 
 Route (b), the boundaries (new): the force-control folds are continued in a second parameter
-(:mod:`models.shell.boundaries`).  The bistable/monostable boundary is the fold of the unloaded cap
+(:mod:`contin_models.shell.boundaries`).  The bistable/monostable boundary is the fold of the unloaded cap
 (``F_min = 0``) continued in ``phi_hat``; the monostable/monotonous boundary is the cusp where ``F_max``
 and ``F_min`` merge, continued in ``phi_hat``.  Both are traced as curves over ``phi_hat`` in
 [0.5, 1.45]; where they cross ``h/R = 0.02`` is located as an event.
@@ -49,8 +49,8 @@ import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
 from contin.sweep import run_sweep, sweep_scenes  # noqa: E402
-from models.shell.boundaries import BoundaryCurve, bistable_boundary, depth_parameter, monotonous_boundary  # noqa: E402
-from models.shell_scene import SHELL_SCHEMA  # noqa: E402
+from contin_models.shell.boundaries import BoundaryCurve, bistable_boundary, depth_parameter, monotonous_boundary  # noqa: E402
+from contin_models.shell_scene import SHELL_SCHEMA  # noqa: E402
 from studies._common import output_dir, print_table, save_figure, say, study_parser, write_csv, write_json  # noqa: E402
 
 PHI_RANGE = (0.5, 1.45)

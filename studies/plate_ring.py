@@ -2,7 +2,7 @@
 
 Run ``python -m studies.plate_ring [--out DIR] [--full]``.  The plate indenter of the default cap
 (displacement control) first snaps into a dimple held by a ring of contact.  The barrier sees the
-meridian between the nodes (:mod:`models.contact.barrier`), so the ring should move continuously:
+meridian between the nodes (:mod:`contin_models.contact.barrier`), so the ring should move continuously:
 
 * **convergence**: the dimple snap (the first fold in the travel ``w_b``) traced on meshes N = 100,
   200, 400 (``--full``: 200, 400, 800); its ``w_b`` and ``F`` and their differences between
@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
-from models.shell_scene import SHELL_SCENE, contact_problem  # noqa: E402
+from contin_models.shell_scene import SHELL_SCENE, contact_problem  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
                              write_csv, write_json)
 

@@ -56,7 +56,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from contin.scene import load_scene  # noqa: E402
-from models.shell_scene import SHELL_SCENE, SHELL_SCHEMA  # noqa: E402
+from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA  # noqa: E402
 from studies._common import (output_dir, print_table, save_figure, say, shell_lambda, study_parser,  # noqa: E402
                              write_csv, write_json)
 from studies.bench_contact import snap_record  # noqa: E402

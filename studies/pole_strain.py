@@ -34,8 +34,8 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from models.shell.problem import ShellPointLoad  # noqa: E402
-from models.shell_scene import eversion_displacement  # noqa: E402
+from contin_models.shell.problem import ShellPointLoad  # noqa: E402
+from contin_models.shell_scene import eversion_displacement  # noqa: E402
 from studies._common import output_dir, print_table, say, study_parser, write_csv, write_json  # noqa: E402
 
 #: Cap depth of every run.

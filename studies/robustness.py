@@ -25,7 +25,7 @@ bookkeeping:
 
 The largest membrane strain of each run (and of its finer mesh) is reported beside the checks; it is
 not a check of its own, but when the class of a point load changes with the mesh it names the cause
-(the strain at the singular pole, :mod:`models.shell.strain`).
+(the strain at the singular pole, :mod:`contin_models.shell.strain`).
 
 A scene *completes* when the run succeeded and every check holds; it *stops* when the run ended
 early with a stated reason and every stored point still passes the checks; anything else (an
@@ -51,8 +51,8 @@ import numpy as np  # noqa: E402
 
 from contin.branch import Branch  # noqa: E402
 from contin.scene import TraceResult, load_scene  # noqa: E402
-from models.shell.strain import STRAIN_LIMIT  # noqa: E402
-from models.shell_scene import contact_problem, point_problem  # noqa: E402
+from contin_models.shell.strain import STRAIN_LIMIT  # noqa: E402
+from contin_models.shell_scene import contact_problem, point_problem  # noqa: E402
 from studies._common import (executor_from_args, output_dir, print_table, say, study_parser,  # noqa: E402
                              write_csv, write_json, write_text)
 

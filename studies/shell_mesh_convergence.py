@@ -8,7 +8,7 @@ asserted in ``tests/test_shell_convergence.py`` and quoted in ``models/shell/pro
 ``models/shell/energy.py``:
 
 Every section uses the default mesh, graded towards the pole (``pole_ratio = 0.5``, see
-:func:`models.shell.geometry.theta_nodes`); sections 1 and 2 also show the uniform mesh
+:func:`contin_models.shell.geometry.theta_nodes`); sections 1 and 2 also show the uniform mesh
 (``pole_ratio = 1``) beside it.
 
 1. Variants.  For each mesh, curvature length (``kappa11_length``) and pole treatment, over
@@ -55,8 +55,8 @@ from scipy.optimize import least_squares  # noqa: E402
 
 from contin import continuation, extremum  # noqa: E402
 from contin.linalg import BandedLU  # noqa: E402
-from models.shell import HALF_BANDWIDTH, PoleMirror, ShellPointLoad  # noqa: E402
-from models.shell.geometry import POLE_RATIO  # noqa: E402
+from contin_models.shell import HALF_BANDWIDTH, PoleMirror, ShellPointLoad  # noqa: E402
+from contin_models.shell.geometry import POLE_RATIO  # noqa: E402
 
 NS = (50, 100, 200, 400, 800)
 #: node gradings compared: the default (graded towards the pole) and the paper's uniform mesh

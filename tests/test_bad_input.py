@@ -18,6 +18,7 @@ import contextlib
 import csv
 import dataclasses
 import datetime
+import importlib
 import importlib.util
 import io
 import math
@@ -752,16 +753,13 @@ def test_bad_input_exits_2_without_a_traceback_as_a_process(tmp_path):
 
 # ---- Ctrl-C while the command starts ----------------------------------------------------------------------
 ROOT = Path(__file__).resolve().parents[1]
-#: What the console script runs (``contin = "contin_launch:main"`` in pyproject.toml).
-LAUNCH = "import sys; from contin_launch import main; sys.exit(main())"
+#: What the console script runs (``contin = "contin.launch:main"`` in pyproject.toml).
+LAUNCH = "import sys; from contin.launch import main; sys.exit(main())"
 
 
 def _launcher() -> Any:
-    """``contin_launch``, loaded from its file (an editable install made before it existed does not map it)."""
-    spec = importlib.util.spec_from_file_location("contin_launch", ROOT / "contin_launch" / "__init__.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    """``contin.launch``, the console script's module."""
+    return importlib.import_module("contin.launch")
 
 
 class _InterruptedImport:

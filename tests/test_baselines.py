@@ -18,8 +18,8 @@ import pytest
 import scipy.linalg as sla
 from scipy.optimize import brentq
 
-from models.benchmarks.truss import VonMisesTruss
-from models.shell import ShellPointLoad
+from contin_models.benchmarks.truss import VonMisesTruss
+from contin_models.shell import ShellPointLoad
 from studies.baselines import (NewtonFailure, critical_damping, dr_reaction_maximum, dr_relax, dr_snap_load,
                                lowest_frequency, lumped_masses, natural_parameter_limit, newton)
 from studies.shell_mesh_convergence import first_force_maximum, force_limit_load

@@ -6,9 +6,9 @@ import numpy as np
 
 import contin
 from contin.scene import load_scene
-from models.benchmarks.bratu import Bratu
-from models.benchmarks.scenes import BRATU_SCHEMA, TRUSS_SCHEMA, build_bratu, build_truss
-from models.benchmarks.truss import VonMisesTruss
+from contin_models.benchmarks.bratu import Bratu
+from contin_models.benchmarks.scenes import BRATU_SCHEMA, TRUSS_SCHEMA, build_bratu, build_truss
+from contin_models.benchmarks.truss import VonMisesTruss
 
 
 def test_bratu_builder_gives_the_scene_s_problem_and_bounds() -> None:

@@ -5,8 +5,8 @@ import pytest
 from scipy.special import ellipk
 
 from contin import continuation, switch_branch
-from models.benchmarks.elastica import EulerColumn
-from models.benchmarks.pitchfork import Pitchfork
+from contin_models.benchmarks.elastica import EulerColumn
+from contin_models.benchmarks.pitchfork import Pitchfork
 
 
 def test_pitchfork_branch_point_and_switch():

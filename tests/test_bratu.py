@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from contin import continuation
-from models.benchmarks.bratu import Bratu
+from contin_models.benchmarks.bratu import Bratu
 
 LAMBDA_CONTINUUM = 3.513830719  # fold of u'' + lam exp(u) = 0, u(0) = u(1) = 0
 

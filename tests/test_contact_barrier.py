@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from models.contact import ContactBarrier, Plate, Sphere, barrier_value, default_barrier
-from models.contact import _generated as gen
-from models.contact.barrier import length_weights
+from contin_models.contact import ContactBarrier, Plate, Sphere, barrier_value, default_barrier
+from contin_models.contact import _generated as gen
+from contin_models.contact.barrier import length_weights
 
 K, DHAT = 1e8, 1e-3  # the paper's values (E = 1 MPa, R = 1 m)
 RHO = 0.5
@@ -58,19 +58,19 @@ def fd5(f, v, h):
 # ---- (a) the committed kernels are what the generator produces -----------------------------------
 def test_generated_file_is_reproduced_byte_for_byte(tmp_path):
     pytest.importorskip("sympy")
-    from models.contact import codegen
+    from contin_models.contact import codegen
 
     out = tmp_path / "_generated.py"
     codegen.generate(out)
     assert out.read_bytes() == GENERATED.read_bytes(), (
-        "models/contact/_generated.py is out of date: run `python -m models.contact.codegen`")
+        "models/contact/_generated.py is out of date: run `python -m contin_models.contact.codegen`")
 
 
 def test_no_sympy_on_the_import_path():
     import subprocess
     import sys
 
-    code = "import sys, models.contact; assert 'sympy' not in sys.modules"
+    code = "import sys, contin_models.contact; assert 'sympy' not in sys.modules"
     subprocess.run([sys.executable, "-c", code], check=True, cwd=Path(__file__).resolve().parents[1])
 
 
@@ -130,7 +130,7 @@ def test_kernel_chain_rule_closed_form(shape, frac):
 @pytest.mark.parametrize("index", [0, 1])
 def test_kernels_match_30_digit_sympy(index):
     sympy = pytest.importorskip("sympy")
-    from models.contact import codegen
+    from contin_models.contact import codegen
 
     ind = codegen.build_indenters()[index]
     args = ind.arguments

@@ -21,8 +21,8 @@ import scipy.sparse as sp
 
 import contin
 from contin.linalg import SingularMatrixError
-from models.contact import Sphere
-from models.contact.indentation import BorderedBandedLU, ShellIndentation, ShellIndentationForce
+from contin_models.contact import Sphere
+from contin_models.contact.indentation import BorderedBandedLU, ShellIndentation, ShellIndentationForce
 
 N = 60
 W_START = 0.05  # travel of the contact state the force-controlled trace starts from

@@ -1,7 +1,7 @@
 """The shell indented through the log barrier (issue 4, first part): derivatives, limits, the snap.
 
 References are independent of the code under test: finite differences of the energy, the bilateral
-point load of :class:`models.shell.ShellPointLoad` (a small sphere touches the pole alone, so the two
+point load of :class:`contin_models.shell.ShellPointLoad` (a small sphere touches the pole alone, so the two
 equilibria must coincide at equal pole displacement), and the physics of section 4 of
 ``docs/physics.md`` (the snap is a fold in the indenter travel where the force has fallen to zero).
 """
@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 import contin
-from models.contact import Plate, Sphere
-from models.contact.indentation import ShellIndentation
-from models.shell import ShellPointLoad
+from contin_models.contact import Plate, Sphere
+from contin_models.contact.indentation import ShellIndentation
+from contin_models.shell import ShellPointLoad
 
 
 def _contact_state(P: ShellIndentation, w_b: float) -> tuple[np.ndarray, float]:

@@ -24,7 +24,7 @@ import pytest
 
 from studies.bench_contact import RADII, snap_record, sweep
 
-DHAT_OVER_R = 1e-3  # the default barrier range (models.contact.barrier.default_barrier)
+DHAT_OVER_R = 1e-3  # the default barrier range (contin_models.contact.barrier.default_barrier)
 
 
 def _located(rec: dict) -> bool:

@@ -1,6 +1,6 @@
 """The release fold: the snap of a large sphere or a plate, where the last (off-axis) contact node leaves.
 
-Independent checks of :func:`models.contact.release.locate_release_fold` (which finds the root of
+Independent checks of :func:`contin_models.contact.release.locate_release_fold` (which finds the root of
 ``dw_b/dx`` on the curve of equilibria with the node's gap ``x`` prescribed):
 
 * at the located point the displacement-control Hessian is singular: its smallest eigenvalue from a
@@ -22,10 +22,10 @@ import scipy.linalg as sl
 
 import contin
 from contin.cli import main as cli_main
-from models.contact import Plate, Sphere
-from models.contact.indentation import ShellIndentation
-from models.contact.release import ReleaseFoldError, locate_release_fold
-from models.shell_scene.contact import SNAP_FORCE_NORM
+from contin_models.contact import Plate, Sphere
+from contin_models.contact.indentation import ShellIndentation
+from contin_models.contact.release import ReleaseFoldError, locate_release_fold
+from contin_models.shell_scene.contact import SNAP_FORCE_NORM
 
 
 @pytest.fixture(scope="module")

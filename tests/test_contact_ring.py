@@ -4,7 +4,7 @@ With the paper's nodal barrier the ring that holds the plate's dimple could only
 hopped from node to node, ``dF/dw_b`` changed sign about 150 times along the dimple branch at
 ``N = 200`` (all stable), displacement control snapped again and again on coarser meshes and force
 control gave up after four spurious snaps.  With the barrier integrated over quadratic cells
-between the nodes (:mod:`models.contact.barrier`) the branch is smooth, the dimple snap converges
+between the nodes (:mod:`contin_models.contact.barrier`) the branch is smooth, the dimple snap converges
 with the mesh and force control reaches eversion.
 """
 
@@ -17,8 +17,8 @@ import pytest
 
 import contin
 from contin.cli import main as cli_main
-from models.contact import Plate
-from models.contact.indentation import ShellIndentation
+from contin_models.contact import Plate
+from contin_models.contact.indentation import ShellIndentation
 
 
 def _dimple_snap(P: ShellIndentation) -> contin.Branch:

@@ -12,8 +12,8 @@ import pytest
 
 import contin
 from contin.cli import main
-from models.contact import Sphere
-from models.contact.indentation import ShellIndentation
+from contin_models.contact import Sphere
+from contin_models.contact.indentation import ShellIndentation
 
 
 def _trace(out: Path, *sets: str) -> tuple[int, dict, list[dict]]:

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from contin import continuation, crossing, extremum
-from models.benchmarks.bratu import Bratu
-from models.benchmarks.truss import VonMisesTruss
+from contin_models.benchmarks.bratu import Bratu
+from contin_models.benchmarks.truss import VonMisesTruss
 
 
 def test_crossing_located_to_1e_12_in_the_observable():

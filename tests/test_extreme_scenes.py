@@ -23,7 +23,7 @@ def test_short_range_barrier_snaps_and_completes() -> None:
     result = load_model("shell").run(scene, False)
     assert result.success, result.message
     assert len(result.jumps) >= 1
-    from models.shell_scene import contact_problem
+    from contin_models.shell_scene import contact_problem
     problem = contact_problem(scene)
     gaps = [float(np.min(problem.contact(u, float(p), hessian=False).distances))
             for br in result.branches for u, p in zip(br.u, br.p)]

@@ -3,14 +3,14 @@
 A *package* here is the unit that owns its private names:
 
 * ``contin`` (the engine is one package: ``contin.palc`` may use ``contin.linalg``'s private helpers);
-* each top-level subpackage of ``models`` (``models.shell``, ``models.contact``, ``models.benchmarks``,
-  ...), and each module directly in ``models/`` on its own (``models.codegen_cli``);
+* each top-level subpackage of ``models`` (``contin_models.shell``, ``contin_models.contact``, ``contin_models.benchmarks``,
+  ...), and each module directly in ``models/`` on its own (``contin_models.codegen_cli``);
 * ``studies`` (one package: the studies share ``studies._common``).
 
 A name is private when it starts with one underscore (dunders such as ``__version__`` are not).  An
 import is cross-package and private when any component after the target's package is private
-(``from models.shell.scene import _problem``, ``import models.contact._generated``, ``from
-models.shell import _generated``).  The scan reads the import statements with :mod:`ast`, including
+(``from contin_models.shell.scene import _problem``, ``import contin_models.contact._generated``, ``from
+contin_models.shell import _generated``).  The scan reads the import statements with :mod:`ast`, including
 those inside functions, and resolves relative imports.
 """
 
@@ -22,11 +22,14 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("contin", "models", "studies")
+#: Import name -> folder: the folder models/ is installed as contin_models (pyproject.toml).
+FOLDERS = {"contin": "contin", "contin_models": "models", "studies": "studies"}
+PACKAGES = tuple(FOLDERS)
 
 
 def _module_name(path: Path) -> str:
     parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    parts[0] = next(name for name, folder in FOLDERS.items() if folder == parts[0])
     if parts[-1] == "__init__":
         parts.pop()
     return ".".join(parts)
@@ -35,7 +38,7 @@ def _module_name(path: Path) -> str:
 def owner(module: str) -> str:
     """The package that owns ``module``'s private names (see the module docstring)."""
     parts = module.split(".")
-    if parts[0] == "models" and len(parts) > 1:
+    if parts[0] == "contin_models" and len(parts) > 1:
         return ".".join(parts[:2])
     return parts[0]
 
@@ -76,30 +79,30 @@ def cross_package_private_imports(source: str, importer: str, is_package: bool =
 
 
 def _modules() -> list[Path]:
-    return sorted(p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py"))
+    return sorted(p for folder in FOLDERS.values() for p in (ROOT / folder).rglob("*.py"))
 
 
 def test_the_scan_sees_every_package() -> None:
     names = {_module_name(p) for p in _modules()}
-    assert {"contin.palc", "models.shell.problem", "models.contact.barrier"} <= names
+    assert {"contin.palc", "contin_models.shell.problem", "contin_models.contact.barrier"} <= names
     assert any(n.startswith("studies.") for n in names)
 
 
 def test_the_scan_flags_what_it_should() -> None:
-    assert owner("models.shell.scene") == "models.shell" and owner("contin.cli") == "contin"
-    assert owner("studies._common") == "studies" and owner("models.codegen_cli") == "models.codegen_cli"
+    assert owner("contin_models.shell.scene") == "contin_models.shell" and owner("contin.cli") == "contin"
+    assert owner("studies._common") == "studies" and owner("contin_models.codegen_cli") == "contin_models.codegen_cli"
     assert _private("_problem") and not _private("__version__") and not _private("problem")
-    bad = ("from models.shell.scene import _problem\n"
-           "def f():\n    import models.contact._generated\n"
+    bad = ("from contin_models.shell.scene import _problem\n"
+           "def f():\n    import contin_models.contact._generated\n"
            "from ..shell import _generated\n"
            "from contin.cli import _json_ready as j\n")
-    found = cross_package_private_imports(bad, "models.contact.runner")
-    # models.contact._generated is the importer's own package
-    assert [f.split(": ")[1] for f in found] == ["models.shell.scene._problem", "models.shell._generated",
+    found = cross_package_private_imports(bad, "contin_models.contact.runner")
+    # contin_models.contact._generated is the importer's own package
+    assert [f.split(": ")[1] for f in found] == ["contin_models.shell.scene._problem", "contin_models.shell._generated",
                                                  "contin.cli._json_ready"]
     # the same package's private names are its own; relative imports resolve to the importer's package
     assert cross_package_private_imports("from . import _generated\nfrom ._generated import k\n",
-                                         "models.contact.barrier") == []
+                                         "contin_models.contact.barrier") == []
     assert cross_package_private_imports("from studies._common import x\n", "studies.peers") == []
 
 

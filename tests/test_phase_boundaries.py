@@ -25,8 +25,8 @@ import pytest
 
 import contin
 from contin.scene import load_scene
-from models.shell import boundaries as B
-from models.shell_scene import SHELL_SCHEMA, classify_scene
+from contin_models.shell import boundaries as B
+from contin_models.shell_scene import SHELL_SCHEMA, classify_scene
 from studies import phase_diagram
 
 N = 60

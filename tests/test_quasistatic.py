@@ -18,7 +18,7 @@ from scipy.optimize import brentq
 
 from contin import JumpError, Problem, QuasiStaticResult, diagram, hysteresis_cycles, quasistatic
 from contin.quasistatic import DEFAULT_JUMP_ATTEMPTS, SnapRules
-from models.benchmarks.truss import TrussDisplacementControl, VonMisesTruss
+from contin_models.benchmarks.truss import TrussDisplacementControl, VonMisesTruss
 
 A, B, K = 1.0, 0.5, 1.0
 L0 = math.hypot(A, B)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from contin import Branch, BranchFileError, continuation, plot_branches
-from models.benchmarks.truss import VonMisesTruss
+from contin_models.benchmarks.truss import VonMisesTruss
 
 
 @pytest.fixture(scope="module")

@@ -24,7 +24,7 @@ import pytest
 
 import contin
 from contin.cli import main
-from models.shell.problem import ShellPointLoad
+from contin_models.shell.problem import ShellPointLoad
 
 
 _TRACES: dict[tuple[int, float, float], tuple[dict, dict[str, np.ndarray]]] = {}

@@ -30,7 +30,7 @@ import pytest
 from contin import continuation, extremum
 from contin.cli import main as cli_main
 from contin.linalg import BandedLU
-from models.shell import HALF_BANDWIDTH, ShellPointLoad
+from contin_models.shell import HALF_BANDWIDTH, ShellPointLoad
 
 NS = (50, 100, 200, 400, 800)
 #: the thicknesses of the Reissner check (issue, acceptance point 2)

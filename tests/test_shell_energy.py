@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from models.shell import HALF_BANDWIDTH, ShellEnergy, spherical_cap, split
+from contin_models.shell import HALF_BANDWIDTH, ShellEnergy, spherical_cap, split
 
 R, E, H, NU = 1.0, 1.0, 0.02, 0.5
 VARIANTS = ("reference", "current")
@@ -24,12 +24,12 @@ def shell(N, phi_hat, variant="reference", R=R, pole_ratio=1.0):
 # ---- (a) the committed kernels are what the generator produces -----------------------------------
 def test_generated_file_is_reproduced_byte_for_byte(tmp_path):
     pytest.importorskip("sympy")
-    from models.shell import codegen
+    from contin_models.shell import codegen
 
     out = tmp_path / "_generated.py"
     codegen.generate(out)
     assert out.read_bytes() == GENERATED.read_bytes(), (
-        "models/shell/_generated.py is out of date: run `python -m models.shell.codegen`")
+        "models/shell/_generated.py is out of date: run `python -m contin_models.shell.codegen`")
 
 
 # ---- (b) reference state -------------------------------------------------------------------------
@@ -200,7 +200,7 @@ def test_kernels_match_exact_cartesian_derivatives(index):
     gradient and Hessian against sympy's direct differentiation evaluated in 30-digit arithmetic."""
     sympy = pytest.importorskip("sympy")
     mpmath = pytest.importorskip("mpmath")
-    from models.shell import _generated as gen, codegen
+    from contin_models.shell import _generated as gen, codegen
 
     el = codegen.build_elements()[index]
     symbols = el.dofs + el.params
@@ -229,7 +229,7 @@ def test_kernels_match_exact_cartesian_derivatives(index):
 def test_kernels_match_finite_differences(name):
     """Element gradient and Hessian (unpacked convenience functions) against central differences of
     the element energy and gradient."""
-    from models.shell import _generated as gen
+    from contin_models.shell import _generated as gen
 
     args = _element_arguments(name, 6, seed=7)
     n = {"stretch": 4}.get(name, 6)
@@ -251,7 +251,7 @@ def test_kernels_match_finite_differences(name):
 def test_blocked_assembly_matches_one_block(N, variant, monkeypatch):
     """Long meshes are evaluated in blocks of elements (``energy._CHUNK``); blocks of 5 elements,
     including ones holding a stretching element only, give the one-block results."""
-    import models.shell.energy as energy_module
+    import contin_models.shell.energy as energy_module
 
     s1 = shell(N, 0.8, variant)
     monkeypatch.setattr(energy_module, "_CHUNK", 5)
@@ -276,8 +276,8 @@ def test_blocked_assembly_matches_one_block(N, variant, monkeypatch):
 
 # ---- (f) no sympy on the import path -------------------------------------------------------------
 def test_import_does_not_load_sympy():
-    code = ("import sys, models.shell, models.shell.energy, models.shell.geometry, "
-            "models.shell._generated; assert 'sympy' not in sys.modules, 'sympy imported'; print('ok')")
+    code = ("import sys, contin_models.shell, contin_models.shell.energy, contin_models.shell.geometry, "
+            "contin_models.shell._generated; assert 'sympy' not in sys.modules, 'sympy imported'; print('ok')")
     root = Path(__file__).resolve().parents[1]
     res = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
@@ -287,7 +287,7 @@ def test_import_does_not_load_sympy():
 @pytest.mark.parametrize("q", [0.5, 1 / 3])
 def test_graded_mesh_geometry_and_reference_state(q):
     # nodes on the sphere, monotone, spacing q times the base spacing at the pole and uniform away from it
-    from models.shell.geometry import GRADING_WIDTH, theta_nodes
+    from contin_models.shell.geometry import GRADING_WIDTH, theta_nodes
 
     N, phi_hat, Rs = 201, 0.8, 1.3
     cap = spherical_cap(Rs, phi_hat, N, pole_ratio=q)

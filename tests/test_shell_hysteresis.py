@@ -17,7 +17,7 @@ import pytest
 
 import contin
 from contin.palc import Curve
-from models.shell.problem import ShellPointLoad
+from contin_models.shell.problem import ShellPointLoad
 
 N = 40
 R = 1.0

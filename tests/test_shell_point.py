@@ -7,7 +7,7 @@ import pytest
 
 from contin import continuation
 from contin.linalg import bandwidths
-from models.shell import HALF_BANDWIDTH, ShellPointLoad
+from contin_models.shell import HALF_BANDWIDTH, ShellPointLoad
 
 VARIANTS = [(kl, pole) for kl in ("reference", "current") for pole in ("mirror", "skip")]
 
@@ -177,7 +177,7 @@ def test_stability_counts_from_one_factorization_match_eigenvalues(control):
 
 
 def test_a_replaced_pole_element_acts_under_both_controls():
-    from models.shell import PoleMirror
+    from contin_models.shell import PoleMirror
 
     for control in ("displacement", "force"):
         P = ShellPointLoad(N=20, control=control)

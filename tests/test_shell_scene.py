@@ -12,7 +12,7 @@ import pytest
 from contin.branch import SPECIAL_KINDS
 from contin.cli import main
 from contin.scene import defaults
-from models.shell_scene import SHELL_SCHEMA
+from contin_models.shell_scene import SHELL_SCHEMA
 
 FIELDS = ("kind", "parameter", "w", "F", "w_over_R", "F_norm", "residual")
 

@@ -1,4 +1,4 @@
-"""The shell scene's public builders (models.shell_scene.build): scene -> problem, settings, start."""
+"""The shell scene's public builders (contin_models.shell_scene.build): scene -> problem, settings, start."""
 
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ import pytest
 
 import contin
 from contin.scene import load_scene
-from models.contact import Plate, Sphere
-from models.contact.indentation import ShellIndentation
-from models.shell import ShellPointLoad
-from models.shell_scene import SHELL_SCHEMA, build, contact_settings, end_of_path, point_problem, point_settings
+from contin_models.contact import Plate, Sphere
+from contin_models.contact.indentation import ShellIndentation
+from contin_models.shell import ShellPointLoad
+from contin_models.shell_scene import SHELL_SCHEMA, build, contact_settings, end_of_path, point_problem, point_settings
 
 
 def _scene(*overrides: str) -> dict:

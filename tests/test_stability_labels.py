@@ -10,7 +10,7 @@ import pytest
 
 import contin
 from contin import Branch, LeadingBlock, Problem, continuation, extremum
-from models.benchmarks.truss import TrussDisplacementControl
+from contin_models.benchmarks.truss import TrussDisplacementControl
 
 A, B, K = 1.0, 0.5, 1.0
 
@@ -106,7 +106,7 @@ def test_leading_block_must_name_a_declared_operator() -> None:
 
 
 def test_fold_ending_the_branch_has_only_the_side_it_came_from() -> None:
-    from models.benchmarks.truss import VonMisesTruss
+    from contin_models.benchmarks.truss import VonMisesTruss
 
     tr = VonMisesTruss(A, B, K)
     br = continuation(tr, [0.0, B], 0.0, ds=0.02, ds_max=0.05, stability=True, n_eigs=0, stop_at=("fold",))
@@ -137,7 +137,7 @@ def test_the_shell_declares_its_nested_operators() -> None:
     """The point-loaded shell declares its displacement Hessian as the leading block of its force Hessian
     (no ``stability_counts`` of its own): the engine's one-factorization counts equal each operator's own."""
     from contin.stability import stability_info
-    from models.shell import ShellPointLoad
+    from contin_models.shell import ShellPointLoad
 
     P = ShellPointLoad(N=40, phi_hat=0.8, control="displacement")
     assert type(P).stability_counts is Problem.stability_counts

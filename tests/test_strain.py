@@ -11,9 +11,9 @@ import pytest
 import contin
 from contin.branch import Branch
 from contin.scene import load_scene
-from models.shell.problem import ShellPointLoad
-from models.shell_scene import SHELL_SCENE, eversion_displacement
-from models.shell.strain import STRAIN_LIMIT, StrainPeak, strain_peak, strain_warning
+from contin_models.shell.problem import ShellPointLoad
+from contin_models.shell_scene import SHELL_SCENE, eversion_displacement
+from contin_models.shell.strain import STRAIN_LIMIT, StrainPeak, strain_peak, strain_warning
 
 
 def _branch(states: list[np.ndarray], loads: list[float]) -> Branch:

@@ -2,7 +2,7 @@
 
 The study runs once (module fixture) into a temporary directory.  Its summary is then checked
 against runs made here, independently of the study: the class and the force extrema of a case
-against :func:`models.shell_scene.classify_scene` on the scene with the default continuation steps
+against :func:`contin_models.shell_scene.classify_scene` on the scene with the default continuation steps
 (the study uses finer steps), the snaps of the loading/unloading sweeps against the folds and force
 extrema of that separate path, and the curves of ``fig3.csv`` against the definitions of the classes
 (``docs/physics.md`` section 5) applied directly to the data.
@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from contin.scene import load_scene
-from models.shell_scene import SHELL_SCHEMA, classify_scene
+from contin_models.shell_scene import SHELL_SCHEMA, classify_scene
 from studies import force_displacement as study
 
 

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from contin.scene import load_scene
-from models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
+from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
 from studies import indenter_size
 from studies.bench_contact import run_to_snap, snap_settings
 

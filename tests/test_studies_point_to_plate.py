@@ -1,7 +1,7 @@
 """``python -m studies.point_to_plate`` (paper figure 12), fast mode, end to end.
 
 The study runs once (module fixture) into a temporary directory.  Its point limit is checked against
-the falling zero of F traced here directly on :class:`models.shell.problem.ShellPointLoad` (no scene
+the falling zero of F traced here directly on :class:`contin_models.shell.problem.ShellPointLoad` (no scene
 code) and against the point scene's ``w_c_one_sided``; its finite indenters against what holds
 without the paper: a small sphere touches the pole at the snap, so it snaps where the point does;
 the pole sits where the indenter is plus the gap; and the bounds verdict in ``summary.json`` against
@@ -20,8 +20,8 @@ import pytest
 
 import contin
 from contin.scene import load_scene
-from models.shell.problem import ShellPointLoad
-from models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
+from contin_models.shell.problem import ShellPointLoad
+from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
 from studies import point_to_plate as study
 
 

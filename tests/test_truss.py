@@ -7,7 +7,7 @@ import pytest
 from scipy.optimize import brentq
 
 from contin import continuation, diagram, extremum, hysteresis_cycles, jump
-from models.benchmarks.truss import TrussDisplacementControl, VonMisesTruss
+from contin_models.benchmarks.truss import TrussDisplacementControl, VonMisesTruss
 
 A, B, K = 1.0, 0.5, 1.0
 

@@ -18,8 +18,8 @@ import pytest
 
 import contin
 from contin.twopar import FoldCurveProblem
-from models.benchmarks.truss import VonMisesTruss
-from models.shell import ShellPointLoad
+from contin_models.benchmarks.truss import VonMisesTruss
+from contin_models.shell import ShellPointLoad
 
 
 class CuspNormalForm(contin.Problem):

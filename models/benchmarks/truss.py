@@ -116,6 +116,6 @@ class TrussDisplacementControl(Problem):
 
 
 def trace_scene():
-    """Command-line scene of the truss (see :mod:`models.benchmarks.scenes`)."""
+    """Command-line scene of the truss (see :mod:`contin_models.benchmarks.scenes`)."""
     from .scenes import TRUSS_SCENE
     return TRUSS_SCENE

@@ -6,8 +6,8 @@ Hessians (also with respect to the indenter position), the contact force on the 
 incremental-potential-contact step filter (:meth:`ContactBarrier.max_safe_fraction`).
 :func:`default_barrier` scales the paper's ``K_c = 1e8``, ``dhat = 1e-3`` with ``E`` and ``R``.
 
-The kernels come from :mod:`models.contact._generated`, plain numpy emitted by
-``python -m models.contact.codegen`` (the only module that needs sympy; it is not imported here).
+The kernels come from :mod:`contin_models.contact._generated`, plain numpy emitted by
+``python -m contin_models.contact.codegen`` (the only module that needs sympy; it is not imported here).
 """
 
 from .barrier import (PAPER_DHAT, PAPER_E, PAPER_K, PAPER_R, ContactBarrier, ContactState, Plate, Sphere,

@@ -8,7 +8,7 @@ eq. 3.16)::
     W(d) = -K_c (d - dhat)^2 log(d / dhat)   for 0 < d < dhat,    0 for d >= dhat,
 
 C2 at ``d = dhat`` and ``+inf`` as ``d -> 0+``.  The kernels and their exact derivatives come from
-:mod:`models.contact._generated` (emitted by ``python -m models.contact.codegen``).  The contact is
+:mod:`contin_models.contact._generated` (emitted by ``python -m contin_models.contact.codegen``).  The contact is
 frictionless: the barrier only depends on the distance.
 
 Contact cells: the barrier sees the meridian between the nodes
@@ -21,7 +21,7 @@ a discretisation artefact (about 150 sign changes of ``dF/dw_b`` on the plate's 
 
     x_i(t) = L_0(t) x_{i-1} + L_1(t) x_i + L_2(t) x_{i+1},    t in [-1/2, 1/2]
 
-(Lagrange basis of the nodes at ``t = -1, 0, 1``, :func:`models.contact._generated.cell_basis`),
+(Lagrange basis of the nodes at ``t = -1, 0, 1``, :func:`contin_models.contact._generated.cell_basis`),
 and the barrier is integrated over the cells::
 
     E(x, c) = a_0 W(d(x_0, c)) + sum_{i >= 1} a_i int_{-1/2}^{1/2} W(d(x_i(t), c)) dt,
@@ -37,7 +37,7 @@ length of meridian grow with ``N``, and the plate's dimple snap (the flattened c
 lifting off the plate) depends on it: its travel moves by 8.9e-5 R from N = 200 to 400 and by
 1.6e-4 R from 400 to 800 with the paper's nodal barrier (7.9e-5 R and 1.6e-4 R with the cells and
 ``a_i = 1``: not converging), by 9.6e-5 R and 2.3e-5 R with the barrier per unit length (second
-order).  :class:`models.contact.ShellIndentation` therefore weighs each cell by
+order).  :class:`contin_models.contact.ShellIndentation` therefore weighs each cell by
 its reference length in units of the mean spacing of the paper's ``N = 200`` mesh
 (:func:`length_weights`): ``K_c`` and ``dhat`` keep the paper's values and meaning on the paper's
 mesh, and the contact law per unit length stays the same on any other.  Special cells:

@@ -4,9 +4,9 @@ Indenter travel ``w_b`` is the continuation parameter (displacement control of t
 indenter position is ``c = c_0 - w_b`` with ``c_0`` the position at which the barrier just reaches
 the undeformed pole (gap ``dhat``), so ``w_b = 0`` is the first touch of the barrier and no offset of
 order ``dhat`` enters ``w_b``.  The shell's unknowns are those of
-the free shell (:meth:`models.shell.ShellPointLoad.free_state`): every dof except the base height
+the free shell (:meth:`contin_models.shell.ShellPointLoad.free_state`): every dof except the base height
 ``z_0`` and the pole radius ``r_{N-1} = 0``, the pole height last.  The energy is the shell's elastic energy
-plus the barrier (:class:`models.contact.ContactBarrier`); the barrier's cell blocks lie inside the
+plus the barrier (:class:`contin_models.contact.ContactBarrier`); the barrier's cell blocks lie inside the
 shell's band, so the Jacobian keeps half-bandwidth 5 and every solve stays O(N).
 
 Snap under displacement control (``docs/physics.md`` section 4): as the contact force falls towards
@@ -44,9 +44,9 @@ from contin.linalg import factorize as generic_factorize
 from contin.deadload import DeadLoad
 from contin.problem import NonFiniteError, Problem
 from contin.stability import leading_inertias, stability_info
-from models.shell.energy import HALF_BANDWIDTH
-from models.shell.geometry import POLE_RATIO
-from models.shell.problem import ShellPointLoad
+from contin_models.shell.energy import HALF_BANDWIDTH
+from contin_models.shell.geometry import POLE_RATIO
+from contin_models.shell.problem import ShellPointLoad
 
 from .barrier import ContactBarrier, ContactState, Plate, Sphere, default_barrier, length_weights
 
@@ -59,11 +59,11 @@ class ShellIndentation(Problem):
     Parameters
     ----------
     R, E, nu, h, phi_hat, N, pole_ratio
-        The shell, as in :class:`models.shell.ShellPointLoad`.
+        The shell, as in :class:`contin_models.shell.ShellPointLoad`.
     indenter : Sphere or Plate
         The rigid indenter (``Sphere(radius)`` with its centre on the axis, or ``Plate()``).
     K, dhat : float, optional
-        Barrier stiffness and range; default :func:`models.contact.default_barrier` (``dhat = 1e-3 R``,
+        Barrier stiffness and range; default :func:`contin_models.contact.default_barrier` (``dhat = 1e-3 R``,
         ``K = 100 E R``, the paper's values for ``E = 1 MPa``, ``R = 1 m``).
     """
 
@@ -83,7 +83,7 @@ class ShellIndentation(Problem):
             # a point has no inside the step filter can keep nodes out of: the pole would pass
             # through it; the point load is ShellPointLoad (bilateral) or a small sphere
             raise ValueError("ShellIndentation: the sphere radius must be > 0 (for a point load use "
-                             "models.shell.ShellPointLoad, or a sphere much smaller than the cap)")
+                             "contin_models.shell.ShellPointLoad, or a sphere much smaller than the cap)")
         # the barrier per unit meridian length (the paper's nodal one on its mesh): converges with N
         self.barrier = ContactBarrier(self.indenter, self.K, self.dhat, cell_weights=length_weights(el.cap.x))
         self.c0 = float(self.indenter.contact_position(el.z_pole_ref)) + self.dhat

@@ -14,7 +14,7 @@ finite-difference second derivatives of the minimally augmented system straddle 
 The remedy is a parameter in which the fold is not small: the gap ``x`` itself.  For fixed ``x`` the
 equilibrium equations plus the constraint ``d_i(u, w_b) = dhat - x`` determine ``(u, w_b)``; the
 Jacobian is the shell's band bordered by one row and column, factorized in O(N) by
-:class:`models.contact.indentation.BorderedBandedLU`.  Along this curve ``dw_b/dx`` is smooth,
+:class:`contin_models.contact.indentation.BorderedBandedLU`.  Along this curve ``dw_b/dx`` is smooth,
 negative on the stable side and ``+1`` as ``x -> 0`` (the barrier's force and stiffness vanish and
 the shell is left at a free equilibrium), so the fold ``dw_b/dx = 0`` is bracketed by halving ``x``
 and found by Brent's method in ``x``.  At the root the displacement-control Jacobian is singular:
@@ -33,7 +33,7 @@ from scipy.optimize import brentq
 
 from contin.linalg import SingularMatrixError
 from contin.problem import NonFiniteError
-from models.shell.energy import HALF_BANDWIDTH
+from contin_models.shell.energy import HALF_BANDWIDTH
 
 from .indentation import BorderedBandedLU, ShellIndentation
 

@@ -1,7 +1,7 @@
 """The discrete axisymmetric shell (paper section 3(a)): reference geometry and elastic energy.
 
-Element energies and their exact derivatives come from :mod:`models.shell._generated`, plain numpy
-emitted by ``python -m models.shell.codegen`` (the only module that needs sympy; it is not imported
+Element energies and their exact derivatives come from :mod:`contin_models.shell._generated`, plain numpy
+emitted by ``python -m contin_models.shell.codegen`` (the only module that needs sympy; it is not imported
 here).
 """
 

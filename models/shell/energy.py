@@ -12,7 +12,7 @@ paper (``docs/physics.md`` section 2):
   ``kb = E h^3 / (12 (1 - nu^2))``.
 
 The element formulas, their exact gradients and Hessians live in the generated module
-:mod:`models.shell._generated` (see :mod:`models.shell.codegen` for the definitions: ``kappa11`` is
+:mod:`contin_models.shell._generated` (see :mod:`contin_models.shell.codegen` for the definitions: ``kappa11`` is
 ``2 tan(xi/2) / L``, ``kappa22 = n_r / r_i`` with the node normal the unit bisector of the two edge
 normals).  ``kappa11_length`` selects ``L``: ``"current"`` (the deformed Voronoi length; the
 default) or ``"reference"`` (the reference one, as physics.md section 2 writes the formula).  Only
@@ -83,7 +83,7 @@ def _bend_local(r, z, er, ez):
 class _Term:
     """One family of elements: fast kernels, local variables, dof map and fixed arguments.
 
-    The kernels (:mod:`models.shell._generated`, ``<kernels>_fast_*``) take the element's local
+    The kernels (:mod:`contin_models.shell._generated`, ``<kernels>_fast_*``) take the element's local
     variables, which :attr:`local` computes from the node radii and edge vectors, and return packed
     gradients ``(ndof, m)`` and packed upper-triangle Hessians ``(ndof (ndof + 1) / 2, m)``
     (pairs :attr:`pairs`).
@@ -141,7 +141,7 @@ class ShellEnergy:
     Parameters
     ----------
     cap : ReferenceCap
-        The reference (stress-free) configuration, from :func:`models.shell.spherical_cap`.
+        The reference (stress-free) configuration, from :func:`contin_models.shell.spherical_cap`.
     E : float
         Young's modulus, ``> 0``.
     h : float

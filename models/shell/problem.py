@@ -26,7 +26,7 @@ Two symmetric treatments are available (``pole=``):
 
 Measured by ``python -m studies.shell_mesh_convergence`` (default scene, N = 50..800,
 successive-difference orders).  On the default mesh, graded towards the pole
-(:func:`models.shell.geometry.theta_nodes`), the mirror treatment converges at orders 1.94, 1.92,
+(:func:`contin_models.shell.geometry.theta_nodes`), the mirror treatment converges at orders 1.94, 1.92,
 1.92 for ``F`` at ``w/R = 0.1`` and 2.03, 2.01, 2.00 for the first maximum ``F_max``.  On the
 paper's uniform mesh (``pole_ratio = 1``) ``F(w/R = 0.1)`` converges at 1.79, 1.81, 1.82 with
 errors 1.3 to 1.8 times larger: its error is ``N^-2`` times a logarithmic factor from the
@@ -212,13 +212,13 @@ class ShellPointLoad(Problem):
         Parameter ``w`` (prescribed pole displacement, downwards positive) or ``F`` (dead load,
         downwards positive).
     kappa11_length : {"reference", "current"}
-        Length in ``kappa11 = 2 tan(xi/2) / L`` (see :class:`models.shell.ShellEnergy`).
+        Length in ``kappa11 = 2 tan(xi/2) / L`` (see :class:`contin_models.shell.ShellEnergy`).
     pole : {"mirror", "skip"}
         Pole treatment (module docstring).
     pole_ratio : float
         Node spacing at the pole relative to the rest of the cap, in ``(0, 1]`` (default 1/2: a mesh
         graded towards the point load; 1: uniform, as in the paper).  See
-        :func:`models.shell.geometry.theta_nodes`.
+        :func:`contin_models.shell.geometry.theta_nodes`.
 
     Notes
     -----

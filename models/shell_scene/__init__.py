@@ -10,7 +10,7 @@ Rooms:
 * :mod:`.scene` - :data:`SHELL_SCENE`, which dispatches a scene to one of them, and
   :func:`classify_scene`.
 
-The shell (:mod:`models.shell`) and the contact (:mod:`models.contact`) know nothing of this
+The shell (:mod:`contin_models.shell`) and the contact (:mod:`contin_models.contact`) know nothing of this
 package; it imports both.
 """
 

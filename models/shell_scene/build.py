@@ -1,10 +1,10 @@
 """Public ways in: a resolved shell scene -> the problem, its continuation settings and its start.
 
-The command line (:data:`models.shell_scene.SHELL_SCENE`), the studies, the tests and users build
+The command line (:data:`contin_models.shell_scene.SHELL_SCENE`), the studies, the tests and users build
 the shell's problems here, so that a scene means the same thing everywhere::
 
     from contin.scene import load_scene
-    from models.shell_scene import SHELL_SCHEMA, build
+    from contin_models.shell_scene import SHELL_SCHEMA, build
 
     scene = load_scene(SHELL_SCHEMA, None, ["shell.phi_hat=1.2"])
     b = build(scene)
@@ -23,9 +23,9 @@ import numpy as np
 
 import contin
 from contin.problem import Problem
-from models.contact import Plate, Sphere
-from models.contact.indentation import ShellIndentation
-from models.shell import ShellPointLoad
+from contin_models.contact import Plate, Sphere
+from contin_models.contact.indentation import ShellIndentation
+from contin_models.shell import ShellPointLoad
 
 from .schema import Scene, eversion_displacement
 
@@ -44,8 +44,8 @@ class Build:
     Attributes
     ----------
     problem : Problem
-        :class:`models.shell.ShellPointLoad` (point load, either control) or
-        :class:`models.contact.indentation.ShellIndentation` (sphere or plate, indenter travel
+        :class:`contin_models.shell.ShellPointLoad` (point load, either control) or
+        :class:`contin_models.contact.indentation.ShellIndentation` (sphere or plate, indenter travel
         prescribed).
     settings : contin.Settings
         The continuation settings ``contin trace`` uses for it.
@@ -127,7 +127,7 @@ def build(scene: Scene, progress: bool = False) -> Build:
     A point load is built under the scene's ``load.control``.  A sphere or plate is built under
     displacement control of the indenter whatever ``load.control`` says: force control of an
     indenter starts from a contact state that displacement control reaches first
-    (:func:`models.shell_scene.contact.run_contact_force`).
+    (:func:`contin_models.shell_scene.contact.run_contact_force`).
     """
     if scene["load"]["kind"] == "point":
         problem = point_problem(scene)

@@ -15,7 +15,7 @@ inside the barrier and the engine's extended system locates it.  When the last c
 the axis (large spheres and the plate, after the pole has detached) the fold lies ~1e-9 R before the
 node leaves the barrier, below any continuation step: a loading stretch then ends on the event
 ``F R / (2 pi D) <`` :data:`SNAP_FORCE_NORM` and the fold is located from there with the node's gap
-as the parameter (:func:`models.contact.release.locate_release_fold`, label ``"release"``).
+as the parameter (:func:`contin_models.contact.release.locate_release_fold`, label ``"release"``).
 
 A plate (and a large sphere) may snap earlier at a finite force: the flattened contact region
 buckles inwards into a dimple held by a ring of contact.  Those snaps are jumped like the others;
@@ -30,7 +30,7 @@ of nodes in contact (``contact_first``, ``contact_last``; -1 when none).  ``summ
 the contact mode on the way to the snap (``contact_mode``: continuous / detach-recontact / detach,
 see :func:`contact_mode`; a gap counts once it exceeds ``dhat``), the largest membrane strain over
 every stored point (``max_strain``, ``max_strain_at``, ``w_b_at_max_strain_over_R``) and
-``warnings``: a strain beyond :data:`models.shell.strain.STRAIN_LIMIT` is reported there and on the
+``warnings``: a strain beyond :data:`contin_models.shell.strain.STRAIN_LIMIT` is reported there and on the
 status line.
 """
 
@@ -46,9 +46,9 @@ from contin.branch import Branch, SpecialPoint
 from contin.scene import TraceResult, branch_columns, special_point_records
 
 from contin.quasistatic import QuasiStaticResult, SnapRules
-from models.contact.indentation import ShellIndentation, ShellIndentationForce
-from models.contact.release import ReleaseFoldError, locate_release_fold
-from models.shell.strain import strain_peak, strain_warning
+from contin_models.contact.indentation import ShellIndentation, ShellIndentationForce
+from contin_models.contact.release import ReleaseFoldError, locate_release_fold
+from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import contact_problem
 from .schema import STABILITY_COLUMNS, Scene
@@ -124,7 +124,7 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
     Without contact the indenter floats (its travel is undetermined), so displacement control first
     brings it from the first touch to the small load ``F R / (2 pi D)`` = :data:`FORCE_START_NORM`;
     from that contact state :func:`contin.quasistatic` raises the load on
-    :class:`models.contact.indentation.ShellIndentationForce`.  At each limit point of the load (a fold
+    :class:`contin_models.contact.indentation.ShellIndentationForce`.  At each limit point of the load (a fold
     in ``F``: the maximum of the force along the displacement path) the shell snaps, at that load, to
     the everted shell still pressed by the indenter, and loading goes on until the indenter travel
     reaches ``w_end`` or the indenter comes within ``2 dhat`` of the base ring.
@@ -154,7 +154,7 @@ def snap_point(problem: ShellIndentation, br: Branch, tol: float) -> SpecialPoin
     """Where a loading stretch snaps: its located fold in ``w_b``, or the release fold beyond ``F -> 0``.
 
     On the ``F -> 0`` event the release fold is located with the last contact node's gap as the
-    parameter (:mod:`models.contact.release`) and added to the branch's special points; if that
+    parameter (:mod:`contin_models.contact.release`) and added to the branch's special points; if that
     fails, the event itself is the snap and the reason is kept in its ``info``.
     """
     if br.status != "event" or not br.special_points:

@@ -6,8 +6,8 @@ start, ``w = 2 R (1 - sin phi_hat)``, by ``continuation.overshoot``), locates ev
 and every extremum of ``F`` (the limit points under force control), labels every point's stability
 under both controls and classifies the response (``docs/physics.md`` sections 4 and 5).
 
-The scene keys are :data:`models.shell_scene.schema.SHELL_SCHEMA`'s.  A sphere or plate indenter is
-run by :mod:`models.shell_scene.contact` (its docstring describes that ``summary.json``); what
+The scene keys are :data:`contin_models.shell_scene.schema.SHELL_SCHEMA`'s.  A sphere or plate indenter is
+run by :mod:`contin_models.shell_scene.contact` (its docstring describes that ``summary.json``); what
 follows is the point load's.
 
 Special points in ``summary.json``
@@ -45,9 +45,9 @@ says which case applies.  :func:`classify_scene` is the model's classifier (``co
 
 ``max_strain`` is the largest membrane strain over every stored point (``max_strain_at``: ``pole``,
 ``base`` or ``interior``; ``w_at_max_strain_over_R``).  ``warnings`` lists what the run found
-questionable without failing: a strain beyond :data:`models.shell.strain.STRAIN_LIMIT`, which under
+questionable without failing: a strain beyond :data:`contin_models.shell.strain.STRAIN_LIMIT`, which under
 a point load means the pole's singular strain has left the material law's range and results near
-there can change with N (:mod:`models.shell.strain`).  The status line repeats the warnings.
+there can change with N (:mod:`contin_models.shell.strain`).  The status line repeats the warnings.
 """
 
 from __future__ import annotations
@@ -61,8 +61,8 @@ import contin
 from contin.branch import Branch, SpecialPoint
 from contin.quasistatic import SnapRules
 from contin.scene import TraceResult, branch_columns, special_point_records
-from models.shell import ShellPointLoad
-from models.shell.strain import strain_peak, strain_warning
+from contin_models.shell import ShellPointLoad
+from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import end_of_path, point_problem, point_settings
 from .schema import STABILITY_COLUMNS, Scene, eversion_displacement

@@ -1,9 +1,9 @@
 """The shell with its loads as one command-line scene (``contin trace --model shell``).
 
-This is the one place that combines the shell (:mod:`models.shell`) with its loads: the point load
-(:mod:`models.shell_scene.point`) and the rigid indenters through the contact
-(:mod:`models.contact`, run by :mod:`models.shell_scene.contact`).  Knowledge flows one way:
-``models.shell`` <- ``models.contact`` <- ``models.shell_scene``.
+This is the one place that combines the shell (:mod:`contin_models.shell`) with its loads: the point load
+(:mod:`contin_models.shell_scene.point`) and the rigid indenters through the contact
+(:mod:`contin_models.contact`, run by :mod:`contin_models.shell_scene.contact`).  Knowledge flows one way:
+``contin_models.shell`` <- ``contin_models.contact`` <- ``contin_models.shell_scene``.
 """
 
 from __future__ import annotations

@@ -2,15 +2,15 @@
 
 ``contin.cli`` imports numpy, scipy, networkx and the engine, which takes about a second; a Ctrl-C
 in that second would print Python's traceback of the import and kill the process by the signal.
-This package imports nothing but :mod:`sys` and :mod:`signal` (it lives outside ``contin`` because importing any
-module of ``contin`` first runs ``contin/__init__.py``, which imports the engine).  :func:`main`
+This module imports nothing but :mod:`sys` and :mod:`signal`, and importing the ``contin`` package
+around it costs nothing either: ``contin/__init__.py`` imports the engine's names on first use.  :func:`main`
 imports and runs the command line and turns an interrupt at any point before the command handles
 it into the command's own message (``contin: interrupted``) and exit status 130.
 
 The console script names it in ``pyproject.toml``::
 
     [project.scripts]
-    contin = "contin_launch:main"
+    contin = "contin.launch:main"
 """
 
 from __future__ import annotations
