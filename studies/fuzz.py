@@ -10,13 +10,15 @@ scenes at random (seeded, so a run is reproducible) over the ranges a user may s
   displacement or force, each equally likely.
 
 Each scene runs as ``contin trace`` does (in-process, through :func:`contin.cli.main`), with the
-figure off.  A scene *completes* when the command exits 0; otherwise its status line is kept and
-sorted into a cause.  The study writes ``fuzz.csv`` (one row per scene: the drawn keys, exit
+figure off.  A scene *completes* when the command exits 0; it is *refused* when the scene lies
+outside the declared ranges (exit 2: e.g. a mesh too coarse for the cap's bending length, the rule
+``shell.N >= 4 (pi/2 - phi_hat) / sqrt(h/R)``), and a refused scene is not judged; otherwise it
+*failed*, and its status line is kept and sorted into a cause.  The study writes ``fuzz.csv`` (one row per scene: the drawn keys, exit
 status, time, steps, cause and message), ``summary.json`` (completion rate overall and for
-``N >= 40``, counts per cause) and ``fuzz.png`` / ``fuzz.pdf`` (each scene placed by ``phi_hat`` and
-``h/R``, marked by load kind, coloured by outcome).  It exits with status 1 when fewer than
-:data:`TARGET_COMPLETE` of the scenes with ``N >= 40`` complete, or when a failure's message names no
-cause a user can act on.
+``N >= 40`` among the scenes not refused, counts per cause) and ``fuzz.png`` / ``fuzz.pdf`` (each
+scene placed by ``phi_hat`` and ``h/R``, marked by load kind, coloured by outcome).  It exits with
+status 1 when fewer than :data:`TARGET_COMPLETE` of the judged scenes with ``N >= 40`` complete, or
+when a failure's message names no cause a user can act on.
 """
 
 from __future__ import annotations
@@ -83,6 +85,10 @@ def draw_scenes(count: int, seed: int) -> list[dict[str, Any]]:
     return scenes
 
 
+#: Exit status of ``contin trace`` -> outcome (anything else is a failure).
+OUTCOMES = {0: "complete", 2: "refused"}
+
+
 def cause_of(message: str) -> str:
     """The first of :data:`CAUSES` whose pattern the message matches, else ``"unexplained"``."""
     for cause, pattern in CAUSES:
@@ -106,21 +112,23 @@ def run_scene(scene: dict[str, Any]) -> dict[str, Any]:
             status = contin_main([*argv, "--out", tmp])
         summary_path = Path(tmp) / "summary.json"
         summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
-    message = str(summary.get("message") or stderr.getvalue().strip().splitlines()[-1:] or "")
+    err_lines = stderr.getvalue().strip().splitlines()
+    message = str(summary.get("message") or (err_lines[-1] if err_lines else ""))
     row = dict(scene)
     row.update({"h_over_R": scene["shell.h"] / scene["shell.R"], "exit_status": status,
                 "time_s": round(time.perf_counter() - start, 3), "n_steps": summary.get("n_steps"),
-                "outcome": "complete" if status == 0 else "failed",
+                "outcome": OUTCOMES.get(status, "failed"),
                 "cause": "" if status == 0 else cause_of(message), "message": "" if status == 0 else message})
     return row
 
 
 def summarize(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
     """Completion rates (all scenes, and those with ``N >= TARGET_MIN_NODES``) and failures per cause."""
-    judged = [r for r in rows if r["shell.N"] >= TARGET_MIN_NODES]
+    judged = [r for r in rows if r["shell.N"] >= TARGET_MIN_NODES and r["outcome"] != "refused"]
     rate = sum(r["outcome"] == "complete" for r in judged) / max(len(judged), 1)
-    causes = Counter(r["cause"] for r in rows if r["outcome"] != "complete")
+    causes = Counter(r["cause"] for r in rows if r["outcome"] == "failed")
     return {"n_scenes": len(rows), "n_complete": sum(r["outcome"] == "complete" for r in rows),
+            "n_refused": sum(r["outcome"] == "refused" for r in rows),
             "n_judged": len(judged), "complete_rate_judged": rate, "target_complete": TARGET_COMPLETE,
             "failures_by_cause": dict(causes),
             "target_met": rate >= TARGET_COMPLETE and causes.get("unexplained", 0) == 0}
@@ -136,7 +144,7 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     fig, ax = plt.subplots(figsize=(6.0, 4.2))
     markers = {"point": "o", "sphere": "s", "plate": "^"}
     for kind, marker in markers.items():
-        for outcome, colour in (("complete", "tab:green"), ("failed", "tab:red")):
+        for outcome, colour in (("complete", "tab:green"), ("refused", "0.6"), ("failed", "tab:red")):
             sel = [r for r in rows if r["load.kind"] == kind and r["outcome"] == outcome]
             if sel:
                 ax.scatter([r["shell.phi_hat"] for r in sel], [r["h_over_R"] for r in sel], marker=marker,
@@ -146,7 +154,7 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     ax.set_xlabel(r"$\hat\phi$ (base angle, rad)")
     ax.set_ylabel(r"$h/R$")
     s = summarize(rows)
-    ax.set_title(f"{s['n_complete']} of {s['n_scenes']} random scenes complete "
+    ax.set_title(f"{s['n_complete']} of {s['n_scenes'] - s['n_refused']} accepted random scenes complete "
                  f"({100 * s['complete_rate_judged']:.0f} % with N >= {TARGET_MIN_NODES}); size ~ N",
                  fontsize="medium")
     ax.legend(fontsize="x-small", ncol=2)
@@ -172,11 +180,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     summary = summarize(rows)
     summary.update({"seed": args.seed, "count": args.count})
     write_csv(out / "fuzz.csv", rows)
-    write_json(out / "summary.json", {**summary, "failures": [r for r in rows if r["outcome"] != "complete"]})
+    write_json(out / "summary.json", {**summary, "failures": [r for r in rows if r["outcome"] == "failed"]})
     save_figure(plot(rows), out, "fuzz")
     print_table(rows, ["index", "load.kind", "load.control", "shell.N", "shell.phi_hat", "h_over_R", "outcome",
                        "cause", "time_s"], digits=3)
-    say(args.quiet, f"complete: {summary['n_complete']}/{summary['n_scenes']}; with N >= {TARGET_MIN_NODES}: "
+    say(args.quiet, f"complete: {summary['n_complete']}/{summary['n_scenes']} ({summary['n_refused']} refused); "
+        f"judged (accepted, N >= {TARGET_MIN_NODES}): "
         f"{100 * summary['complete_rate_judged']:.1f} % (target {100 * TARGET_COMPLETE:.0f} %); "
         f"failures by cause: {summary['failures_by_cause']}")
     return 0 if summary["target_met"] else 1

@@ -118,7 +118,9 @@ def test_paper_statements(study):
     # every snap was located: a fold in w_b (by the engine, or the release fold beyond F -> 0) at a
     # vanishing force (these runs are also tests/test_contact_paper.py's radii sweep, under -m slow)
     for c in cases:
-        assert c["snap_label"] in ("", "release") and 0 < c["F_norm_at_snap"] < 1e-5, c
+        # (1e-4 as tests/test_contact_paper.py: a fold the engine locates on the cell barrier keeps
+        # F R/(2 pi D) ~ 2.5e-5 of the barrier's force at its last contact point)
+        assert c["snap_label"] in ("", "release") and 0 < c["F_norm_at_snap"] < 1e-4, c
     kap = [c["kappa_p_R_at_snap"] for c in cases]
     assert max(kap) - min(kap) < 1e-3 * abs(np.mean(kap))
 
