@@ -612,6 +612,7 @@ class TraceResult:
         if self.failure:
             parts.append(self.failure)
         parts += [f"warning: {w}" for w in self.summary.get("warnings", [])]
+        parts += [f"advice: {a}" for a in self.summary.get("advice", [])]
         return "; ".join(parts) if parts else "nothing traced"
 
 

@@ -14,7 +14,7 @@ from contin.scene import Classification, Constraint, SceneModel, TraceResult, ch
 
 from .build import contact_settings
 from .point import path_complete, run_point, run_point_force
-from .schema import SHELL_SCHEMA, Scene
+from .schema import MIN_NODES_PER_BENDING_LENGTH, SHELL_SCHEMA, Scene, minimum_nodes
 
 __all__ = ["SHELL_SCENE", "classify_scene", "run_scene"]
 
@@ -28,8 +28,26 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
 
         st, w_end = contact_settings(scene, progress)
         run = run_contact_force if control == "force" else run_contact
-        return run(scene, progress, st, w_end)
-    return run_point_force(scene, progress) if control == "force" else run_point(scene, progress)
+        result = run(scene, progress, st, w_end)
+    else:
+        result = run_point_force(scene, progress) if control == "force" else run_point(scene, progress)
+    if not result.success and result.status != "incomplete":
+        result.summary.setdefault("advice", []).append(mesh_advice(scene))
+    return result
+
+
+def mesh_advice(scene: Scene) -> str:
+    """What to try first when a run fails numerically: a finer mesh, with how well this one resolves the cap.
+
+    In the random scenes of ``studies/fuzz.py`` most numerical failures came from meshes too coarse
+    for the bending length ``sqrt(R h)`` (those are now refused); of the rest, some pass on a finer
+    mesh and some do not (docs/robustness.md), so this is advice, not a diagnosis.
+    """
+    s = scene["shell"]
+    per_length = MIN_NODES_PER_BENDING_LENGTH * s["N"] / max(minimum_nodes(s), 1)
+    return (f"the mesh has {per_length:.1f} nodes over the bending length sqrt(R h) (at least "
+            f"{MIN_NODES_PER_BENDING_LENGTH} are required); the first thing to try is a finer mesh, "
+            f"shell.N = {2 * s['N']}")
 
 
 #: Fields of :func:`classify` copied into a :class:`~contin.scene.Classification` (``contin classify --json``).
