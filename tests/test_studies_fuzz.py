@@ -1,0 +1,40 @@
+"""The random-scene study (studies/fuzz.py): reproducible draws, causes, the verdict, and a small run."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from studies import fuzz
+
+
+def test_draws_are_reproducible_and_inside_the_stated_ranges() -> None:
+    a, b = fuzz.draw_scenes(30, seed=7), fuzz.draw_scenes(30, seed=7)
+    assert a == b and a != fuzz.draw_scenes(30, seed=8)
+    for s in a:
+        assert 20 <= s["shell.N"] <= 80 and 0.3 <= s["shell.phi_hat"] <= 1.5 and 0 <= s["shell.nu"] <= 0.5
+        assert 1e-3 <= s["shell.h"] / s["shell.R"] <= 0.12 + 1e-12
+        assert s["load.kind"] in ("point", "sphere", "plate") and ("load.radius" in s) == (s["load.kind"] == "sphere")
+
+
+def test_a_failure_without_an_actionable_cause_misses_the_target() -> None:
+    assert fuzz.cause_of("...; advice: the mesh has 3.1 nodes ...; try a finer mesh, shell.N = 94") == "refine the mesh"
+    assert fuzz.cause_of("corrector diverging") == "unexplained"
+    row = {"shell.N": 60, "outcome": "complete", "cause": ""}
+    ok = fuzz.summarize([row] * 19 + [{**row, "outcome": "failed", "cause": "refine the mesh"}])
+    assert ok["complete_rate_judged"] == 0.95 and ok["target_met"]
+    unexplained = fuzz.summarize([row] * 19 + [{**row, "outcome": "failed", "cause": "unexplained"}])
+    assert not unexplained["target_met"]
+    # refused scenes and coarse meshes are reported, not judged
+    judged = fuzz.summarize([row, {**row, "outcome": "refused"}, {**row, "shell.N": 30, "outcome": "failed"}])
+    assert judged["n_judged"] == 1 and judged["complete_rate_judged"] == 1.0
+
+
+@pytest.mark.slow
+def test_a_small_seeded_run_writes_its_outputs(tmp_path) -> None:
+    status = fuzz.main(["--count", "8", "--seed", "3", "--workers", "1", "--out", str(tmp_path), "-q"])
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["n_scenes"] == 8 and status in (0, 1)
+    assert (tmp_path / "fuzz.csv").exists() and (tmp_path / "fuzz.png").exists()
+    assert summary["failures_by_cause"].get("unexplained", 0) == 0, summary["failures"]
