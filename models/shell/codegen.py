@@ -98,7 +98,7 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from models.codegen_cli import generator_main, write_generated
+from models.codegen_cli import generator_main, module_text
 
 __all__ = ["Element", "Layer", "build_elements", "generate_source", "generate", "main", "DEFAULT_OUTPUT"]
 
@@ -934,11 +934,8 @@ def generate_source() -> str:
         for emit, suffix in emitters:
             chunks.append("\n".join(emit(el, printer)))
             functions.append(f"{el.name}_{suffix}")
-    parts = [_PREAMBLE.rstrip("\n")]
-    exported = sorted(functions + ["INPUTS", "NDOF", "UPPER"])
-    parts.append("__all__ = [\n" + "".join(f'    "{f}",\n' for f in exported) + "]")
     by_name = sorted(elements, key=lambda e: e.name)
-    parts.append("\n".join([
+    constants = "\n".join([
         "NDOF = {" + ", ".join(f'"{el.name}": {len(el.dofs)}' for el in by_name) + "}",
         '"""Number of local dofs (node coordinates) of each element."""',
         "",
@@ -948,20 +945,10 @@ def generate_source() -> str:
         "",
         "UPPER = {" + ", ".join(f'"{el.name}": _upper({len(el.dofs)})' for el in by_name) + "}",
         '"""Local dof pairs ``(a, b)``, ``a <= b``, of the rows of a packed Hessian."""',
-    ]))
-    parts.extend(chunks)
-    return "\n\n\n".join(parts) + "\n"
-
-
-def generate(path: str | Path | None = DEFAULT_OUTPUT) -> str:
-    """Generate the module and write it to ``path`` (``None``: only return the text)."""
-    return write_generated(generate_source, path)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command line entry point: write (or with ``--check`` compare) the generated module."""
-    return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m models.shell.codegen", __doc__.split("\n")[0])
+    ])
+    return module_text(_PREAMBLE, functions + ["INPUTS", "NDOF", "UPPER"], constants, chunks)
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(generator_main(None, generate_source, DEFAULT_OUTPUT, "python -m models.shell.codegen",
+                                    __doc__.split("\n")[0]))
