@@ -84,6 +84,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
 from models.codegen_cli import generator_main, module_text
+from models.codegen_printer import kernel_printer
 
 __all__ = ["Indenter", "build_indenters", "barrier_definition", "cell_basis", "check_cell_chain_rule",
            "generate_source", "generate", "main", "DEFAULT_OUTPUT", "PAIRS"]
@@ -272,28 +273,6 @@ def build_indenters() -> list[Indenter]:
 
 
 # ---- printing ------------------------------------------------------------------------------------
-class _Printer(NumPyPrinter):
-    """NumPy printer with plain reciprocals and square roots, small integer powers as products."""
-
-    def _print_Pow(self, expr, rational=False):
-        base, exp = expr.base, expr.exp
-        if exp == sp.Rational(1, 2):
-            return f"numpy.sqrt({self._print(base)})"
-        if exp.is_Integer and exp != 0:
-            b = self.parenthesize(base, 60)
-            mag = abs(int(exp))
-            if mag <= 2:
-                core = b if mag == 1 else f"{b}**2"
-            else:  # numpy's power is slow for exponents other than 2: multiply
-                core = "*".join([f"{b}**2"] * (mag // 2) + [b] * (mag % 2))
-            return core if exp > 0 else f"(1/{core})"
-        return super()._print_Pow(expr, rational=rational)
-
-
-def _printer() -> NumPyPrinter:
-    return _Printer(settings={"fully_qualified_modules": True})
-
-
 def _body(ind: Indenter, results: list[sp.Expr], printer: NumPyPrinter, targets: list[str]) -> list[str]:
     """Printed prelude and common subexpressions that ``results`` need, then ``target = result``."""
     repl, red = sp.cse(results, symbols=sp.numbered_symbols("_c"), order="canonical")
@@ -437,7 +416,7 @@ def generate_source() -> str:
     str
         The complete module source (deterministic: same sympy version, same bytes).
     """
-    printer = _printer()
+    printer = kernel_printer()
     _barrier_prelude()  # checks the closed-form barrier derivatives
     chunks, functions = [], []
     for ind in build_indenters():

@@ -99,6 +99,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
 from models.codegen_cli import generator_main, module_text
+from models.codegen_printer import kernel_printer
 
 __all__ = ["Element", "Layer", "build_elements", "generate_source", "generate", "main", "DEFAULT_OUTPUT"]
 
@@ -484,30 +485,6 @@ def build_elements() -> list[Element]:
 
 
 # ---- printing ------------------------------------------------------------------------------------
-class _Printer(NumPyPrinter):
-    """NumPy printer with plain reciprocals and square roots instead of float powers, and integer
-    powers above 2 as products (``numpy.power`` is slow for them)."""
-
-    def _print_Pow(self, expr, rational=False):
-        base, exp = expr.base, expr.exp
-        if exp.is_Integer or (exp.is_Rational and exp.q == 2):
-            k = int(exp * 2) if not exp.is_Integer else int(exp)
-            half = not exp.is_Integer
-            b = f"numpy.sqrt({self._print(base)})" if half else self.parenthesize(base, 60)
-            # For half-integer powers k counts halves.
-            mag = abs(k)
-            if half or mag <= 2:
-                core = b if mag == 1 else f"{b}**{mag}"
-            else:  # numpy's power is slow for exponents other than 2: multiply
-                core = "*".join([f"{b}**2"] * (mag // 2) + [b] * (mag % 2))
-            return core if k > 0 else f"(1/{core})"
-        return super()._print_Pow(expr, rational=rational)
-
-
-def _printer() -> NumPyPrinter:
-    return _Printer(settings={"fully_qualified_modules": True})
-
-
 class _Body:
     """Assignments of one kernel body, common subexpressions named ``_c0, _c1, ...`` in order."""
 
@@ -920,7 +897,7 @@ def generate_source() -> str:
     str
         The complete module source (deterministic: same sympy version, same bytes).
     """
-    printer = _printer()
+    printer = kernel_printer()
     elements = build_elements()
     functions: list[str] = []
     chunks: list[str] = []
