@@ -409,12 +409,13 @@ import numpy
 
 
 def generate_source() -> str:
-    """Build the text of the generated module.
+    """Check each indenter's derivatives and chain rule, then build the text of ``_generated.py``.
 
     Returns
     -------
     str
-        The complete module source (deterministic: same sympy version, same bytes).
+        The module: five kernels per indenter, :data:`PAIRS` and ``cell_basis`` (deterministic: the same
+        sympy version gives the same bytes).
     """
     printer = kernel_printer()
     _barrier_prelude()  # checks the closed-form barrier derivatives

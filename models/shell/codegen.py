@@ -890,12 +890,13 @@ def _unpack(packed, n):
 
 
 def generate_source() -> str:
-    """Build the text of the generated module.
+    """Check each element's names, then build the text of ``_generated.py``.
 
     Returns
     -------
     str
-        The complete module source (deterministic: same sympy version, same bytes).
+        The module: the fast and the broadcasting kernels of every element, with ``NDOF``, ``INPUTS`` and
+        ``UPPER`` (deterministic: the same sympy version gives the same bytes).
     """
     printer = kernel_printer()
     elements = build_elements()
