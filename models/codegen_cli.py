@@ -1,8 +1,9 @@
 """Writing and checking a generated kernel module: shared by the models' sympy generators.
 
 Each generator (``contin_models.shell.codegen``, ``contin_models.contact.codegen``) builds its module's text with
-a ``generate_source()`` function; :func:`write_generated` writes it and :func:`generator_main` is the
-command line (``--output``, ``--check``).  No sympy here: it only handles the text.
+a ``generate_source()`` function that joins its parts with :func:`module_text`;
+:func:`write_generated` writes it and :func:`generator_main` is the command line (``--output``,
+``--check``).  No sympy here: it only handles the text.
 """
 
 from __future__ import annotations
@@ -12,7 +13,30 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["write_generated", "generator_main"]
+__all__ = ["module_text", "write_generated", "generator_main"]
+
+
+def module_text(preamble: str, exported: list[str], constants: str, chunks: list[str]) -> str:
+    """Join the parts of a generated module: preamble, ``__all__``, constants, then the kernels.
+
+    Parameters
+    ----------
+    preamble : str
+        Module docstring and imports.
+    exported : list of str
+        Public names; ``__all__`` lists them sorted.
+    constants : str
+        Module-level constants with their docstrings.
+    chunks : list of str
+        Source of each generated function.
+
+    Returns
+    -------
+    str
+        The module text: parts separated by two blank lines, ending with one newline.
+    """
+    exports = "__all__ = [\n" + "".join(f'    "{f}",\n' for f in sorted(exported)) + "]"
+    return "\n\n\n".join([preamble.rstrip("\n"), exports, constants, *chunks]) + "\n"
 
 
 def write_generated(generate_source: Callable[[], str], path: str | Path | None) -> str:

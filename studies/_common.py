@@ -33,8 +33,8 @@ from contin.io import OutputDirectory, OutputError, atomic_write, json_ready
 from contin.scene import SceneError
 from contin_models.shell.boundaries import depth_parameter
 
-__all__ = ["study_parser", "executor_from_args", "output_dir", "run_study", "save_figure", "write_csv", "write_json",
-           "write_text", "json_ready", "print_table", "shell_lambda", "say"]
+__all__ = ["study_parser", "executor_from_args", "output_dir", "run_study", "save_figure", "save_figures", "write_csv",
+           "write_json", "write_text", "json_ready", "print_table", "shell_lambda", "say"]
 
 
 def _positive_int(text: str) -> int:
@@ -224,6 +224,27 @@ def save_figure(fig: Any, out: str | os.PathLike, stem: str) -> list[Path]:
                              (Path(out) / f"{stem}.pdf", draw("pdf"))], binary=True)
     finally:
         plt.close(fig)
+
+
+def save_figures(out: str | os.PathLike, result: Any, builders: dict[str, Callable[[Any], Any]]) -> list[Path]:
+    """Draw each figure of a study's result and save it with :func:`save_figure`, one figure open at a time.
+
+    Parameters
+    ----------
+    out : str or PathLike
+        The output directory.
+    result : Any
+        The study's result, passed to each builder.
+    builders : dict of str to callable
+        File stem (``<stem>.png``, ``<stem>.pdf``) to the function drawing that figure from ``result``,
+        saved in this order.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    return [path for stem, build in builders.items() for path in save_figure(build(result), out, stem)]
 
 
 def print_table(rows: Iterable[dict[str, Any]], columns: Sequence[str], digits: int = 6,

@@ -67,8 +67,8 @@ import numpy as np  # noqa: E402
 from scipy.interpolate import CubicSpline  # noqa: E402
 from scipy.optimize import brentq  # noqa: E402
 
-from studies._common import (output_dir, print_table, save_figure, say, study_parser, write_csv,  # noqa: E402
-                             write_json)
+from studies._common import (output_dir, print_table, run_study, save_figures, say, study_parser,  # noqa: E402
+                             write_csv, write_json)
 from studies.indenter_size import GAP_TOL_FACTOR, free_snap_state, locate_transition, resting_sphere  # noqa: E402
 
 __all__ = ["normal_centres", "predict_rc", "node_rc", "linear_fit", "collapse", "run", "main"]
@@ -622,10 +622,12 @@ def _fig11(res: dict[str, Any]) -> Any:
 
 
 def write_outputs(res: dict[str, Any], out: Any) -> None:
-    """Figures, CSV files and summary.json of a :func:`run` result in the directory ``out``."""
-    save_figure(_fig9(res), out, "fig9_geometric_model")
-    save_figure(_fig10(res), out, "fig10_thickness")
-    save_figure(_fig11(res), out, "fig11_angle")
+    """Write figures 9-11 and the tables of a :func:`run` result to ``out``.
+
+    Tables: ``geometric_cases.csv``, ``simulated_cases.csv``, ``r_tilde_h_tilde.csv``, ``scaled_shapes.csv`` and
+    ``summary.json``.
+    """
+    save_figures(out, res, {"fig9_geometric_model": _fig9, "fig10_thickness": _fig10, "fig11_angle": _fig11})
     S = res["summary"]
     seen = set()
     rows = []
@@ -685,6 +687,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    from studies._common import run_study
-
     raise SystemExit(run_study(main))

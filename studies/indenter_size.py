@@ -72,7 +72,7 @@ from contin.scene import load_scene  # noqa: E402
 from contin_models.shell_scene.contact import contact_mode  # noqa: E402
 from contin_models.shell.problem import ShellPointLoad  # noqa: E402
 from contin_models.shell_scene import SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
-from studies._common import (executor_from_args, output_dir, print_table, save_figure, say,  # noqa: E402
+from studies._common import (executor_from_args, output_dir, print_table, run_study, save_figures, say,  # noqa: E402
                              study_parser, write_csv, write_json)
 from studies.bench_contact import run_to_snap, snap_settings  # noqa: E402
 
@@ -607,10 +607,13 @@ def _fig8(res: dict[str, Any]) -> Any:
 
 
 def write_outputs(res: dict[str, Any], out: Any) -> None:
-    """Figures, CSV files and summary.json of a :func:`run` result in the directory ``out``."""
-    save_figure(_fig6(res), out, "fig6_snap_vs_radius")
-    save_figure(_fig7(res), out, "fig7_snap_configurations")
-    save_figure(_fig8(res), out, "fig8_pole_curvature")
+    """Write figures 6-8 and the tables of a :func:`run` result to ``out``.
+
+    Tables: ``cases.csv`` (one row a radius), ``paths.csv`` (the traced paths, the free shell at ``r/R = 0``),
+    ``bisection.csv`` (the critical-size bisection) and ``summary.json``.
+    """
+    save_figures(out, res, {"fig6_snap_vs_radius": _fig6, "fig7_snap_configurations": _fig7,
+                            "fig8_pole_curvature": _fig8})
     write_csv(out / "cases.csv", res["summary"]["cases"])
     rows = []
     for d in res["cases"]:
@@ -660,6 +663,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    from studies._common import run_study
-
     raise SystemExit(run_study(main))

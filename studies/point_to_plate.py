@@ -57,7 +57,7 @@ import numpy as np  # noqa: E402
 
 from contin.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA  # noqa: E402
-from studies._common import (output_dir, print_table, save_figure, say, shell_lambda, study_parser,  # noqa: E402
+from studies._common import (output_dir, print_table, run_study, save_figure, say, shell_lambda, study_parser,  # noqa: E402
                              write_csv, write_json)
 from studies.bench_contact import snap_record  # noqa: E402
 
@@ -244,6 +244,25 @@ def run(full: bool = False, quiet: bool = True) -> dict[str, Any]:
             "bounds": bounds_check(point, plate, spheres), "bounds_paper_range": bounds_check(point, plate, in_paper)}
 
 
+def _print_report(summary: dict[str, Any], rows: list[dict[str, Any]], out: Any) -> None:
+    """Print the snap table, the bounds of each quantity and the paper's statement."""
+    print(f"point-to-plate study ({summary['mode']}, N = {summary['N']}), {summary['wall_time_s']:.1f} s; "
+          f"files in {out}")
+    table = [{"indenter": row["indenter"], "r/R": ("-" if row["indenter"] == "plate" else row["r_over_R"]),
+              "w_b^c/R": row["w_b_c_over_R"], "w_s/R": row["w_s_over_R"], "Delta_H/R": row["Delta_H_over_R"],
+              "mode": row["contact_mode"], "snap": row["snap"], "time_s": row["time_s"]} for row in rows]
+    print_table(table, ["indenter", "r/R", "w_b^c/R", "w_s/R", "Delta_H/R", "mode", "snap", "time_s"], digits=6)
+    print()
+    for key, label in QUANTITIES:
+        q = summary["bounds"][key]
+        print(f"{label}: point {q['point']:.6f}, plate {q['plate']:.6f}; finite r in [{q['finite_r_min']:.6f}, "
+              f"{q['finite_r_max']:.6f}]; {'bounded' if q['bounded'] else 'NOT bounded'}"
+              f"{' (degenerate: the limits coincide)' if q['degenerate'] else ''}, "
+              f"largest excursion {q['max_excursion']:.2g}")
+    print(f"statement: {'reproduced' if summary['statement']['reproduced'] else 'NOT reproduced'} -- "
+          f"{summary['statement']['paper']}")
+
+
 def main(argv: list[str] | None = None) -> int:
     """Command line: ``python -m studies.point_to_plate [--out DIR] [--full] [--quiet]``.
 
@@ -287,23 +306,9 @@ def main(argv: list[str] | None = None) -> int:
     }
     write_json(out / "summary.json", summary)
 
-    print(f"point-to-plate study ({summary['mode']}, N = {N}), {wall:.1f} s; files in {out}")
-    table = [{"indenter": row["indenter"], "r/R": ("-" if row["indenter"] == "plate" else row["r_over_R"]),
-              "w_b^c/R": row["w_b_c_over_R"], "w_s/R": row["w_s_over_R"], "Delta_H/R": row["Delta_H_over_R"],
-              "mode": row["contact_mode"], "snap": row["snap"], "time_s": row["time_s"]} for row in rows]
-    print_table(table, ["indenter", "r/R", "w_b^c/R", "w_s/R", "Delta_H/R", "mode", "snap", "time_s"], digits=6)
-    print()
-    for key, label in QUANTITIES:
-        q = b[key]
-        print(f"{label}: point {q['point']:.6f}, plate {q['plate']:.6f}; finite r in [{q['finite_r_min']:.6f}, "
-              f"{q['finite_r_max']:.6f}]; {'bounded' if q['bounded'] else 'NOT bounded'}"
-              f"{' (degenerate: the limits coincide)' if q['degenerate'] else ''}, "
-              f"largest excursion {q['max_excursion']:.2g}")
-    print(f"statement: {'reproduced' if statement['reproduced'] else 'NOT reproduced'} -- {statement['paper']}")
+    _print_report(summary, rows, out)
     return 0
 
 
 if __name__ == "__main__":
-    from studies._common import run_study
-
     raise SystemExit(run_study(main))

@@ -14,10 +14,10 @@ import scipy.sparse as sp
 from contin_models.contact import ContactBarrier, Plate, Sphere, barrier_value, default_barrier
 from contin_models.contact import _generated as gen
 from contin_models.contact.barrier import length_weights
+from tests.generated_check import assert_reproduced
 
 K, DHAT = 1e8, 1e-3  # the paper's values (E = 1 MPa, R = 1 m)
 RHO = 0.5
-GENERATED = Path(__file__).resolve().parents[1] / "models" / "contact" / "_generated.py"
 FRACTIONS = (1e-3, 0.05, 0.3, 0.7, 0.97)  # d / dhat
 
 
@@ -57,13 +57,7 @@ def fd5(f, v, h):
 
 # ---- (a) the committed kernels are what the generator produces -----------------------------------
 def test_generated_file_is_reproduced_byte_for_byte(tmp_path):
-    pytest.importorskip("sympy")
-    from contin_models.contact import codegen
-
-    out = tmp_path / "_generated.py"
-    codegen.generate(out)
-    assert out.read_bytes() == GENERATED.read_bytes(), (
-        "models/contact/_generated.py is out of date: run `python -m contin_models.contact.codegen`")
+    assert_reproduced("contact", tmp_path)
 
 
 def test_no_sympy_on_the_import_path():

@@ -28,6 +28,7 @@ from contin.scene import load_scene
 from contin_models.shell import boundaries as B
 from contin_models.shell_scene import SHELL_SCHEMA, classify_scene
 from studies import phase_diagram
+from tests.cusp_check import assert_three_halves_law
 
 N = 60
 H_MARK = 0.02
@@ -88,12 +89,7 @@ def test_cusp_three_halves_law_in_phi(curves):
                              p_min=phi0 - 0.01, p_max=phi_c + 0.01, events=events)
     (cusp,) = [s_ for s_ in br.special_points if s_.kind == "fold"]
     assert cusp.p == pytest.approx(phi_c, abs=1e-5)  # the cusp curve and this fold curve meet there
-    gap = []
-    for d in distances:
-        a, b = (fc.split(e.u)[1] for e in br.events(f"d={d:g}"))
-        gap.append(abs(a - b))
-    slope = np.polyfit(np.log(distances), np.log(gap), 1)[0]
-    assert slope == pytest.approx(1.5, abs=0.02)
+    assert_three_halves_law(fc, br, distances)
 
 
 def _check_study_outputs(out) -> dict:

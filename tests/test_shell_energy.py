@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from contin_models.shell import HALF_BANDWIDTH, ShellEnergy, spherical_cap, split
+from tests.generated_check import assert_reproduced
 
 R, E, H, NU = 1.0, 1.0, 0.02, 0.5
 VARIANTS = ("reference", "current")
-GENERATED = Path(__file__).resolve().parents[1] / "models" / "shell" / "_generated.py"
 
 
 def shell(N, phi_hat, variant="reference", R=R, pole_ratio=1.0):
@@ -23,13 +23,7 @@ def shell(N, phi_hat, variant="reference", R=R, pole_ratio=1.0):
 
 # ---- (a) the committed kernels are what the generator produces -----------------------------------
 def test_generated_file_is_reproduced_byte_for_byte(tmp_path):
-    pytest.importorskip("sympy")
-    from contin_models.shell import codegen
-
-    out = tmp_path / "_generated.py"
-    codegen.generate(out)
-    assert out.read_bytes() == GENERATED.read_bytes(), (
-        "models/shell/_generated.py is out of date: run `python -m contin_models.shell.codegen`")
+    assert_reproduced("shell", tmp_path)
 
 
 # ---- (b) reference state -------------------------------------------------------------------------

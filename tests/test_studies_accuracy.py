@@ -19,6 +19,7 @@ from typing import Any
 import pytest
 
 from studies import accuracy as study
+from tests.figure_check import assert_figure
 
 
 # ---- bookkeeping on synthetic data -----------------------------------------------------------------
@@ -96,9 +97,7 @@ def _ours_at(rows: list[dict[str, str]], N: int) -> dict[str, str]:
 def test_writes_every_file(result) -> None:
     out, rc, summary, rows = result
     assert rc == 0
-    png, pdf = out / "error_vs_time.png", out / "error_vs_time.pdf"
-    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
-    assert pdf.read_bytes()[:5] == b"%PDF-"
+    assert_figure(out, "error_vs_time", min_png_bytes=10_000)
     assert summary["mode"] == "fast" and summary["repeat"] == 1
     assert summary["command"].startswith("python -m studies.accuracy")
     assert {"F_max", "w_at_F_max", "w_b_c_over_R"} <= set(summary["references"])

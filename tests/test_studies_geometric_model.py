@@ -20,6 +20,7 @@ from contin.scene import load_scene
 from contin_models.shell_scene import SHELL_SCHEMA, classify_scene
 from studies import geometric_model as gm
 from studies.bench_contact import run_to_snap, snap_settings
+from tests.figure_check import assert_figure
 
 FIGURES = ("fig9_geometric_model", "fig10_thickness", "fig11_angle")
 
@@ -34,8 +35,7 @@ def study(tmp_path_factory) -> tuple:
 def test_writes_figures_tables_and_summary(study):
     out, S = study
     for stem in FIGURES:
-        assert (out / f"{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-        assert (out / f"{stem}.pdf").read_bytes()[:5] == b"%PDF-"
+        assert_figure(out, stem)
     for name in ("geometric_cases.csv", "simulated_cases.csv", "r_tilde_h_tilde.csv", "scaled_shapes.csv"):
         assert (out / name).stat().st_size > 100, name
     b = S["base"]

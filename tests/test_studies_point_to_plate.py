@@ -23,6 +23,7 @@ from contin.scene import load_scene
 from contin_models.shell.problem import ShellPointLoad
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
 from studies import point_to_plate as study
+from tests.figure_check import assert_figure
 
 
 @pytest.fixture(scope="module")
@@ -41,9 +42,7 @@ def _num(row: dict[str, str], key: str) -> float:
 def test_writes_every_file(result) -> None:
     out, rc, summary, rows = result
     assert rc == 0
-    png, pdf = out / "fig12.png", out / "fig12.pdf"
-    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
-    assert pdf.read_bytes()[:5] == b"%PDF-"
+    assert_figure(out, "fig12", min_png_bytes=10_000)
     assert summary["mode"] == "fast" and summary["N"] == study.N_FAST
     assert [r["indenter"] for r in rows] == ["point"] + ["sphere"] * len(study.RADII_FAST) + ["plate"]
     assert [_num(r, "r_over_R") for r in rows[1:-1]] == list(study.RADII_FAST)

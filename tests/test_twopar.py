@@ -20,6 +20,7 @@ import contin
 from contin.twopar import FoldCurveProblem
 from contin_models.benchmarks.truss import VonMisesTruss
 from contin_models.shell import ShellPointLoad
+from tests.cusp_check import assert_three_halves_law
 
 
 class CuspNormalForm(contin.Problem):
@@ -138,12 +139,7 @@ def test_shell_folds_merge_at_a_cusp_with_the_three_halves_law(shell_fold_curve)
     # the cusp lies at lambda ~ 3.7, near the paper's monotonous boundary lambda_d = 3.65 (N = 40 here)
     lam = (12 * (1 - 0.5 ** 2)) ** 0.25 * (math.pi / 2 - 0.8) * math.sqrt(1 / cusp.p)
     assert 3.5 < lam < 3.9
-    gap = []
-    for d in CUSP_DISTANCES:
-        F_a, F_b = (fp.split(e.u)[1] for e in br.events(f"d={d:g}"))
-        gap.append(abs(F_a - F_b))
-    slope = np.polyfit(np.log(CUSP_DISTANCES), np.log(gap), 1)[0]
-    assert slope == pytest.approx(1.5, abs=0.02)
+    assert_three_halves_law(fp, br, CUSP_DISTANCES)
 
 
 class UnfoldedCusp(contin.Problem):

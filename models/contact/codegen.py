@@ -77,12 +77,14 @@ digits; the energy follows through ``d``).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin_models.codegen_cli import generator_main, write_generated
+from contin_models.codegen_cli import generator_main, module_text
+from contin_models.codegen_printer import kernel_printer
 
 __all__ = ["Indenter", "build_indenters", "barrier_definition", "cell_basis", "check_cell_chain_rule",
            "generate_source", "generate", "main", "DEFAULT_OUTPUT", "PAIRS"]
@@ -271,28 +273,6 @@ def build_indenters() -> list[Indenter]:
 
 
 # ---- printing ------------------------------------------------------------------------------------
-class _Printer(NumPyPrinter):
-    """NumPy printer with plain reciprocals and square roots, small integer powers as products."""
-
-    def _print_Pow(self, expr, rational=False):
-        base, exp = expr.base, expr.exp
-        if exp == sp.Rational(1, 2):
-            return f"numpy.sqrt({self._print(base)})"
-        if exp.is_Integer and exp != 0:
-            b = self.parenthesize(base, 60)
-            mag = abs(int(exp))
-            if mag <= 2:
-                core = b if mag == 1 else f"{b}**2"
-            else:  # numpy's power is slow for exponents other than 2: multiply
-                core = "*".join([f"{b}**2"] * (mag // 2) + [b] * (mag % 2))
-            return core if exp > 0 else f"(1/{core})"
-        return super()._print_Pow(expr, rational=rational)
-
-
-def _printer() -> NumPyPrinter:
-    return _Printer(settings={"fully_qualified_modules": True})
-
-
 def _body(ind: Indenter, results: list[sp.Expr], printer: NumPyPrinter, targets: list[str]) -> list[str]:
     """Printed prelude and common subexpressions that ``results`` need, then ``target = result``."""
     repl, red = sp.cse(results, symbols=sp.numbered_symbols("_c"), order="canonical")
@@ -354,30 +334,25 @@ def _shape_line(ind: Indenter) -> str:
     return f"    _shape = numpy.broadcast_shapes({', '.join(f'numpy.shape({v})' for v in ind.variables)})"
 
 
-def _emit_gradient(ind: Indenter, printer: NumPyPrinter) -> list[str]:
-    doc = [f"Gradient of the node barrier with respect to ``({_vars(ind)})``."] + _valid_note(ind) + [
-        "", "Returns", "-------", "ndarray, shape ``(3, m)``",
-        f"    Rows ``d/d{ind.variables[0]}, d/d{ind.variables[1]}, d/d{ind.variables[2]}``."]
-    _, g, _ = ind.outputs()
-    lines = _header(ind, "gradient", doc) + [_shape_line(ind), "    _g = numpy.empty((3,) + _shape)"]
-    lines += _body(ind, g, printer, [f"_g[{k}]" for k in range(3)])
-    lines.append("    return _g")
-    return lines
-
-
 def _hess_doc(ind: Indenter) -> str:
     v = ind.variables
     return ", ".join(f"({v[a]}, {v[b]})" for a, b in PAIRS)
 
 
-def _emit_hessian(ind: Indenter, printer: NumPyPrinter) -> list[str]:
-    doc = [f"Hessian of the node barrier with respect to ``({_vars(ind)})``, packed."] + _valid_note(ind) + [
-        "", "Returns", "-------", "ndarray, shape ``(6, m)``",
-        f"    Upper triangle, rows ``{_hess_doc(ind)}`` (:data:`PAIRS`)."]
-    _, _, h = ind.outputs()
-    lines = _header(ind, "hessian", doc) + [_shape_line(ind), "    _h = numpy.empty((6,) + _shape)"]
-    lines += _body(ind, h, printer, [f"_h[{k}]" for k in range(6)])
-    lines.append("    return _h")
+def _emit_derivative(ind: Indenter, printer: NumPyPrinter, suffix: str) -> list[str]:
+    """The ``<name>_gradient`` (rows ``d/dr, d/dz, d/dc``) or ``<name>_hessian`` (packed) kernel."""
+    _, g, h = ind.outputs()
+    if suffix == "gradient":
+        what, exprs, var, packed = "Gradient of the node barrier", g, "_g", ""
+        rows = "Rows ``" + ", ".join(f"d/d{v}" for v in ind.variables) + "``."
+    else:
+        what, exprs, var, packed = "Hessian of the node barrier", h, "_h", ", packed"
+        rows = f"Upper triangle, rows ``{_hess_doc(ind)}`` (:data:`PAIRS`)."
+    doc = [f"{what} with respect to ``({_vars(ind)})``{packed}."] + _valid_note(ind) + [
+        "", "Returns", "-------", f"ndarray, shape ``({len(exprs)}, m)``", f"    {rows}"]
+    lines = _header(ind, suffix, doc) + [_shape_line(ind), f"    {var} = numpy.empty(({len(exprs)},) + _shape)"]
+    lines += _body(ind, exprs, printer, [f"{var}[{k}]" for k in range(len(exprs))])
+    lines.append(f"    return {var}")
     return lines
 
 
@@ -434,44 +409,34 @@ import numpy
 
 
 def generate_source() -> str:
-    """Build the text of the generated module.
+    """Check each indenter's derivatives and chain rule, then build the text of ``_generated.py``.
 
     Returns
     -------
     str
-        The complete module source (deterministic: same sympy version, same bytes).
+        The module: five kernels per indenter, :data:`PAIRS` and ``cell_basis`` (deterministic: the same
+        sympy version gives the same bytes).
     """
-    printer = _printer()
+    printer = kernel_printer()
     _barrier_prelude()  # checks the closed-form barrier derivatives
     chunks, functions = [], []
     for ind in build_indenters():
         ind.check()
         check_cell_chain_rule(ind)
         for emit, suffix in ((_emit_distance, "distance"), (_emit_energy, "energy"),
-                             (_emit_gradient, "gradient"), (_emit_hessian, "hessian"),
+                             (partial(_emit_derivative, suffix="gradient"), "gradient"),
+                             (partial(_emit_derivative, suffix="hessian"), "hessian"),
                              (_emit_derivatives, "derivatives")):
             chunks.append("\n".join(emit(ind, printer)))
             functions.append(f"{ind.name}_{suffix}")
     chunks.append("\n".join(_emit_cell_basis(printer)))
     functions.append("cell_basis")
-    parts = [_PREAMBLE.rstrip("\n")]
-    parts.append("__all__ = [\n" + "".join(f'    "{f}",\n' for f in sorted(functions + ["PAIRS"])) + "]")
-    parts.append("PAIRS = " + repr(PAIRS) + "\n"
-                 '"""Local variable pairs ``(a, b)``, ``a <= b``, of the packed Hessian rows; variables '
-                 '``(r, z, c)``."""')
-    parts.extend(chunks)
-    return "\n\n\n".join(parts) + "\n"
-
-
-def generate(path: str | Path | None = DEFAULT_OUTPUT) -> str:
-    """Generate the module and write it to ``path`` (``None``: only return the text)."""
-    return write_generated(generate_source, path)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command line entry point: write (or with ``--check`` compare) the generated module."""
-    return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.contact.codegen", __doc__.split("\n")[0])
+    pairs = ("PAIRS = " + repr(PAIRS) + "\n"
+             '"""Local variable pairs ``(a, b)``, ``a <= b``, of the packed Hessian rows; variables '
+             '``(r, z, c)``."""')
+    return module_text(_PREAMBLE, functions + ["PAIRS"], pairs, chunks)
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(generator_main(None, generate_source, DEFAULT_OUTPUT, "python -m contin_models.contact.codegen",
+                                    __doc__.split("\n")[0]))

@@ -98,7 +98,8 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin_models.codegen_cli import generator_main, write_generated
+from contin_models.codegen_cli import generator_main, module_text
+from contin_models.codegen_printer import kernel_printer
 
 __all__ = ["Element", "Layer", "build_elements", "generate_source", "generate", "main", "DEFAULT_OUTPUT"]
 
@@ -484,30 +485,6 @@ def build_elements() -> list[Element]:
 
 
 # ---- printing ------------------------------------------------------------------------------------
-class _Printer(NumPyPrinter):
-    """NumPy printer with plain reciprocals and square roots instead of float powers, and integer
-    powers above 2 as products (``numpy.power`` is slow for them)."""
-
-    def _print_Pow(self, expr, rational=False):
-        base, exp = expr.base, expr.exp
-        if exp.is_Integer or (exp.is_Rational and exp.q == 2):
-            k = int(exp * 2) if not exp.is_Integer else int(exp)
-            half = not exp.is_Integer
-            b = f"numpy.sqrt({self._print(base)})" if half else self.parenthesize(base, 60)
-            # For half-integer powers k counts halves.
-            mag = abs(k)
-            if half or mag <= 2:
-                core = b if mag == 1 else f"{b}**{mag}"
-            else:  # numpy's power is slow for exponents other than 2: multiply
-                core = "*".join([f"{b}**2"] * (mag // 2) + [b] * (mag % 2))
-            return core if k > 0 else f"(1/{core})"
-        return super()._print_Pow(expr, rational=rational)
-
-
-def _printer() -> NumPyPrinter:
-    return _Printer(settings={"fully_qualified_modules": True})
-
-
 class _Body:
     """Assignments of one kernel body, common subexpressions named ``_c0, _c1, ...`` in order."""
 
@@ -913,14 +890,15 @@ def _unpack(packed, n):
 
 
 def generate_source() -> str:
-    """Build the text of the generated module.
+    """Check each element's names, then build the text of ``_generated.py``.
 
     Returns
     -------
     str
-        The complete module source (deterministic: same sympy version, same bytes).
+        The module: the fast and the broadcasting kernels of every element, with ``NDOF``, ``INPUTS`` and
+        ``UPPER`` (deterministic: the same sympy version gives the same bytes).
     """
-    printer = _printer()
+    printer = kernel_printer()
     elements = build_elements()
     functions: list[str] = []
     chunks: list[str] = []
@@ -934,11 +912,8 @@ def generate_source() -> str:
         for emit, suffix in emitters:
             chunks.append("\n".join(emit(el, printer)))
             functions.append(f"{el.name}_{suffix}")
-    parts = [_PREAMBLE.rstrip("\n")]
-    exported = sorted(functions + ["INPUTS", "NDOF", "UPPER"])
-    parts.append("__all__ = [\n" + "".join(f'    "{f}",\n' for f in exported) + "]")
     by_name = sorted(elements, key=lambda e: e.name)
-    parts.append("\n".join([
+    constants = "\n".join([
         "NDOF = {" + ", ".join(f'"{el.name}": {len(el.dofs)}' for el in by_name) + "}",
         '"""Number of local dofs (node coordinates) of each element."""',
         "",
@@ -948,20 +923,10 @@ def generate_source() -> str:
         "",
         "UPPER = {" + ", ".join(f'"{el.name}": _upper({len(el.dofs)})' for el in by_name) + "}",
         '"""Local dof pairs ``(a, b)``, ``a <= b``, of the rows of a packed Hessian."""',
-    ]))
-    parts.extend(chunks)
-    return "\n\n\n".join(parts) + "\n"
-
-
-def generate(path: str | Path | None = DEFAULT_OUTPUT) -> str:
-    """Generate the module and write it to ``path`` (``None``: only return the text)."""
-    return write_generated(generate_source, path)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command line entry point: write (or with ``--check`` compare) the generated module."""
-    return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.codegen", __doc__.split("\n")[0])
+    ])
+    return module_text(_PREAMBLE, functions + ["INPUTS", "NDOF", "UPPER"], constants, chunks)
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(generator_main(None, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.codegen",
+                                    __doc__.split("\n")[0]))
