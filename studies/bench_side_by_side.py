@@ -31,7 +31,7 @@ ROOT = Path(__file__).resolve().parents[1]
 CHILD = r"""
 import importlib, json, time
 from contin.scene import load_scene
-for name in ("contin_models.shell_scene", "contin_models.shell_scene", "contin_models.shell.scene"):
+for name in ("models.shell.scene", "contin_models.shell_scene"):  # the baseline tree first: its own copy
     try:
         module = importlib.import_module(name)
         break
