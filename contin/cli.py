@@ -289,23 +289,8 @@ def _add_scene_arguments(parser: argparse.ArgumentParser, verb: str) -> None:
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress lines on stderr")
 
 
-def _build_parser() -> _ArgumentParser:
-    parser = _ArgumentParser(
-        prog="contin", formatter_class=_LazyHelpFormatter,
-        description="Pseudo-arclength continuation: trace equilibrium branches of a registered model,\n"
-                    "locate folds, branch points and snaps, and classify stability.",
-        epilog="""\
-{default_line}
-
-examples:
-  contin trace                     # trace the default scene into ./out
-  contin classify                  # print its class
-  contin models                    # the models, their scene keys, defaults and allowed ranges
-
-Run 'contin COMMAND --help' for the options of a command.""")
-    parser.add_argument("--version", action="version", version=f"contin {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands")
-
+def _add_trace_command(sub: argparse._SubParsersAction) -> None:
+    """Add ``contin trace`` (its scene arguments and ``--out``) to the sub-commands ``sub``."""
     trace = sub.add_parser(
         "trace", help="trace a scene and write summary.json, branch.csv and diagram.png",
         formatter_class=_LazyHelpFormatter, epilog=_TRACE_EPILOG,
@@ -315,6 +300,9 @@ Run 'contin COMMAND --help' for the options of a command.""")
     _add_scene_arguments(trace, "trace")
     trace.add_argument("-o", "--out", metavar="DIR", default="out", help="output directory (default: ./out)")
 
+
+def _add_classify_command(sub: argparse._SubParsersAction) -> None:
+    """Add ``contin classify`` (its scene arguments, ``--json`` and the sweep options) to ``sub``."""
     classify = sub.add_parser(
         "classify", help="classify a scene (the model defines the classes) and print why",
         formatter_class=_LazyHelpFormatter, epilog=_CLASSIFY_EPILOG,
@@ -338,6 +326,9 @@ Run 'contin COMMAND --help' for the options of a command.""")
     classify.add_argument("--no-resume", action="store_true",
                           help="with --sweep: recompute every combination, overwriting the CSV")
 
+
+def _add_models_command(sub: argparse._SubParsersAction) -> None:
+    """Add ``contin models`` (the model names and ``--toml``) to the sub-commands ``sub``."""
     models = sub.add_parser(
         "models", help="list the registered models with their scene keys, defaults and allowed ranges",
         formatter_class=_LazyHelpFormatter,
@@ -348,6 +339,35 @@ Run 'contin COMMAND --help' for the options of a command.""")
     models.add_argument("names", nargs="*", metavar="NAME", help="only these models")
     models.add_argument("--toml", action="store_true",
                         help="print only the scene of one model (default: the default model) as a TOML file")
+
+
+def _build_parser() -> _ArgumentParser:
+    """The parser of the ``contin`` command: the top-level options and one sub-parser per command.
+
+    Returns
+    -------
+    _ArgumentParser
+        The parser; the sub-commands are added in the order the help lists them.
+    """
+    parser = _ArgumentParser(
+        prog="contin", formatter_class=_LazyHelpFormatter,
+        description="Pseudo-arclength continuation: trace equilibrium branches of a registered model,\n"
+                    "locate folds, branch points and snaps, and classify stability.",
+        epilog="""\
+{default_line}
+
+examples:
+  contin trace                     # trace the default scene into ./out
+  contin classify                  # print its class
+  contin models                    # the models, their scene keys, defaults and allowed ranges
+
+Run 'contin COMMAND --help' for the options of a command.""")
+    parser.add_argument("--version", action="version", version=f"contin {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands")
+
+    _add_trace_command(sub)
+    _add_classify_command(sub)
+    _add_models_command(sub)
     return parser
 
 

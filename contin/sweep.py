@@ -714,6 +714,223 @@ def _make_row(values: dict[str, Any], scene: Scene, outcome: _Outcome) -> dict[s
     return row
 
 
+Row = dict[str, Any]
+
+
+def _checked_runner(model: str | ModelRunner, scenes: Sequence[Combination], workers: int | None,
+                    scheduler: str | None, executor: Executor | None,
+                    runner: ModelRunner | None) -> tuple[ModelRunner, str, int | None]:
+    """Check the arguments of :func:`run_sweep` and load the runner, before any executor or CSV exists.
+
+    Parameters
+    ----------
+    model, scenes, workers, scheduler, executor, runner
+        As for :func:`run_sweep` (``scenes`` not empty).
+
+    Returns
+    -------
+    runner : ModelRunner
+        The runner that classifies in this process.
+    name : str
+        The model's name, for messages.
+    workers : int or None
+        ``workers`` as an int.
+
+    Raises
+    ------
+    ValueError
+        An executor together with workers or a scheduler, or fewer than one worker.
+    SweepError
+        An unknown model, one that cannot classify, or a combination it cannot classify.
+    """
+    if executor is not None and (workers is not None or scheduler is not None):
+        raise ValueError("give an executor, or workers and scheduler to make one, not both")
+    workers = None if workers is None else int(workers)
+    if workers is not None and workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    if runner is None:
+        runner = _load_runner(model) if isinstance(model, str) else model
+    name = model if isinstance(model, str) else getattr(runner, "name", type(runner).__name__)
+    if not can_classify(runner):
+        raise SweepError(f"model {name!r} cannot classify: it provides no classification", "unknown")
+    check_sweep_classifiable(runner, scenes)
+    return runner, name, workers
+
+
+def _printer(progress: bool) -> Callable[[str], None]:
+    """The progress printer of :func:`run_sweep`: ``contin: MSG`` on stderr, or nothing."""
+    return (lambda msg: print(f"contin: {msg}", file=sys.stderr, flush=True)) if progress else (lambda msg: None)
+
+
+def _rows_to_compute(store: _CsvStore | None, total: int) -> tuple[list[Row | None], list[int]]:
+    """The rows resumed from the CSV (None where a combination is still to compute) and the indices to compute.
+
+    Parameters
+    ----------
+    store : _CsvStore or None
+        The results file, if any.
+    total : int
+        The number of combinations.
+
+    Returns
+    -------
+    rows : list of dict or None
+        One entry per combination.
+    todo : list of int
+        The indices of the combinations without a row, in combination order.
+    """
+    rows: list[Row | None] = [None] * total
+    if store is not None:
+        for i, row in store.resumed.items():
+            rows[i] = row
+    return rows, [i for i in range(total) if rows[i] is None]
+
+
+class _Recorder:
+    """Takes each finished combination: its row goes into ``rows`` and the CSV, and one progress line is said.
+
+    Parameters
+    ----------
+    scenes : sequence of (dict, dict)
+        The combinations of the sweep.
+    rows : list of dict or None
+        The rows by combination, filled in place.
+    todo : list of int
+        The indices being computed (for the count and the estimate of the time left).
+    store : _CsvStore or None
+        The results file, if any.
+    say : callable
+        The progress printer.
+    """
+
+    def __init__(self, scenes: Sequence[Combination], rows: list[Row | None], todo: Sequence[int],
+                 store: _CsvStore | None, say: Callable[[str], None]) -> None:
+        self.scenes, self.rows, self.todo, self.store, self.say = scenes, rows, todo, store, say
+        self.t_start = time.perf_counter()
+        self.computed = 0
+
+    def __call__(self, i: int, outcome: _Outcome) -> None:
+        """Record the outcome of combination ``i``."""
+        values, scene = self.scenes[i]
+        row = _make_row(values, scene, outcome)
+        self.rows[i] = row
+        if self.store is not None:
+            self.store.append(row)
+        self.computed += 1
+        total = len(self.rows)
+        done = total - len(self.todo) + self.computed
+        left = len(self.todo) - self.computed
+        eta = (time.perf_counter() - self.t_start) / self.computed * left
+        what = row["label"] if not row["failure"] else f"no class: {row['failure']}"
+        if len(what) > 160:
+            what = what[:157] + "..."
+        combo = " ".join(f"{k}={_show(v)}" for k, v in values.items())
+        self.say(f"[{done}/{total}] {combo} -> {what} ({row['wall_time_s']:.2f} s"
+                 f"{'; ETA ' + _duration(eta) if left else ''})")
+
+
+def _task(model: str | ModelRunner, runner: ModelRunner, name: str,
+          in_process: bool) -> tuple[Callable[[Scene], _Outcome], Callable[..., None] | None, tuple]:
+    """What the executor runs per combination, with its worker initializer and the initializer's arguments.
+
+    Parameters
+    ----------
+    model : str or ModelRunner
+        As for :func:`run_sweep`: a registered name is sent to workers as is, a runner pickled.
+    runner : ModelRunner
+        The runner for this process.
+    name : str
+        The model's name, for the error.
+    in_process : bool
+        Whether the executor runs the tasks in this process (then ``runner`` classifies directly).
+
+    Returns
+    -------
+    task : callable
+        Scene -> outcome.
+    initializer : callable or None
+        Loads the model in a worker.
+    initargs : tuple
+        The arguments of ``initializer``.
+
+    Raises
+    ------
+    TypeError
+        The runner cannot be pickled for worker processes.
+    """
+    if in_process:
+        return functools.partial(_classify_safely, runner), None, ()
+    if isinstance(model, str):
+        ref: str | bytes = model
+    else:
+        try:
+            ref = pickle.dumps(runner)
+        except Exception as exc:
+            raise TypeError(f"the model {name!r} cannot be sent to worker processes ({_one_line(exc)}); "
+                            f"pass its registered name, or workers=1") from None
+    return functools.partial(_classify_in_worker, _model_key(ref)), _init_worker, (ref,)
+
+
+def _classify_all(run_on: Executor, task: tuple[Callable[[Scene], _Outcome], Callable[..., None] | None, tuple],
+                  scenes: Sequence[Combination], todo: Sequence[int], record: _Recorder) -> None:
+    """Run the combinations ``todo`` on ``run_on`` and record each outcome as it finishes.
+
+    Parameters
+    ----------
+    run_on : Executor
+        Where to run.
+    task : tuple
+        The task, initializer and initializer arguments of :func:`_task`.
+    scenes : sequence of (dict, dict)
+        The combinations of the sweep.
+    todo : sequence of int
+        The indices to compute.
+    record : _Recorder
+        Takes ``(index, outcome)``; a dead worker's outcome is a failure that resume computes again.
+    """
+    fn, initializer, initargs = task
+    items = [scenes[i][1] for i in todo]
+    with closing(run_on.map_unordered(fn, items, initializer=initializer, initargs=initargs)) as results:
+        for k, outcome in results:
+            if isinstance(outcome, WorkerDied):
+                outcome = (None, {}, f"{WORKER_DIED} while classifying this combination (killed, out of "
+                                     f"memory, or a crash in compiled code); it is computed again on resume", 0.0)
+            record(todo[k], outcome)
+
+
+def _final_rows(axes: Sequence[str], rows: Sequence[Row | None]) -> tuple[list[Row], list[str]]:
+    """Every row with the same columns: the swept keys, ``label``, the union of the model's values, the tail.
+
+    Parameters
+    ----------
+    axes : sequence of str
+        The swept keys.
+    rows : sequence of dict
+        One row per combination (all computed by now).
+
+    Returns
+    -------
+    out : list of dict
+        The rows, None where a row lacks a column.
+    columns : list of str
+        The columns, in order.
+    """
+    columns = [*axes, "label"]
+    for row in rows:
+        assert row is not None
+        columns += [k for k in row if k not in columns and k not in TAIL_COLUMNS]
+    columns += list(TAIL_COLUMNS)
+    return [{c: row.get(c) for c in columns} for row in rows if row is not None], columns
+
+
+def _reorder_csv(store: _CsvStore, out: Sequence[Row], columns: list[str], say: Callable[[str], None]) -> None:
+    """Rewrite the complete CSV in combination order; a failure is only a warning (the rows are all there)."""
+    try:
+        store.finish(out, columns)
+    except OSError as exc:  # every row is in the file already, in completion order
+        say(f"warning: could not put {str(store.path)!r} in combination order: {exc.strerror or exc}")
+
+
 def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path: str | Path | None = None,
               workers: int | None = None, progress: bool = True, resume: bool = True, *,
               scheduler: str | None = None, executor: Executor | None = None,
@@ -783,20 +1000,10 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
     scenes = list(scenes)
     if not scenes:
         return []
-    if executor is not None and (workers is not None or scheduler is not None):
-        raise ValueError("give an executor, or workers and scheduler to make one, not both")
-    workers = None if workers is None else int(workers)
-    if workers is not None and workers < 1:
-        raise ValueError(f"workers must be >= 1, got {workers}")
-    if runner is None:
-        runner = _load_runner(model) if isinstance(model, str) else model
-    name = model if isinstance(model, str) else getattr(runner, "name", type(runner).__name__)
-    if not can_classify(runner):
-        raise SweepError(f"model {name!r} cannot classify: it provides no classification", "unknown")
-    check_sweep_classifiable(runner, scenes)
+    runner, name, workers = _checked_runner(model, scenes, workers, scheduler, executor, runner)
     axes = list(scenes[0][0])
     total = len(scenes)
-    say = (lambda msg: print(f"contin: {msg}", file=sys.stderr, flush=True)) if progress else (lambda msg: None)
+    say = _printer(progress)
 
     own = executor is None
     if executor is None:
@@ -806,72 +1013,18 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
     store: _CsvStore | None = None
     try:
         store = _CsvStore(csv_path, axes, scenes, resume) if csv_path is not None else None
-        rows: list[dict[str, Any] | None] = [None] * total
-        if store is not None:
-            for i, row in store.resumed.items():
-                rows[i] = row
-        todo = [i for i in range(total) if rows[i] is None]
+        rows, todo = _rows_to_compute(store, total)
         # one combination: starting a worker process would only cost time
         run_on = SerialExecutor() if len(todo) == 1 and isinstance(executor, ProcessExecutor) else executor
         if store is not None and store.resumed:
             say(f"resumed {len(store.resumed)} of {total} combinations from {str(store.path)!r}")
         if todo:
             say(f"classifying {len(todo)} of {total} combinations {run_on.where(len(todo))}")
-
-        t_start = time.perf_counter()
-        computed = 0
-
-        def record(i: int, outcome: _Outcome) -> None:
-            nonlocal computed
-            values, scene = scenes[i]
-            row = _make_row(values, scene, outcome)
-            rows[i] = row
-            if store is not None:
-                store.append(row)
-            computed += 1
-            done = total - len(todo) + computed
-            left = len(todo) - computed
-            eta = (time.perf_counter() - t_start) / computed * left
-            what = row["label"] if not row["failure"] else f"no class: {row['failure']}"
-            if len(what) > 160:
-                what = what[:157] + "..."
-            combo = " ".join(f"{k}={_show(v)}" for k, v in values.items())
-            say(f"[{done}/{total}] {combo} -> {what} ({row['wall_time_s']:.2f} s"
-                f"{'; ETA ' + _duration(eta) if left else ''})")
-
-        if run_on.in_process:
-            task: Callable[[Scene], _Outcome] = functools.partial(_classify_safely, runner)
-            initializer, initargs = None, ()
-        else:
-            if isinstance(model, str):
-                ref: str | bytes = model
-            else:
-                try:
-                    ref = pickle.dumps(runner)
-                except Exception as exc:
-                    raise TypeError(f"the model {name!r} cannot be sent to worker processes ({_one_line(exc)}); "
-                                    f"pass its registered name, or workers=1") from None
-            task = functools.partial(_classify_in_worker, _model_key(ref))
-            initializer, initargs = _init_worker, (ref,)
-        items = [scenes[i][1] for i in todo]
-        with closing(run_on.map_unordered(task, items, initializer=initializer, initargs=initargs)) as results:
-            for k, outcome in results:
-                if isinstance(outcome, WorkerDied):
-                    outcome = (None, {}, f"{WORKER_DIED} while classifying this combination (killed, out of "
-                                         f"memory, or a crash in compiled code); it is computed again on resume", 0.0)
-                record(todo[k], outcome)
-
-        columns = [*axes, "label"]
-        for row in rows:
-            assert row is not None
-            columns += [k for k in row if k not in columns and k not in TAIL_COLUMNS]
-        columns += list(TAIL_COLUMNS)
-        out = [{c: row.get(c) for c in columns} for row in rows if row is not None]
+        record = _Recorder(scenes, rows, todo, store, say)
+        _classify_all(run_on, _task(model, runner, name, run_on.in_process), scenes, todo, record)
+        out, columns = _final_rows(axes, rows)
         if store is not None:
-            try:
-                store.finish(out, columns)
-            except OSError as exc:  # every row is in the file already, in completion order
-                say(f"warning: could not put {str(store.path)!r} in combination order: {exc.strerror or exc}")
+            _reorder_csv(store, out, columns, say)
         return out
     finally:
         if store is not None:
