@@ -538,13 +538,15 @@ def _classify_one(model: ModelRunner, scene: dict, progress: bool) -> Classifica
     return result
 
 
-def _cmd_classify(args: argparse.Namespace) -> int:
-    name = _model_name(args)
-    model = load_model(name)
-    if not can_classify(model):
-        able = _classifying_models()
-        raise CliError(f"model {name!r} cannot classify: it provides no classification "
-                       f"(models that can: {', '.join(able) or 'none'}); 'contin trace --model {name}' traces it")
+def _check_sweep_options(args: argparse.Namespace) -> None:
+    """Refuse the sweep options of ``contin classify`` without ``--sweep``, or in a combination that cannot run.
+
+    Raises
+    ------
+    CliError
+        ``--csv``, ``--workers``, ``--scheduler`` or ``--no-resume`` without ``--sweep``; fewer than one
+        worker; ``--workers`` with ``--scheduler``; an empty ``--scheduler``.
+    """
     if not args.sweep:
         given = [opt for opt, value in (("--csv", args.csv), ("--workers", args.workers),
                                         ("--scheduler", args.scheduler), ("--no-resume", args.no_resume))
@@ -560,6 +562,16 @@ def _cmd_classify(args: argparse.Namespace) -> int:
                            f"--scheduler the Dask cluster's workers run the sweep (drop --workers)")
         if not args.scheduler.strip():
             raise CliError("--scheduler needs the address of a Dask scheduler, e.g. tcp://127.0.0.1:8786")
+
+
+def _cmd_classify(args: argparse.Namespace) -> int:
+    name = _model_name(args)
+    model = load_model(name)
+    if not can_classify(model):
+        able = _classifying_models()
+        raise CliError(f"model {name!r} cannot classify: it provides no classification "
+                       f"(models that can: {', '.join(able) or 'none'}); 'contin trace --model {name}' traces it")
+    _check_sweep_options(args)
     scenes = _classify_scenes(model, name, args)
     if args.sweep:
         return _classify_sweep(name, model, scenes, args)
@@ -590,6 +602,32 @@ def _swept_cell(value: Any) -> Any:
     return value
 
 
+def _sweep_table(rows: Sequence[dict[str, Any]], axes: Sequence[str]) -> list[dict[str, Any]]:
+    """The lines of the printed sweep table: the swept values, the class, the norms, the time, the failure.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        The rows of :func:`contin.sweep.run_sweep`.
+    axes : sequence of str
+        The swept keys.
+
+    Returns
+    -------
+    list of dict
+        One line per row, for :func:`format_table`.
+    """
+    table = []
+    for row in rows:
+        line: dict[str, Any] = {axis: _swept_cell(row[axis]) for axis in axes}
+        line["class"] = row["label"] or ("failed" if row["failure"] else "undecided")
+        line.update({k: v for k, v in row.items() if k.endswith("_norm") and k not in axes})
+        line["time_s"] = f"{row['wall_time_s']:.2f}" if row["wall_time_s"] is not None else ""
+        line["failure"] = row["failure"]
+        table.append(line)
+    return table
+
+
 def _classify_sweep(name: str, model: ModelRunner, scenes: list[tuple[dict[str, Any], dict[str, dict[str, Any]]]],
                     args: argparse.Namespace) -> int:
     """``contin classify --sweep``: run the combinations, print the table (or JSON), return the exit status."""
@@ -618,14 +656,7 @@ def _classify_sweep(name: str, model: ModelRunner, scenes: list[tuple[dict[str, 
     if args.json:
         print(json.dumps(json_ready(rows), indent=2, allow_nan=False))
         return 1 if failed else 0
-    table = []
-    for row in rows:
-        line: dict[str, Any] = {axis: _swept_cell(row[axis]) for axis in axes}
-        line["class"] = row["label"] or ("failed" if row["failure"] else "undecided")
-        line.update({k: v for k, v in row.items() if k.endswith("_norm") and k not in axes})
-        line["time_s"] = f"{row['wall_time_s']:.2f}" if row["wall_time_s"] is not None else ""
-        line["failure"] = row["failure"]
-        table.append(line)
+    table = _sweep_table(rows, axes)
     print(format_table(table, title=f"classification sweep ({name}): {len(rows)} combinations, rows in "
                                      f"{str(csv_path)!r}"))
     counts: dict[str, int] = {}

@@ -47,7 +47,7 @@ import numpy as np
 from . import registry
 from .executors import Executor, ProcessExecutor, SerialExecutor, WorkerDied, default_workers, make_executor
 from .io import atomic_write
-from .scene import (Classification, ModelRunner, SceneError, Schema, can_classify, check_classifiable,
+from .scene import (Classification, Field, ModelRunner, SceneError, Schema, can_classify, check_classifiable,
                     engine_failures, format_toml_value, load_scene, parse_override)
 
 __all__ = ["SweepError", "SWEEP_SYNTAX", "parse_sweep", "sweep_scenes", "run_sweep", "default_workers",
@@ -150,6 +150,24 @@ def _range_values(name: str, raw: str, bad: Callable[[str], SweepError]) -> list
     return values
 
 
+def _swept_field(schema: Schema, spec: str, name: str) -> Field:
+    """The schema field of the swept key ``name`` (``section.key``) of the ``--sweep`` argument ``spec``.
+
+    Raises
+    ------
+    SweepError
+        Kind ``"unknown"``: the schema has no such section or key.
+    """
+    section, _, key = name.partition(".")
+    if section not in schema.sections:
+        raise SweepError(f"unknown scene section [{section}] in --sweep {spec}; allowed sections: "
+                         f"{', '.join(f'[{s}]' for s in schema.sections)}", "unknown")
+    if key not in schema.sections[section]:
+        raise SweepError(f"unknown scene key {name} in --sweep {spec}; section [{section}] allows: "
+                         f"{', '.join(schema.sections[section]) or '(none)'}", "unknown")
+    return schema.field(section, key)
+
+
 def parse_sweep(spec: str, schema: Schema | None = None) -> tuple[str, list[Any]]:
     """Read one sweep axis, ``section.key=SPEC``.
 
@@ -188,15 +206,7 @@ def parse_sweep(spec: str, schema: Schema | None = None) -> tuple[str, list[Any]
     def bad(why: str) -> SweepError:
         return SweepError(f"bad --sweep {name}={raw}: {why}; {SWEEP_SYNTAX}", "syntax")
 
-    field = None
-    if schema is not None:
-        if section not in schema.sections:
-            raise SweepError(f"unknown scene section [{section}] in --sweep {spec}; allowed sections: "
-                             f"{', '.join(f'[{s}]' for s in schema.sections)}", "unknown")
-        if key not in schema.sections[section]:
-            raise SweepError(f"unknown scene key {name} in --sweep {spec}; section [{section}] allows: "
-                             f"{', '.join(schema.sections[section]) or '(none)'}", "unknown")
-        field = schema.field(section, key)
+    field = None if schema is None else _swept_field(schema, spec, name)
 
     if ":" in raw:
         if field is not None and field.type not in (int, float):
