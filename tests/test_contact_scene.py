@@ -85,5 +85,7 @@ def test_force_control_of_an_indenter_snaps_at_the_limit_load(tmp_path):
     assert jump["success"] and landing["parameter"] == "F" and landing["n_contact"] > 0
     assert summary["w_b_after_snap"] > summary["w_b_at_snap"] + 0.2
     assert summary["snaps"][0]["nodes_in_contact_after"] > 0
+    # the snap list gives the travel where the shell snapped, not the load (the parameter under force control)
+    assert summary["snaps"][0]["w_b"] == summary["w_b_at_snap"] and summary["snaps"][0]["F"] == summary["F_snap"]
     # loading goes on until the indenter reaches the end of its travel or the base ring
     assert float(rows[-1]["F"]) > summary["F_snap"] and float(rows[-1]["w"]) > summary["w_b_after_snap"]

@@ -215,7 +215,8 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
         "control": control, "classification": None,
         "classification_note": "the classification is defined on the bilateral point load (load.kind = \"point\")",
     }
-    summary["snaps"] = [{"w_b": float(sn["point"].p), "kind": sn["point"].kind, "label": sn["point"].label,
+    # the travel from the observables: under force control the parameter p is the load, not w_b
+    summary["snaps"] = [{"w_b": float(sn["point"].observables["w_b"]), "kind": sn["point"].kind, "label": sn["point"].label,
                          "F": float(sn["point"].observables["F"]), "Delta_H": float(sn["point"].observables["Delta_H"]),
                          "nodes_in_contact_after": sn["contact_after"]} for sn in snaps]
     # the snap of the paper is the one after which the shell has left the indenter (eversion); a plate
