@@ -396,6 +396,191 @@ def _sweep_direction(p0: float, p_end: float | None, direction: int | None) -> i
     return implied
 
 
+def _snap_rules(snap: SnapRules | None, jump_attempts: Sequence[tuple[float, float | None]] | None,
+                jump_tol: float | None, jump_max_iter: int | None, min_separation: float | None) -> SnapRules:
+    """The snap rules of a sweep: ``snap`` (default ``SnapRules()``) with the shorthands that are given.
+
+    Parameters
+    ----------
+    snap : SnapRules or None
+        The caller's rules.
+    jump_attempts, jump_tol, jump_max_iter, min_separation
+        Shorthands of :func:`quasistatic` for ``attempts``, ``tol``, ``max_iter`` and
+        ``min_separation``; None keeps the field of ``snap``.
+
+    Returns
+    -------
+    SnapRules
+        The validated rules.
+    """
+    shorthand = {"attempts": None if jump_attempts is None else tuple(jump_attempts), "tol": jump_tol,
+                 "max_iter": jump_max_iter, "min_separation": min_separation}
+    rules = replace(snap or SnapRules(), **{k: v for k, v in shorthand.items() if v is not None})
+    rules.validate()
+    return rules
+
+
+class _SweepEnd(Exception):
+    """Ends the loop of :func:`quasistatic`, carrying the finished result; never leaves that function.
+
+    Every step of the loop can end the sweep; raising lets the loop read as its sequence of steps
+    instead of a test after each one.
+    """
+
+    def __init__(self, result: QuasiStaticResult) -> None:
+        super().__init__(result.message)
+        self.result = result
+
+
+@dataclass
+class _SweepLoop:
+    """One :func:`quasistatic` call under way: its steps, each of which may end the sweep.
+
+    A step that ends the sweep raises :class:`_SweepEnd` with the result (see :meth:`end`).
+
+    Attributes
+    ----------
+    sweep : _Sweep
+        The problem, the continuation settings (``sweep.curve.settings``) and the snap rules.
+    pname : str
+        The parameter's name, for the messages.
+    events : sequence of Event
+        User events passed to every continuation run.
+    max_snaps : int
+        Snap budget: reaching one more fold ends the sweep.
+    check_stability : bool
+        Whether an unstable stored point without a located fold ends the sweep.
+    locate_snap, stop_after_jump : callable or None
+        The hooks of :func:`quasistatic`.
+    out : QuasiStaticResult
+        The result being assembled: branches, folds, jumps and attempt reasons are appended as the
+        sweep goes; status, message and final state are set by :meth:`end`.
+    """
+
+    sweep: _Sweep
+    pname: str
+    events: Sequence[Event]
+    max_snaps: int
+    check_stability: bool
+    locate_snap: Callable[[Branch], SpecialPoint | None] | None
+    stop_after_jump: Callable[[JumpResult], str | None] | None
+    out: QuasiStaticResult
+
+    @classmethod
+    def begin(cls, sweep: _Sweep, events: Sequence[Event], max_snaps: int, check_stability: bool,
+              locate_snap: Callable[[Branch], SpecialPoint | None] | None,
+              stop_after_jump: Callable[[JumpResult], str | None] | None) -> _SweepLoop:
+        """A loop with an empty result (no branches, jumps or folds yet)."""
+        pname = sweep.problem.parameter_name
+        out = QuasiStaticResult(p0=sweep.p0, p_end=sweep.p_end, direction=sweep.direction, branches=[], jumps=[],
+                                folds=[], status="", message="", u_final=np.zeros(0), p_final=sweep.p0,
+                                info={"parameter_name": pname, "jump_attempts": []})
+        return cls(sweep, pname, events, max_snaps, check_stability, locate_snap, stop_after_jump, out)
+
+    def end(self, status: str, message: str, u_fin: np.ndarray, p_fin: float) -> _SweepEnd:
+        """Complete the result with why and where the sweep stopped; the caller raises what is returned."""
+        out = self.out
+        out.status, out.message, out.u_final, out.p_final = status, message, np.asarray(u_fin), float(p_fin)
+        return _SweepEnd(out)
+
+    def start(self, u0: Any) -> np.ndarray:
+        """The state the first run starts from, after checking that it converges to a stable equilibrium.
+
+        Raises
+        ------
+        ValueError
+            If the problem has no stability operator.
+        """
+        problem, p0, pname = self.sweep.problem, self.sweep.p0, self.pname
+        u_raw = np.array(u0, dtype=float).ravel()
+        try:
+            u_start, _, _ = self.sweep.curve.newton_fixed_p(u_raw, p0)
+        except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+            raise self.end("stopped", f"could not converge the starting state at {pname} = {p0:.10g}: {exc}",
+                           u_raw, p0)
+        op = problem.stability_operator(u_start, p0)
+        if op is None:
+            raise ValueError(f"quasistatic needs a stability operator; problem {problem.name!r} has none")
+        n_neg = stability_info(op, 1).n_negative
+        if n_neg > 0:
+            raise self.end("unstable_start", f"the starting state at {pname} = {p0:.10g} is unstable ({n_neg} "
+                           "negative eigenvalue(s)); a quasi-static sweep starts on a stable equilibrium",
+                           u_start, p0)
+        # the first run starts from u0 itself: continuation corrects it at p0 as it corrects any start
+        return u_raw
+
+    def load(self, u: np.ndarray, p: float, origin: JumpResult | None) -> Branch:
+        """One continuation run from ``(u, p)`` in the sweep direction: to a fold, a bound or ``p_end``."""
+        br = continuation(self.sweep.problem, u, p, self.sweep.curve.settings, events=self.events, origin=origin)
+        self.out.branches.append(br)
+        if len(br) == 0:
+            raise self.end("stopped", f"continuation from {self.pname} = {p:.10g} failed: {br.message}", u, p)
+        return br
+
+    def check_branch(self, br: Branch) -> SpecialPoint | None:
+        """The fold or branch point ending ``br``; the sweep ends if ``br`` lost stability or reached ``p_end``."""
+        pname, p0, p_end = self.pname, self.sweep.p0, self.sweep.p_end
+        u_last, p_last = br.u[-1], float(br.p[-1])
+        terminal = _terminal_point(br)
+        i = _first_unstable(br, terminal) if self.check_stability else None
+        if i is not None:
+            j = max(i - 1, 0)
+            raise self.end("lost_stability", f"the branch became unstable at {pname} = {br.p[i]:.10g} (stored "
+                           f"point {i}, {int(br.n_negative[i])} negative eigenvalue(s)) without a located fold "
+                           "or branch point", br.u[j], float(br.p[j]))
+        if br.status == "bound" and (p_end is None or abs(p_last - p_end) <= 1e-9 * max(1.0, abs(p_end),
+                                                                                       abs(p_end - p0))):
+            reached = p_last if p_end is None else p_end
+            raise self.end("completed", f"reached {pname} = {reached:.10g} after {len(self.out.jumps)} snap(s)",
+                           u_last, p_last)
+        return terminal
+
+    def fold_to_leave(self, br: Branch, terminal: SpecialPoint | None) -> tuple[SpecialPoint, np.ndarray]:
+        """The fold to snap from and its state; the sweep ends if ``br`` ends otherwise or the budget is spent.
+
+        ``terminal`` is what :meth:`check_branch` found; on a terminal user event ``locate_snap``
+        is asked for the fold.
+        """
+        pname, p_end = self.pname, self.sweep.p_end
+        u_last, p_last = br.u[-1], float(br.p[-1])
+        if terminal is None and br.status == "event" and self.locate_snap is not None:
+            terminal = self.locate_snap(br)
+        if terminal is None or br.status != "event":
+            end = "" if p_end is None else f" before reaching {pname} = {p_end:.10g}"
+            raise self.end("stopped", f"continuation stopped at {pname} = {p_last:.10g}{end} (status "
+                           f"{br.status!r}: {br.message})", u_last, p_last)
+        if terminal.kind == "branch_point":
+            raise self.end("branch_point", f"the stable branch ends in a branch point at {pname} = "
+                           f"{terminal.p:.10g}; the sweep does not choose a bifurcating branch "
+                           "(see contin.switch_branch)", u_last, p_last)
+        self.out.folds.append(terminal)
+        if len(self.out.jumps) >= self.max_snaps:
+            end = "" if p_end is None else f", before {pname} = {p_end:.10g}"
+            raise self.end("max_snaps", f"reached a fold at {pname} = {terminal.p:.10g} after max_snaps = "
+                           f"{self.max_snaps} snap(s){end}", u_last, p_last)
+        return terminal, (u_last if terminal.u is None else np.asarray(terminal.u, dtype=float))
+
+    def jump_from(self, fold: SpecialPoint, u_fold: np.ndarray) -> JumpResult:
+        """The jump from the fold by the snap rules; the sweep ends if no attempt lands."""
+        jr, reasons = self.sweep.snap(fold, u_fold)
+        self.out.info["jump_attempts"].append(reasons)
+        if jr is None:
+            raise self.end("jump_failed", f"the snap at the fold {self.pname} = {fold.p:.10g} did not land on a "
+                           f"distinct stable state: {'; '.join(reasons)}", u_fold, float(fold.p))
+        self.out.jumps.append(jr)
+        return jr
+
+    def check_landing(self, jr: JumpResult, fold: SpecialPoint) -> None:
+        """End the sweep if the snap from ``fold`` reached ``p_end`` or ``stop_after_jump`` says so."""
+        pname, p_end, n_snaps = self.pname, self.sweep.p_end, len(self.out.jumps)
+        if p_end is not None and jr.p == p_end:  # minimised at p_end and not restated at the fold
+            raise self.end("completed", f"reached {pname} = {p_end:.10g} by the snap at the fold {pname} = "
+                           f"{fold.p:.10g} ({n_snaps} snap(s))", jr.u_to, jr.p)
+        enough = self.stop_after_jump(jr) if self.stop_after_jump is not None else None
+        if enough:
+            raise self.end("completed", f"{enough} ({n_snaps} snap(s))", jr.u_to, jr.p)
+
+
 def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None, settings: Settings | None = None,
                 *, direction: int | None = None, max_snaps: int = 10, snap: SnapRules | None = None,
                 locate_snap: Callable[[Branch], SpecialPoint | None] | None = None,
@@ -493,81 +678,18 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
     direction = _sweep_direction(p0, p_end, direction)
     if max_snaps < 0:
         raise ValueError(f"quasistatic: max_snaps must be >= 0, got {max_snaps!r}")
-    shorthand = {"attempts": None if jump_attempts is None else tuple(jump_attempts), "tol": jump_tol,
-                 "max_iter": jump_max_iter, "min_separation": min_separation}
-    rules = replace(snap or SnapRules(), **{k: v for k, v in shorthand.items() if v is not None})
-    rules.validate()
+    rules = _snap_rules(snap, jump_attempts, jump_tol, jump_max_iter, min_separation)
     st = _sweep_settings(settings, overrides, direction, p_end, stop_at_branch_points)
-    sweep = _Sweep(problem, Curve(problem, st), rules, direction, p0, p_end)
-    pname = problem.parameter_name
-    out = QuasiStaticResult(p0=p0, p_end=p_end, direction=direction, branches=[], jumps=[], folds=[], status="",
-                            message="", u_final=np.zeros(0), p_final=p0,
-                            info={"parameter_name": pname, "jump_attempts": []})
-
-    def finish(status: str, message: str, u_fin: np.ndarray, p_fin: float) -> QuasiStaticResult:
-        out.status, out.message, out.u_final, out.p_final = status, message, np.asarray(u_fin), float(p_fin)
-        return out
-
-    # ---- the start must be a stable equilibrium
-    u_raw = np.array(u0, dtype=float).ravel()
+    run = _SweepLoop.begin(_Sweep(problem, Curve(problem, st), rules, direction, p0, p_end), events, max_snaps,
+                           check_stability, locate_snap, stop_after_jump)
+    # every step below either hands the next its input or ends the sweep by raising _SweepEnd
     try:
-        u_start, _, _ = sweep.curve.newton_fixed_p(u_raw, p0)
-    except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
-        return finish("stopped", f"could not converge the starting state at {pname} = {p0:.10g}: {exc}", u_raw, p0)
-    op = problem.stability_operator(u_start, p0)
-    if op is None:
-        raise ValueError(f"quasistatic needs a stability operator; problem {problem.name!r} has none")
-    n_neg = stability_info(op, 1).n_negative
-    if n_neg > 0:
-        return finish("unstable_start", f"the starting state at {pname} = {p0:.10g} is unstable ({n_neg} negative "
-                      "eigenvalue(s)); a quasi-static sweep starts on a stable equilibrium", u_start, p0)
-
-    # the first run starts from u0 itself: continuation corrects it at p0 as it corrects any start
-    u, p, origin = u_raw, p0, None
-    while True:
-        br = continuation(problem, u, p, st, events=events, origin=origin)
-        out.branches.append(br)
-        if len(br) == 0:
-            return finish("stopped", f"continuation from {pname} = {p:.10g} failed: {br.message}", u, p)
-        u_last, p_last = br.u[-1], float(br.p[-1])
-        terminal = _terminal_point(br)
-        i = _first_unstable(br, terminal) if check_stability else None
-        if i is not None:
-            j = max(i - 1, 0)
-            return finish("lost_stability", f"the branch became unstable at {pname} = {br.p[i]:.10g} (stored point "
-                          f"{i}, {int(br.n_negative[i])} negative eigenvalue(s)) without a located fold or branch "
-                          "point", br.u[j], float(br.p[j]))
-        if br.status == "bound" and (p_end is None or abs(p_last - p_end) <= 1e-9 * max(1.0, abs(p_end),
-                                                                                       abs(p_end - p0))):
-            reached = p_last if p_end is None else p_end
-            return finish("completed", f"reached {pname} = {reached:.10g} after {len(out.jumps)} snap(s)",
-                          u_last, p_last)
-        if terminal is None and br.status == "event" and locate_snap is not None:
-            terminal = locate_snap(br)
-        if terminal is None or br.status != "event":
-            end = "" if p_end is None else f" before reaching {pname} = {p_end:.10g}"
-            return finish("stopped", f"continuation stopped at {pname} = {p_last:.10g}{end} (status "
-                          f"{br.status!r}: {br.message})", u_last, p_last)
-        if terminal.kind == "branch_point":
-            return finish("branch_point", f"the stable branch ends in a branch point at {pname} = "
-                          f"{terminal.p:.10g}; the sweep does not choose a bifurcating branch "
-                          "(see contin.switch_branch)", u_last, p_last)
-        out.folds.append(terminal)
-        if len(out.jumps) >= max_snaps:
-            end = "" if p_end is None else f", before {pname} = {p_end:.10g}"
-            return finish("max_snaps", f"reached a fold at {pname} = {terminal.p:.10g} after max_snaps = "
-                          f"{max_snaps} snap(s){end}", u_last, p_last)
-        u_fold = u_last if terminal.u is None else np.asarray(terminal.u, dtype=float)
-        jr, reasons = sweep.snap(terminal, u_fold)
-        out.info["jump_attempts"].append(reasons)
-        if jr is None:
-            return finish("jump_failed", f"the snap at the fold {pname} = {terminal.p:.10g} did not land on a "
-                          f"distinct stable state: {'; '.join(reasons)}", u_fold, float(terminal.p))
-        out.jumps.append(jr)
-        if p_end is not None and jr.p == p_end:  # minimised at p_end and not restated at the fold
-            return finish("completed", f"reached {pname} = {p_end:.10g} by the snap at the fold {pname} = "
-                          f"{terminal.p:.10g} ({len(out.jumps)} snap(s))", jr.u_to, jr.p)
-        enough = stop_after_jump(jr) if stop_after_jump is not None else None
-        if enough:
-            return finish("completed", f"{enough} ({len(out.jumps)} snap(s))", jr.u_to, jr.p)
-        u, p, origin = jr.u_to, jr.p, jr
+        u, p, origin = run.start(u0), p0, None
+        while True:
+            br = run.load(u, p, origin)
+            fold, u_fold = run.fold_to_leave(br, run.check_branch(br))
+            jr = run.jump_from(fold, u_fold)
+            run.check_landing(jr, fold)
+            u, p, origin = jr.u_to, jr.p, jr
+    except _SweepEnd as end:
+        return end.result
