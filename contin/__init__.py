@@ -27,6 +27,12 @@ Where each part of the engine lives:
 ``quasistatic``     load to a fold, snap, resume
 ``diagram``         bifurcation diagrams as graphs, and plots
 ``twopar``          fold curves in a second parameter
+``deadload``        force control of a displacement-controlled problem (one bordered row)
+``scene``           declarative scene schemas, validation, trace and classification results
+``cli``, ``sweep``  the ``contin`` command line and its sweeps; ``executors`` run them in parallel
+``registry``        the models registered as ``contin.models`` entry points
+``io``              atomic writes of output files, JSON conversion
+``launch``          the console script's entry (imports nothing heavy: an early Ctrl-C is an interrupt)
 ==================  ===============================================================================
 """
 
