@@ -14,7 +14,7 @@ from contin.scene import Classification, Constraint, SceneModel, TraceResult, ch
 
 from .build import contact_settings
 from .point import path_complete, run_point, run_point_force
-from .schema import MIN_NODES_PER_BENDING_LENGTH, SHELL_SCHEMA, Scene, minimum_nodes
+from .schema import MIN_NODES_PER_BENDING_LENGTH, SHELL_SCHEMA, Scene, nodes_per_bending_length
 
 __all__ = ["SHELL_SCENE", "classify_scene", "run_scene"]
 
@@ -44,7 +44,7 @@ def mesh_advice(scene: Scene) -> str:
     mesh and some do not (docs/robustness.md), so this is advice, not a diagnosis.
     """
     s = scene["shell"]
-    per_length = MIN_NODES_PER_BENDING_LENGTH * s["N"] / max(minimum_nodes(s), 1)
+    per_length = nodes_per_bending_length(s)
     return (f"the mesh has {per_length:.1f} nodes over the bending length sqrt(R h) (at least "
             f"{MIN_NODES_PER_BENDING_LENGTH} are required); the first thing to try is a finer mesh, "
             f"shell.N = {2 * s['N']}")

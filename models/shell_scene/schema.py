@@ -17,7 +17,7 @@ from typing import Any
 from contin.scene import Constraint, Field, Schema, boolean, choice, integer, real
 
 __all__ = ["SHELL_SCHEMA", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
-           "minimum_nodes"]
+           "minimum_nodes", "nodes_per_bending_length"]
 
 Scene = dict[str, dict[str, Any]]
 
@@ -90,6 +90,20 @@ SHELL_SCHEMA = Schema(
 )
 
 
+def nodes_per_bending_length(shell: dict[str, Any], N: int | None = None) -> float:
+    """How many nodes the meridian's mean spacing puts over the bending length ``sqrt(R h)``.
+
+    Parameters
+    ----------
+    shell : dict
+        The scene's ``[shell]`` section (``R``, ``h``, ``phi_hat`` and, unless ``N`` is given, ``N``).
+    N : int, optional
+        A number of nodes other than the scene's.
+    """
+    arc = shell["R"] * (math.pi / 2 - shell["phi_hat"])  # the meridian's length
+    return (shell["N"] if N is None else N) * math.sqrt(shell["R"] * shell["h"]) / arc
+
+
 def minimum_nodes(shell: dict[str, Any]) -> int:
     """Fewest nodes that put :data:`MIN_NODES_PER_BENDING_LENGTH` nodes over the bending length ``sqrt(R h)``.
 
@@ -98,8 +112,7 @@ def minimum_nodes(shell: dict[str, Any]) -> int:
     shell : dict
         The scene's ``[shell]`` section (``R``, ``h``, ``phi_hat``).
     """
-    arc = shell["R"] * (math.pi / 2 - shell["phi_hat"])  # the meridian's length
-    return math.ceil(MIN_NODES_PER_BENDING_LENGTH * arc / math.sqrt(shell["R"] * shell["h"]) - 1e-9)
+    return math.ceil(MIN_NODES_PER_BENDING_LENGTH / nodes_per_bending_length(shell, N=1) - 1e-9)
 
 
 def eversion_displacement(R: float, phi_hat: float) -> float:
