@@ -171,8 +171,30 @@ def _banded_info(H, b: int, k: int, vectors: bool) -> StabilityInfo:
     return StabilityInfo(n_neg, np.asarray(w), V)
 
 
+#: Largest matrix whose eigenvalues are computed densely when ARPACK does not converge (a few
+#: seconds of ``eigh`` at most; beyond it the failure is reported).
+DENSE_FALLBACK_LIMIT = 4000
+
+
 def _sparse_info(H, k: int, vectors: bool) -> StabilityInfo:
-    """ARPACK for the algebraically smallest, widened until a non-negative one shows."""
+    """ARPACK for the algebraically smallest, widened until a non-negative one shows.
+
+    The smallest eigenvalues of a stiff matrix (eigenvalues spread over many decades, nearly zero
+    ones among them: a shell at a fold) can defeat ARPACK's iteration; a matrix up to
+    :data:`DENSE_FALLBACK_LIMIT` is then solved densely.
+    """
+    n = H.shape[0]
+    try:
+        return _arpack_info(H, k, vectors)
+    except spla.ArpackNoConvergence as exc:
+        if n > DENSE_FALLBACK_LIMIT:
+            raise np.linalg.LinAlgError(f"stability: the smallest eigenvalues of the {n} x {n} Hessian did not "
+                                      f"converge ({exc}); it is too large for the dense fallback "
+                                      f"(n <= {DENSE_FALLBACK_LIMIT})") from exc
+        return _dense_info(H, k, vectors)
+
+
+def _arpack_info(H, k: int, vectors: bool) -> StabilityInfo:
     n = H.shape[0]
     m = k
     while True:

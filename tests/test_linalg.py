@@ -128,3 +128,25 @@ def test_inertia_refuses_a_factorization_it_cannot_trust():
     expected = int(np.count_nonzero(np.linalg.eigvalsh(A.toarray()) < 0))
     assert expected == 1
     assert stability_info(A, k=0).n_negative == expected  # falls back to an eigensolver
+
+
+def test_stability_falls_back_to_dense_when_arpack_does_not_converge(monkeypatch):
+    """ARPACK can stall on the smallest eigenvalues of a stiff Hessian (a shell at a fold, n ~ 450):
+    the count and the eigenvalues then come from a dense solve, not from an internal error."""
+    import scipy.sparse.linalg as spla
+
+    import contin.stability as stability
+
+    rng = np.random.default_rng(3)
+    A = sp.random(500, 500, density=0.01, random_state=rng)
+    A = (A + A.T + sp.eye(500)).tocsr()
+
+    def no_convergence(*args, **kwargs):
+        raise spla.ArpackNoConvergence("no convergence", np.zeros(0), np.zeros((500, 0)))
+
+    monkeypatch.setattr(stability.spla, "eigsh", no_convergence)
+    info = stability.stability_info(A, 2, vectors=True)
+    w = np.linalg.eigvalsh(A.toarray())
+    assert info.n_negative == int(np.sum(w < 0))
+    np.testing.assert_allclose(info.eigenvalues, w[:2], rtol=1e-10)
+    assert info.eigenvectors.shape[1] >= info.n_negative

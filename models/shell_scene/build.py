@@ -27,14 +27,39 @@ from contin_models.contact import Plate, Sphere
 from contin_models.contact.indentation import ShellIndentation
 from contin_models.shell import ShellPointLoad
 
+from contin.quasistatic import SnapRules
+
 from .schema import Scene, eversion_displacement
 
 __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path", "point_problem",
-           "point_settings", "MIN_STEPS_PER_PATH"]
+           "point_settings", "force_snap_rules", "MIN_STEPS_PER_PATH", "FORCE_JUMP_ATTEMPTS"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
 #: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
 MIN_STEPS_PER_PATH = 20
+
+
+#: ``(overshoot, kick)`` attempts of a force-controlled snap: the load is raised by ``overshoot F``
+#: past the limit load and the state kicked by ``kick R`` along the null vector (None: the engine's
+#: default kick); a load a hair above the limit load has no equilibrium nearby, so the minimisation
+#: has to leave for the distant stable state.
+FORCE_JUMP_ATTEMPTS = ((1e-6, 1e-4), (1e-4, None), (1e-4, 1e-4))
+
+
+def force_snap_rules(problem: Problem, pole: str, R: float) -> SnapRules:
+    """How a force-controlled shell leaves a limit load (for :func:`contin.quasistatic`).
+
+    The attempts are :data:`FORCE_JUMP_ATTEMPTS` with the kick measured in units of ``R``; a landing
+    is a snap when the observable ``pole`` (the pole's displacement) has moved by more than 1e-3 R.
+    Both measures are lengths of the shell, so a scene snaps alike in any units.  The jump stays at
+    the load it was minimised at: the snap's ``jump_from`` and ``jump_to`` records are stated there.
+    """
+    def pole_moved(u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
+        observe = problem.observables[pole]
+        return abs(float(observe(u_to, p_to)) - float(observe(u_fold, p_fold))) / R
+
+    return SnapRules(attempts=FORCE_JUMP_ATTEMPTS, overshoot_unit="fold", perturbation_unit=R,
+                     separation=pole_moved, min_separation=1e-3, restate=False)
 
 
 @dataclass

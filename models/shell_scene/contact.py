@@ -50,7 +50,7 @@ from contin_models.contact.indentation import ShellIndentation, ShellIndentation
 from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning
 
-from .build import contact_problem
+from .build import contact_problem, force_snap_rules
 from .schema import STABILITY_COLUMNS, Scene
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
@@ -142,7 +142,7 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
     # the load is measured in ten force units per unit of travel in the arclength, as for the point load;
     # the target load is never reached: the travel bounds end the sweep
     qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=MAX_SNAPS,
-                            param_weight=1.0 / (10.0 * f_unit),
+                            param_weight=1.0 / (10.0 * f_unit), snap=force_snap_rules(forced, "w_s", problem.R),
                             bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
     failure = "" if qs.status in ("completed", "stopped") and all(
         br.status in ("bound", "event") for br in qs.branches) else qs.message

@@ -59,15 +59,14 @@ import numpy as np
 
 import contin
 from contin.branch import Branch, SpecialPoint
-from contin.quasistatic import SnapRules
 from contin.scene import TraceResult, branch_columns, special_point_records
 from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
-from .build import end_of_path, point_problem, point_settings
+from .build import end_of_path, force_snap_rules, point_problem, point_settings
 from .schema import STABILITY_COLUMNS, Scene, eversion_displacement
 
-__all__ = ["classify", "force_snap_rules", "path_complete", "run_point", "run_point_force", "MAX_SNAPS"]
+__all__ = ["classify", "path_complete", "run_point", "run_point_force", "MAX_SNAPS"]
 
 #: Observables of :class:`ShellPointLoad` reported at every special point.
 _OBS = ("w", "F", "w_over_R", "F_norm")
@@ -415,28 +414,8 @@ def _plot(ax: Any, result: TraceResult) -> None:
         ax.text(0.02, 0.02, f"{cls}, stability under {control} control", transform=ax.transAxes, fontsize="small")
 
 
-#: Attempts to leave a force limit point: (relative load increment past the fold, kick in units of R
-#: or None for the engine's default).  Exactly at the fold the energy is flat to third order along
-#: the null vector; a load a hair above the limit load has no equilibrium nearby, so the
-#: minimisation has to leave for the distant stable state.
-_JUMP_ATTEMPTS = ((1e-6, 1e-4), (1e-4, None), (1e-4, 1e-4))
 #: Snaps a force-controlled trace may make before eversion.
 MAX_SNAPS = 4
-
-
-def force_snap_rules(problem: ShellPointLoad) -> SnapRules:
-    """How the force-controlled point load leaves a limit point (for :func:`contin.quasistatic`).
-
-    The load is raised by ``eps F`` past the limit load, the kick measured in units of R; a landing
-    is a snap when the pole has moved by more than 1e-3 R.  The jump stays at the load it was
-    minimised at: the snap's ``jump_from`` and ``jump_to`` records are stated there.
-    """
-    def pole_moved(u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
-        w_to = problem.evaluate_observables(u_to, p_to)["w"]
-        return abs(w_to - problem.evaluate_observables(u_fold, p_fold)["w"]) / problem.R
-
-    return SnapRules(attempts=_JUMP_ATTEMPTS, overshoot_unit="fold", perturbation_unit=problem.R,
-                     separation=pole_moved, min_separation=1e-3, restate=False)
 
 
 def run_point_force(scene: Scene, progress: bool = False) -> TraceResult:
@@ -452,7 +431,7 @@ def run_point_force(scene: Scene, progress: bool = False) -> TraceResult:
     # no end load: the pole displacement's bound at eversion ends the sweep; the located limit
     # points alone end a stretch, as they always did for this scene
     qs = contin.quasistatic(problem, problem.reference_unknowns(), 0.0, None, st, direction=1, max_snaps=MAX_SNAPS,
-                            snap=force_snap_rules(problem), stop_after_jump=beyond_eversion,
+                            snap=force_snap_rules(problem, "w", problem.R), stop_after_jump=beyond_eversion,
                             stop_at_branch_points=False, check_stability=False, bounds={"w": (None, w_end)})
     labels = ["loading" if k == 0 else f"loading after snap {k}" for k in range(len(qs.branches))]
     return _result(qs.branches, qs.jumps, problem, scene, labels, qs.message if qs.failed else "")

@@ -32,8 +32,25 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
     else:
         result = run_point_force(scene, progress) if control == "force" else run_point(scene, progress)
     if not result.success and result.status != "incomplete":
-        result.summary.setdefault("advice", []).append(mesh_advice(scene))
+        advice = result.summary.setdefault("advice", [])
+        if kind in ("sphere", "plate") and control == "force" and _stopped_on_contact_steps(result.message):
+            advice.append(CONTACT_STEPS_ADVICE)
+        advice.append(mesh_advice(scene))
     return result
+
+
+#: What a force-controlled indentation that stops on the contact ring's steps should try.
+CONTACT_STEPS_ADVICE = (
+    "under force control the indentation stopped at a limit load that the shell barely leaves, or at "
+    "more of them than a snap has: where the indenter touches the cap along a ring, the ring moves "
+    "over the mesh in steps and the force along the path ripples with the node spacing "
+    "(docs/robustness.md), and each ripple is a small limit load; trace the scene under displacement "
+    "control (load.control = \"displacement\"), which passes the ripples")
+
+
+def _stopped_on_contact_steps(message: str) -> bool:
+    """Whether a force-controlled indentation failed on a landing next to its fold or on too many snaps."""
+    return "landed back next to the fold" in message or "max_snaps" in message
 
 
 def mesh_advice(scene: Scene) -> str:
