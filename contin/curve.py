@@ -177,7 +177,9 @@ class Curve:
                 break
             u, r, res = u + lam * du, r_new, res_new
             du_norm *= lam
-        raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge (residual {res:.3e} > tol {tol:.1e})")
+        why = (f"residual {res:.3e} > tol {tol:.1e}" if res > tol else
+               f"residual {res:.3e} within tol {tol:.1e} but the update {du_norm:.3e} does not shrink below xtol")
+        raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge ({why})")
 
     def _damped(self, u: np.ndarray, p: float, du: np.ndarray, res: float) -> tuple[float, np.ndarray | None, float]:
         """Fraction of the Newton update ``du`` to take: halved until the residual decreases.

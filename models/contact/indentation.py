@@ -48,7 +48,7 @@ from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.geometry import POLE_RATIO
 from contin_models.shell.problem import ShellPointLoad
 
-from .barrier import ContactBarrier, ContactState, Plate, Sphere, default_barrier, length_weights
+from .barrier import QUADRATURE_POINTS, ContactBarrier, ContactState, Plate, Sphere, default_barrier, length_weights
 
 __all__ = ["ShellIndentation", "ShellIndentationForce", "BorderedBandedLU"]
 
@@ -58,18 +58,23 @@ class ShellIndentation(Problem):
 
     Parameters
     ----------
-    R, E, nu, h, phi_hat, N, pole_ratio
+    R, E, nu, h, phi_hat, N
         The shell, as in :class:`contin_models.shell.ShellPointLoad`.
     indenter : Sphere or Plate
         The rigid indenter (``Sphere(radius)`` with its centre on the axis, or ``Plate()``).
     K, dhat : float, optional
         Barrier stiffness and range; default :func:`contin_models.contact.default_barrier` (``dhat = 1e-3 R``,
         ``K = 100 E R``, the paper's values for ``E = 1 MPa``, ``R = 1 m``).
+    pole_ratio : float
+        Node spacing at the pole over the spacing elsewhere (the shell's mesh grading).
+    quadrature : int
+        Gauss points per contact cell (:data:`contin_models.contact.barrier.QUADRATURE_POINTS`).
     """
 
     def __init__(self, R: float = 1.0, E: float = 1e6, nu: float = 0.5, h: float = 0.02, phi_hat: float = 0.8,
                  N: int = 200, indenter: Sphere | Plate | None = None, K: float | None = None,
-                 dhat: float | None = None, pole_ratio: float = POLE_RATIO) -> None:
+                 dhat: float | None = None, pole_ratio: float = POLE_RATIO,
+                 quadrature: int = QUADRATURE_POINTS) -> None:
         self.elastic = ShellPointLoad(R=R, E=E, nu=nu, h=h, phi_hat=phi_hat, N=N, control="force",
                                       pole_ratio=pole_ratio)
         el = self.elastic
@@ -85,7 +90,8 @@ class ShellIndentation(Problem):
             raise ValueError("ShellIndentation: the sphere radius must be > 0 (for a point load use "
                              "contin_models.shell.ShellPointLoad, or a sphere much smaller than the cap)")
         # the barrier per unit meridian length (the paper's nodal one on its mesh): converges with N
-        self.barrier = ContactBarrier(self.indenter, self.K, self.dhat, cell_weights=length_weights(el.cap.x))
+        self.barrier = ContactBarrier(self.indenter, self.K, self.dhat, quadrature=quadrature,
+                                      cell_weights=length_weights(el.cap.x))
         self.c0 = float(self.indenter.contact_position(el.z_pole_ref)) + self.dhat
         self.idx = el.idx_force
         self.n_full = el.n_full
