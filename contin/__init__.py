@@ -50,7 +50,7 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("Branch", "BranchFileError", "SpecialPoint"), "branch"),
     **dict.fromkeys(("Event", "crossing", "extremum"), "events"),
     **dict.fromkeys(("BorderedSolver", "factorize"), "linalg"),
-    **dict.fromkeys(("diagram", "hysteresis_cycles", "plot_branches"), "diagram"),
+    **dict.fromkeys(("diagram", "hysteresis_cycles", "load_diagram", "plot_branches", "save_diagram"), "diagram"),
     **dict.fromkeys(("JumpError", "JumpResult", "jump"), "jump"),
     **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch"), "palc"),
     **dict.fromkeys(("LeadingBlock", "NonFiniteError", "Problem"), "problem"),

@@ -6,21 +6,21 @@ and loads back identical.
 
 from __future__ import annotations
 
-import json
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .io import ResultFileError, read_bundle, write_bundle
+
 __all__ = ["SpecialPoint", "Branch", "SPECIAL_KINDS", "BranchFileError"]
 
 SPECIAL_KINDS = ("fold", "branch_point", "event", "jump")
 
 
-class BranchFileError(ValueError):
+class BranchFileError(ResultFileError):
     """A saved branch file is unreadable, truncated or inconsistent."""
 
 
@@ -91,6 +91,13 @@ class SpecialPoint:
             "residual": float(self.residual), "located": bool(self.located), "s": float(self.s),
             "index": int(self.index), "label": self.label, "info": _jsonable(self.info),
         }
+
+    @classmethod
+    def from_header(cls, header: dict[str, Any], u: np.ndarray) -> "SpecialPoint":
+        """The special point described by :meth:`header`, with its state ``u``."""
+        h = header
+        return cls(kind=h["kind"], p=h["p"], u=u, observables=h["observables"], residual=h["residual"],
+                   located=h["located"], s=h["s"], index=h["index"], label=h["label"], info=h["info"])
 
     def __repr__(self) -> str:
         loc = "located" if self.located else "bracketed"
@@ -249,9 +256,17 @@ class Branch:
     # ---- persistence -----------------------------------------------------------------------------
     def save(self, path: str | os.PathLike) -> Path:
         """Write the branch to ``path`` (``.npz``), atomically: a temporary file is moved in place."""
-        path = Path(path)
-        if path.suffix != ".npz":
-            path = path.with_suffix(path.suffix + ".npz") if path.suffix else path.with_suffix(".npz")
+        header, arrays = self.to_bundle()
+        return write_bundle(path, "contin-branch", header, arrays)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> "Branch":
+        """Load a branch written by :meth:`save`; raises :class:`BranchFileError` if it is corrupt."""
+        header, arrays = read_bundle(path, "contin-branch", BranchFileError)
+        return cls.from_bundle(header, arrays, where=str(path))
+
+    def to_bundle(self, prefix: str = "") -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+        """The branch as a JSON header and named arrays (names start with ``prefix``), for a bundle file."""
         arrays: dict[str, np.ndarray] = {
             "p": self.p, "u": self.u, "s": self.s, "tangent_p": self.tangent_p,
             "residual": self.residual, "newton_iterations": self.newton_iterations,
@@ -269,34 +284,21 @@ class Branch:
         for i, label in enumerate(stab_labels):
             arrays[f"stab_nneg_{i}"], arrays[f"stab_eigs_{i}"] = self.stability_by[label]
         header = {
-            "format": "contin-branch", "version": 1, "observables": obs_names, "stability_labels": stab_labels,
+            "version": 1, "observables": obs_names, "stability_labels": stab_labels,
             "special_points": [spt.header() for spt in self.special_points],
             "status": self.status, "message": self.message, "meta": _jsonable(self.meta),
         }
-        arrays["header"] = np.frombuffer(json.dumps(header).encode(), dtype=np.uint8)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        from .io import atomic_write  # the toolkit's one atomic write (contin.io imports nothing of contin)
-
-        atomic_write([(path, lambda fh: np.savez_compressed(fh, **arrays))], binary=True)
-        return path
+        return header, {prefix + k: v for k, v in arrays.items()}
 
     @classmethod
-    def load(cls, path: str | os.PathLike) -> "Branch":
-        """Load a branch written by :meth:`save`; raises :class:`BranchFileError` if it is corrupt."""
-        path = Path(path)
+    def from_bundle(cls, header: dict[str, Any], arrays: dict[str, np.ndarray], prefix: str = "",
+                    where: str = "bundle") -> "Branch":
+        """The branch stored by :meth:`to_bundle`; raises :class:`BranchFileError` (naming ``where``) if inconsistent."""
         try:
-            with np.load(path, allow_pickle=False) as data:
-                arrays = {k: data[k] for k in data.files}
-            header = json.loads(arrays.pop("header").tobytes().decode())
-            if header.get("format") != "contin-branch":
-                raise BranchFileError(f"{path}: not a contin branch file")
+            arrays = {k[len(prefix):]: v for k, v in arrays.items() if k.startswith(prefix)}
             observables = {name: arrays[f"obs_{i}"] for i, name in enumerate(header["observables"])}
-            specials = []
-            for i, h in enumerate(header["special_points"]):
-                specials.append(SpecialPoint(
-                    kind=h["kind"], p=h["p"], u=arrays[f"special_u_{i}"], observables=h["observables"],
-                    residual=h["residual"], located=h["located"], s=h["s"], index=h["index"],
-                    label=h["label"], info=h["info"]))
+            specials = [SpecialPoint.from_header(h, arrays[f"special_u_{i}"])
+                        for i, h in enumerate(header["special_points"])]
             branch = cls(
                 p=arrays["p"], u=arrays["u"], s=arrays["s"], tangent_p=arrays["tangent_p"],
                 residual=arrays["residual"], newton_iterations=arrays["newton_iterations"],
@@ -305,14 +307,10 @@ class Branch:
                 stability_by={label: (arrays[f"stab_nneg_{i}"], arrays[f"stab_eigs_{i}"])
                               for i, label in enumerate(header.get("stability_labels", []))},
                 status=header["status"], message=header["message"], meta=header["meta"])
-        except BranchFileError:
-            raise
-        except FileNotFoundError:
-            raise BranchFileError(f"{path}: no such file") from None
-        except Exception as exc:  # zip, JSON, key and shape errors all mean "corrupt"
-            raise BranchFileError(f"{path}: unreadable or corrupt branch file ({type(exc).__name__}: {exc})") from None
+        except Exception as exc:  # key, type and shape errors all mean "corrupt"
+            raise BranchFileError(f"{where}: inconsistent branch data ({type(exc).__name__}: {exc})") from None
         m = branch.p.size
         for name, arr in [("u", branch.u), ("s", branch.s), ("residual", branch.residual)]:
             if arr.shape[0] != m:
-                raise BranchFileError(f"{path}: array {name!r} has {arr.shape[0]} rows, expected {m}")
+                raise BranchFileError(f"{where}: array {name!r} has {arr.shape[0]} rows, expected {m}")
         return branch

@@ -14,13 +14,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .branch import Branch
+from .branch import Branch, BranchFileError, _jsonable
+from .io import read_bundle, write_bundle
 from .jump import JumpResult
 
 if TYPE_CHECKING:  # networkx is imported lazily: it costs a noticeable part of import time
     import networkx as nx
 
-__all__ = ["diagram", "plot_branches", "hysteresis_cycles"]
+__all__ = ["diagram", "plot_branches", "hysteresis_cycles", "save_diagram", "load_diagram"]
 
 
 class _NodeIndex:
@@ -84,6 +85,35 @@ def diagram(branches: Sequence[Branch], jumps: Iterable[JumpResult] = (), rtol: 
         a = index.find_or_add(G, "jump_from", jr.p, jr.u_from)
         b = index.find_or_add(G, "jump_to", jr.p, jr.u_to)
         G.add_edge(a, b, kind="jump", jump=ji, success=jr.success, energy_drop=jr.energy_from - jr.energy_to)
+    return G
+
+
+def save_diagram(G: "nx.MultiDiGraph", path: Any) -> Any:
+    """Write a diagram of :func:`diagram` to ``path`` (``.npz`` with the graph as JSON), atomically.
+
+    Nodes and edges keep every attribute; :func:`load_diagram` reads the same graph back.
+    """
+    graph = {"attributes": _jsonable(dict(G.graph)),
+             "nodes": [{"id": n, "attributes": _jsonable(dict(a))} for n, a in G.nodes(data=True)],
+             "edges": [{"source": u, "target": v, "key": k, "attributes": _jsonable(dict(a))}
+                       for u, v, k, a in G.edges(keys=True, data=True)]}
+    return write_bundle(path, "contin-diagram", {"graph": graph}, {})
+
+
+def load_diagram(path: Any) -> "nx.MultiDiGraph":
+    """Read a diagram written by :func:`save_diagram`; raises :class:`contin.BranchFileError` if corrupt."""
+    import networkx as nx
+
+    header, _ = read_bundle(path, "contin-diagram", BranchFileError)
+    try:
+        graph = header["graph"]
+        G = nx.MultiDiGraph(**graph["attributes"])
+        for node in graph["nodes"]:
+            G.add_node(node["id"], **node["attributes"])
+        for edge in graph["edges"]:
+            G.add_edge(edge["source"], edge["target"], key=edge["key"], **edge["attributes"])
+    except Exception as exc:
+        raise BranchFileError(f"{path}: inconsistent diagram data ({type(exc).__name__}: {exc})") from None
     return G
 
 

@@ -8,6 +8,8 @@ Everything the toolkit writes goes through here:
   temporary file behind.
 - :func:`json_ready` turns numpy values into plain Python and NaN or infinity into None (JSON has
   neither), for ``summary.json``, ``contin classify --json`` and the studies' summaries.
+- :func:`write_bundle` and :func:`read_bundle` store a result as one ``.npz`` file: its arrays plus
+  a JSON header naming the format (branches, jumps, quasi-static sweeps and diagrams all use it).
 - :func:`output_directory` creates an output directory, checks that it can be written, and removes
   again what it created if nothing was written into it (an interrupted or failed run leaves no
   empty directory behind).  Its errors are :class:`OutputError`: one paragraph fit to show a user.
@@ -27,11 +29,16 @@ from typing import IO, Any
 
 import numpy as np
 
-__all__ = ["OutputError", "FileWriter", "atomic_write", "json_ready", "output_directory", "OutputDirectory"]
+__all__ = ["OutputError", "ResultFileError", "FileWriter", "atomic_write", "json_ready", "output_directory",
+           "OutputDirectory", "write_bundle", "read_bundle"]
 
 
 class OutputError(OSError):
     """An output that cannot be written: the message is one paragraph naming the path and the reason."""
+
+
+class ResultFileError(ValueError):
+    """A saved result file is missing, unreadable, truncated, of another format or inconsistent."""
 
 
 def _new_file_mode() -> int:
@@ -189,3 +196,50 @@ def output_directory(path: str | os.PathLike, *, reserved: Sequence[str] = ()) -
         yield out.path
     finally:
         out.remove_if_empty()
+
+
+def _npz_path(path: str | os.PathLike) -> Path:
+    path = Path(path)
+    if path.suffix != ".npz":
+        path = path.with_suffix(path.suffix + ".npz") if path.suffix else path.with_suffix(".npz")
+    return path
+
+
+def write_bundle(path: str | os.PathLike, fmt: str, header: dict[str, Any], arrays: dict[str, np.ndarray]) -> Path:
+    """Write ``arrays`` and a JSON ``header`` (with ``"format": fmt``) to one ``.npz`` file, atomically.
+
+    The suffix ``.npz`` is added when ``path`` lacks it; missing parent directories are created.
+    Returns the path written.  The header must be JSON-serialisable (see :func:`json_ready`).
+    """
+    import json
+
+    path = _npz_path(path)
+    doc = dict(header, format=fmt)
+    data = dict(arrays)
+    data["header"] = np.frombuffer(json.dumps(doc).encode(), dtype=np.uint8)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write([(path, lambda fh: np.savez_compressed(fh, **data))], binary=True)
+    return path
+
+
+def read_bundle(path: str | os.PathLike, fmt: str,
+                error: type[ResultFileError] = ResultFileError) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """Read a file written by :func:`write_bundle`: its header and arrays.
+
+    Raises ``error`` (a :class:`ResultFileError`) naming the path when the file is missing,
+    unreadable, or of another format than ``fmt``.
+    """
+    import json
+
+    path = Path(path)
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+        header = json.loads(arrays.pop("header").tobytes().decode())
+    except FileNotFoundError:
+        raise error(f"{path}: no such file") from None
+    except Exception as exc:  # zip, JSON and key errors all mean "corrupt"
+        raise error(f"{path}: unreadable or corrupt file ({type(exc).__name__}: {exc})") from None
+    if header.get("format") != fmt:
+        raise error(f"{path}: not a {fmt} file (format {header.get('format')!r})")
+    return header, arrays

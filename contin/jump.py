@@ -17,7 +17,8 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .branch import SpecialPoint
+from .branch import BranchFileError, SpecialPoint, _jsonable
+from .io import read_bundle, write_bundle
 from .linalg import bandwidths
 from .problem import NonFiniteError, Problem
 from .stability import stability_info
@@ -65,6 +66,38 @@ class JumpResult:
     success: bool
     message: str
     info: dict[str, Any] = field(default_factory=dict)
+
+    # ---- persistence -----------------------------------------------------------------------------
+    def save(self, path: Any) -> Any:
+        """Write the jump to ``path`` (``.npz``, atomically); :meth:`load` reads it back identical."""
+        header, arrays = self.to_bundle()
+        return write_bundle(path, "contin-jump", header, arrays)
+
+    @classmethod
+    def load(cls, path: Any) -> "JumpResult":
+        """Load a jump written by :meth:`save`; raises :class:`contin.BranchFileError` if it is corrupt."""
+        header, arrays = read_bundle(path, "contin-jump", BranchFileError)
+        return cls.from_bundle(header, arrays, where=str(path))
+
+    def to_bundle(self, prefix: str = "") -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+        """The jump as a JSON header and its two states (array names start with ``prefix``)."""
+        header = {"p": float(self.p), "energy_from": float(self.energy_from), "energy_to": float(self.energy_to),
+                  "iterations": int(self.iterations), "residual": float(self.residual),
+                  "n_negative": int(self.n_negative), "smallest_eigenvalue": float(self.smallest_eigenvalue),
+                  "success": bool(self.success), "message": self.message, "info": _jsonable(self.info)}
+        return header, {prefix + "u_from": np.asarray(self.u_from), prefix + "u_to": np.asarray(self.u_to)}
+
+    @classmethod
+    def from_bundle(cls, header: dict[str, Any], arrays: dict[str, np.ndarray], prefix: str = "",
+                    where: str = "bundle") -> "JumpResult":
+        """The jump stored by :meth:`to_bundle`; raises :class:`contin.BranchFileError` naming ``where``."""
+        try:
+            return cls(u_from=arrays[prefix + "u_from"], u_to=arrays[prefix + "u_to"],
+                       **{k: header[k] for k in ("p", "energy_from", "energy_to", "iterations", "residual",
+                                                 "n_negative", "smallest_eigenvalue", "success", "message",
+                                                 "info")})
+        except Exception as exc:
+            raise BranchFileError(f"{where}: inconsistent jump data ({type(exc).__name__}: {exc})") from None
 
     def special_points(self, problem: Problem | None = None) -> tuple[SpecialPoint, SpecialPoint]:
         """The jump as two special points: ``label="jump_from"`` and ``label="jump_to"``."""

@@ -30,7 +30,8 @@ from typing import Any
 
 import numpy as np
 
-from .branch import Branch, SpecialPoint
+from .branch import Branch, BranchFileError, SpecialPoint, _jsonable
+from .io import read_bundle, write_bundle
 from .events import Event
 from .jump import JumpError, JumpResult, jump
 from .linalg import SingularMatrixError
@@ -122,6 +123,46 @@ class QuasiStaticResult:
         reason (a bound, ``max_steps``) and its branch says why.
         """
         return self.status in ("jump_failed", "max_snaps", "lost_stability", "branch_point", "unstable_start")
+
+    # ---- persistence -----------------------------------------------------------------------------
+    def save(self, path: Any) -> Any:
+        """Write the whole sweep (branches, jumps, folds, outcome) to one ``.npz`` file, atomically.
+
+        :meth:`load` reads it back identical; e.g. to plot or to build its :func:`contin.diagram`
+        later without tracing again.
+        """
+        branches, jumps = [b.to_bundle(f"branch{k}.") for k, b in enumerate(self.branches)], \
+            [j.to_bundle(f"jump{k}.") for k, j in enumerate(self.jumps)]
+        arrays: dict[str, np.ndarray] = {"u_final": np.asarray(self.u_final)}
+        for _, a in branches + jumps:
+            arrays.update(a)
+        for k, fold in enumerate(self.folds):
+            arrays[f"fold{k}.u"] = np.asarray(fold.u if fold.u is not None else np.zeros(0))
+        header = {"p0": float(self.p0), "p_end": None if self.p_end is None else float(self.p_end),
+                  "direction": int(self.direction), "status": self.status, "message": self.message,
+                  "p_final": float(self.p_final), "info": _jsonable(self.info),
+                  "branches": [h for h, _ in branches], "jumps": [h for h, _ in jumps],
+                  "folds": [f.header() for f in self.folds]}
+        return write_bundle(path, "contin-quasistatic", header, arrays)
+
+    @classmethod
+    def load(cls, path: Any) -> "QuasiStaticResult":
+        """Load a sweep written by :meth:`save`; raises :class:`contin.BranchFileError` if it is corrupt."""
+        header, arrays = read_bundle(path, "contin-quasistatic", BranchFileError)
+        where = str(path)
+        try:
+            folds = [SpecialPoint.from_header(h, arrays[f"fold{k}.u"]) for k, h in enumerate(header["folds"])]
+            return cls(p0=header["p0"], p_end=header["p_end"], direction=header["direction"],
+                       branches=[Branch.from_bundle(h, arrays, f"branch{k}.", where)
+                                 for k, h in enumerate(header["branches"])],
+                       jumps=[JumpResult.from_bundle(h, arrays, f"jump{k}.", where)
+                              for k, h in enumerate(header["jumps"])],
+                       folds=folds, status=header["status"], message=header["message"],
+                       u_final=arrays["u_final"], p_final=header["p_final"], info=header["info"])
+        except BranchFileError:
+            raise
+        except Exception as exc:
+            raise BranchFileError(f"{where}: inconsistent quasi-static data ({type(exc).__name__}: {exc})") from None
 
     @property
     def jump_parameters(self) -> np.ndarray:
