@@ -23,7 +23,7 @@ from .linalg import bandwidths
 from .problem import NonFiniteError, Problem
 from .stability import stability_info
 
-__all__ = ["JumpResult", "jump", "JumpError"]
+__all__ = ["state_scale", "JumpResult", "jump", "JumpError"]
 
 
 class JumpError(RuntimeError):
@@ -111,6 +111,15 @@ class JumpResult:
         return a, b
 
 
+def state_scale(u: np.ndarray) -> float:
+    """The size of a state, ``max|u|`` (1 for a zero state): the unit of kicks and landing distances.
+
+    No absolute floor: a model in millimetres and the same model in metres get the same kicks in
+    their own units.
+    """
+    return float(np.max(np.abs(np.asarray(u, dtype=float)), initial=0.0)) or 1.0
+
+
 def _shifted_cholesky_solver(H, mu: float):
     """Return ``solve(b)`` for ``H + mu I`` if it is positive definite, else ``None``."""
     n = H.shape[0]
@@ -157,7 +166,8 @@ def _kick_inside(problem: Problem, u: np.ndarray, p: float, kick: np.ndarray) ->
 
 
 def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, tol: float = 1e-10,
-         max_iter: int = 500, eig_tol: float = 1e-8, direction: np.ndarray | None = None) -> JumpResult:
+         max_iter: int = 500, eig_tol: float = 1e-8, direction: np.ndarray | None = None,
+         scale: float | None = None) -> JumpResult:
     """Snap from an unstable point or a fold to a stable equilibrium at the same parameter.
 
     Parameters
@@ -167,7 +177,8 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     u, p : the starting state (unstable, or at a fold) and the fixed parameter.
     perturbation : float, optional
         Size of the initial kick along the unstable eigenvector (max-norm); by default the smallest
-        of 1e-3, 1e-2, 1e-1 times ``max(1, max|u|)`` that lowers the energy measurably.
+        of 1e-3, 1e-2, 1e-1 times the state's scale ``max|u|`` (1 for a zero state) that lowers
+        the energy by more than ``1e-12 |E(u)|``: both are independent of the model's units.
     tol : float
         Relative gradient tolerance (times ``problem.residual_scale``).
     max_iter : int
@@ -177,6 +188,9 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
         Hessian's largest entry.
     direction : ndarray, optional
         Kick direction to use instead of the unstable eigenvector.
+    scale : float, optional
+        The state's scale for the default kicks (default :func:`state_scale` of ``u``); a model
+        whose state has a natural length (a radius) passes it.
 
     Returns
     -------
@@ -193,7 +207,7 @@ def jump(problem: Problem, u, p: float, *, perturbation: float | None = None, to
     u0 = np.array(u, dtype=float)
     p = float(p)
     abs_tol = tol * getattr(problem, "residual_scale", 1.0)
-    start = _start(problem, u0, p, abs_tol, perturbation, eig_tol, direction)
+    start = _start(problem, u0, p, abs_tol, perturbation, eig_tol, direction, scale)
     x, it, res, success, message = _descend(problem, start, p, abs_tol, max_iter)
     final = stability_info(problem.stability_operator(x, p), k=1)
     return JumpResult(p=p, u_from=u0, u_to=x, energy_from=start.E0, energy_to=_safe_energy(problem, x, p),
@@ -214,7 +228,7 @@ class _Start:
 
 
 def _start(problem: Problem, u0: np.ndarray, p: float, abs_tol: float, perturbation: float | None,
-           eig_tol: float, direction: np.ndarray | None) -> _Start:
+           eig_tol: float, direction: np.ndarray | None, scale: float | None = None) -> _Start:
     """Kick the start off along its unstable (or given) direction, the smallest kick that lowers the energy.
 
     A stable Hessian is a snap start only if the state is out of equilibrium: a fold state with the
@@ -225,7 +239,7 @@ def _start(problem: Problem, u0: np.ndarray, p: float, abs_tol: float, perturbat
     scale_H = float(np.max(np.abs(H0.data if sp.issparse(H0) else H0), initial=1.0))
     lam0 = float(info0.eigenvalues[0])
     E0 = _safe_energy(problem, u0, p)
-    ref = max(1.0, float(np.max(np.abs(u0), initial=0.0)))
+    ref = state_scale(u0) if scale is None else float(scale)
     x = None
     if info0.n_negative == 0 and lam0 > eig_tol * scale_H:
         if float(np.max(np.abs(problem.checked_residual(u0, p)))) <= abs_tol:
@@ -241,7 +255,7 @@ def _start(problem: Problem, u0: np.ndarray, p: float, abs_tol: float, perturbat
         trials = [_kick_inside(problem, u0, p, sign * alpha * v) for sign in (1.0, -1.0)]
         energies = [_safe_energy(problem, u0 + kick, p) if kick is not None else math.inf for kick in trials]
         best = int(np.argmin(energies))
-        if energies[best] < E0 - 1e-12 * max(1.0, abs(E0)):
+        if energies[best] < E0 - 1e-12 * abs(E0):
             x = u0 + trials[best]
             break
     if x is None and float(np.max(np.abs(problem.checked_residual(u0, p)))) > abs_tol:
@@ -314,7 +328,7 @@ def _line_search(problem: Problem, x: np.ndarray, p: float, d: np.ndarray, g: np
             return t, x_new, E_new
         # a full Newton step that barely changes the energy near the minimum is fine if the
         # gradient drops (the energy difference is below roundoff there)
-        if abs(E_new - E) <= 1e-14 * max(1.0, abs(E)):
+        if abs(E_new - E) <= 1e-14 * max(abs(E), abs(E_new)):
             if np.max(np.abs(problem.checked_residual(x_new, p))) < res:
                 return t, x_new, E_new
         t *= 0.5

@@ -33,7 +33,7 @@ import numpy as np
 from .branch import Branch, BranchFileError, SpecialPoint, _jsonable
 from .io import read_bundle, write_bundle
 from .events import Event
-from .jump import JumpError, JumpResult, jump
+from .jump import JumpError, JumpResult, jump, state_scale
 from .linalg import SingularMatrixError
 from .palc import CorrectorFailure, Curve, Settings, continuation
 from .problem import NonFiniteError, Problem
@@ -215,11 +215,12 @@ class SnapRules:
         when the sweep has no end load), ``"fold"`` is ``|p_fold|`` alone, so that the snap load is
         a fixed relative distance past the fold whatever the sweep's end.
     perturbation_unit : float, optional
-        Unit of the kick (max-norm); default ``max(1, max|u_fold|)``.  A model whose state has a
-        natural length (e.g. a radius) passes it here.
+        Unit of the kicks, the given ones and the engine's default ones (max-norm); default the
+        fold state's scale ``max|u_fold|`` (:func:`contin.jump.state_scale`).  A model whose state
+        has a natural length (e.g. a radius) passes it here.
     separation : callable ``(u_fold, p_fold, u_to, p_to) -> float``, optional
         Distance of a landing from the fold state, in the units of ``min_separation``; default
-        ``max|u_to - u_fold| / max(1, max|u_fold|)``.  A model can measure it in the observable that
+        ``max|u_to - u_fold| / max|u_fold|``.  A model can measure it in the observable that
         tells two states apart (a pole displacement in units of the radius).
     min_separation : float
         A landing with ``separation <= min_separation`` is the minimisation stalling next to the
@@ -257,7 +258,7 @@ class SnapRules:
         """How far a landing is from the fold state (see ``separation``)."""
         if self.separation is not None:
             return float(self.separation(u_fold, p_fold, u_to, p_to))
-        return _distance(u_to, u_fold) / max(1.0, float(np.max(np.abs(u_fold), initial=0.0)))
+        return _distance(u_to, u_fold) / state_scale(u_fold)
 
 
 @dataclass
@@ -287,7 +288,7 @@ class _Sweep:
         rules, problem = self.rules, self.problem
         p_fold = float(fold.p)
         reasons: list[str] = []
-        kick_unit = rules.perturbation_unit or max(1.0, float(np.max(np.abs(u_fold), initial=0.0)))
+        kick_unit = rules.perturbation_unit or state_scale(u_fold)
         tol = self.curve.settings.tol if rules.tol is None else float(rules.tol)
         for k, (overshoot, kick) in enumerate(rules.attempts):
             p_jump = self.jump_parameter(p_fold, overshoot)
@@ -295,7 +296,7 @@ class _Sweep:
                    f"{'default' if kick is None else f'{kick:g}'})")
             try:
                 jr = jump(problem, u_fold, p_jump, tol=tol, max_iter=rules.max_iter,
-                          perturbation=None if kick is None else kick * kick_unit)
+                          perturbation=None if kick is None else kick * kick_unit, scale=kick_unit)
             except _ATTEMPT_ERRORS as exc:
                 reasons.append(f"{tag}: {exc}")
                 if isinstance(exc, rules.give_up_on):
