@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -33,14 +34,15 @@ import numpy as np
 from .branch import SpecialPoint
 from .curve import CorrectorFailure, Curve, Point
 from .events import Event
-from .fold import locate_fold
+from .fold import fold_function, inverse_iteration, locate_fold, safe_factorize
 from .linalg import BorderedSolver, SingularMatrixError
 from .problem import NonFiniteError, Problem
 from .segment import Segment
 from .settings import Settings
 
 __all__ = ["TestFunction", "FoldTest", "BranchPointTest", "EventTest", "test_functions", "event_value",
-           "observable_function", "bracketed"]
+           "observable_function", "bracketed", "KnownBranchPoints", "smallest_eigenvector", "second_derivative",
+           "bifurcation_directions"]
 
 #: failures of a location that leave the special point bracketed instead of ending the run
 LOCATE_FAILURES = (CorrectorFailure, ValueError, RuntimeError, SingularMatrixError)
@@ -190,16 +192,38 @@ def _fold_by_tangent_root(seg: Segment, failed: SpecialPoint) -> SpecialPoint:
 
 
 class BranchPointTest(TestFunction):
-    """Simple branch points: sign changes of the determinant of the bordered Jacobian."""
+    """Simple branch points: sign changes of the determinant of the bordered Jacobian.
+
+    Detection uses the augmented Jacobian's determinant sign (free from the tangent's
+    factorization).  Location depends on the problem:
+
+    * symmetric (``problem.symmetric``): a root on the curve of the Hessian's own bordered test
+      function (:class:`_HessianBranchTest`); nothing in it depends on the arclength weights, and
+      the bifurcating direction comes from the algebraic bifurcation equation
+      (:func:`bifurcation_directions`);
+    * otherwise: a root of the doubly bordered augmented Jacobian (:class:`_BorderedBranchTest`).
+
+    Parameters
+    ----------
+    curve : Curve
+    known : KnownBranchPoints, optional
+        Branch points that end the run when one is located again (see :func:`contin.switch_branch`).
+    """
 
     kind = name = "branch_point"
+
+    def __init__(self, curve: Curve, known: KnownBranchPoints | None = None) -> None:
+        super().__init__(curve)
+        self.known = known
 
     def value(self, pt: Point) -> float:
         return pt.det_sign
 
     def locate(self, seg: Segment, before: float, after: float) -> SpecialPoint:
         curve, A = self.curve, seg.A
-        psi = _BorderedBranchTest(seg)
+        symmetric = curve.problem.symmetric
+        psi: _HessianBranchTest | _BorderedBranchTest = (_HessianBranchTest(seg) if symmetric
+                                                          else _BorderedBranchTest(seg))
         psi_A, psi_B = psi(0.0), psi(seg.sigma_B)
         info: dict[str, Any] = {"bracket_p": [A.p, seg.B.p]}
         if psi_A * psi_B > 0:
@@ -208,14 +232,211 @@ class BranchPointTest(TestFunction):
             info["error"] = "bordered test function did not change sign on the bracket"
             bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=res, located=False, info=info)
         else:
-            sigma = seg.root(psi, psi_A, psi_B, curve.settings.locate_tol)
+            # the Hessian's test function is smooth and cheap: Brent to roundoff puts its smallest
+            # eigenvalue at roundoff level instead of at locate_tol times its slope
+            rtol = 0.0 if symmetric else curve.settings.locate_tol
+            sigma = seg.root(psi, psi_A, psi_B, rtol)
             u, p, res = seg.point(sigma)
             info["test_function"] = val = psi(sigma)
             bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=max(res, abs(val)), located=True, info=info)
             bp.info.update(psi.directions(u, p))
+            if symmetric:
+                bp.info["method"] = "root of the Hessian's bordered test function"
         bp.observables = curve.problem.evaluate_observables(bp.u, bp.p)
         bp.s = A.s + curve.norm(bp.u - A.u, bp.p - A.p)
         return bp
+
+    def annotate(self, spt: SpecialPoint) -> SpecialPoint:
+        if self.known is not None:
+            match = self.known.match(spt)
+            if match is not None:
+                spt.info["known_as"] = match
+        return spt
+
+    def stop_rank(self, spt: SpecialPoint) -> int | None:
+        if "known_as" in spt.info:
+            return 1
+        return super().stop_rank(spt)
+
+
+@dataclass(frozen=True)
+class KnownBranchPoints:
+    """Branch points a run ends on when it meets one of them again.
+
+    :func:`contin.switch_branch` passes one among the events of its continuation run (so the driver
+    needs no extra argument): the branch point it starts from, and those the caller already knows.
+
+    Attributes
+    ----------
+    points : tuple of (label, u, p)
+        The known points; ``label`` names the point in the branch's status message.
+    rtol : float
+        Relative distance (max-norm in ``u``, absolute in ``p``, both relative to the point's size)
+        below which a located branch point is the same point.
+    """
+
+    points: tuple[tuple[str, np.ndarray, float], ...]
+    rtol: float = 1e-6
+
+    def match(self, spt: SpecialPoint) -> str | None:
+        """Label of the known point ``spt`` is, or None."""
+        for label, u, p in self.points:
+            u_scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
+            if spt.located:
+                near = (abs(spt.p - p) <= self.rtol * (1.0 + abs(p))
+                        and float(np.max(np.abs(spt.u - u), initial=0.0)) <= self.rtol * u_scale)
+            else:
+                # bracketed only: the known point must lie in the parameter bracket, and the state be
+                # within the bracket's width of it
+                lo, hi = sorted(spt.info.get("bracket_p", [spt.p, spt.p]))
+                near = lo - self.rtol * (1 + abs(p)) <= p <= hi + self.rtol * (1 + abs(p)) and (
+                    float(np.max(np.abs(spt.u - u), initial=0.0)) <= 1e-2 * u_scale)
+            if near:
+                return label
+        return None
+
+
+class _HessianBranchTest:
+    """Weight-free branch-point test function of a symmetric problem on a segment.
+
+    ``J`` (the Hessian) is bordered by its eigenvector ``b`` of smallest |eigenvalue| at the
+    segment's midpoint: the fold function ``g`` of ``[[J, b], [b^T, 0]] [v; g] = [0; 1]``
+    (:func:`contin.fold.fold_function`) is ``-1 / (b^T J^{-1} b)``, which changes sign exactly where
+    that eigenvalue crosses zero.  Only ``J`` enters, never the arclength weights or ``df/dp``.
+    """
+
+    def __init__(self, seg: Segment) -> None:
+        self.seg, self.curve = seg, seg.curve
+        self.sigma_mid = 0.5 * seg.sigma_B
+        um, pm, _ = seg.point(self.sigma_mid)
+        self.b = smallest_eigenvector(self.curve.problem, um, pm)
+
+    def __call__(self, sigma: float) -> float:
+        u, p, _ = self.seg.point(sigma)
+        return fold_function(self.curve.problem, u, p, self.b, self.b)[0]
+
+    def directions(self, u: np.ndarray, p: float) -> dict[str, Any]:
+        """Null vector, the branch's tangents and the bifurcation equation at the located point."""
+        A, B = self.seg.A, self.seg.B
+        return bifurcation_directions(self.curve.problem, u, p, B.u - A.u, B.p - A.p, start=self.b)
+
+
+def smallest_eigenvector(problem: Problem, u: np.ndarray, p: float, start: np.ndarray | None = None,
+                         iters: int = 30) -> np.ndarray:
+    """Unit eigenvector of the symmetric ``J(u, p)`` for its smallest |eigenvalue|.
+
+    Inverse iteration on the model's own (banded or sparse) factorization: near a branch point that
+    eigenvalue is far smaller than the next, so a few iterations converge.  They stop once the
+    Rayleigh residual ``|J x - (x^T J x) x|`` is at roundoff level relative to ``|J|``.  A dense
+    eigensolve is the fallback for small matrices when the factorization fails (exactly singular).
+    """
+    J = problem.checked_jacobian(u, p)
+    n = u.size
+    F = safe_factorize(problem, J)
+    if F is None and n <= 2000:
+        w, V = np.linalg.eigh(J.toarray() if hasattr(J, "toarray") else np.asarray(J))
+        return V[:, int(np.argmin(np.abs(w)))]
+    x = inverse_iteration(J, F, n, start=start, iters=1)
+    J_scale = _max_abs_entry(J)
+    for _ in range(iters):
+        Jx = J @ x
+        lam = float(x @ Jx)
+        if np.linalg.norm(Jx - lam * x) <= 1e-13 * J_scale * math.sqrt(n):
+            break
+        x = inverse_iteration(J, F, n, start=x, iters=1)
+    return x
+
+
+def _max_abs_entry(J: Any) -> float:
+    data = J.data if hasattr(J, "data") else np.asarray(J)
+    return max(float(np.max(np.abs(data), initial=0.0)), 1e-300)
+
+
+def second_derivative(problem: Problem, u: np.ndarray, p: float, y_u: np.ndarray, y_p: float,
+                      z_u: np.ndarray, z_p: float) -> np.ndarray:
+    """``f_XX[Y, Z]`` with ``X = (u, p)``: central difference of ``f_X Z = J z_u + f_p z_p`` along ``Y``.
+
+    The step makes ``Y`` move the state by ``1e-4`` of its size (truncation ``~1e-8`` relative,
+    roundoff ``~1e-12``), which is ample for the bifurcation equation's coefficients.
+    """
+    size = max(float(np.max(np.abs(y_u), initial=0.0)), abs(y_p) / (1.0 + abs(p)), 1e-300)
+    scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
+    h = 1e-4 * scale / size
+
+    def fx_z(sign: float) -> np.ndarray:
+        uu, pp = u + sign * h * y_u, p + sign * h * y_p
+        return problem.checked_jacobian(uu, pp) @ z_u + problem.dresidual_dp(uu, pp) * z_p
+    return (fx_z(1.0) - fx_z(-1.0)) / (2 * h)
+
+
+def bifurcation_directions(problem: Problem, u: np.ndarray, p: float, sec_u: np.ndarray, sec_p: float,
+                           start: np.ndarray | None = None) -> dict[str, Any]:
+    """Directions at a simple branch point of a symmetric problem, free of any arclength weight.
+
+    With ``phi`` the unit null vector of ``J`` and ``T = (v, 1)``, ``J v = -f_p``, ``phi^T v = 0``,
+    the branches leave ``X*`` along ``alpha (phi, 0) + beta T`` where ``(alpha, beta)`` solves the
+    algebraic bifurcation equation ``a alpha^2 + 2 b alpha beta + c beta^2 = 0`` with
+    ``a = phi^T f_XX[phi, phi]``, ``b = phi^T f_XX[phi, T]``, ``c = phi^T f_XX[T, T]``.  One root is
+    the traced branch (the one nearer the secant ``(sec_u, sec_p)`` of the bracket); the other is
+    the bifurcating branch.  At a pitchfork (``a = c = 0`` by symmetry) that is ``phi`` itself.
+
+    Returns
+    -------
+    dict
+        ``null_vector`` (``phi``, unit 2-norm), ``particular_tangent`` (``T``), ``abe``
+        (``{"a", "b", "c"}``), ``branch_tangent`` and ``bifurcation_direction`` (each
+        ``alpha (phi, 0) + beta T`` with ``alpha^2 + beta^2 = 1``), ``bifurcation_type``
+        (``"pitchfork"`` or ``"transcritical"``) and ``eigenvalue`` (``phi^T J phi``).
+    """
+    n = u.size
+    phi = smallest_eigenvector(problem, u, p, start=start)
+    # a reproducible orientation: direction=+1 of switch_branch goes where phi's largest entry grows
+    phi = phi if phi[int(np.argmax(np.abs(phi)))] > 0 else -phi
+    J = problem.checked_jacobian(u, p)
+    fp = problem.dresidual_dp(u, p)
+    lam = float(phi @ (J @ phi))
+    # T's state part: J v = -f_p on phi's complement (f_p is orthogonal to phi at a branch point)
+    M = BorderedSolver(J, safe_factorize(problem, J), phi.reshape(n, 1), phi.reshape(1, n), np.zeros((1, 1)),
+                       refactor=problem.factorize)
+    v, _ = M.solve(-fp, np.zeros(1))
+    a = float(phi @ second_derivative(problem, u, p, phi, 0.0, phi, 0.0))
+    b = float(phi @ second_derivative(problem, u, p, phi, 0.0, v, 1.0))
+    c = float(phi @ second_derivative(problem, u, p, v, 1.0, v, 1.0))
+    traced = np.array([float(phi @ sec_u), float(sec_p)])
+    traced /= max(np.linalg.norm(traced), 1e-300)
+    roots = _abe_roots(a, b, c)
+    # the bifurcating root is the one least parallel to the traced branch
+    cross = [abs(r[0] * traced[1] - r[1] * traced[0]) for r in roots]
+    other = roots[int(np.argmax(cross))]
+    scale = abs(a) + abs(b) + abs(c)
+    pitchfork = scale > 0 and abs(a) <= 1e-5 * scale and abs(other[1]) <= 1e-4
+    if pitchfork:
+        other = np.array([1.0, 0.0])
+    if other[0] < 0:
+        other = -other  # orientation: positive along phi (direction=+1 of switch_branch)
+
+    def along(ab: np.ndarray) -> list[float]:
+        return np.concatenate([ab[0] * phi + ab[1] * v, [ab[1]]]).tolist()
+    return {"null_vector": phi.tolist(), "particular_tangent": np.concatenate([v, [1.0]]).tolist(),
+            "abe": {"a": a, "b": b, "c": c}, "branch_tangent": along(traced),
+            "bifurcation_direction": along(other), "eigenvalue": lam,
+            "bifurcation_type": "pitchfork" if pitchfork else "transcritical"}
+
+
+def _abe_roots(a: float, b: float, c: float) -> list[np.ndarray]:
+    """The two unit root directions ``(alpha, beta)`` of ``a alpha^2 + 2 b alpha beta + c beta^2 = 0``.
+
+    With ``(alpha, beta) = (cos t, sin t)`` the form is ``A + B cos 2t + C sin 2t`` with
+    ``A = (a + c) / 2``, ``B = (a - c) / 2``, ``C = b``, so ``2t = delta +- arccos(-A / R)``; a
+    negative discriminant (no real branch) is clipped to the double root nearest to one.
+    """
+    A, B, C = 0.5 * (a + c), 0.5 * (a - c), b
+    R = math.hypot(B, C)
+    if R == 0.0:
+        raise ValueError("degenerate algebraic bifurcation equation (all second derivatives vanish)")
+    delta = math.atan2(C, B)
+    gamma = math.acos(float(np.clip(-A / R, -1.0, 1.0)))
+    return [np.array([math.cos(t), math.sin(t)]) for t in (0.5 * (delta + gamma), 0.5 * (delta - gamma))]
 
 
 class _BorderedBranchTest:
@@ -377,14 +598,16 @@ def bound_events(st: Settings) -> list[Event]:
     return evs
 
 
-def test_functions(curve: Curve, events: Sequence[Event] = ()) -> list[TestFunction]:
+def test_functions(curve: Curve, events: Sequence[Event | KnownBranchPoints] = ()) -> list[TestFunction]:
     """Everything a branch watches, in the order special points found on one step are reported."""
     st = curve.settings
     tests: list[TestFunction] = []
     if st.detect_folds:
         tests.append(FoldTest(curve))
+    known = [ev for ev in events if isinstance(ev, KnownBranchPoints)]
+    events = [ev for ev in events if not isinstance(ev, KnownBranchPoints)]
     if st.detect_branch_points:
-        tests.append(BranchPointTest(curve))
+        tests.append(BranchPointTest(curve, known[0] if known else None))
     tests += [EventTest(curve, ev) for ev in events]
     tests += [EventTest(curve, ev, bound=True) for ev in bound_events(st)]
     return tests
