@@ -30,9 +30,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from .branch import SpecialPoint
-from .curve import CorrectorFailure, Curve, Point
+from .curve import CorrectorFailure, Curve, Point, max_abs
 from .events import Event
 from .fold import fold_function, inverse_iteration, locate_fold, safe_factorize
 from .linalg import BorderedSolver, SingularMatrixError
@@ -221,30 +222,40 @@ class BranchPointTest(TestFunction):
 
     def locate(self, seg: Segment, before: float, after: float) -> SpecialPoint:
         curve, A = self.curve, seg.A
-        symmetric = curve.problem.symmetric
-        psi: _HessianBranchTest | _BorderedBranchTest = (_HessianBranchTest(seg) if symmetric
-                                                          else _BorderedBranchTest(seg))
-        psi_A, psi_B = psi(0.0), psi(seg.sigma_B)
         info: dict[str, Any] = {"bracket_p": [A.p, seg.B.p]}
-        if psi_A * psi_B > 0:
-            # the bordered test function does not bracket: report the bracket, unlocated
-            u, p, res = seg.point(psi.sigma_mid)
-            info["error"] = "bordered test function did not change sign on the bracket"
-            bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=res, located=False, info=info)
+        if curve.problem.symmetric:
+            hess = _HessianBranchTest(seg)
+            if hess.ends[0] * hess.ends[1] > 0:
+                bp = self._unbracketed(seg, hess.sigma_mid, info)
+            else:
+                u, p = hess.root()
+                res = max_abs(curve.residual(u, p))
+                info["test_function"] = val = fold_function(curve.problem, u, p, hess.b, hess.b)[0]
+                info["method"] = "root of the Hessian's bordered test function"
+                bp = SpecialPoint("branch_point", p, u, {}, residual=res, located=True, info=info)
+                bp.info.update(hess.directions(u, p))
         else:
-            # the Hessian's test function is smooth and cheap: Brent to roundoff puts its smallest
-            # eigenvalue at roundoff level instead of at locate_tol times its slope
-            rtol = 0.0 if symmetric else curve.settings.locate_tol
-            sigma = seg.root(psi, psi_A, psi_B, rtol)
-            u, p, res = seg.point(sigma)
-            info["test_function"] = val = psi(sigma)
-            bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=max(res, abs(val)), located=True, info=info)
-            bp.info.update(psi.directions(u, p))
-            if symmetric:
-                bp.info["method"] = "root of the Hessian's bordered test function"
+            psi = _BorderedBranchTest(seg)
+            psi_A, psi_B = psi(0.0), psi(seg.sigma_B)
+            if psi_A * psi_B > 0:
+                bp = self._unbracketed(seg, psi.sigma_mid, info)
+            else:
+                sigma = seg.root(psi, psi_A, psi_B, curve.settings.locate_tol)
+                u, p, res = seg.point(sigma)
+                info["test_function"] = val = psi(sigma)
+                bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=max(res, abs(val)), located=True,
+                                  info=info)
+                bp.info.update(psi.directions(u, p))
         bp.observables = curve.problem.evaluate_observables(bp.u, bp.p)
         bp.s = A.s + curve.norm(bp.u - A.u, bp.p - A.p)
         return bp
+
+    @staticmethod
+    def _unbracketed(seg: Segment, sigma: float, info: dict[str, Any]) -> SpecialPoint:
+        """The bordered test function does not bracket: the bracket, reported unlocated."""
+        u, p, res = seg.point(sigma)
+        info["error"] = "bordered test function did not change sign on the bracket"
+        return SpecialPoint("branch_point", p, u.copy(), {}, residual=res, located=False, info=info)
 
     def annotate(self, spt: SpecialPoint) -> SpecialPoint:
         if self.known is not None:
@@ -299,21 +310,92 @@ class KnownBranchPoints:
 class _HessianBranchTest:
     """Weight-free branch-point test function of a symmetric problem on a segment.
 
-    ``J`` (the Hessian) is bordered by its eigenvector ``b`` of smallest |eigenvalue| at the
+    ``J`` (the Hessian) is bordered by one of its eigenvectors ``b`` of small |eigenvalue| at the
     segment's midpoint: the fold function ``g`` of ``[[J, b], [b^T, 0]] [v; g] = [0; 1]``
     (:func:`contin.fold.fold_function`) is ``-1 / (b^T J^{-1} b)``, which changes sign exactly where
-    that eigenvalue crosses zero.  Only ``J`` enters, never the arclength weights or ``df/dp``.
+    that eigenvalue crosses zero.  Only ``J`` and ``df/dp`` enter, never the arclength weights.
+
+    Of the eigenvectors whose test function changes sign on the segment, ``b`` is the one most
+    nearly orthogonal to ``df/dp``: at a branch point ``df/dp`` lies in the range of ``J``, at a
+    fold it does not, and a fold can share the segment (it does on a shallow arch).
     """
 
-    def __init__(self, seg: Segment) -> None:
+    def __init__(self, seg: Segment, candidates: int = 3) -> None:
         self.seg, self.curve = seg, seg.curve
+        problem = self.curve.problem
         self.sigma_mid = 0.5 * seg.sigma_B
         um, pm, _ = seg.point(self.sigma_mid)
-        self.b = smallest_eigenvector(self.curve.problem, um, pm)
+        fp = problem.dresidual_dp(um, pm)
+        fp = fp / max(float(np.linalg.norm(fp)), 1e-300)
+        best = None
+        for b in smallest_eigenvectors(problem, um, pm, candidates):
+            ends = [self._g(b, 0.0), self._g(b, seg.sigma_B)]
+            score = abs(float(b @ fp))
+            if ends[0] * ends[1] <= 0 and (best is None or score < best[0]):
+                best = (score, b, ends)
+        if best is None:
+            b = smallest_eigenvectors(problem, um, pm, 1)[0]
+            best = (abs(float(b @ fp)), b, [self._g(b, 0.0), self._g(b, seg.sigma_B)])
+        self.b, self.ends = best[1], best[2]
+
+    def _g(self, b: np.ndarray, sigma: float) -> float:
+        u, p, _ = self.seg.point(sigma)
+        return fold_function(self.curve.problem, u, p, b, b)[0]
 
     def __call__(self, sigma: float) -> float:
-        u, p, _ = self.seg.point(sigma)
-        return fold_function(self.curve.problem, u, p, self.b, self.b)[0]
+        if sigma == 0.0:
+            return self.ends[0]
+        if sigma == self.seg.sigma_B:
+            return self.ends[1]
+        return self._g(self.b, sigma)
+
+    def root(self, width: float = 1e-4, attempts: int = 6) -> tuple[np.ndarray, float]:
+        """The branch point ``(u, p)``: where the test function vanishes on the curve.
+
+        The corrector's bordered system is itself singular at the branch point (two branches cross
+        the hyperplane there), so points closer to it than roundoff allows do not converge.  Hence
+        bisection down to a bracket of ``width * sigma_B``, then the root of the cubic through the
+        test function at four points ``w / 2`` to ``2 w`` from the bracket's centre, and the state by
+        the same cubic (Lagrange) interpolation of those four converged points: its error is
+        ``O(w^4)``, far below the corrector's tolerance.  ``w`` doubles when a point fails to converge.
+        """
+        seg = self.seg
+        lo, hi, g_lo = 0.0, seg.sigma_B, self.ends[0]
+        w = width * abs(seg.sigma_B)
+        while abs(hi - lo) > w:
+            mid = 0.5 * (lo + hi)
+            g_mid = self._robust(mid, 0.25 * abs(hi - lo))
+            if g_mid * g_lo > 0:
+                lo, g_lo = mid, g_mid
+            else:
+                hi = mid
+        centre = 0.5 * (lo + hi)
+        last: Exception | None = None
+        for _ in range(attempts):
+            nodes = centre + np.sign(seg.sigma_B) * w * np.array([-2.0, -1.0, 1.0, 2.0])
+            try:
+                pts = [seg.point(float(s)) for s in nodes]
+            except CorrectorFailure as exc:
+                last, w = exc, 2 * w
+                continue
+            g = np.array([fold_function(self.curve.problem, u, p, self.b, self.b)[0] for u, p, _ in pts])
+            x = (nodes - centre) / w
+            coef = np.polyfit(x, g, 3)
+            t = _cubic_root(coef, x[1], x[2], g[1], g[2])
+            weights = _lagrange_weights(x, t)
+            u = sum(wi * pt[0] for wi, pt in zip(weights, pts))
+            p = float(sum(wi * pt[1] for wi, pt in zip(weights, pts)))
+            return np.asarray(u, dtype=float), p
+        raise CorrectorFailure(f"no converged points around the branch point: {last}")
+
+    def _robust(self, sigma: float, room: float) -> float:
+        """Test function at ``sigma``, or at a point nudged by up to ``room`` when the corrector fails there."""
+        for shift in (0.0, 0.1, -0.1, 0.3, -0.3):
+            try:
+                return self._g(self.b, sigma + shift * room)
+            except CorrectorFailure:
+                continue
+        return self._g(self.b, sigma)
 
     def directions(self, u: np.ndarray, p: float) -> dict[str, Any]:
         """Null vector, the branch's tangents and the bifurcation equation at the located point."""
@@ -321,21 +403,64 @@ class _HessianBranchTest:
         return bifurcation_directions(self.curve.problem, u, p, B.u - A.u, B.p - A.p, start=self.b)
 
 
+def _cubic_root(coef: np.ndarray, x0: float, x1: float, g0: float, g1: float) -> float:
+    """Root in ``[x0, x1]`` of the cubic ``coef`` (numpy order) that changes sign there: Newton from the secant root."""
+    t = x0 - g0 * (x1 - x0) / (g1 - g0) if g1 != g0 else 0.5 * (x0 + x1)
+    d = np.polyder(coef)
+    for _ in range(20):
+        step = np.polyval(coef, t) / np.polyval(d, t)
+        t = float(np.clip(t - step, x0, x1))
+        if abs(step) < 1e-15:
+            break
+    return t
+
+
+def _lagrange_weights(x: np.ndarray, t: float) -> np.ndarray:
+    """Weights of the Lagrange interpolant through the nodes ``x`` at ``t``."""
+    return np.array([np.prod([(t - x[k]) / (x[j] - x[k]) for k in range(x.size) if k != j]) for j in range(x.size)])
+
+
+def smallest_eigenvectors(problem: Problem, u: np.ndarray, p: float, k: int = 1) -> list[np.ndarray]:
+    """Unit eigenvectors of the symmetric ``J(u, p)`` for its ``k`` smallest |eigenvalues|, smallest first.
+
+    Dense for small systems; otherwise Lanczos in shift-invert mode about zero on the model's own
+    (banded or sparse) factorization.
+    """
+    J = problem.checked_jacobian(u, p)
+    n = u.size
+    k = min(k, n)
+    if n <= 400:
+        w, V = np.linalg.eigh(J.toarray() if hasattr(J, "toarray") else np.asarray(J))
+        order = np.argsort(np.abs(w))[:k]
+        return [V[:, i] for i in order]
+    from scipy.sparse.linalg import LinearOperator, eigsh  # imported here: slow to import
+
+    F = safe_factorize(problem, J)
+    if F is None:
+        # exactly singular: shift off zero by a roundoff-sized amount
+        shift = 1e-12 * _max_abs_entry(J)
+        F = problem.factorize(J - shift * sp.identity(n, format="csr"))
+    op = LinearOperator((n, n), matvec=lambda x: F.solve(np.ravel(x)), dtype=float)
+    w, V = eigsh(J, k=k, sigma=0.0, OPinv=op, which="LM")
+    order = np.argsort(np.abs(w))
+    return [V[:, i] for i in order]
+
+
 def smallest_eigenvector(problem: Problem, u: np.ndarray, p: float, start: np.ndarray | None = None,
                          iters: int = 30) -> np.ndarray:
-    """Unit eigenvector of the symmetric ``J(u, p)`` for its smallest |eigenvalue|.
+    """Unit eigenvector of the symmetric ``J(u, p)`` for its smallest |eigenvalue|, near ``start``.
 
-    Inverse iteration on the model's own (banded or sparse) factorization: near a branch point that
-    eigenvalue is far smaller than the next, so a few iterations converge.  They stop once the
-    Rayleigh residual ``|J x - (x^T J x) x|`` is at roundoff level relative to ``|J|``.  A dense
-    eigensolve is the fallback for small matrices when the factorization fails (exactly singular).
+    Inverse iteration on the model's own (banded or sparse) factorization from ``start`` (a
+    candidate found nearby): at a branch point that eigenvalue is roundoff-small, so one or two
+    iterations converge.  They stop once the Rayleigh residual ``|J x - (x^T J x) x|`` is at
+    roundoff level relative to ``|J|``.  Without a factorization (exactly singular) or a start,
+    :func:`smallest_eigenvectors`.
     """
     J = problem.checked_jacobian(u, p)
     n = u.size
     F = safe_factorize(problem, J)
-    if F is None and n <= 2000:
-        w, V = np.linalg.eigh(J.toarray() if hasattr(J, "toarray") else np.asarray(J))
-        return V[:, int(np.argmin(np.abs(w)))]
+    if F is None or start is None:
+        return smallest_eigenvectors(problem, u, p, 1)[0]
     x = inverse_iteration(J, F, n, start=start, iters=1)
     J_scale = _max_abs_entry(J)
     for _ in range(iters):
@@ -373,7 +498,8 @@ def bifurcation_directions(problem: Problem, u: np.ndarray, p: float, sec_u: np.
                            start: np.ndarray | None = None) -> dict[str, Any]:
     """Directions at a simple branch point of a symmetric problem, free of any arclength weight.
 
-    With ``phi`` the unit null vector of ``J`` and ``T = (v, 1)``, ``J v = -f_p``, ``phi^T v = 0``,
+    With ``phi`` the unit null vector of ``J`` and ``T`` the unit vector along ``(v, 1)``,
+    ``J v = -f_p``, ``phi^T v = 0``,
     the branches leave ``X*`` along ``alpha (phi, 0) + beta T`` where ``(alpha, beta)`` solves the
     algebraic bifurcation equation ``a alpha^2 + 2 b alpha beta + c beta^2 = 0`` with
     ``a = phi^T f_XX[phi, phi]``, ``b = phi^T f_XX[phi, T]``, ``c = phi^T f_XX[T, T]``.  One root is
@@ -399,25 +525,29 @@ def bifurcation_directions(problem: Problem, u: np.ndarray, p: float, sec_u: np.
     M = BorderedSolver(J, safe_factorize(problem, J), phi.reshape(n, 1), phi.reshape(1, n), np.zeros((1, 1)),
                        refactor=problem.factorize)
     v, _ = M.solve(-fp, np.zeros(1))
+    # T = (v, 1) at unit Euclidean length: the three coefficients are then in the same units (and a
+    # nearby fold, where v is huge, does not swamp a and b)
+    t_len = math.sqrt(float(v @ v) + 1.0)
+    v, t_p = v / t_len, 1.0 / t_len
     a = float(phi @ second_derivative(problem, u, p, phi, 0.0, phi, 0.0))
-    b = float(phi @ second_derivative(problem, u, p, phi, 0.0, v, 1.0))
-    c = float(phi @ second_derivative(problem, u, p, v, 1.0, v, 1.0))
-    traced = np.array([float(phi @ sec_u), float(sec_p)])
+    b = float(phi @ second_derivative(problem, u, p, phi, 0.0, v, t_p))
+    c = float(phi @ second_derivative(problem, u, p, v, t_p, v, t_p))
+    traced = np.array([float(phi @ sec_u), float(sec_p) / t_p])
     traced /= max(np.linalg.norm(traced), 1e-300)
     roots = _abe_roots(a, b, c)
     # the bifurcating root is the one least parallel to the traced branch
     cross = [abs(r[0] * traced[1] - r[1] * traced[0]) for r in roots]
     other = roots[int(np.argmax(cross))]
     scale = abs(a) + abs(b) + abs(c)
-    pitchfork = scale > 0 and abs(a) <= 1e-5 * scale and abs(other[1]) <= 1e-4
+    pitchfork = scale > 0 and abs(a) <= 1e-3 * scale and abs(other[1]) <= 1e-3
     if pitchfork:
         other = np.array([1.0, 0.0])
     if other[0] < 0:
         other = -other  # orientation: positive along phi (direction=+1 of switch_branch)
 
     def along(ab: np.ndarray) -> list[float]:
-        return np.concatenate([ab[0] * phi + ab[1] * v, [ab[1]]]).tolist()
-    return {"null_vector": phi.tolist(), "particular_tangent": np.concatenate([v, [1.0]]).tolist(),
+        return np.concatenate([ab[0] * phi + ab[1] * v, [ab[1] * t_p]]).tolist()
+    return {"null_vector": phi.tolist(), "particular_tangent": np.concatenate([v, [t_p]]).tolist(),
             "abe": {"a": a, "b": b, "c": c}, "branch_tangent": along(traced),
             "bifurcation_direction": along(other), "eigenvalue": lam,
             "bifurcation_type": "pitchfork" if pitchfork else "transcritical"}
