@@ -289,7 +289,7 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     step = st.ds if ds is None else float(ds)
     first = _step_off(curve, u_bp, branch_point.p, d, normal, step)
     watch = KnownBranchPoints(tuple([("origin", u_bp, float(branch_point.p))] + [
-        (f"branch point {k} (p = {kp.p:.10g})", np.asarray(kp.u, dtype=float), float(kp.p))
+        (f"branch point {k} ({problem.parameter_name} = {kp.p:.10g})", np.asarray(kp.u, dtype=float), float(kp.p))
         for k, kp in enumerate(known) if kp.kind == "branch_point"]))
     br = continuation(problem, first.u, first.p, st, events=[*events, watch], tangent=(d[:n], float(d[n])),
                       correct_start=False, **{k: v for k, v in overrides.items() if k not in names})
@@ -349,10 +349,11 @@ def _name_the_meeting(br: Branch, problem: Problem) -> None:
     label = last.info.get("known_as") if last.kind == "branch_point" else None
     if label is None:
         return
-    where = f"{problem.parameter_name} = {last.p:.10g}"
+    found = f"found on this branch at {problem.parameter_name} = {last.info.get('met_at_p', last.p):.10g}"
     if label == "origin":
         br.status = "closed_loop"
-        br.message = f"closed loop: returned to the branch point it started from ({where})"
+        br.message = (f"closed loop: returned to the branch point it started from "
+                      f"({problem.parameter_name} = {last.p:.10g}; {found})")
     else:
         br.status = "reached_branch_point"
-        br.message = f"reached the known {label} ({where})"
+        br.message = f"reached the known {label} ({found})"

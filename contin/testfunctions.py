@@ -257,11 +257,18 @@ class BranchPointTest(TestFunction):
         info["error"] = "bordered test function did not change sign on the bracket"
         return SpecialPoint("branch_point", p, u.copy(), {}, residual=res, located=False, info=info)
 
-    def annotate(self, spt: SpecialPoint) -> SpecialPoint:
+    def find(self, seg: Segment, before: float, after: float, locate: bool = True) -> SpecialPoint:
+        spt = super().find(seg, before, after, locate)
         if self.known is not None:
-            match = self.known.match(spt)
+            match = self.known.match(spt, seg)
             if match is not None:
-                spt.info["known_as"] = match
+                # the run ends on the known point itself, not on this run's estimate of it
+                label, u, p = match
+                spt.info["known_as"] = label
+                spt.info["met_at_p"] = float(spt.p)
+                spt.u, spt.p = np.array(u, dtype=float), float(p)
+                spt.residual = max_abs(self.curve.residual(spt.u, spt.p))
+                spt.observables = self.curve.problem.evaluate_observables(spt.u, spt.p)
         return spt
 
     def stop_rank(self, spt: SpecialPoint) -> int | None:
@@ -289,21 +296,26 @@ class KnownBranchPoints:
     points: tuple[tuple[str, np.ndarray, float], ...]
     rtol: float = 1e-6
 
-    def match(self, spt: SpecialPoint) -> str | None:
-        """Label of the known point ``spt`` is, or None."""
+    def match(self, spt: SpecialPoint, seg: Segment) -> tuple[str, np.ndarray, float] | None:
+        """The known point ``(label, u, p)`` that ``spt`` (found on ``seg``) is, or None.
+
+        Either the located point coincides with it (``rtol``), or it lies on the bracket: within a
+        tenth of the segment's length of the chord from ``A`` to ``B``.  The second test matters on
+        the branch that crosses a pitchfork: there the Hessian's eigenvalue only touches zero (the
+        crossing is a fold in the parameter too), so the point is bracketed but not located.
+        """
+        curve, A, B = seg.curve, seg.A, seg.B
+        chord_u, chord_p = B.u - A.u, B.p - A.p
+        length2 = curve.inner(chord_u, chord_p, chord_u, chord_p)
         for label, u, p in self.points:
             u_scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
-            if spt.located:
-                near = (abs(spt.p - p) <= self.rtol * (1.0 + abs(p))
-                        and float(np.max(np.abs(spt.u - u), initial=0.0)) <= self.rtol * u_scale)
-            else:
-                # bracketed only: the known point must lie in the parameter bracket, and the state be
-                # within the bracket's width of it
-                lo, hi = sorted(spt.info.get("bracket_p", [spt.p, spt.p]))
-                near = lo - self.rtol * (1 + abs(p)) <= p <= hi + self.rtol * (1 + abs(p)) and (
-                    float(np.max(np.abs(spt.u - u), initial=0.0)) <= 1e-2 * u_scale)
-            if near:
-                return label
+            if spt.located and (abs(spt.p - p) <= self.rtol * (1.0 + abs(p))
+                                and float(np.max(np.abs(spt.u - u), initial=0.0)) <= self.rtol * u_scale):
+                return label, u, p
+            t = float(np.clip(curve.inner(u - A.u, p - A.p, chord_u, chord_p) / length2, 0.0, 1.0)) \
+                if length2 > 0 else 0.0
+            if curve.norm(u - A.u - t * chord_u, p - A.p - t * chord_p) <= 0.1 * math.sqrt(length2):
+                return label, u, p
         return None
 
 
