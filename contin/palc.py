@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import fields
 from typing import Any
 
@@ -240,7 +241,8 @@ def _point_from_special(curve: Curve, spt: SpecialPoint, previous: Point) -> Poi
 
 
 def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settings | None = None, *,
-                  direction: int = 1, ds: float | None = None, events=(), known=(), **overrides: Any) -> Branch:
+                  direction: int = 1, ds: float | None = None, events: Sequence[Event] = (),
+                  known: Sequence[SpecialPoint] = (), **overrides: Any) -> Branch:
     """Continue the branch that bifurcates at a located simple branch point.
 
     The location stored the bifurcating direction ``d`` without any arclength weight

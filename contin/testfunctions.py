@@ -12,7 +12,11 @@ Four kinds implement it:
   by Newton on the minimally augmented system (:func:`contin.fold.locate_fold`), with the root of the
   tangent component on the segment as the fallback;
 * :class:`BranchPointTest`: the sign of the determinant of the bordered Jacobian (from the
-  factorization, so nothing overflows); located as a root of a continuous bordered test function;
+  factorization, so nothing overflows); located as a root of a continuous bordered test function.
+  For a symmetric problem that function borders the Hessian alone by its own near-null eigenvector,
+  so the located point does not depend on the arclength weights, and the branch directions come from
+  the algebraic bifurcation equation (:func:`bifurcation_directions`), stored without any weight;
+  :class:`KnownBranchPoints` makes a run end where it meets a branch point it was told of;
 * :class:`EventTest`: a user event (:mod:`contin.events`): an observable minus a value, or the
   derivative of an observable along the unit tangent (extremum);
 * bounds of the parameter and of observables are :class:`EventTest` s of terminal crossings
