@@ -234,7 +234,7 @@ class BranchPointTest(TestFunction):
             else:
                 u, p = hess.root()
                 res = max_abs(curve.residual(u, p))
-                info["test_function"] = val = fold_function(curve.problem, u, p, hess.b, hess.b)[0]
+                info["test_function"] = fold_function(curve.problem, u, p, hess.b, hess.b)[0]
                 info["method"] = "root of the Hessian's bordered test function"
                 bp = SpecialPoint("branch_point", p, u, {}, residual=res, located=True, info=info)
                 bp.info.update(hess.directions(u, p))
@@ -357,13 +357,6 @@ class _HessianBranchTest:
     def _g(self, b: np.ndarray, sigma: float) -> float:
         u, p, _ = self.seg.point(sigma)
         return fold_function(self.curve.problem, u, p, b, b)[0]
-
-    def __call__(self, sigma: float) -> float:
-        if sigma == 0.0:
-            return self.ends[0]
-        if sigma == self.seg.sigma_B:
-            return self.ends[1]
-        return self._g(self.b, sigma)
 
     def root(self, width: float = 1e-4, attempts: int = 6) -> tuple[np.ndarray, float]:
         """The branch point ``(u, p)``: where the test function vanishes on the curve.
