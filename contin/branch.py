@@ -153,7 +153,8 @@ class Branch:
         Located folds, branch points, events and jumps, in path order.
     status : str
         Why the run ended: ``"completed"`` (max steps), ``"bound"``, ``"event"``, ``"min_step"``,
-        ``"failed"``, ``"closed_loop"``.
+        ``"failed"``, ``"closed_loop"`` (a switched branch returned to the branch point it left),
+        ``"reached_branch_point"`` (a switched branch met a branch point it was told of).
     message : str
         Human-readable reason.
     meta : dict
@@ -226,7 +227,7 @@ class Branch:
     @property
     def success(self) -> bool:
         """True when the run ended for a planned reason (not a failure of the corrector)."""
-        return self.status in ("completed", "bound", "event", "closed_loop")
+        return self.status in ("completed", "bound", "event", "closed_loop", "reached_branch_point")
 
     def folds(self) -> list[SpecialPoint]:
         """Special points of kind ``"fold"``."""

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import fields
 from typing import Any
 
@@ -35,7 +36,7 @@ from .recorder import Recorder
 from .segment import Segment
 from .settings import Settings, resolve_settings
 from .stepsize import StepController
-from .testfunctions import TestFunction, test_functions
+from .testfunctions import KnownBranchPoints, TestFunction, test_functions
 
 __all__ = ["Settings", "continuation", "locate_fold", "switch_branch", "CorrectorFailure", "Curve", "Point",
            "Correction"]
@@ -240,15 +241,21 @@ def _point_from_special(curve: Curve, spt: SpecialPoint, previous: Point) -> Poi
 
 
 def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settings | None = None, *,
-                  direction: int = 1, ds: float | None = None, events=(), **overrides: Any) -> Branch:
+                  direction: int = 1, ds: float | None = None, events: Sequence[Event] = (),
+                  known: Sequence[SpecialPoint] = (), **overrides: Any) -> Branch:
     """Continue the branch that bifurcates at a located simple branch point.
 
-    The bifurcating direction is the null vector of the augmented Jacobian at the branch point
-    that is orthogonal (in the arclength metric) to the traced branch; it was stored by the
-    location as ``info["bifurcation_direction"]``.  The first point is found by the corrector on
-    the hyperplane ``<phi, X - X*> = ds``, which the original branch does not cross near ``X*``;
-    from there ordinary continuation proceeds.  This is exact for pitchfork (symmetry-breaking)
-    bifurcations; for a transcritical one it finds the second branch when the step is small.
+    The location stored the bifurcating direction ``d`` without any arclength weight
+    (``info["bifurcation_direction"]``; for symmetric problems from the algebraic bifurcation
+    equation, see :func:`contin.testfunctions.bifurcation_directions`), so any settings may be used
+    here.  ``d`` is normalised in this run's norm; the first point is found by the corrector on the
+    hyperplane through ``X* + ds d`` whose normal is ``d`` made orthogonal (in this run's metric) to
+    the traced branch's tangent ``info["branch_tangent"]``, which the traced branch therefore does
+    not cross near ``X*``.  From there ordinary continuation proceeds.
+
+    The run ends where the new branch meets a branch point again: the one it started from (status
+    ``"closed_loop"``: it went round a closed loop) or one of ``known`` (status
+    ``"reached_branch_point"``), instead of going round until ``max_steps``.
 
     Parameters
     ----------
@@ -259,6 +266,11 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
         +1 or -1: which half of the bifurcating branch.
     ds : float, optional
         First step (defaults to ``settings.ds``).
+    events : sequence of Event
+        User events of the new branch.
+    known : sequence of SpecialPoint
+        Branch points already known (e.g. ``branch.branch_points()`` of the traced branch); the run
+        ends on reaching one of them.
 
     Returns
     -------
@@ -271,28 +283,79 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
         raise ValueError(f"switch_branch: direction must be +1 or -1, got {direction!r}")
     names = {f.name for f in fields(Settings)}
     st = resolve_settings(settings, {k: v for k, v in overrides.items() if k in names})
-    phi = direction * np.asarray(branch_point.info["bifurcation_direction"], dtype=float)
-    n = branch_point.u.size
-    phi_u, phi_p = phi[:n], float(phi[n])
-    first = _step_off(Curve(problem, st), Point(np.asarray(branch_point.u, dtype=float), branch_point.p,
-                                                 phi_u, phi_p, 0.0, 0), st.ds if ds is None else float(ds))
-    br = continuation(problem, first.u, first.p, st, events=events, tangent=(phi_u, phi_p), correct_start=False,
-                      **{k: v for k, v in overrides.items() if k not in names})
-    origin = SpecialPoint("branch_point", branch_point.p, np.asarray(branch_point.u, dtype=float),
-                          dict(branch_point.observables), residual=branch_point.residual,
-                          located=branch_point.located, s=0.0, index=0, label="origin",
-                          info={"bracket_p": branch_point.info.get("bracket_p")})
+    curve = Curve(problem, st)
+    u_bp = np.asarray(branch_point.u, dtype=float)
+    n = u_bp.size
+    d = _unit(curve, direction * np.asarray(branch_point.info["bifurcation_direction"], dtype=float), n)
+    normal = _off_branch_normal(curve, d, branch_point.info.get("branch_tangent"), n)
+    step = st.ds if ds is None else float(ds)
+    first = _step_off(curve, u_bp, branch_point.p, d, normal, step)
+    watch = KnownBranchPoints(tuple([("origin", u_bp, float(branch_point.p))] + [
+        (f"branch point {k} ({problem.parameter_name} = {kp.p:.10g})", np.asarray(kp.u, dtype=float), float(kp.p))
+        for k, kp in enumerate(known) if kp.kind == "branch_point"]))
+    br = continuation(problem, first.u, first.p, st, events=[*events, watch], tangent=(d[:n], float(d[n])),
+                      correct_start=False, **{k: v for k, v in overrides.items() if k not in names})
+    _name_the_meeting(br, problem)
+    origin = SpecialPoint("branch_point", branch_point.p, u_bp, dict(branch_point.observables),
+                          residual=branch_point.residual, located=branch_point.located, s=0.0, index=0,
+                          label="origin", info={"bracket_p": branch_point.info.get("bracket_p")})
     br.special_points.insert(0, origin)
     br.meta["origin"] = {"kind": "branch_point", "p": float(branch_point.p)}
     return br
 
 
-def _step_off(curve: Curve, origin: Point, step: float, attempts: int = 12) -> Correction:
-    """First point on the hyperplane ``<t, X - X*> = step`` off a branch point, halving the step on failure."""
+def _unit(curve: Curve, x: np.ndarray, n: int) -> np.ndarray:
+    """``x = (x_u, x_p)`` normalised in the curve's arclength norm."""
+    nrm = curve.norm(x[:n], float(x[n]))
+    if not (np.isfinite(nrm) and nrm > 0):
+        raise ValueError("switch_branch: the stored bifurcation direction is zero or not finite")
+    return x / nrm
+
+
+def _off_branch_normal(curve: Curve, d: np.ndarray, traced: Any, n: int) -> np.ndarray:
+    """Unit normal of the step-off hyperplane: ``d`` without its component along the traced branch."""
+    if traced is None:
+        return d
+    t = _unit(curve, np.asarray(traced, dtype=float), n)
+    normal = d - curve.inner(d[:n], d[n], t[:n], t[n]) * t
+    nrm = curve.norm(normal[:n], normal[n])
+    # d (nearly) along the traced branch: the hyperplane normal to d itself is the best left
+    return normal / nrm if nrm > 1e-3 else d
+
+
+def _step_off(curve: Curve, u: np.ndarray, p: float, d: np.ndarray, normal: np.ndarray, step: float,
+              attempts: int = 40) -> Correction:
+    """First point of the new branch, on ``<normal, X - X*> = step`` from ``X* + step d / <normal, d>``.
+
+    The step is halved on failure, as often as it takes: in a norm that weights one direction
+    heavily the new branch is strongly curved, and only a short first step stays near the predictor.
+    """
+    n = u.size
+    origin = Point(u, p, normal[:n], float(normal[n]), 0.0, 0)
+    along = curve.inner(normal[:n], normal[n], d[:n], d[n])
     last: Exception | None = None
     for _ in range(attempts):
+        reach = step / along
         try:
-            return correct(curve, origin, step)
+            return correct(curve, origin, step, start=(u + reach * d[:n], p + reach * float(d[n])))
         except CorrectorFailure as exc:
             last, step = exc, step * 0.5
     raise CorrectorFailure(f"could not step onto the bifurcating branch: {last}")
+
+
+def _name_the_meeting(br: Branch, problem: Problem) -> None:
+    """Status and message of a switched branch that ended on a branch point it already knew."""
+    if br.status != "event" or not br.special_points:
+        return
+    last = br.special_points[-1]
+    label = last.info.get("known_as") if last.kind == "branch_point" else None
+    if label is None:
+        return
+    found = f"found on this branch at {problem.parameter_name} = {last.info.get('met_at_p', last.p):.10g}"
+    if label == "origin":
+        br.status = "closed_loop"
+        br.message = (f"closed loop: returned to the branch point it started from "
+                      f"({problem.parameter_name} = {last.p:.10g}; {found})")
+    else:
+        br.status = "reached_branch_point"
+        br.message = f"reached the known {label} ({found})"

@@ -12,7 +12,11 @@ Four kinds implement it:
   by Newton on the minimally augmented system (:func:`contin.fold.locate_fold`), with the root of the
   tangent component on the segment as the fallback;
 * :class:`BranchPointTest`: the sign of the determinant of the bordered Jacobian (from the
-  factorization, so nothing overflows); located as a root of a continuous bordered test function;
+  factorization, so nothing overflows); located as a root of a continuous bordered test function.
+  For a symmetric problem that function borders the Hessian alone by its own near-null eigenvector,
+  so the located point does not depend on the arclength weights, and the branch directions come from
+  the algebraic bifurcation equation (:func:`bifurcation_directions`), stored without any weight;
+  :class:`KnownBranchPoints` makes a run end where it meets a branch point it was told of;
 * :class:`EventTest`: a user event (:mod:`contin.events`): an observable minus a value, or the
   derivative of an observable along the unit tangent (extremum);
 * bounds of the parameter and of observables are :class:`EventTest` s of terminal crossings
@@ -26,21 +30,24 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from .branch import SpecialPoint
-from .curve import CorrectorFailure, Curve, Point
+from .curve import CorrectorFailure, Curve, Point, max_abs
 from .events import Event
-from .fold import locate_fold
+from .fold import fold_function, inverse_iteration, locate_fold, safe_factorize
 from .linalg import BorderedSolver, SingularMatrixError
 from .problem import NonFiniteError, Problem
 from .segment import Segment
 from .settings import Settings
 
 __all__ = ["TestFunction", "FoldTest", "BranchPointTest", "EventTest", "test_functions", "event_value",
-           "observable_function", "bracketed"]
+           "observable_function", "bracketed", "KnownBranchPoints", "smallest_eigenvector", "second_derivative",
+           "bifurcation_directions"]
 
 #: failures of a location that leave the special point bracketed instead of ending the run
 LOCATE_FAILURES = (CorrectorFailure, ValueError, RuntimeError, SingularMatrixError)
@@ -190,32 +197,385 @@ def _fold_by_tangent_root(seg: Segment, failed: SpecialPoint) -> SpecialPoint:
 
 
 class BranchPointTest(TestFunction):
-    """Simple branch points: sign changes of the determinant of the bordered Jacobian."""
+    """Simple branch points: sign changes of the determinant of the bordered Jacobian.
+
+    Detection uses the augmented Jacobian's determinant sign (free from the tangent's
+    factorization).  Location depends on the problem:
+
+    * symmetric (``problem.symmetric``): a root on the curve of the Hessian's own bordered test
+      function (:class:`_HessianBranchTest`); nothing in it depends on the arclength weights, and
+      the bifurcating direction comes from the algebraic bifurcation equation
+      (:func:`bifurcation_directions`);
+    * otherwise: a root of the doubly bordered augmented Jacobian (:class:`_BorderedBranchTest`).
+
+    Parameters
+    ----------
+    curve : Curve
+    known : KnownBranchPoints, optional
+        Branch points that end the run when one is located again (see :func:`contin.switch_branch`).
+    """
 
     kind = name = "branch_point"
+
+    def __init__(self, curve: Curve, known: KnownBranchPoints | None = None) -> None:
+        super().__init__(curve)
+        self.known = known
 
     def value(self, pt: Point) -> float:
         return pt.det_sign
 
     def locate(self, seg: Segment, before: float, after: float) -> SpecialPoint:
         curve, A = self.curve, seg.A
-        psi = _BorderedBranchTest(seg)
-        psi_A, psi_B = psi(0.0), psi(seg.sigma_B)
         info: dict[str, Any] = {"bracket_p": [A.p, seg.B.p]}
-        if psi_A * psi_B > 0:
-            # the bordered test function does not bracket: report the bracket, unlocated
-            u, p, res = seg.point(psi.sigma_mid)
-            info["error"] = "bordered test function did not change sign on the bracket"
-            bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=res, located=False, info=info)
+        if curve.problem.symmetric:
+            hess = _HessianBranchTest(seg)
+            if hess.ends[0] * hess.ends[1] > 0:
+                bp = self._unbracketed(seg, hess.sigma_mid, info)
+            else:
+                u, p = hess.root()
+                res = max_abs(curve.residual(u, p))
+                info["test_function"] = fold_function(curve.problem, u, p, hess.b, hess.b)[0]
+                info["method"] = "root of the Hessian's bordered test function"
+                bp = SpecialPoint("branch_point", p, u, {}, residual=res, located=True, info=info)
+                bp.info.update(hess.directions(u, p))
         else:
-            sigma = seg.root(psi, psi_A, psi_B, curve.settings.locate_tol)
-            u, p, res = seg.point(sigma)
-            info["test_function"] = val = psi(sigma)
-            bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=max(res, abs(val)), located=True, info=info)
-            bp.info.update(psi.directions(u, p))
+            psi = _BorderedBranchTest(seg)
+            psi_A, psi_B = psi(0.0), psi(seg.sigma_B)
+            if psi_A * psi_B > 0:
+                bp = self._unbracketed(seg, psi.sigma_mid, info)
+            else:
+                sigma = seg.root(psi, psi_A, psi_B, curve.settings.locate_tol)
+                u, p, res = seg.point(sigma)
+                info["test_function"] = val = psi(sigma)
+                bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=max(res, abs(val)), located=True,
+                                  info=info)
+                bp.info.update(psi.directions(u, p))
         bp.observables = curve.problem.evaluate_observables(bp.u, bp.p)
         bp.s = A.s + curve.norm(bp.u - A.u, bp.p - A.p)
         return bp
+
+    @staticmethod
+    def _unbracketed(seg: Segment, sigma: float, info: dict[str, Any]) -> SpecialPoint:
+        """The bordered test function does not bracket: the bracket, reported unlocated."""
+        u, p, res = seg.point(sigma)
+        info["error"] = "bordered test function did not change sign on the bracket"
+        return SpecialPoint("branch_point", p, u.copy(), {}, residual=res, located=False, info=info)
+
+    def find(self, seg: Segment, before: float, after: float, locate: bool = True) -> SpecialPoint:
+        spt = super().find(seg, before, after, locate)
+        if self.known is not None:
+            match = self.known.match(spt, seg)
+            if match is not None:
+                # the run ends on the known point itself, not on this run's estimate of it
+                label, u, p = match
+                spt.info["known_as"] = label
+                spt.info["met_at_p"] = float(spt.p)
+                spt.u, spt.p = np.array(u, dtype=float), float(p)
+                spt.residual = max_abs(self.curve.residual(spt.u, spt.p))
+                spt.observables = self.curve.problem.evaluate_observables(spt.u, spt.p)
+        return spt
+
+    def stop_rank(self, spt: SpecialPoint) -> int | None:
+        if "known_as" in spt.info:
+            return 1
+        return super().stop_rank(spt)
+
+
+@dataclass(frozen=True)
+class KnownBranchPoints:
+    """Branch points a run ends on when it meets one of them again.
+
+    :func:`contin.switch_branch` passes one among the events of its continuation run (so the driver
+    needs no extra argument): the branch point it starts from, and those the caller already knows.
+
+    Attributes
+    ----------
+    points : tuple of (label, u, p)
+        The known points; ``label`` names the point in the branch's status message.
+    rtol : float
+        Relative distance (max-norm in ``u``, absolute in ``p``, both relative to the point's size)
+        below which a located branch point is the same point.
+    """
+
+    points: tuple[tuple[str, np.ndarray, float], ...]
+    rtol: float = 1e-6
+
+    def match(self, spt: SpecialPoint, seg: Segment) -> tuple[str, np.ndarray, float] | None:
+        """The known point ``(label, u, p)`` that ``spt`` (found on ``seg``) is, or None.
+
+        Either the located point coincides with it (``rtol``), or it lies on the bracket: within a
+        tenth of the segment's length of the chord from ``A`` to ``B``.  The second test matters on
+        the branch that crosses a pitchfork: there the Hessian's eigenvalue only touches zero (the
+        crossing is a fold in the parameter too), so the point is bracketed but not located.
+        """
+        curve, A, B = seg.curve, seg.A, seg.B
+        chord_u, chord_p = B.u - A.u, B.p - A.p
+        length2 = curve.inner(chord_u, chord_p, chord_u, chord_p)
+        for label, u, p in self.points:
+            u_scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
+            if spt.located and (abs(spt.p - p) <= self.rtol * (1.0 + abs(p))
+                                and float(np.max(np.abs(spt.u - u), initial=0.0)) <= self.rtol * u_scale):
+                return label, u, p
+            t = float(np.clip(curve.inner(u - A.u, p - A.p, chord_u, chord_p) / length2, 0.0, 1.0)) \
+                if length2 > 0 else 0.0
+            if curve.norm(u - A.u - t * chord_u, p - A.p - t * chord_p) <= 0.1 * math.sqrt(length2):
+                return label, u, p
+        return None
+
+
+class _HessianBranchTest:
+    """Weight-free branch-point test function of a symmetric problem on a segment.
+
+    ``J`` (the Hessian) is bordered by one of its eigenvectors ``b`` of small |eigenvalue| at the
+    segment's midpoint: the fold function ``g`` of ``[[J, b], [b^T, 0]] [v; g] = [0; 1]``
+    (:func:`contin.fold.fold_function`) is ``-1 / (b^T J^{-1} b)``, which changes sign exactly where
+    that eigenvalue crosses zero.  Only ``J`` and ``df/dp`` enter, never the arclength weights.
+
+    Of the eigenvectors whose test function changes sign on the segment, ``b`` is the one most
+    nearly orthogonal to ``df/dp``: at a branch point ``df/dp`` lies in the range of ``J``, at a
+    fold it does not, and a fold can share the segment (it does on a shallow arch).
+    """
+
+    def __init__(self, seg: Segment, candidates: int = 3) -> None:
+        self.seg, self.curve = seg, seg.curve
+        problem = self.curve.problem
+        self.sigma_mid = 0.5 * seg.sigma_B
+        um, pm, _ = seg.point(self.sigma_mid)
+        fp = problem.dresidual_dp(um, pm)
+        fp = fp / max(float(np.linalg.norm(fp)), 1e-300)
+        best = None
+        for b in smallest_eigenvectors(problem, um, pm, candidates):
+            ends = [self._g(b, 0.0), self._g(b, seg.sigma_B)]
+            score = abs(float(b @ fp))
+            if ends[0] * ends[1] <= 0 and (best is None or score < best[0]):
+                best = (score, b, ends)
+        if best is None:
+            b = smallest_eigenvectors(problem, um, pm, 1)[0]
+            best = (abs(float(b @ fp)), b, [self._g(b, 0.0), self._g(b, seg.sigma_B)])
+        self.b, self.ends = best[1], best[2]
+
+    def _g(self, b: np.ndarray, sigma: float) -> float:
+        u, p, _ = self.seg.point(sigma)
+        return fold_function(self.curve.problem, u, p, b, b)[0]
+
+    def root(self, width: float = 1e-4, attempts: int = 6) -> tuple[np.ndarray, float]:
+        """The branch point ``(u, p)``: where the test function vanishes on the curve.
+
+        The corrector's bordered system is itself singular at the branch point (two branches cross
+        the hyperplane there), so points closer to it than roundoff allows do not converge.  Hence
+        bisection down to a bracket of ``width * sigma_B``, then the root of the cubic through the
+        test function at four points ``w / 2`` to ``2 w`` from the bracket's centre, and the state by
+        the same cubic (Lagrange) interpolation of those four converged points: its error is
+        ``O(w^4)``, far below the corrector's tolerance.  ``w`` doubles when a point fails to converge.
+        """
+        seg = self.seg
+        lo, hi, g_lo = 0.0, seg.sigma_B, self.ends[0]
+        w = width * abs(seg.sigma_B)
+        while abs(hi - lo) > w:
+            mid = 0.5 * (lo + hi)
+            g_mid = self._robust(mid, 0.25 * abs(hi - lo))
+            if g_mid * g_lo > 0:
+                lo, g_lo = mid, g_mid
+            else:
+                hi = mid
+        centre = 0.5 * (lo + hi)
+        last: Exception | None = None
+        for _ in range(attempts):
+            nodes = centre + np.sign(seg.sigma_B) * w * np.array([-2.0, -1.0, 1.0, 2.0])
+            try:
+                pts = [seg.point(float(s)) for s in nodes]
+            except CorrectorFailure as exc:
+                last, w = exc, 2 * w
+                continue
+            g = np.array([fold_function(self.curve.problem, u, p, self.b, self.b)[0] for u, p, _ in pts])
+            x = (nodes - centre) / w
+            coef = np.polyfit(x, g, 3)
+            t = _cubic_root(coef, x[1], x[2], g[1], g[2])
+            weights = _lagrange_weights(x, t)
+            u = sum(wi * pt[0] for wi, pt in zip(weights, pts))
+            p = float(sum(wi * pt[1] for wi, pt in zip(weights, pts)))
+            return np.asarray(u, dtype=float), p
+        raise CorrectorFailure(f"no converged points around the branch point: {last}")
+
+    def _robust(self, sigma: float, room: float) -> float:
+        """Test function at ``sigma``, or at a point nudged by up to ``room`` when the corrector fails there."""
+        for shift in (0.0, 0.1, -0.1, 0.3, -0.3):
+            try:
+                return self._g(self.b, sigma + shift * room)
+            except CorrectorFailure:
+                continue
+        return self._g(self.b, sigma)
+
+    def directions(self, u: np.ndarray, p: float) -> dict[str, Any]:
+        """Null vector, the branch's tangents and the bifurcation equation at the located point."""
+        A, B = self.seg.A, self.seg.B
+        return bifurcation_directions(self.curve.problem, u, p, B.u - A.u, B.p - A.p, start=self.b)
+
+
+def _cubic_root(coef: np.ndarray, x0: float, x1: float, g0: float, g1: float) -> float:
+    """Root in ``[x0, x1]`` of the cubic ``coef`` (numpy order) that changes sign there: Newton from the secant root."""
+    t = x0 - g0 * (x1 - x0) / (g1 - g0) if g1 != g0 else 0.5 * (x0 + x1)
+    d = np.polyder(coef)
+    for _ in range(20):
+        step = np.polyval(coef, t) / np.polyval(d, t)
+        t = float(np.clip(t - step, x0, x1))
+        if abs(step) < 1e-15:
+            break
+    return t
+
+
+def _lagrange_weights(x: np.ndarray, t: float) -> np.ndarray:
+    """Weights of the Lagrange interpolant through the nodes ``x`` at ``t``."""
+    return np.array([np.prod([(t - x[k]) / (x[j] - x[k]) for k in range(x.size) if k != j]) for j in range(x.size)])
+
+
+def smallest_eigenvectors(problem: Problem, u: np.ndarray, p: float, k: int = 1) -> list[np.ndarray]:
+    """Unit eigenvectors of the symmetric ``J(u, p)`` for its ``k`` smallest |eigenvalues|, smallest first.
+
+    Dense for small systems; otherwise Lanczos in shift-invert mode about zero on the model's own
+    (banded or sparse) factorization.
+    """
+    J = problem.checked_jacobian(u, p)
+    n = u.size
+    k = min(k, n)
+    if n <= 400:
+        w, V = np.linalg.eigh(J.toarray() if hasattr(J, "toarray") else np.asarray(J))
+        order = np.argsort(np.abs(w))[:k]
+        return [V[:, i] for i in order]
+    from scipy.sparse.linalg import LinearOperator, eigsh  # imported here: slow to import
+
+    F = safe_factorize(problem, J)
+    if F is None:
+        # exactly singular: shift off zero by a roundoff-sized amount
+        shift = 1e-12 * _max_abs_entry(J)
+        F = problem.factorize(J - shift * sp.identity(n, format="csr"))
+    op = LinearOperator((n, n), matvec=lambda x: F.solve(np.ravel(x)), dtype=float)
+    w, V = eigsh(J, k=k, sigma=0.0, OPinv=op, which="LM")
+    order = np.argsort(np.abs(w))
+    return [V[:, i] for i in order]
+
+
+def smallest_eigenvector(problem: Problem, u: np.ndarray, p: float, start: np.ndarray | None = None,
+                         iters: int = 30) -> np.ndarray:
+    """Unit eigenvector of the symmetric ``J(u, p)`` for its smallest |eigenvalue|, near ``start``.
+
+    Inverse iteration on the model's own (banded or sparse) factorization from ``start`` (a
+    candidate found nearby): at a branch point that eigenvalue is roundoff-small, so one or two
+    iterations converge.  They stop once the Rayleigh residual ``|J x - (x^T J x) x|`` is at
+    roundoff level relative to ``|J|``.  Without a factorization (exactly singular) or a start,
+    :func:`smallest_eigenvectors`.
+    """
+    J = problem.checked_jacobian(u, p)
+    n = u.size
+    F = safe_factorize(problem, J)
+    if F is None or start is None:
+        return smallest_eigenvectors(problem, u, p, 1)[0]
+    x = inverse_iteration(J, F, n, start=start, iters=1)
+    J_scale = _max_abs_entry(J)
+    for _ in range(iters):
+        Jx = J @ x
+        lam = float(x @ Jx)
+        if np.linalg.norm(Jx - lam * x) <= 1e-13 * J_scale * math.sqrt(n):
+            break
+        x = inverse_iteration(J, F, n, start=x, iters=1)
+    return x
+
+
+def _max_abs_entry(J: Any) -> float:
+    data = J.data if hasattr(J, "data") else np.asarray(J)
+    return max(float(np.max(np.abs(data), initial=0.0)), 1e-300)
+
+
+def second_derivative(problem: Problem, u: np.ndarray, p: float, y_u: np.ndarray, y_p: float,
+                      z_u: np.ndarray, z_p: float) -> np.ndarray:
+    """``f_XX[Y, Z]`` with ``X = (u, p)``: central difference of ``f_X Z = J z_u + f_p z_p`` along ``Y``.
+
+    The step makes ``Y`` move the state by ``1e-4`` of its size (truncation ``~1e-8`` relative,
+    roundoff ``~1e-12``), which is ample for the bifurcation equation's coefficients.
+    """
+    size = max(float(np.max(np.abs(y_u), initial=0.0)), abs(y_p) / (1.0 + abs(p)), 1e-300)
+    scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
+    h = 1e-4 * scale / size
+
+    def fx_z(sign: float) -> np.ndarray:
+        uu, pp = u + sign * h * y_u, p + sign * h * y_p
+        return problem.checked_jacobian(uu, pp) @ z_u + problem.dresidual_dp(uu, pp) * z_p
+    return (fx_z(1.0) - fx_z(-1.0)) / (2 * h)
+
+
+def bifurcation_directions(problem: Problem, u: np.ndarray, p: float, sec_u: np.ndarray, sec_p: float,
+                           start: np.ndarray | None = None) -> dict[str, Any]:
+    """Directions at a simple branch point of a symmetric problem, free of any arclength weight.
+
+    With ``phi`` the unit null vector of ``J`` and ``T`` the unit vector along ``(v, 1)``,
+    ``J v = -f_p``, ``phi^T v = 0``,
+    the branches leave ``X*`` along ``alpha (phi, 0) + beta T`` where ``(alpha, beta)`` solves the
+    algebraic bifurcation equation ``a alpha^2 + 2 b alpha beta + c beta^2 = 0`` with
+    ``a = phi^T f_XX[phi, phi]``, ``b = phi^T f_XX[phi, T]``, ``c = phi^T f_XX[T, T]``.  One root is
+    the traced branch (the one nearer the secant ``(sec_u, sec_p)`` of the bracket); the other is
+    the bifurcating branch.  At a pitchfork (``a = c = 0`` by symmetry) that is ``phi`` itself.
+
+    Returns
+    -------
+    dict
+        ``null_vector`` (``phi``, unit 2-norm), ``particular_tangent`` (``T``), ``abe``
+        (``{"a", "b", "c"}``), ``branch_tangent`` and ``bifurcation_direction`` (each
+        ``alpha (phi, 0) + beta T`` with ``alpha^2 + beta^2 = 1``), ``bifurcation_type``
+        (``"pitchfork"`` or ``"transcritical"``) and ``eigenvalue`` (``phi^T J phi``).
+    """
+    n = u.size
+    phi = smallest_eigenvector(problem, u, p, start=start)
+    # a reproducible orientation: direction=+1 of switch_branch goes where phi's largest entry grows
+    phi = phi if phi[int(np.argmax(np.abs(phi)))] > 0 else -phi
+    J = problem.checked_jacobian(u, p)
+    fp = problem.dresidual_dp(u, p)
+    lam = float(phi @ (J @ phi))
+    # T's state part: J v = -f_p on phi's complement (f_p is orthogonal to phi at a branch point)
+    M = BorderedSolver(J, safe_factorize(problem, J), phi.reshape(n, 1), phi.reshape(1, n), np.zeros((1, 1)),
+                       refactor=problem.factorize)
+    v, _ = M.solve(-fp, np.zeros(1))
+    # T = (v, 1) at unit Euclidean length: the three coefficients are then in the same units (and a
+    # nearby fold, where v is huge, does not swamp a and b)
+    t_len = math.sqrt(float(v @ v) + 1.0)
+    v, t_p = v / t_len, 1.0 / t_len
+    a = float(phi @ second_derivative(problem, u, p, phi, 0.0, phi, 0.0))
+    b = float(phi @ second_derivative(problem, u, p, phi, 0.0, v, t_p))
+    c = float(phi @ second_derivative(problem, u, p, v, t_p, v, t_p))
+    traced = np.array([float(phi @ sec_u), float(sec_p) / t_p])
+    traced /= max(np.linalg.norm(traced), 1e-300)
+    roots = _abe_roots(a, b, c)
+    # the bifurcating root is the one least parallel to the traced branch
+    cross = [abs(r[0] * traced[1] - r[1] * traced[0]) for r in roots]
+    other = roots[int(np.argmax(cross))]
+    scale = abs(a) + abs(b) + abs(c)
+    pitchfork = scale > 0 and abs(a) <= 1e-3 * scale and abs(other[1]) <= 1e-3
+    if pitchfork:
+        other = np.array([1.0, 0.0])
+    if other[0] < 0:
+        other = -other  # orientation: positive along phi (direction=+1 of switch_branch)
+
+    def along(ab: np.ndarray) -> list[float]:
+        return np.concatenate([ab[0] * phi + ab[1] * v, [ab[1] * t_p]]).tolist()
+    return {"null_vector": phi.tolist(), "particular_tangent": np.concatenate([v, [t_p]]).tolist(),
+            "abe": {"a": a, "b": b, "c": c}, "branch_tangent": along(traced),
+            "bifurcation_direction": along(other), "eigenvalue": lam,
+            "bifurcation_type": "pitchfork" if pitchfork else "transcritical"}
+
+
+def _abe_roots(a: float, b: float, c: float) -> list[np.ndarray]:
+    """The two unit root directions ``(alpha, beta)`` of ``a alpha^2 + 2 b alpha beta + c beta^2 = 0``.
+
+    With ``(alpha, beta) = (cos t, sin t)`` the form is ``A + B cos 2t + C sin 2t`` with
+    ``A = (a + c) / 2``, ``B = (a - c) / 2``, ``C = b``, so ``2t = delta +- arccos(-A / R)``; a
+    negative discriminant (no real branch) is clipped to the double root nearest to one.
+    """
+    A, B, C = 0.5 * (a + c), 0.5 * (a - c), b
+    R = math.hypot(B, C)
+    if R == 0.0:
+        raise ValueError("degenerate algebraic bifurcation equation (all second derivatives vanish)")
+    delta = math.atan2(C, B)
+    gamma = math.acos(float(np.clip(-A / R, -1.0, 1.0)))
+    return [np.array([math.cos(t), math.sin(t)]) for t in (0.5 * (delta + gamma), 0.5 * (delta - gamma))]
 
 
 class _BorderedBranchTest:
@@ -377,14 +737,16 @@ def bound_events(st: Settings) -> list[Event]:
     return evs
 
 
-def test_functions(curve: Curve, events: Sequence[Event] = ()) -> list[TestFunction]:
+def test_functions(curve: Curve, events: Sequence[Event | KnownBranchPoints] = ()) -> list[TestFunction]:
     """Everything a branch watches, in the order special points found on one step are reported."""
     st = curve.settings
     tests: list[TestFunction] = []
     if st.detect_folds:
         tests.append(FoldTest(curve))
+    known = [ev for ev in events if isinstance(ev, KnownBranchPoints)]
+    events = [ev for ev in events if not isinstance(ev, KnownBranchPoints)]
     if st.detect_branch_points:
-        tests.append(BranchPointTest(curve))
+        tests.append(BranchPointTest(curve, known[0] if known else None))
     tests += [EventTest(curve, ev) for ev in events]
     tests += [EventTest(curve, ev, bound=True) for ev in bound_events(st)]
     return tests
