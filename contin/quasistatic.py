@@ -35,7 +35,7 @@ from .io import read_bundle, write_bundle
 from .events import Event
 from .jump import JumpError, JumpResult, jump, state_scale
 from .linalg import SingularMatrixError
-from .palc import CorrectorFailure, Curve, Settings, continuation
+from .palc import CorrectorFailure, Curve, Settings, continuation, switch_branch
 from .problem import NonFiniteError, Problem
 from .stability import stability_info
 
@@ -83,8 +83,10 @@ class QuasiStaticResult:
         ``"completed"`` (reached ``p_end``; without ``p_end``: a bound of the settings, or
         ``stop_after_jump`` said so), ``"jump_failed"`` (no snap attempt landed on a distinct
         stable state), ``"max_snaps"`` (a fold was reached after ``max_snaps`` snaps),
-        ``"branch_point"`` (the stable branch ends in a branch point: the sweep does not choose a
-        bifurcating branch), ``"lost_stability"`` (a stored point is unstable although no fold or
+        ``"branch_point"`` (the stable branch ends in a branch point where a stable bifurcating
+        branch goes on in the sweep direction, a supercritical pitchfork: there is no snap, and the
+        sweep does not choose the branch; at any other branch point the structure snaps as at a
+        fold), ``"lost_stability"`` (a stored point is unstable although no fold or
         branch point was located), ``"unstable_start"`` (the starting state is not stable) or
         ``"stopped"`` (a continuation run ended for another reason: ``max_steps``, a step-size
         failure, or a user bound before ``p_end``; the branch's own message is quoted).
@@ -591,10 +593,10 @@ class _SweepLoop:
             end = "" if p_end is None else f" before reaching {pname} = {p_end:.10g}"
             raise self.end("stopped", f"continuation stopped at {pname} = {p_last:.10g}{end} (status "
                            f"{br.status!r}: {br.message})", u_last, p_last)
-        if terminal.kind == "branch_point":
+        if terminal.kind == "branch_point" and self.continues_past(terminal):
             raise self.end("branch_point", f"the stable branch ends in a branch point at {pname} = "
-                           f"{terminal.p:.10g}; the sweep does not choose a bifurcating branch "
-                           "(see contin.switch_branch)", u_last, p_last)
+                           f"{terminal.p:.10g}, where a stable bifurcating branch goes on in the sweep "
+                           "direction (no snap): follow it with contin.switch_branch", u_last, p_last)
         self.out.folds.append(terminal)
         if len(self.out.jumps) >= self.max_snaps:
             end = "" if p_end is None else f", before {pname} = {p_end:.10g}"
@@ -602,12 +604,35 @@ class _SweepLoop:
                            f"{self.max_snaps} snap(s){end}", u_last, p_last)
         return terminal, (u_last if terminal.u is None else np.asarray(terminal.u, dtype=float))
 
+    def continues_past(self, bp: SpecialPoint) -> bool:
+        """Whether the stable path goes on continuously through the branch point ``bp`` (no snap there).
+
+        That is the supercritical case: a bifurcating branch leaves ``bp`` in the sweep direction and
+        is stable.  Otherwise (the bifurcating branches turn back, or are unstable, as on a shallow
+        arch whose symmetric path bifurcates before its limit load) the structure snaps at ``bp``.
+        A branch point that is only bracketed, or whose bifurcating branch cannot be stepped onto,
+        is treated as a snap point too; the snap's own checks then decide.
+        """
+        if not bp.located or "bifurcation_direction" not in bp.info:
+            return False
+        st = self.sweep.curve.settings
+        for side in (1, -1):
+            try:
+                br = switch_branch(self.sweep.problem, bp, st, direction=side, max_steps=3)
+            except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError, ValueError):
+                continue
+            if len(br) >= 2 and br.n_negative is not None and int(br.n_negative[-1]) == 0 \
+                    and self.sweep.direction * (float(br.p[-1]) - float(bp.p)) > 0:
+                return True
+        return False
+
     def jump_from(self, fold: SpecialPoint, u_fold: np.ndarray) -> JumpResult:
         """The jump from the fold by the snap rules; the sweep ends if no attempt lands."""
         jr, reasons = self.sweep.snap(fold, u_fold)
         self.out.info["jump_attempts"].append(reasons)
         if jr is None:
-            raise self.end("jump_failed", f"the snap at the fold {self.pname} = {fold.p:.10g} did not land on a "
+            where = "branch point" if fold.kind == "branch_point" else "fold"
+            raise self.end("jump_failed", f"the snap at the {where} {self.pname} = {fold.p:.10g} did not land on a "
                            f"distinct stable state: {'; '.join(reasons)}", u_fold, float(fold.p))
         self.out.jumps.append(jr)
         return jr

@@ -288,3 +288,27 @@ def test_leave_fold_is_one_snap_of_the_loop(loading: QuasiStaticResult) -> None:
                              p_end=1.5 * P_MAX)
     assert reasons == [] and jr.info["restated"] and jr.p == fold.p
     np.testing.assert_allclose(jr.u_to, loading.jumps[0].u_to, atol=1e-12)
+
+
+def test_a_shallow_arch_snaps_at_its_first_branch_point() -> None:
+    """The arch's symmetric path bifurcates (unstably) before its limit load: loading snaps there, at the
+    located branch point's load, onto the inverted arch (crown deflection beyond twice the rise)."""
+    from contin_models.benchmarks.arch import ShallowArch
+
+    arch = ShallowArch()
+    res = quasistatic(arch, np.zeros(2 * (arch.n - 1)), 0.0, 20.0)
+    assert res.status == "completed" and len(res.jumps) == 1
+    bp = res.folds[0]
+    assert bp.kind == "branch_point" and bp.located
+    assert res.jumps[0].p == pytest.approx(bp.p, rel=1e-12)
+    landing = arch.evaluate_observables(res.jumps[0].u_to, res.jumps[0].p)
+    assert landing["deflection"] > 2 * arch.rise and abs(landing["asymmetry"]) < 1e-8
+
+
+def test_a_supercritical_pitchfork_is_not_a_snap() -> None:
+    """Past a supercritical pitchfork the stable path goes on, on the bifurcating branch: no jump."""
+    from contin_models.benchmarks.pitchfork import Pitchfork
+
+    res = quasistatic(Pitchfork(), np.zeros(2), -1.0, 1.0)
+    assert res.status == "branch_point" and res.jumps == []
+    assert "stable bifurcating branch" in res.message and "switch_branch" in res.message
