@@ -705,7 +705,9 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
         Asked after every snap; a message ends the sweep as completed (e.g. the landing is already
         beyond the end of the loading path).
     stop_at_branch_points : bool
-        End a branch at a branch point (status ``"branch_point"``); False continues through it.
+        End a branch at a branch point: the structure snaps there (an arch bifurcating before its
+        limit load), unless a stable bifurcating branch goes on in the sweep direction (status
+        ``"branch_point"``); False continues through branch points along the traced branch.
     check_stability : bool
         End the sweep with status ``"lost_stability"`` at a stored point that is unstable although
         no fold or branch point was located.  False trusts the located folds alone (for a model
