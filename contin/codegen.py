@@ -135,8 +135,9 @@ def _printer_class() -> type:
                 mag = abs(k)
                 if half or mag <= 2:
                     core = b if mag == 1 else f"{b}**{mag}"
-                else:  # numpy's power is slow for exponents other than 2: multiply
-                    core = "*".join([f"{b}**2"] * (mag // 2) + [b] * (mag % 2))
+                else:  # numpy's power is slow for exponents other than 2: multiply, in parentheses since
+                    # the product may stand in a denominator (``a/(b**2*b)``, not ``a/b**2*b``)
+                    core = "(" + "*".join([f"{b}**2"] * (mag // 2) + [b] * (mag % 2)) + ")"
                 return core if k > 0 else f"(1/{core})"
             return super()._print_Pow(expr, rational=rational)
 
