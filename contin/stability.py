@@ -180,7 +180,7 @@ def _sparse_info(H, k: int, vectors: bool) -> StabilityInfo:
     """ARPACK for the algebraically smallest, widened until a non-negative one shows.
 
     The smallest eigenvalues of a stiff matrix (eigenvalues spread over many decades, nearly zero
-    ones among them: a shell at a fold) can defeat ARPACK's iteration; a matrix up to
+    ones among them: a structure at a fold) can defeat ARPACK's iteration; a matrix up to
     :data:`DENSE_FALLBACK_LIMIT` is then solved densely.
     """
     n = H.shape[0]
