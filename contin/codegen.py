@@ -18,8 +18,8 @@ continuation *parameter* ``p`` (a load potential such as ``-p * y``)::
     bar = Element("bar", EA / (2 * L0) * (L - L0) ** 2, dofs=(x1, y1, x2, y2), params=(EA, L0))
     y = sp.Symbol("y", real=True)
     load = Element("load", p * y, dofs=(y,), parameter=p)
-    source = generate_kernels([bar, load], title="Two-bar truss kernels.",
-                              generator="python examples/two_bar_truss.py --write")
+    source = generate_kernels([bar, load], title="Bar and load kernels.",
+                              generator="python make_kernels.py")
 
 :func:`generate_kernels` returns the text of a plain-numpy module (commit it, and check it with
 :func:`check_generated`); :func:`compile_kernels` executes the same text into a module object in
