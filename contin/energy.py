@@ -121,6 +121,7 @@ class EnergyProblem(Problem):
     elements : mapping of element name to ``conn`` or ``(conn, params)``
         Per element type: ``conn`` an integer array ``(m, n_local)`` of global dof numbers, and
         ``params`` the per-element parameters ``(m, n_params)`` (or ``(n_params,)`` shared by all).
+        Give ``conn`` as a list or an array: a tuple value is read as ``(conn, params)``.
     n_dofs : int
         Number of global dofs, fixed ones included.
     fixed : mapping of global dof to value, optional
