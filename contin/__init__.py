@@ -10,6 +10,8 @@ Where each part of the engine lives:
 
 ==================  ===============================================================================
 ``problem``         the model interface (:class:`Problem`, stability operators, :class:`LeadingBlock`)
+``energy``          energy-first models: :class:`EnergyProblem` assembles generated element kernels
+``codegen``         element energies in sympy -> numpy kernels (:func:`generate_kernels`), byte-for-byte checks
 ``settings``        :class:`Settings` and their ranges
 ``palc``            the continuation loop (:func:`continuation`, :func:`switch_branch`)
 ``curve``           the curve ``f = 0``: arclength metric, linearization, tangent, :class:`~contin.curve.Point`
@@ -49,6 +51,8 @@ __version__ = "0.1.0"
 _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("Branch", "BranchFileError", "SpecialPoint"), "branch"),
     **dict.fromkeys(("Event", "crossing", "extremum"), "events"),
+    **dict.fromkeys(("Element", "check_generated", "compile_kernels", "generate_kernels"), "codegen"),
+    **dict.fromkeys(("EnergyProblem", "GradientProblem"), "energy"),
     **dict.fromkeys(("BorderedSolver", "factorize"), "linalg"),
     **dict.fromkeys(("diagram", "hysteresis_cycles", "load_diagram", "plot_branches", "save_diagram"), "diagram"),
     **dict.fromkeys(("JumpError", "JumpResult", "jump"), "jump"),

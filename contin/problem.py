@@ -117,6 +117,12 @@ class Problem:
         parameter_name: str = "p",
         residual_scale: float = 1.0,
     ) -> None:
+        if residual is None and energy is not None and type(self).residual is Problem.residual:
+            raise TypeError("Problem(energy=...) needs the residual (the energy's gradient): the engine does not "
+                            "differentiate energies numerically (O(n^2) energy calls per Jacobian, half the digits "
+                            "lost per difference).  Declare element energies and use contin.EnergyProblem (exact "
+                            "generated derivatives), or pass the exact gradient to contin.GradientProblem (sparse "
+                            "finite-difference Hessian); see contin.energy.")
         self._residual = residual
         self._jacobian = jacobian
         self._dresidual_dp = dresidual_dp

@@ -7,30 +7,28 @@ from pathlib import Path
 
 import pytest
 
-from contin_models.codegen_cli import write_generated
+from contin.codegen import check_generated
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def assert_reproduced(model: str, tmp_path: Path) -> None:
-    """Regenerate ``models/<model>/_generated.py`` into ``tmp_path`` and compare it byte for byte.
+    """Regenerate ``models/<model>/_generated.py`` and compare it byte for byte with the committed file.
 
     Parameters
     ----------
     model : str
         The model package whose ``codegen`` module writes its ``_generated.py`` (``"shell"``, ``"contact"``).
     tmp_path : Path
-        Folder for the regenerated file.
+        Unused (kept for the callers' signature): the text is compared in memory.
 
     Raises
     ------
-    AssertionError
-        The committed file differs; the message names the command that regenerates it.
+    contin.codegen.GeneratedFileOutOfDate
+        The committed file differs (an AssertionError); the message gives the first differing line
+        and names the command that regenerates it.
     """
     pytest.importorskip("sympy")
     codegen = importlib.import_module(f"contin_models.{model}.codegen")
-    out = tmp_path / "_generated.py"
-    write_generated(codegen.generate_source, out)
-    committed = ROOT / "models" / model / "_generated.py"
-    assert out.read_bytes() == committed.read_bytes(), (
-        f"models/{model}/_generated.py is out of date: run `python -m contin_models.{model}.codegen`")
+    check_generated(codegen.generate_source, ROOT / "models" / model / "_generated.py",
+                    f"python -m contin_models.{model}.codegen")

@@ -83,8 +83,8 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin_models.codegen_cli import generator_main, module_text
-from contin_models.codegen_printer import kernel_printer
+from contin.codegen import kernel_printer, module_text
+from contin_models.codegen_cli import generator_main
 
 __all__ = ["Indenter", "build_indenters", "barrier_definition", "cell_basis", "check_cell_chain_rule",
            "generate_source", "generate", "main", "DEFAULT_OUTPUT", "PAIRS"]
