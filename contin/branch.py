@@ -145,8 +145,10 @@ class Branch:
     special_points : list of SpecialPoint
         Located folds, branch points, events and jumps, in path order.
     status : str
-        Why the run ended: ``"completed"`` (max steps), ``"bound"``, ``"event"``, ``"min_step"``,
-        ``"failed"``, ``"closed_loop"``.
+        Why the run ended: ``"bound"``, ``"event"``, ``"closed_loop"`` (successes), ``"max_steps"``
+        (the step budget ran out first), ``"min_step"`` (the step collapsed below ``ds_min``; the
+        message gives the last corrector failure), ``"failed"`` (could not start, or the model check
+        failed).  ``"completed"`` is what ``"max_steps"`` was called before (not a success either).
     message : str
         Human-readable reason.
     meta : dict
@@ -218,8 +220,11 @@ class Branch:
 
     @property
     def success(self) -> bool:
-        """True when the run ended for a planned reason (not a failure of the corrector)."""
-        return self.status in ("completed", "bound", "event", "closed_loop")
+        """True when the run ended for a planned reason: a bound, a stopping event, a closed loop.
+
+        Running out of steps (``"max_steps"``) is not a success: the target was not reached.
+        """
+        return self.status in ("bound", "event", "closed_loop")
 
     def folds(self) -> list[SpecialPoint]:
         """Special points of kind ``"fold"``."""

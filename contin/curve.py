@@ -20,7 +20,7 @@ from .linalg import BorderedSolver, SingularMatrixError
 from .problem import NonFiniteError, Problem
 from .settings import Settings
 
-__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization"]
+__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization", "roundoff_floor", "stagnation_message"]
 
 #: ``(J, df/dp, factorization of J or None)`` at one point
 Linearization = tuple[Any, np.ndarray, Any]
@@ -33,6 +33,38 @@ class CorrectorFailure(RuntimeError):
 def max_abs(r: np.ndarray) -> float:
     """Max-norm of a residual vector (0 for an empty one)."""
     return float(np.max(np.abs(r), initial=0.0))
+
+
+def _matrix_max_row_sum(J: Any) -> float:
+    """``||J||_inf`` of a sparse or dense matrix."""
+    if hasattr(J, "tocsr"):
+        return float(np.max(np.asarray(abs(J).sum(axis=1)), initial=0.0))
+    return float(np.max(np.sum(np.abs(np.asarray(J)), axis=1), initial=0.0))
+
+
+def roundoff_floor(J: Any, fp: np.ndarray, u: np.ndarray, p: float) -> float:
+    """Residual level below which ``f(u, p)`` is rounding noise: ``eps (||J|| ||u|| + ||f_p|| |p|)``.
+
+    A residual is a sum of terms of about the size of ``J u`` and ``f_p p`` (for a linear model
+    exactly those), each rounded to a relative ``eps``; a corrector asked for less iterates on noise.
+    """
+    eps = float(np.finfo(float).eps)
+    return eps * (_matrix_max_row_sum(J) * max_abs(u) + max_abs(fp) * abs(p))
+
+
+def stagnation_message(history: list[float], floor: float, tol: float, residual_scale: float) -> str | None:
+    """The diagnosis of a corrector whose residuals stopped decreasing near the roundoff floor, or None.
+
+    Residuals that stay within a factor 10 of each other over the last three iterations at less than
+    1000 times :func:`roundoff_floor` are rounding noise: the tolerance asked for is below what the
+    problem's arithmetic resolves.  The advice is a relative ``tol`` ten times the stagnation level.
+    """
+    last = history[-3:]
+    if len(last) < 2 or not tol < min(last) <= 1e3 * max(floor, 1e-300) or max(last) > 10 * min(last):
+        return None
+    level = float(np.median(last))
+    return (f"tolerance below the roundoff floor of this problem (residual stagnates at {level:.1e}, "
+            f"roundoff level {floor:.1e}, asked for {tol:.1e}; raise tol to {10 * level / residual_scale:.0e})")
 
 
 @dataclass
@@ -164,20 +196,27 @@ class Curve:
         u = np.array(u, dtype=float)
         r = self.residual(u, p)
         res = max_abs(r)
+        history = [res]
         du_norm = math.inf
+        J = None
         for it in range(max_iter + 1):
             if res <= tol and (du_norm <= self.settings.xtol * (1.0 + self.norm(u, 0.0)) or res <= 1e-6 * tol):
                 return u, res, it
             if it == max_iter:
                 break
-            du = -self.problem.factorize(self.problem.checked_jacobian(u, p)).solve(r)
+            J = self.problem.checked_jacobian(u, p)
+            du = -self.problem.factorize(J).solve(r)
             du_norm = self.norm(du, 0.0)
             lam, r_new, res_new = self._damped(u, p, du, res)
             if not np.isfinite(res_new):
                 break
             u, r, res = u + lam * du, r_new, res_new
+            history.append(res)
             du_norm *= lam
-        raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge (residual {res:.3e} > tol {tol:.1e})")
+        why = None if J is None else stagnation_message(
+            history, roundoff_floor(J, np.zeros(0), u, p), tol, tol / self.settings.tol)
+        raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge (residual {res:.3e} > tol {tol:.1e})"
+                               + (f": {why}" if why else ""))
 
     def _damped(self, u: np.ndarray, p: float, du: np.ndarray, res: float) -> tuple[float, np.ndarray | None, float]:
         """Fraction of the Newton update ``du`` to take: halved until the residual decreases.

@@ -125,7 +125,9 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
             _progress(steps, new, control.ds)
         control.accept(new.iterations, contraction, cos_turn)
         previous, current = current, new
-    return "completed", f"reached max_steps = {st.max_steps}"
+    # the step budget ran out before the path's end, a bound or a stopping event: not a success
+    return "max_steps", (f"reached max_steps = {st.max_steps} at {curve.problem.parameter_name} = {current.p:.8g} "
+                         "before any bound or stopping event")
 
 
 def _progress(steps: int, new: Point, ds: float) -> None:
