@@ -84,9 +84,15 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     recorder = Recorder(problem, st, curve)
     u0, p0 = np.array(u0, dtype=float).ravel(), float(p0)
     try:
-        current = _first_point(curve, u0, p0, tangent, correct_start)
+        if curve.needs_calibration():
+            curve.calibrate(u0, p0)
+        current, lin = _first_point(curve, u0, p0, tangent, correct_start)
     except STEP_FAILURES as exc:
         return recorder.finish("failed", f"could not start: {exc}", t_start)
+    if st.check_model:
+        failure = _check_start(problem, current, lin)
+        if failure:
+            return recorder.finish("failed", failure, t_start)
     recorder.add(current)
     if origin is not None:
         recorder.special(_landing(problem, origin, current))
@@ -135,8 +141,8 @@ def _progress(steps: int, new: Point, ds: float) -> None:
 
 
 def _first_point(curve: Curve, u0: np.ndarray, p0: float, tangent: tuple[np.ndarray, float] | None,
-                 correct_start: bool) -> Point:
-    """The converged starting point with its unit tangent."""
+                 correct_start: bool) -> tuple[Point, tuple]:
+    """The converged starting point with its unit tangent, and the linearization there."""
     if correct_start:
         u0, res0, it0 = curve.newton_fixed_p(u0, p0)
     else:
@@ -149,7 +155,20 @@ def _first_point(curve: Curve, u0: np.ndarray, p0: float, tangent: tuple[np.ndar
     else:
         guess_u, guess_p = np.asarray(tangent[0], dtype=float), float(tangent[1])
     t_u, t_p, det_sign = curve.tangent(u0, p0, guess_u, guess_p, lin=lin)
-    return Point(u0, p0, t_u, t_p, res0, it0, det_sign, 0.0)
+    return Point(u0, p0, t_u, t_p, res0, it0, det_sign, 0.0), lin
+
+
+def _check_start(problem: Problem, start: Point, lin: tuple) -> str:
+    """The model check of :mod:`contin.check` at the first point: "" when it passes, else why the run stops."""
+    from .check import quick_check  # imported here: only runs that check need it
+    from .curve import start_scales
+
+    J, fp, F = lin
+    U, P = start_scales(start.u, start.p, fp, F)
+    report = quick_check(problem, start.u, start.p, J, fp, start.t_u, start.t_p, U, P)
+    if report.ok:
+        return ""
+    return (f"{report.summary()} (see contin.check_problem; Settings.check_model = False skips this check)")
 
 
 def _initial_direction(lin: tuple, n: int, direction: int) -> tuple[np.ndarray, float]:

@@ -147,5 +147,5 @@ class Recorder:
     def _meta(self, t_start: float) -> dict[str, Any]:
         return {"problem": self.problem.name, "parameter_name": self.problem.parameter_name,
                 "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),
-                "tol": self.st.tol, "abs_tol": self.curve.tol, "state_weight": self.st.state_weight,
-                "param_weight": self.st.param_weight}
+                "tol": self.st.tol, "abs_tol": self.curve.tol, "state_weight": self.curve.state_weight,
+                "param_weight": self.curve.param_weight}
