@@ -116,6 +116,8 @@ class Point:
     iterations : corrector iterations it took.
     det_sign : sign of the determinant of the bordered Jacobian (0 when unknown).
     s : arclength from the start of the branch.
+    stability : the problem's stability by label at the point, once computed (the step guard
+        computes it before the point is accepted; the recorder stores it without recomputing).
     """
 
     u: np.ndarray
@@ -126,6 +128,7 @@ class Point:
     iterations: int
     det_sign: float = 0.0
     s: float = 0.0
+    stability: dict[str, Any] | None = None
 
 
 class Curve:

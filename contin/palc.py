@@ -45,6 +45,9 @@ STEP_FAILURES = (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linal
 
 Found = tuple[TestFunction, SpecialPoint]
 
+#: smaller steps tried when the Morse index jumps by two or more in one step (see :func:`_skipped_folds`)
+MAX_SKIP_RETRIES = 4
+
 
 def continuation(problem: Problem, u0, p0: float, settings: Settings | None = None, *,
                  events: list[Event] | tuple[Event, ...] = (), tangent: tuple[np.ndarray, float] | None = None,
@@ -121,6 +124,9 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
             if control.reject(exc):
                 continue
             return "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
+        skipped = _skipped_folds(recorder, current, new) if control.retries < MAX_SKIP_RETRIES else ""
+        if skipped and control.reject(skipped):
+            continue
         steps += 1
         found, values = _watch(tests, Segment(curve, current, new), values, st.locate)
         stop = _first_stop(found)
@@ -134,6 +140,28 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
     # the step budget ran out before the path's end, a bound or a stopping event: not a success
     return "max_steps", (f"reached max_steps = {st.max_steps} at {curve.problem.parameter_name} = {current.p:.8g} "
                          "before any bound or stopping event")
+
+
+def _skipped_folds(recorder: Recorder, current: Point, new: Point) -> str:
+    """Why the step from ``current`` to ``new`` may have stepped over several folds ("" when not).
+
+    One fold or simple branch point changes the Morse index by one; a change by two or more in one
+    step means the step crossed several of them (e.g. both folds of an S-curve), where the test
+    functions see an even number of sign changes, i.e. none.  Only with ``stability`` on (the index
+    is then computed for every point anyway, and kept for the recorder).  A double eigenvalue
+    crossing zero at once (a symmetric problem's double branch point) also changes the index by
+    two; the guard gives up after :data:`MAX_SKIP_RETRIES` smaller steps.
+    """
+    if not recorder.st.stability:
+        return ""
+    before, after = recorder.stability_of(current), recorder.stability_of(new)
+    label = next(iter(before), None)
+    if label is None or label not in after:
+        return ""
+    n0, n1 = before[label].n_negative, after[label].n_negative
+    if abs(n1 - n0) < 2:
+        return ""
+    return f"Morse index changed from {n0} to {n1} in one step (several folds stepped over)"
 
 
 def _progress(steps: int, new: Point, ds: float) -> None:
