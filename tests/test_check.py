@@ -128,3 +128,23 @@ def test_a_tolerance_at_the_roundoff_floor_is_named():
     br = contin.continuation(pb, [1.0, 0.5], 1.5, tol=1e-14, xtol=1e-14, max_steps=5)
     assert not br.success
     assert "tolerance below the roundoff floor" in br.message and "raise tol to" in br.message
+
+
+def test_a_step_over_which_the_morse_index_jumps_by_two_is_flagged():
+    from contin.curve import Curve, Point
+    from contin.palc import _skipped_folds
+    from contin.recorder import Recorder
+    from contin.stability import StabilityInfo
+
+    truss = VonMisesTruss()
+    st = contin.Settings(stability=True)
+    recorder = Recorder(truss, st, Curve(truss, st))
+
+    def point(n_negative: int) -> Point:
+        pt = Point(np.zeros(2), 0.0, np.zeros(2), 1.0, 0.0, 0)
+        pt.stability = {"stability": StabilityInfo(n_negative, np.zeros(0))}
+        return pt
+    assert _skipped_folds(recorder, point(0), point(1)) == ""  # one fold: the test functions see it
+    assert "from 0 to 2" in _skipped_folds(recorder, point(0), point(2))
+    recorder.st = contin.Settings(stability=False)
+    assert _skipped_folds(recorder, point(0), point(2)) == ""  # no index without stability
