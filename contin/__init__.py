@@ -13,6 +13,7 @@ Where each part of the engine lives:
 ``energy``          energy-first models: :class:`EnergyProblem` assembles generated element kernels
 ``codegen``         element energies in sympy -> numpy kernels (:func:`generate_kernels`), byte-for-byte checks
 ``settings``        :class:`Settings` and their ranges
+``check``           derivatives of a model against finite differences of its residual (:func:`check_problem`)
 ``palc``            the continuation loop (:func:`continuation`, :func:`switch_branch`)
 ``curve``           the curve ``f = 0``: arclength metric, linearization, tangent, :class:`~contin.curve.Point`
 ``corrector``       predictors and the PALC corrector (:class:`~contin.corrector.Correction`)
@@ -50,6 +51,7 @@ __version__ = "0.1.0"
 #: engine function is touched: ``contin --help`` and a refused scene need neither scipy nor the engine.
 _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("Branch", "BranchFileError", "SpecialPoint"), "branch"),
+    **dict.fromkeys(("CheckReport", "ModelCheckError", "check_problem"), "check"),
     **dict.fromkeys(("Event", "crossing", "extremum"), "events"),
     **dict.fromkeys(("Element", "check_generated", "compile_kernels", "generate_kernels"), "codegen"),
     **dict.fromkeys(("EnergyProblem", "GradientProblem"), "energy"),

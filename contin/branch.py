@@ -152,9 +152,12 @@ class Branch:
     special_points : list of SpecialPoint
         Located folds, branch points, events and jumps, in path order.
     status : str
-        Why the run ended: ``"completed"`` (max steps), ``"bound"``, ``"event"``, ``"min_step"``,
-        ``"failed"``, ``"closed_loop"`` (a switched branch returned to the branch point it left),
-        ``"reached_branch_point"`` (a switched branch met a branch point it was told of).
+        Why the run ended: ``"bound"``, ``"event"``, ``"closed_loop"`` (a switched branch returned to
+        the branch point it left), ``"reached_branch_point"`` (a switched branch met a branch point it
+        was told of) (successes), ``"max_steps"`` (the step budget ran out first), ``"min_step"``
+        (the step collapsed below ``ds_min``; the message gives the last corrector failure),
+        ``"failed"`` (could not start, or the model check failed).  ``"completed"`` is what
+        ``"max_steps"`` was called before (not a success either).
     message : str
         Human-readable reason.
     meta : dict
@@ -226,8 +229,12 @@ class Branch:
 
     @property
     def success(self) -> bool:
-        """True when the run ended for a planned reason (not a failure of the corrector)."""
-        return self.status in ("completed", "bound", "event", "closed_loop", "reached_branch_point")
+        """True when the run ended for a planned reason: a bound, a stopping event, a closed loop, a
+        known branch point.
+
+        Running out of steps (``"max_steps"``) is not a success: the target was not reached.
+        """
+        return self.status in ("bound", "event", "closed_loop", "reached_branch_point")
 
     def folds(self) -> list[SpecialPoint]:
         """Special points of kind ``"fold"``."""

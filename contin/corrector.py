@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .curve import CorrectorFailure, Curve, Linearization, Point, max_abs
+from .curve import CorrectorFailure, Curve, Linearization, Point, max_abs, roundoff_floor, stagnation_message
 from .linalg import SingularMatrixError
 from .problem import NonFiniteError
 
@@ -147,6 +147,7 @@ def correct(curve: Curve, origin: Point, ds: float, max_iter: int | None = None,
     if res <= 1e-6 * curve.tol:
         return Correction(u, p, res, 0)  # the predictor is on the curve to roundoff (e.g. a linear branch)
     history, contraction = [res], _Contraction(st.max_contraction)
+    lin: Linearization | None = None
     for it in range(1, max_iter + 1):
         du, dp, lin = _newton_update(curve, u, p, r, origin, ds)
         u, p = u + du, p + dp
@@ -159,8 +160,19 @@ def correct(curve: Curve, origin: Point, ds: float, max_iter: int | None = None,
         if res <= curve.tol and error_estimate <= x_tol:
             return Correction(u, p, res, it, contraction.rate, lin)
         if it >= 3 and res > history[-2] and res > curve.tol:  # below tol it is roundoff noise
-            raise CorrectorFailure(f"corrector diverging (residuals {', '.join(f'{h:.1e}' for h in history)})")
-    raise CorrectorFailure(f"corrector did not converge in {max_iter} iterations (residual {res:.3e})")
+            raise CorrectorFailure(_stalled(curve, history, lin, u, p) or
+                                   f"corrector diverging (residuals {', '.join(f'{h:.1e}' for h in history)})")
+    raise CorrectorFailure(_stalled(curve, history, lin, u, p) or
+                           f"corrector did not converge in {max_iter} iterations (residual {res:.3e})")
+
+
+def _stalled(curve: Curve, history: list[float], lin: Linearization | None, u: np.ndarray, p: float) -> str | None:
+    """The roundoff-floor diagnosis of a failed correction (see :func:`contin.curve.stagnation_message`)."""
+    if lin is None:
+        return None
+    J, fp, _ = lin
+    scale = curve.tol / curve.settings.tol
+    return stagnation_message(history, roundoff_floor(J, fp, u, p), curve.tol, scale)
 
 
 def quadratic_predictor(previous: Point, current: Point, ds: float) -> tuple[np.ndarray, float] | None:

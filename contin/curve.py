@@ -5,7 +5,10 @@ factorization), the bordered solves, the unit tangent and Newton at a fixed para
 point with its tangent is a :class:`Point`.
 
 The arclength norm is ``||X||_W^2 = w_u^2 |u|^2 / n + w_p^2 p^2``: the state enters through its
-root-mean-square, so the number of steps does not grow with the number of unknowns.
+root-mean-square, so the number of steps does not grow with the number of unknowns.  Weights the
+settings leave open (None) are ``1 / U`` and ``1 / P``, the start point's own scales
+(:func:`start_scales`), and a problem without a residual scale gets ``||J|| U + ||df/dp|| P``
+(:meth:`Curve.calibrate`): a model traced in other units takes the same steps.
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from .linalg import BorderedSolver, SingularMatrixError
 from .problem import NonFiniteError, Problem
 from .settings import Settings
 
-__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization"]
+__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization", "roundoff_floor", "stagnation_message", "start_scales"]
 
 #: ``(J, df/dp, factorization of J or None)`` at one point
 Linearization = tuple[Any, np.ndarray, Any]
@@ -35,6 +38,72 @@ def max_abs(r: np.ndarray) -> float:
     return float(np.max(np.abs(r), initial=0.0))
 
 
+def _matrix_max_row_sum(J: Any) -> float:
+    """``||J||_inf`` of a sparse or dense matrix."""
+    if hasattr(J, "tocsr"):
+        return float(np.max(np.asarray(abs(J).sum(axis=1)), initial=0.0))
+    return float(np.max(np.sum(np.abs(np.asarray(J)), axis=1), initial=0.0))
+
+
+def _rms(x: np.ndarray) -> float:
+    return float(np.linalg.norm(x) / math.sqrt(max(x.size, 1)))
+
+
+def start_scales(u: np.ndarray, p: float, fp: np.ndarray, F: Any) -> tuple[float, float]:
+    """State and parameter scales ``(U, P)`` of a start point, in the model's units.
+
+    ``U`` is the RMS size of the state and ``P`` the size of the parameter, each at least what the
+    other implies through the sensitivity ``S = rms(du/dp) = rms(J^{-1} df/dp)``:
+    ``U = max(rms(u), S |p|)`` and ``P = max(|p|, rms(u) / S)`` (so a start at ``p = 0`` gets the
+    load that would move the state by its own size, and a start at ``u = 0`` the state change the
+    load causes).  Both scale with the units of ``u`` and ``p``.  A scale with no size to measure
+    (``u = 0``, ``p = 0``) is 1: the user's units are then all there is.
+
+    Parameters
+    ----------
+    u, p : the start point.
+    fp : ``df/dp`` there.
+    F : the factorization of the Jacobian there, or None when it is singular.
+    """
+    u_size, p_size = _rms(u), abs(float(p))
+    sens = math.nan
+    if F is not None:
+        try:
+            sens = _rms(np.asarray(F.solve(fp), dtype=float))
+        except (SingularMatrixError, np.linalg.LinAlgError, ValueError):
+            pass
+    if math.isfinite(sens) and sens > 0:
+        U, P = max(u_size, sens * p_size), max(p_size, u_size / sens)
+    else:
+        U, P = u_size, p_size
+    return (U if U > 0 else 1.0), (P if P > 0 else 1.0)
+
+
+def roundoff_floor(J: Any, fp: np.ndarray, u: np.ndarray, p: float) -> float:
+    """Residual level below which ``f(u, p)`` is rounding noise: ``eps (||J|| ||u|| + ||f_p|| |p|)``.
+
+    A residual is a sum of terms of about the size of ``J u`` and ``f_p p`` (for a linear model
+    exactly those), each rounded to a relative ``eps``; a corrector asked for less iterates on noise.
+    """
+    eps = float(np.finfo(float).eps)
+    return eps * (_matrix_max_row_sum(J) * max_abs(u) + max_abs(fp) * abs(p))
+
+
+def stagnation_message(history: list[float], floor: float, tol: float, residual_scale: float) -> str | None:
+    """The diagnosis of a corrector whose residuals stopped decreasing near the roundoff floor, or None.
+
+    Residuals that stay within a factor 10 of each other over the last three iterations at less than
+    1000 times :func:`roundoff_floor` are rounding noise: the tolerance asked for is below what the
+    problem's arithmetic resolves.  The advice is a relative ``tol`` ten times the stagnation level.
+    """
+    last = history[-3:]
+    if len(last) < 2 or not tol < min(last) <= 1e3 * max(floor, 1e-300) or max(last) > 10 * min(last):
+        return None
+    level = float(np.median(last))
+    return (f"tolerance below the roundoff floor of this problem (residual stagnates at {level:.1e}, "
+            f"roundoff level {floor:.1e}, asked for {tol:.1e}; raise tol to {10 * level / residual_scale:.0e})")
+
+
 @dataclass
 class Point:
     """A converged point with its unit tangent.
@@ -47,6 +116,8 @@ class Point:
     iterations : corrector iterations it took.
     det_sign : sign of the determinant of the bordered Jacobian (0 when unknown).
     s : arclength from the start of the branch.
+    stability : the problem's stability by label at the point, once computed (the step guard
+        computes it before the point is accepted; the recorder stores it without recomputing).
     """
 
     u: np.ndarray
@@ -57,6 +128,7 @@ class Point:
     iterations: int
     det_sign: float = 0.0
     s: float = 0.0
+    stability: dict[str, Any] | None = None
 
 
 class Curve:
@@ -80,13 +152,50 @@ class Curve:
         self.settings = settings
         self.n_evals = 0
         self.n_factorizations = 0
+        # weights left open are 1 until :meth:`calibrate` measures the start point
+        self.state_weight = 1.0 if settings.state_weight is None else float(settings.state_weight)
+        self.param_weight = 1.0 if settings.param_weight is None else float(settings.param_weight)
         self.tol = settings.tol * getattr(problem, "residual_scale", 1.0)
+
+    def needs_calibration(self) -> bool:
+        """Whether the weights and the problem's residual scale are left to the start point.
+
+        Only for a problem that gives no ``residual_scale``: a model that gives one has chosen its
+        units (its sizes are of order one in them, as the shell's and the contact models' are), and
+        its open weights stay 1.  Measuring such a model at its start point can also mislead: an
+        indenter that does not touch the shell yet moves nothing, so the load that would move the
+        state by its own size is unbounded.
+        """
+        st = self.settings
+        return ((st.state_weight is None or st.param_weight is None)
+                and getattr(self.problem, "_residual_scale_value", 0.0) is None)
+
+    def calibrate(self, u: np.ndarray, p: float) -> tuple[float, float]:
+        """Set the open weights and residual scale from the start point's scales; return ``(U, P)``.
+
+        Costs one linearization.  The residual scale ``||J||_inf U + ||df/dp||_inf P`` is the size
+        of the terms ``J u`` and ``df/dp p`` that cancel in the residual; it is kept on the problem
+        (:meth:`Problem.calibrate_residual_scale`) so that fold location and jumps use the same one.
+        """
+        J, fp, F = self.linearize(u, p)
+        U, P = start_scales(u, p, fp, F)
+        st = self.settings
+        if st.state_weight is None:
+            self.state_weight = 1.0 / U
+        if st.param_weight is None:
+            self.param_weight = 1.0 / P
+        calibrate = getattr(self.problem, "calibrate_residual_scale", None)
+        if calibrate is not None:
+            scale = _matrix_max_row_sum(J) * U + max_abs(fp) * P
+            if math.isfinite(scale) and scale > 0:
+                calibrate(scale)
+        self.tol = st.tol * getattr(self.problem, "residual_scale", 1.0)
+        return U, P
 
     # ---- norms -----------------------------------------------------------------------------------
     def weights(self, n: int) -> tuple[float, float]:
         """Weights ``(w_u^2 / n, w_p^2)`` of the arclength inner product for ``n`` unknowns."""
-        st = self.settings
-        return st.state_weight ** 2 / max(n, 1), st.param_weight ** 2
+        return self.state_weight ** 2 / max(n, 1), self.param_weight ** 2
 
     def inner(self, au: np.ndarray, ap: float, bu: np.ndarray, bp: float) -> float:
         """Arclength inner product of ``(au, ap)`` and ``(bu, bp)``."""
@@ -164,22 +273,28 @@ class Curve:
         u = np.array(u, dtype=float)
         r = self.residual(u, p)
         res = max_abs(r)
+        history = [res]
         du_norm = math.inf
+        J = None
         for it in range(max_iter + 1):
             if res <= tol and (du_norm <= self.settings.xtol * (1.0 + self.norm(u, 0.0)) or res <= 1e-6 * tol):
                 return u, res, it
             if it == max_iter:
                 break
-            du = -self.problem.factorize(self.problem.checked_jacobian(u, p)).solve(r)
+            J = self.problem.checked_jacobian(u, p)
+            du = -self.problem.factorize(J).solve(r)
             du_norm = self.norm(du, 0.0)
             lam, r_new, res_new = self._damped(u, p, du, res)
             if not np.isfinite(res_new):
                 break
             u, r, res = u + lam * du, r_new, res_new
+            history.append(res)
             du_norm *= lam
-        why = (f"residual {res:.3e} > tol {tol:.1e}" if res > tol else
-               f"residual {res:.3e} within tol {tol:.1e} but the update {du_norm:.3e} does not shrink below xtol")
-        raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge ({why})")
+        why = None if J is None else stagnation_message(
+            history, roundoff_floor(J, np.zeros(0), u, p), tol, tol / self.settings.tol)
+        state = (f"residual {res:.3e} > tol {tol:.1e}" if res > tol else
+                 f"residual {res:.3e} within tol {tol:.1e} but the update {du_norm:.3e} does not shrink below xtol")
+        raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge ({state})" + (f": {why}" if why else ""))
 
     def _damped(self, u: np.ndarray, p: float, du: np.ndarray, res: float) -> tuple[float, np.ndarray | None, float]:
         """Fraction of the Newton update ``du`` to take: halved until the residual decreases.

@@ -46,6 +46,9 @@ STEP_FAILURES = (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linal
 
 Found = tuple[TestFunction, SpecialPoint]
 
+#: smaller steps tried when the Morse index jumps by two or more in one step (see :func:`_skipped_folds`)
+MAX_SKIP_RETRIES = 4
+
 
 def continuation(problem: Problem, u0, p0: float, settings: Settings | None = None, *,
                  events: list[Event] | tuple[Event, ...] = (), tangent: tuple[np.ndarray, float] | None = None,
@@ -85,9 +88,15 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     recorder = Recorder(problem, st, curve)
     u0, p0 = np.array(u0, dtype=float).ravel(), float(p0)
     try:
-        current = _first_point(curve, u0, p0, tangent, correct_start)
+        if curve.needs_calibration():
+            curve.calibrate(u0, p0)
+        current, lin = _first_point(curve, u0, p0, tangent, correct_start)
     except STEP_FAILURES as exc:
         return recorder.finish("failed", f"could not start: {exc}", t_start)
+    if st.check_model:
+        failure = _check_start(problem, current, lin)
+        if failure:
+            return recorder.finish("failed", failure, t_start)
     recorder.add(current)
     if origin is not None:
         recorder.special(_landing(problem, origin, current))
@@ -116,6 +125,9 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
             if control.reject(exc):
                 continue
             return "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
+        skipped = _skipped_folds(recorder, current, new) if control.retries < MAX_SKIP_RETRIES else ""
+        if skipped and control.reject(skipped):
+            continue
         steps += 1
         found, values = _watch(tests, Segment(curve, current, new), values, st.locate)
         stop = _first_stop(found)
@@ -126,7 +138,31 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
             _progress(steps, new, control.ds)
         control.accept(new.iterations, contraction, cos_turn)
         previous, current = current, new
-    return "completed", f"reached max_steps = {st.max_steps}"
+    # the step budget ran out before the path's end, a bound or a stopping event: not a success
+    return "max_steps", (f"reached max_steps = {st.max_steps} at {curve.problem.parameter_name} = {current.p:.8g} "
+                         "before any bound or stopping event")
+
+
+def _skipped_folds(recorder: Recorder, current: Point, new: Point) -> str:
+    """Why the step from ``current`` to ``new`` may have stepped over several folds ("" when not).
+
+    One fold or simple branch point changes the Morse index by one; a change by two or more in one
+    step means the step crossed several of them (e.g. both folds of an S-curve), where the test
+    functions see an even number of sign changes, i.e. none.  Only with ``stability`` on (the index
+    is then computed for every point anyway, and kept for the recorder).  A double eigenvalue
+    crossing zero at once (a symmetric problem's double branch point) also changes the index by
+    two; the guard gives up after :data:`MAX_SKIP_RETRIES` smaller steps.
+    """
+    if not recorder.st.stability:
+        return ""
+    before, after = recorder.stability_of(current), recorder.stability_of(new)
+    label = next(iter(before), None)
+    if label is None or label not in after:
+        return ""
+    n0, n1 = before[label].n_negative, after[label].n_negative
+    if abs(n1 - n0) < 2:
+        return ""
+    return f"Morse index changed from {n0} to {n1} in one step (several folds stepped over)"
 
 
 def _progress(steps: int, new: Point, ds: float) -> None:
@@ -134,8 +170,8 @@ def _progress(steps: int, new: Point, ds: float) -> None:
 
 
 def _first_point(curve: Curve, u0: np.ndarray, p0: float, tangent: tuple[np.ndarray, float] | None,
-                 correct_start: bool) -> Point:
-    """The converged starting point with its unit tangent."""
+                 correct_start: bool) -> tuple[Point, tuple]:
+    """The converged starting point with its unit tangent, and the linearization there."""
     if correct_start:
         u0, res0, it0 = curve.newton_fixed_p(u0, p0)
     else:
@@ -148,7 +184,20 @@ def _first_point(curve: Curve, u0: np.ndarray, p0: float, tangent: tuple[np.ndar
     else:
         guess_u, guess_p = np.asarray(tangent[0], dtype=float), float(tangent[1])
     t_u, t_p, det_sign = curve.tangent(u0, p0, guess_u, guess_p, lin=lin)
-    return Point(u0, p0, t_u, t_p, res0, it0, det_sign, 0.0)
+    return Point(u0, p0, t_u, t_p, res0, it0, det_sign, 0.0), lin
+
+
+def _check_start(problem: Problem, start: Point, lin: tuple) -> str:
+    """The model check of :mod:`contin.check` at the first point: "" when it passes, else why the run stops."""
+    from .check import quick_check  # imported here: only runs that check need it
+    from .curve import start_scales
+
+    J, fp, F = lin
+    U, P = start_scales(start.u, start.p, fp, F)
+    report = quick_check(problem, start.u, start.p, J, fp, start.t_u, start.t_p, U, P)
+    if report.ok:
+        return ""
+    return (f"{report.summary()} (see contin.check_problem; Settings.check_model = False skips this check)")
 
 
 def _initial_direction(lin: tuple, n: int, direction: int) -> tuple[np.ndarray, float]:

@@ -96,10 +96,14 @@ class Problem:
         leading block of another label's, counted from the same factorization.
     name, parameter_name : str
         Labels used in output.
-    residual_scale : float
+    residual_scale : float, optional
         Typical size of the terms that cancel in the residual.  Convergence means
         ``max|f| <= tol * residual_scale``, so the tolerance is relative to the model's own units
-        and stays above the roundoff floor when a discretization makes the terms large.
+        and stays above the roundoff floor when a discretization makes the terms large.  When not
+        given, the first continuation run calibrates it from its start point
+        (``||J|| U + ||df/dp|| P``, see :func:`contin.curve.start_scales`) together with the
+        arclength weights; until then it reads 1.  Giving it declares the model's units its own:
+        the weights the settings leave open are then 1.
     """
 
     def __init__(
@@ -115,7 +119,7 @@ class Problem:
         stability_operators: Mapping[str, Callable[[Array, float], Any]] | None = None,
         name: str = "problem",
         parameter_name: str = "p",
-        residual_scale: float = 1.0,
+        residual_scale: float | None = None,
     ) -> None:
         if residual is None and energy is not None and type(self).residual is Problem.residual:
             raise TypeError("Problem(energy=...) needs the residual (the energy's gradient): the engine does not "
@@ -139,7 +143,27 @@ class Problem:
         self.symmetric = bool(symmetric)
         self.name = name
         self.parameter_name = parameter_name
-        self.residual_scale = float(residual_scale)
+        self._residual_scale_value = None if residual_scale is None else float(residual_scale)
+
+    # ---- residual scale ----------------------------------------------------------------------------
+    @property
+    def residual_scale(self) -> float:
+        """The residual scale given (or calibrated, see :meth:`calibrate_residual_scale`); 1 before either."""
+        scale = getattr(self, "_residual_scale_value", None)
+        return 1.0 if scale is None else scale
+
+    @residual_scale.setter
+    def residual_scale(self, value: float | None) -> None:
+        self._residual_scale_value = None if value is None else float(value)
+
+    def calibrate_residual_scale(self, scale: float) -> None:
+        """Adopt ``scale`` as the residual scale unless the model gave one (the first calibration stays).
+
+        Kept on the problem, not per run, so that every part of the engine that reads
+        ``residual_scale`` (fold location, jumps, later runs from other points) uses one tolerance.
+        """
+        if getattr(self, "_residual_scale_value", None) is None and type(self).residual_scale is Problem.residual_scale:
+            self._residual_scale_value = float(scale)
 
     # ---- the interface ---------------------------------------------------------------------------
     def residual(self, u: Array, p: float) -> Array:

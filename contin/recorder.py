@@ -101,8 +101,14 @@ class Recorder:
         if self.st.stability:
             self._add_stability(pt)
 
+    def stability_of(self, pt: Point) -> dict[str, Any]:
+        """The problem's stability at ``pt`` by label, computed once and kept on the point."""
+        if pt.stability is None:
+            pt.stability = self.problem.stability(pt.u, pt.p, self.st.n_eigs)
+        return pt.stability
+
     def _add_stability(self, pt: Point) -> None:
-        infos = self.problem.stability(pt.u, pt.p, self.st.n_eigs)
+        infos = self.stability_of(pt)
         if not infos:
             raise ValueError(f"stability requested but problem {self.problem.name!r} has no stability operator")
         if not self.n_neg_by:  # the first point fixes the labels and their order
@@ -147,5 +153,5 @@ class Recorder:
     def _meta(self, t_start: float) -> dict[str, Any]:
         return {"problem": self.problem.name, "parameter_name": self.problem.parameter_name,
                 "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),
-                "tol": self.st.tol, "abs_tol": self.curve.tol, "state_weight": self.st.state_weight,
-                "param_weight": self.st.param_weight}
+                "tol": self.st.tol, "abs_tol": self.curve.tol, "state_weight": self.curve.state_weight,
+                "param_weight": self.curve.param_weight}

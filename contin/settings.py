@@ -56,8 +56,16 @@ class Settings:
         the rate where the corrector starts to fail are avoided instead of repeatedly retried.
     grow, shrink : float
         Step-size factors after an easy step and after a failed one.
-    state_weight, param_weight : float
-        Weights of the state (RMS) and parameter parts of the arclength norm.
+    state_weight, param_weight : float or None
+        Weights of the state (RMS) and parameter parts of the arclength norm.  None (the default)
+        chooses them from the start point as ``1 / U`` and ``1 / P``, the state and parameter scales
+        of :func:`contin.curve.start_scales`: the steps are then fractions of the problem's own
+        sizes, and the same model in other units takes the same steps.  A problem that gives its
+        own ``residual_scale`` is taken to be in its own units: open weights are then 1.
+    check_model : bool
+        Before stepping, probe the residual along the first tangent and one random direction and
+        compare with the Jacobian and ``df/dp`` (:func:`contin.check.quick_check`); a model whose
+        derivatives disagree with its residual stops the run with status ``"failed"``.
     max_correction : float
         Guard against branch jumping: the corrector may move at most this multiple of the step away
         from the predicted point.
@@ -104,8 +112,8 @@ class Settings:
     target_contraction: float = 0.1
     grow: float = 1.5
     shrink: float = 0.5
-    state_weight: float = 1.0
-    param_weight: float = 1.0
+    state_weight: float | None = None
+    param_weight: float | None = None
     max_correction: float = 0.5
     max_contraction: float = 0.5
     min_tangent_cos: float = 0.9
@@ -120,6 +128,7 @@ class Settings:
     stop_at: tuple[str, ...] = ()
     progress: bool = False
     progress_every: int = 25
+    check_model: bool = True
 
     def validate(self) -> None:
         """Raise :class:`SettingsError` (a ``ValueError``) naming the field and its range if one is out of range."""
@@ -138,8 +147,8 @@ class Settings:
         need(self.max_newton >= 1, "max_newton", "must be >= 1")
         need(self.grow >= 1, "grow", "must be >= 1")
         need(0 < self.shrink < 1, "shrink", "must lie in (0, 1)")
-        need(self.state_weight >= 0 and self.param_weight >= 0 and self.state_weight + self.param_weight > 0,
-             "state_weight", "weights must be >= 0 and not both 0")
+        w_u, w_p = (1.0 if w is None else w for w in (self.state_weight, self.param_weight))
+        need(w_u >= 0 and w_p >= 0 and w_u + w_p > 0, "state_weight", "weights must be None or >= 0, and not both 0")
         need(0 < self.max_correction, "max_correction", "must be > 0")
         need(-1 <= self.min_tangent_cos < 1, "min_tangent_cos", "must lie in [-1, 1)")
         need(0 < self.max_contraction < 1, "max_contraction", "must lie in (0, 1)")

@@ -11,7 +11,9 @@ After an accepted step the next one is scaled by the corrector's effort and by t
   would turn by about that angle.
 
 A rejected step (corrector failure or a guard against branch jumping) halves the step (``shrink``)
-and is counted by reason; the run stops when the step would fall below ``ds_min``.
+and is counted by reason; the run stops when the step would fall below ``ds_min``.  ``retries``
+counts the rejections since the last accepted step (a guard that may fire on a genuine feature of
+the curve gives up after a few).
 """
 
 from __future__ import annotations
@@ -42,11 +44,13 @@ class StepController:
         self.settings = settings
         self.ds = settings.ds
         self.rejections: dict[str, int] = {}
+        self.retries = 0
 
     def reject(self, reason: Exception | str) -> bool:
         """Count a rejected step and shrink; False when the step would fall below ``ds_min``."""
         key = str(reason).split(" (")[0].split(";")[0]
         self.rejections[key] = self.rejections.get(key, 0) + 1
+        self.retries += 1
         if self.ds * self.settings.shrink < self.settings.ds_min:
             return False
         self.ds *= self.settings.shrink
@@ -62,6 +66,7 @@ class StepController:
         cos_turn : cosine of the angle between the tangents at the two ends of the step.
         """
         st, ds = self.settings, self.ds
+        self.retries = 0
         if contraction is not None and iterations <= st.max_newton - 3:
             factor = math.sqrt(st.target_contraction / contraction) if contraction > 0 else st.grow
             ds = min(max(ds * min(max(factor, st.shrink), st.grow), st.ds_min), st.ds_max)
