@@ -161,9 +161,9 @@ class Curve:
         """Whether the weights and the problem's residual scale are left to the start point.
 
         Only for a problem that gives no ``residual_scale``: a model that gives one has chosen its
-        units (its sizes are of order one in them, as the shell's and the contact models' are), and
+        units (its sizes are of order one in them, as the models of this project are), and
         its open weights stay 1.  Measuring such a model at its start point can also mislead: an
-        indenter that does not touch the shell yet moves nothing, so the load that would move the
+        indenter that does not touch the structure yet moves nothing, so the load that would move the
         state by its own size is unbounded.
         """
         st = self.settings
