@@ -271,6 +271,8 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
         color = colors[bi] if colors else prop[bi % len(prop)]
         _plot_by_stability(ax, br.observable(x), br.observable(y), _stability_of(br, stability), color,
                            labels[bi] if labels and bi < len(labels) else None)
+    # after every branch: the legend lists the branches, then the kinds of points
+    for br in branches:
         _mark_special_points(ax, br, x, y, special_kinds, seen)
     for jr, obs_a, obs_b in jumps:
         pa = (_coordinate(x, jr.p, obs_a, branches[0]), _coordinate(y, jr.p, obs_a, branches[0]))
