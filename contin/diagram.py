@@ -193,7 +193,7 @@ def _folds_in(spt: SpecialPoint, br: Branch) -> str | None:
 
 def _fold_marker(folds: str, x_name: str) -> tuple[str, str, bool]:
     """A fold in the quantity on the x axis (the path turns back in it) is an open circle; a fold in any
-    other quantity (a limit point of that load) a filled triangle, as the figures of docs/physics.md."""
+    other quantity (a limit point of that load under its own control) a filled triangle."""
     if folds == x_name:
         return "o", f"fold in {folds}", False
     return "^", f"limit point in {folds}", True

@@ -246,7 +246,7 @@ class Problem:
         root = roots.pop()
         H = declared[root](u, p)
         n = H.shape[0]
-        if len(blocks) == 1:
+        if len(blocks) == 1 and 0 < next(iter(blocks.values())).rows(n) < n:
             (label, block), = blocks.items()
             n_block, n_root = nested_inertias(H, block.rows(n))
             counts = {label: n_block, root: n_root}
