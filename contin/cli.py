@@ -762,24 +762,13 @@ def _write_figure(fh: io.BufferedIOBase, model_name: str, result: TraceResult) -
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from .diagram import plot_branches
-
     fig = Figure(figsize=(6.4, 4.8))
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
-    pname = result.parameter_name
-    x = "p" if result.x == pname else result.x
-    y = "p" if result.y == pname else result.y
     if result.plot is not None:
         result.plot(ax)
-    elif result.branches and any(len(br) for br in result.branches):
-        jumps = [(j, a, b) for j, (a, b) in zip(result.jumps, result.jump_observables)]
-        plot_branches(result.branches, x=x, y=y, ax=ax, jumps=jumps,
-                      labels=result.labels if len(result.labels) == len(result.branches) else None)
-        ax.set_xlabel(pname if x == "p" else x)
-        ax.set_ylabel(pname if y == "p" else (y or ""))
     else:
-        ax.text(0.5, 0.5, "no branch traced", ha="center", va="center", transform=ax.transAxes)
+        result.draw(ax)
     ax.set_title(f"{model_name}: {result.status}", fontsize="medium")
     fig.tight_layout()
     fig.savefig(fh, format="png", dpi=120)

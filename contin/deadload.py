@@ -17,7 +17,8 @@ so it lives beside the other problem constructions of the engine (:mod:`contin.t
 
 Stability under the dead load is the inertia of the bordered Jacobian (the load is linear in ``p``,
 so the Jacobian is the Hessian); under the displacement control it is the inertia of the leading
-block.  Both come from one pivot-free factorization (:func:`contin.stability.leading_inertias`).
+block, declared as such (:class:`contin.problem.LeadingBlock`), so the engine counts both from one
+factorization (:func:`contin.stability.nested_inertias`).
 """
 
 from __future__ import annotations
@@ -29,8 +30,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .linalg import Factorization, factorize
-from .problem import Problem
-from .stability import leading_inertias
+from .problem import LeadingBlock, Problem
 
 __all__ = ["ConjugateForce", "DeadLoad", "bordered_matrix"]
 
@@ -71,8 +71,8 @@ class DeadLoad(Problem):
     ----------
     base : Problem
         A conservative, displacement-controlled problem (symmetric Jacobian = Hessian, an energy)
-        implementing :class:`ConjugateForce`.  Its primary stability operator must be its Jacobian
-        (the Hessian on its unknowns).
+        implementing :class:`ConjugateForce`.  Its stability under the prescribed displacement is
+        counted on its Jacobian (the Hessian on its unknowns), the leading block of this problem's.
     force : str
         Name of the load, the new parameter (``parameter_name``); default ``"F"``.
     scaled : mapping of name to (str, float), optional
@@ -120,7 +120,8 @@ class DeadLoad(Problem):
             derivatives[name] = _scaled_derivative(derivatives[of], factor)
         observables = {name: own.get(name) or self._base_observable(name) for name in base.observables}
         observables.update({name: fun for name, fun in own.items() if name not in observables})
-        ops = {labels[0]: self.jacobian, labels[1]: self._displacement_operator}
+        # the base's Hessian is the bordered Jacobian without its border (the last row and column)
+        ops = {labels[0]: self.jacobian, labels[1]: LeadingBlock(labels[0], -1)}
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          stability_operators=ops, name=f"{base.name}_dead_load", parameter_name=force,
                          residual_scale=base.residual_scale if residual_scale is None else residual_scale)
@@ -174,19 +175,6 @@ class DeadLoad(Problem):
         u, p = self.split(U)
         dU = np.asarray(dU, dtype=float)
         return self.base.max_step_fraction(u, p, dU[:-1], float(dU[-1]))
-
-    # ---- stability -------------------------------------------------------------------------------
-    def _displacement_operator(self, U: np.ndarray, F: float) -> Any:
-        u, p = self.split(U)
-        return self.base.stability_operator(u, p)
-
-    def stability_counts(self, U: np.ndarray, F: float) -> dict[str, int] | None:
-        """Both Morse indices from one pivot-free ``L D L^T``: the displacement operator is the leading block."""
-        n = np.size(U)
-        counts = leading_inertias(self.jacobian(U, F), (n - 1, n))
-        if counts is None:
-            return None
-        return {self.labels[0]: counts[1], self.labels[1]: counts[0]}
 
 
 def _last(U: np.ndarray, value: float) -> np.ndarray:

@@ -9,12 +9,12 @@ Plotting only reads results; it never computes them.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .branch import Branch, BranchFileError, _jsonable
+from .branch import Branch, BranchFileError, SpecialPoint, _jsonable
 from .io import read_bundle, write_bundle
 from .jump import JumpResult
 
@@ -201,20 +201,48 @@ def _plot_by_stability(ax, xs: np.ndarray, ys: np.ndarray, stable: np.ndarray | 
             start = i
 
 
-_MARKERS = {"fold": ("o", "fold"), "branch_point": ("s", "branch point"), "event": ("^", "event"),
-            "jump": ("x", "jump")}
+#: Marker, legend name and whether it is filled, by kind (a fold's own comes from :func:`_fold_marker`).
+_MARKERS = {"branch_point": ("s", "branch point", False), "event": ("d", "event", False),
+            "jump": ("x", "jump", False)}
+
+
+def _axis_name(axis: str, br: Branch) -> str:
+    """The quantity on an axis: the parameter's name for ``"p"``."""
+    return br.meta.get("parameter_name", "p") if axis == "p" else axis
+
+
+def _folds_in(spt: SpecialPoint, br: Branch) -> str | None:
+    """The quantity that folds at a special point: the branch's parameter at a fold of the branch, the
+    declared quantity at an extremum that declares one (``contin.extremum(..., folds=...)``); else None."""
+    if spt.kind == "fold":
+        return spt.info.get("folds") or br.meta.get("parameter_name", "p")
+    if spt.kind == "event" and spt.info.get("folds") is not None:
+        return str(spt.info["folds"])
+    return None
+
+
+def _fold_marker(folds: str, x_name: str) -> tuple[str, str, bool]:
+    """A fold in the quantity on the x axis (the path turns back in it) is an open circle; a fold in any
+    other quantity (a limit point of that load under its own control) a filled triangle."""
+    if folds == x_name:
+        return "o", f"fold in {folds}", False
+    return "^", f"limit point in {folds}", True
 
 
 def _mark_special_points(ax, br: Branch, x: str, y: str, kinds: Sequence[str], seen: set[str]) -> None:
+    x_name = _axis_name(x, br)
     for spt in br.special_points:
-        if spt.kind not in kinds:
+        folds = _folds_in(spt, br)
+        kind = "fold" if folds is not None else spt.kind
+        if kind not in kinds or kind not in (*_MARKERS, "fold"):
             continue
         px, py = _coordinate(x, spt.p, spt.observables, br), _coordinate(y, spt.p, spt.observables, br)
         if px is None or py is None:
             continue
-        mk, name = _MARKERS[spt.kind]
-        ax.plot([px], [py], mk, color="k", mfc="none" if not spt.located else "w", ms=7,
-                label=name if name not in seen else None, zorder=5)
+        mk, name, filled = _fold_marker(folds, x_name) if folds is not None else _MARKERS[kind]
+        # an unlocated point (the bracket's end) is drawn hollow whatever its kind
+        face = "k" if filled and spt.located else ("none" if not spt.located else "w")
+        ax.plot([px], [py], mk, color="k", mfc=face, ms=6, label=name if name not in seen else None, zorder=5)
         seen.add(name)
 
 
@@ -222,8 +250,14 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
                   jumps: Iterable[tuple[JumpResult, dict[str, float], dict[str, float]]] = (),
                   colors: Sequence[str] | None = None, labels: Sequence[str] | None = None,
                   special_kinds: Sequence[str] = ("fold", "branch_point", "event"),
-                  stability: str | None = None):
+                  stability: str | None = None, axis_labels: Mapping[str, str] | None = None,
+                  note: str = "", zero_line: bool = False):
     """Plot branches: stable solid, unstable dashed, unknown stability thin; special points marked.
+
+    Each branch is drawn as one line per run of equal stability.  A fold is marked by the quantity
+    that folds (:attr:`SpecialPoint.info` ``"folds"``, else the branch's parameter): an open circle
+    when it is the quantity on the x axis, a filled triangle (a limit point) otherwise; an extremum
+    event that declares a fold (``contin.extremum(..., folds=...)``) is marked as that fold.
 
     Parameters
     ----------
@@ -235,10 +269,17 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
     jumps : iterable of ``(JumpResult, obs_from, obs_to)``
         Snaps drawn as dotted arrows between the two points (observable dicts give coordinates).
     colors, labels : per-branch colours and legend labels.
-    special_kinds : which special point kinds to mark.
+    special_kinds : which special point kinds to mark (``"fold"`` includes declared folds).
     stability : str, optional
         The stability label to style by (e.g. ``"displacement"``); default the primary label of
         each branch.  A branch without that label is drawn thin (stability unknown).
+    axis_labels : mapping of str to str, optional
+        What an axis' quantity is, by name (``{"w": "pole displacement"}``): the axis then reads
+        ``"w (pole displacement)"``.  Default: the name alone.
+    note : str
+        A line of text in the lower left corner (e.g. the classification and the control).
+    zero_line : bool
+        Draw the line ``y = 0`` (where a force changes sign).
 
     Returns
     -------
@@ -255,9 +296,13 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
     seen: set[str] = set()
     prop = plt.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
     for bi, br in enumerate(branches):
+        if not len(br):
+            continue
         color = colors[bi] if colors else prop[bi % len(prop)]
         _plot_by_stability(ax, br.observable(x), br.observable(y), _stability_of(br, stability), color,
-                           labels[bi] if labels else None)
+                           labels[bi] if labels and bi < len(labels) else None)
+    # after every branch: the legend lists the branches, then the kinds of points
+    for br in branches:
         _mark_special_points(ax, br, x, y, special_kinds, seen)
     for jr, obs_a, obs_b in jumps:
         pa = (_coordinate(x, jr.p, obs_a, branches[0]), _coordinate(y, jr.p, obs_a, branches[0]))
@@ -265,8 +310,14 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
         if None in pa or None in pb:
             continue
         ax.annotate("", xy=pb, xytext=pa, arrowprops=dict(arrowstyle="->", ls=":", color="0.3"))
-    ax.set_xlabel(x)
-    ax.set_ylabel(y)
+    if zero_line:
+        ax.axhline(0.0, color="0.7", lw=0.6, zorder=0)
+    for axis, setter in ((x, ax.set_xlabel), (y, ax.set_ylabel)):
+        name = _axis_name(axis, branches[0])
+        what = (axis_labels or {}).get(name)
+        setter(f"{name} ({what})" if what else name)
+    if note:
+        ax.text(0.02, 0.02, note, transform=ax.transAxes, fontsize="small")
     if seen or labels:
         ax.legend(frameon=False, fontsize="small")
     return ax

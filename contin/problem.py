@@ -10,10 +10,12 @@ smallest eigenvalues) under every *stability label*.  A model declares its label
 place, ``stability_operators={label: operator}`` (the first label is the primary one); an operator
 that is the leading block of another one (e.g. the Hessian of a displacement-controlled structure
 inside that of the force-controlled one) is declared as ``LeadingBlock(of=label, size=m)`` and then
-shares that operator's factorization, so both Morse indices cost one pivot-free ``L D L^T``.
+shares that operator's factorization, so both Morse indices cost one pivot-free ``L D L^T`` (and,
+where that cannot be trusted, the block's own count plus the sign of its Schur complement:
+:func:`contin.stability.nested_inertias`).  A negative size counts from the end: ``size=-1`` is the
+operator without its last row and column (a border whose size the model does not fix).
 Shorthands: ``stability_operator=op`` is ``{"stability": op}``, and ``symmetric=True`` alone uses
-the Jacobian.  Overriding :meth:`Problem.stability_counts` (the way nested operators were counted
-before ``LeadingBlock``) still works and is consulted first.
+the Jacobian.
 
 Two ways to build one:
 
@@ -32,7 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .linalg import Factorization, factorize
-from .stability import StabilityInfo, leading_inertias, stability_info
+from .stability import StabilityInfo, leading_inertias, nested_inertias, stability_info
 
 __all__ = ["Problem", "NonFiniteError", "LeadingBlock"]
 
@@ -49,15 +51,21 @@ class LeadingBlock:
 
     Declared as a value of ``Problem(stability_operators=...)``.  Sylvester's law of inertia then
     counts both Morse indices from one factorization of the larger operator
-    (:func:`contin.stability.leading_inertias`).
+    (:func:`contin.stability.nested_inertias`).  A negative ``size`` counts from the end, as a slice
+    does: ``LeadingBlock("force", -1)`` is the force operator without its last row and column.
     """
 
     of: str
     size: int
 
+    def rows(self, n: int) -> int:
+        """The block's size inside an ``n`` x ``n`` operator."""
+        return self.size if self.size >= 0 else n + self.size
 
-def _leading(H: Any, m: int) -> Any:
-    """Leading ``m`` x ``m`` block of a sparse or dense matrix (sparse stays CSR)."""
+
+def _leading(H: Any, block: LeadingBlock) -> Any:
+    """The leading block of a sparse or dense matrix (sparse stays CSR)."""
+    m = block.rows(H.shape[0])
     return sp.csr_matrix(H)[:m, :m] if sp.issparse(H) else np.asarray(H)[:m, :m]
 
 
@@ -228,7 +236,7 @@ class Problem:
         declared = getattr(self, "_stability_operators", {})
         if declared:
             full = {label: op(u, p) for label, op in declared.items() if not isinstance(op, LeadingBlock)}
-            return {label: _leading(full[op.of], op.size) if isinstance(op, LeadingBlock) else full[label]
+            return {label: _leading(full[op.of], op) if isinstance(op, LeadingBlock) else full[label]
                     for label, op in declared.items()}
         op = self.stability_operator(u, p)
         return {} if op is None else {"stability": op}
@@ -236,27 +244,30 @@ class Problem:
     def _labelled_operator(self, label: str, u: Array, p: float) -> Any:
         op = self._stability_operators[label]
         if isinstance(op, LeadingBlock):
-            return _leading(self._stability_operators[op.of](u, p), op.size)
+            return _leading(self._stability_operators[op.of](u, p), op)
         return op(u, p)
 
     def stability(self, u: Array, p: float, n_eigs: int = 0) -> dict[str, StabilityInfo]:
         """Morse index (and the ``n_eigs`` smallest eigenvalues) under every stability label.
 
-        The one way the engine asks for stability.  With ``n_eigs = 0`` nested operators
-        (:class:`LeadingBlock`) are counted from one factorization of the enclosing operator, as is a
-        model's :meth:`stability_counts` (kept for models that override it); when such a count is not
-        trustworthy every operator is counted on its own.  Empty when the problem has no operator.
+        The one way the engine asks for stability.  With ``n_eigs = 0`` an operator declared as the
+        :class:`LeadingBlock` of another is counted with it (:meth:`_nested_counts`); otherwise every
+        operator is counted on its own.  Empty when the problem has no operator.
         """
         if n_eigs == 0:
-            counts = self.stability_counts(u, p)
-            if counts is None:
-                counts = self._nested_counts(u, p)
+            counts = self._nested_counts(u, p)
             if counts is not None:
                 return {label: StabilityInfo(int(n), np.zeros(0)) for label, n in counts.items()}
         return {label: stability_info(op, n_eigs) for label, op in self.stability_operators(u, p).items()}
 
     def _nested_counts(self, u: Array, p: float) -> dict[str, int] | None:
-        """Morse indices of operators declared as leading blocks of one other operator, from one ``L D L^T``."""
+        """Morse indices of operators declared as leading blocks of one other operator, with that operator's.
+
+        One pivot-free ``L D L^T`` of the enclosing operator counts every block.  When it cannot be
+        trusted and there is one block, :func:`contin.stability.nested_inertias` counts the block on
+        its own and adds the sign of its Schur complement; with several blocks None (each operator is
+        then counted on its own).  None as well when the operators are not one operator and its blocks.
+        """
         declared = getattr(self, "_stability_operators", {})
         blocks = {label: op for label, op in declared.items() if isinstance(op, LeadingBlock)}
         roots = {op.of for op in blocks.values()}
@@ -264,9 +275,15 @@ class Problem:
             return None
         root = roots.pop()
         H = declared[root](u, p)
-        sizes = [blocks[label].size if label in blocks else H.shape[0] for label in declared]
-        counts = leading_inertias(H, sizes)
-        return None if counts is None else dict(zip(declared, counts))
+        n = H.shape[0]
+        if len(blocks) == 1 and 0 < next(iter(blocks.values())).rows(n) < n:
+            (label, block), = blocks.items()
+            n_block, n_root = nested_inertias(H, block.rows(n))
+            counts = {label: n_block, root: n_root}
+            return {name: counts[name] for name in declared}
+        sizes = [blocks[label].rows(n) if label in blocks else n for label in declared]
+        nested = leading_inertias(H, sizes)
+        return None if nested is None else dict(zip(declared, nested))
 
     def max_step_fraction(self, u: Array, p: float, du: Array, dp: float) -> float:
         """Largest fraction ``t`` in (0, 1] of the step ``(du, dp)`` from ``(u, p)`` the model can take.
@@ -278,14 +295,6 @@ class Problem:
         model is never evaluated outside its domain.  The default is 1 (no restriction).
         """
         return 1.0
-
-    def stability_counts(self, u: Array, p: float) -> dict[str, int] | None:
-        """Morse index of every stability operator at once, or None to let :meth:`stability` count each.
-
-        Kept for models written before :class:`LeadingBlock`: declaring nested operators as
-        ``LeadingBlock`` gives the same one-factorization count without overriding anything.
-        """
-        return None
 
     def factorize(self, J) -> Factorization:
         """Factorize a Jacobian; override to exploit a model's structure."""

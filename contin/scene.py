@@ -512,7 +512,14 @@ class TraceResult:
         Non-empty when the runner itself gave up (e.g. a jump could not start); the run then counts
         as failed even if every branch succeeded.
     plot : callable, optional
-        ``plot(ax)`` drawing the diagram; by default :func:`contin.plot_branches` with ``x`` and ``y``.
+        ``plot(ax)`` drawing the diagram in place of :meth:`draw`.
+    stability : str, optional
+        The stability label the diagram is styled by (stable solid, unstable dashed), e.g. the
+        scene's control; default each branch's primary label.
+    plot_options : dict
+        Further keyword arguments of :func:`contin.plot_branches` for the diagram: ``axis_labels``
+        (what the quantities on the axes are), ``note`` (a line in the corner), ``zero_line``,
+        ``special_kinds``.
     """
 
     branches: list[Branch]
@@ -528,6 +535,8 @@ class TraceResult:
     jump_observables: list[tuple[dict[str, float], dict[str, float]]] = field(default_factory=list)
     failure: str = ""
     plot: Callable[[Any], Any] | None = None
+    stability: str | None = None
+    plot_options: dict[str, Any] = field(default_factory=dict)
 
     @classmethod
     def from_branches(cls, branches: Sequence[Branch], jumps: Sequence[JumpResult] = (), *, problem: Any = None,
@@ -564,6 +573,28 @@ class TraceResult:
                                              branch_labels=list(labels) if len(branches) > 1 else None),
                    csv_columns=branch_columns(branches), x=x, y=y, parameter_name=pname,
                    labels=list(labels), jump_observables=jump_obs, failure=failure)
+
+    def draw(self, ax: Any) -> Any:
+        """The default diagram on the matplotlib Axes ``ax``: :func:`contin.plot_branches` of ``y`` against
+        ``x`` styled by :attr:`stability`, folds marked by the quantity that folds, jumps as arrows,
+        with :attr:`plot_options`.
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        from .diagram import plot_branches
+
+        if not any(len(br) for br in self.branches):
+            ax.text(0.5, 0.5, "no branch traced", ha="center", va="center", transform=ax.transAxes)
+            return ax
+        # plot_branches reads the parameter as "p": a branch stores it apart from its observables
+        x = "p" if self.x == self.parameter_name else self.x
+        y = "p" if self.y == self.parameter_name else self.y
+        jumps = [(j, a, b) for j, (a, b) in zip(self.jumps, self.jump_observables)]
+        return plot_branches(self.branches, x=x, y=y, ax=ax, jumps=jumps,
+                             labels=self.labels if len(self.labels) == len(self.branches) else None,
+                             stability=self.stability, **self.plot_options)
 
     # ---- overall outcome ---------------------------------------------------------------------------
     @property
@@ -739,21 +770,46 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
 
 def special_point_table(records: Sequence[Mapping[str, Any]], parameter_name: str = "p",
                         observables: Sequence[str] | None = None,
-                        branch_labels: Sequence[str] | None = None) -> list[dict[str, Any]]:
+                        branch_labels: Sequence[str] | None = None, *,
+                        columns: Mapping[str, str] | None = None) -> list[dict[str, Any]]:
     """Printable rows (column header -> value) for special-point records.
 
-    With ``branch_labels`` a first column ``on`` names the branch (or jump) of each point.
+    Parameters
+    ----------
+    records : sequence of mapping
+        Records as :func:`special_point_records` makes them (a model may have added fields).
+    parameter_name : str
+        Header of the parameter column (``rec["p"]``).
+    observables : sequence of str, optional
+        Observables shown after the parameter (default: every observable of the record).
+    branch_labels : sequence of str, optional
+        Branch names: a first column ``on`` names the branch (or jump) of each point.
+    columns : mapping of str to str, optional
+        Header -> record field, in this order, in place of the parameter and observable columns.  A
+        field is looked up among the record's own fields, then among its ``observables``; e.g.
+        ``{"folds_in": "parameter", "w/R": "w_over_R"}`` shows which quantity folds and a normalized
+        observable.  Missing fields show as None.
+
+    Returns
+    -------
+    list of dict
+        ``[on,] kind, label``, the parameter and observables (or ``columns``), ``residual``, ``located``
+        and ``stability``: for a jump's record its own ``stable`` (the landing), for any other point
+        ``stable_before -> stable_after`` followed by the control it is labelled under, in
+        parentheses, when the record names one (``stability_control``).
     """
+    word = {True: "stable", False: "unstable", None: "?"}
     rows = []
     for rec in records:
         obs = rec.get("observables", {})
-        names = list(obs) if observables is None else [n for n in observables if n in obs]
-        before, after = rec.get("stable_before"), rec.get("stable_after")
-        word = {True: "stable", False: "unstable", None: "?"}
-        if "stable" in rec:
-            stab = word[rec["stable"]]
+        if rec["kind"] == "jump":
+            # a jump is one state at one load: its landing's stability, not a change along a branch
+            stab = word[rec["stable"]] if "stable" in rec else ""
         else:
+            before, after = rec.get("stable_before"), rec.get("stable_after")
             stab = "" if before is None and after is None else f"{word[before]} -> {word[after]}"
+            if stab and rec.get("stability_control"):
+                stab += f" ({rec['stability_control']})"
         row: dict[str, Any] = {}
         if branch_labels is not None:
             if "jump" in rec:
@@ -761,8 +817,13 @@ def special_point_table(records: Sequence[Mapping[str, Any]], parameter_name: st
             else:
                 bi = rec.get("branch", 0)
                 row["on"] = branch_labels[bi] if bi < len(branch_labels) else f"branch {bi}"
-        row.update({"kind": rec["kind"], "label": rec.get("label", ""), parameter_name: rec["p"]})
-        row.update({n: obs[n] for n in names})
+        row.update({"kind": rec["kind"], "label": rec.get("label", "")})
+        if columns is not None:
+            row.update({head: rec[name] if name in rec else obs.get(name) for head, name in columns.items()})
+        else:
+            names = list(obs) if observables is None else [n for n in observables if n in obs]
+            row[parameter_name] = rec["p"]
+            row.update({n: obs[n] for n in names})
         row["residual"] = rec.get("residual")
         row["located"] = "yes" if rec.get("located") else "no"
         row["stability"] = stab

@@ -11,6 +11,13 @@ grow beyond :data:`LDL_GROWTH_LIMIT` (or a pivot is exactly zero) the count fall
 eigensolver.  The eigenvalues themselves come from dense ``eigh`` for small matrices, LAPACK's
 banded symmetric eigensolver with index selection for banded ones (its reduction to tridiagonal form
 costs O(n^2 b), so it is asked for only when ``k > 0``), and ARPACK for the rest.
+
+Nested operators (an operator and its leading block, e.g. a structure's Hessian under a dead load and
+under its prescribed displacement): :func:`nested_inertias` counts both from one pivot-free
+``L D L^T``; where that cannot be trusted (the leading block is singular at a fold of the
+displacement-controlled path, so the border is divided by a vanishing pivot), from the leading
+block's own count plus the inertia of its Schur complement (Sylvester's law of inertia:
+``H = [[A, B], [B^T, C]]`` is congruent to ``diag(A, C - B^T A^{-1} B)``).
 """
 
 from __future__ import annotations
@@ -22,9 +29,9 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .linalg import bandwidths
+from .linalg import BANDED_FRACTION, BandedLU, Factorization, bandwidths, factorize
 
-__all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias"]
+__all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias"]
 
 DENSE_LIMIT = 400
 #: Largest multiplier |L_ij| accepted in the pivot-free LDL^T before the inertia count is redone
@@ -89,6 +96,56 @@ def leading_inertias(H, sizes) -> list[int] | None:
         return None
     negative = np.concatenate([[0], np.cumsum(d < 0.0)])
     return [int(negative[m]) for m in sizes]
+
+
+def nested_inertias(H, m: int) -> tuple[int, int]:
+    """Negative-eigenvalue counts of the leading block ``A = H[:m, :m]`` and of the symmetric ``H`` itself.
+
+    One pivot-free ``L D L^T`` of ``H`` gives both (:func:`leading_inertias`).  When it cannot be
+    trusted (a leading block singular at a fold divides the border by a vanishing pivot, and a general
+    eigensolver need not converge on the bordered matrix either), ``A`` is counted on its own
+    (:func:`stability_info`, which takes the banded path for a banded ``A``) and ``H`` adds the negative
+    eigenvalues of the Schur complement ``S = C - B^T A^{-1} B`` (``B = H[:m, m:]``, ``C = H[m:, m:]``):
+    by Sylvester's law of inertia ``H`` is congruent to ``diag(A, S)``.  An ``A`` singular to working
+    precision adds nothing (exactly at a fold the count is decided by roundoff).
+
+    Parameters
+    ----------
+    H : sparse or dense (n, n) symmetric matrix
+    m : int
+        Size of the leading block, ``0 < m < n``.
+
+    Returns
+    -------
+    (int, int)
+        Morse index of ``A``, then of ``H``.
+    """
+    n = H.shape[0]
+    if not 0 < m < n:
+        raise ValueError(f"nested_inertias: the leading block's size must be in (0, {n}), got {m}")
+    counts = leading_inertias(H, (m, n))
+    if counts is not None:
+        return counts[0], counts[1]
+    Hs = sp.csr_matrix(H)
+    A = Hs[:m, :m]
+    n_lead = stability_info(A, 0).n_negative
+    B = Hs[:m, m:].toarray()
+    C = Hs[m:, m:].toarray()
+    try:
+        Y = _leading_factorization(A).solve(B)
+        # entry by entry as 1-D dot products: a bordered matrix (n - m = 1) gets s = d - b . A^{-1} b
+        S = np.array([[C[i, j] - float(B[:, i] @ Y[:, j]) for j in range(n - m)] for i in range(n - m)])
+    except np.linalg.LinAlgError:  # A exactly singular (SingularMatrixError is one)
+        return n_lead, n_lead
+    return n_lead, n_lead + int(np.count_nonzero(np.linalg.eigvalsh(0.5 * (S + S.T)) < 0.0))
+
+
+def _leading_factorization(A) -> Factorization:
+    """LU of the leading block for its Schur complement: banded (gbtrf on its own band) when it is banded."""
+    kl, ku = bandwidths(A)
+    if kl + ku + 1 <= max(BANDED_FRACTION * A.shape[0], 8):
+        return BandedLU(A, kl, ku)
+    return factorize(A)
 
 
 def _ldlt_pivots(H) -> np.ndarray | None:
@@ -180,7 +237,7 @@ def _sparse_info(H, k: int, vectors: bool) -> StabilityInfo:
     """ARPACK for the algebraically smallest, widened until a non-negative one shows.
 
     The smallest eigenvalues of a stiff matrix (eigenvalues spread over many decades, nearly zero
-    ones among them: a structure at a fold) can defeat ARPACK's iteration; a matrix up to
+    ones among them: a thin structure at a fold) can defeat ARPACK's iteration; a matrix up to
     :data:`DENSE_FALLBACK_LIMIT` is then solved densely.
     """
     n = H.shape[0]

@@ -93,3 +93,24 @@ def test_bordered_matrix_matches_the_dense_border() -> None:
 def test_a_problem_without_a_conjugate_force_is_refused() -> None:
     with pytest.raises(TypeError, match="conjugate_force"):
         DeadLoad(Problem(residual=lambda u, p: u - p, symmetric=True))
+
+
+def test_dead_load_declares_the_displacement_operator_as_its_leading_block() -> None:
+    """No counting of its own: the base's Hessian is the ``LeadingBlock`` of the bordered Jacobian, and the
+    engine's counts equal each operator's eigenvalue count."""
+    from contin import LeadingBlock
+
+    base = TiedTruss()
+    P = DeadLoad(base)
+    assert P._stability_operators["displacement"] == LeadingBlock("force", -1)
+    for y, p in ((0.3, 0.2), (0.0, 0.1), (-0.2, -0.6)):
+        U, F = P.from_displacement_state(np.array([y]), p)
+        ops = P.stability_operators(U, F)
+        np.testing.assert_array_equal(ops["displacement"], base.jacobian(np.array([y]), p))
+        counts = {label: info.n_negative for label, info in P.stability(U, F).items()}
+        assert counts == {label: int(np.count_nonzero(np.linalg.eigvalsh(_dense(op)) < 0))
+                          for label, op in ops.items()}
+
+
+def _dense(A: object) -> np.ndarray:
+    return A.toarray() if hasattr(A, "toarray") else np.asarray(A)

@@ -135,12 +135,12 @@ def test_plot_branches_styles_by_the_label(branch: Branch) -> None:
 
 def test_the_shell_declares_its_nested_operators() -> None:
     """The point-loaded shell declares its displacement Hessian as the leading block of its force Hessian
-    (no ``stability_counts`` of its own): the engine's one-factorization counts equal each operator's own."""
+    (and overrides nothing): the engine's one-factorization counts equal each operator's own."""
     from contin.stability import stability_info
     from contin_models.shell import ShellPointLoad
 
     P = ShellPointLoad(N=40, phi_hat=0.8, control="displacement")
-    assert type(P).stability_counts is Problem.stability_counts
+    assert not hasattr(P, "stability_counts")  # one way to declare: the operators, nothing to override
     br = continuation(P, P.reference_unknowns(), 0.0, ds=0.02, ds_max=0.05, p_max=0.45, max_steps=200)
     seen = set()
     for u, w in zip(br.u[::3], br.p[::3]):
@@ -166,6 +166,83 @@ def test_records_read_the_engine_stability(branch: Branch) -> None:
     assert [rec["index"] for rec in records] == [spt.index for spt in branch.special_points]
 
 
+def test_special_point_table_columns_from_the_record_fields(branch: Branch) -> None:
+    """``special_point_table(columns=...)`` shows chosen record fields (which quantity folds, a model's own
+    fields) in place of the parameter and observables; a limit point's stability carries its control,
+    a jump's row its landing's ``stable``."""
+    from contin.scene import special_point_records, special_point_table
+
+    records = special_point_records([branch], parameter_name="y",
+                                    fields=lambda spt: {"stability_control": spt.info.get("stability_label")})
+    records.append({"kind": "jump", "jump": 0, "label": "jump_to", "parameter": "P", "p": 0.1, "residual": 1e-9,
+                    "located": True, "stable": True, "stable_after": True, "observables": {"P": 0.1}})
+    rows = special_point_table(records, "y", branch_labels=["path"],
+                               columns={"folds_in": "parameter", "load": "P", "missing": "nothing"})
+    assert list(rows[0]) == ["on", "kind", "label", "folds_in", "load", "missing", "residual", "located", "stability"]
+    by_label = {row["label"]: row for row in rows}
+    pmax = by_label["max(P)"]
+    assert (pmax["on"], pmax["kind"], pmax["folds_in"]) == ("path", "fold", "P")
+    assert pmax["load"] == branch.events("max(P)")[0].observables["P"] and pmax["missing"] is None
+    assert pmax["stability"] == "stable -> unstable (force)"
+    assert by_label["min(P)"]["stability"] == ""  # an undeclared event: no stability of its own
+    assert by_label["jump_to"]["on"] == "jump 0" and by_label["jump_to"]["stability"] == "stable"
+    # without columns: the parameter and every observable, as before
+    plain = special_point_table(records[:1], "y")
+    assert list(plain[0]) == ["kind", "label", "y", "P", "residual", "located", "stability"]
+
+
+def test_plot_marks_folds_by_the_quantity_that_folds(branch: Branch) -> None:
+    """A fold in the quantity on the x axis is an open circle, a fold in another quantity (a limit point,
+    declared by an extremum or the parameter of a force-controlled branch) a filled triangle."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from contin_models.benchmarks.truss import VonMisesTruss
+
+    def marks(br: Branch, x: str, y: str, **kw) -> dict[str, tuple[str, str]]:
+        _, ax = plt.subplots()
+        contin.plot_branches(br, x=x, y=y, ax=ax, **kw)
+        out = {ln.get_label(): (ln.get_marker(), str(ln.get_markerfacecolor())) for ln in ax.lines
+               if ln.get_marker() not in ("None", None) and not ln.get_label().startswith("_")}
+        labels = (ax.get_xlabel(), ax.get_ylabel())
+        plt.close("all")
+        return out, labels
+
+    found, axes = marks(branch, "p", "P", axis_labels={"P": "reaction"})
+    assert found["limit point in P"] == ("^", "k") and found["event"][0] == "d"
+    assert axes == ("y", "P (reaction)")  # the parameter by its name
+    force = continuation(VonMisesTruss(A, B, K), [0.0, B], 0.0, ds=0.02, ds_max=0.05, stability=True,
+                         stop_at=("fold",))
+    assert marks(force, "p", "y")[0] == {"fold in P": ("o", "w")}  # the path turns back in P
+    assert marks(force, "y", "p")[0] == {"limit point in P": ("^", "k")}  # P on the y axis: its maximum
+
+
+def test_trace_result_draws_by_its_stability_label(branch: Branch) -> None:
+    """``TraceResult.draw``: the default diagram styled by the result's stability label, with its options."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from contin.scene import TraceResult
+
+    def draw(label: str | None) -> tuple[list[str], list[str]]:
+        res = TraceResult.from_branches([branch], x="y", y="P", labels=["path"])
+        res.stability = label
+        res.plot_options = {"note": "a note", "zero_line": True}
+        _, ax = plt.subplots()
+        res.draw(ax)
+        styles = [ln.get_linestyle() for ln in ax.lines if ln.get_marker() in ("None", None)]
+        texts = [t.get_text() for t in ax.texts]
+        plt.close("all")
+        return styles, texts
+
+    styles, texts = draw("force")
+    assert styles[:3] == ["-", "--", "-"] and texts == ["a note"]
+    assert draw("displacement")[0][0] == "-" and "--" not in draw("displacement")[0]
+
+
 def test_branch_columns_take_the_named_stability_columns(branch: Branch) -> None:
     from contin.scene import branch_columns
 
@@ -177,3 +254,52 @@ def test_branch_columns_take_the_named_stability_columns(branch: Branch) -> None
     np.testing.assert_array_equal(named["stable_force"], np.tile(branch.columns()["stable_force"], 2))
     np.testing.assert_array_equal(named["n_negative"], np.tile(branch.n_negative_under("displacement"), 2))
     assert "stable_x" not in branch_columns([branch], {"stable_x": "stable_nothing"})
+
+
+def _banded_saddle(n: int, shift: float) -> np.ndarray:
+    """A symmetric tridiagonal matrix with eigenvalues spread around ``-shift``, bordered by a full row."""
+    rng = np.random.default_rng(7)
+    H = np.diag(np.linspace(1.0, 4.0, n)) - shift * np.eye(n)
+    H += np.diag(np.full(n - 1, 0.3), 1) + np.diag(np.full(n - 1, 0.3), -1)
+    H[-1, :] = H[:, -1] = rng.standard_normal(n)
+    H[-1, -1] = 0.5
+    return H
+
+
+def _negative(A: np.ndarray) -> int:
+    return int(np.count_nonzero(np.linalg.eigvalsh(A) < 0))
+
+
+@pytest.mark.parametrize("shift", [0.0, 1.5, 2.5])
+def test_nested_inertias_by_ldlt_and_by_schur_complement(monkeypatch, shift: float) -> None:
+    """Both ways of :func:`contin.stability.nested_inertias` count like eigenvalues: one ``L D L^T``, and,
+    when that cannot be trusted, the leading block's count plus the Schur complement's (Sylvester)."""
+    import scipy.sparse as sp
+
+    import contin.stability as stability
+
+    H = _banded_saddle(120, shift)
+    m = H.shape[0] - 1
+    expected = (_negative(H[:m, :m]), _negative(H))
+    assert stability.nested_inertias(sp.csr_matrix(H), m) == expected
+    monkeypatch.setattr(stability, "leading_inertias", lambda H, sizes: None)
+    assert stability.nested_inertias(sp.csr_matrix(H), m) == expected
+    # a border of two rows: the Schur complement is 2 x 2
+    assert stability.nested_inertias(sp.csr_matrix(H), m - 1) == (_negative(H[:m - 1, :m - 1]), _negative(H))
+
+
+def test_leading_block_counted_from_the_end_and_by_schur_when_ldlt_fails(monkeypatch) -> None:
+    """``LeadingBlock(of, -1)``: the operator without its last row and column; the engine counts it with
+    its enclosing operator, by the Schur complement when the pivot-free factorization is refused."""
+    import contin.stability as stability
+
+    H = _banded_saddle(80, 2.5)
+    P = Problem(residual=lambda u, p: u, stability_operators={"inner": LeadingBlock("outer", -1),
+                                                               "outer": lambda u, p: H})
+    u = np.zeros(80)
+    np.testing.assert_array_equal(P.stability_operators(u, 0.0)["inner"], H[:79, :79])
+    expected = {"inner": _negative(H[:79, :79]), "outer": _negative(H)}
+    assert {k: v.n_negative for k, v in P.stability(u, 0.0).items()} == expected
+    assert list(P.stability(u, 0.0)) == ["inner", "outer"]
+    monkeypatch.setattr(stability, "leading_inertias", lambda H, sizes: None)
+    assert {k: v.n_negative for k, v in P.stability(u, 0.0).items()} == expected

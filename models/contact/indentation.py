@@ -22,8 +22,11 @@ vertically, to the indenter: an indenter that reaches it presses on the support)
 ``Delta_H_over_R``, ``F_norm = F R / (2 pi D)``.
 
 Stability labels: ``"displacement"`` (indenter position held: the Hessian on the shell's unknowns)
-and ``"force"`` (a dead load on the indenter: the same Hessian bordered by the indenter position),
-both counted from one pivot-free factorization of the bordered matrix.
+and ``"force"`` (a dead load on the indenter: the same Hessian bordered by the indenter position).
+The first is declared as the leading block of the second (:class:`contin.problem.LeadingBlock`), so
+the engine counts both from one pivot-free factorization of the bordered matrix, or, at a fold in
+``w_b`` where that cannot be trusted, from the banded leading block and the sign of the Schur
+complement (:func:`contin.stability.nested_inertias`).
 
 Force control of the indenter: :class:`ShellIndentationForce`, the generic dead load
 (:class:`contin.deadload.DeadLoad`) on the indenter travel (``w_b`` an unknown, a dead load ``F`` on
@@ -42,8 +45,7 @@ from scipy.linalg import lapack
 from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU
 from contin.linalg import factorize as generic_factorize
 from contin.deadload import DeadLoad
-from contin.problem import NonFiniteError, Problem
-from contin.stability import leading_inertias, stability_info
+from contin.problem import LeadingBlock, NonFiniteError, Problem
 from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.geometry import POLE_RATIO
 from contin_models.shell.problem import ShellPointLoad
@@ -106,7 +108,8 @@ class ShellIndentation(Problem):
                        "Delta_H_over_R": self._obs("Delta_H_over_R"), "F_norm": self._obs("F_norm"),
                        "base_gap": self._obs("base_gap"), "contact_first": self._obs("contact_first"),
                        "contact_last": self._obs("contact_last")}
-        ops = {"displacement": self._op_displacement, "force": self._op_force}
+        # the displacement Hessian is the force one without its border (the indenter position, last)
+        ops = {"displacement": LeadingBlock("force", -1), "force": self._op_force}
         super().__init__(observables=observables, symmetric=True, stability_operators=ops,
                          name=f"shell_{self.indenter.name}_indentation", parameter_name="w_b",
                          residual_scale=el.residual_scale)
@@ -186,40 +189,12 @@ class ShellIndentation(Problem):
         return self.barrier.max_safe_fraction(self.full_state(u), self.position(p), self._full_step(du), -float(dp))
 
     # ---- stability -------------------------------------------------------------------------------
-    def _op_displacement(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        return self.jacobian(u, p)
-
     def _op_force(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         """Hessian with the indenter position as a further unknown (dead load on the indenter)."""
         J = self.jacobian(u, p)
         st = self.contact(u, p)
         col = st.hess_xc[self.idx].reshape(-1, 1)
         return sp.bmat([[J, sp.csr_matrix(col)], [sp.csr_matrix(col.T), np.array([[st.hess_cc]])]], format="csr")
-
-    def stability_counts(self, u: np.ndarray, p: float) -> dict[str, int] | None:
-        counts = leading_inertias(self._op_force(u, p), (self.idx.size, self.idx.size + 1))
-        if counts is None:
-            return self._counts_by_schur(u, p)
-        return {"displacement": counts[0], "force": counts[1]}
-
-    def _counts_by_schur(self, u: np.ndarray, p: float) -> dict[str, int] | None:
-        """Both counts when the pivot-free ``L D L^T`` of the bordered matrix cannot be trusted.
-
-        At a fold in ``w_b`` the displacement Hessian ``A`` is singular and the border row is divided
-        by its vanishing pivot (growth beyond the engine's limit; the general sparse eigensolver
-        then need not converge on the bordered matrix).  ``A`` itself is banded: its count comes from
-        the banded path, and the force count adds the sign of the Schur complement
-        ``s = d - b^T A^{-1} b`` (Sylvester's law of inertia).
-        """
-        J = self.jacobian(u, p)
-        n_disp = stability_info(J, 0).n_negative
-        st = self.contact(u, p)
-        col = st.hess_xc[self.idx]
-        try:
-            schur = float(st.hess_cc) - float(col @ BandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH).solve(col))
-        except SingularMatrixError:  # exactly at the fold: the count is decided by roundoff there
-            schur = 1.0
-        return {"displacement": n_disp, "force": n_disp + (1 if schur < 0 else 0)}
 
     # ---- observables -----------------------------------------------------------------------------
     def _obs(self, name: str):

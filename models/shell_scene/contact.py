@@ -68,6 +68,8 @@ FORCE_END_NORM = 100.0
 _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
 #: Snaps a trace may make before eversion (a plate dimples, then everts; more means the trace is lost).
 MAX_SNAPS = 4
+#: What the diagram's axes show.
+_AXIS_LABELS = {"w_b": "indenter travel", "F": "indenter force"}
 _OBS = ("w_b", "F", "w_b_over_R", "F_norm", "w_s", "w_s_over_R", "Delta_H", "Delta_H_over_R", "kappa_p_R",
         "n_contact", "contact_first", "contact_last")
 
@@ -256,5 +258,5 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
                 **{k: v for k, v in cols.items() if k not in ("F", "F_norm")}}
     return TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                        table=generic.table, csv_columns=cols, x="w_b", y="F", parameter_name=problem.parameter_name,
-                       labels=labels,
-                       jump_observables=generic.jump_observables, failure=failure)
+                       labels=labels, jump_observables=generic.jump_observables, failure=failure,
+                       stability=control, plot_options={"axis_labels": _AXIS_LABELS, "zero_line": True})

@@ -59,7 +59,7 @@ import numpy as np
 
 import contin
 from contin.branch import Branch, SpecialPoint
-from contin.scene import TraceResult, branch_columns, special_point_records
+from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
@@ -70,6 +70,11 @@ __all__ = ["classify", "path_complete", "run_point", "run_point_force", "MAX_SNA
 
 #: Observables of :class:`ShellPointLoad` reported at every special point.
 _OBS = ("w", "F", "w_over_R", "F_norm")
+#: Columns of the printed special-point table (header -> record field): which quantity folds and the
+#: observables in both units.
+_TABLE_COLUMNS = {"folds_in": "parameter", "w": "w", "F": "F", "w/R": "w_over_R", "F_norm": "F_norm"}
+#: What the diagram's axes show.
+_AXIS_LABELS = {"w": "pole displacement", "F": "point force"}
 #: Relative size (of ``max |F|`` on the path) below which a negative force counts as round-off.
 _F_ROUNDOFF = 1e-8
 
@@ -190,31 +195,6 @@ def _classification_line(c: dict[str, Any]) -> str:
             f"F_min = {fmt(c['F_min'])} at w = {fmt(c['w_at_F_min'])}; normalized F_max R/(2 pi D) = "
             f"{fmt(c['F_max_norm'])} at w/R = {fmt(c['w_at_F_max_over_R'])}, F_min R/(2 pi D) = "
             f"{fmt(c['F_min_norm'])} at w/R = {fmt(c['w_at_F_min_over_R'])})")
-
-
-def _table(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The printed special-point table, read from the records.
-
-    The shell's own layout (which quantity folds, the normalized observables, the stability under
-    the control in which the point is a limit point); :func:`contin.scene.special_point_table` has
-    the engine's columns instead.
-    """
-    word = {True: "stable", False: "unstable", None: "?"}
-    rows = []
-    for rec in records:
-        if rec["kind"] == "jump":
-            stab = word[rec.get("stable")] if "stable" in rec else ""
-            what = rec.get("label", "")
-        else:
-            b, a = rec.get("stable_before"), rec.get("stable_after")
-            stab = "" if b is None and a is None else f"{word[b]} -> {word[a]}"
-            if rec.get("stability_control"):
-                stab += f" ({rec['stability_control']})"
-            what = rec.get("label", "")
-        rows.append({"kind": rec["kind"], "folds_in": rec["parameter"], "label": what,
-                     "w": rec.get("w"), "F": rec.get("F"), "w/R": rec.get("w_over_R"),
-                     "F_norm": rec.get("F_norm"), "residual": rec.get("residual"), "stability": stab})
-    return rows
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -366,52 +346,21 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         summary["classification"] = None
         summary["classification_note"] = ("the classification is defined on the displacement-controlled path; "
                                           "'contin classify' traces it whatever load.control says")
+    # the diagram styles by the scene's control; an "F = 0" event is in the table, not on the figure
+    cls = summary.get("classification")
+    plot_options = {"axis_labels": _AXIS_LABELS, "zero_line": True, "special_kinds": ("fold",),
+                    "note": f"{cls}, stability under {summary['control']} control" if cls else ""}
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
-                         table=_table(records), csv_columns=branch_columns(branches, STABILITY_COLUMNS), x="w", y="F",
+                         table=special_point_table(records, branch_labels=labels if len(branches) > 1 else None,
+                                                   columns=_TABLE_COLUMNS),
+                         csv_columns=branch_columns(branches, STABILITY_COLUMNS), x="w", y="F",
                          parameter_name=generic.parameter_name, labels=labels,
-                         jump_observables=generic.jump_observables, failure=failure)
+                         jump_observables=generic.jump_observables, failure=failure,
+                         stability=summary["control"], plot_options=plot_options)
     if not scene["output"]["figure"]:
         result.plot = lambda ax: ax.text(0.5, 0.5, "figure disabled (output.figure = false)", ha="center",
                                          va="center", transform=ax.transAxes)
-    else:
-        result.plot = lambda ax: _plot(ax, result)
     return result
-
-
-def _plot(ax: Any, result: TraceResult) -> None:
-    """Force-displacement diagram: stable (under the scene's control) solid, unstable dashed.
-
-    Segment by segment (stable where both ends are), folds in ``w`` and limit points in ``F`` marked
-    apart: the look of the shell's figures, which :func:`contin.plot_branches` draws otherwise.
-    """
-    control = result.summary.get("control", "displacement")
-    for i, br in enumerate(result.branches):
-        if not len(br):
-            continue
-        w, F = br.observables["w"], br.observables["F"]
-        ok = br.stable_under(control) if br.stability_by else np.ones(len(br), bool)
-        color = f"C{i}"
-        for lo in range(len(br) - 1):
-            style = "-" if ok[lo] and ok[lo + 1] else "--"
-            ax.plot(w[lo:lo + 2], F[lo:lo + 2], style, color=color, lw=1.4 if style == "-" else 1.0)
-        ax.plot([], [], "-", color=color, label=(result.labels[i] if i < len(result.labels) else f"branch {i}"))
-    for rec in result.special_points:
-        if rec["kind"] == "fold":
-            marker = "o" if rec["parameter"] == "w" else "^"
-            ax.plot(rec["w"], rec["F"], marker, color="k", ms=5, mfc="none" if rec["parameter"] == "w" else "k")
-    for a, b in result.jump_observables:
-        if "w" in a and "w" in b:
-            ax.annotate("", xy=(b["w"], b["F"]), xytext=(a["w"], a["F"]),
-                        arrowprops={"arrowstyle": "->", "ls": ":", "color": "k"})
-    ax.plot([], [], "ko", mfc="none", ms=5, label="fold in w")
-    ax.plot([], [], "k^", ms=5, label="limit point in F")
-    ax.axhline(0.0, color="0.7", lw=0.6)
-    ax.set_xlabel("w (pole displacement)")
-    ax.set_ylabel("F (point force)")
-    ax.legend(fontsize="small")
-    cls = result.summary.get("classification")
-    if cls:
-        ax.text(0.02, 0.02, f"{cls}, stability under {control} control", transform=ax.transAxes, fontsize="small")
 
 
 #: Snaps a force-controlled trace may make before eversion.
