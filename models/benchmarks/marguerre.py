@@ -12,14 +12,17 @@ Theory (facts taken from the literature, written out here in our own notation):
   (upward) deflection.  With both ends pinned and held (``u = 0`` at ``x = 0, L``), the axial force is
   constant along the span and equal to ``EA / L * integral (w0' v' + v'^2 / 2) dx``.
 * Fung and Kaplan, NACA TN 2840 (1952), "Buckling of low arches or curved beams of small
-  curvature": expanding the deflection of the pinned low arch in ``sin(k pi x / L)`` (the buckling
-  modes of the pinned-pinned beam) turns the equilibrium into algebraic equations in the modal
-  amplitudes; on the symmetric path the antisymmetric modes are unloaded and the path bifurcates
-  where the compressive axial force reaches the Euler load of the second mode, ``4 pi^2 EI / L^2``,
-  or ends at a symmetric limit (snap-through) point, whichever comes first.
-* Bazant and Cedolin, "Stability of Structures" (1991), chapter 2 (and Simitses, "An Introduction
-  to the Elastic Stability of Structures", 1976, chapter on shallow arches): the same energy
-  formulation and the classification of the pinned shallow arch's behaviour by ``e / r``.
+  curvature": the treatment of the pinned low arch by a Fourier sine series of the deflection, which
+  turns the equilibrium into algebraic equations in the modal amplitudes, and the distinction
+  between a symmetric snap-through (limit point) and an asymmetric bifurcation.  That on the
+  symmetric path the antisymmetric modes are unloaded and the path bifurcates into mode 2 where the
+  compressive axial force reaches ``4 pi^2 EI / L^2`` follows from the equations below.
+* Bazant and Cedolin, "Stability of Structures" (1991), and Simitses, "An Introduction to the Elastic
+  Stability of Structures" (1976), their sections on shallow arches: the same energy formulation and
+  the classification of the pinned shallow arch's behaviour by the rise parameter ``e / r``.
+
+We cite these for the theory only; the formulas here are written out and derived for this module,
+and we did not have the texts at hand to compare numbers with their tables or figures.
 
 Energy (``v`` the upward deflection, the unknowns are its sine amplitudes ``a_k``, ``k = 1..K``):
 
@@ -42,10 +45,11 @@ Closed form for the half-sine arch ``w0 = e sin(pi x / L)`` truncated to modes 1
 from the equations above; ``eps = e / r``): the symmetric path bifurcates into mode 2 at
 ``Q_b = 2 eps + 6 sqrt(eps^2 - 16)`` (needs ``eps >= 4``) and has a limit point at
 ``Q_l = 2 eps + ((eps^2 - 4) / 3)^(3/2)`` (needs ``eps > 2``); the bifurcation comes first when
-``eps > sqrt(22)``.  The same numbers hold exactly for the half-sine arch under a *half-sine
-distributed* load (which excites mode 1 only), the case in which textbooks quote the criterion
-``e / r > sqrt(22)``; under the central point load modes 3, 5, ... are excited too, so the
-converged values (``K`` large) differ from them.  :func:`two_mode_half_sine` returns these numbers.
+``eps > sqrt(22)``.  The same equations (``Q`` then the generalized load on mode 1) hold exactly for
+the half-sine arch under a *half-sine distributed* load, which excites mode 1 only: the case for which the literature states the
+classification by ``e / r`` (we recall the criterion in this form but did not check it against the
+books); under the central point load modes 3, 5, ... are excited too, so the converged values
+(``K`` large) differ from them.  :func:`two_mode_half_sine` returns these numbers.
 """
 
 from __future__ import annotations
