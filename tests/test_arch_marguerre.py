@@ -84,6 +84,16 @@ def test_two_modes_reproduce_the_half_sine_closed_form(eps: float) -> None:
     assert (q["branch_point"] < q["fold"]) == (eps > closed["criterion"])
 
 
+def test_marguerre_branch_point_is_the_second_euler_load() -> None:
+    # on the symmetric path the antisymmetric mode 2 is unloaded: it bifurcates when the axial force
+    # (constant along the span of the pinned arch) reaches the Euler load of mode 2, -4 pi^2 EI / L^2
+    m = marguerre.MarguerreArch(K=17, rise=0.01, shape="circle")
+    br = continuation(m, np.zeros(m.K), 0.0, bounds={"deflection": (None, 0.9 * m.rise)})
+    bp = br.branch_points()[0]
+    N = m.EA / m.span * m._T(bp.u)
+    assert N == pytest.approx(-4 * np.pi ** 2 * m.EI / m.span ** 2, rel=1e-9)
+
+
 #: |Q(bars) / Q(Marguerre) - 1| allowed at n = 80, h / L = 0.01, h / r = 10.  Measured: -0.127 % for
 #: the branch point, -0.164 % for the fold (studies/arch_marguerre.py), of which the n^-2 mesh error
 #: is 0.076 % / 0.11 % (Richardson, successive differences shrinking by 4.00) and the shallow-arch
