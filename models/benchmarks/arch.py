@@ -27,6 +27,9 @@ dense check: at every located branch point the dense Hessian (from the energy's 
 sparse assembly) has an eigenvalue at roundoff level whose eigenvector is antisymmetric about the
 crown, and the located loads agree across arclength weights.  With ``n = 20`` and ``rise / r = 10``
 the symmetric path has four branch points (two before and two after its limit points).
+The loads themselves are compared with Marguerre's shallow-arch theory, solved in sine modes by
+:class:`contin_models.benchmarks.marguerre.MarguerreArch` (``studies/arch_marguerre.py``,
+``tests/test_arch_marguerre.py``); ``shape="sine"`` builds the half-sine arch of that literature.
 """
 
 from __future__ import annotations
@@ -52,22 +55,41 @@ class ShallowArch(Problem):
         Bending stiffness; each hinge spring is ``EI / l``.
     rise_over_gyration : float
         ``rise / r`` with ``r = sqrt(EI / EA)``: sets ``EA = EI (rise_over_gyration / rise)^2``.
+    shape : {"circle", "sine"}
+        ``circle`` (default): nodes at equal angles on the circular arc, all bars of one length.
+        ``sine``: nodes at equally spaced ``x_j`` with ``y_j = rise sin(pi x_j / span)`` (the half-sine
+        arch of the classical shallow-arch literature, see :mod:`contin_models.benchmarks.marguerre`);
+        its bars differ slightly in length, each axial spring is ``EA / l_i`` with its own rest length
+        and each hinge ``EI / l_k`` with ``l_k`` the mean of its two bars.
     """
 
     def __init__(self, n: int = 20, span: float = 1.0, rise: float = 0.05, EI: float = 1.0,
-                 rise_over_gyration: float = 10.0) -> None:
+                 rise_over_gyration: float = 10.0, shape: str = "circle") -> None:
         if int(n) != n or n < 4 or n % 2:
             raise ValueError(f"ShallowArch: n = {n!r} must be an even integer >= 4")
         if not (span > 0 and 0 < rise < 0.5 * span and EI > 0 and rise_over_gyration > 0):
             raise ValueError("ShallowArch: need span > 0, 0 < rise < span / 2, EI > 0, rise_over_gyration > 0")
         self.n, self.span, self.rise, self.EI = int(n), float(span), float(rise), float(EI)
         self.EA = self.EI * (rise_over_gyration / self.rise) ** 2
-        R = (0.25 * span ** 2 + rise ** 2) / (2 * rise)
-        half = np.arcsin(0.5 * span / R)
-        phi = np.linspace(-half, half, self.n + 1)
-        self.X0 = np.column_stack([R * np.sin(phi), R * np.cos(phi) - (R - rise)])
-        self.l = float(np.linalg.norm(self.X0[1] - self.X0[0]))
-        self.k_axial, self.k_hinge = self.EA / self.l, self.EI / self.l
+        self.shape = shape
+        if shape == "circle":
+            R = (0.25 * span ** 2 + rise ** 2) / (2 * rise)
+            half = np.arcsin(0.5 * span / R)
+            phi = np.linspace(-half, half, self.n + 1)
+            self.X0 = np.column_stack([R * np.sin(phi), R * np.cos(phi) - (R - rise)])
+            self.l = float(np.linalg.norm(self.X0[1] - self.X0[0]))
+            # one bar length: keep the springs scalar, so the circular arch is exactly what it was
+            self.rest = self.l
+            self.k_axial, self.k_hinge = self.EA / self.l, self.EI / self.l
+        elif shape == "sine":
+            x = np.linspace(-0.5 * span, 0.5 * span, self.n + 1)
+            self.X0 = np.column_stack([x, rise * np.cos(np.pi * x / span)])
+            self.rest = np.linalg.norm(np.diff(self.X0, axis=0), axis=1)
+            self.l = float(np.mean(self.rest))
+            self.k_axial = self.EA / self.rest
+            self.k_hinge = self.EI / (0.5 * (self.rest[:-1] + self.rest[1:]))
+        else:
+            raise ValueError(f"ShallowArch: shape {shape!r} is not 'circle' or 'sine'")
         self.beta = np.diff(self._angles(self.X0))
         self.crown = 2 * (self.n // 2 - 1) + 1  # index of the crown's u_y among the unknowns
         super().__init__(symmetric=True, name=f"shallow_arch(n={n})", parameter_name="P",
@@ -111,12 +133,12 @@ class ShallowArch(Problem):
     # ---- the interface ---------------------------------------------------------------------------
     def energy(self, u, P):
         _, length, _, _, rot = self._bars(u)
-        return float(0.5 * self.k_axial * np.sum((length - self.l) ** 2) + 0.5 * self.k_hinge * np.sum(rot ** 2)
+        return float(0.5 * np.sum(self.k_axial * (length - self.rest) ** 2) + 0.5 * np.sum(self.k_hinge * rot ** 2)
                      + P * u[self.crown])
 
     def _bar_gradients(self, d: np.ndarray, length: np.ndarray, m: np.ndarray):
         """Per bar: the derivative of the energy with respect to ``d_i`` (axial plus hinge parts)."""
-        axial = (self.k_axial * (length - self.l) / length)[:, None] * d
+        axial = (self.k_axial * (length - self.rest) / length)[:, None] * d
         g_theta = np.column_stack([-d[:, 1], d[:, 0]]) / (length ** 2)[:, None]
         # dE/dtheta_i = m_i - m_{i+1} (hinge i at the bar's start, hinge i + 1 at its end; none at supports)
         mm = np.concatenate([[0.0], m, [0.0]])
@@ -145,7 +167,8 @@ class ShallowArch(Problem):
         dx, dy, l2 = d[:, 0], d[:, 1], length ** 2
         # bar blocks in d: axial stiffness plus the hinge moments times the angle's Hessian
         nn = np.einsum("ia,ib->iab", d, d) / l2[:, None, None]
-        H = self.k_axial * (nn + ((length - self.l) / length)[:, None, None] * (np.eye(2) - nn))
+        k_axial = np.broadcast_to(self.k_axial, (n,))[:, None, None]
+        H = k_axial * (nn + ((length - self.rest) / length)[:, None, None] * (np.eye(2) - nn))
         H_theta = np.empty((n, 2, 2))
         H_theta[:, 0, 0] = 2 * dx * dy
         H_theta[:, 1, 1] = -2 * dx * dy
@@ -157,7 +180,7 @@ class ShallowArch(Problem):
         # hinge blocks: k_s G G^T with G the gradient of the hinge rotation on nodes k-1, k, k+1
         gl, gr = g_theta[:-1], g_theta[1:]
         G = np.concatenate([gl, -gl - gr, gr], axis=1)
-        hinge = self.k_hinge * np.einsum("ia,ib->iab", G, G)
+        hinge = np.broadcast_to(self.k_hinge, (n - 1,))[:, None, None] * np.einsum("ia,ib->iab", G, G)
         hinge_dofs = 2 * np.arange(n - 1)[:, None] + np.arange(6)[None, :]
         rows = np.concatenate([np.repeat(bar_dofs, 4, axis=1).ravel(), np.repeat(hinge_dofs, 6, axis=1).ravel()])
         cols = np.concatenate([np.tile(bar_dofs, (1, 4)).ravel(), np.tile(hinge_dofs, (1, 6)).ravel()])
