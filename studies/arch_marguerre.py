@@ -31,37 +31,19 @@ import os
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-import importlib.util  # noqa: E402
 import sys  # noqa: E402
 from collections.abc import Sequence  # noqa: E402
-from pathlib import Path  # noqa: E402
-from types import ModuleType  # noqa: E402
 from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
+from contin_models.benchmarks import arch as arch_model  # noqa: E402
+from contin_models.benchmarks import marguerre  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
                              write_csv, write_json)
 
 
-def _model(name: str) -> ModuleType:
-    """``contin_models.benchmarks.<name>`` from this checkout's source tree.
-
-    An editable install of ``contin_models`` from another checkout (a git worktree shares one) would
-    otherwise give that checkout's models, without the Marguerre model or the half-sine arch.
-    """
-    path = Path(__file__).resolve().parents[1] / "models" / "benchmarks" / f"{name}.py"
-    if not path.exists():
-        return importlib.import_module(f"contin_models.benchmarks.{name}")
-    spec = importlib.util.spec_from_file_location(f"_study_{name}", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-marguerre = _model("marguerre")
-arch_model = _model("arch")
 
 #: sine modes of the Marguerre reference values (converged to 6 digits, see the K table)
 K_REF = 33

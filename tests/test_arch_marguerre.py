@@ -8,9 +8,6 @@ it at a shallow case, within a tolerance measured with ``python -m studies.arch_
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-from types import ModuleType
 
 import numpy as np
 import pytest
@@ -18,17 +15,7 @@ import pytest
 from contin import continuation
 
 
-def _model(name: str) -> ModuleType:
-    """This checkout's ``models/benchmarks/<name>.py`` (an editable install may point at another checkout)."""
-    spec = importlib.util.spec_from_file_location(
-        f"_test_{name}", Path(__file__).resolve().parents[1] / "models" / "benchmarks" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-marguerre = _model("marguerre")
-arch = _model("arch")
+from contin_models.benchmarks import arch, marguerre  # noqa: E402
 
 
 def first_loads(problem, n_unknowns: int, unit: float, rise: float) -> dict[str, float]:

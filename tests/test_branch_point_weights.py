@@ -13,19 +13,7 @@ from scipy.special import ellipk
 from contin import Problem, continuation, switch_branch
 from contin_models.benchmarks.elastica import EulerColumn
 
-try:
-    from contin_models.benchmarks.arch import ShallowArch
-except ImportError:
-    # an editable install of contin_models from another checkout (a git worktree shares one) does not
-    # have this checkout's new model yet: load it from the source tree next to these tests
-    import importlib.util
-    from pathlib import Path
-
-    _spec = importlib.util.spec_from_file_location(
-        "_arch_model", Path(__file__).resolve().parents[1] / "models" / "benchmarks" / "arch.py")
-    _arch = importlib.util.module_from_spec(_spec)
-    _spec.loader.exec_module(_arch)
-    ShallowArch = _arch.ShallowArch
+from contin_models.benchmarks.arch import ShallowArch
 
 #: weight settings of the arclength norm
 WEIGHTS = {
