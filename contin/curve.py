@@ -173,9 +173,14 @@ class Curve:
     def calibrate(self, u: np.ndarray, p: float) -> tuple[float, float]:
         """Set the open weights and residual scale from the start point's scales; return ``(U, P)``.
 
-        Costs one linearization.  The residual scale ``||J||_inf U + ||df/dp||_inf P`` is the size
-        of the terms ``J u`` and ``df/dp p`` that cancel in the residual; it is kept on the problem
-        (:meth:`Problem.calibrate_residual_scale`) so that fold location and jumps use the same one.
+        Costs one linearization.  The residual scale is the size of the terms that cancel in the
+        residual as the path moves: ``||df/dp||_inf P``, the load of the parameter's own scale, which
+        the change of the internal terms along the tangent balances (``J du/dp = -df/dp``); when
+        the parameter does not act at the start (``df/dp = 0``) it is ``||J||_inf U``.  The norm of
+        the whole Jacobian would overstate it wherever stiff directions take no part in the motion
+        (a shallow frame of bars, whose axial stiffness is a million times its snap stiffness).  The scale is kept
+        on the problem (:meth:`Problem.calibrate_residual_scale`) so that fold location and jumps
+        use the same one.
         """
         J, fp, F = self.linearize(u, p)
         U, P = start_scales(u, p, fp, F)
@@ -186,7 +191,7 @@ class Curve:
             self.param_weight = 1.0 / P
         calibrate = getattr(self.problem, "calibrate_residual_scale", None)
         if calibrate is not None:
-            scale = _matrix_max_row_sum(J) * U + max_abs(fp) * P
+            scale = max_abs(fp) * P or _matrix_max_row_sum(J) * U
             if math.isfinite(scale) and scale > 0:
                 calibrate(scale)
         self.tol = st.tol * getattr(self.problem, "residual_scale", 1.0)

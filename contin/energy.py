@@ -146,7 +146,7 @@ class EnergyProblem(Problem):
                  observables: Mapping[str, Callable[[Array, float], float]] | None = None,
                  observable_derivatives: Mapping[str, Callable[[Array, float], tuple[Array, float]]] | None = None,
                  stability_operators: Mapping[str, Any] | None = None, name: str = "energy_problem",
-                 parameter_name: str = "p", residual_scale: float = 1.0) -> None:
+                 parameter_name: str = "p", residual_scale: float | None = None) -> None:
         super().__init__(observables=observables, observable_derivatives=observable_derivatives, symmetric=True,
                          stability_operators=stability_operators, name=name, parameter_name=parameter_name,
                          residual_scale=residual_scale)
@@ -352,7 +352,7 @@ class GradientProblem(Problem):
                  pattern: Any = None, *, dgradient_dp: Callable[[Array, float], Array] | None = None,
                  observables: Mapping[str, Callable[[Array, float], float]] | None = None,
                  observable_derivatives: Mapping[str, Callable[[Array, float], tuple[Array, float]]] | None = None,
-                 name: str = "gradient_problem", parameter_name: str = "p", residual_scale: float = 1.0) -> None:
+                 name: str = "gradient_problem", parameter_name: str = "p", residual_scale: float | None = None) -> None:
         super().__init__(energy=energy, dresidual_dp=dgradient_dp, observables=observables,
                          observable_derivatives=observable_derivatives, symmetric=True, name=name,
                          parameter_name=parameter_name, residual_scale=residual_scale)

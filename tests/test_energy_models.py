@@ -189,17 +189,28 @@ def test_column_groups_are_structurally_orthogonal() -> None:
 
 
 # ---- the two-bar truss, energy first -------------------------------------------------------------------------
-@pytest.mark.parametrize("rise", [0.1, 1e-3])
+@pytest.mark.parametrize("rise", [0.1, 1e-2, 1e-3])
 def test_truss_limit_loads_match_the_closed_form(rise: float) -> None:
+    """Default settings at every rise: the steps, weights and tolerance come from the start point."""
     span, EA = 1.0, 1.0
     truss = example.truss(kernels, span, rise, EA)
     exact = example.limit_load(span, rise, EA)
-    # default steps at h/s = 0.1; a shallower truss needs steps in units of the rise (the default
-    # ds = 0.02 steps over both folds at h/s <= 0.01: the defaults are not yet scale-free)
-    scaled = {} if rise >= 0.1 else {"ds": 0.1 * rise, "ds_max": rise, "ds_min": 1e-6 * rise}
-    branch = contin.continuation(truss, [0.0, rise], 0.0, p_max=3 * exact, p_min=-3 * exact, **scaled)
+    branch = contin.continuation(truss, [0.0, rise], 0.0, p_max=3 * exact, p_min=-3 * exact)
     folds = [s.p for s in branch.special_points if s.kind == "fold"]
     assert len(folds) == 2
     assert folds[0] == pytest.approx(exact, rel=1e-8) and folds[1] == pytest.approx(-exact, rel=1e-8)
     # the shallow-truss asymptote 2 / (3 sqrt 3) EA (h/s)^3 is approached (to O((h/s)^2))
     assert exact == pytest.approx(2 / (3 * math.sqrt(3)) * EA * (rise / span) ** 3, rel=2 * (rise / span) ** 2)
+
+
+@pytest.mark.parametrize("rise", [0.1, 1e-2, 1e-3])
+def test_truss_snaps_onto_the_inverted_truss(rise: float) -> None:
+    """Loaded past its limit load with default settings, the truss snaps at it and lands at y/h -> -2/sqrt 3
+    (the inverted state at the same load: exact as h/s -> 0)."""
+    span, EA = 1.0, 1.0
+    truss = example.truss(kernels, span, rise, EA)
+    exact = example.limit_load(span, rise, EA)
+    res = contin.quasistatic(truss, [0.0, rise], 0.0, 2 * exact)
+    assert res.status == "completed" and len(res.jumps) == 1
+    assert res.folds[0].p == pytest.approx(exact, rel=1e-8)
+    assert res.jumps[0].u_to[1] / rise == pytest.approx(-2 / math.sqrt(3), rel=2 * (rise / span) ** 2)
