@@ -18,8 +18,10 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import argparse  # noqa: E402
 import json  # noqa: E402
 import statistics  # noqa: E402
+import shutil  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
+import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from studies._common import run_study  # noqa: E402
@@ -47,10 +49,27 @@ print(json.dumps({"wall": wall, "cpu": cpu, "n_steps": sum(max(len(b.p) - 1, 0) 
 """
 
 
-def one_run(tree: Path) -> dict:
+def _import_path(tree: Path, shims: Path) -> str:
+    """``PYTHONPATH`` that imports ``tree``'s own engine and models.
+
+    The installed project maps the import name ``contin_models`` to one checkout's ``models``
+    folder; a shim directory holding ``contin_models`` as a link to ``tree/models`` comes first so
+    that the other checkout's models are found instead.
+    """
+    shim = shims / str(abs(hash(str(tree))))
+    shim.mkdir(exist_ok=True)
+    link = shim / "contin_models"
+    if not link.exists() and (tree / "models").is_dir():
+        link.symlink_to(tree / "models", target_is_directory=True)
+    return os.pathsep.join([str(shim), str(tree)])
+
+
+def one_run(tree: Path, shims: Path) -> dict:
     """Trace the default scene once in a fresh process importing ``tree``; its times and work."""
-    env = dict(os.environ, PYTHONPATH=str(tree))
-    out = subprocess.run([sys.executable, "-c", CHILD], cwd="/", env=env, capture_output=True, text=True, check=True)
+    env = dict(os.environ, PYTHONPATH=_import_path(tree, shims))
+    out = subprocess.run([sys.executable, "-c", CHILD], cwd="/", env=env, capture_output=True, text=True)
+    if out.returncode:
+        raise RuntimeError(f"the default trace of {tree} failed:\n{out.stderr.strip()}")
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -61,11 +80,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=7, help="repetitions per tree (default 7)")
     args = parser.parse_args(argv)
     runs: dict[str, list[dict]] = {"this": [], "baseline": []}
-    for i in range(args.repeat):
-        for label, tree in (("this", ROOT), ("baseline", args.baseline.resolve())):
-            runs[label].append(one_run(tree))
-        print(f"[{i + 1}/{args.repeat}] this {runs['this'][-1]['wall']:.3f} s, "
-              f"baseline {runs['baseline'][-1]['wall']:.3f} s", file=sys.stderr)
+    shims = Path(tempfile.mkdtemp(prefix="contin_bench_"))
+    try:
+        for i in range(args.repeat):
+            for label, tree in (("this", ROOT), ("baseline", args.baseline.resolve())):
+                runs[label].append(one_run(tree, shims))
+            print(f"[{i + 1}/{args.repeat}] this {runs['this'][-1]['wall']:.3f} s, "
+                  f"baseline {runs['baseline'][-1]['wall']:.3f} s", file=sys.stderr)
+    finally:
+        shutil.rmtree(shims, ignore_errors=True)
     med = {label: {k: statistics.median(r[k] for r in rs) for k in ("wall", "cpu")} for label, rs in runs.items()}
     for label, rs in runs.items():
         print(f"{label:9s} median wall {med[label]['wall']:.3f} s, cpu {med[label]['cpu']:.3f} s; "
