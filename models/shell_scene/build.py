@@ -17,6 +17,7 @@ are the pieces :func:`build` is made of, for callers that want one of them alone
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,7 +33,7 @@ from contin.quasistatic import SnapRules
 from .schema import Scene, eversion_displacement
 
 __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path", "point_problem",
-           "point_settings", "force_snap_rules", "MIN_STEPS_PER_PATH", "FORCE_JUMP_ATTEMPTS"]
+           "point_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH", "FORCE_JUMP_ATTEMPTS"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
 #: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
@@ -46,20 +47,28 @@ MIN_STEPS_PER_PATH = 20
 FORCE_JUMP_ATTEMPTS = ((1e-6, 1e-4), (1e-4, None), (1e-4, 1e-4))
 
 
-def force_snap_rules(problem: Problem, pole: str, R: float) -> SnapRules:
-    """How a force-controlled shell leaves a limit load (for :func:`contin.quasistatic`).
+def pole_moved(problem: Problem, pole: str, R: float) -> Callable[[np.ndarray, float, np.ndarray, float], float]:
+    """How far a snap moved the pole, in units of ``R``: the landing distance of :class:`SnapRules`.
 
-    The attempts are :data:`FORCE_JUMP_ATTEMPTS` with the kick measured in units of ``R``; a landing
-    is a snap when the observable ``pole`` (the pole's displacement) has moved by more than 1e-3 R.
-    Both measures are lengths of the shell, so a scene snaps alike in any units.  The jump stays at
-    the load it was minimised at: the snap's ``jump_from`` and ``jump_to`` records are stated there.
+    ``pole`` names the observable of the pole's displacement.  A length of the shell, so that a scene
+    snaps alike in any units (the state vector's own numbers are metres or millimetres).
     """
-    def pole_moved(u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
+    def moved(u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
         observe = problem.observables[pole]
         return abs(float(observe(u_to, p_to)) - float(observe(u_fold, p_fold))) / R
 
+    return moved
+
+
+def force_snap_rules(problem: Problem, pole: str, R: float) -> SnapRules:
+    """How the force-controlled point load leaves a limit load (for :func:`contin.quasistatic`).
+
+    The attempts are :data:`FORCE_JUMP_ATTEMPTS` with the kick measured in units of ``R``; a landing
+    is a snap when the pole has moved by more than 1e-3 R (:func:`pole_moved`).  The jump stays at
+    the load it was minimised at: the snap's ``jump_from`` and ``jump_to`` records are stated there.
+    """
     return SnapRules(attempts=FORCE_JUMP_ATTEMPTS, overshoot_unit="fold", perturbation_unit=R,
-                     separation=pole_moved, min_separation=1e-3, restate=False)
+                     separation=pole_moved(problem, pole, R), min_separation=1e-3, restate=False)
 
 
 @dataclass

@@ -50,7 +50,7 @@ from contin_models.contact.indentation import ShellIndentation, ShellIndentation
 from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning
 
-from .build import contact_problem, force_snap_rules
+from .build import contact_problem, pole_moved
 from .schema import STABILITY_COLUMNS, Scene
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
@@ -83,11 +83,16 @@ def snap_rules(problem: ShellIndentation) -> SnapRules:
     ``eps w_b``) ends the attempts: larger ones only go further.  The landing is stated at the
     snap's own travel (the detached landing does not depend on ``w_b``).
     """
-    def pole_moved(u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
-        return abs(problem.evaluate_one("w_s", u_to, p_to) - problem.evaluate_one("w_s", u_fold, p_fold)) / problem.R
-
     return SnapRules(attempts=tuple((eps, None) for eps in _OVERSHOOTS), overshoot_unit="fold",
-                     perturbation_unit=problem.R, separation=pole_moved, min_separation=1e-3, give_up_on=(contin.NonFiniteError,))
+                     perturbation_unit=problem.R, separation=pole_moved(problem, "w_s", problem.R), min_separation=1e-3, give_up_on=(contin.NonFiniteError,))
+
+
+def force_snap_rules(forced: ShellIndentationForce, R: float) -> SnapRules:
+    """How a force-controlled indentation leaves a limit load: the engine's attempts and overshoot,
+    the landing restated at the limit load, with the kicks in units of R and the landing measured by
+    the pole's movement over R (:func:`contin_models.shell_scene.build.pole_moved`), so that a scene
+    snaps alike in any units."""
+    return SnapRules(perturbation_unit=R, separation=pole_moved(forced, "w_s", R), min_separation=1e-3)
 
 
 def snap_event() -> contin.Event:
@@ -144,7 +149,7 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
     # the load is measured in ten force units per unit of travel in the arclength, as for the point load;
     # the target load is never reached: the travel bounds end the sweep
     qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=MAX_SNAPS,
-                            param_weight=1.0 / (10.0 * f_unit), snap=force_snap_rules(forced, "w_s", problem.R),
+                            param_weight=1.0 / (10.0 * f_unit), snap=force_snap_rules(forced, problem.R),
                             bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
     failure = "" if qs.status in ("completed", "stopped") and all(
         br.status in ("bound", "event") for br in qs.branches) else qs.message
