@@ -78,13 +78,14 @@ def snap_rules(problem: ShellIndentation) -> SnapRules:
     """How a displacement-controlled indentation leaves its snap (for :func:`contin.quasistatic`).
 
     The jump minimises at a travel ``w_b (1 + eps)`` for each ``eps`` of ``_OVERSHOOTS`` with the
-    engine's default kicks in units of R; a landing is a snap when the pole has moved by more than 1e-3 R.  An
-    overshoot that pushes the indenter through a node (a short-range barrier leaves less room than
-    ``eps w_b``) ends the attempts: larger ones only go further.  The landing is stated at the
+    engine's default kicks in units of R; a landing is a snap when the pole has moved by more than
+    1e-3 R.  An overshoot that pushes the indenter through a node (a short-range barrier leaves less
+    room than ``eps w_b``) ends the attempts: larger ones only go further.  The landing is stated at the
     snap's own travel (the detached landing does not depend on ``w_b``).
     """
     return SnapRules(attempts=tuple((eps, None) for eps in _OVERSHOOTS), overshoot_unit="fold",
-                     perturbation_unit=problem.R, separation=pole_moved(problem, "w_s", problem.R), min_separation=1e-3, give_up_on=(contin.NonFiniteError,))
+                     perturbation_unit=problem.R, separation=pole_moved(problem, "w_s", problem.R),
+                     min_separation=1e-3, give_up_on=(contin.NonFiniteError,))
 
 
 def force_snap_rules(forced: ShellIndentationForce, R: float) -> SnapRules:
