@@ -79,8 +79,8 @@ def test_cap_volume_converges_at_second_order(pole_ratio: float) -> None:
     # observed order in the number of edges N - 1 (the spacing is proportional to 1 / (N - 1))
     edges = np.array(Ns) - 1.0
     order = np.log(err[:-1] / err[1:]) / np.log(edges[1:] / edges[:-1])
-    assert np.all(np.abs(order - 2.0) < 0.1), order
-    assert abs(order[-1] - 2.0) < 0.02, order
+    # measured: 1.9998 .. 2.0000 (uniform), 1.9993 .. 2.0000 (graded)
+    assert np.all(np.abs(order - 2.0) < 0.005), order
     assert err[-1] / exact < 1e-4
 
 
