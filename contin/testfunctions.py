@@ -238,6 +238,7 @@ class BranchPointTest(TestFunction):
                 info["method"] = "root of the Hessian's bordered test function"
                 bp = SpecialPoint("branch_point", p, u, {}, residual=res, located=True, info=info)
                 bp.info.update(hess.directions(u, p))
+                _reject_a_fold(curve.problem, bp)
         else:
             psi = _BorderedBranchTest(seg)
             psi_A, psi_B = psi(0.0), psi(seg.sigma_B)
@@ -321,6 +322,31 @@ class KnownBranchPoints:
             if curve.norm(u - A.u - t * chord_u, p - A.p - t * chord_p) <= 0.1 * math.sqrt(length2):
                 return label, u, p
         return None
+
+
+#: At a branch point ``df/dp`` lies in the range of ``J``, i.e. is orthogonal to its null vector; a
+#: root of the Hessian's test function where the cosine of their angle exceeds this is a fold.
+FOLD_COSINE = 1e-6
+
+
+def _reject_a_fold(problem: Any, bp: SpecialPoint) -> None:
+    """Mark ``bp`` unlocated when its null vector is not orthogonal to ``df/dp`` (it is a fold).
+
+    The detection (the determinant sign of the bordered Jacobian) does not change at a fold, but a
+    step that ends on the fold itself, where that sign is decided by roundoff, can trigger it, and
+    the Hessian's eigenvalue does cross zero there.
+    """
+    phi = bp.info.get("null_vector")
+    if phi is None:
+        return
+    fp = np.asarray(problem.dresidual_dp(bp.u, bp.p), dtype=float)
+    norm = float(np.linalg.norm(fp)) * float(np.linalg.norm(phi))
+    cosine = abs(float(np.dot(fp, phi))) / norm if norm > 0 else 0.0
+    bp.info["null_vector_cosine_to_dfdp"] = cosine
+    if cosine > FOLD_COSINE:
+        bp.located = False
+        bp.info["error"] = (f"the test function's root is a fold, not a branch point: df/dp is not orthogonal "
+                            f"to the null vector (cosine {cosine:.1e} > {FOLD_COSINE:g})")
 
 
 class _HessianBranchTest:

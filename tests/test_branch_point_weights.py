@@ -178,3 +178,14 @@ def test_arch_switched_branch_closes_its_loop():
     # it went round: through both asymmetric halves (opposite signs of the antisymmetric part)
     asym = loop.observables["asymmetry"]
     assert asym.max() > 1e-3 and asym.min() < -1e-3
+
+
+def test_a_root_of_the_hessian_test_at_a_fold_is_not_a_branch_point():
+    """The arch's first limit load under a load-dominated norm (state_weight 1e-3): the run ends on the
+    fold, the determinant sign flips there by roundoff, and the Hessian's eigenvalue does cross zero;
+    with df/dp far from orthogonal to the null vector it is reported unlocated, not as a branch point."""
+    arch = ShallowArch()
+    br = continuation(arch, np.zeros(2 * (arch.n - 1)), 0.0, p_max=20.0, p_min=-20.0, state_weight=1e-3)
+    at_fold = [s for s in br.branch_points() if abs(s.p - 9.3610946) < 1e-5]
+    assert at_fold and not at_fold[0].located and "fold" in at_fold[0].info["error"]
+    assert all(s.info["null_vector_cosine_to_dfdp"] < 1e-6 for s in br.branch_points() if s.located)
