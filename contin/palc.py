@@ -118,13 +118,19 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
     values = [test.value(current) for test in tests]
     previous: Point | None = None
     steps = 0
+    crossed: list[tuple[np.ndarray, float]] = []  # folds crossed by _turn_at_fold (each once)
+
     while steps < st.max_steps:
         try:
             new, contraction, cos_turn = _step(curve, previous, current, control.ds)
         except STEP_FAILURES as exc:
             if control.reject(exc):
                 continue
-            return "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
+            turned = _turn_at_fold(curve, current, crossed)
+            if turned is None:
+                return "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
+            new, contraction, cos_turn = turned, None, 1.0
+            control.ds = max(control.ds, curve.norm(new.u - current.u, new.p - current.p))
         skipped = _skipped_folds(recorder, current, new) if control.retries < MAX_SKIP_RETRIES else ""
         if skipped and control.reject(skipped):
             continue
@@ -141,6 +147,54 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
     # the step budget ran out before the path's end, a bound or a stopping event: not a success
     return "max_steps", (f"reached max_steps = {st.max_steps} at {curve.problem.parameter_name} = {current.p:.8g} "
                          "before any bound or stopping event")
+
+
+def _same_point(u: np.ndarray, p: float, v: np.ndarray, q: float, rtol: float = 1e-6) -> bool:
+    scale = max(float(np.max(np.abs(v), initial=0.0)), 1e-300)
+    return abs(p - q) <= rtol * max(abs(q), 1e-300) and float(np.max(np.abs(u - v), initial=0.0)) <= rtol * scale
+
+
+def _turn_at_fold(curve: Curve, current: Point, crossed: list[tuple[np.ndarray, float]]) -> Point | None:
+    """A point past a fold that the arclength steps cannot turn, or None.
+
+    In a metric that weights the parameter far above the state (or a fold far sharper than the
+    step-size floor), the curve turns at a fold within less than ``ds_min``: every hyperplane step
+    from the near side misses it, and the step collapses.  At the fold itself the tangent is the
+    Jacobian's null vector ``(phi, 0)``, and near the fold the curve is a graph over ``phi``, so a
+    step from the located fold along ``(phi, 0)`` (oriented as the path was going) lands on the far
+    side for any step length up to the fold's own scale (the near side's tangent is that null vector
+    to first order).  The fold is then found and located on the segment as usual.
+    """
+    try:
+        fold = locate_fold(curve.problem, current.u, current.p, v0=current.t_u, tol=curve.settings.tol)
+    except STEP_FAILURES:
+        return None
+    # a fold crossed once is not crossed again: from its far side the turn would go back
+    if not fold.located or any(_same_point(fold.u, fold.p, u, p) for u, p in crossed):
+        return None
+    crossed.append((np.asarray(fold.u, dtype=float), float(fold.p)))
+    # next to the fold the tangent's state part is the null vector to first order in the distance,
+    # which is all the hyperplane's normal needs (the curve is a graph over any direction close to it);
+    # the step is measured in the state alone (a metric in which the fold is not a corner), and
+    # its length is a fraction of the state's size along that direction
+    phi = np.asarray(current.t_u, dtype=float)
+    size = float(np.sqrt(np.mean(phi * phi)))
+    if not size > 0.0:
+        return None
+    phi = phi / size
+    flat = Curve(curve.problem, replace(curve.settings, state_weight=1.0, param_weight=1.0))
+    origin = Point(np.asarray(fold.u, dtype=float), float(fold.p), phi, 0.0, fold.residual, 0)
+    step = 1e-3 * max(float(np.sqrt(np.mean(origin.u * origin.u))), 1e-300)
+    for _ in range(12):
+        try:
+            c = correct(flat, origin, step, start=(origin.u + step * phi, origin.p))
+            t_u, t_p, det_sign = curve.tangent(c.u, c.p, phi, 0.0, lin=c.linearization)
+        except STEP_FAILURES:
+            step *= 0.5
+            continue
+        return Point(c.u, c.p, t_u, t_p, c.residual, c.iterations, det_sign,
+                     current.s + curve.norm(c.u - current.u, c.p - current.p))
+    return None
 
 
 def _skipped_folds(recorder: Recorder, current: Point, new: Point) -> str:

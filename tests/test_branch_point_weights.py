@@ -138,6 +138,16 @@ def test_arch_four_branch_points_located_with_unit_and_scaled_weights(arch_unit)
     _, other = arch_branch(param_weight=1e-3)
     loads = [bp.p for bp in other.branch_points()]
     np.testing.assert_allclose(loads, [bp.p for bp in bps], rtol=1e-8)
+    # so must a load-dominated one (steps scaled with the weight), in which every fold of the path is
+    # sharper than the smallest step and is crossed from the located fold along its null vector
+    _, loaded = arch_branch(**scaled("param_1e3", 0.1, 1.0))
+    assert loaded.status == "bound"
+    located = [bp.p for bp in loaded.branch_points() if bp.located]
+    np.testing.assert_allclose(located, [bp.p for bp in bps], rtol=1e-8)
+    # every limit load of the unit-weight run is found (this run also resolves the close pair at
+    # P = 12.73, 7.74 that the unit run's steps of 0.5 pass over)
+    loaded_folds = np.array([f.p for f in loaded.folds()])
+    assert all(np.min(np.abs(loaded_folds - f.p)) <= 1e-8 * abs(f.p) for f in br.folds())
 
 
 @pytest.mark.slow
