@@ -125,7 +125,8 @@ def plot(rows: Sequence[dict[str, Any]], sizes: Sequence[int]) -> Any:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Command line: see the module docstring."""
-    args = study_parser("classical", "clamped caps under pressure: axisymmetric snap against Budiansky").parse_args(argv)
+    parser = study_parser("classical", "clamped caps under pressure: axisymmetric snap against Budiansky")
+    args = parser.parse_args(argv)
     out = output_dir(args.out)
     sizes = (50, 100, 200, 400) if args.full else (50, 100, 200)
     rows = []

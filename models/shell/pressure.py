@@ -219,7 +219,8 @@ class ShellPressure(Problem):
         self._cache: list[tuple[np.ndarray, float, sp.csr_matrix]] = []
 
         scale = shell_residual_scale(self.E, self.h, self.R, self._sub(self._structure_hessian(self.cap.x)))
-        observables = {"p": lambda u, p: float(p), "w": self._obs_w, "w_over_h": lambda u, p: self._obs_w(u, p) / self.h,
+        observables = {"p": lambda u, p: float(p), "w": self._obs_w,
+                       "w_over_h": lambda u, p: self._obs_w(u, p) / self.h,
                        "p_over_p_c": lambda u, p: float(p) / self.p_c, "V": self._obs_V}
         derivatives = {"p": lambda u, p: (np.zeros(self.n), 1.0), "w": self._dobs_w,
                        "w_over_h": lambda u, p: (self._dobs_w(u, p)[0] / self.h, 0.0),
