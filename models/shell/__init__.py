@@ -7,7 +7,8 @@ here).
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
 from .geometry import ReferenceCap, interleave, spherical_cap, split
+from .pressure import ShellPressure
 from .problem import PoleMirror, ShellPointLoad
 
-__all__ = ["HALF_BANDWIDTH", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "interleave",
+__all__ = ["HALF_BANDWIDTH", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "ShellPressure", "interleave",
            "spherical_cap", "split"]

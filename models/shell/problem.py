@@ -79,13 +79,22 @@ from contin.problem import LeadingBlock, Problem
 from .energy import HALF_BANDWIDTH, ShellEnergy
 from .geometry import POLE_RATIO, spherical_cap
 
-__all__ = ["ShellPointLoad", "PoleMirror", "ROUNDOFF_MARGIN"]
+__all__ = ["ShellPointLoad", "PoleMirror", "ROUNDOFF_MARGIN", "SubMatrix", "csr_slots", "shell_residual_scale"]
 
 #: States whose Hessians :class:`ShellPointLoad` keeps (see ``_hessian``).
 _HESSIAN_CACHE_SIZE = 3
 
 ROUNDOFF_MARGIN = 1e-5
 """Residual scale factor on ``||H_ref||_inf R`` (see :class:`ShellPointLoad`)."""
+
+
+def shell_residual_scale(E: float, h: float, R: float, H: sp.csr_matrix) -> float:
+    """``max(E h R, ROUNDOFF_MARGIN ||H||_inf R)`` for a shell Hessian ``H`` on the unknowns.
+
+    The residual scale of every shell problem (see the Notes of :class:`ShellPointLoad` for why).
+    """
+    H_inf = float(np.max(np.abs(H).sum(axis=1)))
+    return max(E * h * R, ROUNDOFF_MARGIN * H_inf * R)
 
 
 def _scaled(derivative: tuple[np.ndarray, float], factor: float) -> tuple[np.ndarray, float]:
@@ -168,7 +177,7 @@ class PoleMirror:
         return T.T @ g_ab, T.T @ H_ab @ T
 
 
-def _csr_slots(A: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+def csr_slots(A: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
     """Positions in ``A.data`` of the entries ``(rows[k], cols[k])`` (which must be stored)."""
     out = np.empty(len(rows), dtype=np.int64)
     for k, (i, j) in enumerate(zip(rows, cols)):
@@ -180,7 +189,7 @@ def _csr_slots(A: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarr
     return out
 
 
-class _SubMatrix:
+class SubMatrix:
     """Fast extraction of a principal submatrix ``H[idx][:, idx]`` for a fixed CSR pattern."""
 
     def __init__(self, pattern: sp.csr_matrix, idx: np.ndarray) -> None:
@@ -263,8 +272,8 @@ class ShellPointLoad(Problem):
         self.idx = self.idx_displacement
 
         H0 = self.shell.hessian(self.cap.x)
-        self._sub = {"displacement": _SubMatrix(H0, self.idx_displacement),
-                     "force": _SubMatrix(H0, self.idx_force)}
+        self._sub = {"displacement": SubMatrix(H0, self.idx_displacement),
+                     "force": SubMatrix(H0, self.idx_force)}
 
         if pole == "mirror":
             a_bar = float(self.cap.r[-2])
@@ -274,7 +283,7 @@ class ShellPointLoad(Problem):
             loc = np.array([n - 4, n - 3, n - 1])
             self._pole_dofs = loc
             rr, cc = np.meshgrid(loc, loc, indexing="ij")
-            self._pole_slots = _csr_slots(H0, rr.ravel(), cc.ravel())
+            self._pole_slots = csr_slots(H0, rr.ravel(), cc.ravel())
         else:
             self._pole = None
 
@@ -295,9 +304,9 @@ class ShellPointLoad(Problem):
 
     def _residual_scale(self, control: str) -> float:
         """``max(E h R, ROUNDOFF_MARGIN ||H_ref||_inf R)`` on the unknowns of ``control`` (class Notes)."""
-        H_inf = float(np.max(np.abs(self._sub[control](self._hessian(self.cap.x))).sum(axis=1)))
-        self.hessian_norm = H_inf
-        return max(self.E * self.h * self.R, ROUNDOFF_MARGIN * H_inf * self.R)
+        H = self._sub[control](self._hessian(self.cap.x))
+        self.hessian_norm = float(np.max(np.abs(H).sum(axis=1)))
+        return shell_residual_scale(self.E, self.h, self.R, H)
 
     def _load_by_force(self, twin: "ShellPointLoad") -> None:
         """Become the dead load ``F`` at the pole: :class:`contin.deadload.DeadLoad` of ``twin``.
