@@ -33,7 +33,7 @@ lengths).  The length ``L = l/2`` is the reference one (the generated ``"bend"``
 current-length kernel would average the first edge with the ghost edge; the base node is fixed, so
 the two lengths differ only by the first edge's membrane strain.
 
-The other choice named in the brief, a fixed ghost on the sphere continued beyond the edge (the
+The other natural choice, a fixed ghost on the sphere continued beyond the edge (the
 reflection of node 1 about the edge in the reference angle) with the interior element's full
 Voronoi length ``l``, measures half the curvature change: with the ghost held, only the first edge
 turns, by ``kappa l / 2``, whereas an interior element sees both its edges turn.  It still clamps the
