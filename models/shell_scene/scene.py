@@ -2,7 +2,8 @@
 
 This is the one place that combines the shell (:mod:`contin_models.shell`) with its loads: the point load
 (:mod:`contin_models.shell_scene.point`) and the rigid indenters through the contact
-(:mod:`contin_models.contact`, run by :mod:`contin_models.shell_scene.contact`).  Knowledge flows one way:
+(:mod:`contin_models.contact`, run by :mod:`contin_models.shell_scene.contact`), and a uniform pressure
+(:mod:`contin_models.shell_scene.pressure`).  Knowledge flows one way:
 ``contin_models.shell`` <- ``contin_models.contact`` <- ``contin_models.shell_scene``.
 """
 
