@@ -27,13 +27,14 @@ from contin.problem import Problem
 from contin_models.contact import Plate, Sphere
 from contin_models.contact.indentation import ShellIndentation
 from contin_models.shell import ShellPointLoad
+from contin_models.shell.pressure import ShellPressure
 
 from contin.quasistatic import SnapRules
 
 from .schema import Scene, eversion_displacement
 
 __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path", "point_problem",
-           "point_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH", "FORCE_JUMP_ATTEMPTS"]
+           "point_settings", "pressure_problem", "pressure_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH", "FORCE_JUMP_ATTEMPTS"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
 #: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
@@ -78,7 +79,8 @@ class Build:
     Attributes
     ----------
     problem : Problem
-        :class:`contin_models.shell.ShellPointLoad` (point load, either control) or
+        :class:`contin_models.shell.ShellPointLoad` (point load, either control),
+        :class:`contin_models.shell.ShellPressure` (pressure, pressure prescribed) or
         :class:`contin_models.contact.indentation.ShellIndentation` (sphere or plate, indenter travel
         prescribed).
     settings : contin.Settings
@@ -132,6 +134,34 @@ def point_settings(scene: Scene, problem: ShellPointLoad, progress: bool = False
                            stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
 
 
+def pressure_problem(scene: Scene) -> ShellPressure:
+    """The cap of the scene under a uniform external pressure (the parameter), on ``shell.boundary``."""
+    s = scene["shell"]
+    if scene["load"]["kind"] != "pressure":
+        raise ValueError(f"pressure_problem: load.kind must be 'pressure', got {scene['load']['kind']!r}")
+    return ShellPressure(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
+                         boundary=s["boundary"], pole_ratio=s["pole_ratio"])
+
+
+def pressure_settings(scene: Scene, problem: ShellPressure, progress: bool = False) -> contin.Settings:
+    """Continuation settings of a pressure trace: steps in units of R, stability under pressure control.
+
+    The path ends at ``load.p_end_over_p_c`` times the classical pressure or at the pole deflection of
+    :func:`end_of_path` (eversion plus the overshoot), whichever comes first.
+    """
+    c, s = scene["continuation"], scene["shell"]
+    ds_max = _step_cap(scene)
+    ds = min(c["ds"], ds_max)
+    # positions and w are lengths in units of R; a pressure change of p_c weighs as much as the pole
+    # moving through the eversion depth, so both halves of the path (the pressure rising to the snap,
+    # the pole travelling to eversion) are resolved by the same steps
+    depth = eversion_displacement(s["R"], s["phi_hat"])
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+                           stability=True, n_eigs=0, state_weight=1.0 / s["R"],
+                           param_weight=depth / (s["R"] * problem.p_c), progress=progress,
+                           p_max=scene["load"]["p_end_over_p_c"] * problem.p_c, bounds={"w": (None, end_of_path(scene))})
+
+
 def contact_problem(scene: Scene) -> ShellIndentation:
     """The cap under the scene's rigid sphere or plate, indenter travel ``w_b`` prescribed."""
     s, load, c = scene["shell"], scene["load"], scene["contact"]
@@ -158,14 +188,19 @@ def contact_settings(scene: Scene, progress: bool = False, stability: bool = Tru
 def build(scene: Scene, progress: bool = False) -> Build:
     """The problem, settings and start of a scene, as ``contin trace`` starts it.
 
-    A point load is built under the scene's ``load.control``.  A sphere or plate is built under
+    A point load is built under the scene's ``load.control``; a pressure under pressure control, with
+    the trace's end (pressure and eversion) in its settings.  A sphere or plate is built under
     displacement control of the indenter whatever ``load.control`` says: force control of an
     indenter starts from a contact state that displacement control reaches first
     (:func:`contin_models.shell_scene.contact.run_contact_force`).
     """
+    problem: Problem
     if scene["load"]["kind"] == "point":
         problem = point_problem(scene)
         settings = point_settings(scene, problem, progress)
+    elif scene["load"]["kind"] == "pressure":
+        problem = pressure_problem(scene)
+        settings = pressure_settings(scene, problem, progress)
     else:
         problem = contact_problem(scene)
         settings, _ = contact_settings(scene, progress)

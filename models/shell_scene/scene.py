@@ -2,7 +2,8 @@
 
 This is the one place that combines the shell (:mod:`contin_models.shell`) with its loads: the point load
 (:mod:`contin_models.shell_scene.point`) and the rigid indenters through the contact
-(:mod:`contin_models.contact`, run by :mod:`contin_models.shell_scene.contact`).  Knowledge flows one way:
+(:mod:`contin_models.contact`, run by :mod:`contin_models.shell_scene.contact`), and a uniform pressure
+(:mod:`contin_models.shell_scene.pressure`).  Knowledge flows one way:
 ``contin_models.shell`` <- ``contin_models.contact`` <- ``contin_models.shell_scene``.
 """
 
@@ -20,7 +21,8 @@ __all__ = ["SHELL_SCENE", "classify_scene", "run_scene"]
 
 
 def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
-    """Trace a resolved shell scene: the point load or an indenter, under displacement or force control."""
+    """Trace a resolved shell scene: the point load or an indenter, under displacement or force control, or a
+    uniform pressure under pressure control."""
     kind, control = scene["load"]["kind"], scene["load"]["control"]
     if kind in ("sphere", "plate"):
         # imported here: a point-load trace never loads the contact runner (nor scipy.optimize)
@@ -29,6 +31,10 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
         st, w_end = contact_settings(scene, progress)
         run = run_contact_force if control == "force" else run_contact
         result = run(scene, progress, st, w_end)
+    elif kind == "pressure":
+        from .pressure import run_pressure  # the schema admits only pressure control (load.control = force)
+
+        result = run_pressure(scene, progress)
     else:
         result = run_point_force(scene, progress) if control == "force" else run_point(scene, progress)
     if not result.success and result.status != "incomplete":

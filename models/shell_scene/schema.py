@@ -2,8 +2,10 @@
 
 Scene keys (public contract, ``--set section.key=value``)::
 
-    [shell]         R, E, nu, h, phi_hat, N, pole_ratio (node spacing at the pole / elsewhere; 1 = uniform)
-    [load]          kind = "point" | "sphere" | "plate", radius (sphere), control = "displacement" | "force"
+    [shell]         R, E, nu, h, phi_hat, N, pole_ratio (node spacing at the pole / elsewhere; 1 = uniform),
+                    boundary = "sliding" | "pinned" | "clamped" (pinned and clamped: pressure scenes only)
+    [load]          kind = "point" | "sphere" | "plate" | "pressure", radius (sphere),
+                    control = "displacement" | "force" (pressure: "force" only), p_end_over_p_c (pressure)
     [contact]       K_c, dhat (0: the paper's values scaled with E and R; sphere and plate only)
     [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
     [output]        figure
@@ -15,6 +17,7 @@ import math
 from typing import Any
 
 from contin.scene import Constraint, Field, Schema, boolean, choice, integer, real
+from contin_models.shell.pressure import BOUNDARIES
 
 __all__ = ["SHELL_SCHEMA", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
            "minimum_nodes", "nodes_per_bending_length"]
@@ -45,15 +48,22 @@ SHELL_SCHEMA = Schema(
             "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}", "number of nodes on the meridian"),
             "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
                                                     "graded towards the point load by default)"),
+            "boundary": choice("sliding", BOUNDARIES,
+                               help="support of the base edge: sliding (z fixed, r free: the paper's base), pinned "
+                                    "(r and z fixed) or clamped (r, z and the edge rotation fixed); pinned and "
+                                    "clamped only under load.kind = pressure"),
         },
         "load": {
-            "kind": choice("point", ("point", "sphere", "plate"),
+            "kind": choice("point", ("point", "sphere", "plate", "pressure"),
                            help="indenter: a point at the pole (bilateral), or a rigid sphere or plate through the "
-                                "log-barrier contact"),
+                                "log-barrier contact; or a uniform external pressure p on the cap"),
             "radius": real(0.5, gt=0, help="sphere radius [m] (load.kind = sphere)"),
             "control": choice("displacement", ("displacement", "force"),
                               help="displacement: the pole displacement w (point) or the indenter travel w_b "
-                                   "(sphere, plate) is prescribed; force: a dead load F on the pole or the indenter"),
+                                   "(sphere, plate) is prescribed; force: a dead load F on the pole or the indenter, "
+                                   "or the pressure p (load.kind = pressure, which needs force)"),
+            "p_end_over_p_c": real(2.0, gt=0, help="pressure scenes: stop at this pressure over the classical p_c = "
+                                                   "2 E (h/R)^2 / sqrt(3 (1 - nu^2)), unless eversion comes first"),
         },
         "continuation": {
             "ds": real(0.02, gt=0, help="initial arclength step in units of R"),
@@ -86,6 +96,18 @@ SHELL_SCHEMA = Schema(
                    f"a snapping cap bends over the length sqrt(R h); with fewer than {MIN_NODES_PER_BENDING_LENGTH} "
                    "nodes over it the discrete path winds through spurious folds and snaps (random scenes below "
                    "the rule failed 12 times in 15, studies/fuzz.py); refine the mesh"),
+        Constraint(("shell.boundary", "load.kind"),
+                   lambda s: s["shell"]["boundary"] == "sliding" or s["load"]["kind"] == "pressure",
+                   'shell.boundary = "sliding" unless load.kind = "pressure" (pressure scenes take "sliding", '
+                   '"pinned" or "clamped")',
+                   "the point, sphere and plate scenes are built on the paper's sliding base (z fixed, r free); "
+                   "a pinned or clamped edge exists so far only for the pressure-loaded cap. Drop shell.boundary "
+                   "or set shell.boundary=sliding"),
+        Constraint(("load.kind", "load.control"),
+                   lambda s: s["load"]["kind"] != "pressure" or s["load"]["control"] == "force",
+                   'load.control = "force" when load.kind = "pressure"',
+                   "a pressure scene prescribes the pressure p (--set load.control=force); prescribing the enclosed "
+                   "volume instead (the pressure as its Lagrange multiplier) is not implemented yet"),
     ],
 )
 
