@@ -149,6 +149,11 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
                          "before any bound or stopping event")
 
 
+#: How far (in smallest steps ``ds_min`` of the run's metric) a fold may lie from the point whose step
+#: collapsed for :func:`_turn_at_fold` to cross it: the collapse must be at that fold.
+FOLD_TURN_REACH = 1e3
+
+
 def _same_point(u: np.ndarray, p: float, v: np.ndarray, q: float, rtol: float = 1e-6) -> bool:
     scale = max(float(np.max(np.abs(v), initial=0.0)), 1e-300)
     return abs(p - q) <= rtol * max(abs(q), 1e-300) and float(np.max(np.abs(u - v), initial=0.0)) <= rtol * scale
@@ -169,8 +174,11 @@ def _turn_at_fold(curve: Curve, current: Point, crossed: list[tuple[np.ndarray, 
         fold = locate_fold(curve.problem, current.u, current.p, v0=current.t_u, tol=curve.settings.tol)
     except STEP_FAILURES:
         return None
-    # a fold crossed once is not crossed again: from its far side the turn would go back
+    # a fold crossed once is not crossed again: from its far side the turn would go back; and only a
+    # fold next to the point (the step collapsed on it), never one Newton found elsewhere on the curve
     if not fold.located or any(_same_point(fold.u, fold.p, u, p) for u, p in crossed):
+        return None
+    if curve.norm(np.asarray(fold.u) - current.u, fold.p - current.p) > FOLD_TURN_REACH * curve.settings.ds_min:
         return None
     crossed.append((np.asarray(fold.u, dtype=float), float(fold.p)))
     # next to the fold the tangent's state part is the null vector to first order in the distance,
