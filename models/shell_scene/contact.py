@@ -88,7 +88,7 @@ def snap_rules(problem: ShellIndentation) -> SnapRules:
                      min_separation=1e-3, give_up_on=(contin.NonFiniteError,))
 
 
-def force_snap_rules(forced: ShellIndentationForce, R: float) -> SnapRules:
+def indentation_force_snap_rules(forced: ShellIndentationForce, R: float) -> SnapRules:
     """How a force-controlled indentation leaves a limit load: the engine's attempts and overshoot,
     the landing restated at the limit load, with the kicks in units of R and the landing measured by
     the pole's movement over R (:func:`contin_models.shell_scene.build.pole_moved`), so that a scene
@@ -150,7 +150,7 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
     # the load is measured in ten force units per unit of travel in the arclength, as for the point load;
     # the target load is never reached: the travel bounds end the sweep
     qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=MAX_SNAPS,
-                            param_weight=1.0 / (10.0 * f_unit), snap=force_snap_rules(forced, problem.R),
+                            param_weight=1.0 / (10.0 * f_unit), snap=indentation_force_snap_rules(forced, problem.R),
                             bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
     failure = "" if qs.status in ("completed", "stopped") and all(
         br.status in ("bound", "event") for br in qs.branches) else qs.message
