@@ -1,0 +1,577 @@
+"""A shell of revolution on any reference meridian, with its supports and one load (issue 16).
+
+:class:`ShellStructure` is the elastic part: the discrete stretching and bending energy of
+:class:`contin_models.shell.ShellEnergy` on a reference polyline (a spherical cap, a plate, a cone,
+a complete sphere, ...), a mirror bending element at every end on the axis (a closed pole, as in
+:class:`contin_models.shell.ShellPointLoad`), and the supports of the edge at node 0
+(``docs/revolution.md`` section 2):
+
+``"sliding"``
+    ``z_0`` fixed, ``r_0`` free, the edge rotates freely (the paper's base).
+``"pinned"``
+    ``r_0``, ``z_0`` fixed, free rotation.
+``"clamped"``
+    ``r_0``, ``z_0`` fixed and the edge tangent held (:class:`ClampedEdge`).
+``"free"``
+    nothing fixed at the edge.
+
+An end on the axis keeps ``r = 0``.  When nothing holds the shell in ``z`` (a free edge, or a closed
+shell with a pole at each end) its rigid translation along the axis is removed by fixing the height
+of the node nearest the middle of the meridian (:attr:`ShellStructure.rigid_fix`): only loads in
+self-equilibrium (pressure) may act on such a shell, so that support carries no reaction, and the
+problems check it (:class:`ShellOfRevolution` refuses a point or ring force on it).
+
+:class:`ShellOfRevolution` composes the structure with one load as a :class:`contin.Problem`
+(``docs/revolution.md`` section 3):
+
+* a point force ``F`` at the pole or a ring force ``Q`` on a node ring, potential ``-F w`` with
+  ``w = zbar_k - z_k`` the node's deflection (positive down).  Force control: ``F`` is the
+  parameter and every free dof an unknown (the natural ordering keeps the band).  Displacement
+  control: ``w`` is the parameter and ``z_k`` is eliminated; the load is the reaction
+  ``F = dE/dw``.
+* a uniform pressure ``p`` through the enclosed-volume potential ``p (V - V0)``
+  (:class:`contin_models.shell.volume.PressureTerm`), with the pressure as the parameter.  (The
+  volume as the parameter is the engine's generic Lagrange construction on this problem.)
+
+Stability labels: under force control, ``"force"`` (the Hessian on all unknowns) first and
+``"displacement"`` (the same without the loaded node's height); under displacement control the
+other way round.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+import numpy as np
+import scipy.sparse as sp
+
+from contin.linalg import BandedLU, Factorization
+from contin.problem import LeadingBlock, Problem
+
+from . import _generated as gen
+from .energy import HALF_BANDWIDTH, ShellEnergy
+from .problem import PoleMirror, SubMatrix, csr_slots, shell_residual_scale
+from .volume import PressureTerm, volume_gradient, volume_hessian
+
+__all__ = ["ShellStructure", "ShellOfRevolution", "ClampedEdge", "SUPPORTS", "LOADS", "edge_tangent"]
+
+SUPPORTS = ("sliding", "pinned", "clamped", "free")
+"""The supports of the edge at node 0 (module docstring)."""
+
+LOADS = ("point", "ring", "pressure")
+"""The loads :class:`ShellOfRevolution` composes."""
+
+#: Hessians kept per structure: the engine asks for the Jacobian, the stability operators and the
+#: observables' derivatives at the same state.
+_HESSIAN_CACHE_SIZE = 3
+
+
+def edge_tangent(r: np.ndarray, z: np.ndarray) -> tuple[float, float]:
+    """Unit tangent at node 0 of a polyline, pointing along it, from the circle through nodes 0, 1, 2.
+
+    Exact for a polyline whose first three nodes lie on a circle or a straight line (spherical caps,
+    tori, plates, cones), second-order in the spacing otherwise.
+    """
+    p0, p1, p2 = (np.array([r[k], z[k]], dtype=float) for k in range(3))
+    a, b = p1 - p0, p2 - p0
+    cross = a[0] * b[1] - a[1] * b[0]
+    if abs(cross) <= 1e-14 * np.linalg.norm(a) * np.linalg.norm(b):  # collinear: a straight edge
+        t = a
+    else:
+        # centre c of the circle through p0, p1, p2 (relative to p0); the tangent at p0 is normal to c
+        aa, bb = a @ a, b @ b
+        c = np.array([b[1] * aa - a[1] * bb, a[0] * bb - b[0] * aa]) / (2.0 * cross)
+        t = np.array([-c[1], c[0]])
+        if t @ a < 0:
+            t = -t
+    t = t / np.linalg.norm(t)
+    return float(t[0]), float(t[1])
+
+
+class ClampedEdge:
+    """Bending element of the edge node against a fixed ghost node on the reference edge tangent.
+
+    The interior nodes' bending element (generated ``"bend"`` kernel, ``kappa11`` over the reference
+    length given) on the nodes ``(ghost, 0, 1)``, with length and weight the half of the first
+    reference edge inside the shell.  The ghost lies one first-edge length behind node 0 along the
+    reference tangent (:func:`edge_tangent`).  Why the tangent and the half cell:
+    :mod:`contin_models.shell.pressure`.
+
+    Parameters
+    ----------
+    r, z : ndarray
+        Reference node coordinates (node 0 is the edge).
+    kb, nu : float
+        Bending stiffness at the edge node and Poisson's ratio.
+    """
+
+    #: Full-state dofs of the element's real nodes (0 and 1): ``r_0, z_0, r_1, z_1``.
+    dofs = np.arange(4)
+
+    def __init__(self, r: np.ndarray, z: np.ndarray, kb: float, nu: float) -> None:
+        l0 = math.hypot(r[1] - r[0], z[1] - z[0])
+        tr, tz = edge_tangent(r, z)
+        self.ghost = (float(r[0]) - l0 * tr, float(z[0]) - l0 * tz)
+        self.lbar = 0.5 * l0  # the edge node's cell inside the shell
+        self.rbar = float(r[0])
+        self.kb, self.nu = float(kb), float(nu)
+        k11, k22 = gen.bend_curvatures(*self.ghost, r[0], z[0], r[1], z[1],
+                                       self.lbar, self.rbar, 0.0, 0.0, self.kb, self.nu)
+        self.kappa_bar = (float(k11), float(k22))
+
+    def _args(self, x: np.ndarray) -> tuple:
+        return (*self.ghost, x[0], x[1], x[2], x[3], self.lbar, self.rbar, *self.kappa_bar, self.kb, self.nu)
+
+    def curvatures(self, x: np.ndarray) -> tuple[float, float]:
+        """``(kappa11, kappa22)`` at the edge node of a full state."""
+        k11, k22 = gen.bend_curvatures(*self._args(x))
+        return float(k11), float(k22)
+
+    def energy(self, x: np.ndarray) -> float:
+        """Element energy ``pi rbar lbar kb (B11^2 + 2 nu B11 B22 + B22^2)`` of a full state."""
+        return float(gen.bend_energy(*self._args(x)))
+
+    def gradient(self, x: np.ndarray) -> np.ndarray:
+        """Gradient (4,) in :attr:`dofs` (the ghost is fixed: its entries are dropped)."""
+        return gen.bend_gradient(*self._args(x))[2:]
+
+    def hessian(self, x: np.ndarray) -> np.ndarray:
+        """Hessian (4, 4) in :attr:`dofs`."""
+        return gen.bend_hessian(*self._args(x))[2:, 2:]
+
+
+class ShellStructure:
+    """Elastic energy of a shell of revolution with its supports, on the full interleaved state.
+
+    Parameters
+    ----------
+    meridian
+        The reference polyline: any object with ``N``, ``r``, ``z``, ``x``, ``edge_length``,
+        ``edge_radius``, ``voronoi_length`` and ``node_radius`` (a
+        :class:`contin_models.shell.geometry.ReferenceCap` or a meridian of
+        :mod:`contin_models.shell.meridian`).  An end with ``r = 0`` is a pole on the axis.
+    E, nu : float
+        Young's modulus and Poisson's ratio.
+    h : float or ndarray, optional
+        Thickness, or node thicknesses ``(N,)``; default the meridian's ``thickness``.
+    boundary : {"sliding", "pinned", "clamped", "free"}
+        Support of the edge at node 0 (ignored, and must be ``"free"`` or the default, when node 0
+        is a pole).
+    kappa11_length : {"reference", "current"}
+        Length in the interior nodes' ``kappa11`` (:class:`contin_models.shell.ShellEnergy`).
+
+    Attributes
+    ----------
+    fixed : ndarray
+        Sorted full-state dofs the supports and the axis fix.
+    rigid_fix : int or None
+        The dof fixed only to remove the rigid translation along the axis (module docstring).
+    poles : list of int
+        The nodes on the axis (0, ``N-1`` or both).
+    """
+
+    def __init__(self, meridian: Any, E: float, nu: float, h: float | np.ndarray | None = None,
+                 boundary: Literal["sliding", "pinned", "clamped", "free"] = "sliding",
+                 kappa11_length: Literal["reference", "current"] = "current") -> None:
+        if boundary not in SUPPORTS:
+            raise ValueError(f"ShellStructure: boundary must be one of {SUPPORTS}, got {boundary!r}")
+        if h is None:
+            h = getattr(meridian, "thickness", None)
+            if h is None:
+                raise ValueError("ShellStructure: give the thickness h (the meridian carries none)")
+        self.meridian = meridian
+        self.shell = ShellEnergy(meridian, E, h, nu, kappa11_length=kappa11_length)
+        self.E, self.nu = float(E), float(nu)
+        N = int(meridian.N)
+        self.N, self.n_full = N, 2 * N
+        r, z = np.asarray(meridian.r, dtype=float), np.asarray(meridian.z, dtype=float)
+        if np.any(r < 0):
+            raise ValueError("ShellStructure: the meridian must lie in r >= 0")
+        self.poles = [k for k in (0, N - 1) if r[k] == 0.0]
+        if 0 in self.poles and boundary not in ("free", "sliding"):
+            raise ValueError(f"ShellStructure: node 0 is a pole on the axis, it takes no support "
+                             f"(boundary {boundary!r})")
+        self.boundary = "free" if 0 in self.poles else boundary
+        kb_nodes = np.asarray(getattr(self.shell, "kb_nodes", np.full(N, self.shell.kb)), dtype=float)
+        self.kb_nodes = kb_nodes
+        self.h_nodes = np.asarray(getattr(self.shell, "h_nodes", np.full(N, self.shell.h)), dtype=float)
+
+        fixed = {2 * k for k in self.poles}  # r = 0 on the axis
+        if self.boundary in ("sliding", "pinned", "clamped"):
+            fixed.add(1)
+        if self.boundary in ("pinned", "clamped"):
+            fixed.add(0)
+        self.rigid_fix: int | None = None
+        if not any(d % 2 == 1 for d in fixed):  # nothing holds z: remove the rigid translation
+            self.rigid_fix = 2 * (N // 2) + 1
+            fixed.add(self.rigid_fix)
+        self.fixed = np.array(sorted(fixed))
+        self.free = np.array([i for i in range(self.n_full) if i not in fixed])
+
+        # mirror bending elements of the poles: (element, full-state dofs of (a, -, b) local variables)
+        self._poles: list[tuple[PoleMirror, np.ndarray]] = []
+        for k in self.poles:
+            nb = k - 1 if k == N - 1 else 1  # the pole's neighbour
+            # local variables (r_nb, z_nb, z_pole) for the north pole, (r_1, z_0, z_1) for the south one:
+            # a = r_nb, b = (z_pole - z_nb) or (z_1 - z_0); both meridians turn counter-clockwise
+            dofs = np.array([2 * nb, 2 * nb + 1, 2 * k + 1]) if k == N - 1 else np.array([2 * nb, 1, 3])
+            a_bar = float(r[nb])
+            b_bar = float(z[k] - z[nb]) if k == N - 1 else float(z[1] - z[0])
+            lbar = float(meridian.edge_length[-1] if k == N - 1 else meridian.edge_length[0])
+            element = PoleMirror(lbar, float(kb_nodes[k]), self.nu, kappa11_length == "current", a_bar, b_bar)
+            self._poles.append((element, dofs))
+
+        H0 = self.shell.hessian(meridian.x)
+        self._pattern = H0
+        self._pole_slots = []
+        for _, dofs in self._poles:
+            rr, cc = np.meshgrid(dofs, dofs, indexing="ij")
+            self._pole_slots.append(csr_slots(H0, rr.ravel(), cc.ravel()))
+        if self.boundary == "clamped":
+            self.clamp: ClampedEdge | None = ClampedEdge(r, z, float(kb_nodes[0]), self.nu)
+            rr, cc = np.meshgrid(ClampedEdge.dofs, ClampedEdge.dofs, indexing="ij")
+            self._clamp_slots = csr_slots(H0, rr.ravel(), cc.ravel())
+        else:
+            self.clamp = None
+        self._grad_cache: tuple[np.ndarray, np.ndarray] | None = None
+        self._hess_cache: list[tuple[np.ndarray, sp.csr_matrix]] = []
+
+    @property
+    def pattern(self) -> sp.csr_matrix:
+        """The fixed CSR pattern of every full Hessian (do not modify)."""
+        return self._pattern
+
+    def reference_state(self) -> np.ndarray:
+        """The reference full state (a new array)."""
+        return self.meridian.x
+
+    @staticmethod
+    def _ab(element_dofs: np.ndarray, x: np.ndarray) -> tuple[float, float]:
+        a, zlo, zhi = x[element_dofs]
+        return float(a), float(zhi - zlo)
+
+    def energy(self, x: np.ndarray) -> float:
+        """Elastic energy of a full state: stretching, bending, poles and the clamp."""
+        e = self.shell.energy(x)
+        for element, dofs in self._poles:
+            e += element.energy(*self._ab(dofs, x))
+        if self.clamp is not None:
+            e += self.clamp.energy(x)
+        return float(e)
+
+    def gradient(self, x: np.ndarray) -> np.ndarray:
+        """Gradient of :meth:`energy` in all ``2N`` dofs (a new array)."""
+        if self._grad_cache is not None and np.array_equal(self._grad_cache[0], x):
+            return self._grad_cache[1].copy()
+        g = self.shell.gradient(x)
+        for element, dofs in self._poles:
+            g[dofs] += element.gradient_hessian(*self._ab(dofs, x))[0]
+        if self.clamp is not None:
+            g[ClampedEdge.dofs] += self.clamp.gradient(x)
+        self._grad_cache = (np.array(x, dtype=float), g.copy())
+        return g
+
+    def hessian(self, x: np.ndarray) -> sp.csr_matrix:
+        """Hessian of :meth:`energy` in all ``2N`` dofs, in :attr:`pattern` (shared: do not modify)."""
+        for i, (xc, Hc) in enumerate(self._hess_cache):
+            if np.array_equal(xc, x):
+                if i:
+                    self._hess_cache.insert(0, self._hess_cache.pop(i))
+                return Hc
+        H = self.shell.hessian(x)
+        for (element, dofs), slots in zip(self._poles, self._pole_slots):
+            H.data[slots] += element.gradient_hessian(*self._ab(dofs, x))[1].ravel()
+        if self.clamp is not None:
+            H.data[self._clamp_slots] += self.clamp.hessian(x).ravel()
+        self._hess_cache.insert(0, (np.array(x, dtype=float), H))
+        del self._hess_cache[_HESSIAN_CACHE_SIZE:]
+        return H
+
+    def residual_scale(self, H_free: sp.csr_matrix, length: float) -> float:
+        """:func:`contin_models.shell.problem.shell_residual_scale` with the largest thickness."""
+        return shell_residual_scale(self.E, float(np.max(self.h_nodes)), length, H_free)
+
+    def __repr__(self) -> str:
+        return f"ShellStructure(N={self.N}, E={self.E}, nu={self.nu}, boundary={self.boundary!r}, poles={self.poles})"
+
+
+def _column(H: sp.csr_matrix, j: int) -> np.ndarray:
+    """Dense column ``j`` of a symmetric CSR matrix (read as row ``j``)."""
+    lo, hi = H.indptr[j], H.indptr[j + 1]
+    col = np.zeros(H.shape[0])
+    np.add.at(col, H.indices[lo:hi], H.data[lo:hi])
+    return col
+
+
+class ShellOfRevolution(Problem):
+    """A :class:`ShellStructure` under one load, as a :class:`contin.Problem`.
+
+    Parameters
+    ----------
+    structure : ShellStructure
+        The shell and its supports.
+    load : {"point", "ring", "pressure"}
+        A point force at the pole (node ``N-1``, which must be on the axis), a ring force on node
+        ``node``, or a uniform external pressure (module docstring).
+    control : {"force", "displacement"}
+        The load as the parameter, or (point and ring) the loaded node's deflection ``w``.
+        Pressure takes ``"force"`` only here.
+    node : int, optional
+        The loaded node of a ring force (``0 < node < N-1``, off the axis).
+    length : float, optional
+        Length that normalises ``w`` and ``F`` (``w_over_L``, ``F_norm = F L / (2 pi D)``); default
+        the meridian's ``length_scale`` (or ``R``).
+    p_c : float, optional
+        Pressure that normalises ``p`` (``p_over_p_c``).
+
+    Notes
+    -----
+    Observables: the load (``F`` or ``p``), ``w`` (the loaded node's deflection, for pressure the
+    height drop of node ``N-1``), ``w_over_h`` (over the thickness at that node), ``w_over_L``, and
+    ``F_norm``, ``p_over_p_c`` and ``V`` where they apply; all with exact derivatives.
+    """
+
+    def __init__(self, structure: ShellStructure, load: Literal["point", "ring", "pressure"] = "point",
+                 control: Literal["force", "displacement"] = "force", node: int | None = None,
+                 length: float | None = None, p_c: float | None = None) -> None:
+        if load not in LOADS:
+            raise ValueError(f"ShellOfRevolution: load must be one of {LOADS}, got {load!r}")
+        if control not in ("force", "displacement"):
+            raise ValueError(f"ShellOfRevolution: control must be 'force' or 'displacement', got {control!r}")
+        st = self.structure = structure
+        N = st.N
+        self.load, self.control = load, control
+        if length is None:
+            length = getattr(st.meridian, "length_scale", None) or getattr(st.meridian, "R", None)
+        self.length = float(length) if length is not None else 1.0
+        x_ref = st.meridian.x
+        self.x_ref = x_ref
+        if load == "point":
+            if N - 1 not in st.poles:
+                raise ValueError("ShellOfRevolution: a point load needs a pole at node N-1 (r = 0)")
+            node = N - 1
+        elif load == "ring":
+            if node is None or not (0 < int(node) < N - 1):
+                raise ValueError(f"ShellOfRevolution: a ring load needs node in (0, {N - 1}), got {node!r}")
+            node = int(node)
+        else:
+            if control != "force":
+                raise ValueError("ShellOfRevolution: pressure takes control='force' here (the volume as the "
+                                 "parameter is the engine's Lagrange construction on this problem)")
+            if st.boundary == "free" and 0 not in st.poles:
+                raise ValueError("ShellOfRevolution: a free edge cannot carry pressure (the volume is not closed)")
+            node = N - 1
+        if load in ("point", "ring") and st.rigid_fix is not None:
+            raise ValueError("ShellOfRevolution: a point or ring force needs a support in z "
+                             f"(boundary {st.boundary!r} leaves the shell free to translate)")
+        self.node = node
+        self.z_node = 2 * node + 1
+        self.z_ref_node = float(x_ref[self.z_node])
+        self.D = float(st.kb_nodes[node])
+        self.h_node = float(st.h_nodes[node])
+        self.pressure = PressureTerm.from_reference(x_ref) if load == "pressure" else None
+        if load == "pressure":
+            self._v_slots = None
+            HV = volume_hessian(x_ref, self.pressure.z_ref)
+            self._v_pattern_nnz = HV.nnz
+            self._v_slots = csr_slots(st.pattern, np.repeat(np.arange(st.n_full), np.diff(HV.indptr)), HV.indices)
+        self.p_c = p_c
+
+        # unknowns: force control (and pressure) every free dof; displacement control without z_node
+        if control == "displacement":
+            self.idx = st.free[st.free != self.z_node]
+        else:
+            self.idx = st.free.copy()
+        self._sub = SubMatrix(st.pattern, self.idx)
+        ops: dict[str, Any]
+        if load == "pressure":
+            ops = None
+        elif control == "force":
+            without = st.free[st.free != self.z_node]
+            if self.idx[-1] == self.z_node:
+                ops = {"force": self.jacobian, "displacement": LeadingBlock("force", -1)}
+            else:
+                sub = SubMatrix(st.pattern, without)
+                ops = {"force": self.jacobian,
+                       "displacement": lambda u, p: sub(st.hessian(self.full_state(u, p)))}
+        else:
+            with_node = np.concatenate([self.idx, [self.z_node]])
+            sub = SubMatrix(st.pattern, with_node)
+            ops = {"displacement": self.jacobian,
+                   "force": lambda u, p: sub(st.hessian(self.full_state(u, p)))}
+        name = "F" if load in ("point", "ring") else "p"
+        param = name if control == "force" else "w"
+        self.load_name = name
+        observables: dict[str, Any] = {name: self._obs_load, "w": self._obs_w,
+                                       "w_over_h": lambda u, p: self._obs_w(u, p) / self.h_node,
+                                       "w_over_L": lambda u, p: self._obs_w(u, p) / self.length}
+        derivatives: dict[str, Any] = {name: self._dobs_load, "w": self._dobs_w,
+                                       "w_over_h": lambda u, p: _times(self._dobs_w(u, p), 1.0 / self.h_node),
+                                       "w_over_L": lambda u, p: _times(self._dobs_w(u, p), 1.0 / self.length)}
+        if load in ("point", "ring"):
+            f_norm = self.length / (2.0 * math.pi * self.D)
+            observables["F_norm"] = lambda u, p: self._obs_load(u, p) * f_norm
+            derivatives["F_norm"] = lambda u, p: _times(self._dobs_load(u, p), f_norm)
+        else:
+            observables["V"] = lambda u, p: self.pressure.volume(self.full_state(u, p))
+            derivatives["V"] = lambda u, p: (volume_gradient(self.full_state(u, p), self.pressure.z_ref)[self.idx], 0.0)
+            if p_c is not None:
+                observables["p_over_p_c"] = lambda u, p: float(p) / p_c
+                derivatives["p_over_p_c"] = lambda u, p: (np.zeros(self.n), 1.0 / p_c)
+        scale = st.residual_scale(self._sub(st.hessian(x_ref)), self.length)
+        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
+                         stability_operators=ops, name=f"shell_{load}_{control}", parameter_name=param,
+                         residual_scale=scale)
+
+    # ---- maps between the full state and the unknowns --------------------------------------------
+    @property
+    def n(self) -> int:
+        """Number of unknowns."""
+        return self.idx.size
+
+    @property
+    def shell(self) -> ShellEnergy:
+        """The stretching and bending energy (strains, curvatures)."""
+        return self.structure.shell
+
+    def full_state(self, u: np.ndarray, p: float = 0.0) -> np.ndarray:
+        """Full interleaved state from the unknowns (and, under displacement control, ``w = p``)."""
+        u = np.asarray(u, dtype=float)
+        if u.shape != (self.n,):
+            raise ValueError(f"unknown vector must have shape ({self.n},), got {u.shape}")
+        x = self.x_ref.copy()
+        x[self.idx] = u
+        if self.control == "displacement":
+            x[self.z_node] = self.z_ref_node - float(p)
+        return x
+
+    def unknowns(self, x: np.ndarray) -> np.ndarray:
+        """The unknowns of a full state (fixed dofs dropped, not checked)."""
+        return np.asarray(x, dtype=float)[self.idx].copy()
+
+    def reference_unknowns(self) -> np.ndarray:
+        """Unknowns of the reference state, the equilibrium at zero load."""
+        return self.unknowns(self.x_ref)
+
+    # ---- the Problem interface -------------------------------------------------------------------
+    def _full_hessian(self, x: np.ndarray, p: float) -> sp.csr_matrix:
+        H = self.structure.hessian(x)
+        if self.load == "pressure" and p != 0.0:
+            H = H.copy()
+            H.data[self._v_slots] += float(p) * volume_hessian(x, self.pressure.z_ref).data
+        return H
+
+    def energy(self, u: np.ndarray, p: float) -> float:
+        x = self.full_state(u, p)
+        e = self.structure.energy(x)
+        if self.load == "pressure":
+            return e + self.pressure.energy(x, p)
+        if self.control == "force":  # potential -F w
+            return e - float(p) * (self.z_ref_node - float(x[self.z_node]))
+        return e
+
+    def residual(self, u: np.ndarray, p: float) -> np.ndarray:
+        x = self.full_state(u, p)
+        g = self.structure.gradient(x)
+        if self.load == "pressure":
+            g += self.pressure.gradient(x, p)
+        elif self.control == "force":
+            g[self.z_node] += float(p)
+        return g[self.idx]
+
+    def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
+        return self._sub(self._full_hessian(self.full_state(u, p), p))
+
+    def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
+        x = self.full_state(u, p)
+        if self.load == "pressure":
+            return self.pressure.gradient_dp(x)[self.idx]
+        if self.control == "force":
+            d = np.zeros(self.structure.n_full)
+            d[self.z_node] = 1.0
+            return d[self.idx]
+        return -_column(self.structure.hessian(x), self.z_node)[self.idx]  # z_node = zbar - w
+
+    def jacobian_dp(self, u: np.ndarray, p: float):
+        if self.control == "force":
+            if self.load == "pressure":
+                x = self.full_state(u, p)
+                HV = self.structure.pattern.copy()
+                HV.data[:] = 0.0
+                HV.data[self._v_slots] = volume_hessian(x, self.pressure.z_ref).data
+                return self._sub(HV)
+            return sp.csr_matrix((self.n, self.n))  # a dead load is linear in F
+        return super().jacobian_dp(u, p)
+
+    def conjugate_force(self, u: np.ndarray, p: float) -> float:
+        """``dE/dp``: the volume change under pressure, the load's reaction under displacement control,
+        minus the deflection ``-w`` under a force."""
+        x = self.full_state(u, p)
+        if self.load == "pressure":
+            return self.pressure.energy_dp(x)
+        if self.control == "force":
+            return -(self.z_ref_node - float(x[self.z_node]))
+        return -float(self.structure.gradient(x)[self.z_node])
+
+    def conjugate_stiffness(self, u: np.ndarray, p: float) -> float:
+        """``d2E/dp2`` at fixed unknowns."""
+        if self.control == "force":
+            return 0.0
+        return float(_column(self.structure.hessian(self.full_state(u, p)), self.z_node)[self.z_node])
+
+    def factorize(self, J) -> Factorization:
+        """Banded LU with the shell's half-bandwidth (O(N))."""
+        return BandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH)
+
+    # ---- observables -----------------------------------------------------------------------------
+    def _obs_load(self, u: np.ndarray, p: float) -> float:
+        if self.control == "force":
+            return float(p)
+        return -float(self.structure.gradient(self.full_state(u, p))[self.z_node])
+
+    def _dobs_load(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        if self.control == "force":
+            return np.zeros(self.n), 1.0
+        col = _column(self.structure.hessian(self.full_state(u, p)), self.z_node)
+        return -col[self.idx], float(col[self.z_node])
+
+    def _obs_w(self, u: np.ndarray, p: float) -> float:
+        if self.control == "displacement":
+            return float(p)
+        return self.z_ref_node - float(self.full_state(u, p)[self.z_node])
+
+    def _dobs_w(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        if self.control == "displacement":
+            return np.zeros(self.n), 1.0
+        d = np.zeros(self.structure.n_full)
+        d[self.z_node] = -1.0
+        return d[self.idx], 0.0
+
+    # ---- linear response -------------------------------------------------------------------------
+    def linear_response(self) -> np.ndarray:
+        """``dx/dp`` at the reference state (full state; zero on the fixed dofs)."""
+        u0 = self.reference_unknowns()
+        du = self.factorize(self.jacobian(u0, 0.0)).solve(-self.dresidual_dp(u0, 0.0))
+        dx = np.zeros(self.structure.n_full)
+        dx[self.idx] = du
+        if self.control == "displacement":
+            dx[self.z_node] = -1.0
+        return dx
+
+    def linear_stiffness(self) -> float:
+        """Initial ``dF/dw`` of a point or ring load (``1 / (dw/dF)`` under force control)."""
+        if self.load == "pressure":
+            raise ValueError("linear_stiffness: a pressure has no single deflection conjugate")
+        dx = self.linear_response()
+        if self.control == "force":
+            return 1.0 / -dx[self.z_node]
+        u0 = self.reference_unknowns()
+        return float(self._dobs_load(u0, 0.0)[0] @ dx[self.idx] + self._dobs_load(u0, 0.0)[1])
+
+    def __repr__(self) -> str:
+        return f"ShellOfRevolution({self.structure!r}, load={self.load!r}, control={self.control!r}, node={self.node})"
+
+
+def _times(derivative: tuple[np.ndarray, float], factor: float) -> tuple[np.ndarray, float]:
+    return derivative[0] * factor, derivative[1] * factor
