@@ -103,3 +103,20 @@ def test_edge_tangent_is_exact_on_circles_and_lines() -> None:
     r, z = 2.0 * np.cos(th), 2.0 * np.sin(th) - 1.0
     assert edge_tangent(r, z) == pytest.approx((-math.sin(0.3), math.cos(0.3)), abs=1e-13)
     assert edge_tangent(np.array([1.0, 0.7, 0.2]), np.array([0.0, 0.4, 16.0 / 15.0])) == pytest.approx((-0.6, 0.8))
+
+
+@pytest.mark.parametrize("control", ["force", "displacement"])
+def test_point_load_under_a_fixed_pressure(control: str) -> None:
+    """A pressurised cap probed at the pole: exact derivatives, and the fixed pressure's work in the energy."""
+    cap = spherical_cap(1.0, 0.6, 40, 0.5)
+    st = ShellStructure(cap, 1e6, NU, 0.01, "clamped")
+    pr = ShellOfRevolution(st, "point", control, pressure=200.0)
+    u = _random_state(pr, 1e-3)
+    p = 50.0 if control == "force" else 0.01
+    assert contin.check_problem(pr, u, p).ok
+    bare = ShellOfRevolution(st, "point", control)
+    x = pr.full_state(u, p)
+    assert pr.energy(u, p) - bare.energy(u, p) == pytest.approx(200.0 * pr.pressure.energy_dp(x), rel=1e-12)
+    other = pr.with_pressure(0.0)
+    assert np.allclose(other.residual(u, p), bare.residual(u, p), rtol=0, atol=1e-12 * bare.residual_scale)
+    assert pr.residual(u, p) is not None and pr.fixed_pressure == 200.0  # the copy did not touch the original

@@ -40,6 +40,7 @@ other way round.
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import Any, Literal
 
@@ -324,6 +325,10 @@ class ShellOfRevolution(Problem):
         the meridian's ``length_scale`` (or ``R``).
     p_c : float, optional
         Pressure that normalises ``p`` (``p_over_p_c``).
+    pressure : float
+        A fixed uniform pressure acting besides a point or ring force (0: none).  With it the problem
+        is one member of the two-parameter family ``(F, p)``: :meth:`with_pressure` gives the others,
+        e.g. for :class:`contin.FoldCurveProblem` to trace a limit load against the pressure.
 
     Notes
     -----
@@ -334,7 +339,7 @@ class ShellOfRevolution(Problem):
 
     def __init__(self, structure: ShellStructure, load: Literal["point", "ring", "pressure"] = "point",
                  control: Literal["force", "displacement"] = "force", node: int | None = None,
-                 length: float | None = None, p_c: float | None = None) -> None:
+                 length: float | None = None, p_c: float | None = None, pressure: float = 0.0) -> None:
         if load not in LOADS:
             raise ValueError(f"ShellOfRevolution: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
@@ -370,11 +375,16 @@ class ShellOfRevolution(Problem):
         self.z_ref_node = float(x_ref[self.z_node])
         self.D = float(st.kb_nodes[node])
         self.h_node = float(st.h_nodes[node])
-        self.pressure = PressureTerm.from_reference(x_ref) if load == "pressure" else None
-        if load == "pressure":
-            self._v_slots = None
+        self.fixed_pressure = float(pressure)
+        if not math.isfinite(self.fixed_pressure):
+            raise ValueError(f"ShellOfRevolution: pressure must be finite, got {pressure!r}")
+        if self.fixed_pressure != 0.0 and load == "pressure":
+            raise ValueError("ShellOfRevolution: a fixed pressure goes with a point or ring load, not with load='pressure'")
+        if self.fixed_pressure != 0.0 and st.boundary == "free" and 0 not in st.poles:
+            raise ValueError("ShellOfRevolution: a free edge cannot carry pressure (the volume is not closed)")
+        self.pressure = PressureTerm.from_reference(x_ref) if load == "pressure" or pressure else None
+        if self.pressure is not None:
             HV = volume_hessian(x_ref, self.pressure.z_ref)
-            self._v_pattern_nnz = HV.nnz
             self._v_slots = csr_slots(st.pattern, np.repeat(np.arange(st.n_full), np.diff(HV.indptr)), HV.indices)
         self.p_c = p_c
 
@@ -394,12 +404,12 @@ class ShellOfRevolution(Problem):
             else:
                 sub = SubMatrix(st.pattern, without)
                 ops = {"force": self.jacobian,
-                       "displacement": lambda u, p: sub(st.hessian(self.full_state(u, p)))}
+                       "displacement": lambda u, p: sub(self._elastic_hessian(self.full_state(u, p), p))}
         else:
             with_node = np.concatenate([self.idx, [self.z_node]])
             sub = SubMatrix(st.pattern, with_node)
             ops = {"displacement": self.jacobian,
-                   "force": lambda u, p: sub(st.hessian(self.full_state(u, p)))}
+                   "force": lambda u, p: sub(self._elastic_hessian(self.full_state(u, p), p))}
         name = "F" if load in ("point", "ring") else "p"
         param = name if control == "force" else "w"
         self.load_name = name
@@ -413,9 +423,10 @@ class ShellOfRevolution(Problem):
             f_norm = self.length / (2.0 * math.pi * self.D)
             observables["F_norm"] = lambda u, p: self._obs_load(u, p) * f_norm
             derivatives["F_norm"] = lambda u, p: _times(self._dobs_load(u, p), f_norm)
-        else:
+        if self.pressure is not None:
             observables["V"] = lambda u, p: self.pressure.volume(self.full_state(u, p))
             derivatives["V"] = lambda u, p: (volume_gradient(self.full_state(u, p), self.pressure.z_ref)[self.idx], 0.0)
+        if load == "pressure":
             if p_c is not None:
                 observables["p_over_p_c"] = lambda u, p: float(p) / p_c
                 derivatives["p_over_p_c"] = lambda u, p: (np.zeros(self.n), 1.0 / p_c)
@@ -455,30 +466,51 @@ class ShellOfRevolution(Problem):
         return self.unknowns(self.x_ref)
 
     # ---- the Problem interface -------------------------------------------------------------------
-    def _full_hessian(self, x: np.ndarray, p: float) -> sp.csr_matrix:
+    def _pressure_value(self, p: float) -> float:
+        """The pressure acting at parameter ``p``: ``p`` itself, or the fixed one besides a force."""
+        return float(p) if self.load == "pressure" else self.fixed_pressure
+
+    def _elastic_hessian(self, x: np.ndarray, p: float) -> sp.csr_matrix:
+        """The structure's Hessian plus the pressure's load stiffness ``p d2V`` (shared when there is none)."""
         H = self.structure.hessian(x)
-        if self.load == "pressure" and p != 0.0:
+        q = self._pressure_value(p) if self.pressure is not None else 0.0
+        if q != 0.0:
             H = H.copy()
-            H.data[self._v_slots] += float(p) * volume_hessian(x, self.pressure.z_ref).data
+            H.data[self._v_slots] += q * volume_hessian(x, self.pressure.z_ref).data
         return H
+
+    _full_hessian = _elastic_hessian
+
+    def _gradient(self, x: np.ndarray, p: float) -> np.ndarray:
+        """Full gradient of the total energy (elastic, pressure and force potentials)."""
+        g = self.structure.gradient(x)
+        if self.pressure is not None:
+            g += self.pressure.gradient(x, self._pressure_value(p))
+        if self.load != "pressure" and self.control == "force":  # potential -F w
+            g[self.z_node] += float(p)
+        return g
 
     def energy(self, u: np.ndarray, p: float) -> float:
         x = self.full_state(u, p)
         e = self.structure.energy(x)
-        if self.load == "pressure":
-            return e + self.pressure.energy(x, p)
-        if self.control == "force":  # potential -F w
-            return e - float(p) * (self.z_ref_node - float(x[self.z_node]))
+        if self.pressure is not None:
+            e += self.pressure.energy(x, self._pressure_value(p))
+        if self.load != "pressure" and self.control == "force":  # potential -F w
+            e -= float(p) * (self.z_ref_node - float(x[self.z_node]))
         return e
 
     def residual(self, u: np.ndarray, p: float) -> np.ndarray:
-        x = self.full_state(u, p)
-        g = self.structure.gradient(x)
+        return self._gradient(self.full_state(u, p), p)[self.idx]
+
+    def with_pressure(self, pressure: float) -> "ShellOfRevolution":
+        """This point- or ring-loaded problem under another fixed pressure (shares the structure)."""
         if self.load == "pressure":
-            g += self.pressure.gradient(x, p)
-        elif self.control == "force":
-            g[self.z_node] += float(p)
-        return g[self.idx]
+            raise ValueError("with_pressure: the pressure is this problem's parameter")
+        other = copy.copy(self)
+        other.fixed_pressure = float(pressure)
+        if other.pressure is None:
+            raise ValueError("with_pressure: build the problem with a nonzero pressure (its volume term) first")
+        return other
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         return self._sub(self._full_hessian(self.full_state(u, p), p))
@@ -491,7 +523,7 @@ class ShellOfRevolution(Problem):
             d = np.zeros(self.structure.n_full)
             d[self.z_node] = 1.0
             return d[self.idx]
-        return -_column(self.structure.hessian(x), self.z_node)[self.idx]  # z_node = zbar - w
+        return -_column(self._elastic_hessian(x, p), self.z_node)[self.idx]  # z_node = zbar - w
 
     def jacobian_dp(self, u: np.ndarray, p: float):
         if self.control == "force":
@@ -512,13 +544,14 @@ class ShellOfRevolution(Problem):
             return self.pressure.energy_dp(x)
         if self.control == "force":
             return -(self.z_ref_node - float(x[self.z_node]))
-        return -float(self.structure.gradient(x)[self.z_node])
+        return -float(self._gradient(x, p)[self.z_node])
 
     def conjugate_stiffness(self, u: np.ndarray, p: float) -> float:
         """``d2E/dp2`` at fixed unknowns."""
         if self.control == "force":
             return 0.0
-        return float(_column(self.structure.hessian(self.full_state(u, p)), self.z_node)[self.z_node])
+        x = self.full_state(u, p)
+        return float(_column(self._elastic_hessian(x, p), self.z_node)[self.z_node])
 
     def factorize(self, J) -> Factorization:
         """Banded LU with the shell's half-bandwidth (O(N))."""
@@ -528,12 +561,12 @@ class ShellOfRevolution(Problem):
     def _obs_load(self, u: np.ndarray, p: float) -> float:
         if self.control == "force":
             return float(p)
-        return -float(self.structure.gradient(self.full_state(u, p))[self.z_node])
+        return -float(self._gradient(self.full_state(u, p), p)[self.z_node])
 
     def _dobs_load(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
         if self.control == "force":
             return np.zeros(self.n), 1.0
-        col = _column(self.structure.hessian(self.full_state(u, p)), self.z_node)
+        col = _column(self._elastic_hessian(self.full_state(u, p), p), self.z_node)
         return -col[self.idx], float(col[self.z_node])
 
     def _obs_w(self, u: np.ndarray, p: float) -> float:
