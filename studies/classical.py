@@ -99,6 +99,25 @@ BATHE_B_POINTS = ((0.067526, 1.377248), (0.152521, 2.567132), (0.263720, 3.83078
                   (1.859578, 8.706268), (2.133389, 9.661401), (2.378491, 11.236263), (2.583129, 13.213410),
                   (2.720954, 15.273399))
 
+#: Point (apex) and ring load on the clamped cap of Mescall (1965): R = 4.758 in, t = 0.01576 in,
+#: base radius a = 0.9 in (lambda = 6.0, R/t = 302), E = 1e7 psi, nu = 0.3; total load P (lb) against
+#: the apex deflection w_c (in).  Teng & Rotter (1989a, Fig. 12) and Wood & Zienkiewicz (1977), as
+#: digitised in AQUINAS (input_Example_GNA04.csv; its column names swap P and w_c, its plotting script
+#: plots column 1 as w_c and column 2 as P).  Not computed here: the loads are being built.
+MESCALL_CAP = {
+    "geometry": {"R_in": 4.758, "t_in": 0.01576, "a_in": 0.9, "E_psi": 1e7, "nu": 0.3, "clamped": True},
+    "ring_load_r_over_a_0.42": {
+        "teng_rotter_1989a": {"peak_P_lb": 74.52, "peak_w_c_in": 0.01463, "valley_P_lb": 37.44,
+                              "valley_w_c_in": 0.0689},
+        "wood_zienkiewicz_1977": {"peak_P_lb": 74.85, "peak_w_c_in": 0.0117, "valley_P_lb": 37.65,
+                                  "valley_w_c_in": 0.065}},
+    "apex_load": {
+        "teng_rotter_1989a": {"w_c_in": [0.0102, 0.0632, 0.1220, 0.1607], "P_lb": [9.79, 25.67, 40.46, 64.90]},
+        "wood_zienkiewicz_1977": {"w_c_in": [0.00885, 0.0698, 0.1204, 0.1607], "P_lb": [9.68, 27.99, 41.34, 70.29]},
+        "note": "no limit point up to w_c = 0.16 in in either source"},
+    "source": "github.com/AchilleasF/AQUINAS-FE src/Examples/input_Example_GNA04.csv and Example_GNA04.m",
+}
+
 
 # ---- the caps -----------------------------------------------------------------------------------
 def lambda_base_radius(pr: ShellPressure) -> float:
@@ -275,19 +294,25 @@ def bathe_comparison(N: int) -> tuple[dict[str, Any], list[dict[str, Any]]]:
     pr = bathe_cap(N)
     a = pr.R * math.cos(pr.phi_hat)
     scale = (a / pr.h) ** 4 / pr.E
-    br = contin.continuation(pr, pr.reference_unknowns(), 0.0, _settings(0.05), p_max=16.0 / scale,
+    br = contin.continuation(pr, pr.reference_unknowns(), 0.0, _settings(0.01), p_max=16.0 / scale,
                              bounds={"w_over_h": (None, 3.0)})
     w = br.observable("w_over_h")
     q = br.p * scale
     curve = {"w_over_h": w, "q_norm": q, "lambda": pr.lam(), "R_over_h": pr.R / pr.h, "a_over_h": a / pr.h,
-             "folds": len([s for s in br.special_points if s.kind == "fold"]), "message": br.message}
+             "folds": len([s for s in br.special_points if s.kind == "fold"]), "message": br.message,
+             "monotonic": bool(np.all(np.diff(w) > 0) and np.all(np.diff(q) > 0))}
+    # a dense copy of our curve (piecewise linear between converged points) for the distances
+    wd = np.interp(np.linspace(0.0, len(w) - 1.0, 20 * len(w)), np.arange(len(w)), w)
+    qd = np.interp(np.linspace(0.0, len(q) - 1.0, 20 * len(q)), np.arange(len(q)), q)
     rows = []
-    order = np.argsort(w)
     for source, pts in (("Teng & Rotter 1989a Fig. 13", BATHE_TR_POINTS), ("Bathe et al. 1975", BATHE_B_POINTS)):
         for wp, qp in pts:
-            ours = float(np.interp(wp, w[order], q[order]))
+            ours = float(np.interp(wp, w, q))  # w and q both increase along this branch (no fold)
             rows.append({"source": source, "w_over_h": wp, "q_published": qp, "q_ours": ours,
-                         "rel_diff": ours / qp - 1.0})
+                         "rel_diff": ours / qp - 1.0, "w_ours_at_q": float(np.interp(qp, q, w)),
+                         "dw_at_q": float(np.interp(qp, q, w)) - wp,
+                         # distance to our curve in fractions of the plotted ranges (w/h 0-3, load 0-16)
+                         "distance": float(np.min(np.hypot((wd - wp) / 3.0, (qd - qp) / 16.0)))})
     return curve, rows
 
 
@@ -380,7 +405,8 @@ def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) ->
     axes[0].set_xlim(0.0, 8.0)
     axes[1].set_xlim(0.0, 3.0)
     axes[0].legend(fontsize="x-small", loc="upper right")
-    axes[0].set_title(f"clamped caps, R/h = {R_OVER_H:g}, $\\nu$ = 0.3 (dots: first fold)", fontsize="small")
+    axes[0].set_title(f"clamped caps, R/h = {R_OVER_H:g}, N = 200, $\\nu$ = 0.3\n(dots: first fold; traced up to 1.4 $p_c$)",
+                      fontsize="small")
     axes[1].set_title("same curves against the average deflection", fontsize="small")
     axes[2].set_xlabel("reference radius $r/a$ (0: pole, 1: clamped edge)")
     axes[2].set_ylabel("downward deflection $(z_{ref} - z)/h$ at the first fold")
@@ -501,7 +527,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "rel_diff_budiansky_R400": {str(k): r.get("rel_diff") for k, r in ref_rows.items() if r.get("budiansky")},
         "convergence": conv, "shallow_limit": limit, "fine_scan": fine, "curve_folds": fold_rows,
         "bathe": {"lambda": bathe_curve["lambda"], "R_over_h": bathe_curve["R_over_h"], "N": bathe_N,
-                  "folds": bathe_curve["folds"], "points": bathe_rows},
+                  "folds": bathe_curve["folds"], "monotonic": bathe_curve["monotonic"], "points": bathe_rows},
+        "to_compare_once_the_loads_exist": MESCALL_CAP,
         "seconds": elapsed, "rows": rows})
     save_figure(plot_snap(rows, finest, fine), out, "classical_snap")
     save_figure(plot_shallow(limit), out, "classical_shallow")
@@ -531,7 +558,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                             "r_over_a_of_max"], digits=5)
     print(f"\nBathe cap (lambda = {bathe_curve['lambda']:.3f}, R/h = {bathe_curve['R_over_h']:g}, N = {bathe_N}, "
           f"folds: {bathe_curve['folds']}):")
-    print_table(bathe_rows, ["source", "w_over_h", "q_published", "q_ours", "rel_diff"], digits=4)
+    print_table(bathe_rows, ["source", "w_over_h", "q_published", "q_ours", "rel_diff", "dw_at_q", "distance"],
+                digits=4)
     print(f"\nrelative difference to Budiansky at R/h = {R_OVER_H:g}, N = {finest}: " + ", ".join(
         f"lambda {k:g}: {r['rel_diff']:+.2%}" for k, r in ref_rows.items() if r.get("rel_diff") is not None))
     print(f"computed in {elapsed:.1f} s")
