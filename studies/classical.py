@@ -353,7 +353,7 @@ def plot_snap(rows: Sequence[dict[str, Any]], finest: int, fine: Sequence[dict[s
             ax.plot(*zip(*pts), marker=marker, color=color, ms=4, lw=0.9, label=f"this model, R/h = {rh:g}, N = {finest}")
     nu13 = sorted((r["lambda"], r["p_snap_over_p_c"]) for r in rows if r["variant"].startswith("nu=1/3, shallow"))
     if nu13:
-        ax.plot(*zip(*nu13), "*", color="tab:gray", ms=6, label=r"this model, $\nu$ = 1/3, R/h = 10000, N = 400")
+        ax.plot(*zip(*nu13), "*", color="k", ms=8, label=r"this model, $\nu$ = 1/3, R/h = 10000, N = 400")
     if fine:
         pts = sorted((r["lambda"], r["p_snap_over_p_c"]) for r in fine)
         ax.plot(*zip(*pts), ".", color="tab:blue", ms=3, label=f"fine scan, R/h = {fine[0]['R_over_h']:g}")
