@@ -366,7 +366,7 @@ def plot_snap(rows: Sequence[dict[str, Any]], finest: int, fine: Sequence[dict[s
         ax.axvline(lam, color="tab:gray", lw=0.6, ls=":")
     ax.set_xlabel(r"$\lambda = 2\,[3(1-\nu^2)]^{1/4}\sqrt{H/h}$")
     ax.set_ylabel(r"axisymmetric snap pressure $p_{snap} / p_c$")
-    title = "clamped spherical caps under uniform pressure, $\\nu = 0.3$\n(published values: Teng & Rotter 1989a, Table 1)"
+    title = "clamped spherical caps under uniform pressure, $\\nu = 0.3$ unless stated\n(published values: Teng & Rotter 1989a, Table 1)"
     if mono:
         title += f"; dotted: no fold up to {P_MAX:g} $p_c$"
     ax.set_title(title, fontsize="small")
@@ -518,7 +518,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     # (b) pressure-deflection curves
     say(args.quiet, "pressure-deflection curves ...")
     curve_lams = (4.0, 5.0, 5.5, 6.0, 7.0, 8.0)
-    curves = {lam: pressure_curve(clamped_cap(lam, 200, R_OVER_H)) for lam in curve_lams}
+    curves = {lam: pressure_curve(clamped_cap(lam, 200, R_OVER_H), ds_max=0.02 if args.full else 0.04)
+              for lam in curve_lams}
     curve_rows = [{"lambda": lam, "R_over_h": R_OVER_H, "N": 200, "p_over_p_c": float(p), "w_over_h": float(w),
                    "w_avg_over_h": float(wa)}
                   for lam, c in curves.items() for p, w, wa in zip(c["p_over_p_c"], c["w_over_h"], c["w_avg_over_h"])]
