@@ -334,7 +334,8 @@ class ShellOfRevolution(Problem):
     -----
     Observables: the load (``F`` or ``p``), ``w`` (the loaded node's deflection, for pressure the
     height drop of node ``N-1``), ``w_over_h`` (over the thickness at that node), ``w_over_L``, and
-    ``F_norm``, ``p_over_p_c`` and ``V`` where they apply; all with exact derivatives.
+    ``F_norm``, ``p_over_p_c``, ``V`` and ``w_pole`` (a ring-loaded shell's pole deflection) where
+    they apply; all with exact derivatives.
     """
 
     def __init__(self, structure: ShellStructure, load: Literal["point", "ring", "pressure"] = "point",
@@ -419,6 +420,12 @@ class ShellOfRevolution(Problem):
         derivatives: dict[str, Any] = {name: self._dobs_load, "w": self._dobs_w,
                                        "w_over_h": lambda u, p: _times(self._dobs_w(u, p), 1.0 / self.h_node),
                                        "w_over_L": lambda u, p: _times(self._dobs_w(u, p), 1.0 / self.length)}
+        if load == "ring" and N - 1 in st.poles:  # the pole's deflection, beside the ring's
+            z_pole = 2 * N - 1
+            e_pole = np.zeros(st.n_full)
+            e_pole[z_pole] = -1.0
+            observables["w_pole"] = lambda u, p: float(x_ref[z_pole] - self.full_state(u, p)[z_pole])
+            derivatives["w_pole"] = lambda u, p: (e_pole[self.idx], 0.0)
         if load in ("point", "ring"):
             f_norm = self.length / (2.0 * math.pi * self.D)
             observables["F_norm"] = lambda u, p: self._obs_load(u, p) * f_norm
