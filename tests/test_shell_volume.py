@@ -236,3 +236,45 @@ def test_bad_input() -> None:
         enclosed_volume(np.zeros(2), 0.0)
     with pytest.raises(ValueError):
         PressureTerm(float("nan"))
+
+
+def test_derivatives_equal_sympy_in_high_precision() -> None:
+    """Gradient and Hessian against sympy's exact derivatives of the volume formula, evaluated at 40 digits."""
+    import sympy
+
+    N = 5
+    rs, zs = sympy.symbols(f"r0:{N}"), sympy.symbols(f"z0:{N}")
+    z_ref = sympy.Rational(-1, 7)
+    V = sympy.pi / 3 * sum((rs[i] ** 2 + rs[i] * rs[i + 1] + rs[i + 1] ** 2) * (zs[i + 1] - zs[i]) for i in range(N - 1))
+    V += sympy.pi * rs[0] ** 2 * (zs[0] - z_ref)
+    dofs = [v for pair in zip(rs, zs) for v in pair]
+    rng = np.random.default_rng(7)
+    x = rng.uniform(0.1, 1.0, 2 * N)
+    subs = {s: sympy.Float(float(v), 40) for s, v in zip(dofs, x)}
+    grad = np.array([float(sympy.diff(V, d).evalf(40, subs=subs)) for d in dofs])
+    hess = np.array([[float(sympy.diff(V, a, b).evalf(40, subs=subs)) for b in dofs] for a in dofs])
+    assert enclosed_volume(x, -1 / 7) == pytest.approx(float(V.evalf(40, subs=subs)), rel=1e-14)
+    assert np.allclose(volume_gradient(x, -1 / 7), grad, rtol=1e-14, atol=1e-14 * np.abs(grad).max())
+    assert np.allclose(volume_hessian(x, -1 / 7).toarray(), hess, rtol=1e-14, atol=1e-14 * np.abs(hess).max())
+
+
+def test_pressure_work_equals_the_stored_energy_along_a_traced_path() -> None:
+    """Along an equilibrium path from the unloaded cap, ``E_el(end) = -int p dV`` (energy balance of a
+    conservative load), with ``int p dV`` by the trapezoidal rule on the stored points (error ~ step^2).
+    """
+    import contin
+    from contin_models.shell.pressure import ShellPressure
+
+    # units h = 1 and p_c = 1 (E from p_c = 2 E (h/R)^2 / sqrt(3 (1 - nu^2))), a cap with lambda = 6
+    R = 100.0
+    E = math.sqrt(3.0 * (1.0 - 0.3**2)) / (2.0 * (1.0 / R) ** 2)
+    pr = ShellPressure(R=R, E=E, nu=0.3, h=1.0, phi_hat=math.asin(1.0 - 5.45 / R), N=60, boundary="clamped")
+    br = contin.continuation(pr, pr.reference_unknowns(), 0.0, contin.Settings(ds=0.01, ds_max=0.01, max_steps=400),
+                             p_max=0.8, stability=False)
+    assert br.message.startswith("stopped at p_max")
+    p = np.asarray(br.p)
+    V = np.array([pr.pressure.volume(pr.full_state(u)) for u in br.u])
+    work = float(np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(V)))
+    stored = pr.structure.energy(pr.full_state(br.u[-1]))
+    assert stored > 0 and work < 0
+    assert stored == pytest.approx(-work, rel=2e-4)
