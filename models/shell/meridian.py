@@ -35,7 +35,8 @@ segments is a node (corners must be), and each segment gets a number of edges in
 length (at least 2).  The nodes are uniform in arclength by default; ``pole_ratio < 1`` grades them
 towards node ``N-1`` with the map of :func:`~contin_models.shell.geometry.theta_nodes`
 (:func:`~contin_models.shell.geometry.grading_map`, same ``pole_ratio`` and ``width``), towards both
-ends symmetrically when both ends are on the axis; ``ring=s_ring`` additionally refines the mesh
+ends symmetrically when both ends are on the axis (each half of the node range graded towards its
+own pole, ``width`` then a fraction of the half); ``ring=s_ring`` additionally refines the mesh
 around an interior arclength and puts a node exactly there (``ring_node``), for a ring load.  In
 detail: the node-index coordinate ``tau`` in ``[0, 1]`` is mapped to the arclength fraction by the
 grading map; the junctions (and the ring) are mapped back to ``tau``, the ``N-1`` edges are shared
@@ -429,7 +430,9 @@ class TableProfile(Segment):
     every table interval and inverted by Newton's method.  The table must progress along the curve:
     at least 4 points (3 for a straight table is not useful), no repeated consecutive points, no
     reversal (consecutive chords turning by more than 90 degrees is refused as non-monotone), all
-    ``r_k >= 0`` and the spline itself in ``r >= 0`` (checked on 16 points per interval).
+    ``r_k >= 0`` and the spline itself in ``r >= 0`` (checked on 16 points per interval).  An end
+    point with ``r`` within ``JOIN_TOL`` of the table's length of the axis (e.g. ``cos(pi/2)``) is
+    put on it.
     """
 
     r_table: np.ndarray
@@ -460,6 +463,9 @@ class TableProfile(Segment):
             k = int(np.flatnonzero(dots <= 0)[0]) + 1
             raise ValueError(f"{w}: the table is not monotone along the curve: it turns back by 90 degrees or more at point {k}")
         p = np.concatenate([[0.0], np.cumsum(chord)])
+        for k in (0, -1):  # an end within round-off of the axis is on it
+            if r[k] <= JOIN_TOL * p[-1]:
+                r[k] = 0.0
         sp = CubicSpline(p, np.stack([r, z], axis=1), bc_type="not-a-knot")
         d = sp.derivative()
 
@@ -669,8 +675,10 @@ def _grading(q: float, width: float, two_poles: bool, ring: tuple | None):
         def P(tau):
             return np.asarray(tau, dtype=float)
     elif two_poles:
-        def P(tau):
-            return 0.5 * (1.0 + grading_map(2.0 * np.asarray(tau, dtype=float) - 1.0, q, width))
+        def P(tau):  # each half graded towards its own pole, uniform (and matched) at the middle
+            tau = np.asarray(tau, dtype=float)
+            return np.where(tau <= 0.5, 0.5 * grading_map(2.0 * tau, q, width),
+                            1.0 - 0.5 * grading_map(2.0 - 2.0 * tau, q, width))
     else:
         def P(tau):
             return 1.0 - grading_map(1.0 - np.asarray(tau, dtype=float), q, width)
