@@ -11,6 +11,11 @@ paper (``docs/physics.md`` section 2):
   ``pi rbar_i lbar_i kb (B11^2 + 2 nu B11 B22 + B22^2)``, ``B = kappa - kappabar``,
   ``kb = E h^3 / (12 (1 - nu^2))``.
 
+The thickness may vary (``h`` an array of node thicknesses): each edge then takes the mean
+thickness of its two nodes in ``ks``, each node its own in ``kb`` (:attr:`ShellEnergy.ks_edges`,
+:attr:`ShellEnergy.kb_nodes`).  The reference may be any polyline
+(:mod:`contin_models.shell.meridian`), not only the spherical cap.
+
 The element formulas, their exact gradients and Hessians live in the generated module
 :mod:`contin_models.shell._generated` (see :mod:`contin_models.shell.codegen` for the definitions: ``kappa11`` is
 ``2 tan(xi/2) / L``, ``kappa22 = n_r / r_i`` with the node normal the unit bisector of the two edge

@@ -549,7 +549,7 @@ class ReferenceMeridian:
     ring_node : int or None
         The node placed at the requested ring arclength (:func:`meridian`'s ``ring``).
     segments : tuple of Segment
-        The segments (empty for an imperfect meridian's own shape: see :attr:`kind`).
+        The segments (of the perfect shape for an imperfect meridian: see :attr:`kind`).
     pole_ratio : float
         Grading ratio used for the node spacing (1: uniform).
     R, phi_hat : float or None
@@ -596,6 +596,16 @@ class ReferenceMeridian:
     def length(self) -> float:
         """Arclength of the meridian, ``s[-1]``."""
         return float(self.s[-1])
+
+    @property
+    def dtheta(self) -> float | None:
+        """As ``ReferenceCap.dtheta`` on spherical caps (``None`` when :attr:`phi_hat` is): the edge angle
+        ``(pi/2 - phi_hat) / (N - 1)`` on the uniform mesh, the largest one on a graded mesh."""
+        if self.phi_hat is None or self.R is None:
+            return None
+        if self.pole_ratio == 1.0:
+            return (0.5 * math.pi - self.phi_hat) / (self.N - 1)
+        return float(np.max(np.diff(self.s))) / self.R
 
     @property
     def alpha(self) -> float | None:
@@ -744,7 +754,7 @@ def meridian(segments: Sequence[Segment], N: int, pole_ratio: float = 1.0, *, wi
     for k, sg in enumerate(segs):
         if not isinstance(sg, Segment):
             raise ValueError(f"{where}: segments[{k}] must be a Segment, got {type(sg).__name__}")
-    N = _check_N(N, where, max(3, 2 * len(segs) + 1))
+    N = _check_N(N, f"{where} ({len(segs)} segments of at least 2 edges each)", max(3, 2 * len(segs) + 1))
     q = _check_pole_ratio(pole_ratio, where)
     width = _positive("width", width, where)
     thickness = _check_thickness(thickness, where)
@@ -828,9 +838,7 @@ def meridian(segments: Sequence[Segment], N: int, pole_ratio: float = 1.0, *, wi
     # exact end points and junctions
     r[0], z[0] = segs[0].start
     r[-1], z[-1] = segs[-1].end
-    theta = np.unwrap(_normal_angle(tr, tz))
-    tr_end, tz_end = segs[-1].tangent(np.array([lengths[-1]]))
-    theta[-1] = theta[-2] + (float(_normal_angle(tr_end, tz_end)[0]) - theta[-2] + math.pi) % (2 * math.pi) - math.pi
+    theta = _normal_angle(tr, tz)
     corners = []
     for k, i in enumerate(junction_nodes):
         r[i], z[i] = segs[k].end
@@ -1037,7 +1045,8 @@ def _displaced(m: ReferenceMeridian, dr: np.ndarray, dz: np.ndarray, tag: str) -
 
     ``s`` is the old one stretched edge by edge in the ratio of the new to the old chords, and
     ``theta`` turned by the mean rotation of the node's chords (the one chord at the ends): both
-    follow the smooth curve to the order of the discretisation.
+    follow the smooth curve to the order of the discretisation (an end on the axis keeps its
+    ``theta``: the moved shape is still smooth across the axis).
     """
     r = m.r + dr
     z = m.z + dz
@@ -1054,6 +1063,11 @@ def _displaced(m: ReferenceMeridian, dr: np.ndarray, dz: np.ndarray, tag: str) -
     node_rot = np.empty(m.N)
     node_rot[0], node_rot[-1] = rot[0], rot[-1]
     node_rot[1:-1] = 0.5 * (rot[:-1] + rot[1:])
+    # an end on the axis keeps its normal along the axis (the shape stays smooth across the axis)
+    if m.end_on_axis:
+        node_rot[-1] = 0.0
+    if m.start_on_axis:
+        node_rot[0] = 0.0
     s = np.concatenate([[0.0], np.cumsum(np.diff(m.s) * l1 / m.edge_length)])
     h = None if m.thickness is None else m.thickness.copy()
     return _assemble(r, z, s=s, theta=m.theta + node_rot, thickness=h, segment_of_node=m.segment_of_node,
