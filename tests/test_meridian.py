@@ -13,7 +13,6 @@ from contin_models.shell import (Cone, EllipseArc, ReferenceMeridian, ShellEnerg
                                  ellipsoid_cap_meridian, meridian, plate_meridian, spherical_cap,
                                  spherical_cap_meridian, table_meridian, torus_meridian, with_dimple, with_mode)
 from contin_models.shell.meridian import dimple_width
-from contin_models.shell.pressure import ClampedEdge
 from contin_models.shell.volume import enclosed_volume
 
 CAP_FIELDS = ("r", "z", "theta", "edge_length", "edge_radius", "voronoi_length", "node_radius", "kappa11", "kappa22")
@@ -234,15 +233,21 @@ def test_thickness_per_node():
         plate_meridian(1.0, 21, thickness=lambda s: 0.5 - s)
 
 
-def test_clamped_edge_reads_the_base_tangent():
-    # ClampedEdge puts its ghost on the reference tangent at node 0 (from theta[0]): on a cone the
-    # ghost, node 0 and node 1 are collinear; on the spherical cap it is spherical_cap's ghost
+def test_theta_is_the_normal_angle_of_the_smooth_curve():
+    # the unit tangent from base to pole is (-sin theta, cos theta): along the chords of a cone, the
+    # polar angle on a spherical cap (checked above), the ellipse's analytic tangent
     m = cone_meridian(1.0, 20, height=0.6)
-    g = ClampedEdge(m, 1.0, 0.3).ghost
-    cross = (m.r[0] - g[0]) * (m.z[1] - m.z[0]) - (m.z[0] - g[1]) * (m.r[1] - m.r[0])
-    assert abs(cross) < 1e-15 and g[1] < m.z[0]
-    assert ClampedEdge(spherical_cap_meridian(1.0, 0.8, 30), 1.0, 0.3).ghost == \
-        ClampedEdge(spherical_cap(1.0, 0.8, 30), 1.0, 0.3).ghost
+    t = np.column_stack([-np.sin(m.theta), np.cos(m.theta)])
+    chord = np.array([-1.0, 0.6]) / math.hypot(1.0, 0.6)
+    np.testing.assert_allclose(t, np.broadcast_to(chord, t.shape), atol=1e-15)
+    a, b = 1.0, 0.6
+    e = ellipsoid_cap_meridian(a, b, 0.2, 31)
+    tp = np.arctan2(e.z / b, e.r / a)  # parametric angle
+    ref = np.column_stack([-a * np.sin(tp), b * np.cos(tp)])
+    ref /= np.linalg.norm(ref, axis=1)[:, None]
+    np.testing.assert_allclose(np.column_stack([-np.sin(e.theta), np.cos(e.theta)]), ref, atol=1e-14)
+    nr, nz = e.normals()
+    assert (nr[-1], nz[-1]) == pytest.approx((0.0, 1.0), abs=1e-14)
 
 
 # ---- volumes -------------------------------------------------------------------------------------
