@@ -314,3 +314,69 @@ def test_pure_dilation_on_the_graded_mesh(e):
     k11, k22 = s.curvatures(x)
     np.testing.assert_allclose(k11, s.cap.kappa11[1:-1] / (1 + e), rtol=1e-12)
     np.testing.assert_allclose(k22, s.cap.kappa22[1:-1] / (1 + e), rtol=1e-12)
+
+
+# ---- (e) variable thickness ----------------------------------------------------------------------
+def test_scalar_and_uniform_array_thickness_agree():
+    # an array of equal thicknesses is the scalar computation up to round-off (the kernels then
+    # take per-element stiffnesses instead of one number)
+    cap = spherical_cap(1.3, 0.9, 30, pole_ratio=0.5)
+    x = cap.x + 1e-2 * np.random.default_rng(3).uniform(-1, 1, 2 * cap.N)
+    for variant in VARIANTS:
+        a = ShellEnergy(cap, E, H, NU, kappa11_length=variant)
+        b = ShellEnergy(cap, E, np.full(cap.N, H), NU, kappa11_length=variant)
+        assert b.ks == pytest.approx(a.ks, rel=1e-15) and b.kb == pytest.approx(a.kb, rel=1e-15)
+        np.testing.assert_allclose(b.ks_edges, a.ks_edges, rtol=1e-15)
+        np.testing.assert_allclose(b.kb_nodes, a.kb_nodes, rtol=1e-15)
+        assert b.energy(x) == pytest.approx(a.energy(x), rel=1e-14, abs=0)
+        for part in (None, "stretch", "bend"):
+            g_a, g_b = a.gradient(x, part), b.gradient(x, part)
+            assert np.max(np.abs(g_b - g_a)) <= 1e-14 * np.max(np.abs(g_a))
+            H_a, H_b = a.hessian(x, part), b.hessian(x, part)
+            assert abs(H_b - H_a).max() <= 1e-14 * abs(H_a).max()
+    # the scalar path hands the kernels scalars (bit-identical to the constant-thickness code)
+    s = ShellEnergy(cap, E, H, NU)
+    assert all(np.ndim(p) == 0 for t in s._terms.values() for p in t.params[-2:])
+    np.testing.assert_array_equal(s.ks_edges, s.ks)
+    np.testing.assert_array_equal(s.kb_nodes, s.kb)
+
+
+def test_variable_thickness_stiffnesses_and_scaling():
+    from contin_models.shell import plate_meridian
+
+    m = plate_meridian(1.0, 21, 1.0, thickness=lambda s: 0.01 * (1 + s))
+    s = ShellEnergy(m, 2.0, m.thickness, 0.3)
+    h = m.thickness
+    np.testing.assert_allclose(s.ks_edges, 2.0 * 0.5 * (h[:-1] + h[1:]) / (1 - 0.09), rtol=1e-15)
+    np.testing.assert_allclose(s.kb_nodes, 2.0 * h**3 / (12 * (1 - 0.09)), rtol=1e-15)
+    assert s.kb == s.kb_nodes[-1] and s.ks == s.ks_edges[-1]  # the pole end's values
+    # energy of each element scales with its own stiffness: doubling every thickness doubles the
+    # stretching energy and multiplies the bending energy by 8
+    x = m.x + 1e-3 * np.random.default_rng(0).uniform(-1, 1, 2 * m.N)
+    s2 = ShellEnergy(m, 2.0, 2 * h, 0.3)
+    np.testing.assert_allclose(s2.element_energies(x, "stretch"), 2 * s.element_energies(x, "stretch"), rtol=1e-13)
+    np.testing.assert_allclose(s2.element_energies(x, "bend"), 8 * s.element_energies(x, "bend"), rtol=1e-13)
+    with pytest.raises(ValueError, match="shape"):
+        ShellEnergy(m, 2.0, h[:-1], 0.3)
+    with pytest.raises(ValueError, match="positive"):
+        ShellEnergy(m, 2.0, -h, 0.3)
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_variable_thickness_derivatives_match_finite_differences(variant):
+    from contin_models.shell import Cone, SphericalArc, meridian
+
+    # a cone on a spherical cap with a corner, thickness varying along the meridian
+    Rs, phi = 1.0, 0.7
+    cap_start = (Rs * math.cos(phi), Rs * math.sin(phi))
+    m = meridian([Cone(1.3, 0.4, *cap_start), SphericalArc(Rs, phi, math.pi / 2)], 16,
+                 thickness=lambda t: 0.02 * (1.0 + 0.5 * np.sin(3 * t)))
+    s = ShellEnergy(m, E, m.thickness, 0.3, kappa11_length=variant)
+    x = m.x + 1e-2 * np.random.default_rng(5).uniform(-1, 1, s.n)
+    r, z = split(x)
+    step = 1e-4 * np.min(np.hypot(np.diff(r), np.diff(z)))
+    for part in ("stretch", "bend"):
+        g = s.gradient(x, part)
+        assert np.max(np.abs(g - fd_gradient(s, x, part, step))) <= 1e-6 * np.max(np.abs(g)), part
+        Hx = s.hessian(x, part).toarray()
+        assert np.max(np.abs(Hx - fd_hessian(s, x, part, step))) <= 1e-6 * np.max(np.abs(Hx)), part

@@ -11,6 +11,11 @@ paper (``docs/physics.md`` section 2):
   ``pi rbar_i lbar_i kb (B11^2 + 2 nu B11 B22 + B22^2)``, ``B = kappa - kappabar``,
   ``kb = E h^3 / (12 (1 - nu^2))``.
 
+The thickness may vary (``h`` an array of node thicknesses): each edge then takes the mean
+thickness of its two nodes in ``ks``, each node its own in ``kb`` (:attr:`ShellEnergy.ks_edges`,
+:attr:`ShellEnergy.kb_nodes`).  The reference may be any polyline
+(:mod:`contin_models.shell.meridian`), not only the spherical cap.
+
 The element formulas, their exact gradients and Hessians live in the generated module
 :mod:`contin_models.shell._generated` (see :mod:`contin_models.shell.codegen` for the definitions: ``kappa11`` is
 ``2 tan(xi/2) / L``, ``kappa22 = n_r / r_i`` with the node normal the unit bisector of the two edge
@@ -140,12 +145,18 @@ class ShellEnergy:
 
     Parameters
     ----------
-    cap : ReferenceCap
-        The reference (stress-free) configuration, from :func:`contin_models.shell.spherical_cap`.
+    cap : ReferenceCap or ReferenceMeridian
+        The reference (stress-free) configuration, from :func:`contin_models.shell.spherical_cap`
+        or any :mod:`contin_models.shell.meridian` constructor (only its ``N``, ``x``,
+        ``edge_length``, ``edge_radius``, ``voronoi_length`` and ``node_radius`` are read).
     E : float
         Young's modulus, ``> 0``.
-    h : float
-        Thickness, ``> 0``.
+    h : float or array of shape ``(N,)``
+        Thickness, ``> 0``: one number, or the thickness of every node (e.g.
+        ``ReferenceMeridian.thickness``).  Each edge's stretching stiffness takes the mean of its
+        two nodes' thicknesses, each node's bending stiffness its own thickness (``ks ~ h``,
+        ``kb ~ h^3``).  A scalar gives exactly the constant-thickness computation (the kernels get
+        scalar stiffnesses).
     nu : float
         Poisson's ratio, in ``(-1, 1)`` (``nu = 1/2`` is allowed: the plane-stress constants stay
         finite).
@@ -154,6 +165,20 @@ class ShellEnergy:
         section 2 writes it) or the current one (the default; see the module docstring).  At the
         reference state both give the same curvature; they differ by terms of order (membrane
         strain) x (curvature).
+
+    Attributes
+    ----------
+    ks, kb : float
+        ``E h / (1 - nu^2)`` and ``E h^3 / (12 (1 - nu^2))``.  With a thickness array: the values at
+        the pole end, ``ks_edges[-1]`` and ``kb_nodes[-1]`` (what the pole element and the
+        point-load normalisation read); elements elsewhere (e.g. a clamped base) should read
+        :attr:`kb_nodes` / :attr:`ks_edges` at their own node.
+    ks_edges : ndarray, shape ``(N-1,)``
+        Stretching stiffness of every edge (constant when ``h`` is a scalar).
+    kb_nodes : ndarray, shape ``(N,)``
+        Bending stiffness of every node (constant when ``h`` is a scalar).
+    h : float or ndarray
+        The thickness as given (a read-only copy of an array); :attr:`h_nodes` is always an array.
 
     Notes
     -----
@@ -164,11 +189,23 @@ class ShellEnergy:
 
     def __init__(self, cap: ReferenceCap, E: float, h: float, nu: float,
                  kappa11_length: Literal["reference", "current"] = "current") -> None:
-        E, h, nu = float(E), float(h), float(nu)
+        h_array = None
+        if np.ndim(h) == 0:
+            E, h, nu = float(E), float(h), float(nu)
+            if not (h > 0 and math.isfinite(h)):
+                raise ValueError(f"ShellEnergy: h must be a positive number, got {h!r}")
+        else:
+            E, nu = float(E), float(nu)
+            h_array = np.array(h, dtype=float)
+            if h_array.shape != (cap.N,):
+                raise ValueError(f"ShellEnergy: h must be a number or an array of shape (N,) = ({cap.N},), "
+                                 f"got shape {h_array.shape}")
+            if not (np.all(h_array > 0) and np.all(np.isfinite(h_array))):
+                raise ValueError("ShellEnergy: h must be positive and finite at every node")
+            h_array.setflags(write=False)
+            h = h_array
         if not (E > 0 and math.isfinite(E)):
             raise ValueError(f"ShellEnergy: E must be a positive number, got {E!r}")
-        if not (h > 0 and math.isfinite(h)):
-            raise ValueError(f"ShellEnergy: h must be a positive number, got {h!r}")
         if not (-1.0 < nu < 1.0):
             raise ValueError(f"ShellEnergy: nu must be in (-1, 1), got {nu!r}")
         if kappa11_length not in ("reference", "current"):
@@ -177,27 +214,40 @@ class ShellEnergy:
         self.cap = cap
         self.E, self.h, self.nu = E, h, nu
         self.kappa11_length = kappa11_length
-        self.ks = E * h / (1.0 - nu**2)
-        self.kb = E * h**3 / (12.0 * (1.0 - nu**2))
         N = cap.N
         self.n = 2 * N
+        self.bend_nodes = np.arange(1, N - 1)  # base and pole skipped (see module docstring)
+        if h_array is None:
+            self.ks = E * h / (1.0 - nu**2)
+            self.kb = E * h**3 / (12.0 * (1.0 - nu**2))
+            ks_param, kb_param = self.ks, self.kb
+            self.h_nodes = np.full(N, h)
+            self.ks_edges = np.full(N - 1, self.ks)
+            self.kb_nodes = np.full(N, self.kb)
+        else:
+            self.h_nodes = h_array
+            self.ks_edges = E * (0.5 * (h_array[:-1] + h_array[1:])) / (1.0 - nu**2)
+            self.kb_nodes = E * h_array**3 / (12.0 * (1.0 - nu**2))
+            self.ks, self.kb = float(self.ks_edges[-1]), float(self.kb_nodes[-1])
+            ks_param, kb_param = self.ks_edges, self.kb_nodes[self.bend_nodes]
+        for a in (self.h_nodes, self.ks_edges, self.kb_nodes):
+            a.setflags(write=False)
 
         edges = np.arange(N - 1)
         s_dofs = 2 * edges[:, None] + np.arange(4)[None, :]
-        stretch = _Term("stretch", s_dofs, _stretch_local, (cap.edge_length, cap.edge_radius, self.ks, nu))
+        stretch = _Term("stretch", s_dofs, _stretch_local, (cap.edge_length, cap.edge_radius, ks_param, nu))
 
-        self.bend_nodes = np.arange(1, N - 1)  # base and pole skipped (see module docstring)
         b_dofs = 2 * (self.bend_nodes[:, None] - 1) + np.arange(6)[None, :]
         kernels = "bend" if kappa11_length == "reference" else "bend_cur"
         i = self.bend_nodes
         lbar, rbar = cap.voronoi_length[i], cap.node_radius[i]
         self._curv_fn = getattr(gen, f"{kernels}_fast_curvatures")
-        self._curv_params = (lbar, rbar, 0.0, 0.0, self.kb, nu)
+        self._curv_params = (lbar, rbar, 0.0, 0.0, kb_param, nu)
         # Reference curvatures from the very same kernel code and local variables as the energy, so
         # the reference state is exactly flat.
         k11bar, k22bar = self._curv_fn(*_bend_local(*_edges(cap.x)), *self._curv_params)
         self.kappa11_bar, self.kappa22_bar = k11bar, k22bar
-        bend = _Term(kernels, b_dofs, _bend_local, (lbar, rbar, k11bar, k22bar, self.kb, nu))
+        bend = _Term(kernels, b_dofs, _bend_local, (lbar, rbar, k11bar, k22bar, kb_param, nu))
         self._terms = {"stretch": stretch, "bend": bend}  # the order of the packed outputs
         self._build_pattern()
 
@@ -372,5 +422,6 @@ class ShellEnergy:
 
     def __repr__(self) -> str:
         c = self.cap
-        return (f"ShellEnergy(R={c.R}, phi_hat={c.phi_hat}, N={c.N}, E={self.E}, h={self.h}, "
+        h = self.h if np.ndim(self.h) == 0 else f"array[{c.N}] in [{self.h.min()}, {self.h.max()}]"
+        return (f"ShellEnergy(R={getattr(c, 'R', None)}, phi_hat={getattr(c, 'phi_hat', None)}, N={c.N}, E={self.E}, h={h}, "
                 f"nu={self.nu}, kappa11_length={self.kappa11_length!r})")

@@ -39,12 +39,25 @@ import numpy as np
 
 from . import _generated as gen
 
-__all__ = ["ReferenceCap", "spherical_cap", "theta_nodes", "interleave", "split", "POLE_RATIO", "GRADING_WIDTH"]
+__all__ = ["ReferenceCap", "spherical_cap", "theta_nodes", "grading_map", "interleave", "split", "POLE_RATIO", "GRADING_WIDTH"]
 
 #: Default ratio of the node spacing at the pole to the spacing away from it (1: uniform mesh).
 POLE_RATIO = 0.5
 #: Fraction of the meridian (from the pole) over which the graded spacing blends into the uniform one.
 GRADING_WIDTH = 0.15
+
+
+def grading_map(t, pole_ratio: float = POLE_RATIO, width: float = GRADING_WIDTH):
+    """The pole grading map ``G(t) = (t - (1 - q) w tanh(t / w)) / (1 - (1 - q) w tanh(1 / w))``.
+
+    ``t`` is the node-index coordinate counted from the pole (0 at the pole, 1 at the base) and
+    ``G(t)`` the fraction of the meridian between the node and the pole (:func:`theta_nodes`; also
+    used by :func:`contin_models.shell.meridian.meridian`).  ``G(0) = 0``, ``G(1) = 1``; ``G`` is odd
+    and increasing with ``G'(t)`` proportional to ``1 - (1 - q) sech^2(t / w)`` (``q`` at the pole).
+    Scalars or arrays ``t``; the arguments are not checked (see :func:`theta_nodes`).
+    """
+    a = (1.0 - pole_ratio) * width
+    return (t - a * np.tanh(t / width)) / (1.0 - a * math.tanh(1.0 / width))
 
 
 def theta_nodes(phi_hat: float, N: int, pole_ratio: float = POLE_RATIO, width: float = GRADING_WIDTH) -> np.ndarray:
@@ -82,9 +95,7 @@ def theta_nodes(phi_hat: float, N: int, pole_ratio: float = POLE_RATIO, width: f
         theta = phi_hat + alpha * np.arange(N) / (N - 1)
     else:
         t = 1.0 - np.arange(N) / (N - 1)
-        a = (1.0 - pole_ratio) * width
-        G = (t - a * np.tanh(t / width)) / (1.0 - a * math.tanh(1.0 / width))
-        theta = 0.5 * math.pi - alpha * G
+        theta = 0.5 * math.pi - alpha * grading_map(t, pole_ratio, width)
     theta[0], theta[-1] = phi_hat, 0.5 * math.pi
     return theta
 
