@@ -96,7 +96,7 @@ class ClampedEdge:
     The interior nodes' bending element (generated ``"bend"`` kernel, ``kappa11`` over the reference
     length given) on the nodes ``(ghost, 0, 1)``, with length and weight the half of the first
     reference edge inside the shell.  The ghost lies one first-edge length behind node 0 along the
-    reference tangent (:func:`edge_tangent`).  Why the tangent and the half cell:
+    reference tangent (the smooth meridian's, else :func:`edge_tangent`).  Why the tangent and the half cell:
     :mod:`contin_models.shell.pressure`.
 
     Parameters
@@ -105,14 +105,18 @@ class ClampedEdge:
         Reference node coordinates (node 0 is the edge).
     kb, nu : float
         Bending stiffness at the edge node and Poisson's ratio.
+    tangent : (float, float), optional
+        Unit tangent of the smooth reference meridian at node 0, along it; default
+        :func:`edge_tangent` of the nodes.
     """
 
     #: Full-state dofs of the element's real nodes (0 and 1): ``r_0, z_0, r_1, z_1``.
     dofs = np.arange(4)
 
-    def __init__(self, r: np.ndarray, z: np.ndarray, kb: float, nu: float) -> None:
+    def __init__(self, r: np.ndarray, z: np.ndarray, kb: float, nu: float,
+                 tangent: tuple[float, float] | None = None) -> None:
         l0 = math.hypot(r[1] - r[0], z[1] - z[0])
-        tr, tz = edge_tangent(r, z)
+        tr, tz = edge_tangent(r, z) if tangent is None else tangent
         self.ghost = (float(r[0]) - l0 * tr, float(z[0]) - l0 * tz)
         self.lbar = 0.5 * l0  # the edge node's cell inside the shell
         self.rbar = float(r[0])
@@ -230,7 +234,11 @@ class ShellStructure:
             rr, cc = np.meshgrid(dofs, dofs, indexing="ij")
             self._pole_slots.append(csr_slots(H0, rr.ravel(), cc.ravel()))
         if self.boundary == "clamped":
-            self.clamp: ClampedEdge | None = ClampedEdge(r, z, float(kb_nodes[0]), self.nu)
+            # the smooth curve's tangent when the meridian knows it (theta: the angle of its outward
+            # normal, tangent (-sin, cos)); the circle through the first nodes otherwise
+            theta = getattr(meridian, "theta", None)
+            tangent = None if theta is None else (-math.sin(float(theta[0])), math.cos(float(theta[0])))
+            self.clamp: ClampedEdge | None = ClampedEdge(r, z, float(kb_nodes[0]), self.nu, tangent)
             rr, cc = np.meshgrid(ClampedEdge.dofs, ClampedEdge.dofs, indexing="ij")
             self._clamp_slots = csr_slots(H0, rr.ravel(), cc.ravel())
         else:
