@@ -302,3 +302,62 @@ def test_conjugate_control_undoes_a_dead_load() -> None:
         assert counts["displacement"] == int(base.jacobian(Ub, p)[0, 0] < 0)
         dead = DeadLoad(base).stability(np.array([y, p]), F)
         assert counts["force"] == dead["force"].n_negative
+
+
+# ---- the pressure-loaded cap: volume control against pressure control ----------------------------------
+@pytest.fixture(scope="module")
+def cap_traces() -> dict:
+    """The clamped lambda = 7 cap (R/h = 400, nu = 0.3, N = 60; h = 1 and p_c = 1) under both controls."""
+    from contin_models.shell.pressure import ShellPressure, phi_hat_for_lambda
+    from contin_models.shell_scene.pressure import volume_problem
+
+    R, h, nu = 400.0, 1.0, 0.3
+    E = math.sqrt(3.0 * (1.0 - nu * nu)) / (2.0 * (h / R) ** 2)
+    cap = ShellPressure(R=R, E=E, nu=nu, h=h, phi_hat=phi_hat_for_lambda(7.0, R, h, nu), N=60, boundary="clamped")
+    u0 = cap.reference_unknowns()
+    st = contin.Settings(ds=0.02, ds_max=0.1, max_steps=500, stability=True, n_eigs=0)
+    pressure = continuation(cap, u0, 0.0, st, stop_at=("fold",), p_max=3.0)
+    vol = volume_problem(cap)
+    V0, depth = cap.pressure.V0, 2 * R * (1 - math.sin(cap.phi_hat))
+    dV_p = V0 - pressure.observables["V"]  # the volume change along the pressure-controlled branch
+    # crossings of the pressure branch's volumes, located on the volume-controlled branch (not interpolated)
+    events = [contin.crossing("dV", float(v), name=f"at{i}") for i, v in enumerate(dV_p[1:-1], start=1)]
+    events.append(contin.extremum("p", "max", folds="p", stability_label="pressure"))
+    stv = contin.Settings(ds=0.02 * depth, ds_max=0.05 * depth, max_steps=500, stability=True, n_eigs=0,
+                          state_weight=1.0 / h, param_weight=depth / (2 * V0))
+    U0, q0 = vol.from_load_state(u0, 0.0)
+    volume = continuation(vol, U0, q0, stv, stop_at=("fold",), p_max=V0, events=events)
+    return {"cap": cap, "pressure": pressure, "volume": volume, "dV_p": dV_p}
+
+
+def test_volume_control_passes_the_pressure_limit_point_without_a_fold(cap_traces: dict) -> None:
+    pressure, volume = cap_traces["pressure"], cap_traces["volume"]
+    assert pressure.status == "event" and pressure.special_points[-1].kind == "fold"
+    p_fold = pressure.special_points[-1].p
+    assert p_fold / cap_traces["cap"].p_c == pytest.approx(1.0515, abs=1e-3)  # studies.classical, N = 60
+    # along the volume path: the pressure maximum first (no fold in dV there), then the first fold in dV
+    specials = [s for s in volume.special_points if s.kind == "fold" or s.info.get("folds") == "p"]
+    assert [s.info.get("folds", "dV") for s in specials] == ["p", "dV"]
+    p_max, dV_fold = specials
+    assert p_max.located and p_max.observables["p"] == pytest.approx(p_fold, rel=1e-7)
+    assert dV_fold.p > p_max.p
+    # stability: under the prescribed volume stable up to the fold in dV; under the pressure unstable past its
+    # maximum
+    nv, npr = volume.stability_by["volume"][0], volume.stability_by["pressure"][0]
+    # (the branch ends at the located fold, stored last, where the count is decided by roundoff)
+    assert dV_fold.index >= len(volume) - 2
+    assert np.all(nv[:dV_fold.index] == 0)
+    assert np.all(npr[:p_max.index + 1] == 0) and np.all(npr[p_max.index + 1:dV_fold.index] == 1)
+    assert p_max.info["stable_before"] is True and p_max.info["stable_after"] is False
+    assert dV_fold.index > p_max.index + 1  # stored points between them: stable in volume, unstable in pressure
+
+
+def test_the_multiplier_is_the_pressure_controlled_branchs_pressure(cap_traces: dict) -> None:
+    pressure, volume = cap_traces["pressure"], cap_traces["volume"]
+    crossings = {s.label: s for s in volume.special_points if s.kind == "event" and s.label.startswith("at")}
+    assert len(crossings) == len(pressure) - 2
+    for label, s in crossings.items():
+        i = int(label[2:])
+        assert s.located and s.p == pytest.approx(cap_traces["dV_p"][i], rel=1e-9)
+        assert s.observables["p"] == pytest.approx(pressure.p[i], rel=1e-6)
+        assert s.observables["w"] == pytest.approx(pressure.observables["w"][i], rel=1e-5)
