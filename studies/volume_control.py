@@ -29,8 +29,12 @@ states are stable.  The study reports
 Units: ``h = 1``, ``R = R/h``, and ``E`` such that ``p_c = 1`` (as :mod:`studies.classical`).  Mesh
 ``N = 100`` (``--full``: 200 and 400 as well, for the mesh convergence of the snap points).
 
+A scan over ``lambda`` (:data:`SCAN`, N = 100) gives, from one volume-controlled trace per cap, the
+first limit point in ``p`` and the first fold in ``dV``: which caps snap under a prescribed volume.
+
 Writes ``special_points.csv`` (every limit point and fold with its stability under both controls),
-``paths.csv`` (both paths of every cap), ``summary.json`` and ``volume_control.png`` / ``.pdf``.
+``paths.csv`` (both paths of every cap), ``scan.csv``, ``summary.json`` and ``volume_control.png`` /
+``.pdf``.
 Findings: ``docs/validation.md`` section 7.
 """
 
@@ -63,6 +67,8 @@ LAMBDAS = (7.0, 5.0)
 W_PAST = 1.5
 #: The volume-controlled trace stops at this volume change over V0 (2: the mirror image, everted).
 DV_END_OVER_V0 = 2.0
+#: Caps scanned for the first snap of each control (volume-controlled traces only, to the first fold in dV).
+SCAN = (4.0, 5.0, 5.5, 6.0, 6.5, 7.0, 8.0)
 #: Largest arclength step of both traces over the eversion depth (finer than the scene's 1/20, so that the
 #: figure's paths are smooth through the snaps).
 STEP = 0.015
@@ -230,6 +236,33 @@ def run_cap(lam: float, N: int, compare: bool = True) -> dict[str, Any]:
     return {"result": result, "points": points, "pressure": pressure, "volume": volume, "cap": cap}
 
 
+def scan(lam: float, N: int) -> dict[str, Any]:
+    """The first limit point in ``p`` and the first fold in ``dV`` of a cap, from one volume-controlled trace.
+
+    The trace stops at the first fold in ``dV`` (or at the end of :func:`trace_volume`'s path).
+    """
+    cap = clamped_cap(lam, N)
+    problem = volume_problem(cap)
+    d, V0 = depth(cap), cap.pressure.V0
+    st = contin.Settings(ds=0.01 * d, ds_max=STEP * d, max_steps=3000, stability=True, n_eigs=0,
+                         state_weight=1.0 / cap.h, param_weight=d / (cap.h * 2.0 * V0))
+    U0, q0 = problem.from_load_state(cap.reference_unknowns(), 0.0)
+    br = contin.continuation(problem, U0, q0, st, p_max=DV_END_OVER_V0 * V0, bounds={"w": (None, 1.05 * d)},
+                             events=[contin.extremum("p", "max", folds="p", stability_label=VOLUME_LABELS[1])],
+                             stop_at=("fold",))
+    p_max = next((s for s in br.special_points if s.info.get("folds") == "p"), None)
+    fold = next((s for s in br.special_points if s.kind == "fold"), None)
+    row: dict[str, Any] = {"lambda": lam, "N": N,
+                           "p_max_over_p_c": None if p_max is None else p_max.observables["p_over_p_c"],
+                           "dV_at_p_max_over_V0": None if p_max is None else p_max.p / V0,
+                           "dV_fold_over_V0": None if fold is None else fold.p / V0,
+                           "p_at_dV_fold_over_p_c": None if fold is None else fold.observables["p_over_p_c"],
+                           "w_at_dV_fold_over_h": None if fold is None else fold.observables["w_over_h"]}
+    if fold is not None and p_max is not None and fold.p > p_max.p:
+        row["dV_fold_past_p_max"] = fold.p / p_max.p - 1.0  # how far the volume carries the cap past p_max
+    return row
+
+
 def _path_rows(run: dict[str, Any]) -> list[dict[str, Any]]:
     cap, V0 = run["cap"], run["cap"].pressure.V0
     rows = []
@@ -325,15 +358,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     for N in ((200, 400) if args.full else (200,)):
         say(args.quiet, f"lambda = {LAMBDAS[0]:g}, N = {N} (mesh check) ...")
         mesh.append(run_cap(LAMBDAS[0], N, compare=False))
+    say(args.quiet, f"first snaps of both controls, lambda = {', '.join(f'{x:g}' for x in SCAN)}, N = 100 ...")
+    scanned = [scan(lam, 100) for lam in SCAN]
     points = [r for run in runs + mesh for r in run["points"]]
     write_csv(out / "special_points.csv", points)
     write_csv(out / "paths.csv", [row for run in runs for row in _path_rows(run)])
     write_json(out / "summary.json", {
         "nu": NU, "R_over_h": R_OVER_H, "W_PAST": W_PAST, "DV_END_OVER_V0": DV_END_OVER_V0,
-        "caps": [run["result"] for run in runs], "mesh": [run["result"] for run in mesh], "special_points": points})
+        "caps": [run["result"] for run in runs], "mesh": [run["result"] for run in mesh], "special_points": points,
+        "scan": scanned})
+    write_csv(out / "scan.csv", scanned)
     save_figure(plot(runs), out, "volume_control")
     print_table(points, ["lambda", "N", "folds_in", "label", "dV_over_V0", "p_over_p_c", "w_over_h", "volume",
                          "pressure", "landing_p_over_p_c", "landing_w_over_h"], digits=6)
+    print()
+    print_table(scanned, ["lambda", "N", "p_max_over_p_c", "dV_at_p_max_over_V0", "dV_fold_over_V0",
+                          "p_at_dV_fold_over_p_c", "w_at_dV_fold_over_h", "dV_fold_past_p_max"], digits=6)
+    print()
     for run in runs + mesh:
         res = run["result"]
         pc, vc, ag = res["pressure_control"], res["volume_control"], res["agreement"]

@@ -361,3 +361,26 @@ def test_the_multiplier_is_the_pressure_controlled_branchs_pressure(cap_traces: 
         assert s.located and s.p == pytest.approx(cap_traces["dV_p"][i], rel=1e-9)
         assert s.observables["p"] == pytest.approx(pressure.p[i], rel=1e-6)
         assert s.observables["w"] == pytest.approx(pressure.observables["w"][i], rel=1e-5)
+
+
+# ---- study (e), end to end --------------------------------------------------------------------------------
+@pytest.mark.slow
+def test_the_volume_control_study_runs(tmp_path) -> None:
+    import json
+
+    from studies import volume_control
+    from tests.figure_check import assert_figure
+
+    assert volume_control.main(["--out", str(tmp_path), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    lam7, lam5 = summary["caps"]
+    assert lam7["pressure_control"]["p_max_over_p_c"] == pytest.approx(1.0527, abs=1e-3)
+    assert lam7["pressure_control"]["landing_success"] and lam5["pressure_control"]["landing_success"]
+    # lambda = 7: the volume passes the pressure maximum and folds a little later; lambda = 5: no fold at all
+    first = lam7["volume_control"]["first_fold_in_dV"]
+    assert first["dV_over_V0"] > lam7["pressure_control"]["dV_at_p_max_over_V0"]
+    assert lam5["volume_control"]["n_folds_in_dV"] == 0 and lam5["volume_control"]["max_n_negative_volume"] == 0
+    for cap in (lam7, lam5):
+        assert cap["agreement"]["n_compared"] == cap["agreement"]["n_wanted"] > 10
+        assert cap["agreement"]["max_rel_diff_p"] < 1e-6
+    assert_figure(tmp_path, "volume_control")
