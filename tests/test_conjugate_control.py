@@ -363,6 +363,30 @@ def test_the_multiplier_is_the_pressure_controlled_branchs_pressure(cap_traces: 
         assert s.observables["w"] == pytest.approx(pressure.observables["w"][i], rel=1e-5)
 
 
+
+def test_the_cap_under_volume_control_keeps_exact_derivatives_and_its_band(cap_traces: dict) -> None:
+    from contin_models.contact.indentation import BorderedBandedLU
+    from contin_models.shell_scene.pressure import volume_problem
+
+    cap = cap_traces["cap"]
+    vol = volume_problem(cap)
+    rng = np.random.default_rng(1)
+    u0 = cap.reference_unknowns()
+    U, q = vol.join(u0 + 0.3 * rng.standard_normal(u0.size), 0.8 * cap.p_c), 0.1 * cap.pressure.V0
+    report = contin.check_problem(vol, U, q)
+    assert report.ok, report
+    # the bordered Jacobian is factorized on the cap's band (block elimination), and solves right
+    J = vol.jacobian(U, q)
+    F = vol.factorize(J)
+    assert isinstance(F, BorderedBandedLU) and F.path == "block"
+    b = rng.standard_normal(J.shape[0])
+    assert F.solve(b) == pytest.approx(np.linalg.solve(J.toarray(), b), rel=1e-8, abs=1e-12)
+    # observables: the cap's, the multiplier as the pressure, the prescribed volume change and its ratio
+    obs = vol.evaluate_observables(U, q)
+    assert obs["p"] == pytest.approx(0.8 * cap.p_c) and obs["p_over_p_c"] == pytest.approx(0.8)
+    assert obs["dV"] == q and obs["dV_over_V0"] == pytest.approx(0.1)
+
+
 # ---- study (e), end to end --------------------------------------------------------------------------------
 @pytest.mark.slow
 def test_the_volume_control_study_runs(tmp_path) -> None:
