@@ -325,7 +325,8 @@ class Problem:
         infos = {label: stability_info(op, 0 if label in constrained else n_eigs)
                  for label, op in self.stability_operators(u, p).items()}
         for label, op in constrained.items():
-            infos[label] = StabilityInfo(op.count(infos[label].n_negative), np.zeros(0))
+            if label in infos:  # a subclass may return other operators than the declared ones
+                infos[label] = StabilityInfo(op.count(infos[label].n_negative), np.zeros(0))
         return infos
 
     def _nested_counts(self, u: Array, p: float) -> dict[str, int] | None:
