@@ -9,7 +9,7 @@ branches and jumps into a ``networkx`` graph.
 Where each part of the engine lives:
 
 ==================  ===============================================================================
-``problem``         the model interface (:class:`Problem`, stability operators, :class:`LeadingBlock`)
+``problem``         the model interface (:class:`Problem`; stability operators, :class:`LeadingBlock`, :class:`Constrained`)
 ``energy``          energy-first models: :class:`EnergyProblem` assembles generated element kernels
 ``codegen``         element energies in sympy -> numpy kernels (:func:`generate_kernels`), byte-for-byte checks
 ``settings``        :class:`Settings` and their ranges
@@ -31,6 +31,7 @@ Where each part of the engine lives:
 ``diagram``         bifurcation diagrams as graphs, and plots
 ``twopar``          fold curves in a second parameter
 ``deadload``        force control of a displacement-controlled problem (one bordered row)
+``conjugate``       displacement control of a force-controlled problem (the load a Lagrange multiplier)
 ``scene``           declarative scene schemas, validation, trace and classification results
 ``cli``, ``sweep``  the ``contin`` command line and its sweeps; ``executors`` run them in parallel
 ``registry``        the models registered as ``contin.models`` entry points
@@ -59,7 +60,8 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("diagram", "hysteresis_cycles", "load_diagram", "plot_branches", "save_diagram"), "diagram"),
     **dict.fromkeys(("JumpError", "JumpResult", "jump"), "jump"),
     **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch"), "palc"),
-    **dict.fromkeys(("LeadingBlock", "NonFiniteError", "Problem"), "problem"),
+    **dict.fromkeys(("Constrained", "LeadingBlock", "NonFiniteError", "Problem"), "problem"),
+    **dict.fromkeys(("ConjugateControl", "LoadConjugate"), "conjugate"),
     **dict.fromkeys(("Settings", "SettingsError"), "settings"),
     **dict.fromkeys(("QuasiStaticResult", "quasistatic", "restate_jump"), "quasistatic"),
     **dict.fromkeys(("StabilityInfo", "stability_info"), "stability"),

@@ -14,6 +14,10 @@ shares that operator's factorization, so both Morse indices cost one pivot-free 
 where that cannot be trusted, the block's own count plus the sign of its Schur complement:
 :func:`contin.stability.nested_inertias`).  A negative size counts from the end: ``size=-1`` is the
 operator without its last row and column (a border whose size the model does not fix).
+An operator that is a Hessian bordered by ``k`` equality constraints (a KKT matrix, e.g. a load
+turned into a Lagrange multiplier by prescribing its conjugate displacement) is declared as
+``Constrained(operator, k)``: its Morse index is that of the Hessian restricted to the constraints'
+tangent space, the bordered matrix's count minus ``k`` (:class:`Constrained`).
 Shorthands: ``stability_operator=op`` is ``{"stability": op}``, and ``symmetric=True`` alone uses
 the Jacobian.
 
@@ -36,7 +40,7 @@ import scipy.sparse as sp
 from .linalg import Factorization, factorize
 from .stability import StabilityInfo, leading_inertias, nested_inertias, stability_info
 
-__all__ = ["Problem", "NonFiniteError", "LeadingBlock"]
+__all__ = ["Problem", "NonFiniteError", "LeadingBlock", "Constrained"]
 
 Array = np.ndarray
 
@@ -61,6 +65,59 @@ class LeadingBlock:
     def rows(self, n: int) -> int:
         """The block's size inside an ``n`` x ``n`` operator."""
         return self.size if self.size >= 0 else n + self.size
+
+
+@dataclass(frozen=True)
+class Constrained:
+    """A stability operator that is a Hessian bordered by ``constraints`` equality constraints.
+
+    Declared as a value of ``Problem(stability_operators=...)``: ``operator(u, p)`` returns the
+    bordered (KKT) matrix ``K = [[H, A], [A^T, D]]``, ``A`` the ``n x k`` constraint gradients.  The
+    label's Morse index is that of ``H`` restricted to the tangent space ``A^T v = 0``, which is
+    ``n_neg(K) - k``: for ``D = 0`` and ``A`` of full rank, ``K`` has the inertia of ``Z^T H Z``
+    (``Z`` a basis of the tangent space) plus ``k`` positive and ``k`` negative eigenvalues (Gould
+    1985; Maddocks 1987).  The same holds for a negative definite ``D`` (a multiplier that enters
+    the energy concavely: ``K`` is then congruent to ``diag(D, H - A D^{-1} A^T)``, and ``-A D^{-1}
+    A^T`` is the penalty whose limit is the constraint), so the count stays right as ``D -> 0^-``.
+    A positive ``D`` is not such a saddle and is refused when the count is taken.
+
+    Another label may be a :class:`LeadingBlock` of this one (e.g. the unconstrained Hessian ``H``
+    itself): both are then counted from one factorization, as for any operator.  Exactly at a point
+    where ``H`` is singular the count is decided by roundoff; it is kept at 0 or above.
+
+    Only the Morse index is given: the eigenvalues of ``K`` are not those of the restricted Hessian,
+    so :meth:`Problem.stability` reports none for this label whatever ``n_eigs`` asks.
+    """
+
+    operator: Callable[[Array, float], Any]
+    constraints: int = 1
+
+    def __post_init__(self) -> None:
+        if not callable(self.operator):
+            raise TypeError(f"Constrained: the operator must be callable (u, p) -> matrix, got {self.operator!r}")
+        if int(self.constraints) != self.constraints or self.constraints < 1:
+            raise ValueError(f"Constrained: the number of constraints must be a positive integer, "
+                             f"got {self.constraints!r}")
+
+    def __call__(self, u: Array, p: float) -> Any:
+        K = self.operator(u, p)
+        self.check(K)
+        return K
+
+    def check(self, K: Any) -> None:
+        """Refuse a bordered matrix whose multiplier block ``D`` has a positive eigenvalue (see above)."""
+        n, k = K.shape[0], int(self.constraints)
+        if k >= n:
+            raise ValueError(f"Constrained: a {n} x {n} operator cannot carry {k} constraints")
+        D = (sp.csr_matrix(K)[n - k:, n - k:].toarray() if sp.issparse(K) else np.asarray(K)[n - k:, n - k:])
+        if np.any(np.linalg.eigvalsh(0.5 * (D + D.T)) > 0.0):
+            raise ValueError("Constrained: the multiplier block of the bordered operator has a positive eigenvalue; "
+                             "its count minus the constraints is not the constrained Morse index (the load "
+                             "enters the energy convexly, not as a multiplier)")
+
+    def count(self, n_negative: int) -> int:
+        """The constrained Morse index from the bordered operator's count (kept at 0 or above)."""
+        return max(int(n_negative) - int(self.constraints), 0)
 
 
 def _leading(H: Any, block: LeadingBlock) -> Any:
@@ -101,7 +158,9 @@ class Problem:
         Several stability notions at once (e.g. ``{"displacement": ..., "force": ...}`` for a
         structure that can be loaded either way); the first one is the primary label.  Overrides
         ``stability_operator``.  A :class:`LeadingBlock` value declares a label whose operator is the
-        leading block of another label's, counted from the same factorization.
+        leading block of another label's, counted from the same factorization; a :class:`Constrained`
+        value one whose operator is bordered by constraints (its count is the bordered matrix's minus
+        their number).
     name, parameter_name : str
         Labels used in output.
     residual_scale : float, optional
@@ -252,13 +311,23 @@ class Problem:
 
         The one way the engine asks for stability.  With ``n_eigs = 0`` an operator declared as the
         :class:`LeadingBlock` of another is counted with it (:meth:`_nested_counts`); otherwise every
-        operator is counted on its own.  Empty when the problem has no operator.
+        operator is counted on its own.  A :class:`Constrained` operator's count is the bordered
+        matrix's minus its constraints, without eigenvalues.  Empty when the problem has no operator.
         """
+        declared = getattr(self, "_stability_operators", {})
+        constrained = {label: op for label, op in declared.items() if isinstance(op, Constrained)}
         if n_eigs == 0:
             counts = self._nested_counts(u, p)
             if counts is not None:
-                return {label: StabilityInfo(int(n), np.zeros(0)) for label, n in counts.items()}
-        return {label: stability_info(op, n_eigs) for label, op in self.stability_operators(u, p).items()}
+                return {label: StabilityInfo(constrained[label].count(n) if label in constrained else int(n),
+                                             np.zeros(0)) for label, n in counts.items()}
+        # a bordered matrix's eigenvalues are not those of its restricted Hessian: its count only
+        infos = {label: stability_info(op, 0 if label in constrained else n_eigs)
+                 for label, op in self.stability_operators(u, p).items()}
+        for label, op in constrained.items():
+            if label in infos:  # a subclass may return other operators than the declared ones
+                infos[label] = StabilityInfo(op.count(infos[label].n_negative), np.zeros(0))
+        return infos
 
     def _nested_counts(self, u: Array, p: float) -> dict[str, int] | None:
         """Morse indices of operators declared as leading blocks of one other operator, with that operator's.

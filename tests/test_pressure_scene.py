@@ -3,6 +3,9 @@
 A clamped cap with ``lambda = 7`` (``R/h = 400``, ``nu = 0.3``) snaps at ``p / p_c = 1.068`` after
 Budiansky (1959, as tabulated by Teng & Rotter 1989); the model gives 1.0531 at N = 200 and, measured
 with this scene at N = 60, 1.05124 (``studies.classical``: within 2.2 % of Budiansky from lambda = 4 to 8).
+
+Under volume control (``load.control = displacement``, the default) the same cap passes that pressure as a
+maximum of its multiplier ``p``, stable under the prescribed volume, and snaps only at a later fold in ``dV``.
 """
 
 from __future__ import annotations
@@ -12,6 +15,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from contin import cli
@@ -87,9 +91,73 @@ def test_non_sliding_boundary_is_refused_outside_pressure_scenes(capsys: pytest.
     assert not (tmp_path / "summary.json").exists()
 
 
-def test_volume_control_of_a_pressure_scene_is_refused(capsys: pytest.CaptureFixture, tmp_path: Path) -> None:
-    code, _, err = run_cli(capsys, "trace", "-q", "--set", "load.kind=pressure", "--set", "load.control=displacement",
-                           "--out", str(tmp_path))
-    assert code == 2
-    assert "load.control" in err and "not implemented" in err and "load.control=force" in err
-    assert not (tmp_path / "summary.json").exists()
+# ---- volume control (load.control = displacement, the default) ------------------------------------------
+#: The same cap with its volume change dV = V0 - V prescribed: the scene's default control.
+VOLUME_SCENE = ["--set", "load.kind=pressure", "--set", "shell.boundary=clamped", "--set", f"shell.phi_hat={PHI_HAT!r}",
+                "--set", f"shell.h={H_THICK!r}", "--set", f"shell.nu={NU}", "--set", "shell.N=60"]
+
+
+@pytest.fixture(scope="module")
+def volume_traced(tmp_path_factory: pytest.TempPathFactory) -> tuple[int, Path]:
+    out = tmp_path_factory.mktemp("volume")
+    code = cli.main(["trace", "-q", *VOLUME_SCENE, "--out", str(out)])
+    return code, out
+
+
+def test_volume_control_is_the_default_and_passes_the_pressure_snap(volume_traced: tuple[int, Path]) -> None:
+    code, out = volume_traced
+    assert code == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "ok" and summary["control"] == "displacement" and summary["parameter"] == "dV"
+    assert summary["scene"]["load"]["control"] == "displacement"
+    records = summary["special_points"]
+    for rec in records:
+        for key in ("p", "p_over_p_c", "w", "w_over_h", "dV", "dV_over_V0"):
+            assert math.isfinite(rec[key])
+        assert rec["p_over_p_c"] == pytest.approx(rec["p"] / summary["p_c"], rel=1e-12)  # p: the multiplier
+    # the pressure snap is a maximum of the multiplier p, not a fold of the parameter
+    first = records[0]
+    assert first["kind"] == "fold" and first["parameter"] == "p" and first["label"] == "max(p)"
+    assert first["stability_control"] == "pressure"
+    assert first["stable_before"] is True and first["stable_after"] is False
+    assert first["p_over_p_c"] == pytest.approx(MEASURED_N60, abs=1e-3)  # the pressure-controlled scene's snap
+    assert summary["p_snap_over_p_c"] == first["p_over_p_c"]
+    # the volume folds later (a lambda = 7 cap snaps back in V shortly after the pressure maximum)
+    folds_in_dV = [r for r in records if r["kind"] == "fold" and r["parameter"] == "dV"]
+    assert folds_in_dV and folds_in_dV[0]["dV"] > first["dV"]
+    assert folds_in_dV[0]["stability_control"] == "volume" and folds_in_dV[0]["stable_before"] is True
+    assert summary["dV_snap"] == folds_in_dV[0]["dV"] and summary["n_folds_in_dV"] == len(folds_in_dV)
+    assert summary["dV_snap_over_V0"] == pytest.approx(summary["dV_snap"] / summary["V0"], rel=1e-12)
+
+
+def test_volume_control_branch_csv_keeps_the_pressure_columns(volume_traced: tuple[int, Path]) -> None:
+    _, out = volume_traced
+    with open(out / "branch.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {"p", "p_over_p_c", "w", "w_over_h", "V", "stable", "n_negative", "dV", "dV_over_V0", "stable_pressure",
+            "n_negative_pressure"} <= set(rows[0])
+    assert float(rows[0]["p"]) == 0.0 and float(rows[0]["dV"]) == 0.0 and rows[0]["stable"] == "1"
+    summary = json.loads((out / "summary.json").read_text())
+    p_c, first = summary["p_c"], summary["special_points"][0]
+    dV = np.array([float(r["dV"]) for r in rows])
+    p = np.array([float(r["p"]) for r in rows])
+    assert p / p_c == pytest.approx([float(r["p_over_p_c"]) for r in rows], rel=1e-12)
+    # from the start to the first fold in dV the parameter only grows, and the prescribed volume keeps the
+    # cap stable past the pressure maximum, where a prescribed pressure no longer does
+    upto = first["index"] + 2
+    while upto < len(rows) and dV[upto] > dV[upto - 1]:
+        upto += 1
+    assert upto > first["index"] + 1 and np.all(np.diff(dV[:upto]) > 0)
+    assert all(r["stable"] == "1" for r in rows[:upto])
+    past = rows[first["index"] + 1:upto]
+    assert past and all(r["stable_pressure"] == "0" for r in past)
+    assert (out / "diagram.png").stat().st_size > 0
+
+
+def test_the_volume_end_is_settable(capsys: pytest.CaptureFixture, tmp_path: Path) -> None:
+    code, _, _ = run_cli(capsys, "trace", "-q", *VOLUME_SCENE, "--set", "load.dV_end_over_V0=0.1", "--set",
+                         "output.figure=false", "--out", str(tmp_path))
+    assert code == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["dV_end"] == pytest.approx(0.1 * summary["V0"], rel=1e-12)
+    assert "stopped at p_max" in summary["message"] and summary["p_snap"] is None  # before the pressure maximum

@@ -1,29 +1,54 @@
-"""The pressure-loaded cap's run of the scene (``contin trace --model shell``, ``load.kind = "pressure"``).
+"""The pressure-loaded cap's runs of the scene (``contin trace --model shell``, ``load.kind = "pressure"``).
 
 The scene traces the connected equilibrium path of a spherical cap under a uniform external
 pressure ``p`` (:class:`contin_models.shell.ShellPressure`, on the support ``shell.boundary``) by
-pseudo-arclength continuation from the unloaded cap at ``p = 0``, until the pressure reaches
-``load.p_end_over_p_c`` times the classical pressure ``p_c = 2 E (h/R)^2 / sqrt(3 (1 - nu^2))`` or the
-pole has moved past eversion, ``w = 2 H (1 + continuation.overshoot)`` with the rise
-``H = R (1 - sin phi_hat)``, whichever comes first.
+pseudo-arclength continuation from the unloaded cap, under one of two controls (``load.control``):
+
+``"displacement"`` (the default, as for every load): volume control
+    The volume change ``dV = V0 - V`` is prescribed and ``p`` is its Lagrange multiplier
+    (:class:`contin.conjugate.ConjugateControl`, :func:`volume_problem`), as in experiments that pump
+    fluid out of (or a piston into) the space the cap closes.  ``V`` is the volume between the cap
+    and its base plane, ``V0`` the unloaded cap's; ``dV`` is positive as the pressure pushes the
+    cap in (the volume it displaces, the work-conjugate of ``p``: ``p dV`` is the work the pressure
+    does), in the scene's length unit cubed.  The path runs from ``dV = 0`` until
+    ``dV = load.dV_end_over_V0 V0`` (``2 V0`` is the mirror image of the cap: everted) or until the
+    pole has moved past eversion, whichever comes first.
+``"force"``: pressure control
+    ``p`` is the parameter; the path runs from ``p = 0`` until the pressure reaches
+    ``load.p_end_over_p_c`` times the classical pressure ``p_c = 2 E (h/R)^2 / sqrt(3 (1 - nu^2))`` or
+    the pole has moved past eversion, ``w = 2 H (1 + continuation.overshoot)`` with the rise
+    ``H = R (1 - sin phi_hat)``, whichever comes first.
 
 Why the whole path and not the quasistatic loading with its jumps: continuation goes around every
-fold in ``p``, so the diagram shows the snap-through pressure (the first fold, where the loaded cap
-jumps under a prescribed pressure), the unstable part between and the snap-back pressure on
-unloading, each point labelled stable or unstable under pressure control (the engine's stability,
-the Morse index of the Hessian at fixed ``p``).  Under a prescribed pressure the cap snaps at the
-first fold: its pressure is ``p_snap`` in ``summary.json``.
+fold, so the diagram shows the snap-through pressure (the first limit point in ``p``, where the
+cap jumps under a prescribed pressure), the unstable part between and the snap-back pressure on
+unloading.  Under pressure control each point is labelled stable or unstable under pressure control
+(the Morse index of the Hessian at fixed ``p``).  Under volume control it is labelled under both:
+``"volume"`` (the primary label: the Hessian on the tangent space of the volume constraint) and
+``"pressure"``.  A prescribed volume carries the cap stably past the pressure maximum; it snaps only
+at a fold in ``dV`` (where the path turns back in the volume), which shallow clamped caps
+(``lambda`` up to about 5) do not have and deeper ones have a little past the pressure maximum
+(``docs/validation.md`` section 7).
 
 ``summary.json``
 ----------------
 ``p_c``, ``lambda`` (:func:`contin_models.shell.pressure.cap_lambda`,
-``2 (3 (1 - nu^2))^(1/4) sqrt(H / h)``), ``H``, ``eversion_w``, ``w_end``, ``p_end``, ``boundary``,
-``control`` (``"force"``: the pressure is prescribed), ``n_folds_in_p`` and the first fold as
-``p_snap``, ``p_snap_over_p_c``, ``w_at_p_snap``, ``w_at_p_snap_over_h`` (None without a fold: a
-monotonic cap).  Every special point (``"kind": "fold"`` with ``"parameter": "p"``, and the end of
-the path) carries ``p``, ``p_over_p_c``, ``w``, ``w_over_h``, ``V`` and ``stable_before`` /
-``stable_after`` under pressure control.  ``branch.csv`` has ``p``, ``w``, ``w_over_h``,
-``p_over_p_c``, ``V``, ``stable`` and ``n_negative`` per stored point.
+``2 (3 (1 - nu^2))^(1/4) sqrt(H / h)``), ``H``, ``eversion_w``, ``w_end``, ``boundary``, ``control``
+(``"force"``: the pressure is prescribed; ``"displacement"``: the volume), ``n_folds_in_p`` and the
+first limit point in ``p`` as ``p_snap``, ``p_snap_over_p_c``, ``w_at_p_snap``, ``w_at_p_snap_over_h``
+(None without one: a monotonic cap): the snap under pressure control, under either control.  Under
+pressure control also ``p_end``; under volume control ``V0``, ``dV_end``, ``n_folds_in_dV`` and the
+first fold in ``dV`` (the snap under volume control) as ``dV_snap``, ``dV_snap_over_V0``,
+``p_at_dV_snap``, ``p_at_dV_snap_over_p_c``, ``w_at_dV_snap_over_h`` (None without one).
+
+Every special point carries ``p`` (under volume control: the multiplier, not the parameter),
+``p_over_p_c``, ``w``, ``w_over_h``, ``V`` and ``stable_before`` / ``stable_after`` under the control
+in which it is a fold (``"parameter"``: ``"p"`` for a limit point in the pressure, ``"dV"`` for a
+fold in the volume; ``stability_control`` names the label).  Under volume control a limit point in
+``p`` is an extremum of ``p`` along the path (``label`` ``max(p)`` or ``min(p)``), and every record
+also has ``dV`` and ``dV_over_V0``.  ``branch.csv`` has ``p``, ``w``, ``w_over_h``, ``p_over_p_c``,
+``V``, ``stable`` and ``n_negative`` (under the scene's control) per stored point; under volume
+control also ``dV``, ``dV_over_V0``, ``stable_pressure`` and ``n_negative_pressure``.
 """
 
 from __future__ import annotations
@@ -32,13 +57,20 @@ from typing import Any
 
 import contin
 from contin.branch import Branch, SpecialPoint
+from contin.conjugate import ConjugateControl
+from contin.linalg import Factorization
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
-from contin_models.shell.pressure import cap_lambda
+from contin_models.contact.indentation import BorderedBandedLU
+from contin_models.shell.energy import HALF_BANDWIDTH
+from contin_models.shell.pressure import ShellPressure, cap_lambda
 
-from .build import end_of_path, pressure_problem, pressure_settings
+from .build import MIN_STEPS_PER_PATH, end_of_path, pressure_problem, pressure_settings
 from .schema import Scene, eversion_displacement
 
-__all__ = ["run_pressure"]
+__all__ = ["run_pressure", "volume_problem", "volume_settings", "VOLUME_LABELS"]
+
+#: Stability labels under volume control: the prescribed volume (primary), then pressure control.
+VOLUME_LABELS = ("volume", "pressure")
 
 #: Observables of :class:`ShellPressure` every special-point record carries at its top level (``p`` is
 #: the record's parameter already).
@@ -57,7 +89,11 @@ def _pressure_fields(spt: SpecialPoint) -> dict[str, Any]:
 
 
 def _snap(records: list[dict[str, Any]], p_c: float) -> dict[str, Any]:
-    """The first fold in ``p`` along the path: where the cap snaps under a prescribed pressure."""
+    """The first limit point in ``p`` along the path: where the cap snaps under a prescribed pressure.
+
+    Under volume control it is the first maximum of the multiplier ``p``, an extremum event declared
+    as a fold in ``p`` (the same record fields).
+    """
     folds = [r for r in records if r["kind"] == "fold" and r.get("parameter") == "p"]
     first = folds[0] if folds else None
     return {"n_folds_in_p": len(folds),
@@ -68,22 +104,30 @@ def _snap(records: list[dict[str, Any]], p_c: float) -> dict[str, Any]:
 
 
 def run_pressure(scene: Scene, progress: bool = False) -> TraceResult:
-    """Trace the pressure-controlled path of the scene's cap from ``p = 0`` (see the module docstring).
+    """Trace the path of the scene's cap under its ``load.control`` (see the module docstring).
 
     Parameters
     ----------
     scene : dict
         A resolved scene of :data:`contin_models.shell_scene.schema.SHELL_SCHEMA` with
-        ``load.kind = "pressure"`` (and ``load.control = "force"``, which the schema enforces).
+        ``load.kind = "pressure"``.
     progress : bool
         Print the continuation's progress to stderr.
 
     Returns
     -------
     TraceResult
-        One branch (``"path"``), its special points, the summary above and the diagram ``p/p_c``
-        against ``w/h`` styled by the stability under pressure control.
+        One branch (``"path"``), its special points, the summary above and the diagram: ``p/p_c``
+        against ``w/h`` styled by the stability under pressure control (``load.control = "force"``),
+        or ``p/p_c`` against ``dV`` styled by the stability under volume control.
     """
+    if scene["load"]["control"] == "force":
+        return _run_pressure_control(scene, progress)
+    return _run_volume_control(scene, progress)
+
+
+def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
+    """The path under a prescribed pressure, from ``p = 0``."""
     s = scene["shell"]
     problem = pressure_problem(scene)
     st = pressure_settings(scene, problem, progress)
@@ -114,3 +158,138 @@ def run_pressure(scene: Scene, progress: bool = False) -> TraceResult:
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br]), x="w_over_h", y="p_over_p_c",
                        parameter_name=problem.parameter_name, labels=labels, plot_options=plot_options)
+
+
+# ---------------------------------------------------------------------------------------------------
+# volume control
+# ---------------------------------------------------------------------------------------------------
+def volume_problem(pressure: ShellPressure) -> ConjugateControl:
+    """The cap ``pressure`` with its volume change ``dV = V0 - V`` prescribed and ``p`` its multiplier.
+
+    :class:`contin.conjugate.ConjugateControl` of the pressure-controlled cap: the pressure enters
+    the energy linearly (``p (V - V0)``), so ``dV = -dE/dp`` and the Jacobian is the cap's Hessian
+    bordered by ``dV/dx`` (dense: every node moves the volume).  The bordered matrix is factorized
+    by block elimination on the banded LU of the Hessian (:class:`BorderedBandedLU`, as the force-
+    controlled indenter does), so a solve stays O(N).  The multiplier is stored in units of
+    ``p_c / (2 H)`` (the classical pressure per eversion depth), so that it weighs in the arclength
+    like a length of the shell.
+
+    Observables: the cap's (``p`` is the multiplier), ``dV`` (the parameter) and ``dV_over_V0``,
+    ``V0`` the unloaded cap's volume over its base plane.  Stability labels: :data:`VOLUME_LABELS`.
+    """
+    V0 = float(pressure.pressure.V0)
+    depth = eversion_displacement(pressure.R, pressure.phi_hat)
+    return ConjugateControl(pressure, displacement="dV", scaled={"dV_over_V0": ("dV", 1.0 / V0)},
+                            labels=VOLUME_LABELS, linear=True, multiplier_unit=pressure.p_c / depth,
+                            factorize=_bordered_band)
+
+
+def _bordered_band(J: Any) -> Factorization:
+    """Block elimination of the multiplier on the cap's banded LU (O(N) solves)."""
+    return BorderedBandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH)
+
+
+def volume_settings(scene: Scene, problem: ConjugateControl, progress: bool = False) -> contin.Settings:
+    """Continuation settings of a volume-controlled trace: steps in units of R, stability under both controls.
+
+    The path ends at ``dV = load.dV_end_over_V0 V0`` or at the pole deflection of
+    :func:`contin_models.shell_scene.build.end_of_path` (eversion plus the overshoot), whichever comes
+    first.
+    """
+    c, s = scene["continuation"], scene["shell"]
+    ds_max = min(c["ds_max"], eversion_displacement(s["R"], s["phi_hat"]) / MIN_STEPS_PER_PATH / s["R"])
+    ds = min(c["ds"], ds_max)
+    # positions and w are lengths in units of R (the multiplier too, see volume_problem); the volume
+    # change to eversion, 2 V0, weighs as much as the pole moving through the eversion depth
+    depth = eversion_displacement(s["R"], s["phi_hat"])
+    V0 = float(problem.base.pressure.V0)
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+                           stability=True, n_eigs=0, state_weight=1.0 / s["R"],
+                           param_weight=depth / (s["R"] * 2.0 * V0), progress=progress,
+                           p_max=scene["load"]["dV_end_over_V0"] * V0, bounds={"w": (None, end_of_path(scene))})
+
+
+#: Observables every special-point record carries at its top level under volume control (``p`` too:
+#: it overrides the record's parameter value, which is ``dV`` there).
+_VOLUME_OBS = ("p", "p_over_p_c", "w", "w_over_h", "V", "dV", "dV_over_V0")
+#: Columns of the printed special-point table under volume control.
+_VOLUME_TABLE_COLUMNS = {"folds_in": "parameter", "dV/V0": "dV_over_V0", "p": "p", "p/p_c": "p_over_p_c", "w": "w",
+                         "w/h": "w_over_h"}
+#: ``branch.csv``'s stability columns under volume control (name -> :meth:`contin.Branch.columns` name).
+_VOLUME_STABILITY_COLUMNS = {"stable": "stable_volume", "n_negative": "n_negative_volume",
+                             "stable_pressure": "stable_pressure", "n_negative_pressure": "n_negative_pressure"}
+_VOLUME_AXIS_LABELS = {"dV": "volume pushed in, V0 - V", "p_over_p_c": "pressure / classical p_c"}
+
+
+def _volume_fields(spt: SpecialPoint) -> dict[str, Any]:
+    """A special point's own fields under volume control: its observables, ``index`` and the control it folds under."""
+    out: dict[str, Any] = {name: float(spt.observables[name]) for name in _VOLUME_OBS if name in spt.observables}
+    out["index"] = int(spt.index)
+    if spt.info.get("stability_label") is not None:
+        out["stability_control"] = spt.info["stability_label"]
+    return out
+
+
+def _volume_snap(records: list[dict[str, Any]], V0: float, p_c: float) -> dict[str, Any]:
+    """The first fold in ``dV`` along the path: where the cap snaps under a prescribed volume."""
+    folds = [r for r in records if r["kind"] == "fold" and r.get("parameter") == "dV"]
+    first = folds[0] if folds else None
+    return {"n_folds_in_dV": len(folds),
+            "dV_snap": None if first is None else first["dV"],
+            "dV_snap_over_V0": None if first is None else first["dV"] / V0,
+            "p_at_dV_snap": None if first is None else first["p"],
+            "p_at_dV_snap_over_p_c": None if first is None else first["p"] / p_c,
+            "w_at_dV_snap_over_h": None if first is None else first["w_over_h"]}
+
+
+def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
+    """The path under a prescribed volume change, from ``dV = 0``."""
+    s = scene["shell"]
+    pressure = pressure_problem(scene)
+    problem = volume_problem(pressure)
+    st = volume_settings(scene, problem, progress)
+    U0, q0 = problem.from_load_state(pressure.reference_unknowns(), 0.0)
+    # a limit point of the pressure is an extremum of the multiplier along the path: located as an
+    # event and recorded as a fold in p, stable before and after under pressure control
+    events = [contin.extremum("p", which, folds="p", stability_label=VOLUME_LABELS[1]) for which in ("max", "min")]
+    br: Branch = contin.continuation(problem, U0, q0, st, events=events)
+    records = special_point_records([br], parameter_name=problem.parameter_name, fields=_volume_fields)
+    V0 = float(pressure.pressure.V0)
+    summary: dict[str, Any] = {
+        "p_c": pressure.p_c,
+        "lambda": cap_lambda(s["R"], s["h"], s["phi_hat"], s["nu"]),
+        "H": eversion_displacement(s["R"], s["phi_hat"]) / 2.0,
+        "eversion_w": eversion_displacement(s["R"], s["phi_hat"]),
+        "w_end": end_of_path(scene),
+        "V0": V0,
+        "dV_end": st.p_max,
+        "boundary": s["boundary"],
+        "control": scene["load"]["control"],
+    }
+    summary.update(_snap(records, pressure.p_c))
+    summary.update(_volume_snap(records, V0, pressure.p_c))
+    p_snap, dV_snap = summary["p_snap_over_p_c"], summary["dV_snap_over_V0"]
+    seen = (f"pressure maximum p/p_c = {p_snap:.6g} at w/h = {summary['w_at_p_snap_over_h']:.6g} (the snap under "
+            "pressure control)" if p_snap is not None else "no limit point in p")
+    seen += (f"; first fold in the volume (snap under volume control) at dV/V0 = {dV_snap:.6g}, p/p_c = "
+             f"{summary['p_at_dV_snap_over_p_c']:.6g}" if dV_snap is not None else "; no fold in the volume (no snap)")
+    if len(br):
+        br.message = f"{br.message}; {seen}"
+    note = (f"{s['boundary']}, lambda = {summary['lambda']:.3g}; volume control"
+            + (f"; p_max/p_c = {p_snap:.4g}" if p_snap is not None else "")
+            + (f"; snaps at dV/V0 = {dV_snap:.4g}" if dV_snap is not None else "; no fold in dV"))
+    csv = branch_columns([br], _VOLUME_STABILITY_COLUMNS)
+    # the branch's parameter is dV (an observable column too); the pressure scene's "p" is the pressure
+    csv["p"] = br.observables["p"]
+    plot_options = {"axis_labels": _VOLUME_AXIS_LABELS, "special_kinds": ("fold",), "note": note}
+
+    def plot(ax: Any) -> Any:
+        # dV is a small number in the scene's length unit cubed: a common power of ten keeps the ticks apart
+        contin.plot_branches([br], x="p", y="p_over_p_c", ax=ax, labels=["path"], **plot_options)
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(0, 0))
+        return ax
+
+    return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
+                       table=special_point_table(records, columns=_VOLUME_TABLE_COLUMNS),
+                       csv_columns=csv, x="dV", y="p_over_p_c", parameter_name=problem.parameter_name,
+                       labels=["path"], plot=plot, plot_options=plot_options)

@@ -22,7 +22,7 @@ __all__ = ["SHELL_SCENE", "classify_scene", "run_scene"]
 
 def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
     """Trace a resolved shell scene: the point load or an indenter, under displacement or force control, or a
-    uniform pressure under pressure control."""
+    uniform pressure under volume control (displacement) or pressure control (force)."""
     kind, control = scene["load"]["kind"], scene["load"]["control"]
     if kind in ("sphere", "plate"):
         # imported here: a point-load trace never loads the contact runner (nor scipy.optimize)
@@ -32,7 +32,7 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
         run = run_contact_force if control == "force" else run_contact
         result = run(scene, progress, st, w_end)
     elif kind == "pressure":
-        from .pressure import run_pressure  # the schema admits only pressure control (load.control = force)
+        from .pressure import run_pressure  # either control: load.control = displacement prescribes the volume
 
         result = run_pressure(scene, progress)
     else:

@@ -5,7 +5,8 @@ Scene keys (public contract, ``--set section.key=value``)::
     [shell]         R, E, nu, h, phi_hat, N, pole_ratio (node spacing at the pole / elsewhere; 1 = uniform),
                     boundary = "sliding" | "pinned" | "clamped" (pinned and clamped: pressure scenes only)
     [load]          kind = "point" | "sphere" | "plate" | "pressure", radius (sphere),
-                    control = "displacement" | "force" (pressure: "force" only), p_end_over_p_c (pressure)
+                    control = "displacement" | "force" (pressure: the volume change dV = V0 - V | the pressure),
+                    p_end_over_p_c (pressure, force control), dV_end_over_V0 (pressure, displacement control)
     [contact]       K_c, dhat (0: the paper's values scaled with E and R; sphere and plate only)
     [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
     [output]        figure
@@ -59,11 +60,17 @@ SHELL_SCHEMA = Schema(
                                 "log-barrier contact; or a uniform external pressure p on the cap"),
             "radius": real(0.5, gt=0, help="sphere radius [m] (load.kind = sphere)"),
             "control": choice("displacement", ("displacement", "force"),
-                              help="displacement: the pole displacement w (point) or the indenter travel w_b "
-                                   "(sphere, plate) is prescribed; force: a dead load F on the pole or the indenter, "
-                                   "or the pressure p (load.kind = pressure, which needs force)"),
-            "p_end_over_p_c": real(2.0, gt=0, help="pressure scenes: stop at this pressure over the classical p_c = "
-                                                   "2 E (h/R)^2 / sqrt(3 (1 - nu^2)), unless eversion comes first"),
+                              help="displacement: the pole displacement w (point), the indenter travel w_b "
+                                   "(sphere, plate) or the volume change dV = V0 - V (pressure: the volume the "
+                                   "pressure pushes in, positive inwards, length^3; p is its Lagrange multiplier) is "
+                                   "prescribed; force: a dead load F on the pole or the indenter, or the pressure p"),
+            "p_end_over_p_c": real(2.0, gt=0, help="pressure scenes under force control: stop at this pressure over the "
+                                                   "classical p_c = 2 E (h/R)^2 / sqrt(3 (1 - nu^2)), unless eversion "
+                                                   "comes first"),
+            "dV_end_over_V0": real(2.1, gt=0, help="pressure scenes under displacement (volume) control: stop at the "
+                                                   "volume change dV = V0 - V equal to this times the unloaded cap's "
+                                                   "volume V0 over its base plane (2: the cap's mirror image, everted), "
+                                                   "unless the pole passes eversion first"),
         },
         "continuation": {
             "ds": real(0.02, gt=0, help="initial arclength step in units of R"),
@@ -103,11 +110,6 @@ SHELL_SCHEMA = Schema(
                    "the point, sphere and plate scenes are built on the paper's sliding base (z fixed, r free); "
                    "a pinned or clamped edge exists so far only for the pressure-loaded cap. Drop shell.boundary "
                    "or set shell.boundary=sliding"),
-        Constraint(("load.kind", "load.control"),
-                   lambda s: s["load"]["kind"] != "pressure" or s["load"]["control"] == "force",
-                   'load.control = "force" when load.kind = "pressure"',
-                   "a pressure scene prescribes the pressure p (--set load.control=force); prescribing the enclosed "
-                   "volume instead (the pressure as its Lagrange multiplier) is not implemented yet"),
     ],
 )
 
