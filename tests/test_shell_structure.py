@@ -27,10 +27,11 @@ def _random_state(pr: ShellOfRevolution, size: float, seed: int = 1) -> np.ndarr
 
 @pytest.mark.parametrize("control", ["displacement", "force"])
 def test_point_load_on_the_cap_is_the_papers_problem(control: str) -> None:
-    """Sliding cap with a pole force: same unknowns, residual and Jacobian as ShellPointLoad
+    """Sliding cap without an edge element (the paper's base) with a pole force: same unknowns, residual and Jacobian as ShellPointLoad
     (displacement control), same linear stiffness under both controls."""
     old = ShellPointLoad(1.0, 1e6, 0.5, 0.02, 0.8, 120, control)
-    new = ShellOfRevolution(ShellStructure(spherical_cap(1.0, 0.8, 120), 1e6, 0.5, 0.02, "sliding"), "point", control)
+    new = ShellOfRevolution(ShellStructure(spherical_cap(1.0, 0.8, 120), 1e6, 0.5, 0.02, "sliding", edge_bending="none"),
+                            "point", control)
     assert new.linear_stiffness() == pytest.approx(old.linear_stiffness(), rel=1e-12)
     if control == "displacement":
         u = _random_state(new, 1e-3)
@@ -120,3 +121,54 @@ def test_point_load_under_a_fixed_pressure(control: str) -> None:
     other = pr.with_pressure(0.0)
     assert np.allclose(other.residual(u, p), bare.residual(u, p), rtol=0, atol=1e-12 * bare.residual_scale)
     assert pr.residual(u, p) is not None and pr.fixed_pressure == 200.0  # the copy did not touch the original
+
+
+@pytest.mark.parametrize("boundary, factor", [("clamped", 1.0), ("pinned", (3.0 + NU) / (1.0 + NU))])
+def test_plate_under_a_central_point_load_matches_the_linear_plate_solution(boundary: str, factor: float) -> None:
+    """``w = factor F a^2 / (16 pi D)`` (Timoshenko & Woinowsky-Krieger, circular plates with a central load):
+    factor 1 clamped, ``(3 + nu) / (1 + nu)`` simply supported.  Measured on the graded plate mesh
+    (``python -m pytest tests/test_shell_structure.py -k plate``): clamped 3.1e-4, 8.2e-5, 2.2e-5 at
+    N = 100, 200, 400 (order 1.92); pinned 1.2e-4, 3.3e-5, 8.6e-6 (order 1.92; without the moment-free
+    edge element first order, 1.2e-3 at N = 200)."""
+    from contin_models.shell.meridian import plate_meridian
+
+    E, h, a = 1e6, 0.01, 1.0
+    D = E * h**3 / (12.0 * (1.0 - NU**2))
+    exact = factor * a * a / (16.0 * math.pi * D)
+    errors = []
+    for N in (100, 200, 400):
+        pr = ShellOfRevolution(ShellStructure(plate_meridian(a, N), E, NU, h, boundary), "point", "force")
+        errors.append(1.0 / pr.linear_stiffness() / exact - 1.0)
+    assert abs(errors[-1]) < 5e-5
+    assert errors[1] / errors[2] > 3.5 and errors[0] / errors[1] > 3.5  # second order
+
+
+def test_complete_sphere_shrinks_uniformly_under_pressure() -> None:
+    """Linear response of a complete sphere at the equator against ``-p R^2 (1 - nu) / (2 E h)`` divided by
+    ``1 + (h/R)^2 / 12`` (the bending energy of the uniform curvature change): second order in 1/N,
+    the Richardson extrapolation within 1e-8 (measured 3.5e-10, ``python -m studies.complete_sphere``)."""
+    from contin_models.shell.meridian import complete_sphere_meridian
+
+    R, E, h = 1.0, 1e6, 0.01
+    exact = -R * R * (1.0 - NU) / (2.0 * E * h) / (1.0 + (h / R) ** 2 / 12.0)
+    errors = []
+    for N in (201, 401, 801):
+        st = ShellStructure(complete_sphere_meridian(R, N), E, NU, h)
+        assert st.poles == [0, N - 1] and st.rigid_fix == 2 * (N // 2) + 1  # the equator's height holds it
+        dx = ShellOfRevolution(st, "pressure").linear_response()
+        k = N // 2
+        errors.append((dx[2 * k] / R) / exact - 1.0)  # the equator's radial displacement
+    order = math.log2((errors[0] - errors[1]) / (errors[1] - errors[2]))
+    extrapolated = errors[2] - (errors[1] - errors[2]) / (2.0**order - 1.0)
+    assert order == pytest.approx(2.0, abs=0.05)
+    assert abs(errors[2]) < 1e-5 and abs(extrapolated) < 1e-8
+
+
+@pytest.mark.slow
+def test_complete_sphere_bifurcates_near_the_classical_pressure() -> None:
+    """R/h = 100: the first singular point of the pressure path within 2 % of p_c, mode degree 17 or 18."""
+    from studies.complete_sphere import bifurcation_nodes, bifurcation_row
+
+    row = bifurcation_row(100.0, bifurcation_nodes(100.0))
+    assert row["p_over_p_c"] == pytest.approx(1.0, abs=0.02)
+    assert row["l"] in (17, 18)
