@@ -303,7 +303,7 @@ def test_a_malformed_set_shows_the_argument_and_the_form(text):
     (["--set", "shell.h=true"], ["shell.h = true", "expected a number, got a boolean"]),
     (["--set", "shell.h=1979-05-27"], ["shell.h = 1979-05-27", "expected a number, got a date"]),
     (["--set", "shell.h=[0.01]"], ["shell.h = [0.01]", "expected a number, got an array"]),
-    (["--set", "load.kind=Point"], ["load.kind", "out of range", '"point", "sphere", "plate"']),
+    (["--set", "load.kind=Point"], ["load.kind", "out of range", '"point", "ring", "sphere", "plate"']),
     (["--set", "continuation.max_steps=1000001"], ["continuation.max_steps", "an integer in [1, 1000000]"]),
     (["--set", "continuation.ds=0.5"], ["continuation.ds = 0.5", "continuation.ds <= continuation.ds_max"]),
     (["--set", "shell.h"], ["'shell.h'", "section.key=value"]),

@@ -80,7 +80,7 @@ def test_default_scene_writes_outputs_and_special_points(runs: dict) -> None:
 
 @pytest.mark.parametrize("item, field", [
     ("shell.h=-1", "shell.h"), ("shell.phi_hat=2", "shell.phi_hat"), ("shell.N=5", "shell.N"),
-    ("shell.nu=0.7", "shell.nu"), ('load.kind="ring"', "load.kind"), ("shell.h=1.5", "shell.h"),
+    ("shell.nu=0.7", "shell.nu"), ('load.kind="cylinder"', "load.kind"), ("shell.h=1.5", "shell.h"),
 ])
 def test_bad_input_is_one_paragraph_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture, item: str,
                                             field: str) -> None:

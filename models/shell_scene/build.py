@@ -26,15 +26,20 @@ import contin
 from contin.problem import Problem
 from contin_models.contact import Plate, Sphere
 from contin_models.contact.indentation import ShellIndentation
-from contin_models.shell import ShellPointLoad
-from contin_models.shell.pressure import ShellPressure
-
 from contin.quasistatic import SnapRules
+from contin.scene import SceneError
+from contin_models.shell import ShellPointLoad
+from contin_models.shell.meridian import ReferenceMeridian, with_mode
+from contin_models.shell.pressure import classical_pressure
+from contin_models.shell.structure import ShellOfRevolution, ShellStructure
 
 from .schema import Scene, eversion_displacement
+from .shape import length_scale, reference_meridian, rise
 
 __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path", "point_problem",
-           "point_settings", "pressure_problem", "pressure_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH", "FORCE_JUMP_ATTEMPTS"]
+           "point_settings", "pressure_problem", "pressure_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH",
+           "FORCE_JUMP_ATTEMPTS", "is_papers_cap", "length_unit", "travel", "scene_meridian", "scene_structure",
+           "revolution_problem", "revolution_settings", "buckling_mode", "FLAT_TRAVEL_OVER_H"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
 #: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
@@ -79,8 +84,9 @@ class Build:
     Attributes
     ----------
     problem : Problem
-        :class:`contin_models.shell.ShellPointLoad` (point load, either control),
-        :class:`contin_models.shell.ShellPressure` (pressure, pressure prescribed) or
+        :class:`contin_models.shell.ShellPointLoad` (point load on the paper's cap, either control),
+        :class:`contin_models.shell.structure.ShellOfRevolution` (a point or ring load on any other
+        shell, either control; pressure, pressure prescribed) or
         :class:`contin_models.contact.indentation.ShellIndentation` (sphere or plate, indenter travel
         prescribed).
     settings : contin.Settings
@@ -101,17 +107,136 @@ class Build:
     w_end: float
 
 
-def end_of_path(scene: Scene) -> float:
-    """Pole displacement (or indenter travel) that ends a loading path: eversion plus the overshoot."""
+#: A flat shell (a plate) has no eversion: its paths run to a deflection of this many thicknesses.
+FLAT_TRAVEL_OVER_H = 10.0
+
+
+def is_papers_cap(scene: Scene) -> bool:
+    """Whether the scene's shell is the paper's: a perfect spherical cap on the sliding base."""
     s = scene["shell"]
-    return eversion_displacement(s["R"], s["phi_hat"]) * (1.0 + scene["continuation"]["overshoot"])
+    return (s.get("geometry", "sphere") == "sphere" and s["boundary"] == "sliding"
+            and scene.get("imperfection", {}).get("kind", "none") == "none")
+
+
+def length_unit(scene: Scene) -> float:
+    """The scene's length unit: ``R`` for the sphere, the geometry's length scale otherwise
+    (:func:`contin_models.shell_scene.shape.length_scale`)."""
+    s = scene["shell"]
+    return float(s["R"]) if s.get("geometry", "sphere") == "sphere" else length_scale(s)
+
+
+def travel(scene: Scene) -> float:
+    """The deflection a path is sized by: the eversion depth ``2 H``, or :data:`FLAT_TRAVEL_OVER_H` ``h`` for a plate."""
+    s = scene["shell"]
+    if s.get("geometry", "sphere") == "sphere":
+        return eversion_displacement(s["R"], s["phi_hat"])
+    H = rise(s)
+    return 2.0 * H if H > 0.0 else FLAT_TRAVEL_OVER_H * s["h"]
+
+
+def end_of_path(scene: Scene) -> float:
+    """Pole displacement (or indenter travel) that ends a loading path: eversion (:func:`travel`) plus the overshoot."""
+    return travel(scene) * (1.0 + scene["continuation"]["overshoot"])
 
 
 def _step_cap(scene: Scene) -> float:
-    """Largest step in units of R: ``continuation.ds_max``, at most 1/20 of the eversion depth."""
+    """Largest step in the scene's length unit: ``continuation.ds_max``, at most 1/20 of :func:`travel`."""
+    return min(scene["continuation"]["ds_max"], travel(scene) / MIN_STEPS_PER_PATH / length_unit(scene))
+
+
+def scene_meridian(scene: Scene, perfect: bool = False) -> ReferenceMeridian:
+    """The scene's reference meridian: its geometry, a node on the ring of a ring load, its imperfection.
+
+    Parameters
+    ----------
+    scene : dict
+        A resolved scene.
+    perfect : bool
+        Leave the imperfection out.
+
+    Raises
+    ------
+    contin.scene.SceneError
+        When the shape cannot be built (the message says why).
+    """
+    s, load = scene["shell"], scene["load"]
+    imperfection = None if perfect else scene.get("imperfection")
+    ring = load["ring_radius"] if load["kind"] == "ring" else None
+    try:
+        m = reference_meridian(s, imperfection, ring_radius=ring)
+    except ValueError as exc:
+        raise SceneError(str(exc), "constraint") from None
+    if imperfection and imperfection.get("kind") == "mode":
+        mode = buckling_mode(scene)
+        m = with_mode(m, mode, imperfection["delta_over_h"] * s["h"], normalize="normal")
+    return m
+
+
+def scene_structure(scene: Scene, perfect: bool = False) -> ShellStructure:
+    """The scene's shell with its support (:class:`contin_models.shell.structure.ShellStructure`)."""
     s = scene["shell"]
-    return min(scene["continuation"]["ds_max"], eversion_displacement(s["R"], s["phi_hat"]) / MIN_STEPS_PER_PATH
-               / s["R"])
+    return ShellStructure(scene_meridian(scene, perfect), s["E"], s["nu"], s["h"], s["boundary"])
+
+
+def revolution_problem(scene: Scene, control: str | None = None, perfect: bool = False) -> ShellOfRevolution:
+    """The scene's shell under its point, ring or pressure load (:class:`ShellOfRevolution`).
+
+    Pressure is built with the pressure as the parameter whatever ``control`` says (the volume as the
+    parameter is :func:`contin_models.shell_scene.pressure.volume_problem` of it).
+    """
+    s, load = scene["shell"], scene["load"]
+    structure = scene_structure(scene, perfect)
+    L = length_unit(scene)
+    if load["kind"] == "pressure":
+        return ShellOfRevolution(structure, "pressure", "force", length=L,
+                                 p_c=classical_pressure(s["E"], s["h"], L, s["nu"]))
+    if load["kind"] not in ("point", "ring"):
+        raise ValueError(f"revolution_problem: load.kind must be point, ring or pressure, got {load['kind']!r}")
+    node = structure.meridian.ring_node if load["kind"] == "ring" else None
+    return ShellOfRevolution(structure, load["kind"], control or load["control"], node=node, length=L)
+
+
+def revolution_settings(scene: Scene, problem: ShellOfRevolution, progress: bool = False) -> contin.Settings:
+    """Continuation settings of a point or ring load on any shell: steps in the scene's length unit, both labels' stability.
+
+    The force is measured in units of ``2 pi D / L`` times 10, as for the paper's point load; the
+    path ends at the deflection :func:`end_of_path`.
+    """
+    c = scene["continuation"]
+    L = length_unit(scene)
+    ds_max = _step_cap(scene)
+    ds = min(c["ds"], ds_max)
+    f_unit = 2.0 * math.pi * problem.D / L
+    param_weight = 1.0 / L if problem.control == "displacement" else 1.0 / (10.0 * f_unit)
+    bounds = {"w": (None, end_of_path(scene))}
+    ends = {"p_max": end_of_path(scene)} if problem.control == "displacement" else {}
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+                           stability=True, n_eigs=0, state_weight=1.0 / L, param_weight=param_weight,
+                           progress=progress, bounds=bounds, **ends)
+
+
+def buckling_mode(scene: Scene) -> np.ndarray:
+    """The perfect shell's buckling mode under the scene's load: the null vector at the first fold or
+    branch point of its path with the load as the parameter (the first limit load or bifurcation under
+    force or pressure control, whatever ``load.control`` says), as a full state, zero on the fixed dofs.
+
+    Raises :class:`contin.scene.SceneError` when the path has no located fold or branch point up to
+    its end.
+    """
+    from contin.stability import stability_info
+
+    load = scene["load"]
+    problem = revolution_problem(scene, control="force", perfect=True)
+    st = pressure_settings(scene, problem) if load["kind"] == "pressure" else revolution_settings(scene, problem)
+    br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, stop_at=("fold", "branch_point"))
+    first = next((p for p in br.special_points if p.kind in ("fold", "branch_point") and p.located), None)
+    if first is None:
+        raise SceneError("imperfection.kind = \"mode\": the perfect shell's path has no located fold or branch point "
+                         f"up to its end ({br.message}); give a dimple instead", "constraint")
+    info = stability_info(problem.jacobian(first.u, first.p), k=1, vectors=True)
+    mode = np.zeros(problem.structure.n_full)
+    mode[problem.idx] = info.eigenvectors[:, 0]
+    return mode
 
 
 def point_problem(scene: Scene, control: str | None = None) -> ShellPointLoad:
@@ -134,31 +259,33 @@ def point_settings(scene: Scene, problem: ShellPointLoad, progress: bool = False
                            stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
 
 
-def pressure_problem(scene: Scene) -> ShellPressure:
-    """The cap of the scene under a uniform external pressure (the parameter), on ``shell.boundary``."""
-    s = scene["shell"]
+def pressure_problem(scene: Scene) -> ShellOfRevolution:
+    """The scene's shell under a uniform external pressure (the parameter), on ``shell.boundary``.
+
+    On the perfect spherical cap this is :class:`contin_models.shell.ShellPressure`'s problem (the
+    same meridian, unknowns and residual).
+    """
     if scene["load"]["kind"] != "pressure":
         raise ValueError(f"pressure_problem: load.kind must be 'pressure', got {scene['load']['kind']!r}")
-    return ShellPressure(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
-                         boundary=s["boundary"], pole_ratio=s["pole_ratio"])
+    return revolution_problem(scene)
 
 
-def pressure_settings(scene: Scene, problem: ShellPressure, progress: bool = False) -> contin.Settings:
-    """Continuation settings of a pressure trace: steps in units of R, stability under pressure control.
+def pressure_settings(scene: Scene, problem: ShellOfRevolution, progress: bool = False) -> contin.Settings:
+    """Continuation settings of a pressure trace: steps in the scene's length unit, stability under pressure control.
 
     The path ends at ``load.p_end_over_p_c`` times the classical pressure or at the pole deflection of
     :func:`end_of_path` (eversion plus the overshoot), whichever comes first.
     """
-    c, s = scene["continuation"], scene["shell"]
+    c = scene["continuation"]
     ds_max = _step_cap(scene)
     ds = min(c["ds"], ds_max)
-    # positions and w are lengths in units of R; a pressure change of p_c weighs as much as the pole
+    L = length_unit(scene)
+    # positions and w are lengths in units of L; a pressure change of p_c weighs as much as the pole
     # moving through the eversion depth, so both halves of the path (the pressure rising to the snap,
     # the pole travelling to eversion) are resolved by the same steps
-    depth = eversion_displacement(s["R"], s["phi_hat"])
     return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
-                           stability=True, n_eigs=0, state_weight=1.0 / s["R"],
-                           param_weight=depth / (s["R"] * problem.p_c), progress=progress,
+                           stability=True, n_eigs=0, state_weight=1.0 / L,
+                           param_weight=travel(scene) / (L * problem.p_c), progress=progress,
                            p_max=scene["load"]["p_end_over_p_c"] * problem.p_c, bounds={"w": (None, end_of_path(scene))})
 
 
@@ -188,16 +315,21 @@ def contact_settings(scene: Scene, progress: bool = False, stability: bool = Tru
 def build(scene: Scene, progress: bool = False) -> Build:
     """The problem, settings and start of a scene, as ``contin trace`` starts it.
 
-    A point load is built under the scene's ``load.control``; a pressure under pressure control, with
+    A point load on the paper's cap is built under the scene's ``load.control``
+    (:class:`ShellPointLoad`); a point or ring load on any other shell too
+    (:class:`contin_models.shell.structure.ShellOfRevolution`); a pressure under pressure control, with
     the trace's end (pressure and eversion) in its settings.  A sphere or plate is built under
     displacement control of the indenter whatever ``load.control`` says: force control of an
     indenter starts from a contact state that displacement control reaches first
     (:func:`contin_models.shell_scene.contact.run_contact_force`).
     """
     problem: Problem
-    if scene["load"]["kind"] == "point":
+    if scene["load"]["kind"] == "point" and is_papers_cap(scene):
         problem = point_problem(scene)
         settings = point_settings(scene, problem, progress)
+    elif scene["load"]["kind"] in ("point", "ring"):
+        problem = revolution_problem(scene)
+        settings = revolution_settings(scene, problem, progress)
     elif scene["load"]["kind"] == "pressure":
         problem = pressure_problem(scene)
         settings = pressure_settings(scene, problem, progress)

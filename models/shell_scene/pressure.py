@@ -1,8 +1,10 @@
-"""The pressure-loaded cap's runs of the scene (``contin trace --model shell``, ``load.kind = "pressure"``).
+"""The pressure-loaded shell's runs of the scene (``contin trace --model shell``, ``load.kind = "pressure"``).
 
-The scene traces the connected equilibrium path of a spherical cap under a uniform external
-pressure ``p`` (:class:`contin_models.shell.ShellPressure`, on the support ``shell.boundary``) by
-pseudo-arclength continuation from the unloaded cap, under one of two controls (``load.control``):
+The scene traces the connected equilibrium path of its shell (any ``shell.geometry``, on the support
+``shell.boundary``, with its ``[imperfection]``: :func:`contin_models.shell_scene.build.pressure_problem`,
+a :class:`contin_models.shell.structure.ShellOfRevolution`; on the perfect spherical cap the problem
+of :class:`contin_models.shell.ShellPressure`) under a uniform external pressure ``p`` by
+pseudo-arclength continuation from the unloaded shell, under one of two controls (``load.control``):
 
 ``"displacement"`` (the default, as for every load): volume control
     The volume change ``dV = V0 - V`` is prescribed and ``p`` is its Lagrange multiplier
@@ -15,9 +17,10 @@ pseudo-arclength continuation from the unloaded cap, under one of two controls (
     pole has moved past eversion, whichever comes first.
 ``"force"``: pressure control
     ``p`` is the parameter; the path runs from ``p = 0`` until the pressure reaches
-    ``load.p_end_over_p_c`` times the classical pressure ``p_c = 2 E (h/R)^2 / sqrt(3 (1 - nu^2))`` or
-    the pole has moved past eversion, ``w = 2 H (1 + continuation.overshoot)`` with the rise
-    ``H = R (1 - sin phi_hat)``, whichever comes first.
+    ``load.p_end_over_p_c`` times the classical pressure ``p_c = 2 E (h/L)^2 / sqrt(3 (1 - nu^2))``
+    (``L`` the geometry's length scale: ``R`` for the sphere) or the pole has moved past eversion,
+    ``w = 2 H (1 + continuation.overshoot)`` with the rise ``H`` (``R (1 - sin phi_hat)`` for the
+    sphere; a plate's path ends at ``10 h (1 + continuation.overshoot)``), whichever comes first.
 
 Why the whole path and not the quasistatic loading with its jumps: continuation goes around every
 fold, so the diagram shows the snap-through pressure (the first limit point in ``p``, where the
@@ -32,8 +35,9 @@ at a fold in ``dV`` (where the path turns back in the volume), which shallow cla
 
 ``summary.json``
 ----------------
-``p_c``, ``lambda`` (:func:`contin_models.shell.pressure.cap_lambda`,
-``2 (3 (1 - nu^2))^(1/4) sqrt(H / h)``), ``H``, ``eversion_w``, ``w_end``, ``boundary``, ``control``
+``p_c``, ``lambda`` (``2 (3 (1 - nu^2))^(1/4) sqrt(H / h)`` with the rise ``H``; for the sphere
+:func:`contin_models.shell.pressure.cap_lambda`), ``H``, ``eversion_w``, ``geometry``, ``length_unit``,
+``imperfection``, ``w_end``, ``boundary``, ``control``
 (``"force"``: the pressure is prescribed; ``"displacement"``: the volume), ``n_folds_in_p`` and the
 first limit point in ``p`` as ``p_snap``, ``p_snap_over_p_c``, ``w_at_p_snap``, ``w_at_p_snap_over_h``
 (None without one: a monotonic cap): the snap under pressure control, under either control.  Under
@@ -53,6 +57,7 @@ control also ``dV``, ``dV_over_V0``, ``stable_pressure`` and ``n_negative_pressu
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import contin
@@ -62,10 +67,11 @@ from contin.linalg import Factorization
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 from contin_models.contact.indentation import BorderedBandedLU
 from contin_models.shell.energy import HALF_BANDWIDTH
-from contin_models.shell.pressure import ShellPressure, cap_lambda
+from contin_models.shell.structure import ShellOfRevolution
 
-from .build import MIN_STEPS_PER_PATH, end_of_path, pressure_problem, pressure_settings
-from .schema import Scene, eversion_displacement
+from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
+from .schema import Scene
+from .shape import rise
 
 __all__ = ["run_pressure", "volume_problem", "volume_settings", "VOLUME_LABELS"]
 
@@ -103,6 +109,15 @@ def _snap(records: list[dict[str, Any]], p_c: float) -> dict[str, Any]:
             "w_at_p_snap_over_h": None if first is None else first["w_over_h"]}
 
 
+def _shape_fields(scene: Scene) -> dict[str, Any]:
+    """The summary's shape fields: ``lambda`` (from the rise), ``H``, ``eversion_w``, ``geometry``, ``length_unit``."""
+    s = scene["shell"]
+    H = rise(s)
+    return {"lambda": 2.0 * (3.0 * (1.0 - s["nu"] ** 2)) ** 0.25 * math.sqrt(H / s["h"]), "H": H,
+            "eversion_w": 2.0 * H, "geometry": s["geometry"], "length_unit": length_unit(scene),
+            "imperfection": dict(scene["imperfection"])}
+
+
 def run_pressure(scene: Scene, progress: bool = False) -> TraceResult:
     """Trace the path of the scene's cap under its ``load.control`` (see the module docstring).
 
@@ -136,9 +151,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     records = special_point_records([br], parameter_name=problem.parameter_name, fields=_pressure_fields)
     summary: dict[str, Any] = {
         "p_c": problem.p_c,
-        "lambda": cap_lambda(s["R"], s["h"], s["phi_hat"], s["nu"]),
-        "H": eversion_displacement(s["R"], s["phi_hat"]) / 2.0,  # the rise R (1 - sin phi_hat)
-        "eversion_w": eversion_displacement(s["R"], s["phi_hat"]),
+        **_shape_fields(scene),
         "w_end": end_of_path(scene),
         "p_end": st.p_max,
         "boundary": s["boundary"],
@@ -163,7 +176,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
 # ---------------------------------------------------------------------------------------------------
 # volume control
 # ---------------------------------------------------------------------------------------------------
-def volume_problem(pressure: ShellPressure) -> ConjugateControl:
+def volume_problem(pressure: ShellOfRevolution, depth: float | None = None) -> ConjugateControl:
     """The cap ``pressure`` with its volume change ``dV = V0 - V`` prescribed and ``p`` its multiplier.
 
     :class:`contin.conjugate.ConjugateControl` of the pressure-controlled cap: the pressure enters
@@ -176,9 +189,15 @@ def volume_problem(pressure: ShellPressure) -> ConjugateControl:
 
     Observables: the cap's (``p`` is the multiplier), ``dV`` (the parameter) and ``dV_over_V0``,
     ``V0`` the unloaded cap's volume over its base plane.  Stability labels: :data:`VOLUME_LABELS`.
+    ``depth`` is the deflection the path is sized by (the scene's
+    :func:`contin_models.shell_scene.build.travel`); default the eversion depth ``2 H`` of the
+    reference shape, ``H`` the pole's height above the edge.
     """
     V0 = float(pressure.pressure.V0)
-    depth = eversion_displacement(pressure.R, pressure.phi_hat)
+    if depth is None:
+        depth = 2.0 * float(pressure.x_ref[-1] - pressure.x_ref[1])
+        if not depth > 0.0:
+            raise ValueError("volume_problem: a flat shell has no eversion depth; give depth")
     return ConjugateControl(pressure, displacement="dV", scaled={"dV_over_V0": ("dV", 1.0 / V0)},
                             labels=VOLUME_LABELS, linear=True, multiplier_unit=pressure.p_c / depth,
                             factorize=_bordered_band)
@@ -196,16 +215,16 @@ def volume_settings(scene: Scene, problem: ConjugateControl, progress: bool = Fa
     :func:`contin_models.shell_scene.build.end_of_path` (eversion plus the overshoot), whichever comes
     first.
     """
-    c, s = scene["continuation"], scene["shell"]
-    ds_max = min(c["ds_max"], eversion_displacement(s["R"], s["phi_hat"]) / MIN_STEPS_PER_PATH / s["R"])
+    c = scene["continuation"]
+    L, depth = length_unit(scene), travel(scene)
+    ds_max = min(c["ds_max"], depth / MIN_STEPS_PER_PATH / L)
     ds = min(c["ds"], ds_max)
-    # positions and w are lengths in units of R (the multiplier too, see volume_problem); the volume
+    # positions and w are lengths in units of L (the multiplier too, see volume_problem); the volume
     # change to eversion, 2 V0, weighs as much as the pole moving through the eversion depth
-    depth = eversion_displacement(s["R"], s["phi_hat"])
     V0 = float(problem.base.pressure.V0)
     return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
-                           stability=True, n_eigs=0, state_weight=1.0 / s["R"],
-                           param_weight=depth / (s["R"] * 2.0 * V0), progress=progress,
+                           stability=True, n_eigs=0, state_weight=1.0 / L,
+                           param_weight=depth / (L * 2.0 * V0), progress=progress,
                            p_max=scene["load"]["dV_end_over_V0"] * V0, bounds={"w": (None, end_of_path(scene))})
 
 
@@ -246,7 +265,7 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     """The path under a prescribed volume change, from ``dV = 0``."""
     s = scene["shell"]
     pressure = pressure_problem(scene)
-    problem = volume_problem(pressure)
+    problem = volume_problem(pressure, travel(scene))
     st = volume_settings(scene, problem, progress)
     U0, q0 = problem.from_load_state(pressure.reference_unknowns(), 0.0)
     # a limit point of the pressure is an extremum of the multiplier along the path: located as an
@@ -257,9 +276,7 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     V0 = float(pressure.pressure.V0)
     summary: dict[str, Any] = {
         "p_c": pressure.p_c,
-        "lambda": cap_lambda(s["R"], s["h"], s["phi_hat"], s["nu"]),
-        "H": eversion_displacement(s["R"], s["phi_hat"]) / 2.0,
-        "eversion_w": eversion_displacement(s["R"], s["phi_hat"]),
+        **_shape_fields(scene),
         "w_end": end_of_path(scene),
         "V0": V0,
         "dV_end": st.p_max,

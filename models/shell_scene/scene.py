@@ -13,7 +13,7 @@ from typing import Any
 
 from contin.scene import Classification, Constraint, SceneModel, TraceResult, check_classifiable
 
-from .build import contact_settings
+from .build import contact_settings, is_papers_cap
 from .point import path_complete, run_point, run_point_force
 from .schema import MIN_NODES_PER_BENDING_LENGTH, SHELL_SCHEMA, Scene, nodes_per_bending_length
 
@@ -35,6 +35,10 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
         from .pressure import run_pressure  # either control: load.control = displacement prescribes the volume
 
         result = run_pressure(scene, progress)
+    elif not is_papers_cap(scene) or kind == "ring":
+        from .revolution import run_revolution  # any other shell, or a ring load
+
+        result = run_revolution(scene, progress)
     else:
         result = run_point_force(scene, progress) if control == "force" else run_point(scene, progress)
     if not result.success and result.status != "incomplete":
@@ -153,6 +157,13 @@ _CLASSIFY_REQUIRES = (
                "load at the pole, docs/physics.md section 5; an indenter can only push, so its path has no F < 0 to "
                "classify. The class of this cap: the same command with --set load.kind=point. The indenter's own "
                "snap (w_b_c, F at the snaps): 'contin trace' with this scene, in summary.json"),
+    Constraint(("shell.geometry", "shell.boundary", "imperfection.kind"),
+               lambda s: s["shell"]["geometry"] == "sphere" and s["shell"]["boundary"] == "sliding"
+               and s["imperfection"]["kind"] == "none",
+               'shell.geometry = "sphere", shell.boundary = "sliding", imperfection.kind = "none"',
+               "the classes are the paper's, defined for its perfect spherical cap on the sliding base (docs/physics.md "
+               "section 5); for another shell 'contin trace' reports the limit loads F_max, F_min and the folds in w "
+               "in summary.json"),
 )
 
 SHELL_SCENE = SceneModel(

@@ -2,11 +2,16 @@
 
 Scene keys (public contract, ``--set section.key=value``)::
 
-    [shell]         R, E, nu, h, phi_hat, N, pole_ratio (node spacing at the pole / elsewhere; 1 = uniform),
-                    boundary = "sliding" | "pinned" | "clamped" (pinned and clamped: pressure scenes only)
-    [load]          kind = "point" | "sphere" | "plate" | "pressure", radius (sphere),
-                    control = "displacement" | "force" (pressure: the volume change dV = V0 - V | the pressure),
-                    p_end_over_p_c (pressure, force control), dV_end_over_V0 (pressure, displacement control)
+    [shell]         geometry = "sphere" | "cone" | "plate" | "torus" | "ellipse" | "table" (shape.py),
+                    R, phi_hat (sphere; R also the torispherical crown), a (base radius: cone, plate, torus;
+                    radial semi-axis: ellipse), H (cone's rise), b, t_edge (ellipse), knuckle (torus),
+                    table (CSV profile), E, nu, h, N, pole_ratio (node spacing at the pole / elsewhere),
+                    boundary = "sliding" | "pinned" | "clamped" | "free" (the indenters: sliding only)
+    [imperfection]  kind = "none" | "dimple" | "mode", delta_over_h, lambda_I (dimple width)
+    [load]          kind = "point" | "ring" | "sphere" | "plate" | "pressure", radius (sphere),
+                    ring_radius (ring), control = "displacement" | "force" (pressure: the volume change
+                    dV = V0 - V | the pressure), p_end_over_p_c (pressure, force control), dV_end_over_V0
+                    (pressure, displacement control)
     [contact]       K_c, dhat (0: the paper's values scaled with E and R; sphere and plate only)
     [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
     [output]        figure
@@ -17,8 +22,10 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from contin.scene import Constraint, Field, Schema, boolean, choice, integer, real
-from contin_models.shell.pressure import BOUNDARIES
+from contin.scene import Constraint, Field, Schema, boolean, choice, integer, real, text
+from contin_models.shell.structure import SUPPORTS
+
+from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
 __all__ = ["SHELL_SCHEMA", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
            "minimum_nodes", "nodes_per_bending_length"]
@@ -37,10 +44,32 @@ def _nodes_ok(n: int) -> bool:
 #: Nodes per bending length ``sqrt(R h)`` below which a scene is refused (``shell.N``).
 MIN_NODES_PER_BENDING_LENGTH = 4
 
+def _geometry_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    """Whether the scene's shape can be built (the torispherical head's proportions, the table's file)."""
+    from .shape import reference_meridian
+
+    shell = scene["shell"]
+    if shell.get("geometry", "sphere") == "sphere":
+        return True
+    try:
+        reference_meridian(shell, N=16)
+    except ValueError:
+        return False
+    return True
+
+
+def _thin(scene: dict[str, dict[str, Any]]) -> bool:
+    """Whether the thickness is below the meridian's smallest radius of curvature (the sphere's ``R``)."""
+    shell = scene["shell"]
+    if shell.get("geometry", "sphere") == "sphere":
+        return shell["h"] < shell["R"]
+    return not _geometry_ok(scene) or shell["h"] < bending_radius(shell)
+
+
 SHELL_SCHEMA = Schema(
     sections={
         "shell": {
-            "R": real(1.0, gt=0, help="sphere radius [m]"),
+            "R": real(1.0, gt=0, help="sphere radius [m] (geometry sphere; the crown radius of the torus geometry)"),
             "E": real(1e6, gt=0, help="Young's modulus [Pa]"),
             "nu": real(0.5, gt=-1, le=0.5, help="Poisson's ratio"),
             "h": real(0.02, gt=0, help="thickness [m]"),
@@ -49,16 +78,31 @@ SHELL_SCHEMA = Schema(
             "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}", "number of nodes on the meridian"),
             "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
                                                     "graded towards the point load by default)"),
-            "boundary": choice("sliding", BOUNDARIES,
+            "boundary": choice("sliding", SUPPORTS,
                                help="support of the base edge: sliding (z fixed, r free: the paper's base), pinned "
-                                    "(r and z fixed) or clamped (r, z and the edge rotation fixed); pinned and "
-                                    "clamped only under load.kind = pressure"),
+                                    "(r and z fixed), clamped (r, z and the edge rotation fixed) or free (nothing; "
+                                    "pressure on a closed shell only); the indenters take sliding only"),
+            "geometry": choice("sphere", GEOMETRIES,
+                               help="meridian: the spherical cap (R, phi_hat), a cone (a, H), a flat plate (a), a "
+                                    "torispherical head (crown R, base a, knuckle), a spheroidal cap (a, b, t_edge) or a "
+                                    "tabulated profile (table); point, ring and pressure loads only, except the sphere"),
+            "a": real(0.8, gt=0, help="base radius [m] (cone, plate, torus); the radial semi-axis (ellipse)"),
+            "H": real(0.2, gt=0, help="rise of the cone's apex above its base [m] (geometry cone)"),
+            "b": real(0.5, gt=0, help="axial semi-axis of the spheroid [m] (geometry ellipse)"),
+            "t_edge": real(0.5, ge=0, lt=math.pi / 2, help="parametric angle of the spheroidal cap's edge [rad], 0 = "
+                                                             "its equator (geometry ellipse)"),
+            "knuckle": real(0.1, gt=0, help="radius of the torispherical head's knuckle [m] (geometry torus)"),
+            "table": text("", help="CSV file of the profile's points r, z from the edge to the pole on the axis "
+                                   "(geometry table)"),
         },
         "load": {
-            "kind": choice("point", ("point", "sphere", "plate", "pressure"),
-                           help="indenter: a point at the pole (bilateral), or a rigid sphere or plate through the "
-                                "log-barrier contact; or a uniform external pressure p on the cap"),
+            "kind": choice("point", ("point", "ring", "sphere", "plate", "pressure"),
+                           help="a point force at the pole (bilateral), a ring force on the circle of radius "
+                                "load.ring_radius, a rigid sphere or plate through the log-barrier contact, or a "
+                                "uniform external pressure p"),
             "radius": real(0.5, gt=0, help="sphere radius [m] (load.kind = sphere)"),
+            "ring_radius": real(0.5, gt=0, help="radius of the ring load's circle [m] (load.kind = ring), inside the "
+                                                "edge's radius"),
             "control": choice("displacement", ("displacement", "force"),
                               help="displacement: the pole displacement w (point), the indenter travel w_b "
                                    "(sphere, plate) or the volume change dV = V0 - V (pressure: the volume the "
@@ -90,42 +134,83 @@ SHELL_SCHEMA = Schema(
         "output": {
             "figure": boolean(True, help="draw the force-displacement diagram (false: an empty placeholder)"),
         },
+        "imperfection": {
+            "kind": choice("none", ("none", "dimple", "mode"),
+                           help="stress-free shape: perfect, a Gaussian dimple at the pole, or the perfect shell's "
+                                "buckling mode (the null vector at the first fold or branch point of its path)"),
+            "delta_over_h": real(0.0, help="amplitude over the thickness: the dimple's depth at the pole, or the "
+                                           "mode's largest inward normal displacement (positive pushes inwards)"),
+            "lambda_I": real(2.0, gt=0, help="dimple width lambda_I = (12 (1 - nu^2))^(1/4) sqrt(R/h) beta_0, "
+                                             "beta_0 its angular width (R: the geometry's length scale)"),
+        },
     },
     constraints=[
         Constraint(("continuation.ds", "continuation.ds_max"),
                    lambda s: s["continuation"]["ds"] <= s["continuation"]["ds_max"],
                    "continuation.ds <= continuation.ds_max"),
-        Constraint(("shell.h", "shell.R"), lambda s: s["shell"]["h"] < s["shell"]["R"],
-                   "shell.h < shell.R", "the shell model is thin: its thickness must be below its radius"),
+        Constraint(("shell.h", "shell.R"), _thin,
+                   "shell.h < shell.R (other geometries: below the meridian's smallest radius of curvature, "
+                   "shell.a for the cone and the plate, shell.knuckle for the torus)",
+                   "the shell model is thin: its thickness must be below its radius"),
         Constraint(("shell.N", "shell.h", "shell.R", "shell.phi_hat"),
-                   lambda s: s["shell"]["h"] >= s["shell"]["R"] or s["shell"]["N"] >= minimum_nodes(s["shell"]),
-                   f"shell.N >= {MIN_NODES_PER_BENDING_LENGTH} (pi/2 - phi_hat) / sqrt(h/R)",
+                   lambda s: not _geometry_ok(s) or not _thin(s) or s["shell"]["N"] >= minimum_nodes(s["shell"]),
+                   f"shell.N >= {MIN_NODES_PER_BENDING_LENGTH} L / sqrt(rho h), L the meridian's length and rho its "
+                   "smallest radius of curvature (the sphere: (pi/2 - phi_hat) / sqrt(h/R))",
                    f"a snapping cap bends over the length sqrt(R h); with fewer than {MIN_NODES_PER_BENDING_LENGTH} "
                    "nodes over it the discrete path winds through spurious folds and snaps (random scenes below "
                    "the rule failed 12 times in 15, studies/fuzz.py); refine the mesh"),
+        Constraint(("shell.geometry", "shell.a", "shell.R", "shell.knuckle", "shell.table"), _geometry_ok,
+                   "a buildable shape: torus 0 < shell.knuckle < shell.a < shell.R; table an existing CSV of at least "
+                   "4 points r, z ending on the axis",
+                   "the torispherical head's knuckle joins its crown inside the base radius; run the scene with "
+                   "--set to fix the shape (the file of a table geometry is read when the scene is checked)"),
+        Constraint(("shell.boundary", "shell.geometry", "imperfection.kind", "load.kind"),
+                   lambda s: s["load"]["kind"] not in ("sphere", "plate")
+                   or (s["shell"]["boundary"] == "sliding" and s["shell"]["geometry"] == "sphere"
+                       and s["imperfection"]["kind"] == "none"),
+                   'the indenters (load.kind = "sphere" or "plate") on the paper\'s cap: shell.geometry = "sphere", '
+                   'shell.boundary = "sliding", imperfection.kind = "none"',
+                   "the log-barrier contact is built on the paper's sliding spherical cap; a point, ring or pressure "
+                   "load takes every geometry, support and imperfection"),
         Constraint(("shell.boundary", "load.kind"),
-                   lambda s: s["shell"]["boundary"] == "sliding" or s["load"]["kind"] == "pressure",
-                   'shell.boundary = "sliding" unless load.kind = "pressure" (pressure scenes take "sliding", '
-                   '"pinned" or "clamped")',
-                   "the point, sphere and plate scenes are built on the paper's sliding base (z fixed, r free); "
-                   "a pinned or clamped edge exists so far only for the pressure-loaded cap. Drop shell.boundary "
-                   "or set shell.boundary=sliding"),
+                   lambda s: s["shell"]["boundary"] != "free",
+                   'shell.boundary in ("sliding", "pinned", "clamped")',
+                   "a free edge leaves the shell unsupported: a point or ring force has nothing to push against, and "
+                   "a pressure on an open shell has no closed volume (a complete sphere, closed at both poles, is in "
+                   "the Python API: contin_models.shell.meridian.complete_sphere_meridian)"),
+        Constraint(("load.ring_radius", "shell.geometry"),
+                   lambda s: s["load"]["kind"] != "ring" or not _geometry_ok(s)
+                   or s["load"]["ring_radius"] < base_radius(s["shell"]),
+                   "load.ring_radius < the edge's radius (shell.R cos(shell.phi_hat) for the sphere, shell.a for the "
+                   "cone, plate and torus, shell.a cos(shell.t_edge) for the ellipse)",
+                   "the ring load acts on a circle of the shell between its edge and its pole"),
+        Constraint(("imperfection.kind", "imperfection.delta_over_h"),
+                   lambda s: s["imperfection"]["kind"] == "none" or s["imperfection"]["delta_over_h"] != 0.0,
+                   "imperfection.delta_over_h != 0 when imperfection.kind is not \"none\"",
+                   "an imperfection of zero amplitude is the perfect shell: set imperfection.kind = \"none\" or give "
+                   "its amplitude"),
     ],
 )
 
 
 def nodes_per_bending_length(shell: dict[str, Any], N: int | None = None) -> float:
-    """How many nodes the meridian's mean spacing puts over the bending length ``sqrt(R h)``.
+    """How many nodes the meridian's mean spacing puts over the bending length ``sqrt(rho h)``.
+
+    ``rho`` is the meridian's smallest radius of curvature (:func:`contin_models.shell_scene.shape.bending_radius`;
+    the sphere's ``R``).
 
     Parameters
     ----------
     shell : dict
-        The scene's ``[shell]`` section (``R``, ``h``, ``phi_hat`` and, unless ``N`` is given, ``N``).
+        The scene's ``[shell]`` section (the geometry's keys, ``h`` and, unless ``N`` is given, ``N``).
     N : int, optional
         A number of nodes other than the scene's.
     """
-    arc = shell["R"] * (math.pi / 2 - shell["phi_hat"])  # the meridian's length
-    return (shell["N"] if N is None else N) * math.sqrt(shell["R"] * shell["h"]) / arc
+    if shell.get("geometry", "sphere") == "sphere":
+        arc, rho = shell["R"] * (math.pi / 2 - shell["phi_hat"]), shell["R"]  # the meridian's length
+    else:
+        arc, rho = meridian_length(shell), bending_radius(shell)
+    return (shell["N"] if N is None else N) * math.sqrt(rho * shell["h"]) / arc
 
 
 def minimum_nodes(shell: dict[str, Any]) -> int:
