@@ -1,6 +1,7 @@
 """The complete sphere under external pressure: membrane state and axisymmetric bifurcation (issue 16, study (c)).
 
-Run ``python -m studies.complete_sphere [--out DIR] [--full]``.
+Run ``python -m studies.complete_sphere [--out DIR] [--full]`` (20 s; ``--full``: the membrane state up to
+N = 3201 and the bifurcation on half and double meshes).
 
 The shell is a complete sphere (two poles on the axis, no edge;
 :func:`contin_models.shell.meridian.complete_sphere_meridian`), its rigid translation along the axis
@@ -204,7 +205,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = study_parser("complete_sphere", "complete sphere under pressure: membrane state and bifurcation")
     args = parser.parse_args(argv)
     out = output_dir(args.out)
-    sizes = (201, 401, 801, 1601) if args.full else (201, 401, 801)
+    sizes = (201, 401, 801, 1601, 3201) if args.full else (201, 401, 801)
     membrane = []
     for roh in (100.0, 1000.0):
         say(args.quiet, f"membrane state, R/h = {roh:g}, N = {', '.join(map(str, sizes))} ...")
