@@ -62,6 +62,7 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch"), "palc"),
     **dict.fromkeys(("Constrained", "LeadingBlock", "NonFiniteError", "Problem"), "problem"),
     **dict.fromkeys(("ConjugateControl", "LoadConjugate"), "conjugate"),
+    **dict.fromkeys(("OperatorFamily", "family_counts"), "modes"),
     **dict.fromkeys(("Settings", "SettingsError"), "settings"),
     **dict.fromkeys(("QuasiStaticResult", "quasistatic", "restate_jump"), "quasistatic"),
     **dict.fromkeys(("StabilityInfo", "stability_info"), "stability"),

@@ -17,7 +17,7 @@ from .io import ResultFileError, read_bundle, write_bundle
 
 __all__ = ["SpecialPoint", "Branch", "SPECIAL_KINDS", "BranchFileError"]
 
-SPECIAL_KINDS = ("fold", "branch_point", "event", "jump")
+SPECIAL_KINDS = ("fold", "branch_point", "event", "jump", "bifurcation")
 
 
 class BranchFileError(ResultFileError):

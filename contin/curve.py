@@ -118,6 +118,8 @@ class Point:
     s : arclength from the start of the branch.
     stability : the problem's stability by label at the point, once computed (the step guard
         computes it before the point is accepted; the recorder stores it without recomputing).
+    modes : the Morse indices of the problem's operator families by family name, once computed
+        (:mod:`contin.modes`).
     """
 
     u: np.ndarray
@@ -129,6 +131,7 @@ class Point:
     det_sign: float = 0.0
     s: float = 0.0
     stability: dict[str, Any] | None = None
+    modes: dict[str, tuple[int, ...]] | None = None
 
 
 class Curve:

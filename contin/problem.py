@@ -30,7 +30,7 @@ Two ways to build one:
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -161,6 +161,11 @@ class Problem:
         leading block of another label's, counted from the same factorization; a :class:`Constrained`
         value one whose operator is bordered by constraints (its count is the bordered matrix's minus
         their number).
+    operator_families : sequence of :class:`contin.modes.OperatorFamily`, optional
+        Further symmetric operators, one per key (e.g. a wave number), whose definiteness the branch
+        watches besides the problem's own: a change of a key's Morse index is a bifurcation into that
+        mode, located and recorded (:mod:`contin.modes`).  Also settable as the attribute
+        ``operator_families``.
     name, parameter_name : str
         Labels used in output.
     residual_scale : float, optional
@@ -187,6 +192,7 @@ class Problem:
         name: str = "problem",
         parameter_name: str = "p",
         residual_scale: float | None = None,
+        operator_families: Sequence[Any] = (),
     ) -> None:
         if residual is None and energy is not None and type(self).residual is Problem.residual:
             raise TypeError("Problem(energy=...) needs the residual (the energy's gradient): the engine does not "
@@ -194,6 +200,7 @@ class Problem:
                             "lost per difference).  Declare element energies and use contin.EnergyProblem (exact "
                             "generated derivatives), or pass the exact gradient to contin.GradientProblem (sparse "
                             "finite-difference Hessian); see contin.energy.")
+        self.operator_families = tuple(operator_families)
         self._residual = residual
         self._jacobian = jacobian
         self._dresidual_dp = dresidual_dp

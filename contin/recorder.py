@@ -82,6 +82,8 @@ class Recorder:
         self.n_neg_by: dict[str, list[int]] = {}
         self.eigs_by: dict[str, list[np.ndarray]] = {}
         self.specials: list[SpecialPoint] = []
+        self.families = tuple(getattr(problem, "operator_families", ())) if st.stability else ()
+        self.modes: dict[str, list[list[int]]] = {fam.name: [] for fam in self.families}
 
     def add(self, pt: Point) -> None:
         """Store an accepted point (its observables and, when asked, its stability)."""
@@ -100,6 +102,12 @@ class Recorder:
             self.obs[name].append(float(fun(pt.u, pt.p)))
         if self.st.stability:
             self._add_stability(pt)
+        if self.families:
+            from .modes import family_counts  # imported here: modes imports the test functions
+
+            for fam in self.families:
+                counts = (pt.modes or {}).get(fam.name)
+                self.modes[fam.name].append(list(counts if counts is not None else family_counts(fam, pt.u, pt.p)))
 
     def stability_of(self, pt: Point) -> dict[str, Any]:
         """The problem's stability at ``pt`` by label, computed once and kept on the point."""
@@ -151,7 +159,11 @@ class Recorder:
             special_points=self.specials, status=status, message=message, meta=self._meta(t_start))
 
     def _meta(self, t_start: float) -> dict[str, Any]:
-        return {"problem": self.problem.name, "parameter_name": self.problem.parameter_name,
+        meta: dict[str, Any] = {}
+        if self.families:
+            meta["modes"] = {fam.name: {"keys": list(fam.keys), "n_negative": self.modes[fam.name]}
+                             for fam in self.families}
+        return {**meta, "problem": self.problem.name, "parameter_name": self.problem.parameter_name,
                 "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),
                 "tol": self.st.tol, "abs_tol": self.curve.tol, "state_weight": self.curve.state_weight,
                 "param_weight": self.curve.param_weight}

@@ -775,6 +775,11 @@ def test_functions(curve: Curve, events: Sequence[Event | KnownBranchPoints] = (
         tests.append(BranchPointTest(curve, known[0] if known else None))
     tests += [EventTest(curve, ev) for ev in events]
     tests += [EventTest(curve, ev, bound=True) for ev in bound_events(st)]
+    families = getattr(curve.problem, "operator_families", ())
+    if families and st.stability:
+        from .modes import ModeTest  # imported here: modes imports this module
+
+        tests += [ModeTest(curve, family) for family in families]
     return tests
 
 

@@ -1,0 +1,62 @@
+"""Operator families watched along a branch (:mod:`contin.modes`): bifurcations into other modes.
+
+A problem with the trivial path ``u = p`` and, per key ``k``, the operator ``diag(k^2 - u, 2 k^2 - u)``:
+key ``k`` gains a negative eigenvalue at ``p = k^2`` and another at ``p = 2 k^2``, known exactly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import contin
+
+
+def family_problem(keys=(1, 2, 3), sparse: bool = False) -> contin.Problem:
+    def op(k, u, p):
+        H = np.diag([k * k - u[0], 2.0 * k * k - u[0]])
+        return sp.csr_matrix(H) if sparse else H
+
+    family = contin.OperatorFamily("k", keys, op, multiplicity=lambda k: 2)
+    return contin.Problem(residual=lambda u, p: np.array([u[0] - p]), jacobian=lambda u, p: np.eye(1),
+                          dresidual_dp=lambda u, p: np.array([-1.0]), symmetric=True, operator_families=[family],
+                          name="family")
+
+
+@pytest.mark.parametrize("sparse", [False, True])
+def test_every_crossing_is_detected_and_located(sparse: bool) -> None:
+    br = contin.continuation(family_problem(sparse=sparse), np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=10.0, stability=True,
+                             max_steps=100)
+    bif = [s for s in br.special_points if s.kind == "bifurcation"]
+    expected = [(1.0, 1), (2.0, 1), (4.0, 2), (8.0, 2), (9.0, 3)]
+    assert [(round(s.p, 9), s.info["key"]) for s in bif] == [(p, k) for p, k in expected]
+    for s in bif:
+        assert s.located and s.info["family"] == "k"
+        assert abs(s.info["eigenvalue"]) < 1e-8 * abs(s.info["next_eigenvalue"])
+    counts = br.meta["modes"]["k"]
+    assert counts["keys"] == [1, 2, 3] and counts["n_negative"][0] == [0, 0, 0]
+    assert counts["n_negative"][-1] == [2, 2, 1] and len(counts["n_negative"]) == len(br.p)
+
+
+def test_two_keys_changing_on_one_step_report_the_first_crossing() -> None:
+    # one step of 1.5 from p = 7.6 crosses p = 8 (key 2) and p = 9 (key 3)
+    br = contin.continuation(family_problem(), np.array([7.6]), 7.6, ds=1.5, ds_max=1.5, p_max=9.5, max_steps=5,
+                             stability=True)
+    bif = [s for s in br.special_points if s.kind == "bifurcation"]
+    assert len(bif) == 1
+    assert bif[0].info["key"] == 2 and bif[0].p == pytest.approx(8.0, abs=1e-9)
+    assert bif[0].info["also"] == [3] and sorted(bif[0].info["changed_keys"]) == [2, 3]
+
+
+def test_stop_at_the_first_bifurcation_and_the_mode() -> None:
+    br = contin.continuation(family_problem(), np.zeros(1), 0.0, ds=0.3, ds_max=0.3, p_max=10.0, stability=True,
+                             stop_at=("bifurcation",))
+    assert br.status == "event" and br.p[-1] == pytest.approx(1.0, abs=1e-9)
+    mode = br.special_points[-1].info["mode"]
+    assert abs(mode[0]) == pytest.approx(1.0) and mode[1] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_without_stability_nothing_is_watched() -> None:
+    br = contin.continuation(family_problem(), np.zeros(1), 0.0, ds=0.3, ds_max=0.3, p_max=3.0, stability=False)
+    assert not [s for s in br.special_points if s.kind == "bifurcation"] and "modes" not in br.meta
