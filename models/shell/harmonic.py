@@ -129,7 +129,8 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.linalg as sla
+
+from contin.stability import stability_info
 
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
@@ -763,36 +764,15 @@ def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0,
 
 
 def block_eigs(K: sp.spmatrix, k: int = 1) -> np.ndarray:
-    """The ``k`` smallest eigenvalues of a (small or banded) symmetric block, ascending (dense LAPACK
-    on the band)."""
-    K = sp.csr_matrix(K)
-    m = K.shape[0]
-    if m == 0:
-        return np.zeros(0)
-    bw = int(np.max(np.abs(K.tocoo().row - K.tocoo().col))) if K.nnz else 0
-    ab = np.zeros((bw + 1, m))
-    Kc = K.tocoo()
-    up = Kc.row <= Kc.col
-    ab[bw + Kc.row[up] - Kc.col[up], Kc.col[up]] = Kc.data[up]
-    w = sla.eig_banded(ab, lower=False, eigvals_only=True, select="i", select_range=(0, min(k, m) - 1))
-    return np.sort(w)
+    """The ``k`` smallest eigenvalues of a symmetric block, ascending (LAPACK's banded solver on the
+    band, through :func:`contin.stability.stability_info`)."""
+    return np.asarray(stability_info(sp.csr_matrix(K), k).eigenvalues)
 
 
 def block_inertia(K: sp.spmatrix) -> int:
-    """Number of negative eigenvalues of a symmetric block (LDL^T of the dense band; O(N b^2))."""
-    K = sp.csr_matrix(K)
-    m = K.shape[0]
-    if m == 0:
-        return 0
-    Kc = K.tocoo()
-    bw = int(np.max(np.abs(Kc.row - Kc.col))) if K.nnz else 0
-    # banded LDL^T without pivoting is unstable in general; use the Sylvester count of a dense-band
-    # LU-free route: eigenvalues of the band (cheap for the sizes here)
-    ab = np.zeros((bw + 1, m))
-    up = Kc.row <= Kc.col
-    ab[bw + Kc.row[up] - Kc.col[up], Kc.col[up]] = Kc.data[up]
-    w = sla.eig_banded(ab, lower=False, eigvals_only=True)
-    return int(np.sum(w < 0))
+    """Number of negative eigenvalues of a symmetric block: a pivot-free ``L D L^T`` (O(N)), or an
+    eigensolver when it cannot be trusted (:func:`contin.stability.stability_info`)."""
+    return int(stability_info(sp.csr_matrix(K), 0).n_negative)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -832,8 +812,8 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0)
         i = idx(j, shift)
         return tuple(X[c].take(i) if isinstance(X[c], Jet) else X[c][i] for c in range(3))
 
-    def P(j, shift=0):
-        return frame(at(j, shift), j) if shift == 0 else frame(at(j, shift), j)
+    def P(j):
+        return frame(at(j), j)
 
     def Pp(j, shift=0):
         return frame(_scale(_sub(at(j, shift + 1), at(j, shift - 1)), 1.0 / (2.0 * dth)), j)
@@ -841,7 +821,7 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0)
     def Ppp(j):
         return frame(_scale(_addv(_sub(at(j, 1), _scale(at(j), 2.0)), at(j, -1)), 1.0 / dth ** 2), j)
 
-    def rep(a, j):
+    def rep(a, j):  # per-element parameters, repeated over the sectors
         return np.repeat(np.asarray(a, dtype=float), M) if np.ndim(a) else a
 
     def tot(e):
@@ -849,8 +829,7 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0)
 
     E = 0.0
     i = np.arange(N - 1)
-    D = _sub(P(i + 1) if False else frame(at(i + 1), i), P(i))
-    Mp = _scale(_addv(Pp(i), frame(_sub(at(i + 1, 1), at(i + 1, -1)), i)), 0.5 / 1.0)
+    D = _sub(frame(at(i + 1), i), P(i))
     Mp = _scale(_addv(Pp(i), frame(_scale(_sub(at(i + 1, 1), at(i + 1, -1)), 1.0 / (2.0 * dth)), i)), 0.5)
     E = E + tot(stretch_density(D, Mp, rep(hs.s_lbar, i), rep(hs.s_rbar, i), rep(hs.s_ks, i), nu)) * dth
     j = hs.b_nodes
