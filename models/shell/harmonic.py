@@ -497,7 +497,7 @@ class HarmonicShell:
             out[name] = (nodes, layout, vals)
         return out, V
 
-    def _local_hessians(self, x: np.ndarray) -> dict:
+    def local_hessians(self, x: np.ndarray) -> dict:
         """Per family: ``(nodes, layout, H)`` with ``H`` the ``(k, k, m)`` Hessians per radian; and
         the special terms (clamp, poles, skirt)."""
         x = np.asarray(x, dtype=float)
@@ -589,7 +589,7 @@ class HarmonicShell:
 
     def _element_blocks(self, x: np.ndarray, n: int, pressure: float):
         """Yield ``(global nodes (m, nn), blocks (m, 3 nn, 3 nn))`` of every term."""
-        loc = self._local_hessians(x)
+        loc = self.local_hessians(x)
         maps = mode_maps(n)
         for name in ("stretch", "bend", "clamp"):
             if name in loc:
