@@ -203,6 +203,55 @@ def test_harmonic_block_api() -> None:
         harmonic_block(st, x, -1)
 
 
+def indented_state(N: int):
+    """A cap whose top is pressed flat by 4e-3 R (a state with several cells within dhat), and its
+    barriers: sphere (rho = 0.5 R), point, plate, per unit length (as the indentation problem)."""
+    from contin_models.contact.barrier import ContactBarrier, Plate, default_barrier, length_weights
+    from contin_models.contact.barrier import Sphere as Ball
+    cap = spherical_cap(1.0, 0.8, N)
+    st = ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding")
+    x = cap.x.copy()
+    z = x[1::2]
+    zt = z.max() - 0.004
+    x[1::2] = np.minimum(z, zt + 0.1 * (z - zt))
+    K, dh = default_barrier(1e6, 1.0)
+    w = length_weights(cap.x)
+    contacts = [(ContactBarrier(Ball(0.5), K, dh, cell_weights=w), zt + 0.5 + 0.6 * dh),
+                (ContactBarrier(Ball(0.0), K, dh, cell_weights=w), zt + 0.5 * dh),
+                (ContactBarrier(Plate(), K, dh, cell_weights=w), zt + 0.7 * dh)]
+    return st, x, contacts
+
+
+def test_n0_block_is_the_traced_hessian_with_contact() -> None:
+    st, x, contacts = indented_state(40)
+    hs = HarmonicShell(st)
+    N = st.N
+    keep = np.array([d for d in range(2 * N) if d != 2 * (N - 1)])
+    K0 = hs.full_block(x, 0).toarray()
+    for barrier, c in contacts:
+        state = barrier.evaluate(x, c)
+        assert state.active.size >= 1
+        Hc = state.hessian_matrix().toarray()
+        Kc = hs.full_block(x, 0, contact=(barrier, c)).toarray() - K0
+        err = np.max(np.abs(Kc[np.ix_(rz_dofs(N), rz_dofs(N))] - Hc)[np.ix_(keep, keep)]) / np.max(np.abs(Hc))
+        assert err < 1e-13, (barrier.indenter, err)
+        Kfull = harmonic_block(st, x, 0, contact=(barrier, c), reduced=False).toarray()
+        H = st.hessian(x).toarray() + Hc
+        assert np.max(np.abs(Kfull[np.ix_(rz_dofs(N), rz_dofs(N))] - H)[np.ix_(keep, keep)]) < 1e-13 * np.max(np.abs(H))
+
+
+def test_contact_blocks_equal_the_ring_mesh_barrier() -> None:
+    """The barrier has no theta-derivative: its ring-mesh Hessian is exact (trigonometric quadrature)
+    for any M > 2n, so the two agree to roundoff, pole cell (mirror) included."""
+    st, x, contacts = indented_state(12)
+    hs = HarmonicShell(st)
+    for barrier, c in contacts:
+        for n in range(4):
+            Kh = hs.full_block(x, n, contact=(barrier, c)).toarray() - hs.full_block(x, n).toarray()
+            Km = ring_mesh_block(hs, x, n, 8, contact=(barrier, c)) - ring_mesh_block(hs, x, n, 8)
+            assert np.max(np.abs(Kh - Km)) < 1e-12 * np.max(np.abs(Kh)), (barrier.indenter, n)
+
+
 # ---- acceptance 2: rigid motions ------------------------------------------------------------------------
 def rigid_fields(x: np.ndarray, n: int) -> list[np.ndarray]:
     """The analytic rigid fields of mode n on the full dofs [a, b, c] per node."""

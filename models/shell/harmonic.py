@@ -134,7 +134,7 @@ from contin.stability import stability_info
 
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
-           "skirt_density", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH"]
+           "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH"]
 
 HARMONIC_HALF_BANDWIDTH = 8
 """Half-bandwidth of a full block in the interleaved ``[a, b, c]`` ordering (a bending element
@@ -245,6 +245,9 @@ class Jet:
         """The sum over the points, as a jet at one point."""
         return Jet(self.v.sum(keepdims=True), self.g.sum(axis=1, keepdims=True),
                    None if self.h is None else self.h.sum(axis=2, keepdims=True))
+
+    def log(self):
+        return self._unary(np.log(self.v), 1.0 / self.v, -1.0 / (self.v * self.v))
 
     def square(self):
         return self._unary(self.v * self.v, 2.0 * self.v, np.full_like(self.v, 2.0))
@@ -364,6 +367,36 @@ def volume_density(Pi, Pj, Ppi, Ppj):
 def skirt_density(P0, Pp0, z_ref):
     """Volume per radian of the skirt from the base plane ``z = z_ref`` up to ring 0."""
     return (P0[0] * Pp0[1] - P0[1] * Pp0[0]) * (P0[2] - z_ref) * 0.5
+
+
+def contact_point_hessian(barrier: Any, X: np.ndarray, c: float) -> np.ndarray:
+    """Hessian ``(3, 3, S)`` of the barrier ``W(d(X))`` with respect to 3-D points ``X`` (``(3, S)``).
+
+    ``W(d) = -K (d - dhat)^2 log(d / dhat)`` for ``d < dhat`` (:mod:`contin_models.contact.barrier`);
+    ``d`` the distance to the indenter: a sphere of radius ``rho`` centred at ``(0, 0, c)``,
+    ``d = |X - C| - rho`` (rotationally symmetric about the axis: on the ``(r, z)`` plane it is the
+    1-D model's distance), or a plate at height ``c``, ``d = c - X_z``.
+    """
+    K, dh = barrier.K, barrier.dhat
+    X = np.asarray(X, dtype=float)
+    if barrier.indenter.name == "sphere":
+        rho = float(barrier.indenter.params[0])
+        D = X - np.array([0.0, 0.0, c])[:, None]
+        q = np.sqrt(np.sum(D * D, axis=0))
+        d = q - rho
+        gd = D / q
+        Hd = (np.eye(3)[:, :, None] - gd[:, None, :] * gd[None, :, :]) / q
+    else:
+        d = c - X[2]
+        gd = np.zeros_like(X)
+        gd[2] = -1.0
+        Hd = np.zeros((3, 3, X.shape[1]))
+    t = np.minimum(d / dh, 1.0)
+    lg = np.log(t)
+    a = np.minimum(d - dh, 0.0)
+    W1 = -K * (2.0 * a * lg + a * a / d)
+    W2 = -K * (2.0 * lg + 4.0 * a / d - a * a / (d * d))
+    return W2 * gd[:, None, :] * gd[None, :, :] + W1 * Hd
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -615,8 +648,47 @@ class HarmonicShell:
                            + (1.0 + nu) * B0 * (Yc.T @ Hb @ Yc + Ys.T @ Hb @ Ys))
             yield nodes, K[None]
 
-    def full_block(self, x: np.ndarray, n: int, pressure: float = 0.0) -> sp.csr_matrix:
-        """The ``3N x 3N`` block of mode ``n`` on all dofs ``[a_0, b_0, c_0, a_1, ...]`` (no dof fixed)."""
+    def _contact_blocks(self, x: np.ndarray, n: int, contact: tuple):
+        """``(nodes (S, 3), blocks (S, 9, 9))`` of the active sample points of a contact barrier."""
+        barrier, c = contact
+        N = self.N
+        c = float(c)
+        r, z = x[0::2], x[1::2]
+        barrier.check(x, c)  # every sample point strictly outside the indenter
+        cells = barrier.cells(N)
+        ds = barrier.sample_distances(x, c)
+        S = np.flatnonzero(ds < barrier.dhat)
+        if S.size == 0:
+            return None
+        rs, zs = cells.points(r, z)
+        X = np.stack([rs[S], np.zeros(S.size), zs[S]])  # sample points in the frame at theta
+        H = contact_point_hessian(barrier, X, c) * (cells.weight[S] / (2.0 * math.pi))  # per radian
+        maps = mode_maps(n)
+        coef = cells.cz[S]  # Lagrange coefficients of the stencil nodes (the mirror is the kind "Q")
+        mirror = (cells.cell[S] == N - 1) & (N >= 2)
+        Yc, Ys = np.zeros((S.size, 3, 9)), np.zeros((S.size, 3, 9))
+        for j in range(3):
+            for kind, sel in (("P", ~mirror if j == 2 else np.ones(S.size, bool)), ("Q", mirror if j == 2 else None)):
+                if sel is None:
+                    continue
+                Mc, Ms = maps[kind]
+                w = coef[:, j] * sel
+                Yc[:, :, 3 * j:3 * j + 3] += w[:, None, None] * Mc
+                Ys[:, :, 3 * j:3 * j + 3] += w[:, None, None] * Ms
+        if n == 0:
+            Y = Yc + Ys
+            K = 2.0 * math.pi * np.einsum("sai,abs,sbj->sij", Y, H, Y)
+        else:
+            K = math.pi * (np.einsum("sai,abs,sbj->sij", Yc, H, Yc) + np.einsum("sai,abs,sbj->sij", Ys, H, Ys))
+        return cells.stencil[cells.cell[S]], K
+
+    def full_block(self, x: np.ndarray, n: int, pressure: float = 0.0, contact: tuple | None = None) -> sp.csr_matrix:
+        """The ``3N x 3N`` block of mode ``n`` on all dofs ``[a_0, b_0, c_0, a_1, ...]`` (no dof fixed).
+
+        ``pressure``: the external pressure (its volume's load stiffness is added); ``contact``:
+        ``(barrier, c)``, a :class:`contin_models.contact.ContactBarrier` and the indenter position
+        (the barrier's block is added).
+        """
         n = int(n)
         if n < 0:
             raise ValueError(f"wave number n must be >= 0, got {n}")
@@ -624,7 +696,12 @@ class HarmonicShell:
         if x.shape != (2 * self.N,):
             raise ValueError(f"state vector must have shape ({2 * self.N},), got {x.shape}")
         rows, cols, vals = [], [], []
-        for nodes, K in self._element_blocks(x, n, float(pressure)):
+        terms = list(self._element_blocks(x, n, float(pressure)))
+        if contact is not None:
+            cb = self._contact_blocks(x, n, contact)
+            if cb is not None:
+                terms.append(cb)
+        for nodes, K in terms:
             nn = nodes.shape[1]
             dof = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(nodes.shape[0], 3 * nn)
             rows.append(np.repeat(dof, 3 * nn, axis=1).ravel())
@@ -639,10 +716,11 @@ class HarmonicShell:
         """The admissible dofs of mode ``n`` (module docstring, "Dof ordering and fixed dofs")."""
         return harmonic_dofs(self.structure, n, remove_rigid)
 
-    def block(self, x: np.ndarray, n: int, pressure: float = 0.0, remove_rigid: bool = True) -> sp.csr_matrix:
+    def block(self, x: np.ndarray, n: int, pressure: float = 0.0, remove_rigid: bool = True,
+              contact: tuple | None = None) -> sp.csr_matrix:
         """The block of mode ``n`` on the admissible dofs, ``T^T K T`` (:meth:`dofs`)."""
         T = self.dofs(n, remove_rigid).T
-        K = self.full_block(x, n, pressure)
+        K = self.full_block(x, n, pressure, contact)
         return (T.T @ K @ T).tocsr()
 
 
@@ -730,7 +808,7 @@ def _harmonic_shell(structure: Any, z_ref: float | None) -> HarmonicShell:
 
 
 def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0, z_ref: float | None = None,
-                   reduced: bool = True, remove_rigid: bool = True) -> sp.csr_matrix:
+                   reduced: bool = True, remove_rigid: bool = True, contact: tuple | None = None) -> sp.csr_matrix:
     """Hessian block of wave number ``n`` of the 2-D shell energy at the axisymmetric state ``x``.
 
     Parameters
@@ -750,6 +828,9 @@ def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0,
         ``3N x 3N`` block on ``[a_0, b_0, c_0, a_1, ...]``.
     remove_rigid : bool
         With ``reduced``: remove the rigid motions of a shell without support in ``z``.
+    contact : (ContactBarrier, float), optional
+        A contact barrier (:class:`contin_models.contact.ContactBarrier`) and the indenter position
+        ``c``: the barrier's block is added (module docstring, "Contact").
 
     Returns
     -------
@@ -759,8 +840,8 @@ def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0,
     """
     hs = _harmonic_shell(structure, z_ref)
     if reduced:
-        return hs.block(x, n, pressure, remove_rigid)
-    return hs.full_block(x, n, pressure)
+        return hs.block(x, n, pressure, remove_rigid, contact)
+    return hs.full_block(x, n, pressure, contact)
 
 
 def block_eigs(K: sp.spmatrix, k: int = 1) -> np.ndarray:
@@ -778,7 +859,8 @@ def block_inertia(K: sp.spmatrix) -> int:
 # ---------------------------------------------------------------------------------------------------
 # the same 2-D energy on a ring mesh of M sectors (an independent check of the blocks)
 # ---------------------------------------------------------------------------------------------------
-def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0):
+def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0, contact: tuple | None = None,
+                     samples: np.ndarray | None = None):
     """The 2-D energy of :class:`HarmonicShell` on a ring mesh of ``M`` sectors (``M`` even).
 
     ``X = (X, Y, Z)``: Cartesian node positions, each an array (or :class:`Jet`) of ``N M`` points,
@@ -787,7 +869,9 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0)
     ``theta``-derivatives replaced by central differences over the sectors
     (``P' = (P_{k+1} - P_{k-1}) / (2 dtheta)``, ``P'' = (P_{k+1} - 2 P_k + P_{k-1}) / dtheta^2``),
     and the integral over ``theta`` by the sum ``dtheta sum_k`` (the pole's averages by means over
-    ``k``).  Its Hessian at an axisymmetric state is block-circulant; projected on the Fourier mode
+    ``k``).  ``contact = (barrier, c)`` adds the barrier over the sample points ``samples`` of the
+    barrier's cells (indices; default all), each at every sector, ``W`` by its closed form (points
+    beyond ``dhat`` must be left out by ``samples``: their ``W`` is zero).  Its Hessian at an axisymmetric state is block-circulant; projected on the Fourier mode
     ``n`` it tends to the harmonic block as ``M -> infinity``, with an ``O(M^-2)`` difference.
     """
     N, nu = hs.N, hs.nu
@@ -865,6 +949,36 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0)
         mean = tot(B) * (1.0 / M)
         mean2 = tot(B * B) * (1.0 / M)
         E = E + (mean * mean * (3.0 * nu - 1.0) + mean2 * (2.0 * (1.0 - nu))) * Akb
+    if contact is not None:
+        barrier, cpos = contact
+        cells = barrier.cells(N)
+        S = np.arange(cells.cell.size) if samples is None else np.asarray(samples)
+        st_nodes = cells.stencil[cells.cell[S]]  # (S, 3)
+        coef = cells.cz[S]
+        mirror = cells.cell[S] == N - 1
+        pts = None
+        for j in range(3):
+            nodes = st_nodes[:, j]
+            shift = np.where(mirror & (j == 2), M // 2, 0)  # the pole cell's third node: the opposite point
+            ii = (nodes[:, None] * M + (k[None, :] + shift[:, None]) % M).ravel()
+            Pj = tuple(X[cc].take(ii) if isinstance(X[cc], Jet) else X[cc][ii] for cc in range(3))
+            c_ = np.repeat(coef[:, j], M)
+            term = _scale(Pj, c_)
+            pts = term if pts is None else _addv(pts, term)
+        cz_ = np.array([0.0, 0.0, cpos])
+        if barrier.indenter.name == "sphere":
+            rho = float(barrier.indenter.params[0])
+            dvec = (pts[0], pts[1], pts[2] - cpos)
+            d = _norm(dvec) - rho
+        else:
+            d = -pts[2] + cpos
+        Kc, dh = barrier.K, barrier.dhat
+        t = d * (1.0 / dh)
+        lg = t.log() if isinstance(t, Jet) else np.log(t)
+        W = (d - dh) * (d - dh) * lg * (-Kc)
+        wts = np.repeat(cells.weight[S], M)
+        E = E + tot(W * wts) * (1.0 / M)
+        del cz_
     if pressure != 0.0:
         Vol = tot(volume_density(P(i), frame(at(i + 1), i), Pp(i),
                                  frame(_scale(_sub(at(i + 1, 1), at(i + 1, -1)), 1.0 / (2.0 * dth)), i))) * dth
@@ -875,7 +989,8 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0)
     return E
 
 
-def ring_mesh_block(hs: HarmonicShell, x: np.ndarray, n: int, M: int, pressure: float = 0.0) -> np.ndarray:
+def ring_mesh_block(hs: HarmonicShell, x: np.ndarray, n: int, M: int, pressure: float = 0.0,
+                    contact: tuple | None = None) -> np.ndarray:
     """The Hessian of :func:`ring_mesh_energy` at the axisymmetric state ``x`` projected on mode ``n``.
 
     Exact (second-order forward differentiation with the mode amplitudes ``u`` as variables): the
@@ -904,5 +1019,9 @@ def ring_mesh_block(hs: HarmonicShell, x: np.ndarray, n: int, M: int, pressure: 
         G[0][3 * j + 2, sl] = -fs * sn  # c: circumferential
         G[1][3 * j + 2, sl] = fs * cs
     X = tuple(Jet.linear(X0[c], G[c]) for c in range(3))
-    E = ring_mesh_energy(hs, X, M, pressure)
+    samples = None
+    if contact is not None:
+        barrier, cpos = contact
+        samples = np.flatnonzero(barrier.sample_distances(x, cpos) < barrier.dhat)
+    E = ring_mesh_energy(hs, X, M, pressure, contact, samples)
     return E.h[:, :, 0]
