@@ -712,14 +712,14 @@ class HarmonicShell:
         A.sum_duplicates()
         return A
 
-    def dofs(self, n: int, remove_rigid: bool = True) -> "HarmonicDofs":
+    def dofs(self, n: int, remove_rigid: bool = True, control_fixed=()) -> "HarmonicDofs":
         """The admissible dofs of mode ``n`` (module docstring, "Dof ordering and fixed dofs")."""
-        return harmonic_dofs(self.structure, n, remove_rigid)
+        return harmonic_dofs(self.structure, n, remove_rigid, control_fixed)
 
     def block(self, x: np.ndarray, n: int, pressure: float = 0.0, remove_rigid: bool = True,
-              contact: tuple | None = None) -> sp.csr_matrix:
+              contact: tuple | None = None, control_fixed=()) -> sp.csr_matrix:
         """The block of mode ``n`` on the admissible dofs, ``T^T K T`` (:meth:`dofs`)."""
-        T = self.dofs(n, remove_rigid).T
+        T = self.dofs(n, remove_rigid, control_fixed).T
         K = self.full_block(x, n, pressure, contact)
         return (T.T @ K @ T).tocsr()
 
@@ -749,7 +749,7 @@ class HarmonicDofs:
     free: np.ndarray
 
 
-def harmonic_dofs(structure: Any, n: int, remove_rigid: bool = True) -> HarmonicDofs:
+def harmonic_dofs(structure: Any, n: int, remove_rigid: bool = True, control_fixed=()) -> HarmonicDofs:
     """Fixed and tied dofs of mode ``n`` for a structure (module docstring) and the reduction map.
 
     Parameters
@@ -759,6 +759,12 @@ def harmonic_dofs(structure: Any, n: int, remove_rigid: bool = True) -> Harmonic
         Wave number, ``>= 0``.
     remove_rigid : bool
         Remove the rigid motions of a shell without a support in ``z`` at its ``rigid_fix`` node.
+    control_fixed : sequence of int
+        Full-state (1-D, interleaved ``[r_0, z_0, ...]``) dofs that the control holds, fixed at
+        ``n = 0`` only: e.g. the loaded node's height ``2k + 1`` under displacement control.  A
+        prescribed pole deflection, volume or indenter position is an axisymmetric constraint; the
+        ``n >= 1`` fields change none of them to first order, so every control shares the
+        ``n >= 1`` blocks (``docs/revolution.md`` section 6).
     """
     n = int(n)
     N = int(structure.N)
@@ -781,6 +787,8 @@ def harmonic_dofs(structure: Any, n: int, remove_rigid: bool = True) -> Harmonic
     if remove_rigid and structure.rigid_fix is not None:
         k = structure.rigid_fix // 2
         fixed |= {3 * k + 1, 3 * k + 2} if n == 0 else ({3 * k, 3 * k + 1} if n == 1 else set())
+    if n == 0:
+        fixed |= {3 * (int(d) // 2) + int(d) % 2 for d in control_fixed}
     tied_dofs = {t[0] for t in tied}
     free = np.array([d for d in range(3 * N) if d not in fixed and d not in tied_dofs], dtype=int)
     col = {d: j for j, d in enumerate(free)}
@@ -808,7 +816,8 @@ def _harmonic_shell(structure: Any, z_ref: float | None) -> HarmonicShell:
 
 
 def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0, z_ref: float | None = None,
-                   reduced: bool = True, remove_rigid: bool = True, contact: tuple | None = None) -> sp.csr_matrix:
+                   reduced: bool = True, remove_rigid: bool = True, contact: tuple | None = None,
+                   control_fixed=()) -> sp.csr_matrix:
     """Hessian block of wave number ``n`` of the 2-D shell energy at the axisymmetric state ``x``.
 
     Parameters
@@ -831,6 +840,8 @@ def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0,
     contact : (ContactBarrier, float), optional
         A contact barrier (:class:`contin_models.contact.ContactBarrier`) and the indenter position
         ``c``: the barrier's block is added (module docstring, "Contact").
+    control_fixed : sequence of int
+        With ``reduced``: 1-D dofs held by the control at ``n = 0`` (:func:`harmonic_dofs`).
 
     Returns
     -------
@@ -840,7 +851,7 @@ def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0,
     """
     hs = _harmonic_shell(structure, z_ref)
     if reduced:
-        return hs.block(x, n, pressure, remove_rigid, contact)
+        return hs.block(x, n, pressure, remove_rigid, contact, control_fixed)
     return hs.full_block(x, n, pressure, contact)
 
 
