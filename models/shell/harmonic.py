@@ -115,9 +115,55 @@ The full block is ``3N x 3N`` in the interleaved order ``[a_0, b_0, c_0, a_1, b_
   ``n = 0``: ``b_k`` and ``c_k`` (axial translation, torsion); ``n = 1``: ``a_k`` and ``b_k``
   (lateral translation, tilt).
 
-Loads: a point force at the pole and a ring force are linear potentials (no block beyond what the
-state carries); the pressure adds ``p`` times the volume's block.  A contact barrier block is not
-implemented yet.
+* ``control_fixed``: the dofs a control holds at ``n = 0`` (the loaded node's height under
+  displacement control); a prescribed pole deflection, volume or indenter position is unchanged to
+  first order by the ``n >= 1`` fields, so the controls share the ``n >= 1`` blocks.
+
+Why these choices.  The pole's conditions are kinematics, not modelling: ``P_pole(theta)`` must be
+one point.  The sliding base's ``c = 0`` is the one modelling choice: the paper's base is a
+frictionless plane in 1-D, which in 2-D would leave the rigid rotation about the axis (``n = 0``)
+and the rigid lateral slide (``n = 1``) neutral (zero eigenvalues that say nothing about the shell);
+a radial guide is the support under which the 1-D sliding base is the axisymmetric restriction and
+the blocks are definite.  A sliding edge with ``c`` free is :func:`harmonic_dofs` with the
+structure's ``boundary`` read as ``"free"`` for ``c``: not offered (say if needed).
+
+Loads and contact
+-----------------
+A point force at the pole and a ring force are linear potentials (``-F w``): no block.  The
+pressure adds ``p`` times the volume's block (above).  A contact barrier
+(:mod:`contin_models.contact.barrier`) adds, per sample point of its cells (the same Gauss points,
+weights and pole mirror), ``(1 / 2 pi) int w_s W(d(X_s(theta))) dtheta`` with ``X_s(theta)`` the
+cell's quadratic through the three rings at ``theta`` and ``d`` the 3-D distance to the indenter
+(sphere or point on the axis: ``|X - C| - rho``; plate: ``c - X_z``), which is the 1-D ``d`` on the
+meridian plane.  Its per-point Hessian (:func:`contact_point_hessian`) has, beside the 1-D
+``(r, z)`` block, the circumferential entry ``W'(d) / |X - C|`` (negative while the barrier
+pushes: a point pressed against a convex indenter is tangentially unstable unless the shell holds
+it), zero for the plate.
+
+Measured (``tests/test_harmonic.py``, ``python -m studies.harmonic_probe``)
+--------------------------------------------------------------------------
+* ``n = 0`` block on ``(r, z)`` = the traced Hessian (with ``p d2V``, with contact) to 1e-13
+  relative (observed 2e-16 .. 5e-16), torsion uncoupled (exactly zero).
+* Free cap and pressurised complete sphere: exactly 2 zero eigenvalues at ``n = 0`` and ``n = 1``
+  (below 1e-12 of the block norm; the analytic rigid fields are null vectors), none at ``n = 2, 3``.
+* Ring mesh of ``M`` sectors: the difference to the blocks falls as ``M^-2`` (orders 1.96 .. 2.00
+  at ``M = 64 .. 128`` for ``n = 0 .. 3``), its Richardson extrapolation as ``M^-4``; the contact
+  term agrees to roundoff for any ``M > 2n``.
+* Complete sphere ``R/h = 100``, ``nu = 0.3``: every block ``n <= 30`` positive definite up to the
+  traced path's first fold (axisymmetric, at 0.980 / 0.9955 / 1.0014 ``p_c`` for ``N`` = 201 / 301 /
+  401 nodes pole to pole); the ``n >= 1`` blocks' critical pressures (extrapolated from two stable
+  states) form a cluster at 1.011 .. 1.018 ``p_c`` for ``n = 4 .. 18`` (``N = 401``).
+* Cost (default cap, ``N`` = 200 / 800 / 3200): local Hessians 12 / 48 / 161 ms per state (all
+  ``n``), one reduced block 1.3 / 3.4 / 12.7 ms, its inertia (pivot-free ``L D L^T``) 0.3 / 0.7 /
+  3.6 ms; the smallest eigenvalue by LAPACK's banded solver 3.8 / 54 / 1233 ms is not O(N).
+
+Not done here (issue 17)
+------------------------
+The choice of ``n_max`` (a rule from the geometry: the critical ``n`` of a cap scales like
+``(12 (1 - nu^2))^(1/4) r_edge / sqrt(R h)``), the engine's use along branches (per point: the
+blocks' inertia; bifurcations located by an extended system), the scenes' switches and outputs,
+the studies (Huang's clamped caps, the paper's phase diagram) and a faster evaluation of the local
+Hessians (generated code instead of the jets; they dominate the cost per state).
 """
 
 from __future__ import annotations
