@@ -1,7 +1,14 @@
 """Probe of the harmonic stability blocks (issue 17): cost per block, ring-mesh limit, sphere under pressure.
 
-Run ``python -m studies.harmonic_probe [--cost] [--ring] [--sphere] [--N 200 800 3200]``
-(no flag: all three).
+Run ``python -m studies.harmonic_probe [--checks] [--cost] [--ring] [--sphere] [--N 200 800 3200]``
+(no flag: all four).
+
+``--checks``
+    The ``n = 0`` block on ``(r, z)`` against the traced Hessian (max relative difference) along a
+    traced point-load path (sliding cap, ``N = 30``), at a pressurised clamped cap's equilibrium and
+    with contact (sphere, point, plate); the smallest eigenvalues (over the largest) of the blocks
+    ``n = 0 .. 3`` of a free cap (reference state) and of a pressurised complete sphere
+    (equilibrium at ``p_c / 2``), all dofs but the pole's kinematic conditions.
 
 ``--cost``
     Wall time (median of 5, one process, BLAS single-threaded) at a deformed state of the default
@@ -49,6 +56,60 @@ def _median_time(f, repeat: int = 5) -> float:
         f()
         ts.append(time.perf_counter() - t)
     return statistics.median(ts)
+
+
+def checks() -> None:
+    from contin_models.contact.barrier import ContactBarrier, Plate, Sphere, default_barrier, length_weights
+    from contin_models.shell.harmonic import harmonic_dofs
+    from contin_models.shell.volume import volume_hessian
+
+    def n0_error(st, x, p=0.0, contact=None):
+        N = st.N
+        hs = HarmonicShell(st)
+        K = hs.full_block(x, 0, p, contact).toarray()
+        H = st.hessian(x).toarray()
+        if p:
+            H = H + p * volume_hessian(x, hs.z_ref).toarray()
+        if contact is not None:
+            H = H + contact[0].evaluate(*([x, contact[1]])).hessian_matrix().toarray()
+        rz = np.concatenate([[3 * i, 3 * i + 1] for i in range(N)])
+        keep = np.array([d for d in range(2 * N) if not (d % 2 == 0 and d // 2 in st.poles)])
+        return np.max(np.abs(K[np.ix_(rz, rz)] - H)[np.ix_(keep, keep)]) / np.max(np.abs(H))
+
+    cap = spherical_cap(1.0, 0.8, 30)
+    st = ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding")
+    prob = ShellOfRevolution(st, "point", "displacement")
+    br = contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=0.3, ds=0.05, ds_max=0.05, max_steps=12)
+    errs = [n0_error(st, prob.full_state(u, p)) for u, p in zip(br.u, br.p)]
+    print(f"n = 0 vs traced Hessian, point-load path (w/R up to {br.p[-1]:.3f}, {len(errs)} points): max {max(errs):.1e}")
+    h, nu = 0.02, 0.3
+    pc = 2.0 * h ** 2 / math.sqrt(3.0 * (1.0 - nu ** 2))
+    cl = ShellStructure(spherical_cap(1.0, 0.6, 30), 1.0, nu, h, boundary="clamped")
+    pp = ShellOfRevolution(cl, "pressure")
+    u = _newton(pp, _newton(pp, pp.reference_unknowns(), 0.25 * pc), 0.5 * pc)
+    print(f"n = 0 vs traced Hessian + p d2V, clamped cap at p_c/2: {n0_error(cl, pp.full_state(u, 0.5 * pc), 0.5 * pc):.1e}")
+    x = cap.x.copy()
+    z = x[1::2]
+    zt = z.max() - 0.004
+    x[1::2] = np.minimum(z, zt + 0.1 * (z - zt))
+    K, dh = default_barrier(1e6, 1.0)
+    w = length_weights(cap.x)
+    for name, bar, c in (("sphere 0.5R", ContactBarrier(Sphere(0.5), K, dh, cell_weights=w), zt + 0.5 + 0.6 * dh),
+                         ("point", ContactBarrier(Sphere(0.0), K, dh, cell_weights=w), zt + 0.5 * dh),
+                         ("plate", ContactBarrier(Plate(), K, dh, cell_weights=w), zt + 0.7 * dh)):
+        print(f"n = 0 vs traced Hessian + barrier ({name}, {bar.evaluate(x, c).active.size} active cells): "
+              f"{n0_error(st, x, 0.0, (bar, c)):.1e}")
+    free = ShellStructure(cap, 1e6, 0.3, 0.02, boundary="free")
+    sph = ShellStructure(_Sphere(1.0, 41, h), 1.0, nu, h)
+    ps = ShellOfRevolution(sph, "pressure")
+    xs = ps.full_state(_newton(ps, ps.reference_unknowns(), 0.5 * pc), 0.5 * pc)
+    for label, s_, x_, p_ in (("free cap, reference", free, cap.x, 0.0), ("sphere N=41 at p_c/2", sph, xs, 0.5 * pc)):
+        hs = HarmonicShell(s_)
+        for n in range(4):
+            T = harmonic_dofs(s_, n, remove_rigid=False).T
+            ev = np.linalg.eigvalsh((T.T @ hs.full_block(x_, n, p_) @ T).toarray())
+            print(f"{label}: n = {n}, smallest eigenvalues / largest: "
+                  + " ".join(f"{v:.1e}" for v in ev[:4] / np.max(np.abs(ev))))
 
 
 def cost(Ns) -> None:
@@ -159,12 +220,15 @@ def sphere(Ns=(201, 301, 401), n_max: int = 30) -> None:
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--checks", action="store_true")
     ap.add_argument("--cost", action="store_true")
     ap.add_argument("--ring", action="store_true")
     ap.add_argument("--sphere", action="store_true")
     ap.add_argument("--N", type=int, nargs="+", default=[200, 800, 3200])
     a = ap.parse_args(argv)
-    every = not (a.cost or a.ring or a.sphere)
+    every = not (a.checks or a.cost or a.ring or a.sphere)
+    if a.checks or every:
+        checks()
     if a.cost or every:
         cost(a.N)
     if a.ring or every:
