@@ -178,6 +178,8 @@ import scipy.sparse as sp
 
 from contin.stability import stability_info
 
+from . import _harmonic_generated as _hgen
+
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
            "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH"]
@@ -299,8 +301,17 @@ class Jet:
         return self._unary(self.v * self.v, 2.0 * self.v, np.full_like(self.v, 2.0))
 
 
+#: Square root of a symbolic expression (set by :mod:`contin_models.shell.harmonic_codegen`, which
+#: evaluates the same densities in sympy; never needed at run time).
+SYMBOLIC_SQRT = None
+
+
 def _sqrt(x):
-    return x.sqrt() if isinstance(x, Jet) else np.sqrt(x)
+    if isinstance(x, Jet):
+        return x.sqrt()
+    if SYMBOLIC_SQRT is not None and not isinstance(x, (np.ndarray, float, int, np.floating)):
+        return SYMBOLIC_SQRT(x)
+    return np.sqrt(x)
 
 
 def _dot(a, b):
@@ -504,6 +515,10 @@ class HarmonicShell:
     z_ref : float, optional
         Height of the pressure's base plane (default: the reference height of node 0, as
         :meth:`contin_models.shell.volume.PressureTerm.from_reference`).
+    method : {"generated", "jets"}
+        How the bending density's local Hessians are evaluated: the generated kernels
+        (:mod:`contin_models.shell.harmonic_codegen`, the default) or the jets (the reference; the
+        other densities always use the jets, which are cheap for them).
 
     Notes
     -----
@@ -513,7 +528,10 @@ class HarmonicShell:
 
     _CACHE = 3
 
-    def __init__(self, structure: Any, z_ref: float | None = None) -> None:
+    def __init__(self, structure: Any, z_ref: float | None = None, method: str = "generated") -> None:
+        if method not in ("generated", "jets"):
+            raise ValueError(f"HarmonicShell: method must be 'generated' or 'jets', got {method!r}")
+        self.method = method
         self.structure = st = structure
         shell = st.shell
         mer = st.meridian
@@ -576,6 +594,29 @@ class HarmonicShell:
             out[name] = (nodes, layout, vals)
         return out, V
 
+    def _bend_hessian(self, vals: list, params: tuple, current: bool) -> np.ndarray:
+        """``(15, 15, m)`` Hessians of the bending density at axisymmetric local variables ``vals``
+        (15 arrays): the generated kernel (:mod:`contin_models.shell._harmonic_generated`), or the jets
+        with ``method="jets"``; ``L`` is the current length when ``current``, else the weight's ``lbar``."""
+        if self.method == "generated":
+            f = _hgen.bend_cur_hessian if current else _hgen.bend_ref_hessian
+            m = np.size(vals[0])
+            return f(*(np.broadcast_to(np.asarray(vals[k], float), (m,)) for k in (0, 2, 3, 5, 7, 10)),
+                     *(np.broadcast_to(np.asarray(p, float), (m,)) for p in params))
+        y = Jet.variables(vals)
+        e = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
+                         *params, None if current else params[0])
+        return e.h
+
+    def _volume_hessians(self, x: np.ndarray, loc: dict) -> tuple:
+        """The volume strips' ``(nodes, layout, H)`` (cached with the state's other Hessians)."""
+        if "volume" not in loc:
+            nodes, layout, vals = loc["volume_family"]
+            y = Jet.variables(vals)
+            e = volume_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]))
+            loc["volume"] = (nodes, layout, e.h)
+        return loc["volume"]
+
     def local_hessians(self, x: np.ndarray) -> dict:
         """Per family: ``(nodes, layout, H)`` with ``H`` the ``(k, k, m)`` Hessians per radian; and
         the special terms (clamp, poles, skirt)."""
@@ -593,16 +634,10 @@ class HarmonicShell:
         # bend
         nodes, layout, vals = fams["bend"]
         if nodes.shape[0]:
-            y = Jet.variables(vals)
-            L = None if self.current else self.b_lbar
-            e = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
-                             self.b_lbar, self.b_rbar, self.b_k11, self.b_k22, self.b_kb, self.nu, L)
-            res["bend"] = (nodes, layout, e.h)
-        # volume
-        nodes, layout, vals = fams["volume"]
-        y = Jet.variables(vals)
-        e = volume_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]))
-        res["volume"] = (nodes, layout, e.h)
+            bp = (self.b_lbar, self.b_rbar, self.b_k11, self.b_k22, self.b_kb, self.nu)
+            res["bend"] = (nodes, layout, self._bend_hessian(vals, bp, self.current))
+        # volume (its jets only when a pressure asks for them: _volume_hessians)
+        res["volume_family"] = fams["volume"]
         # skirt (node 0 off the axis)
         r, z = x[0::2], x[1::2]
         if 0 not in [p[0] for p in self.poles]:  # a pole at node 0 closes the surface: no skirt
@@ -620,12 +655,10 @@ class HarmonicShell:
             vals = ([P0[c] - G["P"][c] for c in range(3)] + [P1[c] - P0[c] for c in range(3)]
                     + [V["Pp"][c][1:2] - G["Pp"][c] for c in range(3)] + [V["Pp"][c][:1] for c in range(3)]
                     + [V["Ppp"][c][:1] for c in range(3)])
-            y = Jet.variables(vals)
-            e = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
-                             cl.lbar, cl.rbar, cl.kappa_bar[0], cl.kappa_bar[1], cl.kb, cl.nu, cl.lbar)
+            Hc = self._bend_hessian(vals, (cl.lbar, cl.rbar, cl.kappa_bar[0], cl.kappa_bar[1], cl.kb, cl.nu), False)
             layout = [([(0, 1.0)], "P"), ([(1, 1.0), (0, -1.0)], "P"), ([(1, 1.0)], "Pp"), ([(0, 1.0)], "Pp"),
                       ([(0, 1.0)], "Ppp")]
-            res["clamp"] = (np.array([[0, 1]]), layout, e.h)
+            res["clamp"] = (np.array([[0, 1]]), layout, Hc)
         # poles: the curvature B(theta) as a jet (value, gradient, Hessian) in Pm, Pm', Pc, Pq, Pq'
         res["poles"] = []
         for k, nb, north, element in self.poles:
@@ -676,6 +709,7 @@ class HarmonicShell:
                 Yc, Ys = self._ymaps(layout, nodes.shape[1], maps)
                 yield nodes, self._project(H, Yc, Ys, n)
         if pressure != 0.0:
+            self._volume_hessians(x, loc)
             for name in ("volume", "skirt"):
                 if name in loc:
                     nodes, layout, H = loc[name]
