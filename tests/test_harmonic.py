@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import contin
@@ -146,6 +147,40 @@ def test_dofs_per_wave_number() -> None:
         # the tied pole: one column carries a and c = -a
         col = list(d1.free).index(p)
         assert d1.T[p, col] == 1.0 and d1.T[p + 2, col] == -1.0
+
+
+@pytest.mark.parametrize("kappa11_length", ["current", "reference"])
+def test_fast_paths_equal_the_direct_ones(kappa11_length: str) -> None:
+    """Generated bending kernels against the jets, the polynomial in n against the direct projection,
+    the reduction's scatter against T^T K T: closed sphere under pressure, clamped cap with contact."""
+    h = 0.02
+    sph = ShellStructure(Sphere(1.0, 15, h), 1.0, 0.3, h, kappa11_length=kappa11_length)
+    st, xc, contacts = indented_state(15)
+    cl = ShellStructure(st.meridian, 1e6, 0.5, 0.02, boundary="clamped", kappa11_length=kappa11_length)
+    rng = np.random.default_rng(4)
+    xs = sph.meridian.x * 0.99 + 1e-3 * rng.standard_normal(30)
+    xs[0] = xs[-2] = 0.0
+    for s_, x, p, contact in ((sph, xs, 1e-4, None), (cl, xc, 0.0, contacts[0])):
+        fast, jets = HarmonicShell(s_), HarmonicShell(s_, method="jets")
+        for n in (0, 1, 2, 5):
+            A = fast.full_block(x, n, p, contact).toarray()
+            B = jets.full_block(x, n, p, contact, reference=True).toarray()
+            assert np.max(np.abs(A - B)) < 1e-13 * np.max(np.abs(B)), n
+            T = harmonic_dofs(s_, n).T
+            R = (T.T @ sp.csr_matrix(B) @ T).toarray()
+            assert np.max(np.abs(fast.block(x, n, p, contact=contact).toarray() - R)) < 1e-13 * np.max(np.abs(R))
+
+
+@pytest.mark.slow
+def test_generated_module_is_up_to_date() -> None:
+    """Regenerating ``_harmonic_generated.py`` (about a minute of sympy) reproduces the committed file."""
+    from pathlib import Path
+
+    from contin.codegen import check_generated
+    from contin_models.shell import harmonic_codegen
+
+    path = Path(__file__).resolve().parents[1] / "models" / "shell" / "_harmonic_generated.py"
+    check_generated(harmonic_codegen.generate_source, path, "python -m contin_models.shell.harmonic_codegen")
 
 
 # ---- acceptance 1: consistency with the traced model ---------------------------------------------------

@@ -92,9 +92,15 @@ mode ``n``, with amplitudes ``u_i = (a_i, b_i, c_i)`` per node,
 i.e. :func:`harmonic_block` returns the exact second variation of the 2-D energy along the field
 (``u^T K_n u = d^2 E``); its Rayleigh quotient against the field's L2 norm is ``u^T K u / (pi |u|^2)``
 for ``n >= 1`` and ``/ (2 pi |u|^2)`` for ``n = 0``.  The copy with ``cos`` and ``sin`` swapped has
-the same block.  The local Hessians ``H`` are computed once per state (all ``n`` share them) by
-exact second-order forward differentiation (:class:`Jet`), vectorised over the elements: the cost is
-O(N) per state and O(N) per block.
+the same block.  The local Hessians ``H`` are computed once per state (all ``n`` share them): the
+bending density's by generated code (:mod:`contin_models.shell.harmonic_codegen`, sympy, emitted
+to :mod:`contin_models.shell._harmonic_generated`), the others' (and the bending one with
+``method="jets"``, the reference) by exact second-order forward differentiation (:class:`Jet`),
+vectorised over the elements.  The mode maps are quadratic in ``n``, so per state the global data
+of ``sum_e (Yc^T H Yc + Ys^T H Ys)`` is stored as a polynomial of degree 4 in ``n`` on one fixed
+pattern (nodes at most two apart); a block is then five vector operations plus the poles' and the
+contact's few elements, and its reduction to the admissible dofs a precomputed scatter.  Cost O(N)
+per state and per block.
 
 Dof ordering and fixed dofs
 ---------------------------
@@ -153,17 +159,19 @@ Measured (``tests/test_harmonic.py``, ``python -m studies.harmonic_probe``)
   traced path's first fold (axisymmetric, at 0.980 / 0.9955 / 1.0014 ``p_c`` for ``N`` = 201 / 301 /
   401 nodes pole to pole); the ``n >= 1`` blocks' critical pressures (extrapolated from two stable
   states) form a cluster at 1.011 .. 1.018 ``p_c`` for ``n = 4 .. 18`` (``N = 401``).
-* Cost (default cap, ``N`` = 200 / 800 / 3200): local Hessians 12 / 48 / 161 ms per state (all
-  ``n``), one reduced block 1.3 / 3.4 / 12.7 ms, its inertia (pivot-free ``L D L^T``) 0.3 / 0.7 /
-  3.6 ms; the smallest eigenvalue by LAPACK's banded solver 3.8 / 54 / 1233 ms is not O(N).
+* Cost (default cap, ``N`` = 200 / 800 / 3200; ``python -m studies.harmonic_probe --cost``): per
+  state (local Hessians and the polynomial in ``n``) 4.6 / 13 / 51 ms, per further reduced block
+  0.13 / 0.24 / 0.69 ms, its inertia (pivot-free ``L D L^T``) 0.4 / 1.2 / 3.4 ms; the smallest
+  eigenvalue by LAPACK's banded solver (3.7 / 54 / 1211 ms) is not O(N): use the inertia along
+  branches.  (The traced model's Hessian: 0.16 / 0.26 / 0.52 ms.)
 
 Not done here (issue 17)
 ------------------------
 The choice of ``n_max`` (a rule from the geometry: the critical ``n`` of a cap scales like
 ``(12 (1 - nu^2))^(1/4) r_edge / sqrt(R h)``), the engine's use along branches (per point: the
 blocks' inertia; bifurcations located by an extended system), the scenes' switches and outputs,
-the studies (Huang's clamped caps, the paper's phase diagram) and a faster evaluation of the local
-Hessians (generated code instead of the jets; they dominate the cost per state).
+the studies (Huang's clamped caps, the paper's phase diagram); the per-state cost (the polynomial's
+small batched products dominate it) could drop further with generated amplitude-space kernels.
 """
 
 from __future__ import annotations
@@ -715,6 +723,11 @@ class HarmonicShell:
                     nodes, layout, H = loc[name]
                     Yc, Ys = self._ymaps(layout, nodes.shape[1], maps)
                     yield nodes, pressure * self._project(H, Yc, Ys, n)
+        yield from self._pole_blocks(loc, n)
+
+    def _pole_blocks(self, loc: dict, n: int):
+        """``(nodes (1, 2), block (1, 6, 6))`` of each pole's element (module docstring)."""
+        maps = mode_maps(n)
         nu = self.nu
         for nodes, layout, B0, g, Hb, Akb in loc["poles"]:
             Yc, Ys = self._ymaps(layout, nodes.shape[1], maps)
@@ -762,12 +775,76 @@ class HarmonicShell:
             K = math.pi * (np.einsum("sai,abs,sbj->sij", Yc, H, Yc) + np.einsum("sai,abs,sbj->sij", Ys, H, Ys))
         return cells.stencil[cells.cell[S]], K
 
-    def full_block(self, x: np.ndarray, n: int, pressure: float = 0.0, contact: tuple | None = None) -> sp.csr_matrix:
+    # ---- the fixed pattern and the polynomial in n -----------------------------------------------
+    def _pattern(self):
+        """Sorted keys ``row * 3N + col`` of the full blocks' pattern (nodes at most 2 apart), CSR
+        indices and indptr (built once)."""
+        if getattr(self, "_pat", None) is None:
+            N, n3 = self.N, 3 * self.N
+            i = np.arange(N)
+            pairs = [(a, a + d) for d in range(-2, 3) for a in i if 0 <= a + d < N]
+            ni, nj = np.array(pairs).T
+            rows = (3 * ni[:, None, None] + np.arange(3)[None, :, None] + 0 * np.arange(3)[None, None, :]).ravel()
+            cols = (3 * nj[:, None, None] + 0 * np.arange(3)[None, :, None] + np.arange(3)[None, None, :]).ravel()
+            keys = np.unique(rows.astype(np.int64) * n3 + cols)
+            r, c = np.divmod(keys, n3)
+            indptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=n3))]).astype(np.int32)
+            self._pat = (keys, c.astype(np.int32), indptr)
+        return self._pat
+
+    def _slots(self, nodes: np.ndarray) -> np.ndarray:
+        """Positions in the pattern of every element's ``(3 nn)^2`` entries, shape ``(m, 3 nn, 3 nn)``."""
+        keys = self._pattern()[0]
+        nn = nodes.shape[1]
+        dof = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(nodes.shape[0], 3 * nn).astype(np.int64)
+        return np.searchsorted(keys, dof[:, :, None] * (3 * self.N) + dof[:, None, :])
+
+    def _poly(self, x: np.ndarray, loc: dict, names: tuple, key: str) -> tuple:
+        """Global data ``(D0, D)`` of the families ``names`` at the state: the ``n = 0`` block's data
+        ``D0`` and ``D`` (5, nnz) with the block of ``n >= 1`` equal to ``pi sum_d n^d D[d]``
+        (the mode maps are quadratic in ``n``).  Cached in the state's dict under ``key``."""
+        if key in loc:
+            return loc[key]
+        nnz = self._pattern()[0].size
+        D0, D = np.zeros(nnz), np.zeros((5, nnz))
+        M = [mode_maps(k) for k in (0, 1, 2)]
+        for name in names:
+            if name not in loc:
+                continue
+            nodes, layout, H = loc[name]
+            nn = nodes.shape[1]
+            cache = self.__dict__.setdefault("_family_slots", {})
+            if name not in cache:  # the families' nodes do not depend on the state
+                cache[name] = self._slots(nodes).ravel()
+            slots = cache[name]
+            Y = [self._ymaps(layout, nn, m) for m in M]  # (Yc, Ys) at n = 0, 1, 2
+            Hm = np.ascontiguousarray(np.moveaxis(H, 2, 0))  # (m, k, k)
+            Yz = Y[0][0] + Y[0][1]
+            D0 += np.bincount(slots, 2.0 * math.pi * (Yz.T @ (Hm @ Yz)).ravel(), nnz)
+            Gd = [0.0] * 5
+            for part in (0, 1):  # cos, sin: Y(n) = A + n B + n^2 C
+                A = Y[0][part]
+                C = 0.5 * (Y[2][part] - 2.0 * Y[1][part] + A)
+                B = Y[1][part] - A - C
+                P = (A, B, C)
+                HP = [Hm @ Q for Q in P]  # (m, k, d)
+                for p_ in range(3):
+                    for q_ in range(3):
+                        Gd[p_ + q_] = Gd[p_ + q_] + P[p_].T @ HP[q_]  # (m, d, d)
+            for d_ in range(5):
+                D[d_] += np.bincount(slots, np.ravel(Gd[d_]), nnz)
+        loc[key] = (D0, D)
+        return loc[key]
+
+    def full_block(self, x: np.ndarray, n: int, pressure: float = 0.0, contact: tuple | None = None,
+                   reference: bool = False) -> sp.csr_matrix:
         """The ``3N x 3N`` block of mode ``n`` on all dofs ``[a_0, b_0, c_0, a_1, ...]`` (no dof fixed).
 
         ``pressure``: the external pressure (its volume's load stiffness is added); ``contact``:
         ``(barrier, c)``, a :class:`contin_models.contact.ContactBarrier` and the indenter position
-        (the barrier's block is added).
+        (the barrier's block is added).  The stretching, bending, clamp and volume parts come from
+        a polynomial in ``n`` computed once per state (:meth:`_poly`); ``reference=True`` projects
+        every element for this ``n`` instead (the direct route, for checks).
         """
         n = int(n)
         if n < 0:
@@ -775,22 +852,52 @@ class HarmonicShell:
         x = np.asarray(x, dtype=float)
         if x.shape != (2 * self.N,):
             raise ValueError(f"state vector must have shape ({2 * self.N},), got {x.shape}")
-        rows, cols, vals = [], [], []
-        terms = list(self._element_blocks(x, n, float(pressure)))
+        pressure = float(pressure)
+        keys, indices, indptr = self._pattern()
+        if reference:
+            terms = list(self._element_blocks(x, n, pressure))
+            data = np.zeros(keys.size)
+        else:
+            loc = self.local_hessians(x)
+            terms = list(self._pole_blocks(loc, n))
+            D0, D = self._poly(x, loc, ("stretch", "bend", "clamp"), "poly")
+            if pressure != 0.0:
+                self._volume_hessians(x, loc)
+                V0, V = self._poly(x, loc, ("volume", "skirt"), "poly_volume")
+                D0, D = D0 + pressure * V0, D + pressure * V
+            if n == 0:
+                data = D0.copy()
+            else:
+                data = math.pi * (D[0] + n * (D[1] + n * (D[2] + n * (D[3] + n * D[4]))))
         if contact is not None:
             cb = self._contact_blocks(x, n, contact)
             if cb is not None:
                 terms.append(cb)
         for nodes, K in terms:
-            nn = nodes.shape[1]
-            dof = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(nodes.shape[0], 3 * nn)
-            rows.append(np.repeat(dof, 3 * nn, axis=1).ravel())
-            cols.append(np.tile(dof, (1, 3 * nn)).ravel())
-            vals.append(K.reshape(K.shape[0], -1).ravel())
+            np.add.at(data, self._slots(nodes).ravel(), K.ravel())
         n3 = 3 * self.N
-        A = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n3, n3)).tocsr()
-        A.sum_duplicates()
-        return A
+        return sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(n3, n3))
+
+    def _reduction(self, n: int, remove_rigid: bool, control_fixed) -> tuple:
+        """The scatter ``full data -> reduced data`` of :meth:`block` (each full dof maps to at most
+        one reduced column, with a factor +-1): ``(take, slot, sign, indices, indptr, m)``."""
+        key = (min(int(n), 2), bool(remove_rigid), tuple(int(d) for d in control_fixed) if n == 0 else ())
+        cache = self.__dict__.setdefault("_red", {})
+        if key not in cache:
+            d = harmonic_dofs(self.structure, n, remove_rigid, control_fixed)
+            n3, m = 3 * self.N, d.free.size
+            T = d.T.tocoo()
+            col, fac = np.full(n3, -1), np.zeros(n3)
+            col[T.row], fac[T.row] = T.col, T.data
+            keys = self._pattern()[0]
+            r, c = np.divmod(keys, n3)
+            take = np.flatnonzero((col[r] >= 0) & (col[c] >= 0))
+            rk = col[r[take]].astype(np.int64) * m + col[c[take]]
+            red = np.unique(rk)
+            rr, cc = np.divmod(red, m)
+            indptr = np.concatenate([[0], np.cumsum(np.bincount(rr, minlength=m))]).astype(np.int32)
+            cache[key] = (take, np.searchsorted(red, rk), fac[r[take]] * fac[c[take]], cc.astype(np.int32), indptr, m)
+        return cache[key]
 
     def dofs(self, n: int, remove_rigid: bool = True, control_fixed=()) -> "HarmonicDofs":
         """The admissible dofs of mode ``n`` (module docstring, "Dof ordering and fixed dofs")."""
@@ -799,9 +906,10 @@ class HarmonicShell:
     def block(self, x: np.ndarray, n: int, pressure: float = 0.0, remove_rigid: bool = True,
               contact: tuple | None = None, control_fixed=()) -> sp.csr_matrix:
         """The block of mode ``n`` on the admissible dofs, ``T^T K T`` (:meth:`dofs`)."""
-        T = self.dofs(n, remove_rigid, control_fixed).T
         K = self.full_block(x, n, pressure, contact)
-        return (T.T @ K @ T).tocsr()
+        take, slot, sign, indices, indptr, m = self._reduction(n, remove_rigid, control_fixed)
+        data = np.bincount(slot, sign * K.data[take], indptr[-1])
+        return sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(m, m))
 
 
 @dataclass
