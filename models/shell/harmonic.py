@@ -1,0 +1,1226 @@
+"""Hessian blocks per circumferential wave number ``n`` at an axisymmetric state (issue 17).
+
+The traced model is axisymmetric: its energy (:class:`contin_models.shell.structure.ShellStructure`)
+is a function of the meridian's nodes ``(r_i, z_i)``.  To judge stability against non-axisymmetric
+modes this module defines a **2-D shell energy** of rings of material points whose restriction to
+axisymmetric states is exactly the traced 1-D energy, and computes the blocks of its Hessian per
+wave number ``n`` ("harmonic" or semi-analytic discretisation, ``docs/revolution.md`` section 6, as
+BOSOR and AQUINAS do).
+
+Kinematics
+----------
+Node ``i`` of the meridian is a ring of material points labelled by the reference angle ``theta``.
+In the local frame ``(e_r(theta), e_theta(theta), e_z)`` the point's position is
+``P_i(theta) = (R_i, T_i, Z_i)`` (radial, circumferential, axial components; ``T = 0`` on an
+axisymmetric state), and its ``theta``-derivatives are (``e_r' = e_theta``, ``e_theta' = -e_r``)
+
+    ``P'  = (R' - T, R + T', Z')``,
+    ``P'' = (R'' - R - 2 T', 2 R' - T + T'', Z'')``.
+
+Every energy density below is built from dot and cross products of differences of node positions
+and of ``P'``, ``P''`` only, so the 2-D energy is invariant under every rigid motion of space (not
+only rotations about the axis): an unsupported shell has exactly its six rigid zero modes.
+
+The 2-D energy (per radian of ``theta``, integrated over ``[0, 2 pi)``)
+------------------------------------------------------------------------
+Stretching, edge ``i`` (nodes ``i``, ``j = i+1``): ``g1 = (P_j - P_i) / lbar`` (the meridional chord
+between the two rings at the same ``theta``), ``g2 = (P'_i + P'_j) / (2 rbar)`` (the circumferential
+tangent at the edge's middle),
+
+    ``eps11 = |g1| - 1``, ``eps22 = |g2| - 1``, ``eps12 = g1.g2 / (2 |g1| |g2|)``,
+    ``e = (rbar lbar / 2) ks (eps11^2 + 2 nu eps11 eps22 + eps22^2 + 2 (1 - nu) eps12^2)``.
+
+On an axisymmetric state ``|g1| = l / lbar``, ``|g2| = (r_i + r_j) / (2 rbar)``, ``eps12 = 0`` and
+``2 pi e`` is the 1-D element energy ``pi rbar lbar ks (...)`` exactly.
+
+Bending, interior node ``i`` (edges ``e1 = P_i - P_{i-1}``, ``e2 = P_{i+1} - P_i`` at the same
+``theta``, circumferential unit tangent ``tau = P'_i / |P'_i|``):
+
+    ``kappa11 = 2 cross / ((|e1| |e2| + e1.e2) L)``, ``cross = -(e1 x e2).tau`` (the turning about
+    the circumferential direction; ``2 tan(xi/2) / L`` of the 1-D code, same sign, same ``L``:
+    current ``(|e1| + |e2|)/2`` or the reference Voronoi length),
+    ``n = tau x t / |tau x t|``, ``t = e1/|e1| + e2/|e2|`` (the 1-D bisector normal),
+    ``kappa22 = -n.P''_i / |P'_i|^2`` (the circumferential normal curvature, ``n_r / r`` when
+    axisymmetric),
+    ``kappa12 = n.(P'_{i+1} - P'_{i-1}) / ((|e1| + |e2|) |P'_i|)`` (twist, zero when axisymmetric),
+    ``e = (rbar lbar / 2) kb (B11^2 + 2 nu B11 B22 + B22^2 + 2 (1 - nu) kappa12^2)``,
+    ``B = kappa - kappabar`` with the 1-D reference curvatures.
+
+The clamp (:class:`contin_models.shell.structure.ClampedEdge`) is the same bending density on
+``(ghost, P_0, P_1)`` with the ghost ring fixed in space and ``L`` its reference length, weight
+``pi r_0 lbar`` as in 1-D.
+
+The pole (a node on the axis) carries the 1-D mirror element (:class:`contin_models.shell.problem.PoleMirror`)
+made real: in the meridional plane at ``theta`` the three points ``P_nb(theta)``, the pole and
+``P_nb(theta + pi)`` (``nb`` the pole's neighbour; on an axisymmetric state the last point *is* the
+1-D mirror node) give a directional curvature ``kappa(theta) = 2 tan(xi/2) / L`` (the sign from the
+direction ``P'_nb(theta) - P'_nb(theta + pi)``), ``B(theta) = kappa(theta) - kappabar``.  A plate's
+energy density with curvature-change tensor ``B`` is ``kb ((1 + nu) H^2 + (1 - nu) D^2)`` with the
+mean ``H = <B(theta)>`` and the deviator ``D^2 = 2 (<B^2> - <B>^2)`` (``<>`` the average over
+``theta``), so the pole's element is
+
+    ``E_pole = A kb ((3 nu - 1) <B>^2 + 2 (1 - nu) <B^2>)``, ``A = pi (lbar/2)^2``,
+
+which is the 1-D ``A kb (1 + nu) B^2`` on axisymmetric states.  Its second variation along mode
+``n >= 1`` is ``A kb (4 (1 - nu) <dB^2> + 2 (1 + nu) B <d2B>)`` (``<dB> = 0`` for ``n >= 1``).
+
+Pressure: the enclosed volume of the 2-D surface made of the ruled strips
+``X(s, theta) = (1 - s) P_i(theta) + s P_j(theta)`` (and the skirt from the base plane
+``z = z_ref`` up to ring 0, as in :mod:`contin_models.shell.volume`) is the flux of
+``F = (x, y, 0) / 2`` (``div F = 1``): per radian and per strip, integrated exactly over ``s``,
+``(1/2) [1/3 h_i.(P'_i x D) + 1/6 (h_i.(P'_j x D) + h_j.(P'_i x D)) + 1/3 h_j.(P'_j x D)]`` with
+``D = P_j - P_i`` and ``h`` the horizontal part of ``P``; the skirt gives
+``(1/2) (R_0 P'_0,t - T_0 P'_0,r) (Z_0 - z_ref)``.  On axisymmetric states this is the 1-D
+``V`` exactly.  It is the volume of a closed surface (strips, skirt, base plane: ``F`` has no flux
+through a horizontal plane), so ``p (V - V0)`` is the exact potential of the follower pressure on
+a closed shell and on a shell whose edge ring stays on the base plane (``z_0 = z_ref``: sliding,
+pinned, clamped); on a free edge it is refused, as in 1-D.
+
+Harmonic blocks
+---------------
+At an axisymmetric state every density depends on the local variables (``P``, ``P'``, ``P''`` of
+its rings at one ``theta``) with a Hessian ``H`` independent of ``theta``.  The perturbation of
+mode ``n``, with amplitudes ``u_i = (a_i, b_i, c_i)`` per node,
+
+    ``dR_i = a_i cos(n theta)``, ``dZ_i = b_i cos(n theta)``, ``dT_i = c_i sin(n theta)``
+
+(for ``n = 0``: ``dR = a``, ``dZ = b``, ``dT = c``, constants), changes the local variables by
+``cos(n theta) Yc u + sin(n theta) Ys u``, so the second variation of the energy integrates to
+
+    ``u^T K_n u = pi (Yc^T H Yc + Ys^T H Ys)`` (``n >= 1``),  ``2 pi (Yc + Ys)^T H (Yc + Ys)`` (``n = 0``),
+
+i.e. :func:`harmonic_block` returns the exact second variation of the 2-D energy along the field
+(``u^T K_n u = d^2 E``); its Rayleigh quotient against the field's L2 norm is ``u^T K u / (pi |u|^2)``
+for ``n >= 1`` and ``/ (2 pi |u|^2)`` for ``n = 0``.  The copy with ``cos`` and ``sin`` swapped has
+the same block.  The local Hessians ``H`` are computed once per state (all ``n`` share them): the
+bending density's by generated code (:mod:`contin_models.shell.harmonic_codegen`, sympy, emitted
+to :mod:`contin_models.shell._harmonic_generated`), the others' (and the bending one with
+``method="jets"``, the reference) by exact second-order forward differentiation (:class:`Jet`),
+vectorised over the elements.  The mode maps are quadratic in ``n``, so per state the global data
+of ``sum_e (Yc^T H Yc + Ys^T H Ys)`` is stored as a polynomial of degree 4 in ``n`` on one fixed
+pattern (nodes at most two apart); a block is then five vector operations plus the poles' and the
+contact's few elements, and its reduction to the admissible dofs a precomputed scatter.  Cost O(N)
+per state and per block.
+
+Dof ordering and fixed dofs
+---------------------------
+The full block is ``3N x 3N`` in the interleaved order ``[a_0, b_0, c_0, a_1, b_1, c_1, ...]``
+(half-bandwidth 8).  :func:`harmonic_dofs` gives the reduction to the admissible dofs of mode ``n``
+(a matrix ``T``, ``3N x m``, whose columns are unit vectors except at a pole for ``n = 1``):
+
+* a pole (node on the axis) is one material point, so its displacement must not depend on
+  ``theta``: ``n = 0``: ``a = c = 0`` (``b`` free); ``n = 1``: ``b = 0`` and ``c = -a`` (one dof,
+  the lateral displacement ``a`` along ``e_x``); ``n >= 2``: ``a = b = c = 0``;
+* the edge (node 0, not on the axis): ``"sliding"`` fixes ``b`` and ``c`` for every ``n`` (the
+  edge ring moves only radially on its frictionless base, like a radial guide: ``c`` fixed removes
+  the rigid rotation about the axis at ``n = 0`` and the rigid lateral slide at ``n = 1``, which a
+  frictionless plane would leave neutral); ``"pinned"`` and ``"clamped"`` fix ``a``, ``b``, ``c``
+  (the clamp's ghost ring holds the edge tangent for every ``n``); ``"free"`` fixes nothing;
+* when the structure has no support in ``z`` (free edge or closed shell, ``rigid_fix`` set), with
+  ``remove_rigid=True`` (default) the rigid motions are removed at the node ``k`` of ``rigid_fix``:
+  ``n = 0``: ``b_k`` and ``c_k`` (axial translation, torsion); ``n = 1``: ``a_k`` and ``b_k``
+  (lateral translation, tilt).
+
+* ``control_fixed``: the dofs a control holds at ``n = 0`` (the loaded node's height under
+  displacement control); a prescribed pole deflection, volume or indenter position is unchanged to
+  first order by the ``n >= 1`` fields, so the controls share the ``n >= 1`` blocks.
+
+Why these choices.  The pole's conditions are kinematics, not modelling: ``P_pole(theta)`` must be
+one point.  The sliding base's ``c = 0`` is the one modelling choice: the paper's base is a
+frictionless plane in 1-D, which in 2-D would leave the rigid rotation about the axis (``n = 0``)
+and the rigid lateral slide (``n = 1``) neutral (zero eigenvalues that say nothing about the shell);
+a radial guide is the support under which the 1-D sliding base is the axisymmetric restriction and
+the blocks are definite.  A sliding edge with ``c`` free is :func:`harmonic_dofs` with the
+structure's ``boundary`` read as ``"free"`` for ``c``: not offered (say if needed).
+
+Loads and contact
+-----------------
+A point force at the pole and a ring force are linear potentials (``-F w``): no block.  The
+pressure adds ``p`` times the volume's block (above).  A contact barrier
+(:mod:`contin_models.contact.barrier`) adds, per sample point of its cells (the same Gauss points,
+weights and pole mirror), ``(1 / 2 pi) int w_s W(d(X_s(theta))) dtheta`` with ``X_s(theta)`` the
+cell's quadratic through the three rings at ``theta`` and ``d`` the 3-D distance to the indenter
+(sphere or point on the axis: ``|X - C| - rho``; plate: ``c - X_z``), which is the 1-D ``d`` on the
+meridian plane.  Its per-point Hessian (:func:`contact_point_hessian`) has, beside the 1-D
+``(r, z)`` block, the circumferential entry ``W'(d) / |X - C|`` (negative while the barrier
+pushes: a point pressed against a convex indenter is tangentially unstable unless the shell holds
+it), zero for the plate.
+
+Measured (``tests/test_harmonic.py``, ``python -m studies.harmonic_probe``)
+--------------------------------------------------------------------------
+* ``n = 0`` block on ``(r, z)`` = the traced Hessian (with ``p d2V``, with contact) to 1e-13
+  relative (observed 2e-16 .. 5e-16), torsion uncoupled (exactly zero).
+* Free cap and pressurised complete sphere: exactly 2 zero eigenvalues at ``n = 0`` and ``n = 1``
+  (below 1e-12 of the block norm; the analytic rigid fields are null vectors), none at ``n = 2, 3``.
+* Ring mesh of ``M`` sectors: the difference to the blocks falls as ``M^-2`` (orders 1.96 .. 2.00
+  at ``M = 64 .. 128`` for ``n = 0 .. 3``), its Richardson extrapolation as ``M^-4``; the contact
+  term agrees to roundoff for any ``M > 2n``.
+* Complete sphere ``R/h = 100``, ``nu = 0.3``: every block ``n <= 30`` positive definite up to the
+  traced path's first fold (axisymmetric, at 0.980 / 0.9955 / 1.0014 ``p_c`` for ``N`` = 201 / 301 /
+  401 nodes pole to pole); the ``n >= 1`` blocks' critical pressures (extrapolated from two stable
+  states) form a cluster at 1.011 .. 1.018 ``p_c`` for ``n = 4 .. 18`` (``N = 401``).
+* Cost (default cap, ``N`` = 200 / 800 / 3200; ``python -m studies.harmonic_probe --cost``): per
+  state (local Hessians and the polynomial in ``n``) 4.6 / 13 / 51 ms, per further reduced block
+  0.13 / 0.24 / 0.69 ms, its inertia (pivot-free ``L D L^T``) 0.4 / 1.2 / 3.4 ms; the smallest
+  eigenvalue by LAPACK's banded solver (3.7 / 54 / 1211 ms) is not O(N): use the inertia along
+  branches.  (The traced model's Hessian: 0.16 / 0.26 / 0.52 ms.)
+
+Not done here (issue 17)
+------------------------
+The choice of ``n_max`` (a rule from the geometry: the critical ``n`` of a cap scales like
+``(12 (1 - nu^2))^(1/4) r_edge / sqrt(R h)``), the engine's use along branches (per point: the
+blocks' inertia; bifurcations located by an extended system), the scenes' switches and outputs,
+the studies (Huang's clamped caps, the paper's phase diagram); the per-state cost (the polynomial's
+small batched products dominate it) could drop further with generated amplitude-space kernels.
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from contin.stability import stability_info
+
+from . import _harmonic_generated as _hgen
+
+__all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "block_eigs",
+           "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
+           "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH"]
+
+HARMONIC_HALF_BANDWIDTH = 8
+"""Half-bandwidth of a full block in the interleaved ``[a, b, c]`` ordering (a bending element
+couples nodes ``i-1 .. i+1``)."""
+
+
+# ---------------------------------------------------------------------------------------------------
+# second-order forward differentiation, vectorised over elements
+# ---------------------------------------------------------------------------------------------------
+class Jet:
+    """Value, gradient and Hessian of a function of ``k`` variables at ``m`` points.
+
+    ``v`` has shape ``(m,)``, ``g`` ``(k, m)`` and ``h`` ``(k, k, m)`` (``None`` for zero).  The
+    arithmetic is exact second-order forward differentiation (products by the Leibniz rule, unary
+    functions by the chain rule).
+    """
+
+    __slots__ = ("v", "g", "h")
+    __array_priority__ = 100
+
+    def __init__(self, v, g, h=None):
+        self.v, self.g, self.h = v, g, h
+
+    @staticmethod
+    def variables(values: list) -> list["Jet"]:
+        """Independent variables: ``values[i]`` with unit gradient ``i``."""
+        k = len(values)
+        vals = [np.asarray(v, dtype=float) for v in values]
+        m = max(v.size for v in vals)
+        out = []
+        for i, v in enumerate(vals):
+            g = np.zeros((k, m))
+            g[i] = 1.0
+            out.append(Jet(np.broadcast_to(v, (m,)).astype(float), g))
+        return out
+
+    @staticmethod
+    def linear(values: np.ndarray, grads: np.ndarray) -> "Jet":
+        """A jet linear in the variables: value ``(m,)`` and gradient ``(k, m)``."""
+        return Jet(np.asarray(values, dtype=float), np.asarray(grads, dtype=float))
+
+    @staticmethod
+    def _hadd(a, b):
+        if a is None:
+            return b
+        if b is None:
+            return a
+        return a + b
+
+    def __add__(self, o):
+        if isinstance(o, Jet):
+            return Jet(self.v + o.v, self.g + o.g, Jet._hadd(self.h, o.h))
+        return Jet(self.v + o, self.g, self.h)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return Jet(-self.v, -self.g, None if self.h is None else -self.h)
+
+    def __sub__(self, o):
+        return self + (-o)
+
+    def __rsub__(self, o):
+        return (-self) + o
+
+    def __mul__(self, o):
+        if isinstance(o, Jet):
+            g = self.g * o.v + o.g * self.v
+            cross = self.g[:, None, :] * o.g[None, :, :]
+            h = cross + cross.transpose(1, 0, 2)
+            if self.h is not None:
+                h += self.h * o.v
+            if o.h is not None:
+                h += o.h * self.v
+            return Jet(self.v * o.v, g, h)
+        return Jet(self.v * o, self.g * o, None if self.h is None else self.h * o)
+
+    __rmul__ = __mul__
+
+    def _unary(self, f0, f1, f2):
+        g = self.g * f1
+        h = f2 * (self.g[:, None, :] * self.g[None, :, :])
+        if self.h is not None:
+            h += self.h * f1
+        return Jet(f0, g, h)
+
+    def __truediv__(self, o):
+        if isinstance(o, Jet):
+            return self * o.reciprocal()
+        return self * (1.0 / o)
+
+    def __rtruediv__(self, o):
+        return self.reciprocal() * o
+
+    def reciprocal(self):
+        iv = 1.0 / self.v
+        return self._unary(iv, -iv * iv, 2.0 * iv * iv * iv)
+
+    def sqrt(self):
+        s = np.sqrt(self.v)
+        return self._unary(s, 0.5 / s, -0.25 / (s * self.v))
+
+    def take(self, idx):
+        """The jet at the points ``idx`` (an index array into the ``m`` points)."""
+        return Jet(self.v[idx], self.g[:, idx], None if self.h is None else self.h[:, :, idx])
+
+    def total(self):
+        """The sum over the points, as a jet at one point."""
+        return Jet(self.v.sum(keepdims=True), self.g.sum(axis=1, keepdims=True),
+                   None if self.h is None else self.h.sum(axis=2, keepdims=True))
+
+    def log(self):
+        return self._unary(np.log(self.v), 1.0 / self.v, -1.0 / (self.v * self.v))
+
+    def square(self):
+        return self._unary(self.v * self.v, 2.0 * self.v, np.full_like(self.v, 2.0))
+
+
+#: Square root of a symbolic expression (set by :mod:`contin_models.shell.harmonic_codegen`, which
+#: evaluates the same densities in sympy; never needed at run time).
+SYMBOLIC_SQRT = None
+
+
+def _sqrt(x):
+    if isinstance(x, Jet):
+        return x.sqrt()
+    if SYMBOLIC_SQRT is not None and not isinstance(x, (np.ndarray, float, int, np.floating)):
+        return SYMBOLIC_SQRT(x)
+    return np.sqrt(x)
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _norm(a):
+    return _sqrt(_dot(a, a))
+
+
+def _scale(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+def _sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def _addv(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+# ---------------------------------------------------------------------------------------------------
+# the 2-D energy densities (per radian), as functions of the local vectors at one theta
+# ---------------------------------------------------------------------------------------------------
+# Every vector is a 3-tuple of components in the local frame (e_r, e_theta, e_z) (or any orthonormal
+# frame: the densities are invariant); components are arrays or Jets.
+
+def stretch_density(D, Mp, lbar, rbar, ks, nu):
+    """Stretching energy per radian of an edge.
+
+    ``D = P_j - P_i`` (the chord between the rings at one ``theta``), ``Mp = (P'_i + P'_j) / 2``.
+    """
+    g1 = _scale(D, 1.0 / lbar)
+    g2 = _scale(Mp, 1.0 / rbar)
+    n1, n2 = _norm(g1), _norm(g2)
+    e11, e22 = n1 - 1.0, n2 - 1.0
+    e12 = _dot(g1, g2) / (n1 * n2) * 0.5
+    q = e11 * e11 + 2.0 * nu * (e11 * e22) + e22 * e22 + 2.0 * (1.0 - nu) * (e12 * e12)
+    return q * (0.5 * rbar * lbar * ks)
+
+
+def bend_curvatures(e1, e2, Dp, Pp, Ppp, L=None):
+    """``(kappa11, kappa22, kappa12)`` of an interior node (module docstring).
+
+    ``e1 = P_i - P_{i-1}``, ``e2 = P_{i+1} - P_i``, ``Dp = P'_{i+1} - P'_{i-1}``, ``Pp = P'_i``,
+    ``Ppp = P''_i``; ``L`` the length in ``kappa11`` (``None``: the current ``(|e1| + |e2|) / 2``).
+    """
+    l1, l2 = _norm(e1), _norm(e2)
+    sp_ = _norm(Pp)
+    tau = _scale(Pp, 1.0 / sp_)
+    cross = -_dot(_cross(e1, e2), tau)
+    dot = _dot(e1, e2)
+    Lk = (l1 + l2) * 0.5 if L is None else L
+    k11 = 2.0 * cross / ((l1 * l2 + dot) * Lk)
+    t = _addv(_scale(e1, 1.0 / l1), _scale(e2, 1.0 / l2))
+    nv = _cross(tau, t)
+    nv = _scale(nv, 1.0 / _norm(nv))
+    k22 = -_dot(nv, Ppp) / (sp_ * sp_)
+    k12 = _dot(nv, Dp) / ((l1 + l2) * sp_)
+    return k11, k22, k12
+
+
+def bend_density(e1, e2, Dp, Pp, Ppp, lbar, rbar, k11bar, k22bar, kb, nu, L=None):
+    """Bending energy per radian of an interior node (arguments as :func:`bend_curvatures`)."""
+    k11, k22, k12 = bend_curvatures(e1, e2, Dp, Pp, Ppp, L)
+    B11, B22 = k11 - k11bar, k22 - k22bar
+    q = B11 * B11 + 2.0 * nu * (B11 * B22) + B22 * B22 + 2.0 * (1.0 - nu) * (k12 * k12)
+    return q * (0.5 * rbar * lbar * kb)
+
+
+def pole_curvature(Pm, Pmp, Pc, Pq, Pqp, north, L=None):
+    """Directional curvature ``kappa(theta)`` at a pole.
+
+    ``Pm``, ``Pmp``: the neighbour ring's point and ``P'`` at ``theta``; ``Pc``: the pole;
+    ``Pq``, ``Pqp``: the neighbour's point and ``P'`` at ``theta + pi`` (all in one frame).
+    ``north``: the pole is the last node (the meridian runs neighbour -> pole), else the first.
+    ``L``: ``None`` for the current length ``(|e1| + |e2|) / 2``, else the reference one.
+    """
+    if north:
+        e1, e2 = _sub(Pc, Pm), _sub(Pq, Pc)
+    else:
+        e1, e2 = _sub(Pc, Pq), _sub(Pm, Pc)
+    w = _sub(Pmp, Pqp)
+    w = _scale(w, 1.0 / _norm(w))
+    l1, l2 = _norm(e1), _norm(e2)
+    cross = -_dot(_cross(e1, e2), w)
+    Lk = (l1 + l2) * 0.5 if L is None else L
+    return 2.0 * cross / ((l1 * l2 + _dot(e1, e2)) * Lk)
+
+
+def _horizontal_triple(P, A, D):
+    """``h(P).(A x D)`` with ``h(P) = (P_r, P_t, 0)``."""
+    c = _cross(A, D)
+    return P[0] * c[0] + P[1] * c[1]
+
+
+def volume_density(Pi, Pj, Ppi, Ppj):
+    """Volume per radian of the ruled strip between rings ``i`` and ``j`` (flux of ``(x, y, 0)/2``)."""
+    D = _sub(Pj, Pi)
+    s = (_horizontal_triple(Pi, Ppi, D) * (1.0 / 3.0) + _horizontal_triple(Pj, Ppj, D) * (1.0 / 3.0)
+         + (_horizontal_triple(Pi, Ppj, D) + _horizontal_triple(Pj, Ppi, D)) * (1.0 / 6.0))
+    return s * 0.5
+
+
+def skirt_density(P0, Pp0, z_ref):
+    """Volume per radian of the skirt from the base plane ``z = z_ref`` up to ring 0."""
+    return (P0[0] * Pp0[1] - P0[1] * Pp0[0]) * (P0[2] - z_ref) * 0.5
+
+
+def contact_point_hessian(barrier: Any, X: np.ndarray, c: float) -> np.ndarray:
+    """Hessian ``(3, 3, S)`` of the barrier ``W(d(X))`` with respect to 3-D points ``X`` (``(3, S)``).
+
+    ``W(d) = -K (d - dhat)^2 log(d / dhat)`` for ``d < dhat`` (:mod:`contin_models.contact.barrier`);
+    ``d`` the distance to the indenter: a sphere of radius ``rho`` centred at ``(0, 0, c)``,
+    ``d = |X - C| - rho`` (rotationally symmetric about the axis: on the ``(r, z)`` plane it is the
+    1-D model's distance), or a plate at height ``c``, ``d = c - X_z``.
+    """
+    K, dh = barrier.K, barrier.dhat
+    X = np.asarray(X, dtype=float)
+    if barrier.indenter.name == "sphere":
+        rho = float(barrier.indenter.params[0])
+        D = X - np.array([0.0, 0.0, c])[:, None]
+        q = np.sqrt(np.sum(D * D, axis=0))
+        d = q - rho
+        gd = D / q
+        Hd = (np.eye(3)[:, :, None] - gd[:, None, :] * gd[None, :, :]) / q
+    else:
+        d = c - X[2]
+        gd = np.zeros_like(X)
+        gd[2] = -1.0
+        Hd = np.zeros((3, 3, X.shape[1]))
+    t = np.minimum(d / dh, 1.0)
+    lg = np.log(t)
+    a = np.minimum(d - dh, 0.0)
+    W1 = -K * (2.0 * a * lg + a * a / d)
+    W2 = -K * (2.0 * lg + 4.0 * a / d - a * a / (d * d))
+    return W2 * gd[:, None, :] * gd[None, :, :] + W1 * Hd
+
+
+# ---------------------------------------------------------------------------------------------------
+# mode maps: (a, b, c) of one node -> the change of its local vectors, cos and sin parts
+# ---------------------------------------------------------------------------------------------------
+def mode_maps(n: int) -> dict:
+    """Per-node maps ``(a, b, c) -> `` components of ``dP``, ``dP'``, ``dP''`` and of the mirror
+    point ``dP(theta + pi)``, ``dP'(theta + pi)`` expressed in the frame at ``theta``.
+
+    Returns ``{kind: (Mc, Ms)}`` with 3x3 matrices (rows: ``(r, t, z)`` components, columns
+    ``(a, b, c)``): the change is ``cos(n theta) Mc u + sin(n theta) Ms u``.  For ``n = 0`` the
+    fields are constants and the change is ``(Mc + Ms) u``.
+    """
+    n = float(n)
+    sg = -1.0 if int(n) % 2 else 1.0
+    P_c = np.array([[1, 0, 0], [0, 0, 0], [0, 1, 0]], float)
+    P_s = np.array([[0, 0, 0], [0, 0, 1], [0, 0, 0]], float)
+    Pp_c = np.array([[0, 0, 0], [1, 0, n], [0, 0, 0]], float)
+    Pp_s = np.array([[-n, 0, -1], [0, 0, 0], [0, -n, 0]], float)
+    Ppp_c = np.array([[-(n * n + 1), 0, -2 * n], [0, 0, 0], [0, -n * n, 0]], float)
+    Ppp_s = np.array([[0, 0, 0], [-2 * n, 0, -(1 + n * n)], [0, 0, 0]], float)
+    F = np.diag([-1.0, -1.0, 1.0])  # frame at theta + pi -> frame at theta
+    return {"P": (P_c, P_s), "Pp": (Pp_c, Pp_s), "Ppp": (Ppp_c, Ppp_s),
+            "Q": (sg * F @ P_c, sg * F @ P_s), "Qp": (sg * F @ Pp_c, sg * F @ Pp_s)}
+
+
+def _axisym_vectors(r, z):
+    """Local vectors of rings at an axisymmetric state: ``P = (r, 0, z)``, ``P' = (0, r, 0)``,
+    ``P'' = (-r, 0, 0)``, mirror ``Q = (-r, 0, z)``, ``Q' = (0, -r, 0)``."""
+    zero = np.zeros_like(r)
+    return {"P": (r, zero, z), "Pp": (zero, r, zero), "Ppp": (-r, zero, zero),
+            "Q": (-r, zero, z), "Qp": (zero, -r, zero)}
+
+
+@dataclass
+class _Family:
+    """One family of elements with the same local-variable layout.
+
+    ``nodes``: ``(m, nn)`` global node of each element slot (``-1``: a fixed node, e.g. the ghost);
+    ``layout``: list of ``(slot combination, kind)`` per local vector: each local vector (3
+    components) is ``sum_c coef * V_kind(node slot)``; ``density``: callable of the local vectors
+    (as tuples) returning the energy per radian (or a curvature for the pole); ``values``: the local
+    vectors at the state, ``(k, m)``.
+    """
+
+    name: str
+    nodes: np.ndarray
+    layout: list
+    kind: str  # "energy" (per radian, integrated) or "pole" (special second variation)
+
+
+class HarmonicShell:
+    """Harmonic blocks of a :class:`~contin_models.shell.structure.ShellStructure`.
+
+    Parameters
+    ----------
+    structure : ShellStructure
+        The shell (its meridian, material, supports and poles).
+    z_ref : float, optional
+        Height of the pressure's base plane (default: the reference height of node 0, as
+        :meth:`contin_models.shell.volume.PressureTerm.from_reference`).
+    method : {"generated", "jets"}
+        How the bending density's local Hessians are evaluated: the generated kernels
+        (:mod:`contin_models.shell.harmonic_codegen`, the default) or the jets (the reference; the
+        other densities always use the jets, which are cheap for them).
+
+    Notes
+    -----
+    The local Hessians of a state are cached (the last few states), so the blocks of every ``n`` at
+    one state cost one evaluation of the densities.
+    """
+
+    _CACHE = 3
+
+    def __init__(self, structure: Any, z_ref: float | None = None, method: str = "generated") -> None:
+        if method not in ("generated", "jets"):
+            raise ValueError(f"HarmonicShell: method must be 'generated' or 'jets', got {method!r}")
+        self.method = method
+        self.structure = st = structure
+        shell = st.shell
+        mer = st.meridian
+        self.N = N = int(st.N)
+        self.nu = float(st.nu)
+        self.current = shell.kappa11_length == "current"
+        xr = np.asarray(mer.x, dtype=float)
+        self.z_ref = float(xr[1]) if z_ref is None else float(z_ref)
+        # stretch parameters per edge, exactly those of the 1-D energy
+        terms = getattr(shell, "_terms", {})
+        sp_ = terms["stretch"].params if "stretch" in terms else (mer.edge_length, mer.edge_radius, shell.ks, shell.nu)
+        self.s_lbar, self.s_rbar = np.asarray(sp_[0], float), np.asarray(sp_[1], float)
+        self.s_ks = np.broadcast_to(np.asarray(sp_[2], float), self.s_lbar.shape).copy()
+        # bending parameters per interior node
+        self.b_nodes = np.asarray(shell.bend_nodes)
+        if "bend" in terms:
+            bp = terms["bend"].params
+            self.b_lbar, self.b_rbar, self.b_k11, self.b_k22 = (np.asarray(p, float) for p in bp[:4])
+            self.b_kb = np.broadcast_to(np.asarray(bp[4], float), self.b_lbar.shape).copy()
+        else:
+            i = self.b_nodes
+            self.b_lbar, self.b_rbar = mer.voronoi_length[i], mer.node_radius[i]
+            self.b_k11, self.b_k22 = shell.kappa11_bar, shell.kappa22_bar
+            self.b_kb = np.full(i.size, shell.kb)
+        self.clamp = st.clamp
+        self.poles = []  # (node, neighbour, north, PoleMirror)
+        for (element, dofs), k in zip(st._poles, st.poles):
+            north = k == N - 1
+            self.poles.append((k, k - 1 if north else 1, north, element))
+        self._cache: list = []
+
+    # ---- local variables -------------------------------------------------------------------------
+    def _families(self, x: np.ndarray):
+        """Local vectors and layouts of every family at an axisymmetric state ``x``."""
+        r, z = x[0::2], x[1::2]
+        V = _axisym_vectors(r, z)
+        N = self.N
+        fams = []
+        # stretch: D = P_j - P_i, Mp = (P'_i + P'_j)/2
+        i = np.arange(N - 1)
+        nodes = np.stack([i, i + 1], axis=1)
+        layout = [([(1, 1.0), (0, -1.0)], "P"), ([(0, 0.5), (1, 0.5)], "Pp")]
+        fams.append(("stretch", nodes, layout))
+        # bend: e1, e2, Dp, Pp, Ppp
+        j = self.b_nodes
+        nodes = np.stack([j - 1, j, j + 1], axis=1)
+        layout = [([(1, 1.0), (0, -1.0)], "P"), ([(2, 1.0), (1, -1.0)], "P"), ([(2, 1.0), (0, -1.0)], "Pp"),
+                  ([(1, 1.0)], "Pp"), ([(1, 1.0)], "Ppp")]
+        fams.append(("bend", nodes, layout))
+        # volume strips: Pi, Pj, P'i, P'j
+        nodes = np.stack([i, i + 1], axis=1)
+        layout = [([(0, 1.0)], "P"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "Pp")]
+        fams.append(("volume", nodes, layout))
+        out = {}
+        for name, nodes, layout in fams:
+            vals = []
+            for combo, kind in layout:
+                for c in range(3):
+                    vals.append(sum(coef * V[kind][c][nodes[:, s]] for s, coef in combo))
+            out[name] = (nodes, layout, vals)
+        return out, V
+
+    def _bend_hessian(self, vals: list, params: tuple, current: bool) -> np.ndarray:
+        """``(15, 15, m)`` Hessians of the bending density at axisymmetric local variables ``vals``
+        (15 arrays): the generated kernel (:mod:`contin_models.shell._harmonic_generated`), or the jets
+        with ``method="jets"``; ``L`` is the current length when ``current``, else the weight's ``lbar``."""
+        if self.method == "generated":
+            f = _hgen.bend_cur_hessian if current else _hgen.bend_ref_hessian
+            m = np.size(vals[0])
+            return f(*(np.broadcast_to(np.asarray(vals[k], float), (m,)) for k in (0, 2, 3, 5, 7, 10)),
+                     *(np.broadcast_to(np.asarray(p, float), (m,)) for p in params))
+        y = Jet.variables(vals)
+        e = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
+                         *params, None if current else params[0])
+        return e.h
+
+    def _volume_hessians(self, x: np.ndarray, loc: dict) -> tuple:
+        """The volume strips' ``(nodes, layout, H)`` (cached with the state's other Hessians)."""
+        if "volume" not in loc:
+            nodes, layout, vals = loc["volume_family"]
+            y = Jet.variables(vals)
+            e = volume_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]))
+            loc["volume"] = (nodes, layout, e.h)
+        return loc["volume"]
+
+    def local_hessians(self, x: np.ndarray) -> dict:
+        """Per family: ``(nodes, layout, H)`` with ``H`` the ``(k, k, m)`` Hessians per radian; and
+        the special terms (clamp, poles, skirt)."""
+        x = np.asarray(x, dtype=float)
+        for xc, res in self._cache:
+            if np.array_equal(xc, x):
+                return res
+        fams, V = self._families(x)
+        res = {}
+        # stretch
+        nodes, layout, vals = fams["stretch"]
+        y = Jet.variables(vals)
+        e = stretch_density(tuple(y[0:3]), tuple(y[3:6]), self.s_lbar, self.s_rbar, self.s_ks, self.nu)
+        res["stretch"] = (nodes, layout, e.h)
+        # bend
+        nodes, layout, vals = fams["bend"]
+        if nodes.shape[0]:
+            bp = (self.b_lbar, self.b_rbar, self.b_k11, self.b_k22, self.b_kb, self.nu)
+            res["bend"] = (nodes, layout, self._bend_hessian(vals, bp, self.current))
+        # volume (its jets only when a pressure asks for them: _volume_hessians)
+        res["volume_family"] = fams["volume"]
+        # skirt (node 0 off the axis)
+        r, z = x[0::2], x[1::2]
+        if 0 not in [p[0] for p in self.poles]:  # a pole at node 0 closes the surface: no skirt
+            vals = [V["P"][c][:1] for c in range(3)] + [V["Pp"][c][:1] for c in range(3)]
+            y = Jet.variables(vals)
+            e = skirt_density(tuple(y[0:3]), tuple(y[3:6]), self.z_ref)
+            res["skirt"] = (np.array([[0]]), [([(0, 1.0)], "P"), ([(0, 1.0)], "Pp")], e.h)
+        # clamp: bending density on (ghost, 0, 1), ghost fixed; slots: node 0, node 1 (ghost = -1)
+        if self.clamp is not None:
+            cl = self.clamp
+            gr, gz = cl.ghost
+            G = {"P": (np.array([gr]), np.zeros(1), np.array([gz])), "Pp": (np.zeros(1), np.array([gr]), np.zeros(1))}
+            P0 = [V["P"][c][:1] for c in range(3)]
+            P1 = [V["P"][c][1:2] for c in range(3)]
+            vals = ([P0[c] - G["P"][c] for c in range(3)] + [P1[c] - P0[c] for c in range(3)]
+                    + [V["Pp"][c][1:2] - G["Pp"][c] for c in range(3)] + [V["Pp"][c][:1] for c in range(3)]
+                    + [V["Ppp"][c][:1] for c in range(3)])
+            Hc = self._bend_hessian(vals, (cl.lbar, cl.rbar, cl.kappa_bar[0], cl.kappa_bar[1], cl.kb, cl.nu), False)
+            layout = [([(0, 1.0)], "P"), ([(1, 1.0), (0, -1.0)], "P"), ([(1, 1.0)], "Pp"), ([(0, 1.0)], "Pp"),
+                      ([(0, 1.0)], "Ppp")]
+            res["clamp"] = (np.array([[0, 1]]), layout, Hc)
+        # poles: the curvature B(theta) as a jet (value, gradient, Hessian) in Pm, Pm', Pc, Pq, Pq'
+        res["poles"] = []
+        for k, nb, north, element in self.poles:
+            vals = ([V["P"][c][nb:nb + 1] for c in range(3)] + [V["Pp"][c][nb:nb + 1] for c in range(3)]
+                    + [V["P"][c][k:k + 1] for c in range(3)] + [V["Q"][c][nb:nb + 1] for c in range(3)]
+                    + [V["Qp"][c][nb:nb + 1] for c in range(3)])
+            y = Jet.variables(vals)
+            L = None if element.current_length else element.lbar
+            kap = pole_curvature(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
+                                 north, L)
+            B0 = float(kap.v[0]) - element.kappa_bar
+            layout = [([(0, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Q"), ([(0, 1.0)], "Qp")]
+            Akb = element.K / (1.0 + self.nu)  # A kb
+            res["poles"].append((np.array([[nb, k]]), layout, B0, kap.g[:, 0], kap.h[:, :, 0], Akb))
+        self._cache.insert(0, (x.copy(), res))
+        del self._cache[self._CACHE:]
+        return res
+
+    # ---- assembly --------------------------------------------------------------------------------
+    @staticmethod
+    def _ymaps(layout: list, nn: int, maps: dict) -> tuple[np.ndarray, np.ndarray]:
+        """``Yc``, ``Ys`` (``k x 3 nn``): local variables' change per node amplitudes ``(a, b, c)``."""
+        k = 3 * len(layout)
+        Yc, Ys = np.zeros((k, 3 * nn)), np.zeros((k, 3 * nn))
+        for v, (combo, kind) in enumerate(layout):
+            Mc, Ms = maps[kind]
+            for s, coef in combo:
+                Yc[3 * v:3 * v + 3, 3 * s:3 * s + 3] += coef * Mc
+                Ys[3 * v:3 * v + 3, 3 * s:3 * s + 3] += coef * Ms
+        return Yc, Ys
+
+    @staticmethod
+    def _project(H: np.ndarray, Yc: np.ndarray, Ys: np.ndarray, n: int) -> np.ndarray:
+        """Element blocks ``(m, d, d)``: ``pi (Yc^T H Yc + Ys^T H Ys)`` or ``2 pi Y0^T H Y0``."""
+        if n == 0:
+            Y = Yc + Ys
+            return 2.0 * math.pi * np.einsum("ai,abm,bj->mij", Y, H, Y, optimize=True)
+        return math.pi * (np.einsum("ai,abm,bj->mij", Yc, H, Yc, optimize=True)
+                          + np.einsum("ai,abm,bj->mij", Ys, H, Ys, optimize=True))
+
+    def _element_blocks(self, x: np.ndarray, n: int, pressure: float):
+        """Yield ``(global nodes (m, nn), blocks (m, 3 nn, 3 nn))`` of every term."""
+        loc = self.local_hessians(x)
+        maps = mode_maps(n)
+        for name in ("stretch", "bend", "clamp"):
+            if name in loc:
+                nodes, layout, H = loc[name]
+                Yc, Ys = self._ymaps(layout, nodes.shape[1], maps)
+                yield nodes, self._project(H, Yc, Ys, n)
+        if pressure != 0.0:
+            self._volume_hessians(x, loc)
+            for name in ("volume", "skirt"):
+                if name in loc:
+                    nodes, layout, H = loc[name]
+                    Yc, Ys = self._ymaps(layout, nodes.shape[1], maps)
+                    yield nodes, pressure * self._project(H, Yc, Ys, n)
+        yield from self._pole_blocks(loc, n)
+
+    def _pole_blocks(self, loc: dict, n: int):
+        """``(nodes (1, 2), block (1, 6, 6))`` of each pole's element (module docstring)."""
+        maps = mode_maps(n)
+        nu = self.nu
+        for nodes, layout, B0, g, Hb, Akb in loc["poles"]:
+            Yc, Ys = self._ymaps(layout, nodes.shape[1], maps)
+            if n == 0:
+                Y = Yc + Ys
+                G = Y.T @ g
+                K = 2.0 * Akb * (1.0 + nu) * (np.outer(G, G) + B0 * Y.T @ Hb @ Y)
+            else:
+                Gc, Gs = Yc.T @ g, Ys.T @ g
+                K = Akb * (2.0 * (1.0 - nu) * (np.outer(Gc, Gc) + np.outer(Gs, Gs))
+                           + (1.0 + nu) * B0 * (Yc.T @ Hb @ Yc + Ys.T @ Hb @ Ys))
+            yield nodes, K[None]
+
+    def _contact_blocks(self, x: np.ndarray, n: int, contact: tuple):
+        """``(nodes (S, 3), blocks (S, 9, 9))`` of the active sample points of a contact barrier."""
+        barrier, c = contact
+        N = self.N
+        c = float(c)
+        r, z = x[0::2], x[1::2]
+        barrier.check(x, c)  # every sample point strictly outside the indenter
+        cells = barrier.cells(N)
+        ds = barrier.sample_distances(x, c)
+        S = np.flatnonzero(ds < barrier.dhat)
+        if S.size == 0:
+            return None
+        rs, zs = cells.points(r, z)
+        X = np.stack([rs[S], np.zeros(S.size), zs[S]])  # sample points in the frame at theta
+        H = contact_point_hessian(barrier, X, c) * (cells.weight[S] / (2.0 * math.pi))  # per radian
+        maps = mode_maps(n)
+        coef = cells.cz[S]  # Lagrange coefficients of the stencil nodes (the mirror is the kind "Q")
+        mirror = (cells.cell[S] == N - 1) & (N >= 2)
+        Yc, Ys = np.zeros((S.size, 3, 9)), np.zeros((S.size, 3, 9))
+        for j in range(3):
+            for kind, sel in (("P", ~mirror if j == 2 else np.ones(S.size, bool)), ("Q", mirror if j == 2 else None)):
+                if sel is None:
+                    continue
+                Mc, Ms = maps[kind]
+                w = coef[:, j] * sel
+                Yc[:, :, 3 * j:3 * j + 3] += w[:, None, None] * Mc
+                Ys[:, :, 3 * j:3 * j + 3] += w[:, None, None] * Ms
+        if n == 0:
+            Y = Yc + Ys
+            K = 2.0 * math.pi * np.einsum("sai,abs,sbj->sij", Y, H, Y)
+        else:
+            K = math.pi * (np.einsum("sai,abs,sbj->sij", Yc, H, Yc) + np.einsum("sai,abs,sbj->sij", Ys, H, Ys))
+        return cells.stencil[cells.cell[S]], K
+
+    # ---- the fixed pattern and the polynomial in n -----------------------------------------------
+    def _pattern(self):
+        """Sorted keys ``row * 3N + col`` of the full blocks' pattern (nodes at most 2 apart), CSR
+        indices and indptr (built once)."""
+        if getattr(self, "_pat", None) is None:
+            N, n3 = self.N, 3 * self.N
+            i = np.arange(N)
+            pairs = [(a, a + d) for d in range(-2, 3) for a in i if 0 <= a + d < N]
+            ni, nj = np.array(pairs).T
+            rows = (3 * ni[:, None, None] + np.arange(3)[None, :, None] + 0 * np.arange(3)[None, None, :]).ravel()
+            cols = (3 * nj[:, None, None] + 0 * np.arange(3)[None, :, None] + np.arange(3)[None, None, :]).ravel()
+            keys = np.unique(rows.astype(np.int64) * n3 + cols)
+            r, c = np.divmod(keys, n3)
+            indptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=n3))]).astype(np.int32)
+            self._pat = (keys, c.astype(np.int32), indptr)
+        return self._pat
+
+    def _slots(self, nodes: np.ndarray) -> np.ndarray:
+        """Positions in the pattern of every element's ``(3 nn)^2`` entries, shape ``(m, 3 nn, 3 nn)``."""
+        keys = self._pattern()[0]
+        nn = nodes.shape[1]
+        dof = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(nodes.shape[0], 3 * nn).astype(np.int64)
+        return np.searchsorted(keys, dof[:, :, None] * (3 * self.N) + dof[:, None, :])
+
+    def _poly(self, x: np.ndarray, loc: dict, names: tuple, key: str) -> tuple:
+        """Global data ``(D0, D)`` of the families ``names`` at the state: the ``n = 0`` block's data
+        ``D0`` and ``D`` (5, nnz) with the block of ``n >= 1`` equal to ``pi sum_d n^d D[d]``
+        (the mode maps are quadratic in ``n``).  Cached in the state's dict under ``key``."""
+        if key in loc:
+            return loc[key]
+        nnz = self._pattern()[0].size
+        D0, D = np.zeros(nnz), np.zeros((5, nnz))
+        M = [mode_maps(k) for k in (0, 1, 2)]
+        for name in names:
+            if name not in loc:
+                continue
+            nodes, layout, H = loc[name]
+            nn = nodes.shape[1]
+            cache = self.__dict__.setdefault("_family_slots", {})
+            if name not in cache:  # the families' nodes do not depend on the state
+                cache[name] = self._slots(nodes).ravel()
+            slots = cache[name]
+            Y = [self._ymaps(layout, nn, m) for m in M]  # (Yc, Ys) at n = 0, 1, 2
+            Hm = np.ascontiguousarray(np.moveaxis(H, 2, 0))  # (m, k, k)
+            Yz = Y[0][0] + Y[0][1]
+            D0 += np.bincount(slots, 2.0 * math.pi * (Yz.T @ (Hm @ Yz)).ravel(), nnz)
+            Gd = [0.0] * 5
+            for part in (0, 1):  # cos, sin: Y(n) = A + n B + n^2 C
+                A = Y[0][part]
+                C = 0.5 * (Y[2][part] - 2.0 * Y[1][part] + A)
+                B = Y[1][part] - A - C
+                P = (A, B, C)
+                HP = [Hm @ Q for Q in P]  # (m, k, d)
+                for p_ in range(3):
+                    for q_ in range(3):
+                        Gd[p_ + q_] = Gd[p_ + q_] + P[p_].T @ HP[q_]  # (m, d, d)
+            for d_ in range(5):
+                D[d_] += np.bincount(slots, np.ravel(Gd[d_]), nnz)
+        loc[key] = (D0, D)
+        return loc[key]
+
+    def full_block(self, x: np.ndarray, n: int, pressure: float = 0.0, contact: tuple | None = None,
+                   reference: bool = False) -> sp.csr_matrix:
+        """The ``3N x 3N`` block of mode ``n`` on all dofs ``[a_0, b_0, c_0, a_1, ...]`` (no dof fixed).
+
+        ``pressure``: the external pressure (its volume's load stiffness is added); ``contact``:
+        ``(barrier, c)``, a :class:`contin_models.contact.ContactBarrier` and the indenter position
+        (the barrier's block is added).  The stretching, bending, clamp and volume parts come from
+        a polynomial in ``n`` computed once per state (:meth:`_poly`); ``reference=True`` projects
+        every element for this ``n`` instead (the direct route, for checks).
+        """
+        n = int(n)
+        if n < 0:
+            raise ValueError(f"wave number n must be >= 0, got {n}")
+        x = np.asarray(x, dtype=float)
+        if x.shape != (2 * self.N,):
+            raise ValueError(f"state vector must have shape ({2 * self.N},), got {x.shape}")
+        pressure = float(pressure)
+        keys, indices, indptr = self._pattern()
+        if reference:
+            terms = list(self._element_blocks(x, n, pressure))
+            data = np.zeros(keys.size)
+        else:
+            loc = self.local_hessians(x)
+            terms = list(self._pole_blocks(loc, n))
+            D0, D = self._poly(x, loc, ("stretch", "bend", "clamp"), "poly")
+            if pressure != 0.0:
+                self._volume_hessians(x, loc)
+                V0, V = self._poly(x, loc, ("volume", "skirt"), "poly_volume")
+                D0, D = D0 + pressure * V0, D + pressure * V
+            if n == 0:
+                data = D0.copy()
+            else:
+                data = math.pi * (D[0] + n * (D[1] + n * (D[2] + n * (D[3] + n * D[4]))))
+        if contact is not None:
+            cb = self._contact_blocks(x, n, contact)
+            if cb is not None:
+                terms.append(cb)
+        for nodes, K in terms:
+            np.add.at(data, self._slots(nodes).ravel(), K.ravel())
+        n3 = 3 * self.N
+        return sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(n3, n3))
+
+    def _reduction(self, n: int, remove_rigid: bool, control_fixed) -> tuple:
+        """The scatter ``full data -> reduced data`` of :meth:`block` (each full dof maps to at most
+        one reduced column, with a factor +-1): ``(take, slot, sign, indices, indptr, m)``."""
+        key = (min(int(n), 2), bool(remove_rigid), tuple(int(d) for d in control_fixed) if n == 0 else ())
+        cache = self.__dict__.setdefault("_red", {})
+        if key not in cache:
+            d = harmonic_dofs(self.structure, n, remove_rigid, control_fixed)
+            n3, m = 3 * self.N, d.free.size
+            T = d.T.tocoo()
+            col, fac = np.full(n3, -1), np.zeros(n3)
+            col[T.row], fac[T.row] = T.col, T.data
+            keys = self._pattern()[0]
+            r, c = np.divmod(keys, n3)
+            take = np.flatnonzero((col[r] >= 0) & (col[c] >= 0))
+            rk = col[r[take]].astype(np.int64) * m + col[c[take]]
+            red = np.unique(rk)
+            rr, cc = np.divmod(red, m)
+            indptr = np.concatenate([[0], np.cumsum(np.bincount(rr, minlength=m))]).astype(np.int32)
+            cache[key] = (take, np.searchsorted(red, rk), fac[r[take]] * fac[c[take]], cc.astype(np.int32), indptr, m)
+        return cache[key]
+
+    def dofs(self, n: int, remove_rigid: bool = True, control_fixed=()) -> "HarmonicDofs":
+        """The admissible dofs of mode ``n`` (module docstring, "Dof ordering and fixed dofs")."""
+        return harmonic_dofs(self.structure, n, remove_rigid, control_fixed)
+
+    def block(self, x: np.ndarray, n: int, pressure: float = 0.0, remove_rigid: bool = True,
+              contact: tuple | None = None, control_fixed=()) -> sp.csr_matrix:
+        """The block of mode ``n`` on the admissible dofs, ``T^T K T`` (:meth:`dofs`)."""
+        K = self.full_block(x, n, pressure, contact)
+        take, slot, sign, indices, indptr, m = self._reduction(n, remove_rigid, control_fixed)
+        data = np.bincount(slot, sign * K.data[take], indptr[-1])
+        return sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(m, m))
+
+
+@dataclass
+class HarmonicDofs:
+    """Admissible dofs of one wave number.
+
+    Attributes
+    ----------
+    n : int
+        Wave number.
+    T : scipy.sparse.csr_matrix
+        ``3N x m`` map from the reduced amplitudes to the full ``[a_0, b_0, c_0, ...]``.
+    fixed : ndarray
+        Full dofs held at zero.
+    tied : list of (int, int, float)
+        ``(dof, master, factor)``: ``dof = factor * master`` (the pole's ``c = -a`` at ``n = 1``).
+    free : ndarray
+        The full dof carried by each column of :attr:`T`.
+    """
+
+    n: int
+    T: sp.csr_matrix
+    fixed: np.ndarray
+    tied: list
+    free: np.ndarray
+
+
+def harmonic_dofs(structure: Any, n: int, remove_rigid: bool = True, control_fixed=()) -> HarmonicDofs:
+    """Fixed and tied dofs of mode ``n`` for a structure (module docstring) and the reduction map.
+
+    Parameters
+    ----------
+    structure : ShellStructure
+    n : int
+        Wave number, ``>= 0``.
+    remove_rigid : bool
+        Remove the rigid motions of a shell without a support in ``z`` at its ``rigid_fix`` node.
+    control_fixed : sequence of int
+        Full-state (1-D, interleaved ``[r_0, z_0, ...]``) dofs that the control holds, fixed at
+        ``n = 0`` only: e.g. the loaded node's height ``2k + 1`` under displacement control.  A
+        prescribed pole deflection, volume or indenter position is an axisymmetric constraint; the
+        ``n >= 1`` fields change none of them to first order, so every control shares the
+        ``n >= 1`` blocks (``docs/revolution.md`` section 6).
+    """
+    n = int(n)
+    N = int(structure.N)
+    fixed: set[int] = set()
+    tied: list = []
+    for k in structure.poles:
+        if n == 0:
+            fixed |= {3 * k, 3 * k + 2}
+        elif n == 1:
+            fixed.add(3 * k + 1)
+            tied.append((3 * k + 2, 3 * k, -1.0))
+        else:
+            fixed |= {3 * k, 3 * k + 1, 3 * k + 2}
+    if 0 not in structure.poles:
+        b = structure.boundary
+        if b == "sliding":
+            fixed |= {1, 2}
+        elif b in ("pinned", "clamped"):
+            fixed |= {0, 1, 2}
+    if remove_rigid and structure.rigid_fix is not None:
+        k = structure.rigid_fix // 2
+        fixed |= {3 * k + 1, 3 * k + 2} if n == 0 else ({3 * k, 3 * k + 1} if n == 1 else set())
+    if n == 0:
+        fixed |= {3 * (int(d) // 2) + int(d) % 2 for d in control_fixed}
+    tied_dofs = {t[0] for t in tied}
+    free = np.array([d for d in range(3 * N) if d not in fixed and d not in tied_dofs], dtype=int)
+    col = {d: j for j, d in enumerate(free)}
+    rows = list(free)
+    cols = list(range(free.size))
+    vals = [1.0] * free.size
+    for d, master, f in tied:
+        if master in col:
+            rows.append(d)
+            cols.append(col[master])
+            vals.append(f)
+    T = sp.csr_matrix((vals, (rows, cols)), shape=(3 * N, free.size))
+    return HarmonicDofs(n=n, T=T, fixed=np.array(sorted(fixed), dtype=int), tied=tied, free=free)
+
+
+_SHELLS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _harmonic_shell(structure: Any, z_ref: float | None) -> HarmonicShell:
+    key = (None if z_ref is None else float(z_ref))
+    per = _SHELLS.setdefault(structure, {})
+    if key not in per:
+        per[key] = HarmonicShell(structure, z_ref)
+    return per[key]
+
+
+def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0, z_ref: float | None = None,
+                   reduced: bool = True, remove_rigid: bool = True, contact: tuple | None = None,
+                   control_fixed=()) -> sp.csr_matrix:
+    """Hessian block of wave number ``n`` of the 2-D shell energy at the axisymmetric state ``x``.
+
+    Parameters
+    ----------
+    structure : ShellStructure
+        The shell.
+    x : ndarray, shape ``(2 N,)``
+        Full interleaved axisymmetric state ``[r_0, z_0, ..., r_{N-1}, z_{N-1}]``.
+    n : int
+        Circumferential wave number, ``>= 0``.
+    pressure : float
+        External pressure ``p`` (the load stiffness ``p d2V`` of the enclosed volume is added).
+    z_ref : float, optional
+        The pressure's base plane (default: the reference height of node 0).
+    reduced : bool
+        ``True``: on the admissible dofs of ``n`` (:func:`harmonic_dofs`); ``False``: the full
+        ``3N x 3N`` block on ``[a_0, b_0, c_0, a_1, ...]``.
+    remove_rigid : bool
+        With ``reduced``: remove the rigid motions of a shell without support in ``z``.
+    contact : (ContactBarrier, float), optional
+        A contact barrier (:class:`contin_models.contact.ContactBarrier`) and the indenter position
+        ``c``: the barrier's block is added (module docstring, "Contact").
+    control_fixed : sequence of int
+        With ``reduced``: 1-D dofs held by the control at ``n = 0`` (:func:`harmonic_dofs`).
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+        Symmetric; ``u^T K u`` is the second variation of the energy along the field
+        ``(a cos n theta, b cos n theta, c sin n theta)`` (module docstring).
+    """
+    hs = _harmonic_shell(structure, z_ref)
+    if reduced:
+        return hs.block(x, n, pressure, remove_rigid, contact, control_fixed)
+    return hs.full_block(x, n, pressure, contact)
+
+
+def block_eigs(K: sp.spmatrix, k: int = 1) -> np.ndarray:
+    """The ``k`` smallest eigenvalues of a symmetric block, ascending (LAPACK's banded solver on the
+    band, through :func:`contin.stability.stability_info`)."""
+    return np.asarray(stability_info(sp.csr_matrix(K), k).eigenvalues)
+
+
+def block_inertia(K: sp.spmatrix) -> int:
+    """Number of negative eigenvalues of a symmetric block: a pivot-free ``L D L^T`` (O(N)), or an
+    eigensolver when it cannot be trusted (:func:`contin.stability.stability_info`)."""
+    return int(stability_info(sp.csr_matrix(K), 0).n_negative)
+
+
+# ---------------------------------------------------------------------------------------------------
+# the same 2-D energy on a ring mesh of M sectors (an independent check of the blocks)
+# ---------------------------------------------------------------------------------------------------
+def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0, contact: tuple | None = None,
+                     samples: np.ndarray | None = None):
+    """The 2-D energy of :class:`HarmonicShell` on a ring mesh of ``M`` sectors (``M`` even).
+
+    ``X = (X, Y, Z)``: Cartesian node positions, each an array (or :class:`Jet`) of ``N M`` points,
+    node ``j`` at sector ``k`` (reference angle ``theta_k = 2 pi k / M``) at index ``j M + k``.
+    The densities are evaluated at every ``theta_k`` in the local frame there, with the
+    ``theta``-derivatives replaced by central differences over the sectors
+    (``P' = (P_{k+1} - P_{k-1}) / (2 dtheta)``, ``P'' = (P_{k+1} - 2 P_k + P_{k-1}) / dtheta^2``),
+    and the integral over ``theta`` by the sum ``dtheta sum_k`` (the pole's averages by means over
+    ``k``).  ``contact = (barrier, c)`` adds the barrier over the sample points ``samples`` of the
+    barrier's cells (indices; default all), each at every sector, ``W`` by its closed form (points
+    beyond ``dhat`` must be left out by ``samples``: their ``W`` is zero).  Its Hessian at an axisymmetric state is block-circulant; projected on the Fourier mode
+    ``n`` it tends to the harmonic block as ``M -> infinity``, with an ``O(M^-2)`` difference.
+    """
+    N, nu = hs.N, hs.nu
+    M = int(M)
+    if M % 2 or M < 4:
+        raise ValueError("ring_mesh_energy: M must be even and >= 4")
+    dth = 2.0 * math.pi / M
+    k = np.arange(M)
+    th = dth * k
+    cs, sn = np.cos(th), np.sin(th)
+
+    def idx(j, shift=0):
+        j = np.atleast_1d(j)
+        return (j[:, None] * M + (k[None, :] + shift) % M).ravel()
+
+    def frame(V, j):  # components (r, t, z) of a Cartesian vector at nodes j, all sectors, in frame k
+        c = np.tile(cs, len(np.atleast_1d(j)))
+        s = np.tile(sn, len(np.atleast_1d(j)))
+        return (V[0] * c + V[1] * s, V[1] * c - V[0] * s, V[2])
+
+    def at(j, shift=0):
+        i = idx(j, shift)
+        return tuple(X[c].take(i) if isinstance(X[c], Jet) else X[c][i] for c in range(3))
+
+    def P(j):
+        return frame(at(j), j)
+
+    def Pp(j, shift=0):
+        return frame(_scale(_sub(at(j, shift + 1), at(j, shift - 1)), 1.0 / (2.0 * dth)), j)
+
+    def Ppp(j):
+        return frame(_scale(_addv(_sub(at(j, 1), _scale(at(j), 2.0)), at(j, -1)), 1.0 / dth ** 2), j)
+
+    def rep(a, j):  # per-element parameters, repeated over the sectors
+        return np.repeat(np.asarray(a, dtype=float), M) if np.ndim(a) else a
+
+    def tot(e):
+        return e.total() if isinstance(e, Jet) else np.sum(e)
+
+    E = 0.0
+    i = np.arange(N - 1)
+    D = _sub(frame(at(i + 1), i), P(i))
+    Mp = _scale(_addv(Pp(i), frame(_scale(_sub(at(i + 1, 1), at(i + 1, -1)), 1.0 / (2.0 * dth)), i)), 0.5)
+    E = E + tot(stretch_density(D, Mp, rep(hs.s_lbar, i), rep(hs.s_rbar, i), rep(hs.s_ks, i), nu)) * dth
+    j = hs.b_nodes
+    if j.size:
+        e1 = frame(_sub(at(j), at(j - 1)), j)
+        e2 = frame(_sub(at(j + 1), at(j)), j)
+        Dp = frame(_scale(_sub(_sub(at(j + 1, 1), at(j + 1, -1)), _sub(at(j - 1, 1), at(j - 1, -1))),
+                          1.0 / (2.0 * dth)), j)
+        L = None if hs.current else rep(hs.b_lbar, j)
+        E = E + tot(bend_density(e1, e2, Dp, Pp(j), Ppp(j), rep(hs.b_lbar, j), rep(hs.b_rbar, j),
+                                 rep(hs.b_k11, j), rep(hs.b_k22, j), rep(hs.b_kb, j), nu, L)) * dth
+    if hs.clamp is not None:
+        cl = hs.clamp
+        gr, gz = cl.ghost
+        G = (np.full(M, gr), np.zeros(M), np.full(M, gz))           # ghost in frame k
+        Gp = (np.zeros(M), np.full(M, gr * math.sin(dth) / dth), np.zeros(M))
+        z0 = np.array([0])
+        e1 = _sub(P(z0), G)
+        e2 = frame(_sub(at(np.array([1])), at(z0)), z0)
+        Dp = _sub(frame(_scale(_sub(at(np.array([1]), 1), at(np.array([1]), -1)), 1.0 / (2.0 * dth)), z0), Gp)
+        E = E + tot(bend_density(e1, e2, Dp, Pp(z0), Ppp(z0), cl.lbar, cl.rbar, cl.kappa_bar[0],
+                                 cl.kappa_bar[1], cl.kb, cl.nu, cl.lbar)) * dth
+    for kk, nb, north, element in hs.poles:
+        jn, jk = np.array([nb]), np.array([kk])
+        Pm = P(jn)
+        Pq = frame(at(jn, M // 2), jn)
+        Pc = frame(at(jk), jn)
+        Pmp = Pp(jn)
+        Pqp = frame(_scale(_sub(at(jn, M // 2 + 1), at(jn, M // 2 - 1)), 1.0 / (2.0 * dth)), jn)
+        L = None if element.current_length else element.lbar
+        B = pole_curvature(Pm, Pmp, Pc, Pq, Pqp, north, L) - element.kappa_bar
+        Akb = element.K / (1.0 + nu)
+        mean = tot(B) * (1.0 / M)
+        mean2 = tot(B * B) * (1.0 / M)
+        E = E + (mean * mean * (3.0 * nu - 1.0) + mean2 * (2.0 * (1.0 - nu))) * Akb
+    if contact is not None:
+        barrier, cpos = contact
+        cells = barrier.cells(N)
+        S = np.arange(cells.cell.size) if samples is None else np.asarray(samples)
+        st_nodes = cells.stencil[cells.cell[S]]  # (S, 3)
+        coef = cells.cz[S]
+        mirror = cells.cell[S] == N - 1
+        pts = None
+        for j in range(3):
+            nodes = st_nodes[:, j]
+            shift = np.where(mirror & (j == 2), M // 2, 0)  # the pole cell's third node: the opposite point
+            ii = (nodes[:, None] * M + (k[None, :] + shift[:, None]) % M).ravel()
+            Pj = tuple(X[cc].take(ii) if isinstance(X[cc], Jet) else X[cc][ii] for cc in range(3))
+            c_ = np.repeat(coef[:, j], M)
+            term = _scale(Pj, c_)
+            pts = term if pts is None else _addv(pts, term)
+        cz_ = np.array([0.0, 0.0, cpos])
+        if barrier.indenter.name == "sphere":
+            rho = float(barrier.indenter.params[0])
+            dvec = (pts[0], pts[1], pts[2] - cpos)
+            d = _norm(dvec) - rho
+        else:
+            d = -pts[2] + cpos
+        Kc, dh = barrier.K, barrier.dhat
+        t = d * (1.0 / dh)
+        lg = t.log() if isinstance(t, Jet) else np.log(t)
+        W = (d - dh) * (d - dh) * lg * (-Kc)
+        wts = np.repeat(cells.weight[S], M)
+        E = E + tot(W * wts) * (1.0 / M)
+        del cz_
+    if pressure != 0.0:
+        Vol = tot(volume_density(P(i), frame(at(i + 1), i), Pp(i),
+                                 frame(_scale(_sub(at(i + 1, 1), at(i + 1, -1)), 1.0 / (2.0 * dth)), i))) * dth
+        if 0 not in [p[0] for p in hs.poles]:
+            z0 = np.array([0])
+            Vol = Vol + tot(skirt_density(P(z0), Pp(z0), hs.z_ref)) * dth
+        E = E + Vol * pressure
+    return E
+
+
+def ring_mesh_block(hs: HarmonicShell, x: np.ndarray, n: int, M: int, pressure: float = 0.0,
+                    contact: tuple | None = None) -> np.ndarray:
+    """The Hessian of :func:`ring_mesh_energy` at the axisymmetric state ``x`` projected on mode ``n``.
+
+    Exact (second-order forward differentiation with the mode amplitudes ``u`` as variables): the
+    ``3N x 3N`` matrix ``Phi_n^T H_M Phi_n`` with ``Phi_n`` the Cartesian field of the mode
+    ``(a cos n theta_k e_r + c sin n theta_k e_theta + b cos n theta_k e_z)`` (constants for
+    ``n = 0``), i.e. the Fourier transform of the block-circulant ring-mesh Hessian.
+    """
+    N = hs.N
+    x = np.asarray(x, dtype=float)
+    r, z = x[0::2], x[1::2]
+    th = 2.0 * math.pi * np.arange(M) / M
+    cs, sn = np.cos(th), np.sin(th)
+    if n == 0:
+        fc, fs = np.ones(M), np.ones(M)
+    else:
+        fc, fs = np.cos(n * th), np.sin(n * th)
+    k = 3 * N
+    m = N * M
+    X0 = [np.repeat(r, M) * np.tile(cs, N), np.repeat(r, M) * np.tile(sn, N), np.repeat(z, M)]
+    G = [np.zeros((k, m)) for _ in range(3)]
+    for j in range(N):
+        sl = slice(j * M, (j + 1) * M)
+        G[0][3 * j, sl] = fc * cs       # a: radial
+        G[1][3 * j, sl] = fc * sn
+        G[2][3 * j + 1, sl] = fc        # b: axial
+        G[0][3 * j + 2, sl] = -fs * sn  # c: circumferential
+        G[1][3 * j + 2, sl] = fs * cs
+    X = tuple(Jet.linear(X0[c], G[c]) for c in range(3))
+    samples = None
+    if contact is not None:
+        barrier, cpos = contact
+        samples = np.flatnonzero(barrier.sample_distances(x, cpos) < barrier.dhat)
+    E = ring_mesh_energy(hs, X, M, pressure, contact, samples)
+    return E.h[:, :, 0]

@@ -1,0 +1,237 @@
+"""Probe of the harmonic stability blocks (issue 17): cost per block, ring-mesh limit, sphere under pressure.
+
+Run ``python -m studies.harmonic_probe [--checks] [--cost] [--ring] [--sphere] [--N 200 800 3200]``
+(no flag: all four).
+
+``--checks``
+    The ``n = 0`` block on ``(r, z)`` against the traced Hessian (max relative difference) along a
+    traced point-load path (sliding cap, ``N = 30``), at a pressurised clamped cap's equilibrium and
+    with contact (sphere, point, plate); the smallest eigenvalues (over the largest) of the blocks
+    ``n = 0 .. 3`` of a free cap (reference state) and of a pressurised complete sphere
+    (equilibrium at ``p_c / 2``), all dofs but the pole's kinematic conditions.
+
+``--cost``
+    Wall time (median of 5, one process, BLAS single-threaded) at a deformed state of the default
+    cap (``R = 1``, ``E = 1e6``, ``nu = 0.5``, ``h = 0.02``, ``phi_hat = 0.8``, sliding) for each
+    ``N``: the first block at a new state (local Hessians and their polynomial in ``n``, shared by
+    every ``n``), a further reduced block (``n = 5``, state cached), its inertia
+    (:func:`block_inertia`: pivot-free ``L D L^T``) and its smallest eigenvalue
+    (:func:`block_eigs`: LAPACK's banded solver), beside the traced model's Hessian.
+``--ring``
+    The ring mesh of ``M`` sectors (:func:`ring_mesh_block`) against the blocks, clamped cap
+    ``N = 10`` under pressure at a perturbed axisymmetric state: max relative difference per
+    ``n`` and ``M``, the observed order and the Richardson-extrapolated difference.
+``--sphere``
+    Complete sphere, ``R/h = 100``, ``nu = 0.3``, under pressure: per mesh, the critical pressure of
+    each block ``n <= 30`` extrapolated linearly from two stable states (0.96 and 0.98 ``p_c``), the
+    first ones, and the traced path's first fold (pseudo-arclength).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
+import math  # noqa: E402
+import statistics  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+import scipy.sparse.linalg as spla  # noqa: E402
+
+import contin  # noqa: E402
+from contin_models.shell.geometry import interleave, spherical_cap  # noqa: E402
+from contin_models.shell.harmonic import (HarmonicShell, block_eigs, block_inertia,  # noqa: E402
+                                          ring_mesh_block)
+from contin_models.shell.structure import ShellOfRevolution, ShellStructure  # noqa: E402
+
+
+def _median_time(f, repeat: int = 5) -> float:
+    ts = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        f()
+        ts.append(time.perf_counter() - t)
+    return statistics.median(ts)
+
+
+def checks() -> None:
+    from contin_models.contact.barrier import ContactBarrier, Plate, Sphere, default_barrier, length_weights
+    from contin_models.shell.harmonic import harmonic_dofs
+    from contin_models.shell.volume import volume_hessian
+
+    def n0_error(st, x, p=0.0, contact=None):
+        N = st.N
+        hs = HarmonicShell(st)
+        K = hs.full_block(x, 0, p, contact).toarray()
+        H = st.hessian(x).toarray()
+        if p:
+            H = H + p * volume_hessian(x, hs.z_ref).toarray()
+        if contact is not None:
+            H = H + contact[0].evaluate(*([x, contact[1]])).hessian_matrix().toarray()
+        rz = np.concatenate([[3 * i, 3 * i + 1] for i in range(N)])
+        keep = np.array([d for d in range(2 * N) if not (d % 2 == 0 and d // 2 in st.poles)])
+        return np.max(np.abs(K[np.ix_(rz, rz)] - H)[np.ix_(keep, keep)]) / np.max(np.abs(H))
+
+    cap = spherical_cap(1.0, 0.8, 30)
+    st = ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding")
+    prob = ShellOfRevolution(st, "point", "displacement")
+    br = contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=0.3, ds=0.05, ds_max=0.05, max_steps=12)
+    errs = [n0_error(st, prob.full_state(u, p)) for u, p in zip(br.u, br.p)]
+    print(f"n = 0 vs traced Hessian, point-load path (w/R up to {br.p[-1]:.3f}, {len(errs)} points): max {max(errs):.1e}")
+    h, nu = 0.02, 0.3
+    pc = 2.0 * h ** 2 / math.sqrt(3.0 * (1.0 - nu ** 2))
+    cl = ShellStructure(spherical_cap(1.0, 0.6, 30), 1.0, nu, h, boundary="clamped")
+    pp = ShellOfRevolution(cl, "pressure")
+    u = _newton(pp, _newton(pp, pp.reference_unknowns(), 0.25 * pc), 0.5 * pc)
+    print(f"n = 0 vs traced Hessian + p d2V, clamped cap at p_c/2: {n0_error(cl, pp.full_state(u, 0.5 * pc), 0.5 * pc):.1e}")
+    x = cap.x.copy()
+    z = x[1::2]
+    zt = z.max() - 0.004
+    x[1::2] = np.minimum(z, zt + 0.1 * (z - zt))
+    K, dh = default_barrier(1e6, 1.0)
+    w = length_weights(cap.x)
+    for name, bar, c in (("sphere 0.5R", ContactBarrier(Sphere(0.5), K, dh, cell_weights=w), zt + 0.5 + 0.6 * dh),
+                         ("point", ContactBarrier(Sphere(0.0), K, dh, cell_weights=w), zt + 0.5 * dh),
+                         ("plate", ContactBarrier(Plate(), K, dh, cell_weights=w), zt + 0.7 * dh)):
+        print(f"n = 0 vs traced Hessian + barrier ({name}, {bar.evaluate(x, c).active.size} active cells): "
+              f"{n0_error(st, x, 0.0, (bar, c)):.1e}")
+    free = ShellStructure(cap, 1e6, 0.3, 0.02, boundary="free")
+    sph = ShellStructure(_Sphere(1.0, 41, h), 1.0, nu, h)
+    ps = ShellOfRevolution(sph, "pressure")
+    xs = ps.full_state(_newton(ps, ps.reference_unknowns(), 0.5 * pc), 0.5 * pc)
+    for label, s_, x_, p_ in (("free cap, reference", free, cap.x, 0.0), ("sphere N=41 at p_c/2", sph, xs, 0.5 * pc)):
+        hs = HarmonicShell(s_)
+        for n in range(4):
+            T = harmonic_dofs(s_, n, remove_rigid=False).T
+            ev = np.linalg.eigvalsh((T.T @ hs.full_block(x_, n, p_) @ T).toarray())
+            print(f"{label}: n = {n}, smallest eigenvalues / largest: "
+                  + " ".join(f"{v:.1e}" for v in ev[:4] / np.max(np.abs(ev))))
+
+
+def cost(Ns) -> None:
+    print("cost (ms), default cap, sliding: per state (local Hessians and the polynomial in n, shared by")
+    print("every n), per further block (n = 5, state cached), its inertia and its smallest eigenvalue")
+    print(f"{'N':>6} {'state':>8} {'block':>8} {'inertia':>8} {'eig_min':>8} {'1-D hess':>9}")
+    for N in Ns:
+        cap = spherical_cap(1.0, 0.8, N)
+        st = ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding")
+        rng = np.random.default_rng(0)
+        x = cap.x * 1.001 + 1e-4 * rng.standard_normal(2 * N)
+        x[-2] = 0.0
+        hs = HarmonicShell(st)
+        hs.block(x, 5)  # the pattern and the reductions, built once per structure
+        states = iter([x + 1e-9 * k for k in range(1, 8)])
+        t_state = _median_time(lambda: hs.block(next(states), 5))  # a fresh state each call
+        t_block = _median_time(lambda: hs.block(x, 5))
+        K = hs.block(x, 5)
+        t_inert = _median_time(lambda: block_inertia(K))
+        t_eig = _median_time(lambda: block_eigs(K, 1), repeat=3)
+        t_1d = _median_time(lambda: st.shell.hessian(x))
+        print(f"{N:6d} {1e3 * t_state:8.2f} {1e3 * t_block:8.2f} {1e3 * t_inert:8.2f} {1e3 * t_eig:8.2f} "
+              f"{1e3 * t_1d:9.2f}")
+
+
+def ring() -> None:
+    cap = spherical_cap(1.0, 0.8, 10)
+    st = ShellStructure(cap, 1e6, 0.3, 0.05, boundary="clamped")
+    hs = HarmonicShell(st)
+    rng = np.random.default_rng(1)
+    x = cap.x + 0.02 * rng.standard_normal(2 * cap.N)
+    x[-2] = 0.0
+    x[0:2] = cap.x[0:2]
+    p = 1e3
+    Ms = (8, 16, 32, 64, 128)
+    print("ring mesh of M sectors against the harmonic blocks (clamped cap, N = 10, p = 1e3, perturbed state)")
+    print("max |K_M - K_n| / max |K_n|; order log2(e_M/2 / e_M); Richardson (4 K_2M - K_M)/3")
+    for n in range(4):
+        K = hs.full_block(x, n, pressure=p).toarray()
+        sc = np.max(np.abs(K))
+        KM = {M: ring_mesh_block(hs, x, n, M, pressure=p) for M in Ms}
+        e = [np.max(np.abs(KM[M] - K)) / sc for M in Ms]
+        orders = [math.log2(e[i - 1] / e[i]) for i in range(1, len(Ms))]
+        rich = np.max(np.abs((4 * KM[128] - KM[64]) / 3 - K)) / sc
+        print(f"n={n}: " + " ".join(f"M={M}: {v:.2e}" for M, v in zip(Ms, e))
+              + " | orders " + " ".join(f"{o:.2f}" for o in orders) + f" | Richardson(64,128) {rich:.1e}")
+
+
+class _Sphere:
+    def __init__(self, R: float, N: int, h: float) -> None:
+        t = np.linspace(-0.5 * math.pi, 0.5 * math.pi, N)
+        r, z = R * np.cos(t), R * np.sin(t)
+        r[0] = r[-1] = 0.0
+        self.R, self.N, self.r, self.z, self.thickness = R, N, r, z, h
+        self.edge_length = np.hypot(np.diff(r), np.diff(z))
+        self.edge_radius = 0.5 * (r[:-1] + r[1:])
+        v = np.zeros(N)
+        v[:-1] += 0.5 * self.edge_length
+        v[1:] += 0.5 * self.edge_length
+        self.voronoi_length, self.node_radius = v, r
+
+    @property
+    def x(self) -> np.ndarray:
+        return interleave(self.r, self.z)
+
+
+def _newton(prob, u, p):
+    for _ in range(30):
+        u = u + spla.spsolve(prob.jacobian(u, p).tocsc(), -prob.residual(u, p))
+        if np.max(np.abs(prob.residual(u, p))) < 1e-12 * prob.residual_scale:
+            return u
+    raise RuntimeError("Newton did not converge")
+
+
+def sphere(Ns=(201, 301, 401), n_max: int = 30) -> None:
+    h, nu = 0.01, 0.3
+    pc = 2.0 * (h ** 2) / math.sqrt(3.0 * (1.0 - nu ** 2))
+    print(f"complete sphere R/h = 100, nu = 0.3, p_c = {pc:.6e}")
+    for N in Ns:
+        st = ShellStructure(_Sphere(1.0, N, h), 1.0, nu, h)
+        prob = ShellOfRevolution(st, "pressure")
+        hs = HarmonicShell(st)
+        u = prob.reference_unknowns()
+        lam = []
+        t0 = time.perf_counter()
+        u96 = None
+        for s in (0.96, 0.98):
+            u = _newton(prob, u, s * pc)
+            u96 = u if u96 is None else u96
+            x = prob.full_state(u, s * pc)
+            lam.append(np.array([block_eigs(hs.block(x, n, pressure=s * pc), 1)[0] for n in range(n_max + 1)]))
+        t_blocks = time.perf_counter() - t0
+        pn = 0.98 + lam[1] * 0.02 / (lam[0] - lam[1])
+        order = np.argsort(pn)
+        br = contin.continuation(prob, u96, 0.96 * pc, p_max=1.03 * pc, ds=1e-5, ds_max=1e-4, max_steps=60)
+        folds = [sp_.p / pc for sp_ in br.special_points if sp_.kind == "fold"]
+        print(f"N = {N}: all blocks n <= {n_max} positive definite at 0.96 and 0.98 p_c: "
+              f"{bool(np.all(lam[0] > 0) and np.all(lam[1] > 0))} ({t_blocks:.2f} s incl. 2 equilibria)")
+        print("   extrapolated p_n/p_c, first 12: " + ", ".join(f"n={n}: {pn[n]:.4f}" for n in order[:12]))
+        print(f"   n with p_n within 2 % of p_c: {sorted(int(n) for n in np.flatnonzero(np.abs(pn - 1) < 0.02))}")
+        print(f"   traced path (from 0.96 p_c, {len(br.p)} points): first fold at {folds[0]:.4f} p_c"
+              if folds else f"   no fold on the traced path ({br.status}, p up to {np.max(br.p) / pc:.4f} p_c)")
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--checks", action="store_true")
+    ap.add_argument("--cost", action="store_true")
+    ap.add_argument("--ring", action="store_true")
+    ap.add_argument("--sphere", action="store_true")
+    ap.add_argument("--N", type=int, nargs="+", default=[200, 800, 3200])
+    a = ap.parse_args(argv)
+    every = not (a.checks or a.cost or a.ring or a.sphere)
+    if a.checks or every:
+        checks()
+    if a.cost or every:
+        cost(a.N)
+    if a.ring or every:
+        ring()
+    if a.sphere or every:
+        sphere()
+
+
+if __name__ == "__main__":
+    main()
