@@ -429,6 +429,25 @@ def volume_density(Pi, Pj, Ppi, Ppj):
     return s * 0.5
 
 
+def free_edge_density(e, Dp, Pp, Ppp, K, kbar, nu):
+    """Bending energy per radian of a rotating edge's half cell (:class:`contin_models.shell.structure.MomentFreeEdge`).
+
+    ``e = P_1 - P_0``, ``Dp = P'_1 - P'_0``, ``Pp = P'_0``, ``Ppp = P''_0``; ``K`` the 1-D element's
+    ``pi r0bar lbar_0 kb (1 - nu^2) / 2``.  The moment-free edge eliminates ``B11 = -nu B22``: the
+    density is ``kb ((1 - nu^2) B22^2 + 2 (1 - nu) kappa12^2)`` over the half cell, with ``kappa22`` the
+    circumferential normal curvature about the first edge's normal (``n_r / r_0`` when axisymmetric,
+    the 1-D element's) and the twist ``kappa12`` one-sided over the first edge (zero when axisymmetric).
+    """
+    l = _norm(e)
+    sp_ = _norm(Pp)
+    tau = _scale(Pp, 1.0 / sp_)
+    nv = _cross(tau, _scale(e, 1.0 / l))
+    nv = _scale(nv, 1.0 / _norm(nv))
+    B22 = -_dot(nv, Ppp) / (sp_ * sp_) - kbar
+    k12 = _dot(nv, Dp) / (l * sp_)
+    return (B22 * B22 + (2.0 / (1.0 + nu)) * (k12 * k12)) * (K / (2.0 * math.pi))
+
+
 def skirt_density(P0, Pp0, z_ref):
     """Volume per radian of the skirt from the base plane ``z = z_ref`` up to ring 0."""
     return (P0[0] * Pp0[1] - P0[1] * Pp0[0]) * (P0[2] - z_ref) * 0.5
@@ -565,6 +584,9 @@ class HarmonicShell:
             self.b_k11, self.b_k22 = shell.kappa11_bar, shell.kappa22_bar
             self.b_kb = np.full(i.size, shell.kb)
         self.clamp = st.clamp
+        # a rotating edge's moment-free half cell (not the clamp's element)
+        edge = getattr(st, "edge_element", None)
+        self.free_edge = edge if (edge is not None and edge is not st.clamp) else None
         self.poles = []  # (node, neighbour, north, PoleMirror)
         for (element, dofs), k in zip(st._poles, st.poles):
             north = k == N - 1
@@ -667,6 +689,16 @@ class HarmonicShell:
             layout = [([(0, 1.0)], "P"), ([(1, 1.0), (0, -1.0)], "P"), ([(1, 1.0)], "Pp"), ([(0, 1.0)], "Pp"),
                       ([(0, 1.0)], "Ppp")]
             res["clamp"] = (np.array([[0, 1]]), layout, Hc)
+        if self.free_edge is not None:
+            fe = self.free_edge
+            vals = ([V["P"][c][1:2] - V["P"][c][:1] for c in range(3)] + [V["Pp"][c][1:2] - V["Pp"][c][:1] for c in range(3)]
+                    + [V["Pp"][c][:1] for c in range(3)] + [V["Ppp"][c][:1] for c in range(3)])
+            y = Jet.variables(vals)
+            e = free_edge_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), fe.K, fe.kappa_bar,
+                                  self.nu)
+            layout = [([(1, 1.0), (0, -1.0)], "P"), ([(1, 1.0), (0, -1.0)], "Pp"), ([(0, 1.0)], "Pp"),
+                      ([(0, 1.0)], "Ppp")]
+            res["free_edge"] = (np.array([[0, 1]]), layout, e.h)
         # poles: the curvature B(theta) as a jet (value, gradient, Hessian) in Pm, Pm', Pc, Pq, Pq'
         res["poles"] = []
         for k, nb, north, element in self.poles:
@@ -711,7 +743,7 @@ class HarmonicShell:
         """Yield ``(global nodes (m, nn), blocks (m, 3 nn, 3 nn))`` of every term."""
         loc = self.local_hessians(x)
         maps = mode_maps(n)
-        for name in ("stretch", "bend", "clamp"):
+        for name in ("stretch", "bend", "clamp", "free_edge"):
             if name in loc:
                 nodes, layout, H = loc[name]
                 Yc, Ys = self._ymaps(layout, nodes.shape[1], maps)
@@ -860,7 +892,7 @@ class HarmonicShell:
         else:
             loc = self.local_hessians(x)
             terms = list(self._pole_blocks(loc, n))
-            D0, D = self._poly(x, loc, ("stretch", "bend", "clamp"), "poly")
+            D0, D = self._poly(x, loc, ("stretch", "bend", "clamp", "free_edge"), "poly")
             if pressure != 0.0:
                 self._volume_hessians(x, loc)
                 V0, V = self._poly(x, loc, ("volume", "skirt"), "poly_volume")
@@ -1135,6 +1167,12 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0,
         Dp = _sub(frame(_scale(_sub(at(np.array([1]), 1), at(np.array([1]), -1)), 1.0 / (2.0 * dth)), z0), Gp)
         E = E + tot(bend_density(e1, e2, Dp, Pp(z0), Ppp(z0), cl.lbar, cl.rbar, cl.kappa_bar[0],
                                  cl.kappa_bar[1], cl.kb, cl.nu, cl.lbar)) * dth
+    if hs.free_edge is not None:
+        fe = hs.free_edge
+        z0, o1 = np.array([0]), np.array([1])
+        e = frame(_sub(at(o1), at(z0)), z0)
+        Dp = frame(_scale(_sub(_sub(at(o1, 1), at(o1, -1)), _sub(at(z0, 1), at(z0, -1))), 1.0 / (2.0 * dth)), z0)
+        E = E + tot(free_edge_density(e, Dp, Pp(z0), Ppp(z0), fe.K, fe.kappa_bar, nu)) * dth
     for kk, nb, north, element in hs.poles:
         jn, jk = np.array([nb]), np.array([kk])
         Pm = P(jn)
