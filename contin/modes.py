@@ -38,7 +38,8 @@ import scipy.sparse as sp
 from .branch import SpecialPoint
 from .curve import Curve, Point
 from .segment import Segment
-from .stability import inertia
+from .linalg import bandwidths
+from .stability import BANDED_MIN, _lower_band, stability_info
 from .testfunctions import TestFunction
 
 __all__ = ["OperatorFamily", "ModeTest", "family_counts", "eigenvalues_near_zero", "ordered_eigenvalue"]
@@ -76,12 +77,9 @@ class OperatorFamily:
 
 
 def _count(H: Any) -> int:
-    """Morse index of a symmetric matrix: pivot-free LDL^T, or the eigenvalues when that is not trusted."""
-    n = inertia(sp.csr_matrix(H)) if sp.issparse(H) else None
-    if n is None:
-        A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
-        n = int(np.sum(np.linalg.eigvalsh(0.5 * (A + A.T)) < 0.0))
-    return int(n)
+    """Morse index of a symmetric matrix (:func:`contin.stability.stability_info`: a pivot-free
+    ``L D L^T`` when it can be trusted, banded or dense eigenvalues otherwise)."""
+    return int(stability_info(sp.csr_matrix(H) if sp.issparse(H) else np.asarray(H, dtype=float), 0).n_negative)
 
 
 def family_counts(family: OperatorFamily, u: np.ndarray, p: float) -> tuple[int, ...]:
@@ -94,9 +92,18 @@ def ordered_eigenvalue(H: Any, index: int) -> float:
 
     Eigenvalues in ascending order are continuous functions of the matrix, so along a curve the one
     that crosses zero where the Morse index goes from ``m`` to ``m + 1`` (or back) is number ``m``.
-    Dense up to 3000 rows; Lanczos for the smallest ``index + 1`` beyond.
+    LAPACK's banded solver for a sparse banded matrix; dense up to 3000 rows otherwise; Lanczos for the
+    smallest ``index + 1`` beyond.
     """
     n = H.shape[0]
+    if sp.issparse(H) and n > BANDED_MIN:
+        b = max(bandwidths(H))
+        if b + 1 <= 0.1 * n:  # LAPACK's banded solver for the one eigenvalue
+            import scipy.linalg as sla
+
+            w = sla.eig_banded(_lower_band(H, b), lower=True, eigvals_only=True, select="i",
+                               select_range=(index, index))
+            return float(w[0])
     if n <= 3000:
         A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
         return float(np.linalg.eigvalsh(0.5 * (A + A.T))[index])

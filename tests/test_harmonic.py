@@ -468,3 +468,33 @@ def test_sphere_first_instability_along_the_traced_path() -> None:
         assert all(block_inertia(hs.block(x, n, pressure=br.p[k])) == 0 for n in range(N_MAX + 1))
     pn = critical_pressures(s=(0.97, 0.99))
     assert np.sum(np.abs(pn[1:] - 1.0) < 0.02) >= 10, pn
+
+
+@pytest.mark.parametrize("lam, asymmetric", [(5.0, False), (7.0, True)])
+def test_clamped_cap_under_pressure_bifurcates_asymmetrically_only_when_deep(lam: float, asymmetric: bool) -> None:
+    """Along the traced path, with the harmonic blocks watched (``ShellOfRevolution(harmonics=...)``, engine's
+    ``contin.modes``): a clamped cap with lambda = 5 reaches its axisymmetric snap first, one with lambda = 7
+    bifurcates into a low wave number before it (Huang 1964: asymmetric buckling from lambda ~ 5.5 on).
+    Measured (R/h = 400, N = 120): lambda = 5 fold at 0.618 p_c; lambda = 7 bifurcation into n = 3 at
+    0.753 p_c, before the fold at 1.053."""
+    import contin
+    from contin_models.shell.meridian import spherical_cap_meridian
+    from contin_models.shell.pressure import phi_hat_for_lambda
+    from contin_models.shell.structure import ShellOfRevolution, ShellStructure, default_harmonics
+
+    nu, R, h = 0.3, 400.0, 1.0
+    E = math.sqrt(3 * (1 - nu * nu)) / (2 * (h / R) ** 2)  # p_c = 1
+    st = ShellStructure(spherical_cap_meridian(R, phi_hat_for_lambda(lam, R, h, nu), 80, 1.0), E, nu, h, "clamped")
+    pr = ShellOfRevolution(st, "pressure", p_c=1.0, length=R, harmonics=default_harmonics(st))
+    br = contin.continuation(pr, pr.reference_unknowns(), 0.0,
+                             contin.Settings(ds=0.02, ds_max=0.05, max_steps=400, stability=True), p_max=2.0,
+                             stop_at=("fold", "bifurcation"))
+    first = br.special_points[-1]
+    assert first.located
+    if asymmetric:
+        assert first.kind == "bifurcation" and first.info["key"] in (2, 3, 4) and 0.6 < first.p < 1.0
+        assert abs(first.info["eigenvalue"]) < 1e-8 * abs(first.info["next_eigenvalue"])
+    else:
+        assert first.kind == "fold" and first.p == pytest.approx(0.618, abs=0.01)
+    counts = br.meta["modes"]["n"]["n_negative"]
+    assert all(c == 0 for c in counts[0])

@@ -55,7 +55,8 @@ from .energy import HALF_BANDWIDTH, ShellEnergy
 from .problem import PoleMirror, SubMatrix, csr_slots, shell_residual_scale
 from .volume import PressureTerm, volume_gradient, volume_hessian
 
-__all__ = ["ShellStructure", "ShellOfRevolution", "ClampedEdge", "MomentFreeEdge", "SUPPORTS", "LOADS", "edge_tangent"]
+__all__ = ["ShellStructure", "ShellOfRevolution", "ClampedEdge", "MomentFreeEdge", "SUPPORTS", "LOADS", "edge_tangent",
+           "default_harmonics"]
 
 SUPPORTS = ("sliding", "pinned", "clamped", "free")
 """The supports of the edge at node 0 (module docstring)."""
@@ -383,6 +384,27 @@ class ShellStructure:
         return f"ShellStructure(N={self.N}, E={self.E}, nu={self.nu}, boundary={self.boundary!r}, poles={self.poles})"
 
 
+def default_harmonics(structure: ShellStructure) -> int:
+    """The largest wave number watched by default: twice the classical critical one, plus 2.
+
+    A shell of revolution buckles into waves of about the classical length
+    ``2 pi sqrt(rho h) / (12 (1 - nu^2))^(1/4)`` (``rho`` its smallest radius of curvature); around
+    its widest circle (radius ``r_max``) that is ``n* = (12 (1 - nu^2))^(1/4) r_max / sqrt(rho h)``
+    waves.  ``2 n* + 2`` leaves the critical wave number well inside the watched range (the complete
+    sphere's critical degree ``l*`` is ``n*`` for ``rho = r_max = R``).  ``rho`` is taken from the
+    meridian's largest reference curvature (its ``kappa11``, ``kappa22`` at the interior nodes), or its
+    length scale for a flat one.
+    """
+    m = structure.meridian
+    h = float(np.max(structure.h_nodes))
+    k = np.concatenate([np.abs(np.asarray(m.kappa11, dtype=float)), np.abs(np.asarray(m.kappa22, dtype=float))])
+    k = k[np.isfinite(k)]
+    kmax = float(np.max(k)) if k.size else 0.0
+    rho = 1.0 / kmax if kmax > 0 else float(getattr(m, "length_scale", None) or np.max(m.r))
+    n_star = (12.0 * (1.0 - structure.nu ** 2)) ** 0.25 * float(np.max(m.r)) / math.sqrt(rho * h)
+    return int(math.ceil(2.0 * n_star)) + 2
+
+
 def _column(H: sp.csr_matrix, j: int) -> np.ndarray:
     """Dense column ``j`` of a symmetric CSR matrix (read as row ``j``)."""
     lo, hi = H.indptr[j], H.indptr[j + 1]
@@ -415,6 +437,11 @@ class ShellOfRevolution(Problem):
         A fixed uniform pressure acting besides a point or ring force (0: none).  With it the problem
         is one member of the two-parameter family ``(F, p)``: :meth:`with_pressure` gives the others,
         e.g. for :class:`contin.FoldCurveProblem` to trace a limit load against the pressure.
+    harmonics : int, optional
+        Watch the stability against non-axisymmetric modes of wave numbers ``1 .. harmonics``
+        (:mod:`contin_models.shell.harmonic` blocks as a :class:`contin.OperatorFamily` named ``"n"``,
+        each twice in the whole Hessian: its ``cos`` and ``sin`` modes).  ``0`` (default): none;
+        ``-1``: :func:`default_harmonics`.
 
     Notes
     -----
@@ -426,7 +453,8 @@ class ShellOfRevolution(Problem):
 
     def __init__(self, structure: ShellStructure, load: Literal["point", "ring", "pressure"] = "point",
                  control: Literal["force", "displacement"] = "force", node: int | None = None,
-                 length: float | None = None, p_c: float | None = None, pressure: float = 0.0) -> None:
+                 length: float | None = None, p_c: float | None = None, pressure: float = 0.0,
+                 harmonics: int = 0) -> None:
         if load not in LOADS:
             raise ValueError(f"ShellOfRevolution: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
@@ -527,6 +555,27 @@ class ShellOfRevolution(Problem):
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          stability_operators=ops, name=f"shell_{load}_{control}", parameter_name=param,
                          residual_scale=scale)
+        self.harmonics = default_harmonics(st) if harmonics == -1 else int(harmonics)
+        if self.harmonics < 0:
+            raise ValueError(f"ShellOfRevolution: harmonics must be -1 (default rule), 0 or a wave number >= 1, "
+                             f"got {harmonics!r}")
+        if self.harmonics:
+            from contin.modes import OperatorFamily
+
+            self.operator_families = (OperatorFamily("n", tuple(range(1, self.harmonics + 1)), self.harmonic_block,
+                                                     multiplicity=lambda n: 2),)
+
+    def harmonic_block(self, n: int, u: np.ndarray, p: float) -> sp.csr_matrix:
+        """The Hessian block of wave number ``n >= 1`` at the state ``(u, p)`` (:func:`contin_models.shell.harmonic.harmonic_block`).
+
+        Shared by both controls: an ``n >= 1`` field changes neither the loaded node's height nor the
+        volume to first order; the pressure's load stiffness is included.
+        """
+        from .harmonic import harmonic_block
+
+        q = self._pressure_value(p) if self.pressure is not None else 0.0
+        z_ref = self.pressure.z_ref if self.pressure is not None else None
+        return harmonic_block(self.structure, self.full_state(u, p), int(n), pressure=q, z_ref=z_ref)
 
     # ---- maps between the full state and the unknowns --------------------------------------------
     @property
