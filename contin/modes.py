@@ -38,7 +38,7 @@ import scipy.sparse as sp
 from .branch import SpecialPoint
 from .curve import Curve, Point
 from .segment import Segment
-from .linalg import bandwidths
+from .linalg import SingularMatrixError, bandwidths, factorize
 from .stability import BANDED_MIN, _lower_band, stability_info
 from .testfunctions import TestFunction
 
@@ -167,6 +167,39 @@ class ModeTest(TestFunction):
     def _eigenvalue(self, key: Any, index: int, u: np.ndarray, p: float) -> float:
         return ordered_eigenvalue(self.family.operator(key, u, p), index)
 
+    def _root(self, seg: Segment, key: Any, index: int, before: int, after: int, g_A: float, g_B: float) -> float:
+        """Where eigenvalue ``index`` of the key's operator crosses zero on the segment.
+
+        When it is the only one crossing (``|after - before| == 1``) the root is that of the bordered
+        function ``g = 1 / (b^T K^-1 b)`` (``b`` the crossing eigenvector at the end of the segment
+        nearer zero), which vanishes exactly where ``K`` is singular, is smooth through it, and
+        costs one factorization per evaluation; the eigenvalue itself is the fallback.
+        """
+        fam, tol = self.family, self.curve.settings.locate_tol
+        if abs(after - before) == 1:
+            end = seg.A if abs(g_A) < abs(g_B) else seg.B
+            K_end = fam.operator(key, end.u, end.p)
+            _, V = eigenvalues_near_zero(K_end, 1, vectors=True)
+            border = V[:, 0]
+
+            def g(sigma: float) -> float:
+                u, p, _ = seg.point(sigma)
+                K = fam.operator(key, u, p)
+                y = factorize(sp.csc_matrix(K) if sp.issparse(K) else np.asarray(K, dtype=float)).solve(border)
+                return 1.0 / float(border @ y)
+
+            try:
+                f_A, f_B = g(0.0), g(seg.sigma_B)
+                if f_A * f_B < 0.0:
+                    return seg.root(g, f_A, f_B, tol)
+            except (SingularMatrixError, np.linalg.LinAlgError, ZeroDivisionError):
+                pass  # an end on the singularity itself: the eigenvalue's root below
+
+        def eig(sigma: float) -> float:
+            u, p, _ = seg.point(sigma)
+            return self._eigenvalue(key, index, u, p)
+        return seg.root(eig, g_A, g_B, tol)
+
     def locate(self, seg: Segment, before: tuple[int, ...], after: tuple[int, ...]) -> SpecialPoint:  # type: ignore[override]
         fam = self.family
         changed = [key for key, a, b in zip(fam.keys, before, after) if a != b]
@@ -185,11 +218,7 @@ class ModeTest(TestFunction):
                 if g_A * g_B > 0.0:  # crossed twice on the step: no sign change to bracket
                     failures[f"{key}[{index}]"] = f"eigenvalue {index} has the same sign at both ends ({g_A:.3g}, {g_B:.3g})"
                     continue
-
-                def g(sigma: float, key: Any = key, index: int = index) -> float:
-                    u, p, _ = seg.point(sigma)
-                    return self._eigenvalue(key, index, u, p)
-                located.append((seg.root(g, g_A, g_B, self.curve.settings.locate_tol), key))
+                located.append((self._root(seg, key, index, a, b, g_A, g_B), key))
         if failures:
             self._info["unlocated_keys"] = failures
         if not located:

@@ -161,7 +161,8 @@ class Recorder:
     def _meta(self, t_start: float) -> dict[str, Any]:
         meta: dict[str, Any] = {}
         if self.families:
-            meta["modes"] = {fam.name: {"keys": list(fam.keys), "n_negative": self.modes[fam.name]}
+            meta["modes"] = {fam.name: {"keys": list(fam.keys), "multiplicity": [fam.copies(k) for k in fam.keys],
+                                        "n_negative": self.modes[fam.name]}
                              for fam in self.families}
         return {**meta, "problem": self.problem.name, "parameter_name": self.problem.parameter_name,
                 "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),

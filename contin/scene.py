@@ -737,7 +737,9 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
         ``residual``, ``located``, ``bracket_p`` and ``error`` where known, and ``stable_before`` /
         ``stable_after`` under the point's stability label.  An extremum event that declares a limit
         point (``contin.extremum(..., folds=...)``) is recorded as ``kind = "fold"`` with the quantity
-        that folds as ``parameter``.
+        that folds as ``parameter``.  A bifurcation into another mode (:mod:`contin.modes`) carries
+        its key under its family's name (e.g. ``"n": 3``), ``also``, ``eigenvalue`` and
+        ``next_eigenvalue``.
     """
     out: list[dict[str, Any]] = []
     for bi, br in enumerate(branches):
@@ -754,6 +756,12 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
                 rec["bracket_p"] = [float(v) for v in spt.info["bracket_p"]]
             if "error" in spt.info:
                 rec["error"] = str(spt.info["error"])
+            if spt.kind == "bifurcation":  # the mode it bifurcates into, under its family's name
+                rec["family"] = str(spt.info.get("family", "key"))
+                rec[rec["family"]] = spt.info.get("key")
+                for name in ("also", "eigenvalue", "next_eigenvalue"):
+                    if spt.info.get(name) is not None:
+                        rec[name] = spt.info[name]
             if fields is not None:
                 rec.update(fields(spt))
             out.append(rec)
@@ -766,6 +774,44 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
                     "located": bool(j.success), "energy": float(j.energy_to), "stable": bool(j.n_negative == 0),
                     "message": j.message})
     return out
+
+
+def first_instability(records: Sequence[Mapping[str, Any]], parameter: str, fields: Sequence[str] = (),
+                      branch: int = 0) -> dict[str, Any] | None:
+    """Where a path first loses stability under its control: its first fold in ``parameter`` or its first
+    bifurcation into another mode (:mod:`contin.modes`), whichever comes first along the branch.
+
+    Parameters
+    ----------
+    records : special-point records of :func:`special_point_records` (in path order per branch).
+    parameter : str
+        The control's parameter: a fold in it is where the controlled path turns back.
+    fields : sequence of str
+        Observables (or record fields) to copy into the result.
+    branch : int
+        The branch (0: the path from the start).
+
+    Returns
+    -------
+    dict or None
+        ``kind`` (``"fold"`` or ``"bifurcation"``), the family's key for a bifurcation (e.g. ``"n"``;
+        None for a fold), ``p`` and the requested fields; None when the branch has neither.
+    """
+    for rec in records:
+        if rec.get("branch", 0) != branch or not rec.get("located", True):
+            continue
+        fold = rec["kind"] == "fold" and rec.get("parameter") == parameter
+        if not (fold or rec["kind"] == "bifurcation"):
+            continue
+        out: dict[str, Any] = {"kind": rec["kind"], "p": rec["p"], "label": rec.get("label")}
+        if rec["kind"] == "bifurcation":
+            out["family"] = rec.get("family")
+            out[str(rec.get("family"))] = rec.get(str(rec.get("family")))
+        for name in fields:
+            value = rec.get(name, rec.get("observables", {}).get(name))
+            out[name] = value
+        return out
+    return None
 
 
 def special_point_table(records: Sequence[Mapping[str, Any]], parameter_name: str = "p",
@@ -877,7 +923,35 @@ def branch_columns(branches: Sequence[Branch],
                                for br in branches])
         cols["stable"] = np.where(np.isnan(nneg), np.nan, (nneg == 0).astype(float))
         cols["n_negative"] = nneg
+    cols.update(_mode_columns(branches))
     return cols
+
+
+def _mode_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
+    """Per watched operator family (:mod:`contin.modes`): ``n_negative_<name>``, the Morse index of all its
+    operators (each counted with its multiplicity), and ``critical_<name>``, the smallest key with a
+    negative eigenvalue (NaN where there is none, or on a branch that did not watch the family)."""
+    names: list[str] = []
+    for br in branches:
+        names += [n for n in br.meta.get("modes", {}) if n not in names]
+    out: dict[str, np.ndarray] = {}
+    for name in names:
+        total, critical = [], []
+        for br in branches:
+            fam = br.meta.get("modes", {}).get(name)
+            if fam is None or len(fam["n_negative"]) != len(br):
+                total.append(np.full(len(br), np.nan))
+                critical.append(np.full(len(br), np.nan))
+                continue
+            counts = np.asarray(fam["n_negative"], dtype=float).reshape(len(br), len(fam["keys"]))
+            mult = np.asarray(fam.get("multiplicity", [1] * len(fam["keys"])), dtype=float)
+            total.append(counts @ mult)
+            keys = np.asarray(fam["keys"], dtype=float)
+            first = np.where(counts > 0, keys[None, :], np.inf).min(axis=1)
+            critical.append(np.where(np.isfinite(first), first, np.nan))
+        out[f"n_negative_{name}"] = np.concatenate(total)
+        out[f"critical_{name}"] = np.concatenate(critical)
+    return out
 
 
 # ---------------------------------------------------------------------------------------------------

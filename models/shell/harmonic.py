@@ -188,7 +188,7 @@ from contin.stability import stability_info
 
 from . import _harmonic_generated as _hgen
 
-__all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "block_eigs",
+__all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
            "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH"]
 
@@ -1073,6 +1073,44 @@ def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0,
     if reduced:
         return hs.block(x, n, pressure, remove_rigid, contact, control_fixed)
     return hs.full_block(x, n, pressure, contact)
+
+
+def harmonic_family(structure: Any, state: Any, n_max: int, pressure: Any = None, z_ref: float | None = None,
+                    contact: Any = None) -> Any:
+    """The blocks ``n = 1 .. n_max`` of a problem on ``structure`` as a :class:`contin.OperatorFamily` named ``"n"``.
+
+    Parameters
+    ----------
+    structure : ShellStructure
+        The shell whose 2-D energy the blocks are of (for the paper's point-load model: the structure
+        with ``boundary="sliding"``, ``edge_bending="none"``, whose energy is that model's).
+    state : callable ``(u, p) -> x``
+        The full axisymmetric state of the problem's unknowns and parameter.
+    n_max : int
+        The largest wave number watched (:func:`contin_models.shell.structure.default_harmonics`).
+    pressure : callable ``(u, p) -> float``, optional
+        The pressure acting at ``(u, p)`` (its load stiffness enters every block).
+    z_ref : float, optional
+        The pressure's base plane.
+    contact : callable ``(u, p) -> (ContactBarrier, c)``, optional
+        The contact barrier and the indenter's position at ``(u, p)``.
+
+    Notes
+    -----
+    ``n >= 1`` fields change neither a pole's or ring's deflection nor the enclosed volume nor an
+    indenter's travel to first order, so every control shares these blocks; each appears twice in
+    the whole Hessian (its ``cos`` and ``sin`` modes): ``multiplicity`` 2.
+    """
+    from contin.modes import OperatorFamily
+
+    def block(n: int, u: np.ndarray, p: float) -> sp.csr_matrix:
+        q = 0.0 if pressure is None else float(pressure(u, p))
+        c = None if contact is None else contact(u, p)
+        return harmonic_block(structure, state(u, p), int(n), pressure=q, z_ref=z_ref, contact=c)
+
+    if int(n_max) < 1:
+        raise ValueError(f"harmonic_family: n_max must be >= 1, got {n_max!r}")
+    return OperatorFamily("n", tuple(range(1, int(n_max) + 1)), block, multiplicity=lambda n: 2)
 
 
 def block_eigs(K: sp.spmatrix, k: int = 1) -> np.ndarray:

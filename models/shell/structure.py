@@ -560,10 +560,12 @@ class ShellOfRevolution(Problem):
             raise ValueError(f"ShellOfRevolution: harmonics must be -1 (default rule), 0 or a wave number >= 1, "
                              f"got {harmonics!r}")
         if self.harmonics:
-            from contin.modes import OperatorFamily
+            from .harmonic import harmonic_family
 
-            self.operator_families = (OperatorFamily("n", tuple(range(1, self.harmonics + 1)), self.harmonic_block,
-                                                     multiplicity=lambda n: 2),)
+            self.operator_families = (harmonic_family(
+                st, self.full_state, self.harmonics,
+                pressure=(lambda u, p: self._pressure_value(p)) if self.pressure is not None else None,
+                z_ref=self.pressure.z_ref if self.pressure is not None else None),)
 
     def harmonic_block(self, n: int, u: np.ndarray, p: float) -> sp.csr_matrix:
         """The Hessian block of wave number ``n >= 1`` at the state ``(u, p)`` (:func:`contin_models.shell.harmonic.harmonic_block`).

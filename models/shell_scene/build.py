@@ -31,7 +31,7 @@ from contin.scene import SceneError
 from contin_models.shell import ShellPointLoad
 from contin_models.shell.meridian import ReferenceMeridian, with_mode
 from contin_models.shell.pressure import classical_pressure
-from contin_models.shell.structure import ShellOfRevolution, ShellStructure
+from contin_models.shell.structure import ShellOfRevolution, ShellStructure, default_harmonics
 
 from .schema import Scene, eversion_displacement
 from .shape import length_scale, reference_meridian, rise
@@ -39,7 +39,8 @@ from .shape import length_scale, reference_meridian, rise
 __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path", "point_problem",
            "point_settings", "pressure_problem", "pressure_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH",
            "FORCE_JUMP_ATTEMPTS", "is_papers_cap", "length_unit", "travel", "scene_meridian", "scene_structure",
-           "revolution_problem", "revolution_settings", "buckling_mode", "FLAT_TRAVEL_OVER_H"]
+           "revolution_problem", "revolution_settings", "buckling_mode", "FLAT_TRAVEL_OVER_H", "harmonics_of",
+           "watch_harmonics"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
 #: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
@@ -178,6 +179,37 @@ def scene_structure(scene: Scene, perfect: bool = False) -> ShellStructure:
     return ShellStructure(scene_meridian(scene, perfect), s["E"], s["nu"], s["h"], s["boundary"])
 
 
+def harmonics_of(scene: Scene, structure: ShellStructure) -> int:
+    """The largest wave number the scene watches: 0 (``stability.harmonics = false``), ``stability.n_max``, or
+    :func:`contin_models.shell.structure.default_harmonics` of the structure when ``n_max = 0``."""
+    stab = scene.get("stability", {})
+    if not stab.get("harmonics", False):
+        return 0
+    return int(stab.get("n_max", 0)) or default_harmonics(structure)
+
+
+def watch_harmonics(scene: Scene, problem: Problem) -> Problem:
+    """Give a problem of the paper's cap (the point load under either control, or an indenter) the harmonic
+    blocks of its shell as an operator family, when the scene asks for them; returns the problem.
+
+    The blocks are those of the 2-D energy of the paper's model: the sliding cap without an edge
+    element (:class:`ShellStructure` with ``edge_bending="none"``), whose energy is
+    :class:`contin_models.shell.ShellPointLoad`'s; an indenter adds its barrier's block.
+    """
+    from contin_models.shell.harmonic import harmonic_family
+
+    shell = problem.elastic if isinstance(problem, ShellIndentation) else problem
+    s = scene["shell"]
+    structure = ShellStructure(shell.cap, s["E"], s["nu"], s["h"], "sliding", shell.shell.kappa11_length,
+                               edge_bending="none")
+    n_max = harmonics_of(scene, structure)
+    if n_max:
+        contact = ((lambda u, p: (problem.barrier, problem.position(p))) if isinstance(problem, ShellIndentation)
+                   else None)
+        problem.operator_families = (harmonic_family(structure, problem.full_state, n_max, contact=contact),)
+    return problem
+
+
 def revolution_problem(scene: Scene, control: str | None = None, perfect: bool = False) -> ShellOfRevolution:
     """The scene's shell under its point, ring or pressure load (:class:`ShellOfRevolution`).
 
@@ -187,13 +219,15 @@ def revolution_problem(scene: Scene, control: str | None = None, perfect: bool =
     s, load = scene["shell"], scene["load"]
     structure = scene_structure(scene, perfect)
     L = length_unit(scene)
+    harmonics = harmonics_of(scene, structure)
     if load["kind"] == "pressure":
         return ShellOfRevolution(structure, "pressure", "force", length=L,
-                                 p_c=classical_pressure(s["E"], s["h"], L, s["nu"]))
+                                 p_c=classical_pressure(s["E"], s["h"], L, s["nu"]), harmonics=harmonics)
     if load["kind"] not in ("point", "ring"):
         raise ValueError(f"revolution_problem: load.kind must be point, ring or pressure, got {load['kind']!r}")
     node = structure.meridian.ring_node if load["kind"] == "ring" else None
-    return ShellOfRevolution(structure, load["kind"], control or load["control"], node=node, length=L)
+    return ShellOfRevolution(structure, load["kind"], control or load["control"], node=node, length=L,
+                             harmonics=harmonics)
 
 
 def revolution_settings(scene: Scene, problem: ShellOfRevolution, progress: bool = False) -> contin.Settings:
@@ -242,8 +276,9 @@ def buckling_mode(scene: Scene) -> np.ndarray:
 def point_problem(scene: Scene, control: str | None = None) -> ShellPointLoad:
     """The point-loaded cap of the scene, under ``control`` (default: the scene's ``load.control``)."""
     s = scene["shell"]
-    return ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
-                          control=control or scene["load"]["control"], pole_ratio=s["pole_ratio"])
+    problem = ShellPointLoad(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
+                             control=control or scene["load"]["control"], pole_ratio=s["pole_ratio"])
+    return watch_harmonics(scene, problem)
 
 
 def point_settings(scene: Scene, problem: ShellPointLoad, progress: bool = False) -> contin.Settings:
@@ -295,9 +330,10 @@ def contact_problem(scene: Scene) -> ShellIndentation:
     if load["kind"] not in ("sphere", "plate"):
         raise ValueError(f"contact_problem: load.kind must be 'sphere' or 'plate', got {load['kind']!r}")
     indenter = Sphere(load["radius"]) if load["kind"] == "sphere" else Plate()
-    return ShellIndentation(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
-                            indenter=indenter, K=c["K_c"] or None, dhat=c["dhat"] or None,
-                            pole_ratio=s["pole_ratio"])
+    problem = ShellIndentation(R=s["R"], E=s["E"], nu=s["nu"], h=s["h"], phi_hat=s["phi_hat"], N=s["N"],
+                               indenter=indenter, K=c["K_c"] or None, dhat=c["dhat"] or None,
+                               pole_ratio=s["pole_ratio"])
+    return watch_harmonics(scene, problem)
 
 
 def contact_settings(scene: Scene, progress: bool = False, stability: bool = True) -> tuple[contin.Settings, float]:

@@ -64,7 +64,10 @@ from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import end_of_path, force_snap_rules, point_problem, point_settings
-from .schema import STABILITY_COLUMNS, Scene, eversion_displacement
+from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, shell_first_instability
+
+#: The load fields of ``summary.json``'s ``first_instability`` for a point load.
+_INSTABILITY_FIELDS = ("F", "F_norm", "w", "w_over_R")
 
 __all__ = ["classify", "path_complete", "run_point", "run_point_force", "MAX_SNAPS"]
 
@@ -321,6 +324,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
     if peak is not None:
         summary.update(max_strain=peak.value, w_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
     summary["warnings"] = [warning] if warning else []
+    summary["first_instability"] = shell_first_instability(records, problem.parameter_name, _INSTABILITY_FIELDS)
     if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
         cls = classify(branches[0], [r for r in records if r.get("branch", 0) == 0], problem.D, R)
         complete = path_complete(branches[0])

@@ -61,6 +61,7 @@ import math
 from typing import Any
 
 import contin
+from contin.modes import OperatorFamily
 from contin.branch import Branch, SpecialPoint
 from contin.conjugate import ConjugateControl
 from contin.linalg import Factorization
@@ -70,7 +71,10 @@ from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.structure import ShellOfRevolution
 
 from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
-from .schema import Scene
+from .schema import Scene, shell_first_instability
+
+#: The load fields of ``summary.json``'s ``first_instability`` for a pressure.
+_INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
 from .shape import rise
 
 __all__ = ["run_pressure", "volume_problem", "volume_settings", "VOLUME_LABELS"]
@@ -158,6 +162,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
         "control": scene["load"]["control"],
     }
     summary.update(_snap(records, problem.p_c))
+    summary["first_instability"] = shell_first_instability(records, "p", _INSTABILITY_FIELDS)
     snap = summary["p_snap_over_p_c"]
     note = (f"{s['boundary']} edge, lambda = {summary['lambda']:.3g}; stability under pressure control"
             + (f"; snaps at p/p_c = {snap:.4g}" if snap is not None else "; no fold"))
@@ -198,9 +203,14 @@ def volume_problem(pressure: ShellOfRevolution, depth: float | None = None) -> C
         depth = 2.0 * float(pressure.x_ref[-1] - pressure.x_ref[1])
         if not depth > 0.0:
             raise ValueError("volume_problem: a flat shell has no eversion depth; give depth")
-    return ConjugateControl(pressure, displacement="dV", scaled={"dV_over_V0": ("dV", 1.0 / V0)},
-                            labels=VOLUME_LABELS, linear=True, multiplier_unit=pressure.p_c / depth,
-                            factorize=_bordered_band)
+    volume = ConjugateControl(pressure, displacement="dV", scaled={"dV_over_V0": ("dV", 1.0 / V0)},
+                              labels=VOLUME_LABELS, linear=True, multiplier_unit=pressure.p_c / depth,
+                              factorize=_bordered_band)
+    # the n >= 1 blocks are shared by both controls: the same family, on the multiplier's pressure
+    volume.operator_families = tuple(
+        OperatorFamily(f.name, f.keys, (lambda n, U, q, f=f: f.operator(n, *volume.split(U))), f.multiplicity,
+                       f.vectors) for f in getattr(pressure, "operator_families", ()))
+    return volume
 
 
 def _bordered_band(J: Any) -> Factorization:
@@ -285,6 +295,7 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     }
     summary.update(_snap(records, pressure.p_c))
     summary.update(_volume_snap(records, V0, pressure.p_c))
+    summary["first_instability"] = shell_first_instability(records, "dV", _INSTABILITY_FIELDS + ("dV", "dV_over_V0"))
     p_snap, dV_snap = summary["p_snap_over_p_c"], summary["dV_snap_over_V0"]
     seen = (f"pressure maximum p/p_c = {p_snap:.6g} at w/h = {summary['w_at_p_snap_over_h']:.6g} (the snap under "
             "pressure control)" if p_snap is not None else "no limit point in p")

@@ -39,7 +39,7 @@ from contin.branch import Branch, SpecialPoint
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
-from .schema import STABILITY_COLUMNS, Scene
+from .schema import STABILITY_COLUMNS, Scene, shell_first_instability
 from .shape import rise
 
 __all__ = ["run_revolution"]
@@ -112,6 +112,8 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
         "F_min": None if F_min is None else F_min["F"], "w_at_F_min": None if F_min is None else F_min["w"],
         "w_fold": None if w_fold is None else w_fold["w"], "F_at_w_fold": None if w_fold is None else w_fold["F"],
     }
+    summary["first_instability"] = shell_first_instability(records, problem.parameter_name,
+                                                           ("F", "F_norm", "w", "w_over_h", "w_over_L"))
     if load["kind"] == "ring":
         node = problem.node
         summary.update(ring_radius=load["ring_radius"], ring_node_radius=float(problem.x_ref[2 * node]))

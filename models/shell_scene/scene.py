@@ -143,6 +143,16 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     if "max_strain" in summ:
         lines.append(f"largest membrane strain: {summ['max_strain']:.3g} ({summ['max_strain_at']}, "
                      f"w/R = {summ['w_at_max_strain_over_R']:.4g})")
+    first = summ.get("first_instability")
+    if first is not None:
+        values["first_instability"] = first
+        if first["kind"] == "bifurcation":
+            waves = "1 circumferential wave" if first["n"] == 1 else f"{first['n']} circumferential waves"
+            lines.append(f"asymmetric: before its first fold in w the path bifurcates into the mode of {waves} "
+                         f"(n = {first['n']}) at w = {first['w']:.6g} (F = {first['F']:.6g}); the class is that of "
+                         "the axisymmetric path, which the shell leaves there")
+    elif scene.get("stability", {}).get("harmonics"):
+        lines.append("asymmetric: no bifurcation into a non-axisymmetric mode along the path")
     lines += [f"warning: {w}" for w in summ.get("warnings", [])]
     values["path_complete"] = bool(trace.branches) and path_complete(trace.branches[0])
     failure = "" if label is not None else summ.get("classification_note", "the path could not be traced")

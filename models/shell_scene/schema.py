@@ -8,6 +8,7 @@ Scene keys (public contract, ``--set section.key=value``)::
                     table (CSV profile), E, nu, h, N, pole_ratio (node spacing at the pole / elsewhere),
                     boundary = "sliding" | "pinned" | "clamped" | "free" (the indenters: sliding only)
     [imperfection]  kind = "none" | "dimple" | "mode", delta_over_h, lambda_I (dimple width)
+    [stability]     harmonics (watch non-axisymmetric modes n = 1 .. n_max), n_max (0: the default rule)
     [load]          kind = "point" | "ring" | "sphere" | "plate" | "pressure", radius (sphere),
                     ring_radius (ring), control = "displacement" | "force" (pressure: the volume change
                     dV = V0 - V | the pressure), p_end_over_p_c (pressure, force control), dV_end_over_V0
@@ -27,7 +28,7 @@ from contin_models.shell.structure import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
-__all__ = ["SHELL_SCHEMA", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
+__all__ = ["SHELL_SCHEMA", "shell_first_instability", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
            "minimum_nodes", "nodes_per_bending_length"]
 
 Scene = dict[str, dict[str, Any]]
@@ -143,7 +144,15 @@ SHELL_SCHEMA = Schema(
             "lambda_I": real(2.0, gt=0, help="dimple width lambda_I = (12 (1 - nu^2))^(1/4) sqrt(R/h) beta_0, "
                                              "beta_0 its angular width (R: the geometry's length scale)"),
         },
-    },
+
+        "stability": {
+            "harmonics": boolean(False, help="also judge stability against non-axisymmetric modes: the Hessian blocks of "
+                                             "wave numbers n = 1 .. n_max at every point, a bifurcation into mode n "
+                                             "located and recorded (off by default: it costs about 4 times the trace, "
+                                             "README)"),
+            "n_max": integer(0, low=0, high=1000, help="largest wave number watched; 0 = twice the classical critical "
+                                                       "number plus 2 (contin_models.shell.structure.default_harmonics)"),
+        },    },
     constraints=[
         Constraint(("continuation.ds", "continuation.ds_max"),
                    lambda s: s["continuation"]["ds"] <= s["continuation"]["ds_max"],
@@ -222,6 +231,19 @@ def minimum_nodes(shell: dict[str, Any]) -> int:
         The scene's ``[shell]`` section (``R``, ``h``, ``phi_hat``).
     """
     return math.ceil(MIN_NODES_PER_BENDING_LENGTH / nodes_per_bending_length(shell, N=1) - 1e-9)
+
+
+def shell_first_instability(records: list[dict[str, Any]], parameter: str, fields: tuple[str, ...]) -> dict[str, Any] | None:
+    """``summary.json``'s ``first_instability``: the first fold in the control's ``parameter`` or the first
+    bifurcation into a wave number ``n`` along the path (:func:`contin.scene.first_instability`), with
+    ``kind``, ``n`` (None for a fold) and the load ``fields``; None when the path has neither."""
+    from contin.scene import first_instability
+
+    out = first_instability(records, parameter, fields)
+    if out is not None:
+        out.setdefault("n", None)
+        out.pop("family", None)
+    return out
 
 
 def eversion_displacement(R: float, phi_hat: float) -> float:

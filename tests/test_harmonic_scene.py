@@ -1,0 +1,70 @@
+"""Stability against every mode on the command line (issue 17, item 3): ``[stability] harmonics``.
+
+The mechanism's numbers are checked in ``tests/test_harmonic.py`` and ``tests/test_modes.py``; here the
+contract: the keys, ``first_instability``, the bifurcation records with ``n``, the CSV columns and the
+note of ``contin classify``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from contin import cli
+
+
+def run_cli(capsys: pytest.CaptureFixture, *argv: str) -> tuple[int, str, str]:
+    code = cli.main(list(argv))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+PRESSURE = ["load.kind=pressure", "load.control=force", "shell.boundary=clamped", "shell.N=80", "shell.nu=0.3",
+            "stability.harmonics=true", "stability.n_max=10"]
+
+
+def test_pressure_scene_reports_its_first_instability(capsys: pytest.CaptureFixture, tmp_path: Path) -> None:
+    """The default cap clamped (lambda = 9.2) bifurcates into a few waves before its pressure maximum."""
+    args = ["trace", "-q", "--out", str(tmp_path), "--set", "output.figure=false"]
+    for s in PRESSURE:
+        args += ["--set", s]
+    code, _, err = run_cli(capsys, *args)
+    assert code == 0, err
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    first = summary["first_instability"]
+    assert first["kind"] == "bifurcation" and isinstance(first["n"], int) and 2 <= first["n"] <= 8
+    assert first["p_over_p_c"] < summary["p_snap_over_p_c"]
+    assert {"p", "p_over_p_c", "w", "w_over_h"} <= set(first)
+    bif = [r for r in summary["special_points"] if r["kind"] == "bifurcation"]
+    assert bif and all("n" in r for r in bif)
+    with open(tmp_path / "branch.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {"n_negative_n", "critical_n"} <= set(rows[0])
+    assert float(rows[0]["n_negative_n"]) == 0.0 and rows[0]["critical_n"] in ("", "nan")
+    assert any(float(r["n_negative_n"]) > 0 for r in rows)
+
+
+def test_without_harmonics_the_first_instability_is_a_fold(capsys: pytest.CaptureFixture, tmp_path: Path) -> None:
+    args = ["trace", "-q", "--out", str(tmp_path), "--set", "output.figure=false"]
+    for s in PRESSURE[:-2]:
+        args += ["--set", s]
+    code, _, err = run_cli(capsys, *args)
+    assert code == 0, err
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["first_instability"]["kind"] == "fold" and summary["first_instability"]["n"] is None
+    assert summary["first_instability"]["p_over_p_c"] == pytest.approx(summary["p_snap_over_p_c"])
+
+
+def test_classify_says_when_an_asymmetric_bifurcation_comes_first(capsys: pytest.CaptureFixture) -> None:
+    code, out, err = run_cli(capsys, "classify", "--set", "stability.harmonics=true", "--set", "shell.N=60",
+                             "--set", "stability.n_max=6")
+    assert code == 0, err
+    assert "asymmetric: before its first fold in w the path bifurcates into the mode of" in out
+
+
+def test_n_max_range_is_checked(capsys: pytest.CaptureFixture) -> None:
+    code, _, err = run_cli(capsys, "trace", "-q", "--set", "stability.n_max=-1")
+    assert code == 2 and "stability.n_max" in err
