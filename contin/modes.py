@@ -42,7 +42,8 @@ from .linalg import SingularMatrixError, bandwidths, factorize
 from .stability import BANDED_MIN, _lower_band, stability_info
 from .testfunctions import TestFunction
 
-__all__ = ["OperatorFamily", "ModeTest", "family_counts", "eigenvalues_near_zero", "ordered_eigenvalue"]
+__all__ = ["OperatorFamily", "ModeTest", "family_counts", "eigenvalues_near_zero", "ordered_eigenvalue",
+           "ordered_eigenpairs"]
 
 
 @dataclass(frozen=True)
@@ -87,6 +88,32 @@ def family_counts(family: OperatorFamily, u: np.ndarray, p: float) -> tuple[int,
     return tuple(_count(family.operator(key, u, p)) for key in family.keys)
 
 
+def ordered_eigenpairs(H: Any, lo: int, hi: int, vectors: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
+    """Eigenvalues number ``lo .. hi`` (ascending, 0-based) of the symmetric ``H``, with their vectors.
+
+    LAPACK's banded solver for a sparse banded matrix (the cost of the few asked for, not of all);
+    dense ``eigh`` otherwise.
+    """
+    n = H.shape[0]
+    lo, hi = max(0, int(lo)), min(n - 1, int(hi))
+    if sp.issparse(H) and n > BANDED_MIN:
+        b = max(bandwidths(H))
+        if b + 1 <= 0.1 * n:
+            import scipy.linalg as sla
+
+            ab = _lower_band(H, b)
+            if vectors:
+                w, V = sla.eig_banded(ab, lower=True, select="i", select_range=(lo, hi))
+                return np.asarray(w), V
+            return np.asarray(sla.eig_banded(ab, lower=True, eigvals_only=True, select="i", select_range=(lo, hi))), None
+    A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
+    A = 0.5 * (A + A.T)
+    if vectors:
+        w, V = np.linalg.eigh(A)
+        return w[lo:hi + 1], V[:, lo:hi + 1]
+    return np.linalg.eigvalsh(A)[lo:hi + 1], None
+
+
 def ordered_eigenvalue(H: Any, index: int) -> float:
     """The ``index``-th smallest eigenvalue (0: the smallest) of the symmetric ``H``.
 
@@ -96,14 +123,8 @@ def ordered_eigenvalue(H: Any, index: int) -> float:
     smallest ``index + 1`` beyond.
     """
     n = H.shape[0]
-    if sp.issparse(H) and n > BANDED_MIN:
-        b = max(bandwidths(H))
-        if b + 1 <= 0.1 * n:  # LAPACK's banded solver for the one eigenvalue
-            import scipy.linalg as sla
-
-            w = sla.eig_banded(_lower_band(H, b), lower=True, eigvals_only=True, select="i",
-                               select_range=(index, index))
-            return float(w[0])
+    if (sp.issparse(H) and n > BANDED_MIN) or n <= 3000:
+        return float(ordered_eigenpairs(H, index, index)[0][0])
     if n <= 3000:
         A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
         return float(np.linalg.eigvalsh(0.5 * (A + A.T))[index])
@@ -178,8 +199,7 @@ class ModeTest(TestFunction):
         fam, tol = self.family, self.curve.settings.locate_tol
         if abs(after - before) == 1:
             end = seg.A if abs(g_A) < abs(g_B) else seg.B
-            K_end = fam.operator(key, end.u, end.p)
-            _, V = eigenvalues_near_zero(K_end, 1, vectors=True)
+            _, V = ordered_eigenpairs(fam.operator(key, end.u, end.p), index, index, vectors=True)
             border = V[:, 0]
 
             def g(sigma: float) -> float:
@@ -218,19 +238,25 @@ class ModeTest(TestFunction):
                 if g_A * g_B > 0.0:  # crossed twice on the step: no sign change to bracket
                     failures[f"{key}[{index}]"] = f"eigenvalue {index} has the same sign at both ends ({g_A:.3g}, {g_B:.3g})"
                     continue
-                located.append((self._root(seg, key, index, a, b, g_A, g_B), key))
+                located.append((self._root(seg, key, index, a, b, g_A, g_B), key, index))
         if failures:
             self._info["unlocated_keys"] = failures
         if not located:
             raise RuntimeError("; ".join(f"key {k}: {v}" for k, v in failures.items()))
         located.sort(key=lambda t: t[0])
-        sigma, key = located[0]
+        sigma, key, index = located[0]
         others = []
-        for _, k in located[1:]:
+        for _, k, _ in located[1:]:
             if k != key and k not in others:
                 others.append(k)
         u, p, res = seg.point(sigma)
-        w, V = eigenvalues_near_zero(fam.operator(key, u, p), 2, vectors=fam.vectors)
+        # the crossing eigenvalue (number ``index``) and its neighbours: the nearest zero is the located
+        # one, the next nearest says how sharply it is located
+        lo = max(0, index - 1)
+        w, V = ordered_eigenpairs(fam.operator(key, u, p), lo, index + 1, vectors=fam.vectors)
+        order = np.argsort(np.abs(w))
+        w = w[order]
+        V = None if V is None else V[:, order]
         info: dict[str, Any] = {"key": _plain(key), "eigenvalue": float(w[0]),
                                 "next_eigenvalue": float(w[1]) if w.size > 1 else None,
                                 "also": [_plain(k) for k in others], "bracket_p": [seg.A.p, seg.B.p]}
