@@ -29,7 +29,9 @@ knockdown in terms of ``lambda_I`` and ``delta/h`` depends on ``nu`` only weakly
 the first singular point of the axisymmetric pressure-controlled path from ``p = 0`` (a fold in ``p``,
 i.e. the largest pressure carried, or a located branch point of the axisymmetric model if one comes
 first; the column ``kind`` says which).  Singular points the engine detected but did not locate
-before it are counted (``unlocated``); none should be.  Non-axisymmetric bifurcations are not in this
+before it are counted (``unlocated``); none should be.  An unlocated flag at the located point's own
+pressure (within 1e-6 relative: a fold that the branch-point test brackets too) is counted apart
+(``flagged_at_point``).  Non-axisymmetric bifurcations are not in this
 model (issue 17).  The column ``beta_mode_deg`` is the polar angle from the north pole (degrees) of
 the largest normal component of the critical null vector: where the shell buckles (the dimple, the
 clamped edge, elsewhere).
@@ -39,7 +41,7 @@ clamped edge, elsewhere).
 (Koiter's 1/2 for an isolated mode with a quadratic post-buckling term, 2/3 for a symmetric one);
 meshes (hemisphere N = 201, 401, 801; sphere N = 499, 999, 1997: at
 least 15 nodes within ``beta_0`` of the pole at ``lambda_I = 1``); steps (``ds_max`` :data:`DS_MAX`
-against a quarter of it).
+and :data:`DS_SMALL` against a quarter of them).
 
 Units: ``R = R/h``, ``h = 1``, ``E`` such that ``p_c = 1``.  Writes ``knockdown.csv`` (every trace),
 ``convergence.csv``, ``steps.csv``, ``small_amplitudes.csv``, ``summary.json`` and ``imperfection.png`` / ``.pdf``.
@@ -83,6 +85,11 @@ SPHERE_POLE_RATIO = 0.5
 #: Largest step: many singular points of the perfect sphere lie within a fraction of a per cent of p_c,
 #: and a step across two of them would see no sign change (``studies/complete_sphere.py``).
 DS_MAX = 0.01
+#: Largest step for the perfect shells and amplitudes below :data:`SMALL_AMPLITUDE`: the perfect sphere's
+#: first singular points lie within 0.5 % of each other, and a step of 0.01 across two of them misses both
+#: (N = 1993: a fold at 1.0143 instead of the branch point at 1.0052).
+DS_SMALL = 0.002
+SMALL_AMPLITUDE = 0.05
 P_MAX = 1.5
 
 
@@ -129,8 +136,13 @@ def critical_point(pr: ShellOfRevolution, ds_max: float = DS_MAX, locate_mode: b
     seconds = time.perf_counter() - t0
     singular = [s for s in br.special_points if s.kind in ("fold", "branch_point")]
     first = next((s for s in singular if s.located), None)
+    # an unlocated point within 1e-6 of the located one is the same point flagged twice (a fold the
+    # branch-point test also brackets); it is counted apart
+    near = (lambda s: first is not None and abs(s.p - first.p) <= 1e-6 * abs(first.p))
     row: dict[str, Any] = {"seconds": seconds, "steps": len(br),
-                           "unlocated": sum(1 for s in singular if not s.located and (first is None or s.p <= first.p)),
+                           "unlocated": sum(1 for s in singular if not s.located and not near(s)
+                                            and (first is None or s.p < first.p)),
+                           "flagged_at_point": sum(1 for s in singular if not s.located and near(s)),
                            "message": br.message}
     if first is None:
         row.update(kappa=None, kind=None, mode=None, beta_mode_deg=None, w_pole=None)
@@ -160,9 +172,14 @@ def _normals(x_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def knockdown_row(shell: str, N: int, delta: float, lambda_I: float | None, *, imperfection: str = "dimple",
-                  mode: np.ndarray | None = None, nu: float = NU, ds_max: float = DS_MAX,
+                  mode: np.ndarray | None = None, nu: float = NU, ds_max: float | None = None,
                   locate_mode: bool = True) -> dict[str, Any]:
-    """One trace: the knockdown of ``shell`` with the given imperfection (``mode`` for ``"mode"``)."""
+    """One trace: the knockdown of ``shell`` with the given imperfection (``mode`` for ``"mode"``).
+
+    ``ds_max`` defaults to :data:`DS_SMALL` below :data:`SMALL_AMPLITUDE` and :data:`DS_MAX` above.
+    """
+    if ds_max is None:
+        ds_max = DS_SMALL if abs(delta) < SMALL_AMPLITUDE else DS_MAX
     if imperfection == "dimple":
         pr = dimpled_problem(shell, N, delta, lambda_I, nu)
     else:
@@ -189,7 +206,7 @@ def knockdown_row(shell: str, N: int, delta: float, lambda_I: float | None, *, i
 def perfect_mode(shell: str, N: int, nu: float = NU) -> tuple[np.ndarray, dict[str, Any]]:
     """The perfect shell's critical null vector (full state) and its row."""
     pr = make_problem(shell, perfect_meridian(shell, N), nu)
-    row = critical_point(pr)
+    row = critical_point(pr, DS_SMALL)
     mode = row.pop("mode")
     return mode, row
 
@@ -240,13 +257,13 @@ def convergence(shells: Sequence[str], lambdas: Sequence[float], deltas: Sequenc
 
 
 def step_check(cases: Sequence[tuple[str, float, float]], quiet: bool) -> list[dict[str, Any]]:
-    """``kappa`` with ``ds_max`` :data:`DS_MAX` against a quarter of it."""
+    """``kappa`` with the default ``ds_max`` against a quarter of it."""
     rows = []
     say(quiet, "step check ...")
     for shell, lam, d in cases:
-        a = knockdown_row(shell, N_DEFAULT[shell], d, lam)
-        b = knockdown_row(shell, N_DEFAULT[shell], d, lam, ds_max=DS_MAX / 4)
-        rows.append({"shell": shell, "lambda_I": lam, "delta_over_h": d, "kappa": a["kappa"],
+        a = knockdown_row(shell, N_DEFAULT[shell], d, lam, locate_mode=False)
+        b = knockdown_row(shell, N_DEFAULT[shell], d, lam, ds_max=a["ds_max"] / 4, locate_mode=False)
+        rows.append({"shell": shell, "lambda_I": lam, "delta_over_h": d, "ds_max": a["ds_max"], "kappa": a["kappa"],
                      "kappa_quarter_step": b["kappa"], "difference": b["kappa"] - a["kappa"],
                      "kind": a["kind"], "kind_quarter_step": b["kind"]})
     return rows
@@ -307,7 +324,7 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
         for k, pub in enumerate(p for p in PUBLISHED if p["shell"] == shell):
             ax.plot([pub["delta_over_h"]], [pub["kappa"]], "*", color="crimson", ms=11, mec="k", mew=0.6, clip_on=False,
                     zorder=5, label="3-D FE, near-perfect limit\n(Ubamanyu et al. 2025)")
-        ax.set_xlabel(r"dimple depth $\delta / h$")
+        ax.set_xlabel(r"imperfection amplitude $\delta / h$ (dimple depth; mode: largest inward normal)", fontsize="small")
         ax.set_title(f"{titles[shell]}, $R/h = {R_OVER_H:g}$, $\\nu = {NU:g}$", fontsize="medium")
         ax.set_xlim(left=0.0)
         ax.set_ylim(0.0, 1.1)
@@ -326,24 +343,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     t0 = time.perf_counter()
     deltas = DELTAS_FULL if args.full else DELTAS
     rows = sweep(SHELLS, LAMBDAS, deltas, args.quiet)
-    t_sweep = time.perf_counter() - t0
     if args.full:
         rows += sweep(SHELLS, LAMBDAS, deltas, args.quiet, nu=0.3)
+    t_sweep = time.perf_counter() - t0
     conv_lams = LAMBDAS if args.full else (2.0,)
     conv_deltas = (0.0, 0.1, 0.5, 1.0, 2.0) if args.full else (0.1, 1.0)
     conv = convergence(SHELLS, conv_lams, conv_deltas, 3, args.quiet)
     t_conv = time.perf_counter() - t0 - t_sweep
-    cases = [(s, 2.0, d) for s in SHELLS for d in (0.0, 0.05, 0.5)] if args.full else [("sphere", 2.0, 0.0), ("sphere", 2.0, 0.05)]
+    cases = ([(s, 2.0, d) for s in SHELLS for d in (0.0, 1e-3, 0.01, 0.05, 0.5)] if args.full
+             else [("sphere", 2.0, 0.0), ("sphere", 2.0, 0.01), ("sphere", 2.0, 0.05)])
     steps = step_check(cases, args.quiet)
     small = small_amplitudes(SHELLS, 2.0, KOITER_DELTAS_FULL if args.full else KOITER_DELTAS, args.quiet)
     cols = ["shell", "imperfection", "nu", "N", "lambda_I", "delta_over_h", "kappa", "kind", "beta_mode_deg", "w_pole", "unlocated",
-            "nodes_in_beta0", "seconds"]
+            "flagged_at_point", "nodes_in_beta0", "seconds"]
     print_table(rows, cols, digits=5)
     print_table(conv, list(dict.fromkeys(k for r in conv for k in r)), digits=6)
     print_table(steps, list(steps[0]), digits=6)
     print_table(small, list(small[0]), digits=4)
     total = time.perf_counter() - t0
-    print(f"sweep {t_sweep:.1f} s, meshes {t_conv:.1f} s, total {total:.1f} s; unlocated singular points: {sum(r['unlocated'] for r in rows)}")
+    print(f"sweep {t_sweep:.1f} s, meshes {t_conv:.1f} s, total {total:.1f} s; unlocated singular points before the first located one: "
+          f"{sum(r['unlocated'] for r in rows)}; unlocated flags at it: {sum(r['flagged_at_point'] for r in rows)}")
     write_csv(out / "knockdown.csv", rows)
     write_csv(out / "convergence.csv", conv)
     write_csv(out / "small_amplitudes.csv", small)

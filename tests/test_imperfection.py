@@ -20,7 +20,7 @@ def test_zero_amplitude_gives_back_the_perfect_shell(shell):
     N = S.N_DEFAULT[shell]
     m = S.perfect_meridian(shell, N)
     assert np.array_equal(with_dimple(m, 0.0, lambda_I=2.0, h=1.0, nu=S.NU).x, m.x)
-    perfect = S.critical_point(S.make_problem(shell, m), locate_mode=False)
+    perfect = S.critical_point(S.make_problem(shell, m), S.DS_SMALL, locate_mode=False)
     zero = kappa(shell, 0.0)
     assert abs(zero["kappa"] - perfect["kappa"]) < 1e-12 and zero["kind"] == perfect["kind"]
     # the perfect shells: the clamped hemisphere's axisymmetric fold, the sphere's first (branch) point
