@@ -320,13 +320,13 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
                      key=lambda r: r["delta_over_h"])
         if cur:
             ax.plot([r["delta_over_h"] for r in cur], [r["kappa"] for r in cur], "k--", lw=1.2,
-                    label="critical-mode shape")
+                    label="critical-mode shape\n(largest inward normal $\\delta$)")
         for k, pub in enumerate(p for p in PUBLISHED if p["shell"] == shell):
             ax.plot([pub["delta_over_h"]], [pub["kappa"]], "*", color="crimson", ms=11, mec="k", mew=0.6, clip_on=False,
                     zorder=5, label="3-D FE, near-perfect limit\n(Ubamanyu et al. 2025)")
-        ax.set_xlabel(r"imperfection amplitude $\delta / h$ (dimple depth; mode: largest inward normal)", fontsize="small")
+        ax.set_xlabel(r"imperfection amplitude $\delta / h$")
         ax.set_title(f"{titles[shell]}, $R/h = {R_OVER_H:g}$, $\\nu = {NU:g}$", fontsize="medium")
-        ax.set_xlim(left=0.0)
+        ax.set_xlim(left=-0.1)
         ax.set_ylim(0.0, 1.1)
         ax.grid(alpha=0.3, lw=0.5)
     axes[0].set_ylabel(r"knockdown $\kappa = p_{max} / p_c$")
