@@ -15,6 +15,7 @@ def kappa(shell, delta, lam=2.0, N=None, **kw):
     return row
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("shell", S.SHELLS)
 def test_zero_amplitude_gives_back_the_perfect_shell(shell):
     N = S.N_DEFAULT[shell]
