@@ -203,7 +203,7 @@ def _plot_by_stability(ax, xs: np.ndarray, ys: np.ndarray, stable: np.ndarray | 
 
 #: Marker, legend name and whether it is filled, by kind (a fold's own comes from :func:`_fold_marker`).
 _MARKERS = {"branch_point": ("s", "branch point", False), "event": ("d", "event", False),
-            "jump": ("x", "jump", False)}
+            "jump": ("x", "jump", False), "bifurcation": ("*", "bifurcation into another mode", True)}
 
 
 def _axis_name(axis: str, br: Branch) -> str:
@@ -242,14 +242,22 @@ def _mark_special_points(ax, br: Branch, x: str, y: str, kinds: Sequence[str], s
         mk, name, filled = _fold_marker(folds, x_name) if folds is not None else _MARKERS[kind]
         # an unlocated point (the bracket's end) is drawn hollow whatever its kind
         face = "k" if filled and spt.located else ("none" if not spt.located else "w")
-        ax.plot([px], [py], mk, color="k", mfc=face, ms=6, label=name if name not in seen else None, zorder=5)
+        if kind == "bifurcation" and "first bifurcation" not in seen:  # the first one's mode, e.g. n = 3
+            seen.add("first bifurcation")
+            key = spt.info.get("key")
+            if key is not None:
+                ax.annotate(f"{spt.info.get('family', 'n')} = {key}", (px, py), textcoords="offset points",
+                            xytext=(4, 4), fontsize="x-small", color="tab:red")
+        ax.plot([px], [py], mk, color="tab:red" if kind == "bifurcation" else "k",
+                mfc=face if kind != "bifurcation" else ("tab:red" if spt.located else "none"),
+                ms=9 if kind == "bifurcation" else 6, label=name if name not in seen else None, zorder=5)
         seen.add(name)
 
 
 def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | None = None, ax=None,
                   jumps: Iterable[tuple[JumpResult, dict[str, float], dict[str, float]]] = (),
                   colors: Sequence[str] | None = None, labels: Sequence[str] | None = None,
-                  special_kinds: Sequence[str] = ("fold", "branch_point", "event"),
+                  special_kinds: Sequence[str] = ("fold", "branch_point", "event", "bifurcation"),
                   stability: str | None = None, axis_labels: Mapping[str, str] | None = None,
                   note: str = "", zero_line: bool = False):
     """Plot branches: stable solid, unstable dashed, unknown stability thin; special points marked.

@@ -22,8 +22,11 @@ families in ``operator_families``; :func:`contin.continuation` then watches each
   step) is listed in ``info["unlocated_keys"]``.  ``Settings.stop_at =
   ("bifurcation",)`` ends the run on the first located one.
 
-The counts per point are stored in ``Branch.meta["modes"][family.name]``: ``keys`` and
-``n_negative`` (one list of counts per stored point, in the order of ``keys``).
+The counts per point are stored in ``Branch.meta["modes"][family.name]``: ``keys``, ``multiplicity`` and
+``n_negative`` (one list of counts per stored point, in the order of ``keys``).  They are also added,
+each with its multiplicity, to the Morse index the branch records under every stability label: a
+point is stable only when it is stable against every mode (the families' operators are shared by
+every control).
 """
 
 from __future__ import annotations

@@ -100,14 +100,17 @@ class Recorder:
         self.iters.append(pt.iterations)
         for name, fun in self.problem.observables.items():
             self.obs[name].append(float(fun(pt.u, pt.p)))
-        if self.st.stability:
-            self._add_stability(pt)
+        extra = 0
         if self.families:
             from .modes import family_counts  # imported here: modes imports the test functions
 
             for fam in self.families:
                 counts = (pt.modes or {}).get(fam.name)
-                self.modes[fam.name].append(list(counts if counts is not None else family_counts(fam, pt.u, pt.p)))
+                counts = list(counts if counts is not None else family_counts(fam, pt.u, pt.p))
+                self.modes[fam.name].append(counts)
+                extra += sum(fam.copies(k) * c for k, c in zip(fam.keys, counts))
+        if self.st.stability:
+            self._add_stability(pt, extra)
 
     def stability_of(self, pt: Point) -> dict[str, Any]:
         """The problem's stability at ``pt`` by label, computed once and kept on the point."""
@@ -115,7 +118,10 @@ class Recorder:
             pt.stability = self.problem.stability(pt.u, pt.p, self.st.n_eigs)
         return pt.stability
 
-    def _add_stability(self, pt: Point) -> None:
+    def _add_stability(self, pt: Point, extra: int = 0) -> None:
+        """Store the point's Morse index under every label, plus ``extra``: the negative eigenvalues of the
+        problem's operator families (other modes, shared by every control), so that a point is stable
+        only when it is stable against every mode."""
         infos = self.stability_of(pt)
         if not infos:
             raise ValueError(f"stability requested but problem {self.problem.name!r} has no stability operator")
@@ -128,7 +134,7 @@ class Recorder:
             e = np.full(k, np.nan)
             m = min(info.eigenvalues.size, k)
             e[:m] = info.eigenvalues[:m]
-            self.n_neg_by[label].append(info.n_negative)
+            self.n_neg_by[label].append(info.n_negative + extra)
             self.eigs_by[label].append(e)
 
     def special(self, spt: SpecialPoint) -> None:

@@ -64,7 +64,7 @@ from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import end_of_path, force_snap_rules, point_problem, point_settings
-from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, shell_first_instability
+from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, shell_first_instability, harmonic_summary
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a point load.
 _INSTABILITY_FIELDS = ("F", "F_norm", "w", "w_over_R")
@@ -325,6 +325,11 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         summary.update(max_strain=peak.value, w_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
     summary["warnings"] = [warning] if warning else []
     summary["first_instability"] = shell_first_instability(records, problem.parameter_name, _INSTABILITY_FIELDS)
+    harmonics = harmonic_summary(problem, records)
+    if harmonics is not None:
+        summary["harmonics"] = harmonics
+        if "warning" in harmonics:
+            summary.setdefault("warnings", []).append(harmonics["warning"])
     if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
         cls = classify(branches[0], [r for r in records if r.get("branch", 0) == 0], problem.D, R)
         complete = path_complete(branches[0])
@@ -352,7 +357,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
                                           "'contin classify' traces it whatever load.control says")
     # the diagram styles by the scene's control; an "F = 0" event is in the table, not on the figure
     cls = summary.get("classification")
-    plot_options = {"axis_labels": _AXIS_LABELS, "zero_line": True, "special_kinds": ("fold",),
+    plot_options = {"axis_labels": _AXIS_LABELS, "zero_line": True, "special_kinds": ("fold", "bifurcation"),
                     "note": f"{cls}, stability under {summary['control']} control" if cls else ""}
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                          table=special_point_table(records, branch_labels=labels if len(branches) > 1 else None,

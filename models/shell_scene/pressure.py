@@ -71,7 +71,7 @@ from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.structure import ShellOfRevolution
 
 from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
-from .schema import Scene, shell_first_instability
+from .schema import Scene, shell_first_instability, harmonic_summary
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a pressure.
 _INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
@@ -163,6 +163,11 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     }
     summary.update(_snap(records, problem.p_c))
     summary["first_instability"] = shell_first_instability(records, "p", _INSTABILITY_FIELDS)
+    harmonics = harmonic_summary(problem, records)
+    if harmonics is not None:
+        summary["harmonics"] = harmonics
+        if "warning" in harmonics:
+            summary.setdefault("warnings", []).append(harmonics["warning"])
     snap = summary["p_snap_over_p_c"]
     note = (f"{s['boundary']} edge, lambda = {summary['lambda']:.3g}; stability under pressure control"
             + (f"; snaps at p/p_c = {snap:.4g}" if snap is not None else "; no fold"))
@@ -170,7 +175,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
         br.message = f"{br.message}; " + (f"first fold (snap under pressure) at p/p_c = {snap:.6g}, w/h = "
                                           f"{summary['w_at_p_snap_over_h']:.6g}" if snap is not None else
                                           "no fold in p on the path (no snap)")
-    plot_options = {"axis_labels": _AXIS_LABELS, "special_kinds": ("fold",), "note": note}
+    plot_options = {"axis_labels": _AXIS_LABELS, "special_kinds": ("fold", "bifurcation"), "note": note}
     # output.figure = false is the command line's to honour (contin.scene.wants_figure)
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
@@ -296,6 +301,11 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     summary.update(_snap(records, pressure.p_c))
     summary.update(_volume_snap(records, V0, pressure.p_c))
     summary["first_instability"] = shell_first_instability(records, "dV", _INSTABILITY_FIELDS + ("dV", "dV_over_V0"))
+    harmonics = harmonic_summary(problem, records)
+    if harmonics is not None:
+        summary["harmonics"] = harmonics
+        if "warning" in harmonics:
+            summary.setdefault("warnings", []).append(harmonics["warning"])
     p_snap, dV_snap = summary["p_snap_over_p_c"], summary["dV_snap_over_V0"]
     seen = (f"pressure maximum p/p_c = {p_snap:.6g} at w/h = {summary['w_at_p_snap_over_h']:.6g} (the snap under "
             "pressure control)" if p_snap is not None else "no limit point in p")
@@ -309,7 +319,7 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     csv = branch_columns([br], _VOLUME_STABILITY_COLUMNS)
     # the branch's parameter is dV (an observable column too); the pressure scene's "p" is the pressure
     csv["p"] = br.observables["p"]
-    plot_options = {"axis_labels": _VOLUME_AXIS_LABELS, "special_kinds": ("fold",), "note": note}
+    plot_options = {"axis_labels": _VOLUME_AXIS_LABELS, "special_kinds": ("fold", "bifurcation"), "note": note}
 
     def plot(ax: Any) -> Any:
         # dV is a small number in the scene's length unit cubed: a common power of ten keeps the ticks apart

@@ -39,7 +39,7 @@ from contin.branch import Branch, SpecialPoint
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
-from .schema import STABILITY_COLUMNS, Scene, shell_first_instability
+from .schema import STABILITY_COLUMNS, Scene, shell_first_instability, harmonic_summary
 from .shape import rise
 
 __all__ = ["run_revolution"]
@@ -114,6 +114,11 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
     }
     summary["first_instability"] = shell_first_instability(records, problem.parameter_name,
                                                            ("F", "F_norm", "w", "w_over_h", "w_over_L"))
+    harmonics = harmonic_summary(problem, records)
+    if harmonics is not None:
+        summary["harmonics"] = harmonics
+        if "warning" in harmonics:
+            summary.setdefault("warnings", []).append(harmonics["warning"])
     if load["kind"] == "ring":
         node = problem.node
         summary.update(ring_radius=load["ring_radius"], ring_node_radius=float(problem.x_ref[2 * node]))
@@ -122,7 +127,7 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
     if len(br):
         br.message = f"{br.message}; {snap}"
     note = f"{s['geometry']}, {s['boundary']} edge, {load['kind']} load; stability under {control} control"
-    plot_options = {"axis_labels": _AXIS_LABELS, "special_kinds": ("fold",), "note": note}
+    plot_options = {"axis_labels": _AXIS_LABELS, "special_kinds": ("fold", "bifurcation"), "note": note}
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br], STABILITY_COLUMNS), x="w", y="F",

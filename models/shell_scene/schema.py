@@ -28,7 +28,7 @@ from contin_models.shell.structure import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
-__all__ = ["SHELL_SCHEMA", "shell_first_instability", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
+__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
            "minimum_nodes", "nodes_per_bending_length"]
 
 Scene = dict[str, dict[str, Any]]
@@ -243,6 +243,22 @@ def shell_first_instability(records: list[dict[str, Any]], parameter: str, field
     if out is not None:
         out.setdefault("n", None)
         out.pop("family", None)
+    return out
+
+
+def harmonic_summary(problem: Any, records: list[dict[str, Any]]) -> dict[str, Any] | None:
+    """``summary.json``'s ``harmonics``: ``n_max``, the number of bifurcations located, and a warning when one
+    comes within 1 of ``n_max`` (the critical wave number must lie well inside the watched range; raise
+    ``stability.n_max``).  None when the problem watches no harmonics."""
+    families = getattr(problem, "operator_families", ())
+    if not families:
+        return None
+    n_max = int(max(families[0].keys))
+    ns = [r["n"] for r in records if r["kind"] == "bifurcation" and r.get("n") is not None]
+    out: dict[str, Any] = {"n_max": n_max, "bifurcations": len(ns)}
+    if ns and max(ns) >= n_max - 1:
+        out["warning"] = (f"a bifurcation into n = {max(ns)} is at the edge of the watched range n <= {n_max}: "
+                          f"modes beyond it may come first; raise stability.n_max")
     return out
 
 
