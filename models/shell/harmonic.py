@@ -1076,7 +1076,7 @@ def harmonic_block(structure: Any, x: np.ndarray, n: int, pressure: float = 0.0,
 
 
 def harmonic_family(structure: Any, state: Any, n_max: int, pressure: Any = None, z_ref: float | None = None,
-                    contact: Any = None) -> Any:
+                    contact: Any = None, pole_held: bool = False) -> Any:
     """The blocks ``n = 1 .. n_max`` of a problem on ``structure`` as a :class:`contin.OperatorFamily` named ``"n"``.
 
     Parameters
@@ -1094,6 +1094,10 @@ def harmonic_family(structure: Any, state: Any, n_max: int, pressure: Any = None
         The pressure's base plane.
     contact : callable ``(u, p) -> (ContactBarrier, c)``, optional
         The contact barrier and the indenter's position at ``(u, p)``.
+    pole_held : bool
+        The load holds the pole (node ``N-1``) laterally: its ``n = 1`` translation is removed.  A
+        point force applied by a frictionless point leaves it free (default): the pole may then slide
+        sideways under the force, the ``n = 1`` mode.
 
     Notes
     -----
@@ -1103,10 +1107,17 @@ def harmonic_family(structure: Any, state: Any, n_max: int, pressure: Any = None
     """
     from contin.modes import OperatorFamily
 
+    keep = None
+    if pole_held and structure.N - 1 in structure.poles:
+        keep = harmonic_dofs(structure, 1).free != 3 * (structure.N - 1)  # the pole's lateral a (c is tied to it)
+
     def block(n: int, u: np.ndarray, p: float) -> sp.csr_matrix:
         q = 0.0 if pressure is None else float(pressure(u, p))
         c = None if contact is None else contact(u, p)
-        return harmonic_block(structure, state(u, p), int(n), pressure=q, z_ref=z_ref, contact=c)
+        K = harmonic_block(structure, state(u, p), int(n), pressure=q, z_ref=z_ref, contact=c)
+        if keep is not None and int(n) == 1:
+            K = K[keep][:, keep].tocsr()
+        return K
 
     if int(n_max) < 1:
         raise ValueError(f"harmonic_family: n_max must be >= 1, got {n_max!r}")

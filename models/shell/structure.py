@@ -442,6 +442,9 @@ class ShellOfRevolution(Problem):
         (:mod:`contin_models.shell.harmonic` blocks as a :class:`contin.OperatorFamily` named ``"n"``,
         each twice in the whole Hessian: its ``cos`` and ``sin`` modes).  ``0`` (default): none;
         ``-1``: :func:`default_harmonics`.
+    pole_held : bool
+        With ``harmonics``: the load holds the pole laterally (no ``n = 1`` translation of the pole);
+        default free, as under a frictionless point (:func:`contin_models.shell.harmonic.harmonic_family`).
 
     Notes
     -----
@@ -454,7 +457,7 @@ class ShellOfRevolution(Problem):
     def __init__(self, structure: ShellStructure, load: Literal["point", "ring", "pressure"] = "point",
                  control: Literal["force", "displacement"] = "force", node: int | None = None,
                  length: float | None = None, p_c: float | None = None, pressure: float = 0.0,
-                 harmonics: int = 0) -> None:
+                 harmonics: int = 0, pole_held: bool = False) -> None:
         if load not in LOADS:
             raise ValueError(f"ShellOfRevolution: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
@@ -565,7 +568,7 @@ class ShellOfRevolution(Problem):
             self.operator_families = (harmonic_family(
                 st, self.full_state, self.harmonics,
                 pressure=(lambda u, p: self._pressure_value(p)) if self.pressure is not None else None,
-                z_ref=self.pressure.z_ref if self.pressure is not None else None),)
+                z_ref=self.pressure.z_ref if self.pressure is not None else None, pole_held=pole_held),)
 
     def harmonic_block(self, n: int, u: np.ndarray, p: float) -> sp.csr_matrix:
         """The Hessian block of wave number ``n >= 1`` at the state ``(u, p)`` (:func:`contin_models.shell.harmonic.harmonic_block`).

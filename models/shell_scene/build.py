@@ -206,7 +206,9 @@ def watch_harmonics(scene: Scene, problem: Problem) -> Problem:
     if n_max:
         contact = ((lambda u, p: (problem.barrier, problem.position(p))) if isinstance(problem, ShellIndentation)
                    else None)
-        problem.operator_families = (harmonic_family(structure, problem.full_state, n_max, contact=contact),)
+        held = scene["load"]["kind"] == "point" and scene["load"].get("pole_held", False)
+        problem.operator_families = (harmonic_family(structure, problem.full_state, n_max, contact=contact,
+                                                     pole_held=held),)
     return problem
 
 
@@ -227,7 +229,7 @@ def revolution_problem(scene: Scene, control: str | None = None, perfect: bool =
         raise ValueError(f"revolution_problem: load.kind must be point, ring or pressure, got {load['kind']!r}")
     node = structure.meridian.ring_node if load["kind"] == "ring" else None
     return ShellOfRevolution(structure, load["kind"], control or load["control"], node=node, length=L,
-                             harmonics=harmonics)
+                             harmonics=harmonics, pole_held=load["kind"] == "point" and load.get("pole_held", False))
 
 
 def revolution_settings(scene: Scene, problem: ShellOfRevolution, progress: bool = False) -> contin.Settings:

@@ -10,7 +10,7 @@ Scene keys (public contract, ``--set section.key=value``)::
     [imperfection]  kind = "none" | "dimple" | "mode", delta_over_h, lambda_I (dimple width)
     [stability]     harmonics (watch non-axisymmetric modes n = 1 .. n_max), n_max (0: the default rule)
     [load]          kind = "point" | "ring" | "sphere" | "plate" | "pressure", radius (sphere),
-                    ring_radius (ring), control = "displacement" | "force" (pressure: the volume change
+                    ring_radius (ring), pole_held (point, with harmonics), control = "displacement" | "force" (pressure: the volume change
                     dV = V0 - V | the pressure), p_end_over_p_c (pressure, force control), dV_end_over_V0
                     (pressure, displacement control)
     [contact]       K_c, dhat (0: the paper's values scaled with E and R; sphere and plate only)
@@ -102,6 +102,9 @@ SHELL_SCHEMA = Schema(
                                 "load.ring_radius, a rigid sphere or plate through the log-barrier contact, or a "
                                 "uniform external pressure p"),
             "radius": real(0.5, gt=0, help="sphere radius [m] (load.kind = sphere)"),
+            "pole_held": boolean(False, help="with stability.harmonics: the point load holds the pole laterally (no "
+                                             "n = 1 translation of the pole); false: a frictionless point, which lets "
+                                             "the pole slide sideways under the force"),
             "ring_radius": real(0.5, gt=0, help="radius of the ring load's circle [m] (load.kind = ring), inside the "
                                                 "edge's radius"),
             "control": choice("displacement", ("displacement", "force"),
