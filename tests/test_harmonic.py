@@ -498,3 +498,18 @@ def test_clamped_cap_under_pressure_bifurcates_asymmetrically_only_when_deep(lam
         assert first.kind == "fold" and first.p == pytest.approx(0.618, abs=0.01)
     counts = br.meta["modes"]["n"]["n_negative"]
     assert all(c == 0 for c in counts[0])
+
+
+def test_a_held_pole_has_no_lateral_translation_at_n_1() -> None:
+    """``pole_held``: the n = 1 block loses exactly the pole's lateral dof; the other blocks are unchanged."""
+    from contin_models.shell.geometry import spherical_cap
+    from contin_models.shell.harmonic import harmonic_family
+    from contin_models.shell.structure import ShellStructure
+
+    st = ShellStructure(spherical_cap(1.0, 0.8, 30, 0.5), 1e6, 0.5, 0.02, "sliding", edge_bending="none")
+    x = st.meridian.x
+    free = harmonic_family(st, lambda u, p: x, 3)
+    held = harmonic_family(st, lambda u, p: x, 3, pole_held=True)
+    K1, K1h = free.operator(1, None, 0.0), held.operator(1, None, 0.0)
+    assert K1h.shape[0] == K1.shape[0] - 1
+    assert abs(held.operator(2, None, 0.0) - free.operator(2, None, 0.0)).max() == 0.0
