@@ -1,0 +1,120 @@
+"""Issue 17, study (b), first pass: where the paper's point-loaded caps leave the axisymmetric path.
+
+Run ``python -m studies.asymmetric_point [--out DIR] [--full] [--workers N]``.
+
+Over a grid of ``(phi_hat, h/R)`` (``nu = 0.5``, the paper's), each cap is classified by
+``contin classify`` (the displacement-controlled path of the point load to eversion) with
+``stability.harmonics = true``: the blocks of wave numbers ``n = 1 .. n_max`` are watched along the path
+and the first bifurcation into a mode is located.  For each cap: the paper's class (from the
+axisymmetric path), the limit load ``F_max`` and where it is, the first fold in ``w`` (the snap under
+displacement control), and the first bifurcation (its ``n`` and ``w``), with the pole free laterally
+(a frictionless point) and held (``load.pole_held = true``).  Reported per cap:
+
+* ``before_fold_in_w``: the bifurcation comes before the snap under displacement control;
+* ``before_F_max``: it comes before the limit load, the snap under force control.
+
+This is a grid, not yet the boundary traced as a curve (the bifurcation continued in a second
+parameter), which is left for the next step of issue 17.  Mesh: N = 100 (``--full``: 200),
+``n_max`` = 12.  Writes ``asymmetric_point.csv``, ``summary.json`` and ``asymmetric_point.png`` / ``.pdf``.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import math  # noqa: E402
+from collections.abc import Sequence  # noqa: E402
+from typing import Any  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from contin.scene import load_scene  # noqa: E402
+from contin_models.shell_scene import SHELL_SCHEMA  # noqa: E402
+from contin_models.shell_scene.scene import classify_scene  # noqa: E402
+from contin_models.shell_scene.schema import minimum_nodes  # noqa: E402
+from studies._common import (executor_from_args, output_dir, print_table, run_study, save_figure, say,  # noqa: E402
+                             study_parser, write_csv, write_json)
+
+N_MAX = 12
+
+
+def cap_row(args: tuple[float, float, int, bool]) -> dict[str, Any]:
+    """Classify one cap with harmonics on; the row of the study's table."""
+    phi_hat, h, N, held = args
+    sets = [f"shell.phi_hat={phi_hat!r}", f"shell.h={h!r}", f"shell.N={N}", "stability.harmonics=true",
+            f"stability.n_max={N_MAX}", f"load.pole_held={'true' if held else 'false'}", "output.figure=false"]
+    scene = load_scene(SHELL_SCHEMA, None, sets)
+    cls = classify_scene(scene)
+    v = cls.values
+    first = v.get("first_instability") or {}
+    bif = first.get("kind") == "bifurcation"
+    w_fmax = v.get("w_at_F_max")
+    return {"phi_hat": phi_hat, "h_over_R": h, "N": N, "pole_held": held, "class": cls.label,
+            "F_max_norm": v.get("F_max_norm"), "w_at_F_max_over_R": v.get("w_at_F_max_over_R"),
+            "first_kind": first.get("kind"), "first_n": first.get("n"), "first_w_over_R": first.get("w_over_R"),
+            "before_fold_in_w": bool(bif),
+            "before_F_max": bool(bif and w_fmax is not None and first.get("w") is not None and first["w"] < w_fmax)}
+
+
+def plot(rows: Sequence[dict[str, Any]]) -> Any:
+    """The grid in ``(phi_hat, h/R)``: marker by class, colour by where the first bifurcation comes, its n."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.0), sharey=True)
+    markers = {"monotonous": "o", "monostable": "s", "bistable": "D", None: "x"}
+    for ax, held in zip(axes, (False, True)):
+        for r in (r for r in rows if r["pole_held"] == held):
+            color = ("tab:red" if r["before_F_max"] else "tab:orange" if r["before_fold_in_w"] else "tab:blue")
+            ax.semilogy(r["phi_hat"], r["h_over_R"], markers.get(r["class"], "x"), color=color, ms=8, mfc="none")
+            if r["first_n"] is not None:
+                ax.annotate(str(r["first_n"]), (r["phi_hat"], r["h_over_R"]), textcoords="offset points",
+                            xytext=(5, 3), fontsize="x-small")
+        ax.set_xlabel(r"$\hat\phi$ (base angle) [rad]")
+        ax.set_title("pole held laterally" if held else "frictionless point (pole free)", fontsize="small")
+    axes[0].set_ylabel("$h/R$")
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], ls="", marker=m, color="k", mfc="none", label=str(c)) for c, m in markers.items() if c]
+    handles += [Line2D([], [], ls="", marker="o", color=c, mfc="none", label=t) for c, t in (
+        ("tab:red", "bifurcation before F_max"), ("tab:orange", "bifurcation before the fold in w"),
+        ("tab:blue", "no bifurcation before the fold in w (or no fold)"))]
+    fig.legend(handles=handles, fontsize="x-small", loc="lower center", ncol=6, frameon=False)
+    fig.suptitle("point-loaded caps ($\\nu = 0.5$): first non-axisymmetric bifurcation (its n beside)", fontsize="small")
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    return fig
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: see the module docstring."""
+    parser = study_parser("asymmetric_point", "point-loaded caps: where they leave the axisymmetric path",
+                          executor_options=True)
+    args = parser.parse_args(argv)
+    out = output_dir(args.out)
+    N = 200 if args.full else 100
+    phis = np.linspace(0.6, 1.4, 9 if args.full else 5)
+    hs = (0.005, 0.01, 0.02, 0.04) if args.full else (0.01, 0.02, 0.04)
+    cases = []
+    for phi in phis:
+        for h in hs:
+            shell = {"R": 1.0, "h": h, "phi_hat": float(phi), "geometry": "sphere"}
+            if N < minimum_nodes(shell):
+                continue
+            cases += [(float(phi), h, N, held) for held in (False, True)]
+    say(args.quiet, f"{len(cases)} caps with harmonics (N = {N}, n_max = {N_MAX}) ...")
+    with executor_from_args(args) as ex:
+        rows = list(ex.map(cap_row, cases))
+    print_table(rows, ["phi_hat", "h_over_R", "pole_held", "class", "F_max_norm", "w_at_F_max_over_R", "first_kind",
+                       "first_n", "first_w_over_R", "before_fold_in_w", "before_F_max"])
+    write_csv(out / "asymmetric_point.csv", rows)
+    write_json(out / "summary.json", {"rows": rows, "N": N, "n_max": N_MAX, "nu": 0.5})
+    save_figure(plot(rows), out, "asymmetric_point")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(run_study(main))
