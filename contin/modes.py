@@ -81,9 +81,43 @@ class OperatorFamily:
 
 
 def _count(H: Any) -> int:
-    """Morse index of a symmetric matrix (:func:`contin.stability.stability_info`: a pivot-free
-    ``L D L^T`` when it can be trusted, banded or dense eigenvalues otherwise)."""
+    """Morse index of a symmetric matrix.
+
+    A banded Cholesky factorization first (LAPACK ``pbtrf``, O(n b^2)): most operators of a family are
+    positive definite at most points, and it succeeds exactly then (count 0).  Otherwise
+    :func:`contin.stability.stability_info` (a pivot-free ``L D L^T`` when it can be trusted, banded or
+    dense eigenvalues otherwise).
+    """
+    if sp.issparse(H) and H.shape[0] > BANDED_MIN:
+        b = max(bandwidths(H))
+        if b + 1 <= 0.1 * H.shape[0]:
+            from scipy.linalg import lapack
+
+            _, info = lapack.dpbtrf(_upper_band(H, b), lower=0)
+            if info == 0:
+                return 0
     return int(stability_info(sp.csr_matrix(H) if sp.issparse(H) else np.asarray(H, dtype=float), 0).n_negative)
+
+
+def _jacobi_scaled(K: Any) -> Any:
+    """``D^-1/2 K D^-1/2`` with ``D = |diag K|`` floored at 1e-6 of its largest entry (a diagonal entry that
+    itself goes to zero is a mode, not a scale)."""
+    d = np.abs(K.diagonal()) if sp.issparse(K) else np.abs(np.diag(np.asarray(K, dtype=float)))
+    top = float(np.max(d, initial=0.0))
+    s = 1.0 / np.sqrt(np.maximum(d, 1e-6 * top)) if top > 0.0 else np.ones_like(d)
+    if sp.issparse(K):
+        Ds = sp.diags(s)
+        return (Ds @ K @ Ds).tocsr()
+    return np.asarray(K, dtype=float) * s[:, None] * s[None, :]
+
+
+def _upper_band(H: Any, b: int) -> np.ndarray:
+    """LAPACK's upper band storage ``ab[b + i - j, j] = H[i, j]`` of a sparse symmetric matrix."""
+    C = sp.coo_matrix(H)
+    keep = (C.col >= C.row) & (C.col - C.row <= b)
+    ab = np.zeros((b + 1, H.shape[0]))
+    ab[b + C.row[keep] - C.col[keep], C.col[keep]] = C.data[keep]
+    return ab
 
 
 def family_counts(family: OperatorFamily, u: np.ndarray, p: float) -> tuple[int, ...]:
@@ -140,17 +174,22 @@ def ordered_eigenvalue(H: Any, index: int) -> float:
 def eigenvalues_near_zero(H: Any, k: int = 2, vectors: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
     """The ``k`` eigenvalues of the symmetric ``H`` nearest zero, nearest first (with their vectors).
 
-    Dense for matrices up to 2000 rows; shift-invert Lanczos about zero beyond.
+    Shift-invert Lanczos about zero for a sparse matrix of more than a few dozen rows (one sparse LU
+    and a few solves); dense ``eigh`` otherwise, or when Lanczos fails (an exactly singular matrix).
     """
     n = H.shape[0]
     k = min(k, n)
-    if n <= 2000 or k >= n - 1:
+    w = V = None
+    if sp.issparse(H) and n > BANDED_MIN and k < n - 1:
+        from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, eigsh
+
+        try:
+            w, V = eigsh(sp.csc_matrix(H), k=k, sigma=0.0, which="LM")
+        except (ArpackError, ArpackNoConvergence, RuntimeError):
+            w = None
+    if w is None:
         A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
         w, V = np.linalg.eigh(0.5 * (A + A.T))
-    else:
-        from scipy.sparse.linalg import eigsh
-
-        w, V = eigsh(sp.csc_matrix(H), k=k, sigma=0.0, which="LM")
     order = np.argsort(np.abs(w))[:k]
     return w[order], (V[:, order] if vectors else None)
 
@@ -191,37 +230,31 @@ class ModeTest(TestFunction):
     def _eigenvalue(self, key: Any, index: int, u: np.ndarray, p: float) -> float:
         return ordered_eigenvalue(self.family.operator(key, u, p), index)
 
-    def _root(self, seg: Segment, key: Any, index: int, before: int, after: int, g_A: float, g_B: float) -> float:
-        """Where eigenvalue ``index`` of the key's operator crosses zero on the segment.
-
-        When it is the only one crossing (``|after - before| == 1``) the root is that of the bordered
-        function ``g = 1 / (b^T K^-1 b)`` (``b`` the crossing eigenvector at the end of the segment
-        nearer zero), which vanishes exactly where ``K`` is singular, is smooth through it, and
-        costs one factorization per evaluation; the eigenvalue itself is the fallback.
-        """
+    def _bordered_root(self, seg: Segment, key: Any) -> float | None:
+        """The root on the segment of ``g = 1 / (b^T K^-1 b)`` for the key's operator ``K``, ``b`` its
+        eigenvector nearest zero at the segment's end: ``g`` vanishes exactly where ``K`` is singular and is
+        smooth through it when one eigenvalue crosses (one factorization per evaluation).  None when ``g``
+        does not change sign on the segment (the caller then bisects on the eigenvalue itself)."""
         fam, tol = self.family, self.curve.settings.locate_tol
-        if abs(after - before) == 1:
-            end = seg.A if abs(g_A) < abs(g_B) else seg.B
-            _, V = ordered_eigenpairs(fam.operator(key, end.u, end.p), index, index, vectors=True)
-            border = V[:, 0]
+        _, V = eigenvalues_near_zero(fam.operator(key, seg.B.u, seg.B.p), 1, vectors=True)
+        border = V[:, 0]
 
-            def g(sigma: float) -> float:
-                u, p, _ = seg.point(sigma)
-                K = fam.operator(key, u, p)
-                y = factorize(sp.csc_matrix(K) if sp.issparse(K) else np.asarray(K, dtype=float)).solve(border)
-                return 1.0 / float(border @ y)
-
-            try:
-                f_A, f_B = g(0.0), g(seg.sigma_B)
-                if f_A * f_B < 0.0:
-                    return seg.root(g, f_A, f_B, tol)
-            except (SingularMatrixError, np.linalg.LinAlgError, ZeroDivisionError):
-                pass  # an end on the singularity itself: the eigenvalue's root below
-
-        def eig(sigma: float) -> float:
+        def g(sigma: float) -> float:
             u, p, _ = seg.point(sigma)
-            return self._eigenvalue(key, index, u, p)
-        return seg.root(eig, g_A, g_B, tol)
+            K = fam.operator(key, u, p)
+            try:
+                y = factorize(sp.csc_matrix(K) if sp.issparse(K) else np.asarray(K, dtype=float)).solve(border)
+            except (SingularMatrixError, np.linalg.LinAlgError):
+                return 0.0  # exactly singular: the root itself
+            return 1.0 / float(border @ y)
+
+        try:
+            f_A, f_B = g(0.0), g(seg.sigma_B)
+        except (SingularMatrixError, np.linalg.LinAlgError, ZeroDivisionError):
+            return None
+        if not f_A * f_B < 0.0:
+            return None
+        return seg.root(g, f_A, f_B, tol)
 
     def locate(self, seg: Segment, before: tuple[int, ...], after: tuple[int, ...]) -> SpecialPoint:  # type: ignore[override]
         fam = self.family
@@ -233,6 +266,11 @@ class ModeTest(TestFunction):
         for key, a, b in zip(fam.keys, before, after):
             if a == b:
                 continue
+            if abs(b - a) == 1:  # one eigenvalue crossed: the bordered function, no eigenvalues needed
+                sigma = self._bordered_root(seg, key)
+                if sigma is not None:
+                    located.append((sigma, key, min(a, b)))
+                    continue
             # the eigenvalues number min(a, b) .. max(a, b) - 1 (ascending) cross zero on the step: the
             # first crossing along the curve is where the key bifurcates
             for index in range(min(a, b), max(a, b)):
@@ -241,7 +279,11 @@ class ModeTest(TestFunction):
                 if g_A * g_B > 0.0:  # crossed twice on the step: no sign change to bracket
                     failures[f"{key}[{index}]"] = f"eigenvalue {index} has the same sign at both ends ({g_A:.3g}, {g_B:.3g})"
                     continue
-                located.append((self._root(seg, key, index, a, b, g_A, g_B), key, index))
+
+                def g(sigma: float, key: Any = key, index: int = index) -> float:
+                    u, p, _ = seg.point(sigma)
+                    return self._eigenvalue(key, index, u, p)
+                located.append((seg.root(g, g_A, g_B, self.curve.settings.locate_tol), key, index))
         if failures:
             self._info["unlocated_keys"] = failures
         if not located:
@@ -253,13 +295,12 @@ class ModeTest(TestFunction):
             if k != key and k not in others:
                 others.append(k)
         u, p, res = seg.point(sigma)
-        # the crossing eigenvalue (number ``index``) and its neighbours: the nearest zero is the located
-        # one, the next nearest says how sharply it is located
-        lo = max(0, index - 1)
-        w, V = ordered_eigenpairs(fam.operator(key, u, p), lo, index + 1, vectors=fam.vectors)
-        order = np.argsort(np.abs(w))
-        w = w[order]
-        V = None if V is None else V[:, order]
+        # at the located point the crossing eigenvalue is the one nearest zero; the next nearest says how
+        # sharply it is located.  Both are of the Jacobi-scaled operator D^-1/2 K D^-1/2 (the same
+        # inertia and singular points): a thin structure's operator spans many decades, and the rounding
+        # error of its raw eigenvalues near zero (machine epsilon times its norm) would hide the location
+        K = fam.operator(key, u, p)
+        w, V = eigenvalues_near_zero(_jacobi_scaled(K), 2, vectors=fam.vectors)
         info: dict[str, Any] = {"key": _plain(key), "eigenvalue": float(w[0]),
                                 "next_eigenvalue": float(w[1]) if w.size > 1 else None,
                                 "also": [_plain(k) for k in others], "bracket_p": [seg.A.p, seg.B.p]}
