@@ -301,53 +301,81 @@ def _plt() -> Any:
 
 def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None], N: int,
                 mode_rows: Sequence[dict[str, Any]]) -> Any:
-    """``p/p_c`` against lambda: axisymmetric snap, first bifurcation (critical n annotated), published values;
-    below, the critical n against lambda."""
+    """Three panels against lambda: (a) ``p/p_c`` of the axisymmetric snap and of the first bifurcation (its
+    ``n`` annotated) with the published values; (b) the difference to them in per cent, at R/h = 100 and near
+    the shallow limit; (c) the critical ``n``."""
     plt = _plt()
-    fig, (ax, axn) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True, gridspec_kw={"height_ratios": [2.2, 1]})
+    fig, (ax, axd, axn) = plt.subplots(3, 1, figsize=(6.4, 8.2), sharex=True,
+                                       gridspec_kw={"height_ratios": [2.2, 1.1, 1.1]})
     sel = sorted((r for r in rows if r["N"] == N and r["R_over_h"] == R_OVER_H and r["nu"] == NU),
                  key=lambda r: r["lambda"])
     snap = sorted((lam, p) for lam, p in snaps.items() if p is not None)
-    ax.plot(*zip(*snap), "-", color="tab:gray", lw=1.2, marker="o", ms=3.5, mfc="white",
-            label="axisymmetric snap (harmonics off)")
+    ax.plot(*zip(*snap), "-", color="tab:gray", lw=1.0, marker="o", ms=3, mfc="white",
+            label="axisymmetric snap: first fold in $p$ (harmonics off)")
     bif = [(r["lambda"], r["p_cr_over_p_c"], r["n"]) for r in sel if r["kind"] == "bifurcation"]
     fold = [(r["lambda"], r["p_cr_over_p_c"]) for r in sel if r["kind"] == "fold"]
     if bif:
-        ax.plot([b[0] for b in bif], [b[1] for b in bif], "-", color="tab:blue", lw=1.4, marker="o", ms=4,
-                label="first instability: bifurcation into $n$ waves")
+        ax.plot([b[0] for b in bif], [b[1] for b in bif], "-", color="tab:blue", lw=1.4, marker="o", ms=3.5,
+                label="first instability: bifurcation into $n$ waves (n annotated)")
         for lam, p, n in bif:
-            ax.annotate(f"{n}", (lam, p), textcoords="offset points", xytext=(0, -11), ha="center",
-                        fontsize="x-small", color="tab:blue")
-    thin = sorted((r["lambda"], r["p_cr_over_p_c"]) for r in rows if r["N"] == N and r["nu"] == NU
-                  and r["R_over_h"] == DEPTHS[-1] and r["kind"] == "bifurcation")
-    if thin:
-        ax.plot(*zip(*thin), "x", color="tab:green", ms=6, label=f"first bifurcation, R/h = {DEPTHS[-1]:g} (near shallow)")
+            if float(lam).is_integer():
+                ax.annotate(f"{n}", (lam, p), textcoords="offset points", xytext=(0, 9), ha="center",
+                            fontsize="x-small", color="tab:blue")
     if fold:
         ax.plot(*zip(*fold), "s", color="tab:red", ms=5, label="first instability: axisymmetric snap (fold)")
     ax.plot(list(HUANG_1964), [v[0] for v in HUANG_1964.values()], "D", color="k", mfc="none", ms=7,
-            label="Huang (1964)")
+            label="Huang (1964), shallow-shell theory")
     ax.plot(list(TENG_ROTTER_1989B), [v[0] for v in TENG_ROTTER_1989B.values()], "+", color="tab:orange", ms=10,
             mew=1.5, label="Teng & Rotter (1989b)")
+    none = [r["lambda"] for r in sel if r["kind"] is None]
     ax.set_ylabel(r"pressure $p / p_c$")
     ax.set_ylim(0.4, max(1.3, max(p for _, p in snap) + 0.05))
     ax.grid(alpha=0.3)
     ax.legend(fontsize="x-small", loc="lower right")
-    ax.set_title(f"clamped spherical caps under uniform pressure, $\\nu$ = 1/3, R/h = {R_OVER_H:g}, N = {N}\n"
-                 "(published: Teng & Rotter 1989b, Table 3)", fontsize="small")
-    axn.plot([b[0] for b in bif], [b[2] for b in bif], "o-", color="tab:blue", ms=4, lw=1.2, label="this model")
+    title = f"clamped spherical caps under uniform pressure, $\\nu$ = 1/3, R/h = {R_OVER_H:g}, N = {N}"
+    if none:
+        title += f"\n(no instability up to {P_MAX:g} $p_c$ at $\\lambda$ = {', '.join(f'{x:g}' for x in none)})"
+    ax.set_title(title, fontsize="small")
+
+    # (b) against the published values, at the published cap (R/h = 100) and near the shallow limit
+    pts100 = [(r["lambda"], 100.0 * (r["p_cr_over_p_c"] / TENG_ROTTER_1989B[r["lambda"]][0] - 1.0)) for r in sel
+              if r["lambda"] in TENG_ROTTER_1989B and r["p_cr_over_p_c"] is not None]
+    pts100h = [(r["lambda"], 100.0 * (r["p_cr_over_p_c"] / HUANG_1964[r["lambda"]][0] - 1.0)) for r in sel
+               if r["lambda"] in HUANG_1964 and r["p_cr_over_p_c"] is not None]
+    thin = sorted((r for r in rows if r["N"] == N and r["nu"] == NU and r["R_over_h"] == DEPTHS[-1]
+                   and r["lambda"] in HUANG_1964 and r["p_cr_over_p_c"] is not None), key=lambda r: r["lambda"])
+    ptsS = [(r["lambda"], 100.0 * (r["p_cr_over_p_c"] / HUANG_1964[r["lambda"]][0] - 1.0)) for r in thin]
+    axd.axhline(0.0, color="k", lw=0.6)
+    axd.plot(*zip(*pts100), "+-", color="tab:orange", ms=8, mew=1.5, lw=0.8,
+             label=f"R/h = {R_OVER_H:g} vs Teng & Rotter")
+    axd.plot(*zip(*pts100h), "D-", color="k", mfc="none", ms=5, lw=0.8, label=f"R/h = {R_OVER_H:g} vs Huang")
+    if ptsS:
+        axd.plot(*zip(*ptsS), "x-", color="tab:green", ms=6, lw=0.8, label=f"R/h = {DEPTHS[-1]:g} vs Huang")
+    axd.set_ylabel(r"$p_{cr}$ / published $- 1$ (%)")
+    axd.grid(alpha=0.3)
+    axd.legend(fontsize="x-small", loc="upper left", ncol=1)
+
+    # (c) the critical n
+    axn.plot([b[0] for b in bif], [b[2] for b in bif], "o-", color="tab:blue", ms=3.5, lw=1.2,
+             label=f"this model, R/h = {R_OVER_H:g}")
+    if thin:
+        axn.plot([r["lambda"] for r in thin], [r["n"] for r in thin], "x", color="tab:green", ms=7,
+                 label=f"this model, R/h = {DEPTHS[-1]:g}")
     axn.plot(list(HUANG_1964), [v[1] for v in HUANG_1964.values()], "D", color="k", mfc="none", ms=7,
              label="Huang (1964)")
     axn.plot(list(TENG_ROTTER_1989B), [v[1] for v in TENG_ROTTER_1989B.values()], "+", color="tab:orange",
              ms=10, mew=1.5, label="Teng & Rotter (1989b)")
-    # runner-up modes within 0.5 % of the critical pressure
     close = [(r["lambda"], r["n"]) for r in mode_rows if r.get("within_half_percent") and not r.get("critical")]
     if close:
-        axn.plot(*zip(*close), "o", color="tab:blue", mfc="none", ms=6, alpha=0.6,
-                 label=r"other $n$ within 0.5 % of $p_{cr}$")
+        axn.plot(*zip(*close), "o", color="tab:blue", mfc="none", ms=7, alpha=0.7,
+                 label=r"other $n$ within 0.5 % of $p_{cr}$ (R/h = 100)")
     axn.set_xlabel(r"$\lambda = 2\,[3(1-\nu^2)]^{1/4}\sqrt{H/h}$")
     axn.set_ylabel(r"critical $n$")
     axn.grid(alpha=0.3)
     axn.legend(fontsize="x-small", loc="upper left")
+    for a in (ax, axd, axn):
+        a.text(0.005, 1.01, f"({'abc'[(ax, axd, axn).index(a)]})", transform=a.transAxes, fontsize="small",
+               va="bottom")
     fig.tight_layout()
     return fig
 
