@@ -24,6 +24,19 @@ engine :mod:`contin.modes`), stopping at the first of an axisymmetric fold or a 
 - ``--full`` adds lambda in steps of 0.5, N = 800, and the caps of ``nu = 0.3``, ``R/h = 400`` (the test
   suite's) beside them.
 
+Findings (``docs/asymmetric.md`` for the tables)
+------------------------------------------------
+At ``R/h = 100``, ``nu = 1/3`` the first instability is the axisymmetric fold up to lambda = 5.5 and a
+bifurcation from lambda = 5.52 on (n = 1 up to 5.56, then n = 2 from 5.58; n = 2 .. 10 at lambda = 6 .. 16),
+at 0.766 to 0.801 ``p_c``, well below the axisymmetric snap.  Mesh-converged (N = 100 is within 5e-5
+``p_c`` of N = 800), it is 0.6 to 1.3 % above Teng & Rotter (1989b) and 1.0 to 1.9 % above Huang (1964),
+with their critical n at 7 of the 8 tabulated lambdas (lambda = 16: n = 10, their 11 is 0.5 % higher here).
+The offset is the deep-geometry effect, linear in ``h/R``: at ``R/h = 10^4`` the same model is within
+0.3 % of Huang's shallow-shell values with his n at 7 of 8 lambdas (lambda = 9: n = 5 against his 4, the
+two 0.005 % apart at ``R/h = 100``).  The located bifurcations agree with the bisection on the block's
+inertia to 1e-9 (N <= 200), 2e-8 (N = 400) and 4e-7 (N = 800): the roundoff floor ``eps ||H_n||``, which
+grows as N^3, also bounds the eigenvalue ratio (below 1e-8 at N <= 200 only).
+
 Units: ``h = 1``, ``R = R/h``, and ``E`` such that ``p_c = 2 E (h/R)^2 / sqrt(3 (1 - nu^2)) = 1``.
 
 Writes ``first_instability.csv`` (every lambda, N, R/h, nu), ``modes.csv`` (``p_cr(n)`` per lambda),
@@ -78,6 +91,8 @@ PUBLISHED_SOURCE = ("Huang (1964) J. Appl. Mech. 31, 447-457 and Teng & Rotter (
 PUBLISHED_LAMBDAS = tuple(HUANG_1964)
 LAMBDAS = tuple(float(x) for x in range(3, 17))
 FINE_LAMBDAS = tuple(3.0 + 0.5 * i for i in range(27))
+#: ``--full`` also scans where the first instability changes from the fold to a bifurcation (between 5.5 and 5.6).
+TRANSITION_LAMBDAS = (5.52, 5.54, 5.56, 5.58)
 #: The default's mesh convergence (``--full``: every published lambda) and runner-up modes (``--full``: lambda >= 5).
 CONVERGENCE_LAMBDAS = (6.0, 9.0, 16.0)
 MODE_LAMBDAS = (9.0, 16.0)
@@ -394,7 +409,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # N = 100 is converged to 3e-5 p_c (convergence.csv): the default sweeps on it, --full on N = 200
     N_sweep = 200 if args.full else 100
     sizes = (100, 200, 400, 800) if args.full else (100, 200, 400)
-    lams = FINE_LAMBDAS if args.full else LAMBDAS
+    lams = tuple(sorted(FINE_LAMBDAS + TRANSITION_LAMBDAS)) if args.full else LAMBDAS
     conv_lams = PUBLISHED_LAMBDAS if args.full else CONVERGENCE_LAMBDAS
 
     say(args.quiet, f"first instability, lambda = {lams[0]:g} .. {lams[-1]:g}, N = {N_sweep} ...")
