@@ -28,11 +28,11 @@ Findings (``docs/asymmetric.md`` for the tables)
 ------------------------------------------------
 At ``R/h = 100``, ``nu = 1/3`` the first instability is the axisymmetric fold up to lambda = 5.5 and a
 bifurcation from lambda = 5.52 on (n = 1 up to 5.56, then n = 2 from 5.58; n = 2 .. 10 at lambda = 6 .. 16),
-at 0.766 to 0.801 ``p_c``, well below the axisymmetric snap.  Mesh-converged (N = 100 is within 5e-5
-``p_c`` of N = 800), it is 0.6 to 1.3 % above Teng & Rotter (1989b) and 1.0 to 1.9 % above Huang (1964),
+at 0.766 to 0.801 ``p_c``, well below the axisymmetric snap.  Mesh-converged (N = 100 is within 8e-5
+``p_c`` of N = 800, N = 200 within 3e-5), it is 0.6 to 1.3 % above Teng & Rotter (1989b) and 1.0 to 1.9 % above Huang (1964),
 with their critical n at 7 of the 8 tabulated lambdas (lambda = 16: n = 10, their 11 is 0.5 % higher here).
 The offset is the deep-geometry effect, linear in ``h/R``: at ``R/h = 10^4`` the same model is within
-0.3 % of Huang's shallow-shell values with his n at 7 of 8 lambdas (lambda = 9: n = 5 against his 4, the
+0.31 % of Huang's shallow-shell values with his n at 7 of 8 lambdas (lambda = 9: n = 5 against his 4, the
 two 0.005 % apart at ``R/h = 100``).  The located bifurcations agree with the bisection on the block's
 inertia to 1e-9 (N <= 200), 2e-8 (N = 400) and 4e-7 (N = 800): the roundoff floor ``eps ||H_n||``, which
 grows as N^3, also bounds the eigenvalue ratio (below 1e-8 at N <= 200 only).

@@ -2,7 +2,7 @@
 
 Expected values are published ones, never our own: Huang (1964) and Teng & Rotter (1989b, Table 3),
 ``nu = 1/3`` (``docs/asymmetric.md``).  Huang's theory is shallow-shell theory: the apples-to-apples
-comparison is our cap near the shallow limit (``R/h = 10000``), which lands within 0.3 % of Huang at
+comparison is our cap near the shallow limit (``R/h = 10000``), which lands within 0.31 % of Huang at
 every tabulated lambda.  At the table's ``R/h = 100`` ours is 0.6 to 1.3 % above Teng & Rotter (a
 deep-geometry effect, linear in ``h/R``); that test states the offset as a band, not as agreement.
 The location checks compare the engine's located bifurcation with an independent bisection in ``p``
