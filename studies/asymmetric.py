@@ -28,9 +28,10 @@ Findings (``docs/asymmetric.md`` for the tables)
 ------------------------------------------------
 At ``R/h = 100``, ``nu = 1/3`` the first instability is the axisymmetric fold up to lambda = 5.5 and a
 bifurcation from lambda = 5.52 on (n = 1 up to 5.56, then n = 2 from 5.58; n = 2 .. 10 at lambda = 6 .. 16),
-at 0.766 to 0.801 ``p_c``, well below the axisymmetric snap.  Mesh-converged (N = 100 is within 8e-5
-``p_c`` of N = 800, N = 200 within 3e-5), it is 0.6 to 1.3 % above Teng & Rotter (1989b) and 1.0 to 1.9 % above Huang (1964),
-with their critical n at 7 of the 8 tabulated lambdas (lambda = 16: n = 10, their 11 is 0.5 % higher here).
+at 0.766 to 0.801 ``p_c``, 0.67 to 0.96 of the axisymmetric snap.  Mesh-converged (N = 100 is within 8e-5
+``p_c`` of N = 800, N = 200 within 3e-5), it is 0.6 to 1.3 % above Teng & Rotter (1989b) and 1.0 to
+1.9 % above Huang (1964), with their critical n at 7 of the 8 tabulated lambdas (lambda = 16: n = 10,
+their 11 is 0.5 % higher here).
 The offset is the deep-geometry effect, linear in ``h/R``: at ``R/h = 10^4`` the same model is within
 0.31 % of Huang's shallow-shell values with his n at 7 of 8 lambdas (lambda = 9: n = 5 against his 4, the
 two 0.005 % apart at ``R/h = 100``).  The located bifurcations agree with the bisection on the block's
@@ -158,7 +159,8 @@ def first_instability(lam: float, N: int, r_over_h: float = R_OVER_H, nu: float 
 
 
 def snap_pressure(lam: float, N: int, r_over_h: float = R_OVER_H, nu: float = NU) -> float | None:
-    """The axisymmetric snap: the first fold in ``p`` of the path traced without harmonics (None: none up to ``P_MAX``)."""
+    """The axisymmetric snap: the first fold in ``p`` of the path traced without harmonics (None: none up to
+    ``P_MAX``)."""
     pr = cap_problem(lam, N, r_over_h, nu, harmonics=0)
     br = contin.continuation(pr, pr.reference_unknowns(), 0.0,
                              contin.Settings(ds=0.02, ds_max=0.05, max_steps=4000, stop_at=("fold",)), p_max=P_MAX)
@@ -465,7 +467,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                       "source": PUBLISHED_SOURCE},
         "snap_without_harmonics": {str(k): v for k, v in snaps.items()},
         "fold_with_harmonics_traced_on": {str(k): v for k, v in fold_with_harmonics.items()},
-        "convergence": conv, "shallow_limit": shallow, "bisection": bis_rows, "modes": mode_rows, "seconds": elapsed, "rows": public})
+        "convergence": conv, "shallow_limit": shallow, "bisection": bis_rows, "modes": mode_rows,
+        "seconds": elapsed, "rows": public})
     save_figure(plot_lambda(rows, snaps, N_sweep, mode_rows), out, "asymmetric_lambda")
     if not args.quiet:
         print_table([r for r in public if r["N"] == N_sweep], cols, digits=5)
