@@ -388,6 +388,9 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
                  label=r"other $n$ within 0.5 % of $p_{cr}$ (R/h = 100)")
     axn.set_xlabel(r"$\lambda = 2\,[3(1-\nu^2)]^{1/4}\sqrt{H/h}$")
     axn.set_ylabel(r"critical $n$")
+    from matplotlib.ticker import MaxNLocator
+
+    axn.yaxis.set_major_locator(MaxNLocator(integer=True))
     axn.grid(alpha=0.3)
     axn.legend(fontsize="x-small", loc="upper left")
     for a in (ax, axd, axn):
