@@ -172,3 +172,25 @@ def test_complete_sphere_bifurcates_near_the_classical_pressure() -> None:
     row = bifurcation_row(100.0, bifurcation_nodes(100.0))
     assert row["p_over_p_c"] == pytest.approx(1.0, abs=0.02)
     assert row["l"] in (17, 18)
+
+
+def test_moment_free_edge_derivatives_equal_sympy_in_high_precision() -> None:
+    """The hand-derived gradient and Hessian of MomentFreeEdge against sympy's, evaluated at 40 digits."""
+    import sympy
+
+    from contin_models.shell.structure import MomentFreeEdge
+
+    r, z = np.array([0.7, 0.55, 0.3]), np.array([0.6, 0.78, 0.9])
+    edge = MomentFreeEdge(r, z, kb=2.5, nu=NU)
+    r0, z0, r1, z1 = sympy.symbols("r0 z0 r1 z1")
+    kappa = (z1 - z0) / (sympy.sqrt((r1 - r0) ** 2 + (z1 - z0) ** 2) * r0)
+    energy = sympy.Float(edge.K, 40) * (kappa - sympy.Float(edge.kappa_bar, 40)) ** 2
+    dofs = (r0, z0, r1, z1)
+    x = np.array([0.71, 0.58, 0.56, 0.8])
+    subs = {d: sympy.Float(float(v), 40) for d, v in zip(dofs, x)}
+    grad = np.array([float(sympy.diff(energy, d).evalf(40, subs=subs)) for d in dofs])
+    hess = np.array([[float(sympy.diff(energy, a, b).evalf(40, subs=subs)) for b in dofs] for a in dofs])
+    state = np.concatenate([x, np.zeros(2)])
+    assert edge.energy(state) == pytest.approx(float(energy.evalf(40, subs=subs)), rel=1e-13)
+    assert np.allclose(edge.gradient(state), grad, rtol=1e-12, atol=1e-13 * np.abs(grad).max())
+    assert np.allclose(edge.hessian(state), hess, rtol=1e-12, atol=1e-13 * np.abs(hess).max())
