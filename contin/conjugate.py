@@ -44,7 +44,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
-from .deadload import bordered_matrix
+from .deadload import _last, _scaled_derivative, _scaled_observable, bordered_matrix
 from .linalg import Factorization, factorize
 from .problem import Constrained, LeadingBlock, Problem
 
@@ -220,21 +220,3 @@ class ConjugateControl(Problem):
         u, p = self.split(U)
         dU = np.asarray(dU, dtype=float)
         return self.base.max_step_fraction(u, p, dU[:-1], self.unit * float(dU[-1]))
-
-
-def _last(U: np.ndarray, value: float) -> np.ndarray:
-    e = np.zeros(np.size(U))
-    e[-1] = value
-    return e
-
-
-def _scaled_observable(fun: Callable[[np.ndarray, float], float], factor: float) -> Callable[[np.ndarray, float], float]:
-    return lambda U, q: factor * fun(U, q)
-
-
-def _scaled_derivative(fun: Callable[[np.ndarray, float], tuple[np.ndarray, float]],
-                       factor: float) -> Callable[[np.ndarray, float], tuple[np.ndarray, float]]:
-    def derivative(U: np.ndarray, q: float) -> tuple[np.ndarray, float]:
-        dU, dq = fun(U, q)
-        return factor * dU, factor * dq
-    return derivative

@@ -43,9 +43,10 @@ import numpy as np  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 
 import contin  # noqa: E402
-from contin_models.shell.geometry import interleave, spherical_cap  # noqa: E402
+from contin_models.shell.geometry import spherical_cap  # noqa: E402
 from contin_models.shell.harmonic import (HarmonicShell, block_eigs, block_inertia,  # noqa: E402
                                           ring_mesh_block)
+from contin_models.shell.meridian import complete_sphere_meridian
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure  # noqa: E402
 
 
@@ -158,22 +159,10 @@ def ring() -> None:
               + " | orders " + " ".join(f"{o:.2f}" for o in orders) + f" | Richardson(64,128) {rich:.1e}")
 
 
-class _Sphere:
-    def __init__(self, R: float, N: int, h: float) -> None:
-        t = np.linspace(-0.5 * math.pi, 0.5 * math.pi, N)
-        r, z = R * np.cos(t), R * np.sin(t)
-        r[0] = r[-1] = 0.0
-        self.R, self.N, self.r, self.z, self.thickness = R, N, r, z, h
-        self.edge_length = np.hypot(np.diff(r), np.diff(z))
-        self.edge_radius = 0.5 * (r[:-1] + r[1:])
-        v = np.zeros(N)
-        v[:-1] += 0.5 * self.edge_length
-        v[1:] += 0.5 * self.edge_length
-        self.voronoi_length, self.node_radius = v, r
-
-    @property
-    def x(self) -> np.ndarray:
-        return interleave(self.r, self.z)
+def _Sphere(R: float, N: int, h: float) -> Any:
+    """A complete sphere's reference meridian, pole to pole, uniform in the polar angle (the thickness
+    is passed to the structure)."""
+    return complete_sphere_meridian(R, N, 1.0)
 
 
 def _newton(prob, u, p):

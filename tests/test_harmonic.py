@@ -18,6 +18,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -25,33 +26,19 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import contin
-from contin_models.shell.geometry import interleave, spherical_cap
+from contin_models.shell.geometry import spherical_cap
 from contin_models.shell.harmonic import (HarmonicShell, Jet, block_eigs, block_inertia, bend_density,
                                           harmonic_block, harmonic_dofs, mode_maps, ring_mesh_block,
                                           ring_mesh_energy, stretch_density, volume_density)
+from contin_models.shell.meridian import complete_sphere_meridian
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure
 from contin_models.shell.volume import volume_hessian
 
 
-class Sphere:
-    """A complete sphere's reference meridian, pole to pole (``r = R cos t``, ``z = R sin t``,
-    ``t`` uniform in ``[-pi/2, pi/2]``), with what :class:`ShellStructure` reads."""
-
-    def __init__(self, R: float, N: int, h: float) -> None:
-        t = np.linspace(-0.5 * math.pi, 0.5 * math.pi, N)
-        r, z = R * np.cos(t), R * np.sin(t)
-        r[0] = r[-1] = 0.0
-        self.R, self.N, self.r, self.z, self.thickness = R, N, r, z, h
-        self.edge_length = np.hypot(np.diff(r), np.diff(z))
-        self.edge_radius = 0.5 * (r[:-1] + r[1:])
-        v = np.zeros(N)
-        v[:-1] += 0.5 * self.edge_length
-        v[1:] += 0.5 * self.edge_length
-        self.voronoi_length, self.node_radius = v, r
-
-    @property
-    def x(self) -> np.ndarray:
-        return interleave(self.r, self.z)
+def Sphere(R: float, N: int, h: float) -> Any:
+    """A complete sphere's reference meridian, pole to pole, uniform in the polar angle (the thickness
+    is passed to the structure)."""
+    return complete_sphere_meridian(R, N, 1.0)
 
 
 def classical_pc(E: float, h: float, R: float, nu: float) -> float:

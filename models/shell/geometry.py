@@ -39,7 +39,7 @@ import numpy as np
 
 from . import _generated as gen
 
-__all__ = ["ReferenceCap", "spherical_cap", "theta_nodes", "grading_map", "interleave", "split", "POLE_RATIO", "GRADING_WIDTH"]
+__all__ = ["ReferenceCap", "spherical_cap", "reference_quantities", "theta_nodes", "grading_map", "interleave", "split", "POLE_RATIO", "GRADING_WIDTH"]
 
 #: Default ratio of the node spacing at the pole to the spacing away from it (1: uniform mesh).
 POLE_RATIO = 0.5
@@ -198,6 +198,40 @@ class ReferenceCap:
         return 0.5 * math.pi - self.phi_hat
 
 
+def reference_quantities(r: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Edge lengths and radii, Voronoi lengths and discrete curvatures of a reference polyline.
+
+    Parameters
+    ----------
+    r, z : ndarray, shape ``(N,)``
+        Node coordinates, edge (node 0) to pole (node ``N-1``).
+
+    Returns
+    -------
+    edge_length, edge_radius : ndarray, shape ``(N-1,)``
+        Chords ``lbar^i`` and radii ``rbar^i = (r_i + r_{i+1}) / 2``.
+    voronoi_length : ndarray, shape ``(N,)``
+        Half the sum of a node's edges (half an edge at the two end nodes).
+    kappa11, kappa22 : ndarray, shape ``(N,)``
+        Discrete curvatures at the interior nodes from the bending element's own formulas; NaN at the
+        two end nodes.
+    """
+    N = r.size
+    dr, dz = np.diff(r), np.diff(z)
+    edge_length = np.sqrt(dr**2 + dz**2)
+    edge_radius = 0.5 * (r[:-1] + r[1:])
+    voronoi_length = np.zeros(N)
+    voronoi_length[:-1] += 0.5 * edge_length
+    voronoi_length[1:] += 0.5 * edge_length
+    kappa11 = np.full(N, np.nan)
+    kappa22 = np.full(N, np.nan)
+    k11, k22 = gen.bend_curvatures(r[:-2], z[:-2], r[1:-1], z[1:-1], r[2:], z[2:],
+                                   voronoi_length[1:-1], r[1:-1], 0.0, 0.0, 1.0, 0.0)
+    kappa11[1:-1] = k11
+    kappa22[1:-1] = k22
+    return edge_length, edge_radius, voronoi_length, kappa11, kappa22
+
+
 def spherical_cap(R: float, phi_hat: float, N: int, pole_ratio: float = POLE_RATIO) -> ReferenceCap:
     """Discretise the reference spherical cap with ``N`` nodes (graded towards the pole, see :func:`theta_nodes`).
 
@@ -230,18 +264,7 @@ def spherical_cap(R: float, phi_hat: float, N: int, pole_ratio: float = POLE_RAT
     r = R * np.cos(theta)
     z = R * np.sin(theta)
     r[-1], z[-1] = 0.0, R  # the pole exactly on the axis
-    dr, dz = np.diff(r), np.diff(z)
-    edge_length = np.sqrt(dr**2 + dz**2)
-    edge_radius = 0.5 * (r[:-1] + r[1:])
-    voronoi_length = np.zeros(N)
-    voronoi_length[:-1] += 0.5 * edge_length
-    voronoi_length[1:] += 0.5 * edge_length
-    kappa11 = np.full(N, np.nan)
-    kappa22 = np.full(N, np.nan)
-    k11, k22 = gen.bend_curvatures(r[:-2], z[:-2], r[1:-1], z[1:-1], r[2:], z[2:],
-                                   voronoi_length[1:-1], r[1:-1], 0.0, 0.0, 1.0, 0.0)
-    kappa11[1:-1] = k11
-    kappa22[1:-1] = k22
+    edge_length, edge_radius, voronoi_length, kappa11, kappa22 = reference_quantities(r, z)
     for a in (theta, r, z, edge_length, edge_radius, voronoi_length, kappa11, kappa22):
         a.setflags(write=False)
     return ReferenceCap(R=R, phi_hat=phi_hat, N=N, theta=theta, r=r, z=z, edge_length=edge_length,

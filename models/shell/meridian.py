@@ -68,8 +68,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
-from . import _generated as gen
-from .geometry import GRADING_WIDTH, POLE_RATIO, grading_map, interleave, theta_nodes
+from .geometry import GRADING_WIDTH, POLE_RATIO, grading_map, interleave, reference_quantities, theta_nodes
 
 __all__ = ["Segment", "SphericalArc", "Cone", "TorusArc", "EllipseArc", "TableProfile", "ReferenceMeridian",
            "meridian", "spherical_cap_meridian", "complete_sphere_meridian", "cone_meridian", "plate_meridian",
@@ -626,24 +625,13 @@ def _readonly(*arrays):
 def _assemble(r: np.ndarray, z: np.ndarray, **meta) -> ReferenceMeridian:
     """Every reference quantity from the nodes, as :func:`~contin_models.shell.geometry.spherical_cap` computes them."""
     N = r.size
-    dr, dz = np.diff(r), np.diff(z)
-    edge_length = np.sqrt(dr**2 + dz**2)
-    if np.any(edge_length == 0):
-        k = int(np.flatnonzero(edge_length == 0)[0])
+    if np.any((np.diff(r) == 0) & (np.diff(z) == 0)):
+        k = int(np.flatnonzero((np.diff(r) == 0) & (np.diff(z) == 0))[0])
         raise ValueError(f"meridian: nodes {k} and {k + 1} coincide (zero-length edge)")
     if np.any(r < 0):
         k = int(np.argmin(r))
         raise ValueError(f"meridian: node {k} has r = {r[k]!r} < 0 (the half plane r >= 0)")
-    edge_radius = 0.5 * (r[:-1] + r[1:])
-    voronoi_length = np.zeros(N)
-    voronoi_length[:-1] += 0.5 * edge_length
-    voronoi_length[1:] += 0.5 * edge_length
-    kappa11 = np.full(N, np.nan)
-    kappa22 = np.full(N, np.nan)
-    k11, k22 = gen.bend_curvatures(r[:-2], z[:-2], r[1:-1], z[1:-1], r[2:], z[2:],
-                                   voronoi_length[1:-1], r[1:-1], 0.0, 0.0, 1.0, 0.0)
-    kappa11[1:-1] = k11
-    kappa22[1:-1] = k22
+    edge_length, edge_radius, voronoi_length, kappa11, kappa22 = reference_quantities(r, z)
     arrays = dict(s=meta.pop("s"), theta=meta.pop("theta"), thickness=meta.pop("thickness"),
                   segment_of_node=meta.pop("segment_of_node"), junction_nodes=meta.pop("junction_nodes"),
                   corner_nodes=meta.pop("corner_nodes"))
