@@ -13,9 +13,13 @@ displacement control), and the first bifurcation (its ``n`` and ``w``), with the
 * ``before_fold_in_w``: the bifurcation comes before the snap under displacement control;
 * ``before_F_max``: it comes before the limit load, the snap under force control.
 
-This is a grid, not yet the boundary traced as a curve (the bifurcation continued in a second
-parameter), which is left for the next step of issue 17.  Mesh: N = 100 (``--full``: 200),
-``n_max`` = 12.  Writes ``asymmetric_point.csv``, ``summary.json`` and ``asymmetric_point.png`` / ``.pdf``.
+``--boundary`` also locates, for a few ``phi_hat``, the thickness at which the first bifurcation
+reaches the limit load (``before_F_max`` changes), by bisection in ``ln(h/R)`` on that test, each
+evaluation a classification (pole held laterally): points on the boundary, to 1 % in ``h``, not yet
+the boundary continued as a curve (the bifurcation point continued in a second parameter needs the
+gradient of a block's bordered determinant with respect to the state, left for the next step of
+issue 17).  Mesh: N = 100 (``--full``: 200), ``n_max`` = 12.  Writes ``asymmetric_point.csv``,
+``boundary.csv``, ``summary.json`` and ``asymmetric_point.png`` / ``.pdf``.
 """
 
 from __future__ import annotations
@@ -58,8 +62,33 @@ def cap_row(args: tuple[float, float, int, bool]) -> dict[str, Any]:
             "before_F_max": bool(bif and w_fmax is not None and first.get("w") is not None and first["w"] < w_fmax)}
 
 
-def plot(rows: Sequence[dict[str, Any]]) -> Any:
-    """The grid in ``(phi_hat, h/R)``: marker by class, colour by where the first bifurcation comes, its n."""
+def boundary_point(phi_hat: float, h_lo: float, h_hi: float, N: int, rtol: float = 0.01) -> dict[str, Any]:
+    """The ``h/R`` in ``[h_lo, h_hi]`` where the first bifurcation (pole held) reaches ``F_max``: bisection in
+    ``ln h`` on ``before_F_max`` (true at ``h_lo``, false at ``h_hi``); None when the bracket does not."""
+    lo, hi = cap_row((phi_hat, h_lo, N, True)), cap_row((phi_hat, h_hi, N, True))
+    out: dict[str, Any] = {"phi_hat": phi_hat, "N": N, "h_lo": h_lo, "h_hi": h_hi, "evaluations": 2}
+    if not (lo["before_F_max"] and not hi["before_F_max"]):
+        out["h_over_R"] = None
+        out["note"] = f"no change on the bracket (before F_max: {lo['before_F_max']} at {h_lo}, {hi['before_F_max']} at {h_hi})"
+        return out
+    a, b = math.log(h_lo), math.log(h_hi)
+    n_lo = lo["first_n"]
+    while b - a > rtol:
+        m = 0.5 * (a + b)
+        row = cap_row((phi_hat, math.exp(m), N, True))
+        out["evaluations"] += 1
+        if row["before_F_max"]:
+            a, n_lo = m, row["first_n"]
+        else:
+            b = m
+    out["h_over_R"] = math.exp(0.5 * (a + b))
+    out["n_at_boundary"] = n_lo
+    return out
+
+
+def plot(rows: Sequence[dict[str, Any]], boundary: Sequence[dict[str, Any]] = ()) -> Any:
+    """The grid in ``(phi_hat, h/R)``: marker by class, colour by where the first bifurcation comes, its n;
+    the located boundary points (pole held) on the right."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -74,6 +103,14 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
             if r["first_n"] is not None:
                 ax.annotate(str(r["first_n"]), (r["phi_hat"], r["h_over_R"]), textcoords="offset points",
                             xytext=(5, 3), fontsize="x-small")
+        pts = [(b["phi_hat"], b["h_over_R"]) for b in boundary if b.get("h_over_R")]
+        if held and pts:
+            ax.semilogy(*zip(*pts), "k+-", lw=0.8, ms=9, label="bifurcation reaches F_max")
+            lam = float(np.mean([(12 * 0.75) ** 0.25 * (math.pi / 2 - f) / math.sqrt(hh) for f, hh in pts]))
+            ff = np.linspace(0.55, 1.45, 50)
+            ax.semilogy(ff, ((12 * 0.75) ** 0.25 * (math.pi / 2 - ff) / lam) ** 2, ":", color="gray", lw=0.8)
+            ax.annotate(f"$\\lambda$ = {lam:.2f}", (ff[30], ((12 * 0.75) ** 0.25 * (math.pi / 2 - ff[30]) / lam) ** 2),
+                        fontsize="x-small", color="gray")
         ax.set_xlabel(r"$\hat\phi$ (base angle) [rad]")
         ax.set_title("pole held laterally" if held else "frictionless point (pole free)", fontsize="small")
     axes[0].set_ylabel("$h/R$")
@@ -89,10 +126,16 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     return fig
 
 
+def _boundary_task(args: tuple[float, float, float, int]) -> dict[str, Any]:
+    return boundary_point(*args)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Command line: see the module docstring."""
     parser = study_parser("asymmetric_point", "point-loaded caps: where they leave the axisymmetric path",
                           executor_options=True)
+    parser.add_argument("--boundary", action="store_true",
+                        help="also locate where the first bifurcation reaches F_max, for a few phi_hat")
     args = parser.parse_args(argv)
     out = output_dir(args.out)
     N = 200 if args.full else 100
@@ -111,8 +154,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     print_table(rows, ["phi_hat", "h_over_R", "pole_held", "class", "F_max_norm", "w_at_F_max_over_R", "first_kind",
                        "first_n", "first_w_over_R", "before_fold_in_w", "before_F_max"])
     write_csv(out / "asymmetric_point.csv", rows)
-    write_json(out / "summary.json", {"rows": rows, "N": N, "n_max": N_MAX, "nu": 0.5})
-    save_figure(plot(rows), out, "asymmetric_point")
+    boundary: list[dict[str, Any]] = []
+    if args.boundary:
+        brackets = ((0.6, 0.02, 0.04), (0.7, 0.01, 0.04), (0.8, 0.01, 0.02), (0.9, 0.005, 0.02))
+        say(args.quiet, f"boundary: the first bifurcation at F_max, {len(brackets)} base angles ...")
+        with executor_from_args(args) as ex:
+            boundary = list(ex.map(_boundary_task, [(phi, lo, hi, N) for phi, lo, hi in brackets]))
+        print_table(boundary, ["phi_hat", "h_over_R", "n_at_boundary", "evaluations", "h_lo", "h_hi"])
+        write_csv(out / "boundary.csv", boundary)
+    write_json(out / "summary.json", {"rows": rows, "boundary": boundary, "N": N, "n_max": N_MAX, "nu": 0.5})
+    save_figure(plot(rows, boundary), out, "asymmetric_point")
     return 0
 
 
