@@ -7,6 +7,7 @@ it gives every fold, branch point and extremum event its stability on either sid
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Any
 
@@ -84,6 +85,7 @@ class Recorder:
         self.specials: list[SpecialPoint] = []
         self.families = tuple(getattr(problem, "operator_families", ())) if st.stability else ()
         self.modes: dict[str, list[list[int]]] = {fam.name: [] for fam in self.families}
+        self.lowest: dict[str, list[list[float]]] = {fam.name: [] for fam in self.families}
 
     def add(self, pt: Point) -> None:
         """Store an accepted point (its observables and, when asked, its stability)."""
@@ -108,6 +110,8 @@ class Recorder:
                 counts = (pt.modes or {}).get(fam.name)
                 counts = list(counts if counts is not None else family_counts(fam, pt.u, pt.p))
                 self.modes[fam.name].append(counts)
+                lows = (pt.modes or {}).get(f"{fam.name}.lowest")
+                self.lowest[fam.name].append([float(v) for v in lows] if lows is not None else [math.nan] * len(counts))
                 extra += sum(fam.copies(k) * c for k, c in zip(fam.keys, counts))
         if self.st.stability:
             self._add_stability(pt, extra)
@@ -168,7 +172,7 @@ class Recorder:
         meta: dict[str, Any] = {}
         if self.families:
             meta["modes"] = {fam.name: {"keys": list(fam.keys), "multiplicity": [fam.copies(k) for k in fam.keys],
-                                        "n_negative": self.modes[fam.name]}
+                                        "n_negative": self.modes[fam.name], "lowest": self.lowest[fam.name]}
                              for fam in self.families}
         return {**meta, "problem": self.problem.name, "parameter_name": self.problem.parameter_name,
                 "wall_time_s": time.perf_counter() - t_start, "n_steps": max(len(self.p) - 1, 0),

@@ -929,28 +929,39 @@ def branch_columns(branches: Sequence[Branch],
 
 def _mode_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
     """Per watched operator family (:mod:`contin.modes`): ``n_negative_<name>``, the Morse index of all its
-    operators (each counted with its multiplicity), and ``critical_<name>``, the smallest key with a
-    negative eigenvalue (NaN where there is none, or on a branch that did not watch the family)."""
+    operators (each counted with its multiplicity); ``critical_<name>``, the smallest key with a negative
+    eigenvalue, or where there is none the key whose eigenvalue nearest zero is smallest; and
+    ``lowest_<name>``, that key's eigenvalue nearest zero (NaN on a branch that did not watch the family)."""
     names: list[str] = []
     for br in branches:
         names += [n for n in br.meta.get("modes", {}) if n not in names]
     out: dict[str, np.ndarray] = {}
     for name in names:
-        total, critical = [], []
+        total, critical, lowest = [], [], []
         for br in branches:
             fam = br.meta.get("modes", {}).get(name)
             if fam is None or len(fam["n_negative"]) != len(br):
-                total.append(np.full(len(br), np.nan))
-                critical.append(np.full(len(br), np.nan))
+                for col in (total, critical, lowest):
+                    col.append(np.full(len(br), np.nan))
                 continue
             counts = np.asarray(fam["n_negative"], dtype=float).reshape(len(br), len(fam["keys"]))
+            lows = np.asarray(fam.get("lowest", np.full(counts.shape, np.nan)), dtype=float).reshape(counts.shape)
             mult = np.asarray(fam.get("multiplicity", [1] * len(fam["keys"])), dtype=float)
-            total.append(counts @ mult)
             keys = np.asarray(fam["keys"], dtype=float)
-            first = np.where(counts > 0, keys[None, :], np.inf).min(axis=1)
-            critical.append(np.where(np.isfinite(first), first, np.nan))
+            total.append(counts @ mult)
+            unstable = np.argmax(counts > 0, axis=1)  # the first key with a negative eigenvalue
+            any_negative = (counts > 0).any(axis=1)
+            finite = np.where(np.isfinite(lows), lows, np.inf)
+            stable_pick = np.argmin(finite, axis=1)
+            pick = np.where(any_negative, unstable, stable_pick)
+            rows = np.arange(len(br))
+            picked = lows[rows, pick]
+            ok = any_negative | np.isfinite(finite[rows, stable_pick])
+            critical.append(np.where(ok, keys[pick], np.nan))
+            lowest.append(np.where(ok, picked, np.nan))
         out[f"n_negative_{name}"] = np.concatenate(total)
         out[f"critical_{name}"] = np.concatenate(critical)
+        out[f"lowest_{name}"] = np.concatenate(lowest)
     return out
 
 
