@@ -127,6 +127,10 @@ def family_counts(family: OperatorFamily, u: np.ndarray, p: float) -> tuple[int,
     return tuple(_count(family.operator(key, u, p)) for key in family.keys)
 
 
+#: A located root of the bordered function is accepted as a singular point when the operator's eigenvalue
+#: nearest zero is below this fraction of the next (Jacobi-scaled); otherwise the eigenvalue is bisected.
+SINGULAR_RATIO = 1e-6
+
 #: Inverse-iteration steps of the per-point eigenvalue estimate (warm-started from the previous point).
 LOWEST_ITERATIONS = 4
 
@@ -213,9 +217,6 @@ def ordered_eigenvalue(H: Any, index: int) -> float:
     n = H.shape[0]
     if (sp.issparse(H) and n > BANDED_MIN) or n <= 3000:
         return float(ordered_eigenpairs(H, index, index)[0][0])
-    if n <= 3000:
-        A = H.toarray() if sp.issparse(H) else np.asarray(H, dtype=float)
-        return float(np.linalg.eigvalsh(0.5 * (A + A.T))[index])
     from scipy.sparse.linalg import eigsh
 
     w = eigsh(sp.csc_matrix(H), k=index + 1, which="SA", return_eigenvectors=False)
@@ -314,7 +315,14 @@ class ModeTest(TestFunction):
             return None
         if not f_A * f_B < 0.0:
             return None
-        return seg.root(g, f_A, f_B, tol)
+        sigma = seg.root(g, f_A, f_B, tol)
+        # g also changes sign across a pole (b^T K^-1 b = 0, possible once K is indefinite): accept the
+        # root only where K is singular, i.e. its eigenvalue nearest zero is far below the next
+        u, p, _ = seg.point(sigma)
+        w, _ = eigenvalues_near_zero(_jacobi_scaled(fam.operator(key, u, p)), 2)
+        if w.size > 1 and abs(w[0]) > SINGULAR_RATIO * abs(w[1]):
+            return None
+        return sigma
 
     def locate(self, seg: Segment, before: tuple[int, ...], after: tuple[int, ...]) -> SpecialPoint:  # type: ignore[override]
         fam = self.family
