@@ -26,6 +26,9 @@ states are stable.  The study reports
   Hessian restricted to the volume constraint's tangent, the bordered count minus one;
   ``"pressure"``: the Hessian's own count).
 
+With every mode watched (issue 17, study (c), :func:`every_mode`, ``every_mode.csv``): the first
+instability of each cap under each control, through the scene runner with ``stability.harmonics``.
+
 Units: ``h = 1``, ``R = R/h``, and ``E`` such that ``p_c = 1`` (as :mod:`studies.classical`).  Mesh
 ``N = 100`` (``--full``: 200 and 400 as well, for the mesh convergence of the snap points).
 
@@ -345,6 +348,34 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
     return fig
 
 
+def every_mode(lam: float, N: int) -> list[dict[str, Any]]:
+    """Issue 17, study (c): the first instability of the same cap under both controls with every mode watched.
+
+    The scene runner (``contin trace``'s work) with ``stability.harmonics = true``: the first fold under
+    the control or the first bifurcation into a wave number ``n``, whichever comes first.  An ``n >= 1``
+    field changes neither the pressure's work nor the volume to first order, so both controls share
+    those blocks and must meet the same bifurcation at the same state.
+    """
+    from contin.scene import load_scene
+    from contin_models.shell.pressure import phi_hat_for_lambda
+    from contin_models.shell_scene import SHELL_SCENE
+
+    h = 1.0 / R_OVER_H
+    rows = []
+    for control in ("force", "displacement"):
+        scene = load_scene(SHELL_SCENE.schema, None, [
+            "load.kind=pressure", f"load.control={control}", "shell.boundary=clamped", f"shell.h={h!r}",
+            f"shell.nu={NU}", f"shell.phi_hat={phi_hat_for_lambda(lam, 1.0, h, NU)!r}", f"shell.N={N}",
+            "stability.harmonics=true", "output.figure=false"])
+        result = SHELL_SCENE.runner(scene, False)
+        first = result.summary.get("first_instability") or {}
+        rows.append({"lambda": lam, "N": N, "control": "pressure" if control == "force" else "volume",
+                     "first_kind": first.get("kind"), "n": first.get("n"), "p_over_p_c": first.get("p_over_p_c"),
+                     "w_over_h": first.get("w_over_h"), "axisymmetric_p_max_over_p_c": result.summary.get("p_snap_over_p_c"),
+                     "axisymmetric_dV_fold_over_V0": result.summary.get("dV_snap_over_V0")})
+    return rows
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Command line: see the module docstring."""
     parser = study_parser("volume_control", "a clamped cap under volume control against pressure control")
@@ -368,12 +399,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         "caps": [run["result"] for run in runs], "mesh": [run["result"] for run in mesh], "special_points": points,
         "scan": scanned})
     write_csv(out / "scan.csv", scanned)
+    say(args.quiet, f"every mode (issue 17, study (c)): lambda = {', '.join(f'{x:g}' for x in LAMBDAS)}, N = 120, "
+                    "both controls ...")
+    modes = [row for lam in LAMBDAS for row in every_mode(lam, 120)]
+    write_csv(out / "every_mode.csv", modes)
     save_figure(plot(runs), out, "volume_control")
     print_table(points, ["lambda", "N", "folds_in", "label", "dV_over_V0", "p_over_p_c", "w_over_h", "volume",
                          "pressure", "landing_p_over_p_c", "landing_w_over_h"], digits=6)
     print()
     print_table(scanned, ["lambda", "N", "p_max_over_p_c", "dV_at_p_max_over_V0", "dV_fold_over_V0",
                           "p_at_dV_fold_over_p_c", "w_at_dV_fold_over_h", "dV_fold_past_p_max"], digits=6)
+    print()
+    print_table(modes, ["lambda", "N", "control", "first_kind", "n", "p_over_p_c", "w_over_h",
+                        "axisymmetric_p_max_over_p_c", "axisymmetric_dV_fold_over_V0"], digits=6)
     print()
     for run in runs + mesh:
         res = run["result"]
