@@ -62,7 +62,7 @@ from typing import Any
 
 import contin
 from contin.modes import OperatorFamily
-from contin.branch import Branch, SpecialPoint
+from contin.branch import Branch
 from contin.conjugate import ConjugateControl
 from contin.linalg import Factorization
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
@@ -71,7 +71,7 @@ from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.structure import ShellOfRevolution
 
 from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
-from .schema import Scene, shell_first_instability, harmonic_summary
+from .schema import Scene, harmonic_summary, record_fields, shell_first_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a pressure.
 _INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
@@ -89,13 +89,6 @@ _OBS = ("p_over_p_c", "w", "w_over_h", "V")
 _TABLE_COLUMNS = {"p": "p", "p/p_c": "p_over_p_c", "w": "w", "w/h": "w_over_h"}
 #: What the diagram's axes show.
 _AXIS_LABELS = {"w_over_h": "pole deflection / thickness", "p_over_p_c": "pressure / classical p_c"}
-
-
-def _pressure_fields(spt: SpecialPoint) -> dict[str, Any]:
-    """The pressure scene's own fields of a special point's record: its observables and ``index``."""
-    out: dict[str, Any] = {name: float(spt.observables[name]) for name in _OBS if name in spt.observables}
-    out["index"] = int(spt.index)
-    return out
 
 
 def _snap(records: list[dict[str, Any]], p_c: float) -> dict[str, Any]:
@@ -152,7 +145,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     st = pressure_settings(scene, problem, progress)
     br: Branch = contin.continuation(problem, problem.reference_unknowns(), 0.0, st)
     labels = ["path"]
-    records = special_point_records([br], parameter_name=problem.parameter_name, fields=_pressure_fields)
+    records = special_point_records([br], parameter_name=problem.parameter_name, fields=record_fields(_OBS))
     summary: dict[str, Any] = {
         "p_c": problem.p_c,
         **_shape_fields(scene),
@@ -255,15 +248,6 @@ _VOLUME_STABILITY_COLUMNS = {"stable": "stable_volume", "n_negative": "n_negativ
 _VOLUME_AXIS_LABELS = {"dV": "volume pushed in, V0 - V", "p_over_p_c": "pressure / classical p_c"}
 
 
-def _volume_fields(spt: SpecialPoint) -> dict[str, Any]:
-    """A special point's own fields under volume control: its observables, ``index`` and the control it folds under."""
-    out: dict[str, Any] = {name: float(spt.observables[name]) for name in _VOLUME_OBS if name in spt.observables}
-    out["index"] = int(spt.index)
-    if spt.info.get("stability_label") is not None:
-        out["stability_control"] = spt.info["stability_label"]
-    return out
-
-
 def _volume_snap(records: list[dict[str, Any]], V0: float, p_c: float) -> dict[str, Any]:
     """The first fold in ``dV`` along the path: where the cap snaps under a prescribed volume."""
     folds = [r for r in records if r["kind"] == "fold" and r.get("parameter") == "dV"]
@@ -287,7 +271,7 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     # event and recorded as a fold in p, stable before and after under pressure control
     events = [contin.extremum("p", which, folds="p", stability_label=VOLUME_LABELS[1]) for which in ("max", "min")]
     br: Branch = contin.continuation(problem, U0, q0, st, events=events)
-    records = special_point_records([br], parameter_name=problem.parameter_name, fields=_volume_fields)
+    records = special_point_records([br], parameter_name=problem.parameter_name, fields=record_fields(_VOLUME_OBS))
     V0 = float(pressure.pressure.V0)
     summary: dict[str, Any] = {
         "p_c": pressure.p_c,

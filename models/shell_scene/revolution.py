@@ -35,11 +35,11 @@ import math
 from typing import Any
 
 import contin
-from contin.branch import Branch, SpecialPoint
+from contin.branch import Branch
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
-from .schema import STABILITY_COLUMNS, Scene, shell_first_instability, harmonic_summary
+from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, record_fields, shell_first_instability
 from .shape import rise
 
 __all__ = ["run_revolution"]
@@ -47,14 +47,6 @@ __all__ = ["run_revolution"]
 _OBS = ("F", "w", "w_over_h", "w_over_L", "F_norm", "w_pole")
 _TABLE_COLUMNS = {"folds_in": "parameter", "F": "F", "w": "w", "w/h": "w_over_h", "F L/(2 pi D)": "F_norm"}
 _AXIS_LABELS = {"w": "deflection of the loaded node, w", "F": "total load, F"}
-
-
-def _fields(spt: SpecialPoint) -> dict[str, Any]:
-    out: dict[str, Any] = {name: float(spt.observables[name]) for name in _OBS if name in spt.observables}
-    out["index"] = int(spt.index)
-    if spt.info.get("stability_label") is not None:
-        out["stability_control"] = spt.info["stability_label"]
-    return out
 
 
 def _first(records: list[dict[str, Any]], test) -> dict[str, Any] | None:
@@ -87,7 +79,7 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
     else:
         events = [contin.extremum("w", which, folds="w", stability_label="displacement") for which in ("max", "min")]
     br: Branch = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, events=events)
-    records = special_point_records([br], parameter_name=problem.parameter_name, fields=_fields)
+    records = special_point_records([br], parameter_name=problem.parameter_name, fields=record_fields(_OBS))
 
     def is_F_fold(r: dict[str, Any]) -> bool:
         return r["kind"] == "fold" and r.get("parameter") == "F"

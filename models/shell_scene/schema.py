@@ -28,7 +28,7 @@ from contin_models.shell.structure import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
-__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
+__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "record_fields", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
            "minimum_nodes", "nodes_per_bending_length"]
 
 Scene = dict[str, dict[str, Any]]
@@ -247,6 +247,19 @@ def shell_first_instability(records: list[dict[str, Any]], parameter: str, field
         out.setdefault("n", None)
         out.pop("family", None)
     return out
+
+
+def record_fields(names: tuple[str, ...]) -> Any:
+    """The scene's own fields of a special point's record (for :func:`contin.scene.special_point_records`):
+    the observables ``names`` it has, its ``index`` and, when it declares one, the control it folds under
+    (``stability_control``)."""
+    def fields(spt: Any) -> dict[str, Any]:
+        out: dict[str, Any] = {name: float(spt.observables[name]) for name in names if name in spt.observables}
+        out["index"] = int(spt.index)
+        if spt.info.get("stability_label") is not None:
+            out["stability_control"] = spt.info["stability_label"]
+        return out
+    return fields
 
 
 def harmonic_summary(problem: Any, records: list[dict[str, Any]]) -> dict[str, Any] | None:
