@@ -35,6 +35,7 @@ __all__ = [
     "DenseLU",
     "BandedLU",
     "SparseLU",
+    "SymmetricBand",
     "factorize",
     "bandwidths",
     "to_banded",
@@ -171,11 +172,15 @@ class BandedLU(Factorization):
     """LU with partial pivoting in LAPACK band storage (gbtrf): O(n (kl + ku)^2) work."""
 
     def __init__(self, A, kl: int | None = None, ku: int | None = None) -> None:
-        if kl is None or ku is None:
-            kl, ku = bandwidths(A)
+        if isinstance(A, SymmetricBand):
+            kl = ku = A.kd
+            ab = A.general_band(extra_rows=kl)
+        else:
+            if kl is None or ku is None:
+                kl, ku = bandwidths(A)
+            ab = to_banded(A, kl, ku, extra_rows=kl)
         self.n = A.shape[0]
         self.kl, self.ku = kl, ku
-        ab = to_banded(A, kl, ku, extra_rows=kl)
         self._lu, self._piv, info = lapack.dgbtrf(ab, kl, ku)
         self.exactly_singular = info > 0
 
@@ -189,6 +194,136 @@ class BandedLU(Factorization):
 
     def det_sign_log(self):
         return _sign_log_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
+
+
+class SymmetricBand:
+    """A symmetric banded matrix held in LAPACK's upper band storage.
+
+    ``ab[kd + i - j, j] = A[i, j]`` for ``j - kd <= i <= j`` (``kd`` the half-bandwidth): the form
+    LAPACK's symmetric band routines (``pbtrf``, ``sbmv``, ``sbevx``) take without a copy into another
+    layout.  An operator that is assembled straight into this storage skips the sparse formats
+    altogether; :mod:`contin.modes` and :func:`factorize` accept it, and :meth:`tocsr` gives the rest
+    of the toolkit a sparse matrix.
+
+    Parameters
+    ----------
+    ab : ndarray, shape ``(kd + 1, n)``
+        The upper band (entries outside the matrix, ``ab[kd - k, :k]``, are ignored).
+    """
+
+    def __init__(self, ab: np.ndarray) -> None:
+        ab = np.asarray(ab, dtype=float)
+        if ab.ndim != 2 or ab.shape[0] < 1:
+            raise ValueError(f"SymmetricBand: ab must have shape (kd + 1, n), got {ab.shape}")
+        self.ab = ab
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(n, n)``."""
+        return self.ab.shape[1], self.ab.shape[1]
+
+    @property
+    def kd(self) -> int:
+        """Half-bandwidth."""
+        return self.ab.shape[0] - 1
+
+    def diagonal(self) -> np.ndarray:
+        """The main diagonal (a copy)."""
+        return self.ab[-1].copy()
+
+    def __matmul__(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        if x.ndim == 1:
+            from scipy.linalg import blas
+
+            return blas.dsbmv(self.kd, 1.0, self.ab, x, lower=0)
+        return np.column_stack([self @ x[:, j] for j in range(x.shape[1])])
+
+    def scaled(self, s: np.ndarray) -> "SymmetricBand":
+        """``diag(s) A diag(s)``."""
+        s = np.asarray(s, dtype=float)
+        kd, n = self.kd, self.shape[0]
+        ab = self.ab.copy()
+        for k in range(1, kd + 1):  # row kd - k holds A[j - k, j]
+            ab[kd - k, k:] *= s[:n - k] * s[k:]
+        ab[kd] *= s * s
+        return SymmetricBand(ab)
+
+    def inertia(self, growth_limit: float = 1e8, max_negative: int = 32) -> tuple[int, object] | None:
+        """Negative eigenvalues from the pivot-free ``L D L^T``, run as banded Cholesky factorizations.
+
+        LAPACK's ``pbtrf`` (unblocked for a narrow band) stops at the first pivot ``d_j <= 0`` with the
+        rows before it factorized and the rest holding the Schur complement.  A negative pivot is
+        counted and eliminated by hand (a rank-one update of the next ``kd`` rows: Haynsworth's inertia
+        additivity), and Cholesky resumes in place on the rest; so the whole costs one banded Cholesky
+        factorization plus ``O(kd^2)`` per negative eigenvalue, where a general sparse ``L D L^T`` costs
+        several times more.  Returns ``(count, cholesky)`` -- ``cholesky`` the factor for ``pbtrs`` when the matrix is
+        positive definite, else None -- or None when the pivot-free factorization cannot be trusted (a
+        zero pivot, or a multiplier above ``growth_limit``).
+        """
+        from scipy.linalg import lapack
+
+        kd, n = self.kd, self.shape[0]
+        work = np.array(self.ab, dtype=float, order="F")  # factorized in place, piece by piece
+        count, start = 0, 0
+        scale = None
+        while True:
+            piece = work[:, start:]  # Fortran-contiguous: LAPACK works on it without a copy
+            cb, info = lapack.dpbtrf(piece, lower=0, overwrite_ab=1)
+            if not np.shares_memory(cb, work):
+                piece[...] = cb
+            if info == 0:
+                return count, (work if count == 0 else None)
+            j = info - 1  # column of the non-positive pivot within the piece
+            d = piece[kd, j]
+            if scale is None:
+                scale = float(np.max(np.abs(self.ab[kd]), initial=0.0))
+            if not np.isfinite(d) or d >= 0.0 or abs(d) <= 1e-14 * scale:
+                return None  # a zero pivot: singular to working precision, or not a number
+            k = min(kd, piece.shape[1] - 1 - j)
+            r = np.array([piece[kd - t, j + t] for t in range(1, k + 1)])  # row j's unscaled entries to its right
+            if k and float(np.max(np.abs(r))) / abs(d) > growth_limit:
+                return None
+            count += 1
+            if count > max_negative:
+                return None
+            start += j + 1
+            if start >= n:
+                return count, None
+            for a in range(k):  # S[a, b] -= r_a r_b / d on the next k rows (upper band: row kd + a - b)
+                for b in range(a, k):
+                    work[kd + a - b, start + b] -= r[a] * r[b] / d
+
+    def tocsc(self) -> sp.csc_matrix:
+        """The whole matrix as CSC (both triangles; every entry of the band stored, zeros included)."""
+        kd, n = self.kd, self.shape[0]
+        vals = np.zeros((n, 2 * kd + 1))  # column j, rows j - kd .. j + kd
+        vals[:, :kd + 1] = self.ab.T
+        for k in range(1, kd + 1):  # A[j + k, j] = A[j, j + k] = ab[kd - k, j + k]
+            vals[:n - k, kd + k] = self.ab[kd - k, k:]
+        rows = np.arange(n)[:, None] + np.arange(-kd, kd + 1)[None, :]
+        inside = (rows >= 0) & (rows < n)
+        indptr = np.concatenate([[0], np.cumsum(inside.sum(axis=1))])
+        return sp.csc_matrix((vals[inside], rows[inside], indptr), shape=(n, n))
+
+    def tocsr(self) -> sp.csr_matrix:
+        """The whole matrix as CSR (both triangles)."""
+        C = self.tocsc()  # symmetric: its CSC arrays are its CSR arrays
+        return sp.csr_matrix((C.data, C.indices, C.indptr), shape=C.shape)
+
+    def toarray(self) -> np.ndarray:
+        """The whole matrix, dense."""
+        return self.tocsr().toarray()
+
+    def general_band(self, extra_rows: int = 0) -> np.ndarray:
+        """The matrix in LAPACK's general band storage with ``kl = ku = kd`` (``extra_rows`` leading
+        zero rows; ``kd`` of them for ``gbtrf``)."""
+        kd, n = self.kd, self.shape[0]
+        g = np.zeros((extra_rows + 2 * kd + 1, n))
+        g[extra_rows:extra_rows + kd + 1] = self.ab
+        for k in range(1, kd + 1):  # A[j + k, j] = A[j, j + k] = ab[kd - k, j + k]
+            g[extra_rows + kd + k, :n - k] = self.ab[kd - k, k:]
+        return g
 
 
 class SparseLU(Factorization):
@@ -223,6 +358,8 @@ def factorize(A, method: str = "auto") -> Factorization:
         compared with the size, and SuperLU otherwise.
     """
     n = A.shape[0]
+    if isinstance(A, SymmetricBand):
+        return DenseLU(A.toarray()) if method == "dense" else BandedLU(A)
     if method == "dense" or (method == "auto" and n <= DENSE_LIMIT):
         return DenseLU(A)
     if method in ("auto", "banded"):

@@ -24,6 +24,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from typing import Any
+
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
@@ -148,9 +150,11 @@ def _leading_factorization(A) -> Factorization:
     return factorize(A)
 
 
-def _ldlt_pivots(H) -> np.ndarray | None:
-    """Pivots ``D`` of the pivot-free ``L D L^T`` of ``H``, or None when they cannot be trusted."""
-    A = sp.csc_matrix(H)
+def pivot_free_ldlt(H) -> tuple[np.ndarray, Any] | None:
+    """The pivot-free ``L D L^T`` of the sparse symmetric ``H``: its pivots ``D`` and the factorization
+    (SuperLU in natural order, no pivoting; its ``solve`` solves with ``H``), or None when they cannot be
+    trusted (a zero pivot, a row exchange, or multipliers above :data:`LDL_GROWTH_LIMIT`)."""
+    A = H.tocsc() if hasattr(H, "tocsc") else sp.csc_matrix(H)
     try:
         lu = spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     except RuntimeError:  # exactly singular pivot
@@ -163,7 +167,13 @@ def _ldlt_pivots(H) -> np.ndarray | None:
     d = lu.U.diagonal()
     if not np.all(np.isfinite(d)) or np.any(d == 0.0):
         return None
-    return d
+    return d, lu
+
+
+def _ldlt_pivots(H) -> np.ndarray | None:
+    """Pivots ``D`` of the pivot-free ``L D L^T`` of ``H``, or None when they cannot be trusted."""
+    out = pivot_free_ldlt(H)
+    return None if out is None else out[0]
 
 
 def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:

@@ -11,12 +11,13 @@ Run ``python -m studies.harmonic_probe [--checks] [--cost] [--ring] [--sphere] [
     (equilibrium at ``p_c / 2``), all dofs but the pole's kinematic conditions.
 
 ``--cost``
-    Wall time (median of 5, one process, BLAS single-threaded) at a deformed state of the default
-    cap (``R = 1``, ``E = 1e6``, ``nu = 0.5``, ``h = 0.02``, ``phi_hat = 0.8``, sliding) for each
-    ``N``: the first block at a new state (local Hessians and their polynomial in ``n``, shared by
-    every ``n``), a further reduced block (``n = 5``, state cached), its inertia
-    (:func:`block_inertia`: pivot-free ``L D L^T``) and its smallest eigenvalue
-    (:func:`block_eigs`: LAPACK's banded solver), beside the traced model's Hessian.
+    Wall time (median of 5, one process, BLAS single-threaded) at a stretched state (``1.001``
+    times the reference) of the default cap (``R = 1``, ``E = 1e6``, ``nu = 0.5``, ``h = 0.02``,
+    ``phi_hat = 0.8``, sliding) for each ``N``: the first block at a new state (local Hessians and the
+    band coefficients of their polynomial in ``n``, shared by every ``n``), a further block
+    (``n = 5``, state cached), its count and eigenvalue estimate as along a branch
+    (:func:`contin.modes.count_and_lowest`) and its two eigenvalues nearest zero as at a located
+    bifurcation (:func:`contin.modes.eigenvalues_near_zero`), beside the traced model's Hessian.
 ``--ring``
     The ring mesh of ``M`` sectors (:func:`ring_mesh_block`) against the blocks, clamped cap
     ``N = 10`` under pressure at a perturbed axisymmetric state: max relative difference per
@@ -35,6 +36,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
+from typing import Any  # noqa: E402
 import math  # noqa: E402
 import statistics  # noqa: E402
 import time  # noqa: E402
@@ -44,8 +46,7 @@ import scipy.sparse.linalg as spla  # noqa: E402
 
 import contin  # noqa: E402
 from contin_models.shell.geometry import spherical_cap  # noqa: E402
-from contin_models.shell.harmonic import (HarmonicShell, block_eigs, block_inertia,  # noqa: E402
-                                          ring_mesh_block)
+from contin_models.shell.harmonic import HarmonicShell, block_eigs, ring_mesh_block  # noqa: E402
 from contin_models.shell.meridian import complete_sphere_meridian
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure  # noqa: E402
 
@@ -114,25 +115,27 @@ def checks() -> None:
 
 
 def cost(Ns) -> None:
-    print("cost (ms), default cap, sliding: per state (local Hessians and the polynomial in n, shared by")
-    print("every n), per further block (n = 5, state cached), its inertia and its smallest eigenvalue")
-    print(f"{'N':>6} {'state':>8} {'block':>8} {'inertia':>8} {'eig_min':>8} {'1-D hess':>9}")
+    from contin.modes import count_and_lowest, eigenvalues_near_zero
+
+    print("cost (ms), default cap, sliding: per state (local Hessians and the band coefficients of the polynomial")
+    print("in n, shared by every n), per further block (n = 5, state cached), its count and eigenvalue estimate")
+    print("(as along a branch), its two eigenvalues nearest zero (as at a located bifurcation), the 1-D Hessian")
+    print(f"{'N':>6} {'state':>8} {'block':>8} {'count':>8} {'eig_near0':>10} {'1-D hess':>9}")
     for N in Ns:
         cap = spherical_cap(1.0, 0.8, N)
         st = ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding")
-        rng = np.random.default_rng(0)
-        x = cap.x * 1.001 + 1e-4 * rng.standard_normal(2 * N)
-        x[-2] = 0.0
+        x = cap.x * 1.001  # a state on no branch, but positive definite blocks as along most of one
         hs = HarmonicShell(st)
-        hs.block(x, 5)  # the pattern and the reductions, built once per structure
+        hs.band_block(x, 5)  # the reductions and the maps, built once per structure
         states = iter([x + 1e-9 * k for k in range(1, 8)])
-        t_state = _median_time(lambda: hs.block(next(states), 5))  # a fresh state each call
-        t_block = _median_time(lambda: hs.block(x, 5))
-        K = hs.block(x, 5)
-        t_inert = _median_time(lambda: block_inertia(K))
-        t_eig = _median_time(lambda: block_eigs(K, 1), repeat=3)
+        t_state = _median_time(lambda: hs.band_block(next(states), 5))  # a fresh state each call
+        t_block = _median_time(lambda: hs.band_block(x, 5))
+        K = hs.band_block(x, 5)
+        _, _, v = count_and_lowest(K)
+        t_count = _median_time(lambda: count_and_lowest(K, v))
+        t_eig = _median_time(lambda: eigenvalues_near_zero(K, 2), repeat=3)
         t_1d = _median_time(lambda: st.shell.hessian(x))
-        print(f"{N:6d} {1e3 * t_state:8.2f} {1e3 * t_block:8.2f} {1e3 * t_inert:8.2f} {1e3 * t_eig:8.2f} "
+        print(f"{N:6d} {1e3 * t_state:8.2f} {1e3 * t_block:8.2f} {1e3 * t_count:8.2f} {1e3 * t_eig:10.2f} "
               f"{1e3 * t_1d:9.2f}")
 
 

@@ -150,3 +150,61 @@ def test_stability_falls_back_to_dense_when_arpack_does_not_converge(monkeypatch
     assert info.n_negative == int(np.sum(w < 0))
     np.testing.assert_allclose(info.eigenvalues, w[:2], rtol=1e-10)
     assert info.eigenvectors.shape[1] >= info.n_negative
+
+
+def _random_band(rng: np.random.Generator, n: int, kd: int, shift: float) -> tuple[np.ndarray, np.ndarray]:
+    """A random symmetric band matrix (dense) and its LAPACK upper band storage."""
+    A = np.zeros((n, n))
+    for k in range(kd + 1):
+        v = rng.standard_normal(n - k)
+        A += np.diag(v, k) + (np.diag(v, -k) if k else 0.0)
+    A += shift * np.eye(n)
+    ab = np.zeros((kd + 1, n))
+    for k in range(kd + 1):
+        ab[kd - k, k:] = np.diag(A, k)
+    return A, ab
+
+
+def test_symmetric_band_agrees_with_its_dense_matrix() -> None:
+    from contin.linalg import SymmetricBand
+
+    rng = np.random.default_rng(3)
+    A, ab = _random_band(rng, 40, 3, 2.0)
+    B = SymmetricBand(ab)
+    x, X = rng.standard_normal(40), rng.standard_normal((40, 3))
+    s = rng.uniform(0.5, 2.0, 40)
+    assert B.shape == (40, 40) and B.kd == 3
+    assert np.array_equal(B.toarray(), A) and np.array_equal(B.tocsc().toarray(), A)
+    assert np.allclose(B @ x, A @ x, rtol=0, atol=1e-13) and np.allclose(B @ X, A @ X, rtol=0, atol=1e-13)
+    assert np.allclose(B.scaled(s).toarray(), A * s[:, None] * s[None, :], rtol=0, atol=1e-14)
+    assert np.allclose(factorize(B).solve(x), np.linalg.solve(A, x), rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("shift", [-1.5, 0.0, 1.0, 4.0])
+def test_band_inertia_by_restarted_cholesky_matches_eigenvalues(shift: float) -> None:
+    """The pivot-free L D L^T run as banded Cholesky pieces counts like the eigenvalues (or declines)."""
+    from contin.linalg import SymmetricBand
+
+    rng = np.random.default_rng(int(10 * shift) + 50)
+    counted = 0
+    for _ in range(60):
+        n, kd = int(rng.integers(5, 60)), int(rng.integers(1, 6))
+        A, ab = _random_band(rng, n, kd, shift)
+        out = SymmetricBand(ab).inertia()
+        if out is None:
+            continue
+        counted += 1
+        expected = int(np.count_nonzero(np.linalg.eigvalsh(A) < 0.0))
+        assert out[0] == expected
+        assert (out[1] is not None) == (expected == 0)  # the Cholesky factor only of a definite matrix
+    assert counted >= 45
+
+
+def test_band_inertia_declines_a_zero_pivot() -> None:
+    from contin.linalg import SymmetricBand
+
+    ab = np.array([[0.0, 1.0, 0.5], [1.0, 1.0, 2.0]])  # [[1, 1, 0], [1, 1, .5], [0, .5, 2]]: pivot 2 is 0
+    assert SymmetricBand(ab).inertia() is None
+    ab[1, 1] = 0.0  # pivot 2 is -1: counted, and the rest resumes
+    A = SymmetricBand(ab).toarray()
+    assert SymmetricBand(ab).inertia()[0] == int(np.count_nonzero(np.linalg.eigvalsh(A) < 0)) == 1

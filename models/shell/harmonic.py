@@ -93,14 +93,18 @@ i.e. :func:`harmonic_block` returns the exact second variation of the 2-D energy
 (``u^T K_n u = d^2 E``); its Rayleigh quotient against the field's L2 norm is ``u^T K u / (pi |u|^2)``
 for ``n >= 1`` and ``/ (2 pi |u|^2)`` for ``n = 0``.  The copy with ``cos`` and ``sin`` swapped has
 the same block.  The local Hessians ``H`` are computed once per state (all ``n`` share them): the
-bending density's by generated code (:mod:`contin_models.shell.harmonic_codegen`, sympy, emitted
-to :mod:`contin_models.shell._harmonic_generated`), the others' (and the bending one with
+bending density's from generated curvature jets by the chain rule, the stretching density's and the
+poles' curvature jets by generated code (:mod:`contin_models.shell.harmonic_codegen`, sympy, emitted
+to :mod:`contin_models.shell._harmonic_generated`), the rest (and all of them with
 ``method="jets"``, the reference) by exact second-order forward differentiation (:class:`Jet`),
-vectorised over the elements.  The mode maps are quadratic in ``n``, so per state the global data
-of ``sum_e (Yc^T H Yc + Ys^T H Ys)`` is stored as a polynomial of degree 4 in ``n`` on one fixed
-pattern (nodes at most two apart); a block is then five vector operations plus the poles' and the
-contact's few elements, and its reduction to the admissible dofs a precomputed scatter.  Cost O(N)
-per state and per block.
+vectorised over the elements.  The mode maps are quadratic in ``n``, so the block of ``n >= 1`` is
+``pi sum_d n^d C_d`` (``d = 0..4``).  The maps are sparse (a dof moves few local variables) and at an
+axisymmetric state ``H`` couples no variable moved by the ``cos`` part with one moved by the ``sin``
+part, so each ``C_d`` entry is a short sum of ``H`` entries: a sparse matrix, built once per
+reduction to admissible dofs, maps the stacked local Hessians straight to the coefficients in
+LAPACK's upper band storage (:meth:`HarmonicShell.band_block`, a :class:`contin.linalg.SymmetricBand`).
+A block is then one combination of five band arrays plus the poles' and the contact's few elements.
+Cost O(N) per state and per block.
 
 Dof ordering and fixed dofs
 ---------------------------
@@ -160,18 +164,12 @@ Measured (``tests/test_harmonic.py``, ``python -m studies.harmonic_probe``)
   401 nodes pole to pole); the ``n >= 1`` blocks' critical pressures (extrapolated from two stable
   states) form a cluster at 1.011 .. 1.018 ``p_c`` for ``n = 4 .. 18`` (``N = 401``).
 * Cost (default cap, ``N`` = 200 / 800 / 3200; ``python -m studies.harmonic_probe --cost``): per
-  state (local Hessians and the polynomial in ``n``) 4.6 / 13 / 51 ms, per further reduced block
-  0.13 / 0.24 / 0.69 ms, its inertia (pivot-free ``L D L^T``) 0.4 / 1.2 / 3.4 ms; the smallest
-  eigenvalue by LAPACK's banded solver (3.7 / 54 / 1211 ms) is not O(N): use the inertia along
-  branches.  (The traced model's Hessian: 0.16 / 0.26 / 0.52 ms.)
-
-Not done here (issue 17)
-------------------------
-The choice of ``n_max`` (a rule from the geometry: the critical ``n`` of a cap scales like
-``(12 (1 - nu^2))^(1/4) r_edge / sqrt(R h)``), the engine's use along branches (per point: the
-blocks' inertia; bifurcations located by an extended system), the scenes' switches and outputs,
-the studies (Huang's clamped caps, the paper's phase diagram); the per-state cost (the polynomial's
-small batched products dominate it) could drop further with generated amplitude-space kernels.
+  state (local Hessians and the band coefficients) 1.27 / 2.06 / 6.38 ms, per further block
+  0.02 / 0.04 / 0.10 ms, its count and eigenvalue estimate (a banded Cholesky factorization and three
+  inverse-iteration steps, :func:`contin.modes.count_and_lowest`) 0.08 / 0.27 / 1.04 ms, its two
+  eigenvalues nearest zero (subspace inverse iteration, once per located bifurcation)
+  1.2 / 3.3 / 10 ms.  (The traced model's Hessian: 0.15 / 0.24 / 0.45 ms.)  Along the default trace
+  (``python -m studies.bench_harmonics``): 2.5 times the axisymmetric trace with ``n <= 13``.
 """
 
 from __future__ import annotations
@@ -184,6 +182,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from contin.linalg import SymmetricBand
 from contin.stability import stability_info
 
 from . import _harmonic_generated as _hgen
@@ -191,6 +190,10 @@ from . import _harmonic_generated as _hgen
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
            "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH"]
+
+#: The pole curvature's local variables that are not zero at an axisymmetric state (the generated jets'
+#: arguments, :mod:`contin_models.shell.harmonic_codegen`).
+_POLE_FREE = (0, 2, 4, 6, 8, 9, 11, 13)
 
 HARMONIC_HALF_BANDWIDTH = 8
 """Half-bandwidth of a full block in the interleaved ``[a, b, c]`` ordering (a bending element
@@ -543,9 +546,10 @@ class HarmonicShell:
         Height of the pressure's base plane (default: the reference height of node 0, as
         :meth:`contin_models.shell.volume.PressureTerm.from_reference`).
     method : {"generated", "jets"}
-        How the bending density's local Hessians are evaluated: the generated kernels
-        (:mod:`contin_models.shell.harmonic_codegen`, the default) or the jets (the reference; the
-        other densities always use the jets, which are cheap for them).
+        How the bending and stretching densities' local Hessians and the poles' curvature jets are
+        evaluated: the generated kernels (:mod:`contin_models.shell.harmonic_codegen`, the default)
+        or the jets (the reference; the clamp, free edge, volume and skirt always use the jets: they
+        are one element or needed only under pressure).
 
     Notes
     -----
@@ -553,7 +557,7 @@ class HarmonicShell:
     one state cost one evaluation of the densities.
     """
 
-    _CACHE = 3
+    _CACHE = 8
 
     def __init__(self, structure: Any, z_ref: float | None = None, method: str = "generated") -> None:
         if method not in ("generated", "jets"):
@@ -591,7 +595,7 @@ class HarmonicShell:
         for (element, dofs), k in zip(st._poles, st.poles):
             north = k == N - 1
             self.poles.append((k, k - 1 if north else 1, north, element))
-        self._cache: list = []
+        self._cache: dict = {}  # state bytes -> local Hessians, oldest first
 
     # ---- local variables -------------------------------------------------------------------------
     def _families(self, x: np.ndarray):
@@ -616,23 +620,62 @@ class HarmonicShell:
         layout = [([(0, 1.0)], "P"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "Pp")]
         fams.append(("volume", nodes, layout))
         out = {}
+        maps = self.__dict__.setdefault("_local_maps", {})
         for name, nodes, layout in fams:
-            vals = []
-            for combo, kind in layout:
-                for c in range(3):
-                    vals.append(sum(coef * V[kind][c][nodes[:, s]] for s, coef in combo))
+            if name not in maps:  # the local variables are fixed linear combinations of the state
+                maps[name] = self._local_map(nodes, layout)
+            vals = list((maps[name] @ x).reshape(3 * len(layout), nodes.shape[0]))
             out[name] = (nodes, layout, vals)
         return out, V
 
+    def _local_map(self, nodes: np.ndarray, layout: list) -> sp.csr_matrix:
+        """The sparse map from the state ``[r_0, z_0, ...]`` to a family's local variables at axisymmetric
+        states (rows: variable ``3 v + c`` of element ``e`` at ``(3 v + c) m + e``): every component of
+        ``P = (r, 0, z)``, ``P' = (0, r, 0)``, ``P'' = (-r, 0, 0)``, ``Q = (-r, 0, z)``, ``Q' = (0, -r, 0)`` is
+        plus or minus ``r`` or ``z`` of a node, or zero."""
+        comps = {"P": ((0, 1.0), None, (1, 1.0)), "Pp": (None, (0, 1.0), None), "Ppp": ((0, -1.0), None, None),
+                 "Q": ((0, -1.0), None, (1, 1.0)), "Qp": (None, (0, -1.0), None)}
+        m = nodes.shape[0]
+        rows, cols, vals = [], [], []
+        e = np.arange(m)
+        for v, (combo, kind) in enumerate(layout):
+            for c in range(3):
+                entry = comps[kind][c]
+                if entry is None:
+                    continue
+                which, sign = entry
+                for slot, coef in combo:
+                    rows.append((3 * v + c) * m + e)
+                    cols.append(2 * nodes[:, slot] + which)
+                    vals.append(np.full(m, sign * coef))
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(3 * len(layout) * m, 2 * self.N))
+
     def _bend_hessian(self, vals: list, params: tuple, current: bool) -> np.ndarray:
         """``(15, 15, m)`` Hessians of the bending density at axisymmetric local variables ``vals``
-        (15 arrays): the generated kernel (:mod:`contin_models.shell._harmonic_generated`), or the jets
-        with ``method="jets"``; ``L`` is the current length when ``current``, else the weight's ``lbar``."""
+        (15 arrays): from the generated curvature jets (:mod:`contin_models.shell._harmonic_generated`) by
+        the chain rule, or the jets with ``method="jets"``; ``L`` is the current length when ``current``,
+        else the weight's ``lbar``.
+
+        The density is ``c (B11^2 + 2 nu B11 B22 + B22^2 + 2 (1 - nu) kappa12^2)``, ``c = rbar lbar kb / 2``,
+        ``B = kappa - kappabar``; with ``kappa12 = 0`` at axisymmetric states its Hessian is
+        ``2 c (g11 g11^T + nu (g11 g22^T + g22 g11^T) + g22 g22^T + 2 (1 - nu) g12 g12^T
+        + (B11 + nu B22) H11 + (B22 + nu B11) H22)`` (``g``, ``H`` the curvatures' gradients and Hessians).
+        """
         if self.method == "generated":
-            f = _hgen.bend_cur_hessian if current else _hgen.bend_ref_hessian
+            lbar, rbar, k11bar, k22bar, kb, nu = params
             m = np.size(vals[0])
-            return f(*(np.broadcast_to(np.asarray(vals[k], float), (m,)) for k in (0, 2, 3, 5, 7, 10)),
-                     *(np.broadcast_to(np.asarray(p, float), (m,)) for p in params))
+            f = _hgen.bend_cur_curvatures if current else _hgen.bend_ref_curvatures
+            k11, g11, h11, k22, g22, h22, g12 = f(*(np.broadcast_to(np.asarray(vals[k], float), (m,))
+                                                    for k in (0, 2, 3, 5, 7, 10)),
+                                                  np.broadcast_to(np.asarray(lbar, float), (m,)))
+            c2 = rbar * lbar * kb  # 2 c
+            B11, B22 = k11 - k11bar, k22 - k22bar
+            mix = g11 + nu * g22
+            H = mix[:, None, :] * g11[None, :, :] + (nu * g11 + g22)[:, None, :] * g22[None, :, :]
+            H += 2.0 * (1.0 - nu) * g12[:, None, :] * g12[None, :, :]
+            H += (B11 + nu * B22) * h11 + (B22 + nu * B11) * h22
+            return H * c2
         y = Jet.variables(vals)
         e = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
                          *params, None if current else params[0])
@@ -651,16 +694,20 @@ class HarmonicShell:
         """Per family: ``(nodes, layout, H)`` with ``H`` the ``(k, k, m)`` Hessians per radian; and
         the special terms (clamp, poles, skirt)."""
         x = np.asarray(x, dtype=float)
-        for xc, res in self._cache:
-            if np.array_equal(xc, x):
-                return res
+        key = x.tobytes()
+        res = self._cache.get(key)
+        if res is not None:
+            return res
         fams, V = self._families(x)
         res = {}
         # stretch
         nodes, layout, vals = fams["stretch"]
-        y = Jet.variables(vals)
-        e = stretch_density(tuple(y[0:3]), tuple(y[3:6]), self.s_lbar, self.s_rbar, self.s_ks, self.nu)
-        res["stretch"] = (nodes, layout, e.h)
+        if self.method == "generated":
+            Hs = _hgen.stretch_hessian(vals[0], vals[2], vals[4], self.s_lbar, self.s_rbar, self.s_ks, self.nu)
+        else:
+            y = Jet.variables(vals)
+            Hs = stretch_density(tuple(y[0:3]), tuple(y[3:6]), self.s_lbar, self.s_rbar, self.s_ks, self.nu).h
+        res["stretch"] = (nodes, layout, Hs)
         # bend
         nodes, layout, vals = fams["bend"]
         if nodes.shape[0]:
@@ -669,7 +716,6 @@ class HarmonicShell:
         # volume (its jets only when a pressure asks for them: _volume_hessians)
         res["volume_family"] = fams["volume"]
         # skirt (node 0 off the axis)
-        r, z = x[0::2], x[1::2]
         if 0 not in [p[0] for p in self.poles]:  # a pole at node 0 closes the surface: no skirt
             vals = [V["P"][c][:1] for c in range(3)] + [V["Pp"][c][:1] for c in range(3)]
             y = Jet.variables(vals)
@@ -705,16 +751,22 @@ class HarmonicShell:
             vals = ([V["P"][c][nb:nb + 1] for c in range(3)] + [V["Pp"][c][nb:nb + 1] for c in range(3)]
                     + [V["P"][c][k:k + 1] for c in range(3)] + [V["Q"][c][nb:nb + 1] for c in range(3)]
                     + [V["Qp"][c][nb:nb + 1] for c in range(3)])
-            y = Jet.variables(vals)
-            L = None if element.current_length else element.lbar
-            kap = pole_curvature(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
-                                 north, L)
-            B0 = float(kap.v[0]) - element.kappa_bar
+            if self.method == "generated":
+                kernel = getattr(_hgen, f"pole_{'north' if north else 'south'}_{'cur' if element.current_length else 'ref'}_jet")
+                v, g, h = kernel(*(float(vals[i][0]) for i in _POLE_FREE), float(element.lbar))
+            else:
+                y = Jet.variables(vals)
+                L = None if element.current_length else element.lbar
+                kap = pole_curvature(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
+                                     north, L)
+                v, g, h = kap.v[0], kap.g[:, 0], kap.h[:, :, 0]
+            B0 = float(v) - element.kappa_bar
             layout = [([(0, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Q"), ([(0, 1.0)], "Qp")]
             Akb = element.K / (1.0 + self.nu)  # A kb
-            res["poles"].append((np.array([[nb, k]]), layout, B0, kap.g[:, 0], kap.h[:, :, 0], Akb))
-        self._cache.insert(0, (x.copy(), res))
-        del self._cache[self._CACHE:]
+            res["poles"].append((np.array([[nb, k]]), layout, B0, g, h, Akb))
+        self._cache[key] = res
+        while len(self._cache) > self._CACHE:
+            del self._cache[next(iter(self._cache))]
         return res
 
     # ---- assembly --------------------------------------------------------------------------------
@@ -759,10 +811,12 @@ class HarmonicShell:
 
     def _pole_blocks(self, loc: dict, n: int):
         """``(nodes (1, 2), block (1, 6, 6))`` of each pole's element (module docstring)."""
-        maps = mode_maps(n)
         nu = self.nu
+        cache = self.__dict__.setdefault("_pole_maps", {})
         for nodes, layout, B0, g, Hb, Akb in loc["poles"]:
-            Yc, Ys = self._ymaps(layout, nodes.shape[1], maps)
+            if n not in cache:  # every pole shares its layout
+                cache[n] = self._ymaps(layout, nodes.shape[1], mode_maps(n))
+            Yc, Ys = cache[n]
             if n == 0:
                 Y = Yc + Ys
                 G = Y.T @ g
@@ -772,6 +826,23 @@ class HarmonicShell:
                 K = Akb * (2.0 * (1.0 - nu) * (np.outer(Gc, Gc) + np.outer(Gs, Gs))
                            + (1.0 + nu) * B0 * (Yc.T @ Hb @ Yc + Ys.T @ Hb @ Ys))
             yield nodes, K[None]
+
+    def _pole_blocks_many(self, loc: dict, ns: list) -> list:
+        """:meth:`_pole_blocks` for several ``n >= 1`` at once: per pole ``(nodes (1, 2), blocks (len(ns), 6, 6))``."""
+        nu = self.nu
+        cache = self.__dict__.setdefault("_pole_maps", {})
+        out = []
+        for nodes, layout, B0, g, Hb, Akb in loc["poles"]:
+            for n in ns:
+                if n not in cache:
+                    cache[n] = self._ymaps(layout, nodes.shape[1], mode_maps(n))
+            Yc = np.stack([cache[n][0] for n in ns])
+            Ys = np.stack([cache[n][1] for n in ns])
+            Gc, Gs = Yc.transpose(0, 2, 1) @ g, Ys.transpose(0, 2, 1) @ g  # (G, 6)
+            K = Akb * (2.0 * (1.0 - nu) * (Gc[:, :, None] * Gc[:, None, :] + Gs[:, :, None] * Gs[:, None, :])
+                       + (1.0 + nu) * B0 * (Yc.transpose(0, 2, 1) @ Hb @ Yc + Ys.transpose(0, 2, 1) @ Hb @ Ys))
+            out.append((nodes, K))
+        return out
 
     def _contact_blocks(self, x: np.ndarray, n: int, contact: tuple):
         """``(nodes (S, 3), blocks (S, 9, 9))`` of the active sample points of a contact barrier."""
@@ -807,66 +878,193 @@ class HarmonicShell:
             K = math.pi * (np.einsum("sai,abs,sbj->sij", Yc, H, Yc) + np.einsum("sai,abs,sbj->sij", Ys, H, Ys))
         return cells.stencil[cells.cell[S]], K
 
-    # ---- the fixed pattern and the polynomial in n -----------------------------------------------
-    def _pattern(self):
-        """Sorted keys ``row * 3N + col`` of the full blocks' pattern (nodes at most 2 apart), CSR
-        indices and indptr (built once)."""
-        if getattr(self, "_pat", None) is None:
-            N, n3 = self.N, 3 * self.N
-            i = np.arange(N)
-            pairs = [(a, a + d) for d in range(-2, 3) for a in i if 0 <= a + d < N]
-            ni, nj = np.array(pairs).T
-            rows = (3 * ni[:, None, None] + np.arange(3)[None, :, None] + 0 * np.arange(3)[None, None, :]).ravel()
-            cols = (3 * nj[:, None, None] + 0 * np.arange(3)[None, :, None] + np.arange(3)[None, None, :]).ravel()
-            keys = np.unique(rows.astype(np.int64) * n3 + cols)
-            r, c = np.divmod(keys, n3)
-            indptr = np.concatenate([[0], np.cumsum(np.bincount(r, minlength=n3))]).astype(np.int32)
-            self._pat = (keys, c.astype(np.int32), indptr)
-        return self._pat
-
-    def _slots(self, nodes: np.ndarray) -> np.ndarray:
-        """Positions in the pattern of every element's ``(3 nn)^2`` entries, shape ``(m, 3 nn, 3 nn)``."""
-        keys = self._pattern()[0]
-        nn = nodes.shape[1]
-        dof = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(nodes.shape[0], 3 * nn).astype(np.int64)
-        return np.searchsorted(keys, dof[:, :, None] * (3 * self.N) + dof[:, None, :])
-
-    def _poly(self, x: np.ndarray, loc: dict, names: tuple, key: str) -> tuple:
-        """Global data ``(D0, D)`` of the families ``names`` at the state: the ``n = 0`` block's data
-        ``D0`` and ``D`` (5, nnz) with the block of ``n >= 1`` equal to ``pi sum_d n^d D[d]``
-        (the mode maps are quadratic in ``n``).  Cached in the state's dict under ``key``."""
-        if key in loc:
-            return loc[key]
-        nnz = self._pattern()[0].size
-        D0, D = np.zeros(nnz), np.zeros((5, nnz))
-        M = [mode_maps(k) for k in (0, 1, 2)]
-        for name in names:
-            if name not in loc:
-                continue
-            nodes, layout, H = loc[name]
-            nn = nodes.shape[1]
-            cache = self.__dict__.setdefault("_family_slots", {})
-            if name not in cache:  # the families' nodes do not depend on the state
-                cache[name] = self._slots(nodes).ravel()
-            slots = cache[name]
-            Y = [self._ymaps(layout, nn, m) for m in M]  # (Yc, Ys) at n = 0, 1, 2
-            Hm = np.ascontiguousarray(np.moveaxis(H, 2, 0))  # (m, k, k)
-            Yz = Y[0][0] + Y[0][1]
-            D0 += np.bincount(slots, 2.0 * math.pi * (Yz.T @ (Hm @ Yz)).ravel(), nnz)
-            Gd = [0.0] * 5
-            for part in (0, 1):  # cos, sin: Y(n) = A + n B + n^2 C
+    # ---- the polynomial in n, mapped straight to the band ----------------------------------------
+    def _family_maps(self, name: str, layout: list, nn: int) -> list:
+        """The state-independent mode maps of a family: per part (``cos``, ``sin``) the local variables
+        it moves (``rows``) and ``[A B C]`` on them, ``Y(n) = A + n B + n^2 C`` (the maps are quadratic
+        in ``n``)."""
+        cache = self.__dict__.setdefault("_fmaps", {})
+        if name not in cache:
+            Y = [self._ymaps(layout, nn, mode_maps(k)) for k in (0, 1, 2)]
+            parts = []
+            for part in (0, 1):
                 A = Y[0][part]
                 C = 0.5 * (Y[2][part] - 2.0 * Y[1][part] + A)
                 B = Y[1][part] - A - C
-                P = (A, B, C)
-                HP = [Hm @ Q for Q in P]  # (m, k, d)
-                for p_ in range(3):
-                    for q_ in range(3):
-                        Gd[p_ + q_] = Gd[p_ + q_] + P[p_].T @ HP[q_]  # (m, d, d)
-            for d_ in range(5):
-                D[d_] += np.bincount(slots, np.ravel(Gd[d_]), nnz)
-        loc[key] = (D0, D)
+                parts.append(np.hstack([A, B, C]))
+            cache[name] = parts
+        return cache[name]
+
+    def _element_map(self, name: str, layout: list, nn: int, k: int) -> tuple:
+        """The element's block coefficients as a sparse linear map of its local Hessian ``H`` (``k x k``).
+
+        Rows ``d * D^2 + i * D + j`` (``D = 3 nn``) for the coefficient of ``n^d`` (``d = 0..4``) of
+        ``sum_parts Y^T H Y`` (``n >= 1``); rows ``5 D^2 + i D + j`` for the ``n = 0`` block's own part,
+        ``(A_c + A_s)^T H (A_c + A_s)``.  Columns ``a k + b``.  The maps are sparse (a dof moves few
+        local variables), so each entry is a short sum of ``H`` entries: ``(rows, cols, values)``.
+        """
+        cache = self.__dict__.setdefault("_emaps", {})
+        if name not in cache:
+            D = 3 * nn
+            Qc, Qs = self._family_maps(name, layout, nn)
+            rows, cols, vals = [], [], []
+
+            def pairs(P: np.ndarray, Q: np.ndarray, row_of) -> None:
+                pa, pj = np.nonzero(P)
+                qa, qj = np.nonzero(Q)
+                a, b = np.repeat(pa, qa.size), np.tile(qa, pa.size)
+                i, j = np.repeat(pj, qj.size), np.tile(qj, pj.size)
+                rows.append(row_of(i, j))
+                cols.append(a * k + b)
+                vals.append(np.repeat(P[pa, pj], qa.size) * np.tile(Q[qa, qj], pa.size))
+
+            for Q in (Qc, Qs):  # n >= 1: degree p + q of P_p^T H P_q
+                pairs(Q, Q, lambda i, j: (i // D + j // D) * D * D + (i % D) * D + j % D)
+            A0 = Qc[:, :D] + Qs[:, :D]  # n = 0: the constant fields
+            pairs(A0, A0, lambda i, j: 5 * D * D + i * D + j)
+            cache[name] = (np.concatenate(rows), np.concatenate(cols), np.concatenate(vals))
+        return cache[name]
+
+    def _group_map(self, loc: dict, names: tuple, var: "_BandVariant") -> tuple[sp.csr_matrix, list]:
+        """The linear map from the group's local Hessians (each family's ``H``, raveled and concatenated
+        in the order of ``names``) to the band coefficients of ``var`` (built once per group and reduction)."""
+        cache = var.maps
+        present = [name for name in names if name in loc]
+        key = tuple(present)
+        if key not in cache:
+            rows, cols, vals = [], [], []
+            offset = 0
+            for name in present:
+                nodes, layout, H = loc[name]
+                k, m = H.shape[0], H.shape[2]
+                nn = nodes.shape[1]
+                D = 3 * nn
+                er, ec, ev = self._element_map(name, layout, nn, k)
+                deg, ij = np.divmod(er, D * D)
+                i, j = np.divmod(ij, D)
+                dof = 3 * nodes[:, :, None] + np.arange(3)[None, None, :]  # (m, nn, 3)
+                dof = dof.reshape(m, D)
+                r, c = dof[:, i], dof[:, j]  # (m, entries)
+                ri, ci, sg = var.reduced(r.ravel(), c.ravel())
+                deg = np.tile(deg, m)
+                keep = (ri >= 0) & (ci >= 0) & (ri <= ci) & ((deg == 5) if var.n0 else (deg < 5))
+                block = np.where(deg == 5, 0, deg)
+                e = np.repeat(np.arange(m)[:, None], er.size, 1).ravel()
+                col = offset + np.tile(ec, m) * m + e  # H raveled as (k, k, m)
+                val = np.tile(ev, m) * sg
+                pos = block * var.size + (var.kd + ri - ci) * var.m + ci
+                rows.append(pos[keep])
+                cols.append(col[keep])
+                vals.append(val[keep])
+                offset += H.size
+            R = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                              shape=(var.rows * var.size, offset))
+            R.sum_duplicates()
+            cache[key] = R
+        return cache[key], present
+
+    def _coefficients(self, x: np.ndarray, pressure: float, var: "_BandVariant") -> np.ndarray:
+        """Band coefficients ``(rows, kd + 1, m)`` of the state's polynomial in ``n`` under ``var``: of
+        ``n^0 .. n^4`` (``n >= 1``: the block is ``pi sum_d n^d C[d]``) or the ``n = 0`` block over ``2 pi``."""
+        loc = self.local_hessians(x)
+        key = ("coefficients", id(var), pressure)
+        if key not in loc:
+            R, names = self._group_map(loc, ("stretch", "bend", "clamp", "free_edge"), var)
+            C = R @ np.concatenate([loc[nm][2].ravel() for nm in names])
+            if pressure != 0.0:
+                self._volume_hessians(x, loc)
+                Rv, vnames = self._group_map(loc, ("volume", "skirt"), var)
+                C = C + pressure * (Rv @ np.concatenate([loc[nm][2].ravel() for nm in vnames]))
+            loc[key] = C.reshape(var.rows, var.kd + 1, var.m)
         return loc[key]
+
+    def _small_terms(self, x: np.ndarray, loc: dict, n: int, contact: tuple | None) -> list:
+        """The few elements outside the polynomial: poles and the contact's active sample points."""
+        terms = list(self._pole_blocks(loc, n))
+        if contact is not None:
+            cb = self._contact_blocks(x, n, contact)
+            if cb is not None:
+                terms.append(cb)
+        return terms
+
+    def _variant(self, n: int, remove_rigid: bool = True, control_fixed=(), hold_pole: bool = False) -> "_BandVariant":
+        """The reduction of mode ``n``'s block to its admissible dofs, in LAPACK upper band storage (cached)."""
+        hold = bool(hold_pole) and int(n) == 1 and self.N - 1 in self.structure.poles
+        key = (min(int(n), 2), bool(remove_rigid), tuple(int(d) for d in control_fixed) if int(n) == 0 else (), hold)
+        cache = self.__dict__.setdefault("_variants", {})
+        if key not in cache:
+            d = harmonic_dofs(self.structure, n, remove_rigid, control_fixed)
+            T = d.T.tocsc()
+            if hold:  # the load holds the pole laterally: drop the column of its lateral a (c is tied to it)
+                T = T[:, d.free != 3 * (self.N - 1)]
+            cache[key] = _BandVariant(self.N, T.tocoo(), n0=int(n) == 0)
+        return cache[key]
+
+    def band_block(self, x: np.ndarray, n: int, pressure: float = 0.0, contact: tuple | None = None,
+                   remove_rigid: bool = True, control_fixed=(), hold_pole: bool = False) -> SymmetricBand:
+        """The block of mode ``n`` on its admissible dofs (:meth:`block`) in LAPACK's upper band storage.
+
+        The fast route along branches: per state the band coefficients of the polynomial in ``n``
+        (one sparse map of the local Hessians per reduction, :meth:`_coefficients`, cached), per block
+        one combination of them and the poles' and contact's few entries.  ``hold_pole``: also drop
+        the pole's lateral dof at ``n = 1`` (:func:`harmonic_family`'s ``pole_held``).
+        """
+        n = self._check_n(n)
+        return self._assemble(self._check_state(x), n, float(pressure), contact,
+                              self._variant(n, remove_rigid, control_fixed, hold_pole))
+
+    def band_blocks(self, x: np.ndarray, ns: Any, pressure: float = 0.0, contact: tuple | None = None,
+                    hold_pole: bool = False) -> list[SymmetricBand]:
+        """:meth:`band_block` for several wave numbers ``ns >= 1`` at one state (each reduction's
+        polynomial combined for all of them in one product)."""
+        x = self._check_state(x)
+        ns = [self._check_n(n) for n in ns]
+        if any(n == 0 for n in ns):
+            raise ValueError("band_blocks: wave numbers must be >= 1 (n = 0 is band_block's)")
+        pressure = float(pressure)
+        out: dict[int, SymmetricBand] = {}
+        for group in ([n for n in ns if n == 1], [n for n in ns if n >= 2]):
+            if not group:
+                continue
+            var = self._variant(group[0], True, (), hold_pole)
+            C = self._coefficients(x, pressure, var)
+            powers = np.array(group, dtype=float)[:, None] ** np.arange(5)[None, :]
+            bands = (math.pi * powers @ C.reshape(5, -1)).reshape((len(group),) + C.shape[1:])
+            loc = self.local_hessians(x)
+            poles = self._pole_blocks_many(loc, group)
+            for g_, (n, ab) in enumerate(zip(group, bands)):
+                for nodes, K in poles:
+                    var.add_elements(ab, nodes, K[g_][None])
+                if contact is not None:
+                    cb = self._contact_blocks(x, n, contact)
+                    if cb is not None:
+                        var.add_elements(ab, *cb)
+                out[n] = SymmetricBand(ab)
+        return [out[n] for n in ns]
+
+    def _assemble(self, x: np.ndarray, n: int, pressure: float, contact: tuple | None, var: "_BandVariant") -> SymmetricBand:
+        """Mode ``n``'s block reduced by ``var``."""
+        C = self._coefficients(x, pressure, var)
+        if n == 0:
+            ab = 2.0 * math.pi * C[0]
+        else:
+            ab = math.pi * (np.array([1.0, n, n * n, n ** 3, n ** 4]) @ C.reshape(5, -1)).reshape(C.shape[1:])
+        for nodes, K in self._small_terms(x, self.local_hessians(x), n, contact):
+            var.add_elements(ab, nodes, K)
+        return SymmetricBand(ab)
+
+    @staticmethod
+    def _check_n(n: int) -> int:
+        n = int(n)
+        if n < 0:
+            raise ValueError(f"wave number n must be >= 0, got {n}")
+        return n
+
+    def _check_state(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        if x.shape != (2 * self.N,):
+            raise ValueError(f"state vector must have shape ({2 * self.N},), got {x.shape}")
+        return x
 
     def full_block(self, x: np.ndarray, n: int, pressure: float = 0.0, contact: tuple | None = None,
                    reference: bool = False) -> sp.csr_matrix:
@@ -875,61 +1073,34 @@ class HarmonicShell:
         ``pressure``: the external pressure (its volume's load stiffness is added); ``contact``:
         ``(barrier, c)``, a :class:`contin_models.contact.ContactBarrier` and the indenter position
         (the barrier's block is added).  The stretching, bending, clamp and volume parts come from
-        a polynomial in ``n`` computed once per state (:meth:`_poly`); ``reference=True`` projects
-        every element for this ``n`` instead (the direct route, for checks).
+        the band coefficients of a polynomial in ``n`` computed once per state (:meth:`_coefficients`);
+        ``reference=True`` projects every element for this ``n`` instead (the direct route, for checks).
         """
-        n = int(n)
-        if n < 0:
-            raise ValueError(f"wave number n must be >= 0, got {n}")
-        x = np.asarray(x, dtype=float)
-        if x.shape != (2 * self.N,):
-            raise ValueError(f"state vector must have shape ({2 * self.N},), got {x.shape}")
+        n = self._check_n(n)
+        x = self._check_state(x)
         pressure = float(pressure)
-        keys, indices, indptr = self._pattern()
-        if reference:
-            terms = list(self._element_blocks(x, n, pressure))
-            data = np.zeros(keys.size)
-        else:
-            loc = self.local_hessians(x)
-            terms = list(self._pole_blocks(loc, n))
-            D0, D = self._poly(x, loc, ("stretch", "bend", "clamp", "free_edge"), "poly")
-            if pressure != 0.0:
-                self._volume_hessians(x, loc)
-                V0, V = self._poly(x, loc, ("volume", "skirt"), "poly_volume")
-                D0, D = D0 + pressure * V0, D + pressure * V
-            if n == 0:
-                data = D0.copy()
-            else:
-                data = math.pi * (D[0] + n * (D[1] + n * (D[2] + n * (D[3] + n * D[4]))))
+        if not reference:
+            cache = self.__dict__.setdefault("_variants", {})
+            if "full" not in cache:
+                cache["full"] = (_BandVariant(self.N, sp.identity(3 * self.N, format="coo"), n0=True),
+                                 _BandVariant(self.N, sp.identity(3 * self.N, format="coo"), n0=False))
+            return self._assemble(x, n, pressure, contact, cache["full"][0 if n == 0 else 1]).tocsr()
+        n3 = 3 * self.N
+        rows, cols, vals = [], [], []
+        for nodes, K in self._element_blocks(x, n, pressure):
+            dof = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(nodes.shape[0], -1)
+            rows.append(np.broadcast_to(dof[:, :, None], K.shape).ravel())
+            cols.append(np.broadcast_to(dof[:, None, :], K.shape).ravel())
+            vals.append(K.ravel())
         if contact is not None:
             cb = self._contact_blocks(x, n, contact)
             if cb is not None:
-                terms.append(cb)
-        for nodes, K in terms:
-            np.add.at(data, self._slots(nodes).ravel(), K.ravel())
-        n3 = 3 * self.N
-        return sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(n3, n3))
-
-    def _reduction(self, n: int, remove_rigid: bool, control_fixed) -> tuple:
-        """The scatter ``full data -> reduced data`` of :meth:`block` (each full dof maps to at most
-        one reduced column, with a factor +-1): ``(take, slot, sign, indices, indptr, m)``."""
-        key = (min(int(n), 2), bool(remove_rigid), tuple(int(d) for d in control_fixed) if n == 0 else ())
-        cache = self.__dict__.setdefault("_red", {})
-        if key not in cache:
-            d = harmonic_dofs(self.structure, n, remove_rigid, control_fixed)
-            n3, m = 3 * self.N, d.free.size
-            T = d.T.tocoo()
-            col, fac = np.full(n3, -1), np.zeros(n3)
-            col[T.row], fac[T.row] = T.col, T.data
-            keys = self._pattern()[0]
-            r, c = np.divmod(keys, n3)
-            take = np.flatnonzero((col[r] >= 0) & (col[c] >= 0))
-            rk = col[r[take]].astype(np.int64) * m + col[c[take]]
-            red = np.unique(rk)
-            rr, cc = np.divmod(red, m)
-            indptr = np.concatenate([[0], np.cumsum(np.bincount(rr, minlength=m))]).astype(np.int32)
-            cache[key] = (take, np.searchsorted(red, rk), fac[r[take]] * fac[c[take]], cc.astype(np.int32), indptr, m)
-        return cache[key]
+                nodes, K = cb
+                dof = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(nodes.shape[0], -1)
+                rows.append(np.broadcast_to(dof[:, :, None], K.shape).ravel())
+                cols.append(np.broadcast_to(dof[:, None, :], K.shape).ravel())
+                vals.append(K.ravel())
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n3, n3))
 
     def dofs(self, n: int, remove_rigid: bool = True, control_fixed=()) -> "HarmonicDofs":
         """The admissible dofs of mode ``n`` (module docstring, "Dof ordering and fixed dofs")."""
@@ -937,11 +1108,60 @@ class HarmonicShell:
 
     def block(self, x: np.ndarray, n: int, pressure: float = 0.0, remove_rigid: bool = True,
               contact: tuple | None = None, control_fixed=()) -> sp.csr_matrix:
-        """The block of mode ``n`` on the admissible dofs, ``T^T K T`` (:meth:`dofs`)."""
-        K = self.full_block(x, n, pressure, contact)
-        take, slot, sign, indices, indptr, m = self._reduction(n, remove_rigid, control_fixed)
-        data = np.bincount(slot, sign * K.data[take], indptr[-1])
-        return sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(m, m))
+        """The block of mode ``n`` on the admissible dofs, ``T^T K T`` (:meth:`dofs`), as CSR."""
+        return self.band_block(x, n, pressure, contact, remove_rigid, control_fixed).tocsr()
+
+
+class _BandVariant:
+    """A reduction ``T^T K T`` of a block to admissible dofs, in LAPACK's upper band storage.
+
+    Every column of ``T`` (``3N x m``) is a unit vector except for ties (a full dof equal to +-1 times a
+    kept one): each full dof maps to at most one reduced dof (``col``, ``-1`` if fixed) with a factor
+    (``fac``).  ``n0``: the reduction of an ``n = 0`` block (its coefficients are the block itself).
+    ``maps`` caches the sparse maps of the local Hessians to its band (:meth:`HarmonicShell._group_map`).
+    """
+
+    def __init__(self, N: int, T: sp.coo_matrix, n0: bool) -> None:
+        n3 = 3 * N
+        self.m = m = T.shape[1]
+        self.n0 = bool(n0)
+        self.rows = 1 if n0 else 5
+        col, fac = np.full(n3, -1), np.zeros(n3)
+        col[T.row], fac[T.row] = T.col, T.data
+        self.col, self.fac = col, fac
+        # half-bandwidth: full dofs at most HARMONIC_HALF_BANDWIDTH apart are coupled
+        r = np.repeat(np.arange(n3), HARMONIC_HALF_BANDWIDTH + 1)
+        c = r + np.tile(np.arange(HARMONIC_HALF_BANDWIDTH + 1), n3)
+        r, c = r[c < n3], c[c < n3]
+        ok = (col[r] >= 0) & (col[c] >= 0)
+        kd = int(np.max(np.abs(col[c[ok]] - col[r[ok]]), initial=0))
+        self.kd = kd
+        self.size = (kd + 1) * m
+        self.maps: dict = {}
+        self._places: dict = {}
+
+    def reduced(self, r: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Reduced dofs of full dofs ``r``, ``c`` and the product of their factors."""
+        return self.col[r], self.col[c], self.fac[r] * self.fac[c]
+
+    def add_elements(self, ab: np.ndarray, nodes: np.ndarray, K: np.ndarray) -> None:
+        """Add element blocks ``K`` (``(e, 3 nn, 3 nn)``, both triangles) on ``nodes`` (``(e, nn)``) into ``ab``."""
+        nodes = np.asarray(nodes)
+        key = (nodes.shape, nodes.tobytes())
+        places = self._places.get(key)
+        if places is None:
+            dof = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(len(nodes), -1)
+            r = np.broadcast_to(dof[:, :, None], K.shape).ravel()
+            c = np.broadcast_to(dof[:, None, :], K.shape).ravel()
+            ri, ci, sg = self.reduced(r, c)
+            keep = np.flatnonzero((ri >= 0) & (ci >= 0) & (ri <= ci))
+            if np.any(ci[keep] - ri[keep] > self.kd):
+                raise ValueError("an element couples dofs farther apart than the block's band")
+            places = (keep, (self.kd + ri[keep] - ci[keep]) * self.m + ci[keep], sg[keep])
+            if len(self._places) < 64:  # the poles' few elements recur at every state; contact's vary
+                self._places[key] = places
+        keep, pos, sign = places
+        np.add.at(ab.reshape(-1), pos, sign * K.ravel()[keep])
 
 
 @dataclass
@@ -1107,21 +1327,23 @@ def harmonic_family(structure: Any, state: Any, n_max: int, pressure: Any = None
     """
     from contin.modes import OperatorFamily
 
-    keep = None
-    if pole_held and structure.N - 1 in structure.poles:
-        keep = harmonic_dofs(structure, 1).free != 3 * (structure.N - 1)  # the pole's lateral a (c is tied to it)
-
-    def block(n: int, u: np.ndarray, p: float) -> sp.csr_matrix:
-        q = 0.0 if pressure is None else float(pressure(u, p))
-        c = None if contact is None else contact(u, p)
-        K = harmonic_block(structure, state(u, p), int(n), pressure=q, z_ref=z_ref, contact=c)
-        if keep is not None and int(n) == 1:
-            K = K[keep][:, keep].tocsr()
-        return K
-
+    hs = _harmonic_shell(structure, z_ref)
     if int(n_max) < 1:
         raise ValueError(f"harmonic_family: n_max must be >= 1, got {n_max!r}")
-    return OperatorFamily("n", tuple(range(1, int(n_max) + 1)), block, multiplicity=lambda n: 2)
+    keys = tuple(range(1, int(n_max) + 1))
+
+    def loads(u: np.ndarray, p: float) -> tuple[float, Any]:
+        return (0.0 if pressure is None else float(pressure(u, p))), (None if contact is None else contact(u, p))
+
+    def block(n: int, u: np.ndarray, p: float) -> SymmetricBand:
+        q, c = loads(u, p)
+        return hs.band_block(state(u, p), int(n), pressure=q, contact=c, hold_pole=pole_held)
+
+    def blocks(u: np.ndarray, p: float) -> list[SymmetricBand]:
+        q, c = loads(u, p)
+        return hs.band_blocks(state(u, p), keys, pressure=q, contact=c, hold_pole=pole_held)
+
+    return OperatorFamily("n", keys, block, multiplicity=lambda n: 2, all_operators=blocks)
 
 
 def block_eigs(K: sp.spmatrix, k: int = 1) -> np.ndarray:
@@ -1251,7 +1473,6 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0,
             c_ = np.repeat(coef[:, j], M)
             term = _scale(Pj, c_)
             pts = term if pts is None else _addv(pts, term)
-        cz_ = np.array([0.0, 0.0, cpos])
         if barrier.indenter.name == "sphere":
             rho = float(barrier.indenter.params[0])
             dvec = (pts[0], pts[1], pts[2] - cpos)
@@ -1264,7 +1485,6 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0,
         W = (d - dh) * (d - dh) * lg * (-Kc)
         wts = np.repeat(cells.weight[S], M)
         E = E + tot(W * wts) * (1.0 / M)
-        del cz_
     if pressure != 0.0:
         Vol = tot(volume_density(P(i), frame(at(i + 1), i), Pp(i),
                                  frame(_scale(_sub(at(i + 1, 1), at(i + 1, -1)), 1.0 / (2.0 * dth)), i))) * dth

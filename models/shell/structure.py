@@ -385,15 +385,18 @@ class ShellStructure:
 
 
 def default_harmonics(structure: ShellStructure) -> int:
-    """The largest wave number watched by default: twice the classical critical one, plus 2.
+    """The largest wave number watched by default: a quarter above the classical critical one, plus 2.
 
     A shell of revolution buckles into waves of about the classical length
     ``2 pi sqrt(rho h) / (12 (1 - nu^2))^(1/4)`` (``rho`` its smallest radius of curvature); around
     its widest circle (radius ``r_max``) that is ``n* = (12 (1 - nu^2))^(1/4) r_max / sqrt(rho h)``
-    waves.  ``2 n* + 2`` leaves the critical wave number well inside the watched range (the complete
-    sphere's critical degree ``l*`` is ``n*`` for ``rho = r_max = R``).  ``rho`` is taken from the
-    meridian's largest reference curvature (its ``kappa11``, ``kappa22`` at the interior nodes), or its
-    length scale for a flat one.
+    waves, and no critical mode is shorter: the complete sphere's critical modes (degree ``l* = n*``
+    for ``rho = r_max = R``) have ``n <= l*``, a clamped cap's under pressure ``n`` about ``n* / 2``
+    (Huang 1964, ``docs/asymmetric.md``), a point-loaded cap's fewer still.  ``ceil(1.25 n*) + 2``
+    leaves a margin above ``n*``; the scenes warn when a located bifurcation comes within 1 of the
+    range's end (:func:`contin_models.shell_scene.schema.harmonic_summary`).  ``rho`` is taken from
+    the meridian's largest reference curvature (its ``kappa11``, ``kappa22`` at the interior nodes), or
+    its length scale for a flat one.
     """
     m = structure.meridian
     h = float(np.max(structure.h_nodes))
@@ -402,7 +405,7 @@ def default_harmonics(structure: ShellStructure) -> int:
     kmax = float(np.max(k)) if k.size else 0.0
     rho = 1.0 / kmax if kmax > 0 else float(getattr(m, "length_scale", None) or np.max(m.r))
     n_star = (12.0 * (1.0 - structure.nu ** 2)) ** 0.25 * float(np.max(m.r)) / math.sqrt(rho * h)
-    return int(math.ceil(2.0 * n_star)) + 2
+    return int(math.ceil(1.25 * n_star)) + 2
 
 
 def _column(H: sp.csr_matrix, j: int) -> np.ndarray:
