@@ -15,10 +15,8 @@ displacement control), and the first bifurcation (its ``n`` and ``w``), with the
 
 ``--boundary`` also locates, for a few ``phi_hat``, the thickness at which the first bifurcation
 reaches the limit load (``before_F_max`` changes), by bisection in ``ln(h/R)`` on that test, each
-evaluation a classification (pole held laterally): points on the boundary, to 1 % in ``h``, not yet
-the boundary continued as a curve (the bifurcation point continued in a second parameter needs the
-gradient of a block's bordered determinant with respect to the state, left for the next step of
-issue 17).  Mesh: N = 100 (``--full``: 200), ``n_max`` = 12.  Writes ``asymmetric_point.csv``,
+evaluation a classification (pole held laterally): points on the boundary, to 1 % in ``h``; the
+boundary continued as a curve, and its mesh convergence, are ``studies/asymmetric_boundary.py``.  Mesh: N = 100 (``--full``: 200), ``n_max`` = 12.  Writes ``asymmetric_point.csv``,
 ``boundary.csv``, ``summary.json`` and ``asymmetric_point.png`` / ``.pdf``.
 """
 

@@ -75,3 +75,25 @@ def test_classify_says_when_an_asymmetric_bifurcation_comes_first(capsys: pytest
 def test_n_max_range_is_checked(capsys: pytest.CaptureFixture) -> None:
     code, _, err = run_cli(capsys, "trace", "-q", "--set", "stability.n_max=-1")
     assert code == 2 and "stability.n_max" in err
+
+
+@pytest.mark.parametrize("control", ["displacement", "force"])
+def test_an_indented_cap_is_watched_under_both_controls(capsys: pytest.CaptureFixture, tmp_path: Path,
+                                                        control: str) -> None:
+    """A rigid sphere (r/R = 0.5) on the default cap, every mode watched: under its travel the frictionless
+    contact lets the cap slide sideways (n = 1) before the snap; under a dead load it snaps at the limit
+    load first (the n = 1 crossing lies beyond it)."""
+    args = ["trace", "-q", "--out", str(tmp_path), "--set", "output.figure=false", "--set", "load.kind=sphere",
+            "--set", "load.radius=0.5", "--set", f"load.control={control}", "--set", "shell.N=60",
+            "--set", "stability.harmonics=true", "--set", "stability.n_max=2"]
+    code, _, err = run_cli(capsys, *args)
+    assert code == 0, err
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    with open(tmp_path / "branch.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert "n_negative_n" in rows[0] and summary["harmonics"]["n_max"] == 2
+    first = summary["first_instability"]
+    if control == "displacement":
+        assert first["kind"] == "bifurcation" and first["n"] == 1 and first["w_over_R"] < summary["w_b_c_over_R"]
+    else:
+        assert first["kind"] == "fold" and first["F"] == pytest.approx(summary["F_snap"])

@@ -25,7 +25,7 @@ import numpy as np
 import contin
 from contin.problem import Problem
 from contin_models.contact import Plate, Sphere
-from contin_models.contact.indentation import ShellIndentation
+from contin_models.contact.indentation import ShellIndentation, ShellIndentationForce
 from contin.quasistatic import SnapRules
 from contin.scene import SceneError
 from contin_models.shell import ShellPointLoad
@@ -189,7 +189,7 @@ def harmonics_of(scene: Scene, structure: ShellStructure) -> int:
 
 
 def watch_harmonics(scene: Scene, problem: Problem) -> Problem:
-    """Give a problem of the paper's cap (the point load under either control, or an indenter) the harmonic
+    """Give a problem of the paper's cap (the point load or an indenter, under either control) the harmonic
     blocks of its shell as an operator family, when the scene asks for them; returns the problem.
 
     The blocks are those of the 2-D energy of the paper's model: the sliding cap without an edge
@@ -198,14 +198,18 @@ def watch_harmonics(scene: Scene, problem: Problem) -> Problem:
     """
     from contin_models.shell.harmonic import harmonic_family
 
-    shell = problem.elastic if isinstance(problem, ShellIndentation) else problem
+    indenter = isinstance(problem, (ShellIndentation, ShellIndentationForce))
+    shell = problem.elastic if indenter else problem
     s = scene["shell"]
     structure = ShellStructure(shell.cap, s["E"], s["nu"], s["h"], "sliding", shell.shell.kappa11_length,
                                edge_bending="none")
     n_max = harmonics_of(scene, structure)
     if n_max:
-        contact = ((lambda u, p: (problem.barrier, problem.position(p))) if isinstance(problem, ShellIndentation)
-                   else None)
+        contact = None
+        if isinstance(problem, ShellIndentation):  # the indenter's travel is the parameter
+            contact = (lambda u, p: (problem.barrier, problem.position(p)))
+        elif isinstance(problem, ShellIndentationForce):  # the load is the parameter, the travel an unknown
+            contact = (lambda u, p: (problem.barrier, problem.position(u)))
         held = scene["load"]["kind"] == "point" and scene["load"].get("pole_held", False)
         problem.operator_families = (harmonic_family(structure, problem.full_state, n_max, contact=contact,
                                                      pole_held=held),)

@@ -50,8 +50,8 @@ from contin_models.contact.indentation import ShellIndentation, ShellIndentation
 from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning
 
-from .build import contact_problem, pole_moved
-from .schema import STABILITY_COLUMNS, Scene
+from .build import contact_problem, pole_moved, watch_harmonics
+from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, shell_first_instability
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
            "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS"]
@@ -138,7 +138,7 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
     reaches ``w_end`` or the indenter comes within ``2 dhat`` of the base ring.
     """
     problem = contact_problem(scene)
-    forced = ShellIndentationForce.from_displacement(problem)
+    forced = watch_harmonics(scene, ShellIndentationForce.from_displacement(problem))
     f_unit = 2.0 * math.pi * problem.D / problem.R
     start = contin.crossing("F_norm", FORCE_START_NORM, direction=+1, terminal=True, name="start of force control")
     lead = contin.continuation(problem, problem.reference_unknowns(), 0.0, settings, p_max=w_end, events=[start],
@@ -256,6 +256,13 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
     if peak is not None:
         summary.update(max_strain=peak.value, w_b_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
     summary["warnings"] = [warning] if warning else []
+    summary["first_instability"] = shell_first_instability(records, generic.parameter_name,
+                                                           ("F", "F_norm", "w", "w_over_R"))
+    harmonics = harmonic_summary(problem, records)
+    if harmonics is not None:
+        summary["harmonics"] = harmonics
+        if "warning" in harmonics:
+            summary["warnings"].append(harmonics["warning"])
     # branch.csv keeps the primary label's "stable" (the traced control's) before the shell's columns
     stability = {"stable": f"stable_{control}", "n_negative": STABILITY_COLUMNS["n_negative"], **STABILITY_COLUMNS}
     cols = branch_columns(branches, stability)
