@@ -312,6 +312,9 @@ def test_a_malformed_set_shows_the_argument_and_the_form(text):
     (["-m", "bratu", "--set", "model.n=1000001"], ["model.n", "an integer >= 2 and <= 1000000"]),
     (["-m", "bratu", "--set", "model.n=" + str(2**63 - 1)], ["model.n", "an integer >= 2 and <= 1000000"]),
     (["-m", "truss", "--set", "model.b=1e308", "--set", "model.a=1e-308"], ["model.b / model.a < 2.4"]),
+    # a flat plate under volume control divided by its zero reference volume (an internal error before)
+    (["--set", "load.kind=pressure", "--set", "shell.geometry=plate", "--set", "shell.boundary=clamped"],
+     ["shell.geometry = \"plate\"", "load.control = \"force\" for a pressure", "encloses none"]),
 ])
 def test_set_values_from_the_issue(args, needles):
     """The cases of the issue, by trace and by a classify sweep (which writes no CSV for them)."""

@@ -197,6 +197,9 @@ def volume_problem(pressure: ShellOfRevolution, depth: float | None = None) -> C
     reference shape, ``H`` the pole's height above the edge.
     """
     V0 = float(pressure.pressure.V0)
+    if not V0 > 0.0:
+        raise ValueError(f"volume_problem: the reference shell encloses no volume (V0 = {V0:g}, a flat plate?): "
+                         "volume control measures dV against V0; trace it under its pressure instead")
     if depth is None:
         depth = 2.0 * float(pressure.x_ref[-1] - pressure.x_ref[1])
         if not depth > 0.0:

@@ -201,6 +201,12 @@ SHELL_SCHEMA = Schema(
                    "imperfection.delta_over_h != 0 when imperfection.kind is not \"none\"",
                    "an imperfection of zero amplitude is the perfect shell: set imperfection.kind = \"none\" or give "
                    "its amplitude"),
+        Constraint(("shell.geometry", "load.kind", "load.control"),
+                   lambda s: not (s["shell"]["geometry"] == "plate" and s["load"]["kind"] == "pressure"
+                                  and s["load"]["control"] == "displacement"),
+                   'load.control = "force" for a pressure on shell.geometry = "plate"',
+                   "volume control prescribes the enclosed volume's change relative to the reference volume V0 "
+                   "(load.dV_end_over_V0), and a flat plate encloses none; trace the plate under its pressure"),
     ],
 )
 
