@@ -60,7 +60,7 @@ from .sweep import SWEEP_SYNTAX, check_sweep_classifiable, parse_sweep, run_swee
 __all__ = ["main", "DEFAULT_SWEEP_CSV", "ENTRY_POINT_GROUP", "CliError", "registered_models", "load_model",
            "summary_document", "classification_document", "write_outputs", "format_table"]
 
-OUTPUT_FILES = ("summary.json", "branch.csv", "diagram.png")
+OUTPUT_FILES = ("summary.json", "branch.csv", "diagram.png", "shapes.npz")
 #: Results file of ``contin classify --sweep`` when ``--csv`` is not given (in the current directory).
 DEFAULT_SWEEP_CSV = "classify_sweep.csv"
 #: Where the help texts name the default model and list the models' examples (filled in only when a
@@ -231,6 +231,8 @@ outputs (in DIR):
   branch.csv     one row per converged point: parameter, observables, residual, stability
   diagram.png    the bifurcation diagram (stable solid, unstable dashed, special points marked);
                  not written when the scene sets output.figure = false
+  shapes.npz     where the model saves them: the shape at every special point and the located
+                 modes (read with numpy.load; the model's help names the arrays)
 The table of special points and a status line are printed on stdout, progress on stderr. A run
 that stops before the end of its path (its step limit, max_steps, was reached) has the status
 'incomplete' and exits with 1; its outputs are written.
@@ -776,7 +778,7 @@ def _write_figure(fh: io.BufferedIOBase, model_name: str, result: TraceResult) -
 
 def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, wall_time_s: float,
                   message: str | None = None) -> list[Path]:
-    """Write ``summary.json``, ``branch.csv`` and ``diagram.png`` into ``out``.
+    """Write ``summary.json``, ``branch.csv``, ``diagram.png`` and (when the model saves shapes) ``shapes.npz`` into ``out``.
 
     All files are written at once (:func:`contin.io.atomic_write`): a failure or an interrupt never
     leaves a partial output or a mix of two runs.  A scene with ``output.figure = false``
@@ -799,10 +801,15 @@ def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, 
     figure = out / "diagram.png"
     if wants_figure(scene):
         files.append((figure, lambda fh: _write_figure(fh, model_name, result), True))
+    shapes = out / "shapes.npz"
+    if result.shapes:
+        files.append((shapes, lambda fh: np.savez(fh, **result.shapes), True))
     try:
         written = atomic_write(files)
         if not wants_figure(scene) and figure.exists():  # it would show another run than the summary beside it
             figure.unlink()
+        if not result.shapes and shapes.exists():
+            shapes.unlink()
     except OSError as exc:
         raise CliError(f"cannot write the outputs to {str(out)!r}: {exc.strerror or exc}") from None
     return written

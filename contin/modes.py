@@ -23,7 +23,8 @@ families in ``operator_families``; :func:`contin.continuation` then watches each
   ``info["family"]``, ``info["key"]``, ``info["eigenvalue"]`` and ``info["next_eigenvalue"]`` (the
   eigenvalues nearest zero of the Jacobi-scaled operator at the located point: their ratio says how
   sharply it is located), the keys whose counts changed on the same step (``changed_keys``, the counts
-  before and after) and, with ``vectors``, the mode (the null vector) in ``info["mode"]``.  When
+  before and after) and, with ``vectors``, the mode (the operator's null vector, unit norm, in the
+  operator's own variables) in ``info["mode"]``.  When
   several keys change on one step, the first crossing along the curve is reported (the first
   instability) and the other located keys are listed in ``info["also"]``; an eigenvalue with the same
   sign at both ends (it crossed twice on one step) is listed in ``info["unlocated_keys"]``.
@@ -80,6 +81,9 @@ class OperatorFamily:
     all_operators : callable ``(u, p) -> list``, optional
         Every key's operator at a state, in the order of ``keys``: where the operators share work
         per state, the cheaper way for the per-point counts (default: ``operator`` per key).
+    mode_shape : callable ``(key, mode) -> array``, optional
+        The model's own description of a located mode (``info["mode"]``, in the operator's
+        variables), e.g. per-node amplitudes, for the outputs.
     """
 
     name: str
@@ -88,6 +92,7 @@ class OperatorFamily:
     multiplicity: Callable[[Any], int] | None = None
     vectors: bool = True
     all_operators: Callable[[np.ndarray, float], Sequence[Any]] | None = None
+    mode_shape: Callable[[Any, np.ndarray], np.ndarray] | None = None
 
     def copies(self, key: Any) -> int:
         """The key's multiplicity (default 1)."""
@@ -175,6 +180,21 @@ def _solver(H: Any) -> Callable[[np.ndarray], np.ndarray] | None:
 def _count(H: Any) -> int:
     """Morse index of a symmetric matrix (:func:`_factor_and_count`)."""
     return _factor_and_count(H)[0]
+
+
+def _scaled_near_zero(K: Any, vectors: bool, start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+    """The two eigenvalues nearest zero of the Jacobi-scaled ``K`` (:func:`_jacobi_scaled`), nearest first, and
+    with ``vectors`` the null vector of ``K`` itself they give (the scaled eigenvector mapped back, unit norm).
+    ``start``: a guess of ``K``'s null vector."""
+    d = np.abs(K.diagonal()) if (sp.issparse(K) or isinstance(K, SymmetricBand)) else np.abs(np.diag(np.asarray(K, dtype=float)))
+    top = float(np.max(d, initial=0.0))
+    scale = 1.0 / np.sqrt(np.maximum(d, 1e-6 * top)) if top > 0.0 else np.ones_like(d)
+    guess = None if start is None else start / scale
+    w, V = eigenvalues_near_zero(_jacobi_scaled(K), 2, vectors=vectors, start=guess)
+    if not vectors or V is None:
+        return w, None
+    mode = scale * V[:, 0]
+    return w, mode / np.linalg.norm(mode)
 
 
 def _jacobi_scaled(K: Any) -> Any:
@@ -423,8 +443,9 @@ class ModeTest(TestFunction):
         crosses (one factorization per converged point).  Brent's method, ended at the location
         tolerance or where ``|g|`` falls to its noise floor (:data:`BORDERED_NOISE` of its size at the
         ends: the converged points carry the corrector's tolerance).  Converged points are kept in
-        ``nodes`` (``sigma -> (u, p)``).  Returns ``(sigma, w, V)``, ``w`` the two eigenvalues of the
-        Jacobi-scaled operator nearest zero at the root (``V`` their vectors); None when ``g`` does not
+        ``nodes`` (``sigma -> (u, p)``).  Returns ``(sigma, w, mode)``, ``w`` the two eigenvalues of the
+        Jacobi-scaled operator nearest zero at the root and ``mode`` the operator's null vector there
+        (None without ``vectors``); None when ``g`` does not
         change sign, or its root is a pole of ``b^T K^-1 b`` rather than a singular ``K`` (the eigenvalue
         nearest zero not below :data:`SINGULAR_RATIO` of the next): the caller then bisects on the
         eigenvalue itself.
@@ -460,12 +481,10 @@ class ModeTest(TestFunction):
         if not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
             return None
         sigma = seg.root(g, g_A, g_B, tol, ftol=BORDERED_NOISE)
-        K = _jacobi_scaled(operator(sigma))
-        diag = np.abs(operator(sigma).diagonal())
-        w, V = eigenvalues_near_zero(K, 2, vectors=fam.vectors, start=border * np.sqrt(np.maximum(diag, 1e-300)))
+        w, mode = _scaled_near_zero(operator(sigma), fam.vectors, start=border)
         if w.size > 1 and abs(w[0]) > SINGULAR_RATIO * abs(w[1]):
             return None
-        return sigma, w, V
+        return sigma, w, mode
 
     def locate(self, seg: Segment, before: tuple[int, ...], after: tuple[int, ...]) -> SpecialPoint:  # type: ignore[override]
         fam = self.family
@@ -512,13 +531,13 @@ class ModeTest(TestFunction):
         # inertia and singular points): a thin structure's operator spans many decades, and the rounding
         # error of its raw eigenvalues near zero (machine epsilon times its norm) would hide the location
         if eig is None:
-            eig = eigenvalues_near_zero(_jacobi_scaled(fam.operator(key, u, p)), 2, vectors=fam.vectors)
-        w, V = eig
+            eig = _scaled_near_zero(fam.operator(key, u, p), fam.vectors)
+        w, mode = eig
         info: dict[str, Any] = {"key": _plain(key), "eigenvalue": float(w[0]),
                                 "next_eigenvalue": float(w[1]) if w.size > 1 else None,
                                 "also": [_plain(k) for k in others], "bracket_p": [seg.A.p, seg.B.p]}
-        if fam.vectors and V is not None:
-            info["mode"] = V[:, 0].copy()
+        if fam.vectors and mode is not None:
+            info["mode"] = mode
         return SpecialPoint("bifurcation", p, u.copy(), self.curve.problem.evaluate_observables(u, p), residual=res,
                             located=True, s=seg.A.s + sigma, label=self.name, info=info)
 

@@ -520,6 +520,9 @@ class TraceResult:
         Further keyword arguments of :func:`contin.plot_branches` for the diagram: ``axis_labels``
         (what the quantities on the axes are), ``note`` (a line in the corner), ``zero_line``,
         ``special_kinds``.
+    shapes : dict of name -> array
+        Arrays the model saves beside the run, written by the command line as ``shapes.npz`` (e.g.
+        the deformed shape at every special point and the located modes); empty: no such file.
     """
 
     branches: list[Branch]
@@ -537,6 +540,7 @@ class TraceResult:
     plot: Callable[[Any], Any] | None = None
     stability: str | None = None
     plot_options: dict[str, Any] = field(default_factory=dict)
+    shapes: dict[str, np.ndarray] = field(default_factory=dict)
 
     @classmethod
     def from_branches(cls, branches: Sequence[Branch], jumps: Sequence[JumpResult] = (), *, problem: Any = None,

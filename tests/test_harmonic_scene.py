@@ -51,6 +51,25 @@ def test_pressure_scene_reports_its_first_instability(capsys: pytest.CaptureFixt
     assert len(later) >= len(rows) - 3  # all but the start and the end points placed on a bound
     signs = [float(r["lowest_n"]) > 0 for r in later]
     assert signs[0] and not all(signs)
+    # shapes.npz: every special point's deformed meridian, and each located mode, which the block of its
+    # n, rebuilt from the saved shape and pressure, maps to (nearly) zero
+    import numpy as np
+
+    from contin_models.shell.harmonic import HarmonicShell, harmonic_dofs
+    from contin_models.shell_scene import SHELL_SCHEMA
+    from contin_models.shell_scene.build import pressure_problem
+    from contin.scene import load_scene
+
+    shapes = np.load(tmp_path / "shapes.npz")
+    assert [str(k) for k in shapes["special_kind"]] == [r["kind"] for r in summary["special_points"]][:len(shapes["special_kind"])]
+    problem = pressure_problem(load_scene(SHELL_SCHEMA, None, PRESSURE))
+    hs = HarmonicShell(problem.structure)
+    for k, n, a, b, c in zip(shapes["mode_record"], shapes["mode_n"], shapes["mode_a"], shapes["mode_b"], shapes["mode_c"]):
+        x = np.column_stack([shapes["special_r"][k], shapes["special_z"][k]]).ravel()
+        K = hs.full_block(x, int(n), pressure=float(shapes["special_p"][k]))
+        v = np.column_stack([a, b, c]).ravel()
+        T = harmonic_dofs(problem.structure, int(n)).T  # the admissible fields; the rest are the supports' reactions
+        assert np.linalg.norm(T.T @ (K @ v)) < 1e-9 * abs(K).max() * np.linalg.norm(v)
 
 
 def test_without_harmonics_the_first_instability_is_a_fold(capsys: pytest.CaptureFixture, tmp_path: Path) -> None:

@@ -105,3 +105,25 @@ def test_banded_operators_are_counted_estimated_and_located_like_dense_ones() ->
     assert [(s.info["key"], round(s.p, 8)) for s in bif] == [(1, 3.0), (2, 6.0)]  # k^2 + 2 - u = 0 below p = 10
     for s in bif:
         assert abs(s.info["eigenvalue"]) < 1e-8 * abs(s.info["next_eigenvalue"])
+
+
+def test_the_stored_mode_is_the_null_vector_of_the_operator_itself() -> None:
+    """``info["mode"]`` is K's own null vector at the located point, not the Jacobi-scaled operator's: on a
+    badly scaled operator the two differ."""
+    scales = np.array([1.0, 1e4, 1e-3])
+
+    def op(k, u, p):
+        A = np.array([[2.0 - u[0], 1.0, 0.0], [1.0, 3.0, 0.5], [0.0, 0.5, 4.0]])
+        return A * scales[:, None] * scales[None, :]
+
+    family = contin.OperatorFamily("k", (1,), op)
+    prob = contin.Problem(residual=lambda u, p: np.array([u[0] - p]), jacobian=lambda u, p: np.eye(1),
+                          dresidual_dp=lambda u, p: np.array([-1.0]), symmetric=True, operator_families=[family],
+                          name="scaled")
+    br = contin.continuation(prob, np.zeros(1), 0.0, ds=0.3, ds_max=0.3, p_max=3.0, stability=True, max_steps=50)
+    bif = [s for s in br.special_points if s.kind == "bifurcation"]
+    assert len(bif) == 1
+    K = op(1, bif[0].u, bif[0].p)
+    mode = bif[0].info["mode"]
+    assert np.linalg.norm(mode) == pytest.approx(1.0)
+    assert np.linalg.norm(K @ mode) < 1e-9 * np.linalg.norm(K)

@@ -187,7 +187,8 @@ from contin.stability import stability_info
 
 from . import _harmonic_generated as _hgen
 
-__all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "block_eigs",
+__all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "harmonic_mode",
+           "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
            "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH"]
 
@@ -1343,7 +1344,24 @@ def harmonic_family(structure: Any, state: Any, n_max: int, pressure: Any = None
         q, c = loads(u, p)
         return hs.band_blocks(state(u, p), keys, pressure=q, contact=c, hold_pole=pole_held)
 
-    return OperatorFamily("n", keys, block, multiplicity=lambda n: 2, all_operators=blocks)
+    def shape(n: int, mode: np.ndarray) -> np.ndarray:
+        return harmonic_mode(structure, int(n), mode, hold_pole=pole_held)
+
+    return OperatorFamily("n", keys, block, multiplicity=lambda n: 2, all_operators=blocks, mode_shape=shape)
+
+
+def harmonic_mode(structure: Any, n: int, mode: np.ndarray, hold_pole: bool = False) -> np.ndarray:
+    """A mode of the block of wave number ``n >= 1`` (a vector on its admissible dofs, as
+    :func:`harmonic_family`'s blocks have them) as per-node amplitudes ``(N, 3)``: the columns ``a``, ``b``,
+    ``c`` of ``dR = a cos(n theta)``, ``dZ = b cos(n theta)``, ``dT = c sin(n theta)`` (module docstring)."""
+    d = harmonic_dofs(structure, n)
+    T = d.T.tocsc()
+    if bool(hold_pole) and int(n) == 1 and structure.N - 1 in structure.poles:
+        T = T[:, d.free != 3 * (structure.N - 1)]
+    mode = np.asarray(mode, dtype=float)
+    if mode.shape != (T.shape[1],):
+        raise ValueError(f"harmonic_mode: a mode of n = {n} has {T.shape[1]} entries, got shape {mode.shape}")
+    return (T @ mode).reshape(structure.N, 3)
 
 
 def block_eigs(K: sp.spmatrix, k: int = 1) -> np.ndarray:

@@ -64,7 +64,8 @@ from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import end_of_path, force_snap_rules, point_problem, point_settings
-from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, shell_first_instability, harmonic_summary
+from .schema import (STABILITY_COLUMNS, Scene, eversion_displacement, harmonic_summary, shell_first_instability,
+                     shell_shapes)
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a point load.
 _INSTABILITY_FIELDS = ("F", "F_norm", "w", "w_over_R")
@@ -365,7 +366,9 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
                          csv_columns=branch_columns(branches, STABILITY_COLUMNS), x="w", y="F",
                          parameter_name=generic.parameter_name, labels=labels,
                          jump_observables=generic.jump_observables, failure=failure,
-                         stability=summary["control"], plot_options=plot_options)
+                         stability=summary["control"], plot_options=plot_options,
+                         shapes=shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()),
+                                             problem.cap.x))
     if not scene["output"]["figure"]:
         result.plot = lambda ax: ax.text(0.5, 0.5, "figure disabled (output.figure = false)", ha="center",
                                          va="center", transform=ax.transAxes)

@@ -71,7 +71,7 @@ from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.structure import ShellOfRevolution
 
 from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
-from .schema import Scene, harmonic_summary, record_fields, shell_first_instability
+from .schema import Scene, harmonic_summary, record_fields, shell_first_instability, shell_shapes
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a pressure.
 _INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
@@ -173,7 +173,8 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br]), x="w_over_h", y="p_over_p_c",
-                       parameter_name=problem.parameter_name, labels=labels, plot_options=plot_options)
+                       parameter_name=problem.parameter_name, labels=labels, plot_options=plot_options,
+                       shapes=shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref))
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -210,7 +211,8 @@ def volume_problem(pressure: ShellOfRevolution, depth: float | None = None) -> C
     # the n >= 1 blocks are shared by both controls: the same family, on the multiplier's pressure
     volume.operator_families = tuple(
         OperatorFamily(f.name, f.keys, (lambda n, U, q, f=f: f.operator(n, *volume.split(U))), f.multiplicity,
-                       f.vectors) for f in getattr(pressure, "operator_families", ()))
+                       f.vectors, all_operators=(lambda U, q, f=f: f.operators(*volume.split(U))),
+                       mode_shape=f.mode_shape) for f in getattr(pressure, "operator_families", ()))
     return volume
 
 
@@ -317,4 +319,6 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_VOLUME_TABLE_COLUMNS),
                        csv_columns=csv, x="dV", y="p_over_p_c", parameter_name=problem.parameter_name,
-                       labels=["path"], plot=plot, plot_options=plot_options)
+                       labels=["path"], plot=plot, plot_options=plot_options,
+                       shapes=shell_shapes([br], lambda U, q: pressure.full_state(*problem.split(U)),
+                                           problem.operator_families, pressure.x_ref))

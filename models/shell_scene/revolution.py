@@ -39,7 +39,7 @@ from contin.branch import Branch
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
-from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, record_fields, shell_first_instability
+from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, record_fields, shell_first_instability, shell_shapes
 from .shape import rise
 
 __all__ = ["run_revolution"]
@@ -123,4 +123,5 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br], STABILITY_COLUMNS), x="w", y="F",
-                       parameter_name=problem.parameter_name, labels=["path"], plot_options=plot_options)
+                       parameter_name=problem.parameter_name, labels=["path"], plot_options=plot_options,
+                       shapes=shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref))
