@@ -60,7 +60,7 @@ from .sweep import SWEEP_SYNTAX, check_sweep_classifiable, parse_sweep, run_swee
 __all__ = ["main", "DEFAULT_SWEEP_CSV", "ENTRY_POINT_GROUP", "CliError", "registered_models", "load_model",
            "summary_document", "classification_document", "write_outputs", "format_table"]
 
-OUTPUT_FILES = ("summary.json", "branch.csv", "diagram.png", "shapes.npz")
+OUTPUT_FILES = ("summary.json", "branch.csv", "diagram.png", "shapes.npz", "shapes.png")
 #: Results file of ``contin classify --sweep`` when ``--csv`` is not given (in the current directory).
 DEFAULT_SWEEP_CSV = "classify_sweep.csv"
 #: Where the help texts name the default model and list the models' examples (filled in only when a
@@ -232,7 +232,8 @@ outputs (in DIR):
   diagram.png    the bifurcation diagram (stable solid, unstable dashed, special points marked);
                  not written when the scene sets output.figure = false
   shapes.npz     where the model saves them: the shape at every special point and the located
-                 modes (read with numpy.load; the model's help names the arrays)
+                 modes (read with numpy.load; the model's help names the arrays), drawn in
+                 shapes.png
 The table of special points and a status line are printed on stdout, progress on stderr. A run
 that stops before the end of its path (its step limit, max_steps, was reached) has the status
 'incomplete' and exits with 1; its outputs are written.
@@ -776,6 +777,16 @@ def _write_figure(fh: io.BufferedIOBase, model_name: str, result: TraceResult) -
     fig.savefig(fh, format="png", dpi=120)
 
 
+def _write_shapes_figure(fh: io.BufferedIOBase, result: TraceResult) -> None:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 5.0))
+    FigureCanvasAgg(fig)
+    result.draw_shapes(fig)
+    fig.savefig(fh, format="png", dpi=120)
+
+
 def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, wall_time_s: float,
                   message: str | None = None) -> list[Path]:
     """Write ``summary.json``, ``branch.csv``, ``diagram.png`` and (when the model saves shapes) ``shapes.npz`` into ``out``.
@@ -801,15 +812,18 @@ def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, 
     figure = out / "diagram.png"
     if wants_figure(scene):
         files.append((figure, lambda fh: _write_figure(fh, model_name, result), True))
-    shapes = out / "shapes.npz"
+    shapes, shapes_figure = out / "shapes.npz", out / "shapes.png"
     if result.shapes:
         files.append((shapes, lambda fh: np.savez(fh, **result.shapes), True))
+    drawn_shapes = bool(result.shapes) and result.draw_shapes is not None and wants_figure(scene)
+    if drawn_shapes:
+        files.append((shapes_figure, lambda fh: _write_shapes_figure(fh, result), True))
     try:
         written = atomic_write(files)
-        if not wants_figure(scene) and figure.exists():  # it would show another run than the summary beside it
-            figure.unlink()
-        if not result.shapes and shapes.exists():
-            shapes.unlink()
+        # a file left by an earlier run would show another run than the summary beside it
+        for path, keep in ((figure, wants_figure(scene)), (shapes, bool(result.shapes)), (shapes_figure, drawn_shapes)):
+            if not keep and path.exists():
+                path.unlink()
     except OSError as exc:
         raise CliError(f"cannot write the outputs to {str(out)!r}: {exc.strerror or exc}") from None
     return written

@@ -523,6 +523,9 @@ class TraceResult:
     shapes : dict of name -> array
         Arrays the model saves beside the run, written by the command line as ``shapes.npz`` (e.g.
         the deformed shape at every special point and the located modes); empty: no such file.
+    draw_shapes : callable, optional
+        ``draw_shapes(figure)`` draws :attr:`shapes` on an empty matplotlib Figure; the command line
+        writes it as ``shapes.png`` (with the diagram, unless the scene turns figures off).
     """
 
     branches: list[Branch]
@@ -541,6 +544,7 @@ class TraceResult:
     stability: str | None = None
     plot_options: dict[str, Any] = field(default_factory=dict)
     shapes: dict[str, np.ndarray] = field(default_factory=dict)
+    draw_shapes: Callable[[Any], Any] | None = None
 
     @classmethod
     def from_branches(cls, branches: Sequence[Branch], jumps: Sequence[JumpResult] = (), *, problem: Any = None,

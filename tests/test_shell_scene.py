@@ -217,3 +217,22 @@ def test_classify_undecided_when_the_path_stops_early(tmp_path: Path, capsys: py
     # trace says the same in summary.json, with what the traced part looks like
     code, summary = _trace(tmp_path, "shell.N=40", "shell.phi_hat=1.2", "continuation.max_steps=5")
     assert summary["classification"] is None and summary["classification_on_partial_path"] == "monotonous"
+
+
+def test_the_shapes_at_the_special_points_are_saved_and_drawn(runs: dict, tmp_path: Path) -> None:
+    """``shapes.npz``: one deformed meridian per special point of ``summary.json``, whose pole sits the
+    point's ``w`` below the reference pole; ``shapes.png`` beside it, and neither figure with
+    ``output.figure = false`` (a figure left by an earlier run is removed)."""
+    import numpy as np
+
+    out, code, summary = runs["displacement"]
+    assert code == 0 and (out / "shapes.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    shapes = np.load(out / "shapes.npz")
+    branch_records = [r for r in summary["special_points"] if r["kind"] not in ("jump_from", "jump_to")]
+    assert len(shapes["special_kind"]) == len(branch_records) and shapes["special_r"].shape == (len(branch_records), 40)
+    for k, rec in enumerate(branch_records):
+        assert str(shapes["special_kind"][k]) == rec["kind"]
+        assert shapes["reference_z"][-1] - shapes["special_z"][k][-1] == pytest.approx(rec["w"], abs=1e-12)
+    (tmp_path / "shapes.png").write_bytes(b"old")
+    code, _ = _trace(tmp_path, "shell.N=40", "output.figure=false", "continuation.max_steps=20")
+    assert not (tmp_path / "shapes.png").exists() and (tmp_path / "shapes.npz").exists()

@@ -51,7 +51,8 @@ from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import contact_problem, pole_moved, watch_harmonics
-from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, shell_first_instability, shell_shapes
+from .deformed import shapes_drawer, shell_shapes
+from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, shell_first_instability
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
            "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS"]
@@ -269,9 +270,9 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
     if "w_b" in cols:
         cols = {"w": cols["w_b"], "F": cols.get("F"), "w_over_R": cols["w_b_over_R"], "F_norm": cols.get("F_norm"),
                 **{k: v for k, v in cols.items() if k not in ("F", "F_norm")}}
+    shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.elastic.cap.x)
     return TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                        table=generic.table, csv_columns=cols, x="w_b", y="F", parameter_name=problem.parameter_name,
                        labels=labels, jump_observables=generic.jump_observables, failure=failure,
                        stability=control, plot_options={"axis_labels": _AXIS_LABELS, "zero_line": True},
-                       shapes=shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()),
-                                           problem.elastic.cap.x))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, R, problem.parameter_name))

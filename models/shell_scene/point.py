@@ -64,8 +64,8 @@ from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import end_of_path, force_snap_rules, point_problem, point_settings
-from .schema import (STABILITY_COLUMNS, Scene, eversion_displacement, harmonic_summary, shell_first_instability,
-                     shell_shapes)
+from .deformed import shapes_drawer, shell_shapes
+from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, harmonic_summary, shell_first_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a point load.
 _INSTABILITY_FIELDS = ("F", "F_norm", "w", "w_over_R")
@@ -360,6 +360,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
     cls = summary.get("classification")
     plot_options = {"axis_labels": _AXIS_LABELS, "zero_line": True, "special_kinds": ("fold", "bifurcation"),
                     "note": f"{cls}, stability under {summary['control']} control" if cls else ""}
+    shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.cap.x)
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                          table=special_point_table(records, branch_labels=labels if len(branches) > 1 else None,
                                                    columns=_TABLE_COLUMNS),
@@ -367,8 +368,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
                          parameter_name=generic.parameter_name, labels=labels,
                          jump_observables=generic.jump_observables, failure=failure,
                          stability=summary["control"], plot_options=plot_options,
-                         shapes=shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()),
-                                             problem.cap.x))
+                         shapes=shapes, draw_shapes=shapes_drawer(shapes, problem.R, generic.parameter_name))
     if not scene["output"]["figure"]:
         result.plot = lambda ax: ax.text(0.5, 0.5, "figure disabled (output.figure = false)", ha="center",
                                          va="center", transform=ax.transAxes)

@@ -71,7 +71,8 @@ from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.structure import ShellOfRevolution
 
 from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
-from .schema import Scene, harmonic_summary, record_fields, shell_first_instability, shell_shapes
+from .deformed import shapes_drawer, shell_shapes
+from .schema import Scene, harmonic_summary, record_fields, shell_first_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a pressure.
 _INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
@@ -170,11 +171,12 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
                                           "no fold in p on the path (no snap)")
     plot_options = {"axis_labels": _AXIS_LABELS, "special_kinds": ("fold", "bifurcation"), "note": note}
     # output.figure = false is the command line's to honour (contin.scene.wants_figure)
+    shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref)
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br]), x="w_over_h", y="p_over_p_c",
                        parameter_name=problem.parameter_name, labels=labels, plot_options=plot_options,
-                       shapes=shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name))
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -316,9 +318,10 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
         ax.ticklabel_format(axis="x", style="sci", scilimits=(0, 0))
         return ax
 
+    shapes = shell_shapes([br], lambda U, q: pressure.full_state(*problem.split(U)), problem.operator_families,
+                          pressure.x_ref)
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_VOLUME_TABLE_COLUMNS),
                        csv_columns=csv, x="dV", y="p_over_p_c", parameter_name=problem.parameter_name,
                        labels=["path"], plot=plot, plot_options=plot_options,
-                       shapes=shell_shapes([br], lambda U, q: pressure.full_state(*problem.split(U)),
-                                           problem.operator_families, pressure.x_ref))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name))

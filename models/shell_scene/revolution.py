@@ -39,7 +39,8 @@ from contin.branch import Branch
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
-from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, record_fields, shell_first_instability, shell_shapes
+from .deformed import shapes_drawer, shell_shapes
+from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, record_fields, shell_first_instability
 from .shape import rise
 
 __all__ = ["run_revolution"]
@@ -120,8 +121,9 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
         br.message = f"{br.message}; {snap}"
     note = f"{s['geometry']}, {s['boundary']} edge, {load['kind']} load; stability under {control} control"
     plot_options = {"axis_labels": _AXIS_LABELS, "special_kinds": ("fold", "bifurcation"), "note": note}
+    shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref)
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br], STABILITY_COLUMNS), x="w", y="F",
                        parameter_name=problem.parameter_name, labels=["path"], plot_options=plot_options,
-                       shapes=shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name))

@@ -21,17 +21,14 @@ Scene keys (public contract, ``--set section.key=value``)::
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
 from typing import Any
-
-import numpy as np
 
 from contin.scene import Constraint, Field, Schema, boolean, choice, integer, real, text
 from contin_models.shell.structure import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
-__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "record_fields", "shell_shapes", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
+__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "record_fields", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
            "minimum_nodes", "nodes_per_bending_length"]
 
 Scene = dict[str, dict[str, Any]]
@@ -284,52 +281,6 @@ def harmonic_summary(problem: Any, records: list[dict[str, Any]]) -> dict[str, A
     if ns and max(ns) >= n_max - 1:
         out["warning"] = (f"a bifurcation into n = {max(ns)} is at the edge of the watched range n <= {n_max}: "
                           f"modes beyond it may come first; raise stability.n_max")
-    return out
-
-
-def shell_shapes(branches: Sequence[Any], state: Callable[[np.ndarray, float], np.ndarray], families: Sequence[Any] = (),
-                 reference: np.ndarray | None = None) -> dict[str, np.ndarray]:
-    """``shapes.npz`` of a shell run: the deformed meridian at every special point, and the located modes.
-
-    Parameters
-    ----------
-    branches : the run's branches (their special points, in the order of ``summary.json``'s records).
-    state : callable ``(u, p) -> x``
-        The full interleaved state ``[r_0, z_0, ...]`` of a special point's unknowns and parameter.
-    families : the problem's operator families (:class:`contin.OperatorFamily`); a bifurcation's mode is
-        saved when its family has a ``mode_shape``.
-    reference : the reference state (saved as ``reference_r``, ``reference_z``).
-
-    Returns
-    -------
-    dict
-        ``special_record`` (the index of each special point among ``summary.json``'s ``special_points``),
-        ``special_branch``, ``special_kind``, ``special_label``, ``special_p``, ``special_r``,
-        ``special_z`` (one row per special point); for every located mode ``mode_record`` (its special
-        point), ``mode_n``, and its per-node amplitudes ``mode_a``, ``mode_b``, ``mode_c``
-        (``dR = a cos n theta``, ``dZ = b cos n theta``, ``dT = c sin n theta``); empty when the run has
-        no special point.
-    """
-    rows = [(bi, spt) for bi, br in enumerate(branches) for spt in br.special_points]
-    if not rows:
-        return {}
-    X = np.array([np.asarray(state(spt.u, spt.p), dtype=float) for _, spt in rows])
-    out: dict[str, np.ndarray] = {
-        "special_record": np.arange(len(rows)), "special_branch": np.array([bi for bi, _ in rows]),
-        "special_kind": np.array([spt.kind for _, spt in rows]), "special_label": np.array([spt.label for _, spt in rows]),
-        "special_p": np.array([float(spt.p) for _, spt in rows]), "special_r": X[:, 0::2], "special_z": X[:, 1::2]}
-    if reference is not None:
-        out["reference_r"], out["reference_z"] = np.asarray(reference)[0::2], np.asarray(reference)[1::2]
-    by_name = {f.name: f for f in families}
-    modes = []
-    for k, (_, spt) in enumerate(rows):
-        fam = by_name.get(spt.info.get("family")) if spt.kind == "bifurcation" else None
-        if fam is not None and fam.mode_shape is not None and spt.info.get("mode") is not None:
-            modes.append((k, spt.info["key"], np.asarray(fam.mode_shape(spt.info["key"], spt.info["mode"]))))
-    if modes:
-        A = np.array([m[2] for m in modes])
-        out.update(mode_record=np.array([m[0] for m in modes]), mode_n=np.array([m[1] for m in modes]),
-                   mode_a=A[:, :, 0], mode_b=A[:, :, 1], mode_c=A[:, :, 2])
     return out
 
 

@@ -1,0 +1,142 @@
+"""What a shell run saves beside its diagram: the shapes at its special points and its located modes.
+
+:func:`shell_shapes` collects the arrays (``shapes.npz``, written by the command line from
+:attr:`contin.scene.TraceResult.shapes`) and :func:`draw_shapes` draws them (``shapes.png``): the
+deformed meridians at the path's first instability and its folds, mirrored about the axis, and the
+first located bifurcation's mode as the ring it bends into, seen from above.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+__all__ = ["shell_shapes", "draw_shapes", "shapes_drawer"]
+
+#: Most meridians drawn (the first instability, then the folds along the path).
+MAX_DRAWN = 4
+
+
+def shell_shapes(branches: Sequence[Any], state: Callable[[np.ndarray, float], np.ndarray], families: Sequence[Any] = (),
+                 reference: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """``shapes.npz`` of a shell run: the deformed meridian at every special point, and the located modes.
+
+    Parameters
+    ----------
+    branches : the run's branches (their special points, in the order of ``summary.json``'s records).
+    state : callable ``(u, p) -> x``
+        The full interleaved state ``[r_0, z_0, ...]`` of a special point's unknowns and parameter.
+    families : the problem's operator families (:class:`contin.OperatorFamily`); a bifurcation's mode is
+        saved when its family has a ``mode_shape``.
+    reference : the reference state (saved as ``reference_r``, ``reference_z``).
+
+    Returns
+    -------
+    dict
+        ``special_record`` (the index of each special point among ``summary.json``'s ``special_points``),
+        ``special_branch``, ``special_kind``, ``special_label``, ``special_p``, ``special_r``,
+        ``special_z`` (one row per special point); for every located mode ``mode_record`` (its special
+        point), ``mode_n``, and its per-node amplitudes ``mode_a``, ``mode_b``, ``mode_c``
+        (``dR = a cos n theta``, ``dZ = b cos n theta``, ``dT = c sin n theta``); empty when the run has
+        no special point.
+    """
+    rows = [(bi, spt) for bi, br in enumerate(branches) for spt in br.special_points]
+    if not rows:
+        return {}
+    X = np.array([np.asarray(state(spt.u, spt.p), dtype=float) for _, spt in rows])
+    out: dict[str, np.ndarray] = {
+        "special_record": np.arange(len(rows)), "special_branch": np.array([bi for bi, _ in rows]),
+        # an extremum declared a limit point (the force's maximum along a displacement path) is a fold, as in
+        # summary.json's records
+        "special_kind": np.array(["fold" if spt.kind == "event" and spt.info.get("folds") is not None else spt.kind
+                                  for _, spt in rows]),
+        "special_label": np.array([spt.label for _, spt in rows]),
+        "special_p": np.array([float(spt.p) for _, spt in rows]), "special_r": X[:, 0::2], "special_z": X[:, 1::2]}
+    if reference is not None:
+        out["reference_r"], out["reference_z"] = np.asarray(reference)[0::2], np.asarray(reference)[1::2]
+    by_name = {f.name: f for f in families}
+    modes = []
+    for k, (_, spt) in enumerate(rows):
+        fam = by_name.get(spt.info.get("family")) if spt.kind == "bifurcation" else None
+        if fam is not None and fam.mode_shape is not None and spt.info.get("mode") is not None:
+            modes.append((k, spt.info["key"], np.asarray(fam.mode_shape(spt.info["key"], spt.info["mode"]))))
+    if modes:
+        A = np.array([m[2] for m in modes])
+        out.update(mode_record=np.array([m[0] for m in modes]), mode_n=np.array([m[1] for m in modes]),
+                   mode_a=A[:, :, 0], mode_b=A[:, :, 1], mode_c=A[:, :, 2])
+    return out
+
+
+def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, parameter: str) -> None:
+    """Draw ``shapes`` (:func:`shell_shapes`) on the empty matplotlib Figure ``fig``.
+
+    Left: the reference meridian and the deformed ones at the first bifurcation (if any) and the folds
+    along the path (at most :data:`MAX_DRAWN`), as cross-sections through the axis, in units of
+    ``length``.  Right, when a mode was located: the ring of largest radial amplitude of the first
+    bifurcation's mode, seen from above, its amplitude exaggerated to a fifth of the radius.
+    ``parameter``: the name of the path's parameter (labels).
+    """
+    kinds = [str(k) for k in shapes["special_kind"]]
+    chosen: list[int] = []
+    bif = [k for k, kind in enumerate(kinds) if kind == "bifurcation"]
+    if bif:
+        chosen.append(bif[0])
+    chosen += [k for k, kind in enumerate(kinds) if kind == "fold" and k not in chosen]
+    chosen = sorted(chosen[:MAX_DRAWN])
+    modes = "mode_record" in shapes
+    ax = fig.add_subplot(1, 2 if modes else 1, 1)
+    if "reference_r" in shapes:
+        r0, z0 = shapes["reference_r"] / length, shapes["reference_z"] / length
+        ax.plot(*_section(r0, z0), color="0.6", lw=1.0, ls=":", label="reference")
+    colors = ["tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown"]
+    for c, k in zip(colors, chosen):
+        r, z = shapes["special_r"][k] / length, shapes["special_z"][k] / length
+        name = str(shapes["special_label"][k])
+        label = f"{kinds[k]}{f' ({name})' if name and kinds[k] == 'fold' else ''} at {parameter} = {shapes['special_p'][k]:.4g}"
+        if kinds[k] == "bifurcation" and modes and k in list(shapes["mode_record"]):
+            label += f" (n = {int(shapes['mode_n'][list(shapes['mode_record']).index(k)])})"
+        ax.plot(*_section(r, z), color=c, lw=1.3, label=label)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("$r / L$")
+    ax.set_ylabel("$z / L$")
+    ax.set_title("cross-sections at the first instability and the first folds", fontsize="small")
+    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
+    if modes:
+        k = int(shapes["mode_record"][0])
+        n = int(shapes["mode_n"][0])
+        a = shapes["mode_a"][0]
+        node = int(np.argmax(np.abs(a)))
+        r_ring = float(shapes["special_r"][k][node]) / length
+        theta = np.linspace(0.0, 2.0 * np.pi, 361)
+        amp = 0.2 * r_ring / max(float(np.max(np.abs(a))), 1e-300)
+        ax2 = fig.add_subplot(1, 2, 2)
+        ax2.plot(r_ring * np.cos(theta), r_ring * np.sin(theta), color="0.6", lw=1.0, ls=":", label="axisymmetric")
+        rr = r_ring + amp * a[node] * np.cos(n * theta)
+        ax2.plot(rr * np.cos(theta), rr * np.sin(theta), color="tab:red", lw=1.4,
+                 label=f"mode n = {n} (amplitude exaggerated)")
+        ax2.set_aspect("equal")
+        from matplotlib.ticker import MaxNLocator
+
+        ax2.xaxis.set_major_locator(MaxNLocator(4))
+        ax2.yaxis.set_major_locator(MaxNLocator(4))
+        ax2.set_xlabel("$x / L$")
+        ax2.set_ylabel("$y / L$")
+        ax2.set_title(f"first bifurcation at {parameter} = {shapes['special_p'][k]:.4g}: the ring of largest\n"
+                      f"radial amplitude (node {node}, r/L = {r_ring:.3g}) seen from above", fontsize="small")
+        ax2.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
+    fig.tight_layout()
+
+
+def shapes_drawer(shapes: dict[str, np.ndarray], length: float, parameter: str) -> Callable[[Any], None] | None:
+    """:attr:`contin.scene.TraceResult.draw_shapes` of a shell run: :func:`draw_shapes` bound to its arrays
+    (None when there is nothing to draw)."""
+    if not shapes:
+        return None
+    return lambda fig: draw_shapes(fig, shapes, length, parameter)
+
+
+def _section(r: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The meridian (edge to pole) and its mirror image as one cross-section through the axis, edge to edge."""
+    return np.concatenate([-r, r[::-1]]), np.concatenate([z, z[::-1]])
