@@ -186,26 +186,29 @@ def _scaled_near_zero(K: Any, vectors: bool, start: np.ndarray | None = None) ->
     """The two eigenvalues nearest zero of the Jacobi-scaled ``K`` (:func:`_jacobi_scaled`), nearest first, and
     with ``vectors`` the null vector of ``K`` itself they give (the scaled eigenvector mapped back, unit norm).
     ``start``: a guess of ``K``'s null vector."""
-    d = np.abs(K.diagonal()) if (sp.issparse(K) or isinstance(K, SymmetricBand)) else np.abs(np.diag(np.asarray(K, dtype=float)))
-    top = float(np.max(d, initial=0.0))
-    scale = 1.0 / np.sqrt(np.maximum(d, 1e-6 * top)) if top > 0.0 else np.ones_like(d)
+    scale = _jacobi_scaling(K)
     guess = None if start is None else start / scale
-    w, V = eigenvalues_near_zero(_jacobi_scaled(K), 2, vectors=vectors, start=guess)
+    w, V = eigenvalues_near_zero(_jacobi_scaled(K, scale), 2, vectors=vectors, start=guess)
     if not vectors or V is None:
         return w, None
     mode = scale * V[:, 0]
     return w, mode / np.linalg.norm(mode)
 
 
-def _jacobi_scaled(K: Any) -> Any:
-    """``D^-1/2 K D^-1/2`` with ``D = |diag K|`` floored at 1e-6 of its largest entry (a diagonal entry that
-    itself goes to zero is a mode, not a scale)."""
-    if isinstance(K, SymmetricBand):
+def _jacobi_scaling(K: Any) -> np.ndarray:
+    """``|diag K|^-1/2``, the diagonal floored at 1e-6 of its largest entry (a diagonal entry that itself goes
+    to zero is a mode, not a scale)."""
+    if sp.issparse(K) or isinstance(K, SymmetricBand):
         d = np.abs(K.diagonal())
     else:
-        d = np.abs(K.diagonal()) if sp.issparse(K) else np.abs(np.diag(np.asarray(K, dtype=float)))
+        d = np.abs(np.diag(np.asarray(K, dtype=float)))
     top = float(np.max(d, initial=0.0))
-    s = 1.0 / np.sqrt(np.maximum(d, 1e-6 * top)) if top > 0.0 else np.ones_like(d)
+    return 1.0 / np.sqrt(np.maximum(d, 1e-6 * top)) if top > 0.0 else np.ones_like(d)
+
+
+def _jacobi_scaled(K: Any, scale: np.ndarray | None = None) -> Any:
+    """``D^-1/2 K D^-1/2`` with the scaling of :func:`_jacobi_scaling` (or the given ``scale``)."""
+    s = _jacobi_scaling(K) if scale is None else scale
     if isinstance(K, SymmetricBand):
         return K.scaled(s)
     if sp.issparse(K):
