@@ -835,6 +835,8 @@ def _cell(key: str, v: Any) -> str:
     if isinstance(v, (bool, np.bool_)):
         return "yes" if v else "no"
     if isinstance(v, (float, np.floating)):
+        if v == 0.0:
+            v = 0.0  # a negative zero prints as 0 (issue 18: no "-0" in the tables)
         return f"{v:.1e}" if key == "residual" else f"{v:.8g}"
     return str(v)
 

@@ -430,3 +430,9 @@ def test_internal_error_is_one_paragraph_without_traceback(tmp_path, capsys, mon
     code, _, stderr = run_cli(capsys, "trace", "-q", "--out", str(tmp_path / "o"))
     assert code == 1 and stderr.startswith("contin: internal error: RuntimeError: a bug over two lines")
     assert stderr.count("\n") == 1 and "Traceback" not in stderr
+
+
+def test_tables_print_no_negative_zero():
+    """A coordinate that is exactly zero but negative (a jump's unchanged travel, say) prints as 0."""
+    table = cli.format_table([{"kind": "jump", "w": -0.0, "F": np.float64(-0.0), "residual": 0.0}])
+    assert "-0" not in table and table.splitlines()[1].split()[1:3] == ["0", "0"]
