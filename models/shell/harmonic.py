@@ -683,12 +683,19 @@ class HarmonicShell:
         return e.h
 
     def _volume_hessians(self, x: np.ndarray, loc: dict) -> tuple:
-        """The volume strips' ``(nodes, layout, H)`` (cached with the state's other Hessians)."""
+        """The volume strips' ``(nodes, layout, H)``, and the skirt's under ``loc["skirt"]`` when node 0 is off
+        the axis (cached with the state's other Hessians)."""
         if "volume" not in loc:
             nodes, layout, vals = loc["volume_family"]
             y = Jet.variables(vals)
             e = volume_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]))
             loc["volume"] = (nodes, layout, e.h)
+            if 0 not in [p[0] for p in self.poles]:  # a pole at node 0 closes the surface: no skirt
+                V = loc["skirt_vectors"]
+                vals = [V["P"][c][:1] for c in range(3)] + [V["Pp"][c][:1] for c in range(3)]
+                y = Jet.variables(vals)
+                e = skirt_density(tuple(y[0:3]), tuple(y[3:6]), self.z_ref)
+                loc["skirt"] = (np.array([[0]]), [([(0, 1.0)], "P"), ([(0, 1.0)], "Pp")], e.h)
         return loc["volume"]
 
     def local_hessians(self, x: np.ndarray) -> dict:
@@ -714,14 +721,9 @@ class HarmonicShell:
         if nodes.shape[0]:
             bp = (self.b_lbar, self.b_rbar, self.b_k11, self.b_k22, self.b_kb, self.nu)
             res["bend"] = (nodes, layout, self._bend_hessian(vals, bp, self.current))
-        # volume (its jets only when a pressure asks for them: _volume_hessians)
+        # volume and skirt (their jets only when a pressure asks for them: _volume_hessians)
         res["volume_family"] = fams["volume"]
-        # skirt (node 0 off the axis)
-        if 0 not in [p[0] for p in self.poles]:  # a pole at node 0 closes the surface: no skirt
-            vals = [V["P"][c][:1] for c in range(3)] + [V["Pp"][c][:1] for c in range(3)]
-            y = Jet.variables(vals)
-            e = skirt_density(tuple(y[0:3]), tuple(y[3:6]), self.z_ref)
-            res["skirt"] = (np.array([[0]]), [([(0, 1.0)], "P"), ([(0, 1.0)], "Pp")], e.h)
+        res["skirt_vectors"] = V
         # clamp: bending density on (ghost, 0, 1), ghost fixed; slots: node 0, node 1 (ghost = -1)
         if self.clamp is not None:
             cl = self.clamp
