@@ -344,6 +344,22 @@ def _add_models_command(sub: argparse._SubParsersAction) -> None:
                         help="print only the scene of one model (default: the default model) as a TOML file")
 
 
+def _add_plot_command(sub: argparse._SubParsersAction) -> None:
+    """Add ``contin plot`` (saved runs, ``--out``, the axes) to the sub-commands ``sub``."""
+    plot = sub.add_parser(
+        "plot", help="draw saved runs again, or several of them overlaid, without recomputing",
+        description="Draw the output directories of 'contin trace' again: one run re-draws its diagram (or "
+                    "another pair of quantities with -x / -y), several are overlaid in one figure, one colour "
+                    "per run.  Stable parts solid, unstable dashed, special points marked, as 'contin trace' "
+                    "draws them.")
+    plot.add_argument("runs", nargs="+", metavar="OUT", help="output directory of a 'contin trace' run")
+    plot.add_argument("-o", "--out", metavar="FILE", default=None,
+                      help="the figure to write (PNG or PDF by its suffix; default: OUT/diagram.png for one run, "
+                           "./overlay.png for several)")
+    plot.add_argument("-x", metavar="NAME", default=None, help="quantity on the x axis (default: the run's own)")
+    plot.add_argument("-y", metavar="NAME", default=None, help="quantity on the y axis (default: the run's own)")
+
+
 def _build_parser() -> _ArgumentParser:
     """The parser of the ``contin`` command: the top-level options and one sub-parser per command.
 
@@ -371,12 +387,59 @@ Run 'contin COMMAND --help' for the options of a command.""")
     _add_trace_command(sub)
     _add_classify_command(sub)
     _add_models_command(sub)
+    _add_plot_command(sub)
     return parser
 
 
 # ---------------------------------------------------------------------------------------------------
 # commands
 # ---------------------------------------------------------------------------------------------------
+def _cmd_plot(args: argparse.Namespace) -> int:
+    """``contin plot``: saved runs drawn again (:mod:`contin.saved`), overlaid when there are several."""
+    from .saved import SavedRunError, load_run
+
+    try:
+        runs = [load_run(path) for path in args.runs]
+    except SavedRunError as exc:
+        raise CliError(str(exc)) from None
+    first = runs[0]
+    x, y = args.x or first.x, args.y or first.y
+    branches, colors, labels = [], [], []
+    prop = ["tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:pink", "tab:gray"]
+    for k, run in enumerate(runs):
+        for axis in (x, y):
+            known = list(dict.fromkeys([run.summary.get("parameter", "p"),
+                                        *(run.branches[0].observables if run.branches else ())]))
+            if axis is not None and axis not in ("p", *known):
+                raise CliError(f"contin plot: {str(run.path)!r} has no quantity {axis!r}; it has "
+                               f"{', '.join(repr(n) for n in known)}")
+        for i, br in enumerate(run.branches):
+            branches.append(br)
+            colors.append(prop[k % len(prop)])
+            labels.append((run.path.name or str(run.path)) if i == 0 and len(runs) > 1 else None)
+    target = Path(args.out) if args.out else (first.path / "diagram.png" if len(runs) == 1 else Path("overlay.png"))
+    if target.suffix.lower() not in (".png", ".pdf"):
+        raise CliError(f"contin plot: --out {str(target)!r} must end in .png or .pdf")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from .diagram import plot_branches
+
+    fig = Figure(figsize=(6.4, 4.8))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    plot_branches(branches, x=x, y=y, ax=ax, colors=colors, labels=labels if len(runs) > 1 else None,
+                  stability=first.stability, **first.plot_options)
+    ax.set_title(" / ".join(f"{r.summary.get('model', '?')}: {r.path.name or r.path}" for r in runs), fontsize="medium")
+    fig.tight_layout()
+    try:
+        atomic_write([(target, lambda fh: fig.savefig(fh, format=target.suffix.lower()[1:], dpi=120), True)])
+    except OSError as exc:
+        raise CliError(f"cannot write {str(target)!r}: {exc.strerror or exc}") from None
+    print(f"wrote {target}")
+    return 0
+
+
 def _cmd_models(args: argparse.Namespace) -> int:
     available = registered_models()
     default = registry.default_model()
@@ -705,6 +768,10 @@ def summary_document(model_name: str, scene: dict, result: TraceResult, wall_tim
              "residual": j.residual, "energy_drop": j.energy_from - j.energy_to}
             for j in result.jumps],
         "contin_version": __version__,
+        # what 'contin plot' needs to draw the run again as it was drawn
+        "diagram": {"x": result.x, "y": result.y, "stability": result.stability,
+                    **{k: result.plot_options[k] for k in ("axis_labels", "special_kinds", "zero_line")
+                       if k in result.plot_options}},
     }
     for key, value in result.summary.items():
         doc.setdefault(key, value)
@@ -880,7 +947,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             args = parser.parse_args(argv)
         except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)
-        commands = {"trace": _cmd_trace, "classify": _cmd_classify, "models": _cmd_models}
+        commands = {"trace": _cmd_trace, "classify": _cmd_classify, "models": _cmd_models, "plot": _cmd_plot}
         if args.command not in commands:
             raise CliError(f"a command is required: {', '.join(map(repr, commands))} (see 'contin --help')")
         return commands[args.command](args)

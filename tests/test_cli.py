@@ -436,3 +436,45 @@ def test_tables_print_no_negative_zero():
     """A coordinate that is exactly zero but negative (a jump's unchanged travel, say) prints as 0."""
     table = cli.format_table([{"kind": "jump", "w": -0.0, "F": np.float64(-0.0), "residual": 0.0}])
     assert "-0" not in table and table.splitlines()[1].split()[1:3] == ["0", "0"]
+
+
+# ---- contin plot: saved runs drawn again ------------------------------------------------------------------
+def test_plot_redraws_and_overlays_saved_runs(tmp_path, capsys):
+    """Two saved runs of the bratu model: one re-drawn (PNG, and PDF by the suffix), both overlaid; the branches
+    read back are those of branch.csv, with the special points of summary.json."""
+    from contin.saved import load_run
+
+    runs = []
+    for n in (20, 40):
+        out = tmp_path / f"run{n}"
+        code, _, err = run_cli(capsys, "trace", "-m", "bratu", "-q", "-o", str(out), "--set", f"model.n={n}",
+                               "--set", "continuation.stability=true")
+        assert code == 0, err
+        runs.append(out)
+    saved = load_run(runs[0])
+    rows = read_csv(runs[0])
+    assert [float(r["p"]) for r in rows] == list(saved.branches[0].p)
+    assert len(saved.branches[0].special_points) == len(read_summary(runs[0])["special_points"])
+    assert list(saved.branches[0].stable) == [r["stable"] == "1" for r in rows] and saved.x == "p"
+    (runs[0] / "diagram.png").unlink()
+    code, out, err = run_cli(capsys, "plot", str(runs[0]))
+    assert code == 0, err
+    assert (runs[0] / "diagram.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, _, err = run_cli(capsys, "plot", str(runs[0]), str(runs[1]), "-o", str(tmp_path / "both.pdf"))
+    assert code == 0, err
+    assert (tmp_path / "both.pdf").read_bytes()[:5] == b"%PDF-"
+
+
+@pytest.mark.parametrize("case, needles", [
+    ("missing", ["summary.json", "not found", "is not an output directory"]),
+    ("axis", ["has no quantity 'nosuch'", "'max_u'"]),
+    ("suffix", ["must end in .png or .pdf"]),
+])
+def test_plot_refuses_what_it_cannot_draw(tmp_path, capsys, case, needles):
+    out = tmp_path / "run"
+    if case != "missing":
+        assert run_cli(capsys, "trace", "-m", "bratu", "-q", "-o", str(out), "--set", "model.n=20")[0] == 0
+    args = {"missing": ["plot", str(tmp_path / "none")], "axis": ["plot", str(out), "-x", "nosuch"],
+            "suffix": ["plot", str(out), "-o", str(tmp_path / "a.svg")]}[case]
+    code, _, err = run_cli(capsys, *args)
+    assert code == 2 and all(n in err for n in needles), err

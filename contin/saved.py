@@ -1,0 +1,137 @@
+"""Saved runs read back: the output directory of ``contin trace`` as branches that can be drawn again.
+
+``contin plot OUT [OUT ...]`` re-draws or overlays saved runs without recomputing them (as AUTO's plotting
+of saved runs does).  :func:`load_run` rebuilds, from a run's ``branch.csv`` and ``summary.json``, one
+:class:`contin.Branch` per traced branch: the parameter, the observables and the stability flags per
+stored point (no states: the CSV holds none), and its special points from the summary's records.
+:func:`contin.plot_branches` draws them as the run drew its own diagram (the axes, the control the
+diagram is styled by, the axis names and which special points are marked come from the summary's
+``diagram`` record).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .branch import Branch, SpecialPoint
+
+__all__ = ["SavedRun", "SavedRunError", "load_run"]
+
+#: Columns of ``branch.csv`` that are not observables.
+_NOT_OBSERVABLES = ("branch", "p", "s", "residual", "newton_iterations")
+
+
+class SavedRunError(ValueError):
+    """A directory that is not a readable output of ``contin trace``; the message names the file."""
+
+
+@dataclass
+class SavedRun:
+    """A run read back from its output directory.
+
+    Attributes
+    ----------
+    path : Path
+        The output directory.
+    summary : dict
+        ``summary.json``.
+    branches : list of Branch
+        One per traced branch (no states).
+    x, y : str
+        The quantities on the run's diagram (``"p"`` for the parameter).
+    stability : str or None
+        The stability label the diagram is styled by.
+    plot_options : dict
+        The diagram's options of :func:`contin.plot_branches` that were saved: ``axis_labels``,
+        ``special_kinds``, ``zero_line``.
+    """
+
+    path: Path
+    summary: dict[str, Any]
+    branches: list[Branch]
+    x: str = "p"
+    y: str | None = None
+    stability: str | None = None
+    plot_options: dict[str, Any] = field(default_factory=dict)
+
+
+def _number(text: str) -> float:
+    return float(text) if text != "" else math.nan
+
+
+def load_run(path: str | Path) -> SavedRun:
+    """Read the output directory ``path`` of ``contin trace`` back (module docstring).
+
+    Raises
+    ------
+    SavedRunError
+        When ``summary.json`` or ``branch.csv`` is missing or unreadable.
+    """
+    path = Path(path)
+    summary_file, csv_file = path / "summary.json", path / "branch.csv"
+    for f in (summary_file, csv_file):
+        if not f.is_file():
+            raise SavedRunError(f"{str(f)!r} not found: {str(path)!r} is not an output directory of 'contin trace'")
+    try:
+        summary = json.loads(summary_file.read_text())
+        with open(csv_file, newline="") as fh:
+            rows = list(csv.DictReader(fh))
+    except (OSError, ValueError) as exc:
+        raise SavedRunError(f"cannot read the saved run in {str(path)!r}: {exc}") from None
+    if not isinstance(summary, dict) or not rows or "p" not in rows[0]:
+        raise SavedRunError(f"{str(csv_file)!r} or {str(summary_file)!r} is not a saved run of 'contin trace'")
+    parameter = str(summary.get("parameter", "p"))
+    names = list(rows[0])
+    stability_labels = [n[len("stable_"):] for n in names if n.startswith("stable_")]
+    observable_names = [n for n in names if n not in _NOT_OBSERVABLES and not n.startswith(("stable", "n_negative"))]
+    by_branch: dict[int, list[dict[str, str]]] = {}
+    for row in rows:
+        by_branch.setdefault(int(float(row.get("branch") or 0)), []).append(row)
+    try:
+        branches = [_branch(by_branch.get(b, []), b, parameter, observable_names, stability_labels, summary)
+                    for b in range(max(by_branch) + 1)]
+    except ValueError as exc:
+        raise SavedRunError(f"{str(csv_file)!r}: {exc}") from None
+    diagram = summary.get("diagram") or {}
+    options = {k: diagram[k] for k in ("axis_labels", "special_kinds", "zero_line") if k in diagram}
+    if "special_kinds" in options:
+        options["special_kinds"] = tuple(options["special_kinds"])
+    return SavedRun(path=path, summary=summary, branches=branches, x=str(diagram.get("x") or "p"),
+                    y=diagram.get("y"), stability=diagram.get("stability"), plot_options=options)
+
+
+def _branch(rows: list[dict[str, str]], index: int, parameter: str, observable_names: list[str],
+            stability_labels: list[str], summary: dict[str, Any]) -> Branch:
+    n = len(rows)
+    column = {name: np.array([_number(r.get(name, "")) for r in rows]) for name in ("p", "s", "residual")}
+    observables = {name: np.array([_number(r.get(name, "")) for r in rows]) for name in observable_names}
+    # the diagram styles by stable/unstable only: a stable point counts 0 negative eigenvalues, else 1
+    stability_by = {label: ((np.array([_number(r.get(f"stable_{label}", "")) for r in rows]) != 1.0).astype(int),
+                            np.zeros((n, 0))) for label in stability_labels}
+    specials = []
+    for rec in summary.get("special_points", []):
+        if rec.get("branch", 0) != index or rec.get("kind") in ("jump_from", "jump_to"):
+            continue
+        info: dict[str, Any] = {}
+        if rec.get("kind") == "fold":
+            info["folds"] = rec.get("parameter", parameter)
+        if rec.get("kind") == "bifurcation" and rec.get("family") is not None:
+            info["family"], info["key"] = rec["family"], rec.get(str(rec["family"]))
+        specials.append(SpecialPoint(str(rec.get("kind")), float(rec.get("p", math.nan)), np.zeros(0),
+                                     {k: float(v) for k, v in (rec.get("observables") or {}).items()},
+                                     located=bool(rec.get("located", True)), label=str(rec.get("label") or ""),
+                                     info=info))
+    n_negative = stability_by[stability_labels[0]][0] if stability_labels else None
+    if n_negative is None and rows and "stable" in rows[0]:  # one stability label, written as plain "stable"
+        n_negative = (np.array([_number(r.get("stable", "")) for r in rows]) != 1.0).astype(int)
+    return Branch(p=column["p"], u=np.zeros((n, 0)), s=column["s"] if "s" in rows[0] else np.arange(n, dtype=float),
+                  tangent_p=np.zeros(n), residual=column["residual"], newton_iterations=np.zeros(n, dtype=int),
+                  observables=observables, n_negative=n_negative, stability_by=stability_by, special_points=specials,
+                  meta={"parameter_name": parameter})
