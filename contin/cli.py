@@ -856,11 +856,13 @@ def _write_shapes_figure(fh: io.BufferedIOBase, result: TraceResult) -> None:
 
 def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, wall_time_s: float,
                   message: str | None = None) -> list[Path]:
-    """Write ``summary.json``, ``branch.csv``, ``diagram.png`` and (when the model saves shapes) ``shapes.npz`` into ``out``.
+    """Write ``summary.json``, ``branch.csv``, ``diagram.png`` and, when the model saves shapes, ``shapes.npz`` and
+    ``shapes.png`` into ``out``.
 
     All files are written at once (:func:`contin.io.atomic_write`): a failure or an interrupt never
     leaves a partial output or a mix of two runs.  A scene with ``output.figure = false``
-    (:func:`contin.scene.wants_figure`) gets no figure, and a figure of an earlier run is removed.
+    (:func:`contin.scene.wants_figure`) gets no figure, and a file of an earlier run that this run does
+    not write is removed.
 
     Returns
     -------
