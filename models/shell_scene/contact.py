@@ -52,7 +52,7 @@ from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import contact_problem, pole_moved, watch_harmonics
 from .deformed import shapes_drawer, shell_shapes
-from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, shell_first_instability
+from .schema import STABILITY_COLUMNS, Scene, record_instability
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
            "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS"]
@@ -257,13 +257,7 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
     if peak is not None:
         summary.update(max_strain=peak.value, w_b_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
     summary["warnings"] = [warning] if warning else []
-    summary["first_instability"] = shell_first_instability(records, generic.parameter_name,
-                                                           ("F", "F_norm", "w", "w_over_R"))
-    harmonics = harmonic_summary(problem, records)
-    if harmonics is not None:
-        summary["harmonics"] = harmonics
-        if "warning" in harmonics:
-            summary["warnings"].append(harmonics["warning"])
+    record_instability(summary, records, generic.parameter_name, ("F", "F_norm", "w", "w_over_R"), problem)
     # branch.csv keeps the primary label's "stable" (the traced control's) before the shell's columns
     stability = {"stable": f"stable_{control}", "n_negative": STABILITY_COLUMNS["n_negative"], **STABILITY_COLUMNS}
     cols = branch_columns(branches, stability)

@@ -65,7 +65,7 @@ from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import end_of_path, force_snap_rules, point_problem, point_settings
 from .deformed import shapes_drawer, shell_shapes
-from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, harmonic_summary, shell_first_instability
+from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, record_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a point load.
 _INSTABILITY_FIELDS = ("F", "F_norm", "w", "w_over_R")
@@ -325,12 +325,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
     if peak is not None:
         summary.update(max_strain=peak.value, w_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
     summary["warnings"] = [warning] if warning else []
-    summary["first_instability"] = shell_first_instability(records, problem.parameter_name, _INSTABILITY_FIELDS)
-    harmonics = harmonic_summary(problem, records)
-    if harmonics is not None:
-        summary["harmonics"] = harmonics
-        if "warning" in harmonics:
-            summary.setdefault("warnings", []).append(harmonics["warning"])
+    record_instability(summary, records, problem.parameter_name, _INSTABILITY_FIELDS, problem)
     if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
         cls = classify(branches[0], [r for r in records if r.get("branch", 0) == 0], problem.D, R)
         complete = path_complete(branches[0])

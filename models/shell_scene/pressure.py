@@ -72,7 +72,7 @@ from contin_models.shell.structure import ShellOfRevolution
 
 from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
 from .deformed import shapes_drawer, shell_shapes
-from .schema import Scene, harmonic_summary, record_fields, shell_first_instability
+from .schema import Scene, record_fields, record_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a pressure.
 _INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
@@ -156,12 +156,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
         "control": scene["load"]["control"],
     }
     summary.update(_snap(records, problem.p_c))
-    summary["first_instability"] = shell_first_instability(records, "p", _INSTABILITY_FIELDS)
-    harmonics = harmonic_summary(problem, records)
-    if harmonics is not None:
-        summary["harmonics"] = harmonics
-        if "warning" in harmonics:
-            summary.setdefault("warnings", []).append(harmonics["warning"])
+    record_instability(summary, records, "p", _INSTABILITY_FIELDS, problem)
     snap = summary["p_snap_over_p_c"]
     note = (f"{s['boundary']} edge, lambda = {summary['lambda']:.3g}; stability under pressure control"
             + (f"; snaps at p/p_c = {snap:.4g}" if snap is not None else "; no fold"))
@@ -291,12 +286,7 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     }
     summary.update(_snap(records, pressure.p_c))
     summary.update(_volume_snap(records, V0, pressure.p_c))
-    summary["first_instability"] = shell_first_instability(records, "dV", _INSTABILITY_FIELDS + ("dV", "dV_over_V0"))
-    harmonics = harmonic_summary(problem, records)
-    if harmonics is not None:
-        summary["harmonics"] = harmonics
-        if "warning" in harmonics:
-            summary.setdefault("warnings", []).append(harmonics["warning"])
+    record_instability(summary, records, "dV", _INSTABILITY_FIELDS + ("dV", "dV_over_V0"), problem)
     p_snap, dV_snap = summary["p_snap_over_p_c"], summary["dV_snap_over_V0"]
     seen = (f"pressure maximum p/p_c = {p_snap:.6g} at w/h = {summary['w_at_p_snap_over_h']:.6g} (the snap under "
             "pressure control)" if p_snap is not None else "no limit point in p")

@@ -40,7 +40,7 @@ from contin.scene import TraceResult, branch_columns, special_point_records, spe
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
 from .deformed import shapes_drawer, shell_shapes
-from .schema import STABILITY_COLUMNS, Scene, harmonic_summary, record_fields, shell_first_instability
+from .schema import STABILITY_COLUMNS, Scene, record_fields, record_instability
 from .shape import rise
 
 __all__ = ["run_revolution"]
@@ -105,13 +105,8 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
         "F_min": None if F_min is None else F_min["F"], "w_at_F_min": None if F_min is None else F_min["w"],
         "w_fold": None if w_fold is None else w_fold["w"], "F_at_w_fold": None if w_fold is None else w_fold["F"],
     }
-    summary["first_instability"] = shell_first_instability(records, problem.parameter_name,
-                                                           ("F", "F_norm", "w", "w_over_h", "w_over_L"))
-    harmonics = harmonic_summary(problem, records)
-    if harmonics is not None:
-        summary["harmonics"] = harmonics
-        if "warning" in harmonics:
-            summary.setdefault("warnings", []).append(harmonics["warning"])
+    record_instability(summary, records, problem.parameter_name, ("F", "F_norm", "w", "w_over_h", "w_over_L"),
+                       problem)
     if load["kind"] == "ring":
         node = problem.node
         summary.update(ring_radius=load["ring_radius"], ring_node_radius=float(problem.x_ref[2 * node]))

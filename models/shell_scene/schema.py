@@ -28,7 +28,7 @@ from contin_models.shell.structure import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
-__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "record_fields", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
+__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "record_fields", "record_instability", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
            "minimum_nodes", "nodes_per_bending_length"]
 
 Scene = dict[str, dict[str, Any]]
@@ -253,6 +253,18 @@ def shell_first_instability(records: list[dict[str, Any]], parameter: str, field
         out.setdefault("n", None)
         out.pop("family", None)
     return out
+
+
+def record_instability(summary: dict[str, Any], records: list[dict[str, Any]], parameter: str,
+                       fields: tuple[str, ...], problem: Any) -> None:
+    """Put ``first_instability`` (:func:`shell_first_instability`) and, when the problem watches harmonics,
+    ``harmonics`` (:func:`harmonic_summary`, its warning added to ``warnings``) into ``summary``."""
+    summary["first_instability"] = shell_first_instability(records, parameter, fields)
+    harmonics = harmonic_summary(problem, records)
+    if harmonics is not None:
+        summary["harmonics"] = harmonics
+        if "warning" in harmonics:
+            summary.setdefault("warnings", []).append(harmonics["warning"])
 
 
 def record_fields(names: tuple[str, ...]) -> Any:
