@@ -11,9 +11,9 @@ jumps shows it as a cycle.
 
 This is the toolkit's only load-snap loop.  Models adapt it, never copy it: :class:`SnapRules`
 says how a fold is left (overshoot and kick schedule, what counts as a distinct landing, whether
-the jump is restated at the fold), ``locate_snap`` says where a snap is when the engine stops on a
-precursor event, and ``stop_after_jump`` ends a sweep on a landing.  :func:`leave_fold` is one snap
-of the loop on its own.
+the jump is restated at the fold), ``locate_snap`` says where a snap is when a branch ends on an
+event (a precursor of a fold too sharp for the engine, or a fold the model locates better), and
+``stop_after_jump`` ends a sweep on a landing.  :func:`leave_fold` is one snap of the loop on its own.
 
 The module is generic: it knows nothing about any model beyond the :class:`contin.Problem`
 interface (a conservative problem with an energy and a stability operator).  It uses one engine
@@ -582,12 +582,12 @@ class _SweepLoop:
     def fold_to_leave(self, br: Branch, terminal: SpecialPoint | None) -> tuple[SpecialPoint, np.ndarray]:
         """The fold to snap from and its state; the sweep ends if ``br`` ends otherwise or the budget is spent.
 
-        ``terminal`` is what :meth:`check_branch` found; on a terminal user event ``locate_snap``
-        is asked for the fold.
+        ``terminal`` is what :meth:`check_branch` found; when the branch ended on an event (a located
+        fold or a terminal user event) ``locate_snap`` is asked for the fold instead.
         """
         pname, p_end = self.pname, self.sweep.p_end
         u_last, p_last = br.u[-1], float(br.p[-1])
-        if terminal is None and br.status == "event" and self.locate_snap is not None:
+        if br.status == "event" and self.locate_snap is not None:
             terminal = self.locate_snap(br)
         if terminal is None or br.status != "event":
             end = "" if p_end is None else f" before reaching {pname} = {p_end:.10g}"
@@ -697,10 +697,11 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
     snap : SnapRules, optional
         How a fold is left and what counts as a landing (default ``SnapRules()``).
     locate_snap : callable ``(Branch) -> SpecialPoint or None``, optional
-        Where the snap is when a branch ends on a terminal user event rather than on a located fold
-        (a model whose fold is too sharp for the engine to resolve stops on a precursor event and
-        locates the fold itself).  The returned point (with its state ``u``) is snapped from; None
-        means the event is not a snap and the sweep stops there.
+        Where the snap is, asked whenever a branch ends on an event: a terminal user event (a model
+        whose fold is too sharp for the engine to resolve stops on a precursor event and locates the
+        fold itself) or the engine's located fold (the branch's last special point, which the model
+        may return as it is or locate more precisely).  The returned point (with its state ``u``) is
+        snapped from; None means the branch's end is not a snap and the sweep stops there.
     stop_after_jump : callable ``(JumpResult) -> str or None``, optional
         Asked after every snap; a message ends the sweep as completed (e.g. the landing is already
         beyond the end of the loading path).

@@ -165,7 +165,9 @@ def free_snap_state(phi_hat: float = PHI_HAT, h_over_R: float = H_OVER_R, N: int
 
 
 def resting_sphere(r: np.ndarray, z: np.ndarray, radius: float) -> dict[str, float]:
-    """A rigid sphere centred on the axis, lowered from above onto the nodes ``(r, z)`` until it touches.
+    """A rigid sphere centred on the axis, lowered from above onto the points ``(r, z)`` until it touches.
+
+    The points are the nodes, or the meridian as the barrier sees it (:func:`barrier_curve`).
 
     The centre comes to rest at ``c = max_i (z_i + sqrt(radius^2 - r_i^2))`` over the nodes with
     ``r_i < radius`` (the pole, ``r = 0``, always among them).
@@ -191,6 +193,29 @@ def resting_sphere(r: np.ndarray, z: np.ndarray, radius: float) -> dict[str, flo
     c = float(heights[k])
     gap = c - radius - float(z[-1])
     return {"gap": gap if gap > 1e-12 * radius else 0.0, "node": int(inside[k]), "centre": c}
+
+
+def barrier_curve(r: np.ndarray, z: np.ndarray, per_cell: int = 64) -> tuple[np.ndarray, np.ndarray]:
+    """Points of the meridian as the contact barrier sees it, pole last (at ``r = 0``).
+
+    The quadratic B-spline whose control points are the nodes (the base node itself first): the
+    piece around node ``i`` is ``(1/2 - t)^2 / 2 x_{i-1} + (3/4 - t^2) x_i + (1/2 + t)^2 / 2 x_{i+1}``
+    for ``t`` in ``[-1/2, 1/2]``, the pole's neighbour mirrored across the axis, and the pole's piece
+    ends on the axis at ``t = 0`` (``contin_models.contact.barrier``).
+    """
+    r = np.asarray(r, dtype=float)
+    z = np.asarray(z, dtype=float)
+    rr, zz = [r[:1]], [z[:1]]
+    for i in range(1, r.size):
+        last = i == r.size - 1
+        t = np.linspace(-0.5, 0.0 if last else 0.5, per_cell // 2 + 1 if last else per_cell + 1)
+        b0, b1, b2 = (0.5 - t) ** 2 / 2, 0.75 - t * t, (0.5 + t) ** 2 / 2
+        r_next, z_next = (-r[i - 1], z[i - 1]) if last else (r[i + 1], z[i + 1])
+        rr.append(b0 * r[i - 1] + b1 * r[i] + b2 * r_next)
+        zz.append(b0 * z[i - 1] + b1 * z[i] + b2 * z_next)
+    rc, zc = np.concatenate(rr), np.concatenate(zz)
+    rc[-1] = 0.0  # on the axis (rounding)
+    return rc, zc
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -432,9 +457,10 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200,
 
     # universality and the rigid-sphere prediction on the free snap shape
     rf, zf = free["r"], free["z"]
+    curve = barrier_curve(rf, zf)
     for d in cases:
         d["shape_deviation_over_R"] = float(max(np.abs(d["r"] - rf).max(), np.abs(d["z"] - zf).max()))
-        rest = resting_sphere(rf, zf, d["r_over_R"] + dhat)
+        rest = resting_sphere(*curve, d["r_over_R"] + dhat)
         d["Delta_H_predicted_over_R"] = rest["gap"]
         d["w_b_c_predicted_over_R"] = free["w_s_over_R"] - rest["gap"]
     # the same prediction of r_c: the smallest r whose resting sphere misses the pole by more than the
@@ -442,7 +468,7 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200,
     a, b = 1e-3, 10.0
     for _ in range(60):
         m = 0.5 * (a + b)
-        a, b = (a, m) if resting_sphere(rf, zf, m + dhat)["gap"] > GAP_TOL_FACTOR * dhat else (m, b)
+        a, b = (a, m) if resting_sphere(*curve, m + dhat)["gap"] > GAP_TOL_FACTOR * dhat else (m, b)
     sim_rc_geo = 0.5 * (a + b)
 
     small = [d for d in cases if d["r_over_R"] < rc["lo"]]
@@ -519,7 +545,8 @@ def _fig6(res: dict[str, Any]) -> Any:
     r = np.array([d["r_over_R"] for d in cases])
     rr = np.linspace(0.05, max(r.max(), 2.0), 400)
     dhat = S["scene"]["dhat_over_R"]
-    pred = np.array([resting_sphere(free["r"], free["z"], x + dhat)["gap"] for x in rr])
+    curve = barrier_curve(free["r"], free["z"])
+    pred = np.array([resting_sphere(*curve, x + dhat)["gap"] for x in rr])
     b.plot(r, [d["w_b_c_over_R"] for d in cases], "o-", color="C0", label="$w_b^c/R$ (contact runs)")
     b.plot(rr, free["w_s_over_R"] - pred, ":", color="C0", lw=1.2, label="$w_s^*/R - \\Delta H/R$ (sphere on free snap shape)")
     b.set_xlabel("$r/R$")
@@ -552,7 +579,7 @@ def _fig7(res: dict[str, Any]) -> Any:
         ax.plot(-free["r"], free["z"], "-", color="0.6", lw=3)
         ax.plot(d["r"], d["z"], "-", color="C0", lw=1.2, label="contact run at its snap")
         ax.plot(-d["r"], d["z"], "-", color="C0", lw=1.2)
-        rest = resting_sphere(free["r"], free["z"], d["r_over_R"] + dhat)
+        rest = resting_sphere(*barrier_curve(free["r"], free["z"]), d["r_over_R"] + dhat)
         t = np.linspace(0, 2 * np.pi, 400)
         rad = d["r_over_R"]
         ax.plot(rad * np.cos(t), rest["centre"] + rad * np.sin(t), "-", color="C3", lw=1.0, label="indenter")

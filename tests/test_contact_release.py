@@ -1,15 +1,19 @@
-"""The release fold: the snap of a large sphere or a plate, where the last (off-axis) contact node leaves.
+"""The release fold: the snap of a large sphere or a plate, where the last (off-axis) contact leaves.
 
 Independent checks of :func:`contin_models.contact.release.locate_release_fold` (which finds the root of
-``dw_b/dx`` on the curve of equilibria with the node's gap ``x`` prescribed):
+``dw_b/dx`` on the curve of equilibria with the gap ``x = dhat - d`` of the meridian's point nearest
+to the indenter prescribed):
 
 * at the located point the displacement-control Hessian is singular: its smallest eigenvalue from a
   dense symmetric eigensolver is zero to rounding, against a positive one on the stable side;
-* the gap agrees with the leading-order closed form of the barrier: ``W = K x^3 / dhat + O(x^4)``
-  gives a node stiffness ``6 K x / dhat``, and ``H + k n n^T`` turns singular at
-  ``k = -1 / (n^T H^{-1} n)``, so ``x_f = dhat / (6 K |n^T H^{-1} n|)`` with ``H`` the shell's own
-  Hessian (a dense solve) and ``n`` the contact normal of the node;
-* the fold lies beyond the ``F -> 0`` event along the path, within ``x_f`` of where the node leaves.
+* the gap agrees with the leading-order closed form of the barrier integrated over its support:
+  near the last contact point the distance along the meridian's curve is ``d = dhat - x + alpha
+  tau^2`` (``tau`` the cell's coordinate) and ``W ~ K (dhat - d)^3 / dhat``, so a cell of weight
+  ``w`` stores ``w K / dhat (32/35) x^(7/2) / sqrt(alpha)``, with stiffness ``8 w K x^(3/2) /
+  (dhat sqrt(alpha))`` along the contact normal ``n``; ``H + k n n^T`` turns singular at
+  ``k = -1 / (n^T H^{-1} n)``, so ``x_f = (dhat sqrt(alpha) / (8 w K |n^T H^{-1} n|))^(2/3)`` with
+  ``H`` the shell's own Hessian (a dense solve);
+* the engine's own fold of the travel, found by the continuation, is the same point.
 """
 
 from __future__ import annotations
@@ -31,46 +35,59 @@ from contin_models.shell_scene.contact import SNAP_FORCE_NORM
 @pytest.fixture(scope="module")
 def large_sphere():
     P = ShellIndentation(N=60, indenter=Sphere(0.9))
-    event = contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
+    # an event far closer to F = 0 than the scene's (SNAP_FORCE_NORM), so that the engine meets the fold
+    event = contin.crossing("F_norm", 1e-2 * SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
     br = contin.continuation(P, P.reference_unknowns(), 0.0, ds=0.005, ds_max=0.02, p_max=0.7, events=[event],
                              stop_at=("fold",), bounds={"base_gap": (2 * P.dhat, None)})
-    assert br.status == "event" and br.special_points[-1].label == "F -> 0", br.message
-    return P, br, locate_release_fold(P, br.u[-1], br.p[-1])
+    # the barrier integrated over its support makes the release fold wide enough for the engine to
+    # turn round it (before the force has fallen to the event's level); start the search on its
+    # stable side, one stored point back
+    assert br.status == "event" and br.special_points[-1].kind in ("fold", "event"), br.message
+    return P, br, locate_release_fold(P, br.u[-2], br.p[-2])
 
 
 def test_release_fold_is_a_singular_point_of_the_displacement_control_hessian(large_sphere):
     P, br, rf = large_sphere
-    before = sl.eigvalsh(P.jacobian(br.u[-1], br.p[-1]).toarray())
+    before = sl.eigvalsh(P.jacobian(br.u[-2], br.p[-2]).toarray())
     at = sl.eigvalsh(P.jacobian(rf.u, rf.w_b).toarray())
     assert before[0] > 1e-3 * before[1]  # stable before it
     assert abs(at[0]) < 1e-8 * at[1]
     assert rf.residual <= 1e-10 * P.residual_scale
-    # an off-axis node (the pole has detached) and a positive, tiny force
+    # an off-axis point (the pole has detached) and a positive, tiny force
     assert 0 < rf.node < P.N - 1
-    assert 0 < P.evaluate_one("F", rf.u, rf.w_b) < P.evaluate_one("F", br.u[-1], br.p[-1])
+    assert 0 < P.evaluate_one("F", rf.u, rf.w_b) < P.evaluate_one("F", br.u[-2], br.p[-2])
 
 
 def test_release_gap_matches_the_barrier_closed_form(large_sphere):
     P, _, rf = large_sphere
     H = P.elastic.free_block(P.elastic.elastic_hessian(P.full_state(rf.u)), "force").toarray()  # shell alone
-    # the last point of the meridian in contact: the barrier's sample point nearest to the sphere,
-    # its contact normal on the unknowns (d(d_s)/du) and its share of the barrier (quadrature weight)
     x, c = P.full_state(rf.u), P.position(rf.w_b)
-    sample, d = P.barrier.nearest_sample(x, c)
+    d, n_full, _, cell, t = P.barrier.closest_point(x, c)
     assert P.dhat - d == pytest.approx(rf.gap, rel=1e-6)
-    _, n_full, _ = P.barrier.sample_gap(x, c, sample)
+    # the cell's curve, x(t) = a + b t + e t^2 from its three nodes (quadratic B-spline), and the
+    # curvature of the distance to the sphere's centre along it at the nearest point
+    nodes = x.reshape(-1, 2)[[cell - 1, cell, cell + 1]]
+    a = (nodes[0] + 6 * nodes[1] + nodes[2]) / 8
+    b, e = (nodes[2] - nodes[0]) / 2, (nodes[0] - 2 * nodes[1] + nodes[2]) / 2
+    point, slope, bend = a + b * t + e * t * t, b + 2 * e * t, 2 * e
+    rel = point - np.array([0.0, c])
+    q = np.linalg.norm(rel)
+    assert abs(rel @ slope) < 1e-9 * q * np.linalg.norm(slope)  # the nearest point: d is stationary in t
+    alpha = 0.5 * (slope @ slope + rel @ bend) / q
     n = n_full[P.idx]
-    weight = P.barrier.cells(P.N).weight[sample]
+    weight = P.barrier.cells(P.N).cell_weight[cell]
     compliance = float(n @ np.linalg.solve(H, n))
     assert compliance < 0  # the free shell at the snap is a saddle that pulls the point away
-    x_closed = P.dhat / (6.0 * P.K * weight * abs(compliance))
-    assert rf.gap == pytest.approx(x_closed, rel=1e-3)
-    assert rf.gap < 1e-4 * P.dhat  # why the continuation cannot turn round it
+    x_closed = (P.dhat * np.sqrt(alpha) / (8.0 * weight * P.K * abs(compliance))) ** (2.0 / 3.0)
+    assert rf.gap == pytest.approx(x_closed, rel=1e-3)  # measured 1.7e-5
+    assert rf.gap < 1e-4 * P.dhat  # a sharp fold in w_b
 
 
-def test_release_fold_lies_just_beyond_the_force_event(large_sphere):
+def test_release_fold_is_the_engines_fold_of_the_travel(large_sphere):
     P, br, rf = large_sphere
-    assert 0 < rf.w_b - br.p[-1] < 1e-8 * P.R
+    fold = br.special_points[-1]
+    assert fold.kind == "fold" and fold.located
+    assert abs(rf.w_b - fold.p) < 1e-8 * P.R  # measured 2.5e-10
 
 
 def test_release_fold_needs_a_node_in_contact_and_the_stable_side():

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from contin.scene import load_scene
+from contin_models.shell.problem import ShellPointLoad
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
 from studies import indenter_size
 from studies.bench_contact import run_to_snap, snap_settings
@@ -134,10 +135,14 @@ def test_universal_snap_state_is_the_point_scene_one_sided_snap(study):
     for c in S["cases"]:
         assert c["w_s_over_R"] == pytest.approx(w_c, abs=1e-7), c
         assert c["shape_deviation_over_R"] < 1e-6
-        # the sphere lowered onto the free snap shape gives the gap and the snap travel (lowered onto
-        # the nodes, while the barrier sees the meridian between them: measured 2.8e-6 R apart)
+        # the sphere lowered onto the free snap shape (the meridian as the barrier sees it) gives the gap
+        # and the snap travel
         assert c["Delta_H_over_R"] == pytest.approx(c["Delta_H_predicted_over_R"], abs=5e-6)
-        assert c["w_b_c_over_R"] == pytest.approx(w_c - c["Delta_H_over_R"], abs=1e-6)
+        # (the travel counts from the first touch of the barrier's curve, which crosses the axis a
+        # quarter of the pole node's height above its neighbour: below the node on the convex cap,
+        # above it once the pole has inverted, O(h^2) in all)
+        cap = ShellPointLoad(N=S["scene"]["N"]).cap.x
+        assert c["w_b_c_over_R"] == pytest.approx(w_c - c["Delta_H_over_R"], abs=3 * (cap[-1] - cap[-3]) / 4)
 
 
 def test_resting_sphere_closed_forms():

@@ -78,8 +78,17 @@ def test_a_small_sphere_snaps_where_the_point_does(result) -> None:
     assert _num(small, "r_over_R") == min(study.RADII_FAST) <= 0.1
     # the pole touches the small sphere at the snap (no gap beyond the barrier range)
     assert _num(small, "Delta_H_over_R") == 0.0
-    # so the indenter travel there is the point's, up to the barrier holding the pole a hair off the sphere
-    assert _num(small, "w_b_c_over_R") == pytest.approx(_num(point, "w_b_c_over_R"), abs=1e-6)
+    # so the indenter travel there is the point's, up to the barrier holding the pole a hair off the
+    # sphere and the barrier's curve crossing the axis a quarter of the pole node's height above its
+    # neighbour: below the node on the convex cap, above it once the pole has inverted (about twice
+    # that offset in all, O(h^2); 1.2e-5 R at N = 60)
+    assert _num(small, "w_b_c_over_R") == pytest.approx(_num(point, "w_b_c_over_R"), abs=3 * _pole_offset())
+
+
+def _pole_offset() -> float:
+    """``(z_pole - z_neighbour) / 4`` of the undeformed cap on the study's fast mesh, in units of R."""
+    x = ShellPointLoad(phi_hat=study.PHI_HAT, h=study.H_OVER_R, N=study.N_FAST).cap.x
+    return float(x[-1] - x[-3]) / 4.0
 
 
 def test_pole_is_where_the_indenter_is_plus_the_gap(result) -> None:
@@ -87,7 +96,9 @@ def test_pole_is_where_the_indenter_is_plus_the_gap(result) -> None:
     for r in rows:
         # w_s = w_b + Delta H: the gap is measured from the pole to the indenter beyond the barrier range,
         # and w_b is counted from the first touch of that range
-        assert _num(r, "w_s_over_R") == pytest.approx(_num(r, "w_b_c_over_R") + _num(r, "Delta_H_over_R"), abs=1e-6)
+        # (up to the offset between the pole node and the barrier's curve, see above)
+        assert _num(r, "w_s_over_R") == pytest.approx(_num(r, "w_b_c_over_R") + _num(r, "Delta_H_over_R"),
+                                                      abs=3 * _pole_offset())
     plate = rows[-1]
     assert plate["indenter"] == "plate" and plate["r_over_R"] == ""  # infinite radius: empty cell
     assert _num(plate, "Delta_H_over_R") > 0.05  # the plate has lost the pole well before the snap

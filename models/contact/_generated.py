@@ -8,7 +8,7 @@ Every kernel takes ``(r, z, c, *params, K, dhat)``: the node coordinates, the in
 (``zc``: sphere centre height; ``zp``: plate height), the geometric parameters (``rho`` for the
 sphere) and the barrier constants.  Local variables are ``(r, z, c)``; gradients are ``(3, m)`` and
 packed upper-triangle Hessians ``(6, m)`` with rows :data:`PAIRS`.  Energy and derivative kernels are
-valid for ``0 < d < dhat`` only.  :func:`cell_basis` is the quadratic basis of a contact cell (the
+valid for ``0 < d < dhat`` only.  :func:`cell_basis` is the quadratic B-spline basis of a contact cell (the
 meridian between the nodes, see the generator's docstring): a point of a cell is linear in its three
 nodes, so the kernels evaluated there give the cell's exact derivatives by the chain rule.
 """
@@ -308,9 +308,10 @@ def plate_derivatives(r, z, zp, K, dhat):
 
 
 def cell_basis(t):
-    """Quadratic Lagrange basis of a contact cell through the nodes ``i-1, i, i+1`` at ``t = -1, 0, 1``.
+    """Quadratic B-spline basis of a contact cell on the nodes ``i-1, i, i+1``, for ``t`` in ``[-1/2, 1/2]``.
 
-    The cell's point ``x(t) = L_0 x_{i-1} + L_1 x_i + L_2 x_{i+1}``; the cell spans ``t`` in ``[-1/2, 1/2]``.
+    The cell's point ``x(t) = B_0 x_{i-1} + B_1 x_i + B_2 x_{i+1}``; consecutive cells join with a
+    common tangent at the midpoints of the segments (a C1 curve).
 
     Returns
     -------
@@ -318,7 +319,7 @@ def cell_basis(t):
     """
     t = numpy.asarray(t, dtype=float)
     _L = numpy.empty((3,) + t.shape)
-    _L[0] = (1/2)*t**2 - 1/2*t
-    _L[1] = 1 - t**2
-    _L[2] = (1/2)*t**2 + (1/2)*t
+    _L[0] = (1/2)*t**2 - 1/2*t + 1/8
+    _L[1] = 3/4 - t**2
+    _L[2] = (1/2)*t**2 + (1/2)*t + 1/8
     return _L

@@ -11,25 +11,45 @@ C2 at ``d = dhat`` and ``+inf`` as ``d -> 0+``.  The kernels and their exact der
 :mod:`contin_models.contact._generated` (emitted by ``python -m contin_models.contact.codegen``).  The contact is
 frictionless: the barrier only depends on the distance.
 
-Contact cells: the barrier sees the meridian between the nodes
---------------------------------------------------------------
+Contact cells: the barrier sees a smooth meridian between the nodes
+--------------------------------------------------------------------
 The paper sums ``W`` over the nodes.  Where the indenter touches the shell along a ring (a plate
 on a dimpled cap), the contact zone is then about one node spacing wide and the ring can only sit
 on a node: as it moves over the meridian it hops from node to node and the force along the path is
 a discretisation artefact (about 150 sign changes of ``dF/dw_b`` on the plate's dimple branch at
-``N = 200``).  Here every node ``i`` owns a *cell*, the quadratic through the nodes ``i-1, i, i+1``::
+``N = 200``).  Here the barrier sees the quadratic B-spline whose control points are the nodes, a C1
+curve; every node ``i`` owns a *cell*, its piece around the node::
 
-    x_i(t) = L_0(t) x_{i-1} + L_1(t) x_i + L_2(t) x_{i+1},    t in [-1/2, 1/2]
+    x_i(t) = B_0(t) x_{i-1} + B_1(t) x_i + B_2(t) x_{i+1},    t in [-1/2, 1/2],
+    B_0 = (1/2 - t)^2 / 2,   B_1 = 3/4 - t^2,   B_2 = (1/2 + t)^2 / 2
 
-(Lagrange basis of the nodes at ``t = -1, 0, 1``, :func:`contin_models.contact._generated.cell_basis`),
-and the barrier is integrated over the cells::
+(:func:`contin_models.contact._generated.cell_basis`).  Consecutive cells meet at the midpoints of
+the segments with the segment as their common tangent.  The curve cuts the polygon's corners: it
+passes a quarter of the way from a node towards the midpoint of its neighbours, a distance of
+``kappa h^2 / 8`` on a meridian of curvature ``kappa`` and spacing ``h`` (second order, as the
+polygon itself).  The barrier is integrated over the cells::
 
-    E(x, c) = a_0 W(d(x_0, c)) + sum_{i >= 1} a_i int_{-1/2}^{1/2} W(d(x_i(t), c)) dt,
+    E(x, c) = a_0 W(d(x_0, c)) + sum_{i >= 1} a_i int_{-1/2}^{1/2} W(d(x_i(t), c)) dt.
 
-by a Gauss-Legendre rule of :data:`QUADRATURE_POINTS` points per cell.  A smooth ring between two
-nodes is then seen where it is (the quadratic follows the shell's curvature, which the polygon of
-the nodes does not: its highest point is always a node), and the energy of a ring does not depend
-on where it sits relative to the nodes.  For a uniform gap ``d`` a cell gives ``a_i W(d)``.
+Contact on the barrier's support.  The integrand vanishes wherever the curve is beyond ``dhat``,
+and on a thin shell the barrier is stiff: a ring carries its load at ``d`` within a fraction of a
+percent of ``dhat``, over a small part of a cell.  A fixed Gauss rule per cell then sees the narrow
+contact come and go as it passes its points (the force along the path ripples at their spacing,
+each ripple a limit load under force control; issue 14, B8).  So each cell is integrated over the
+pieces of ``[-1/2, 1/2]`` where the curve is within ``dhat``, found exactly: the condition is a
+polynomial in ``t`` (plate: ``d(t) - dhat``, quadratic; sphere: ``|x(t) - centre|^2 - (rho +
+dhat)^2``, quartic), cut at its critical points into monotone pieces whose roots are bracketed and
+refined by Newton's method.  Each piece gets :data:`SUPPORT_POINTS` Gauss-Legendre points; the
+integrand is analytic on it and vanishes to third order at its ends (``W ~ K (dhat - d)^3 /
+dhat``), so the rule converges fast and an error ``eps`` in an end moves the energy by
+``O(eps^4)``.  The points move with the state, but because ``W`` and ``W'`` vanish at the ends the
+derivatives of the integral are the integrals of the pointwise derivatives over the same pieces
+(Leibniz's rule with vanishing boundary terms): the gradient and Hessian are the point kernels' at
+the moving points, times the basis weights.  The fixed points of :data:`QUADRATURE_POINTS` per cell
+remain the barrier's domain check and the step filter's watch points, and select the cells worth
+searching (those with a point within ``2 dhat``).  ``support_points = 0`` integrates at the fixed
+points instead (the earlier rule, kept for comparison).  For a uniform gap ``d`` a cell gives
+``a_i W(d)``.
 
 Cell weights ``a_i``.  With ``a_i = 1`` (the default of :class:`ContactBarrier`) every cell counts
 one node's worth, as the paper's nodal sum.  But a nodal sum makes the barrier's stiffness per unit
@@ -47,10 +67,9 @@ mesh, and the contact law per unit length stays the same on any other.  Special 
 * the base node ``0`` has no neighbour beyond the support and keeps the nodal term ``W(d_0)``
   (the indenter never comes near the base: the runners stop at ``2 dhat`` from it).
 
-With an odd number of points the node itself is the middle one.  ``quadrature = 1`` is the
-paper's nodal barrier exactly (one point, the node, weight 1).  A cell's point is linear in the
-three nodes, so the cell's exact gradient and Hessian are the point kernels' times the basis
-weights (chain rule; the generator checks it against sympy).
+``quadrature = 1`` is the paper's nodal barrier exactly (one point, the node, weight 1).  A cell's
+point is linear in the three nodes, so the cell's exact gradient and Hessian are the point kernels'
+times the basis weights (chain rule; the generator checks it against sympy).
 
 Indenters and their position parameter ``c``
 --------------------------------------------
@@ -140,21 +159,24 @@ from numpy.typing import ArrayLike
 
 from . import _generated as gen
 
-__all__ = ["Sphere", "Plate", "ContactBarrier", "ContactState", "ContactCells", "default_barrier", "barrier_value",
-           "length_weights", "PAPER_K", "PAPER_DHAT", "PAPER_E", "PAPER_R", "PAPER_N", "QUADRATURE_POINTS"]
+__all__ = ["Sphere", "Plate", "ContactBarrier", "ContactState", "ContactCells", "IntegrationPoints", "default_barrier",
+           "barrier_value", "length_weights", "PAPER_K", "PAPER_DHAT", "PAPER_E", "PAPER_R", "PAPER_N",
+           "QUADRATURE_POINTS", "SUPPORT_POINTS"]
 
 #: The paper's barrier constants and the modulus and radius they were chosen for.
 PAPER_K, PAPER_DHAT, PAPER_E, PAPER_R = 1e8, 1e-3, 1e6, 1.0
 #: The number of nodes of the paper's meridian, for which its nodal ``K_c`` was chosen.
 PAPER_N = 200
 
-#: Gauss-Legendre points per contact cell (module docstring).  Odd, so that the node is one of them.
-#: A ring contact is about two cells wide at N = 200 (h/R = 0.02) and the barrier is C2 only at
-#: ``dhat``, so a Gauss rule integrates it approximately: the energy of a ring keeps a small
-#: dependence on where it sits relative to the nodes.  With 9 points the force-controlled plate
-#: still met three spurious limit points near its eversion load; from 11 points on it met none
-#: (``contin trace --set load.kind=plate --set load.control=force``); 15 leaves a margin.
+#: Fixed Gauss-Legendre points per contact cell (module docstring): the barrier's domain check and
+#: the step filter watch them, and with ``support_points = 0`` the barrier is integrated at them.
 QUADRATURE_POINTS = 15
+
+#: Gauss-Legendre points on each piece of a cell where the meridian is within ``dhat`` of the
+#: indenter (module docstring, "Contact on the barrier's support").  The integrand is analytic on
+#: the piece and vanishes to third order at its ends, so the rule converges fast: it agrees with
+#: adaptive quadrature to 1e-10 from a light touch to deep contact (``tests/test_contact_barrier.py``).
+SUPPORT_POINTS = 12
 
 
 def default_barrier(E: float, R: float, dhat_over_R: float = PAPER_DHAT / PAPER_R) -> tuple[float, float]:
@@ -323,11 +345,12 @@ class ContactCells:
         N, q = int(n_nodes), int(quadrature)
         if N < 1 or q < 1:
             raise ValueError(f"ContactCells: need at least one node and one quadrature point, got N = {N}, q = {q}")
-        t, w = np.polynomial.legendre.leggauss(q)
-        t, w = 0.5 * t, 0.5 * w  # the cell is t in [-1/2, 1/2]
-        if q % 2:
-            t[q // 2] = 0.0  # the node itself, exactly
-        L = gen.cell_basis(t).T  # (q, 3)
+        if q == 1:  # the paper's nodal barrier: the node itself, weight 1
+            L, w = np.array([[0.0, 1.0, 0.0]]), np.ones(1)
+        else:
+            t, w = np.polynomial.legendre.leggauss(q)
+            t, w = 0.5 * t, 0.5 * w  # the cell is t in [-1/2, 1/2]
+            L = gen.cell_basis(t).T  # (q, 3)
         i = np.arange(N)
         self.stencil = np.stack([i - 1, i, i + 1], axis=1)
         self.stencil[0] = 0
@@ -352,6 +375,9 @@ class ContactCells:
             if cw.shape != (N,) or not np.all(cw > 0):
                 raise ValueError(f"ContactCells: cell_weights must be {N} positive numbers, got shape {cw.shape}")
             self.weight = self.weight * cw[self.cell]
+            self.cell_weight = cw.copy()
+        else:
+            self.cell_weight = np.ones(N)
         self.first = np.concatenate([[0], 1 + q * np.arange(N)]).astype(int)
         self.n_nodes, self.quadrature = N, q
 
@@ -363,6 +389,24 @@ class ContactCells:
         zs = z[inner] @ self._basis
         return np.concatenate([r[:1], rs.ravel()]), np.concatenate([z[:1], zs.ravel()])
 
+    def curve(self, r: np.ndarray, z: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Monomial coefficients of the cells' curves: ``r(t) = R[:, 0] + R[:, 1] t + R[:, 2] t^2``, ``z`` alike.
+
+        Parameters
+        ----------
+        r, z : ndarray, shape ``(N,)``
+            Nodal coordinates.
+        cells : ndarray of int, shape ``(m,)``
+            Cells ``>= 1`` (the base's cell is its node alone).
+
+        Returns
+        -------
+        R, Z : ndarray, shape ``(m, 3)``
+        """
+        nodes = self.stencil[cells]
+        rr, zz = r[nodes] * self._sign_r[cells], z[nodes]
+        return rr @ _MONOMIAL.T, zz @ _MONOMIAL.T
+
     def cell_minimum(self, values: np.ndarray) -> np.ndarray:
         """Smallest value of each cell's samples, shape ``(N,)``."""
         return np.minimum.reduceat(values, self.first[:-1])
@@ -372,6 +416,107 @@ class ContactCells:
         counts = self.first[cells + 1] - self.first[cells]
         offsets = np.arange(int(np.sum(counts))) - np.repeat(np.cumsum(counts) - counts, counts)
         return np.repeat(self.first[cells], counts) + offsets
+
+
+#: The quadratic B-spline cell in monomials: ``x(t) = sum_k t^k sum_j _MONOMIAL[k, j] x_j`` over the
+#: stencil ``i-1, i, i+1`` (the expansion of :func:`contin_models.contact._generated.cell_basis`).
+_MONOMIAL = np.array([[0.125, 0.75, 0.125], [-0.5, 0.0, 0.5], [0.5, -1.0, 0.5]])
+
+
+def _polyval(coefs: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Rows of ascending coefficients ``(m, k)`` at ``t`` of shape ``(m,)`` or ``(m, j)`` (Horner)."""
+    c = coefs if t.ndim == 1 else coefs[:, None, :]
+    out = np.zeros_like(t) + c[..., -1]
+    for k in range(coefs.shape[1] - 2, -1, -1):
+        out = out * t + c[..., k]
+    return out
+
+
+def _derivative(coefs: np.ndarray) -> np.ndarray:
+    """Ascending coefficients of the derivative of each row."""
+    return coefs[:, 1:] * np.arange(1, coefs.shape[1])
+
+
+def _roots_in_brackets(coefs: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """A root of each row's polynomial in ``[lo, hi]`` (shape ``(m, j)``), where its ends differ in sign.
+
+    Newton's method kept inside the bracket (bisection when a step leaves it), a fixed number of
+    iterations: the roots end the barrier's support, where its integrand vanishes to third order, so
+    an error of ``eps`` in a root changes the energy by ``O(eps^4)``.
+    """
+    slope = _derivative(coefs)
+    f_lo = _polyval(coefs, lo)
+    a, b = lo.copy(), hi.copy()
+    t = 0.5 * (a + b)
+    for _ in range(12):
+        f = _polyval(coefs, t)
+        left = np.sign(f) == np.sign(f_lo)
+        a, b = np.where(left, t, a), np.where(left, b, t)
+        df = _polyval(slope, t)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = t - f / df
+        t = np.where((step >= a) & (step <= b), step, 0.5 * (a + b))
+    return t
+
+
+def _monotone_breaks(coefs: np.ndarray) -> np.ndarray:
+    """Points of ``[-1/2, 1/2]`` between which each row's polynomial (degree <= 4) is monotone.
+
+    Returns an ``(m, 5)`` sorted array: the ends and the critical points inside (unused slots hold
+    ``1/2``).  The critical points are found piece by piece between the roots of the second
+    derivative (a quadratic, solved in closed form), where the first derivative is monotone.
+    """
+    m = coefs.shape[0]
+    half = np.full(m, 0.5)
+    c2, c3, c4 = coefs[:, 2], coefs[:, 3], coefs[:, 4]
+    # g'' = 2 c2 + 6 c3 t + 12 c4 t^2
+    A, B, C = 12.0 * c4, 6.0 * c3, 2.0 * c2
+    inflect = np.full((m, 2), 0.5)
+    disc = B * B - 4.0 * A * C
+    quad = (A != 0) & (disc > 0)
+    sq = np.sqrt(np.where(quad, disc, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = -0.5 * (B + np.copysign(sq, B))
+        inflect[quad, 0] = (q / A)[quad]
+        inflect[quad, 1] = np.where(q != 0, C / q, 0.5)[quad]
+        lin = (A == 0) & (B != 0)
+        inflect[lin, 0] = (-C / B)[lin]
+    inflect = np.where((inflect > -0.5) & (inflect < 0.5), inflect, 0.5)
+    convex = np.sort(np.column_stack([-half, inflect, half]), axis=1)  # (m, 4): 3 pieces
+    slope = _derivative(coefs)
+    lo, hi = convex[:, :-1], convex[:, 1:]
+    s_lo, s_hi = _polyval(slope, lo), _polyval(slope, hi)
+    change = (np.sign(s_lo) * np.sign(s_hi) < 0) & (hi > lo)
+    crit = np.full(lo.shape, 0.5)
+    if np.any(change):
+        rows = np.nonzero(change)[0]
+        crit[change] = _roots_in_brackets(slope[rows], lo[change], hi[change])
+    return np.sort(np.column_stack([-half, crit, half]), axis=1)
+
+
+@dataclass
+class IntegrationPoints:
+    """The points where the barrier integral is sampled at one state, with their weights.
+
+    Attributes
+    ----------
+    cell : ndarray of int, shape ``(P,)``
+        Each point's cell (its node).
+    cr, cz : ndarray, shape ``(P, 3)``
+        The point's ``r`` and ``z`` as combinations of its cell's stencil nodes
+        (:attr:`ContactCells.stencil`; the pole cell's third ``r`` coefficient carries the mirror's sign).
+    weight : ndarray, shape ``(P,)``
+        Quadrature weight times the cell's weight.
+    r, z : ndarray, shape ``(P,)``
+        The points' coordinates.
+    """
+
+    cell: np.ndarray
+    cr: np.ndarray
+    cz: np.ndarray
+    weight: np.ndarray
+    r: np.ndarray
+    z: np.ndarray
 
 
 @dataclass
@@ -492,6 +637,9 @@ class ContactBarrier:
     cell_weights : array_like, shape ``(N,)``, optional
         A factor on each cell (:func:`length_weights` for a barrier per unit length); default 1.
         Given, the barrier only accepts states of ``N`` nodes.
+    support_points : int
+        Gauss-Legendre points on each piece of a cell within ``dhat`` (:data:`SUPPORT_POINTS`);
+        ``0`` integrates at the fixed points instead (module docstring).
 
     Notes
     -----
@@ -510,7 +658,7 @@ class ContactBarrier:
     """
 
     def __init__(self, indenter: Sphere | Plate, K: float, dhat: float, quadrature: int = QUADRATURE_POINTS,
-                 cell_weights: ArrayLike | None = None) -> None:
+                 cell_weights: ArrayLike | None = None, support_points: int = SUPPORT_POINTS) -> None:
         if not isinstance(indenter, (Sphere, Plate)):
             raise TypeError(f"ContactBarrier: indenter must be a Sphere or a Plate, got {indenter!r}")
         K, dhat = float(K), float(dhat)
@@ -523,7 +671,11 @@ class ContactBarrier:
         self.indenter = indenter
         self.K = K
         self.dhat = dhat
+        if int(support_points) != support_points or support_points < 0:
+            raise ValueError(f"ContactBarrier: support_points must be a non-negative integer, got {support_points!r}")
         self.quadrature = int(quadrature)
+        self.support_points = int(support_points)
+        self._support_rule = np.polynomial.legendre.leggauss(self.support_points) if self.support_points else None
         self.cell_weights = None if cell_weights is None else np.array(cell_weights, dtype=float)
         self._params = indenter.params
         self._distance = getattr(gen, f"{indenter.name}_distance")
@@ -612,6 +764,101 @@ class ContactBarrier:
                 "is infinite there")
         return cells, ds
 
+    def _gap_polynomial(self, R: np.ndarray, Z: np.ndarray, c: float) -> np.ndarray:
+        """Ascending coefficients ``(m, 5)`` of a polynomial in ``t`` negative exactly where a cell is within ``dhat``.
+
+        Plate: ``d(t) - dhat``.  Sphere: ``|x(t) - (0, zc)|^2 - (rho + dhat)^2``.  ``R, Z`` are the
+        cells' curves (:meth:`ContactCells.curve`).
+        """
+        g = np.zeros((R.shape[0], 5))
+        if isinstance(self.indenter, Plate):
+            g[:, 0] = c - self.dhat - Z[:, 0]
+            g[:, 1:3] = -Z[:, 1:]
+            return g
+        p, q = R, Z.copy()
+        q[:, 0] -= c
+        g[:, 0] = p[:, 0] ** 2 + q[:, 0] ** 2 - (self.indenter.radius + self.dhat) ** 2
+        g[:, 1] = 2.0 * (p[:, 0] * p[:, 1] + q[:, 0] * q[:, 1])
+        g[:, 2] = p[:, 1] ** 2 + q[:, 1] ** 2 + 2.0 * (p[:, 0] * p[:, 2] + q[:, 0] * q[:, 2])
+        g[:, 3] = 2.0 * (p[:, 1] * p[:, 2] + q[:, 1] * q[:, 2])
+        g[:, 4] = p[:, 2] ** 2 + q[:, 2] ** 2
+        return g
+
+    def _integration_points(self, cells: ContactCells, r: np.ndarray, z: np.ndarray, c: float,
+                            ds: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Where the barrier integral is sampled: each point's cell, stencil coefficients and weight.
+
+        With ``support_points`` > 0 (and more than one quadrature point, else the barrier is the
+        paper's nodal one) each cell's integral runs over the pieces of the cell within ``dhat``,
+        found exactly (module docstring); otherwise over the fixed Gauss points of the cells.
+
+        Returns
+        -------
+        cell : ndarray of int, shape ``(P,)``
+        cr, cz : ndarray, shape ``(P, 3)``
+            The point's ``r`` and ``z`` as combinations of its cell's three nodes.
+        weight : ndarray, shape ``(P,)``
+        """
+        if self.quadrature == 1 or self._support_rule is None:
+            near = np.flatnonzero(ds < self.dhat)
+            return cells.cell[near], cells.cr[near], cells.cz[near], cells.weight[near]
+        base = np.flatnonzero(ds[:1] < self.dhat)  # the base node's own term
+        # a cell whose fixed samples all lie beyond 2 dhat cannot dip within dhat between them: the
+        # curve's sag over a sample spacing (1/15 of a cell) is far below dhat for any mesh we accept
+        near = np.flatnonzero(cells.cell_minimum(ds)[1:] < 2.0 * self.dhat) + 1
+        if near.size == 0:
+            return cells.cell[base], cells.cr[base], cells.cz[base], cells.weight[base]
+        Rc, Zc = cells.curve(r, z, near)
+        g = self._gap_polynomial(Rc, Zc, c)
+        breaks = _monotone_breaks(g)
+        lo, hi = breaks[:, :-1], breaks[:, 1:]
+        in_lo, in_hi = _polyval(g, lo) < 0, _polyval(g, hi) < 0
+        cross = (in_lo != in_hi) & (hi > lo)
+        root = np.zeros_like(lo)
+        if np.any(cross):
+            root[cross] = _roots_in_brackets(g[np.nonzero(cross)[0]], lo[cross], hi[cross])
+        a, b = np.where(in_lo, lo, root), np.where(in_hi, hi, root)
+        use = (in_lo | in_hi) & (b > a)
+        rows = np.nonzero(use)[0]
+        a, b = a[use], b[use]
+        xi, wq = self._support_rule
+        t = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * xi
+        cell = np.repeat(near[rows], xi.size)
+        weight = (0.5 * (b - a)[:, None] * wq).ravel() * cells.cell_weight[cell]
+        basis = gen.cell_basis(t.ravel()).T
+        cr, cz = basis * cells._sign_r[cell], basis
+        return (np.concatenate([cells.cell[base], cell]), np.concatenate([cells.cr[base], cr]),
+                np.concatenate([cells.cz[base], cz]), np.concatenate([cells.weight[base], weight]))
+
+    def _points_within(self, cells: ContactCells, r: np.ndarray, z: np.ndarray, c: float,
+                       ds: np.ndarray) -> IntegrationPoints:
+        """:meth:`_integration_points` and their coordinates, keeping those within ``dhat``.
+
+        Raises ``ValueError`` when a point of the integral lies on or inside the indenter (the
+        meridian dips into it between the fixed samples that the step filter watches).
+        """
+        cell, cr, cz, w = self._integration_points(cells, r, z, c, ds)
+        nodes = cells.stencil[cell]
+        rs, zs = np.sum(cr * r[nodes], axis=1), np.sum(cz * z[nodes], axis=1)
+        d = self._dist(rs, zs, c)
+        if not np.all(d > 0):
+            k = int(np.argmin(np.where(np.isfinite(d), d, -np.inf)))
+            raise ValueError(f"ContactBarrier: cell {int(cell[k])} dips into the {self.indenter.name} indenter "
+                             f"between its sample points (d = {d[k]:.6g} <= 0); the barrier is infinite there")
+        keep = d < self.dhat  # the ends of a support piece sit at dhat up to rounding
+        return IntegrationPoints(cell[keep], cr[keep], cz[keep], w[keep], rs[keep], zs[keep])
+
+    def integration_points(self, x: ArrayLike, c: float) -> IntegrationPoints:
+        """The points of the barrier integral within ``dhat`` of the indenter at ``(x, c)``, with weights.
+
+        The energy is ``sum_k weight_k W(d(r_k, z_k))`` over them; its derivatives are the point
+        kernels' at the same points (module docstring).  Raises ``ValueError`` as :meth:`check`.
+        """
+        _, r, z = self._state(x)
+        c = self._position(c)
+        cells, ds = self._checked_samples(r, z, c)
+        return self._points_within(cells, r, z, c, ds)
+
     def check(self, x, c: float) -> np.ndarray:
         """Distances of every node, raising :class:`ValueError` if any sample point has ``d <= 0``.
 
@@ -674,11 +921,10 @@ class ContactBarrier:
         _, r, z = self._state(x)
         c = self._position(c)
         cells, ds = self._checked_samples(r, z, c)
-        near = np.flatnonzero(ds < self.dhat)
-        if near.size == 0:
+        pts = self._points_within(cells, r, z, c, ds)
+        if pts.weight.size == 0:
             return 0.0
-        rs, zs = cells.points(r, z)
-        return float(np.sum(cells.weight[near] * self._energy(rs[near], zs[near], c, *self._params, self.K, self.dhat)))
+        return float(np.sum(pts.weight * self._energy(pts.r, pts.z, c, *self._params, self.K, self.dhat)))
 
     def gradient(self, x, c: float) -> tuple[np.ndarray, float]:
         """``(dE/dx, dE/dc)``: gradient with respect to the interleaved state and the position."""
@@ -715,7 +961,9 @@ class ContactBarrier:
         c = self._position(c)
         cells, ds = self._checked_samples(r, z, c)
         gaps = cells.cell_minimum(ds)
-        act = np.flatnonzero(gaps < self.dhat)
+        pts = self._points_within(cells, r, z, c, ds)
+        cell_of, cr_of, cz_of, w, rs, zs = pts.cell, pts.cr, pts.cz, pts.weight, pts.r, pts.z
+        act = np.unique(cell_of)
         n = x.size
         grad = np.zeros(n)
         d_nodes = self._dist(r, z, c)
@@ -726,12 +974,6 @@ class ContactBarrier:
             if hessian:
                 st.hess_blocks, st.hess_xc, st.hess_cc = np.zeros((0, 6, 6)), np.zeros(n), 0.0
             return st
-        # only the samples within dhat carry energy (W and its derivatives vanish beyond it)
-        samples = cells.samples_of(act)
-        samples = samples[ds[samples] < self.dhat]
-        rs, zs = cells.points(r, z)
-        rs, zs = rs[samples], zs[samples]
-        w = cells.weight[samples]
         if hessian:
             e, g, h = self._derivatives(rs, zs, c, *self._params, self.K, self.dhat)
         else:
@@ -739,12 +981,12 @@ class ContactBarrier:
                 self._gradient(rs, zs, c, *self._params, self.K, self.dhat)
         if not (np.all(np.isfinite(g)) and (not hessian or np.all(np.isfinite(h)))):
             # only for d so small (d / dhat < ~1e-150) that W'' overflows; never return inf
-            bad = int(cells.cell[samples[np.argmin(ds[samples])]])
+            bad = int(cell_of[np.argmin(self._dist(rs, zs, c))])
             raise ValueError(f"ContactBarrier: node {bad}'s cell is too close to the {self.indenter.name} indenter "
                              f"(d = {gaps[bad]:.6g}): the barrier derivatives overflow")
         # chain rule through the sample point x_s = sum_j c_sj x_j (linear in the nodes)
-        where = np.searchsorted(act, cells.cell[samples])  # each sample's row among the active cells
-        cr, cz = cells.cr[samples] * w[:, None], cells.cz[samples] * w[:, None]
+        where = np.searchsorted(act, cell_of)  # each point's row among the active cells
+        cr, cz = cr_of * w[:, None], cz_of * w[:, None]
         node_g = np.zeros((act.size, 3, 2))
         np.add.at(node_g, where, np.stack([cr * g[0][:, None], cz * g[1][:, None]], axis=2))
         np.add.at(grad, _stencil_dofs(stencils).ravel(), node_g.reshape(-1))
@@ -754,9 +996,9 @@ class ContactBarrier:
                           cell_e, cell_f)
         if hessian:
             # C_s maps the cell's (r_0, z_0, r_1, z_1, r_2, z_2) to the sample point's (r, z)
-            C = np.zeros((samples.size, 2, 6))
-            C[:, 0, 0::2], C[:, 1, 1::2] = cells.cr[samples], cells.cz[samples]
-            Hp = np.empty((samples.size, 2, 2))
+            C = np.zeros((w.size, 2, 6))
+            C[:, 0, 0::2], C[:, 1, 1::2] = cr_of, cz_of
+            Hp = np.empty((w.size, 2, 2))
             Hp[:, 0, 0], Hp[:, 0, 1], Hp[:, 1, 1] = h[0], h[1], h[3]
             Hp[:, 1, 0] = h[1]
             blocks = np.zeros((act.size, 6, 6))
@@ -800,15 +1042,79 @@ class ContactBarrier:
         cell = int(cells.cell[sample])
         nodes = cells.stencil[cell]
         rs, zs = float(np.dot(cells.cr[sample], r[nodes])), float(np.dot(cells.cz[sample], z[nodes]))
-        if isinstance(self.indenter, Plate):  # d = c - z
-            d, dr, dz, dc = c - zs, 0.0, -1.0, 1.0
-        else:  # d = |(r, z - c)| - rho
-            q = math.hypot(rs, zs - c)
-            d, dr, dz, dc = q - self.indenter.radius, rs / q, (zs - c) / q, -(zs - c) / q
+        d, dr, dz, dc = self._point_distance_gradient(rs, zs, c)
         grad = np.zeros(x.size)
         np.add.at(grad, 2 * nodes, cells.cr[sample] * dr)
         np.add.at(grad, 2 * nodes + 1, cells.cz[sample] * dz)
         return d, grad, dc
+
+    def closest_point(self, x: ArrayLike, c: float) -> tuple[float, np.ndarray, float, int, float]:
+        """The point of the meridian the barrier sees (its cells' C1 curve) nearest to the indenter.
+
+        Returns
+        -------
+        d : float
+            Its distance from the indenter surface.
+        dd_dx : ndarray, shape ``(2N,)``
+            ``dd/dx``: with the point free to slide along the curve, the derivative at fixed ``t``
+            (the distance is stationary in ``t`` at an interior minimum).
+        dd_dc : float
+        cell : int
+            Its cell (0: the base node).
+        t : float
+            Its place in the cell, in ``[-1/2, 1/2]``.
+        """
+        x, r, z = self._state(x)
+        c = self._position(c)
+        cells = self.cells(r.size)
+        inner = np.arange(1, r.size)
+        Rc, Zc = cells.curve(r, z, inner)
+        g = self._gap_polynomial(Rc, Zc, c)
+        breaks = _monotone_breaks(g)
+        vals = _polyval(g, breaks)
+        k = np.argmin(vals, axis=1)
+        t_all = breaks[np.arange(inner.size), k]
+        basis = gen.cell_basis(t_all).T
+        nodes = cells.stencil[inner]
+        rs = np.sum(basis * cells._sign_r[inner] * r[nodes], axis=1)
+        zs = np.sum(basis * z[nodes], axis=1)
+        d_all = np.concatenate([self._dist(r[:1], z[:1], c), self._dist(rs, zs, c)])
+        best = int(np.argmin(d_all))
+        if best == 0:
+            cell, t, coef = 0, 0.0, np.array([0.0, 1.0, 0.0])
+        else:
+            cell, t, coef = best, float(t_all[best - 1]), basis[best - 1]
+        nodes = cells.stencil[cell]
+        cr, cz = coef * cells._sign_r[cell], coef
+        rp, zp = float(np.dot(cr, r[nodes])), float(np.dot(cz, z[nodes]))
+        d, dr, dz, dc = self._point_distance_gradient(rp, zp, c)
+        grad = np.zeros(x.size)
+        np.add.at(grad, 2 * nodes, cr * dr)
+        np.add.at(grad, 2 * nodes + 1, cz * dz)
+        return d, grad, dc, cell, t
+
+    def pole_distance(self, x: ArrayLike, c: float) -> float:
+        """Distance from the indenter of the meridian's point on the axis (no check of its sign).
+
+        The barrier's curve passes the axis at the middle of the pole's cell, ``3/4`` of the pole
+        node's height and ``1/4`` of its neighbour's (the nodal barrier: the pole node itself).
+        """
+        return float(self._dist(np.zeros(1), np.array([self.pole_height(x)]), self._position(c))[0])
+
+    def pole_height(self, x: ArrayLike) -> float:
+        """Height of the meridian's point on the axis as the barrier sees it (see :meth:`pole_distance`)."""
+        _, r, z = self._state(x)
+        if self.quadrature == 1 or r.size == 1:
+            return float(z[-1])
+        middle = float(gen.cell_basis(0.0)[1])  # the mirrored neighbour has the rest
+        return float(middle * z[-1] + (1.0 - middle) * z[-2])
+
+    def _point_distance_gradient(self, rp: float, zp: float, c: float) -> tuple[float, float, float, float]:
+        """``(d, dd/dr, dd/dz, dd/dc)`` of one point."""
+        if isinstance(self.indenter, Plate):  # d = c - z
+            return c - zp, 0.0, -1.0, 1.0
+        q = math.hypot(rp, zp - c)
+        return q - self.indenter.radius, rp / q, (zp - c) / q, -(zp - c) / q
 
     # ---- step filter ------------------------------------------------------------------------------
     def max_safe_fraction(self, x, c: float, dx, dc: float = 0.0, safety: float = 0.9) -> float:

@@ -58,16 +58,19 @@ shape ``(m,)``; ``c`` and the parameters are scalars or arrays of that shape.
 Contact cells: the barrier between the nodes
 --------------------------------------------
 The barrier does not act on the nodes alone but on the meridian between them
-(:mod:`contin_models.contact.barrier`): the cell of node ``i`` is the quadratic through the nodes
-``i-1, i, i+1``, ``x(t) = sum_j L_j(t) x_j`` with the Lagrange basis of the nodes ``t = -1, 0, 1``::
+(:mod:`contin_models.contact.barrier`): the cell of node ``i`` is the piece around node ``i`` of the
+uniform quadratic B-spline whose control points are the nodes, ``x(t) = sum_j B_j(t) x_j`` over the
+nodes ``i-1, i, i+1``::
 
-    L_0(t) = t (t - 1) / 2,    L_1(t) = 1 - t^2,    L_2(t) = t (t + 1) / 2,
+    B_0(t) = (1/2 - t)^2 / 2,    B_1(t) = 3/4 - t^2,    B_2(t) = (1/2 + t)^2 / 2,
 
-for ``t`` in ``[-1/2, 1/2]``, and its energy ``int W(d(x(t))) dt`` is taken by a Gauss rule, so a
-cell is a sum of the point kernels above at the points ``x(t_q)``.  The point ``x(t)`` is linear in
-the nodes, so the exact derivatives of a cell are the point kernels' times the basis::
+for ``t`` in ``[-1/2, 1/2]``; consecutive cells meet at the midpoints of the segments with a common
+tangent, so the meridian the barrier sees is C1.  The cell's energy ``int W(d(x(t))) dt`` is taken
+by a Gauss rule, so a cell is a sum of the point kernels above at the points ``x(t_q)``.  The point
+``x(t)`` is linear in the nodes, so the exact derivatives of a cell are the point kernels' times the
+basis::
 
-    dW/dr_j = L_j dW/dr,    d2W/dr_j dz_k = L_j L_k d2W/dr dz,    d2W/dr_j dc = L_j d2W/dr dc, ...
+    dW/dr_j = B_j dW/dr,    d2W/dr_j dz_k = B_j B_k d2W/dr dz,    d2W/dr_j dc = B_j d2W/dr dc, ...
 
 (the generator checks this chain rule against ``sympy.diff`` of the cell point's distance at 30
 digits; the energy follows through ``d``).
@@ -211,26 +214,33 @@ _t = sp.Symbol("t", real=True)
 
 
 def cell_basis() -> list[sp.Expr]:
-    """Quadratic Lagrange basis ``L_0, L_1, L_2`` of a contact cell in ``t``, through ``t = -1, 0, 1``.
+    """Uniform quadratic B-spline basis ``B_0, B_1, B_2`` of a contact cell in ``t`` on ``[-1/2, 1/2]``.
 
     Returns
     -------
     list of sympy.Expr
-        ``[t (t - 1) / 2, 1 - t^2, t (t + 1) / 2]`` (checked: ``L_j(t_k) = delta_jk``).
+        ``[(1/2 - t)^2 / 2, 3/4 - t^2, (1/2 + t)^2 / 2]``.  Checked: the weights sum to one, and the
+        curve of consecutive cells is C1 (cell ``i`` at ``t = 1/2`` and cell ``i + 1`` at
+        ``t = -1/2`` give the same point, the midpoint of their shared segment, and the same tangent,
+        the segment itself).
     """
-    basis = [_t * (_t - 1) / 2, 1 - _t**2, _t * (_t + 1) / 2]
-    for j, L in enumerate(basis):
-        for k, tk in enumerate((-1, 0, 1)):
-            assert L.subs(_t, tk) == (1 if j == k else 0), (j, k)
+    half = sp.Rational(1, 2)
+    basis = [(half - _t) ** 2 / 2, sp.Rational(3, 4) - _t**2, (half + _t) ** 2 / 2]
+    assert sp.expand(sum(basis)) == 1
+    x = sp.symbols("x0:4")  # nodes i-1 .. i+2: cell i on x0..x2, cell i+1 on x1..x3
+    for order in (0, 1):
+        right = sum(sp.diff(B, _t, order).subs(_t, half) * x[j] for j, B in enumerate(basis))
+        left = sum(sp.diff(B, _t, order).subs(_t, -half) * x[j + 1] for j, B in enumerate(basis))
+        assert sp.expand(right - left) == 0, order
     return basis
 
 
 def check_cell_chain_rule(ind: Indenter) -> None:
     """Assert that a cell's exact derivatives are the point kernel's derivatives times the basis.
 
-    The distance ``d(x(t), c)`` of a cell's point ``x(t) = sum_j L_j(t) x_j`` is differentiated by
+    The distance ``d(x(t), c)`` of a cell's point ``x(t) = sum_j B_j(t) x_j`` is differentiated by
     sympy with respect to the six nodal coordinates and ``c`` and compared, at a fixed point and 30
-    digits, with ``L_j dd/da`` and ``L_j L_k d2d/da db`` of the point's distance; the energy
+    digits, with ``B_j dd/da`` and ``B_j B_k d2d/da db`` of the point's distance; the energy
     ``W(d)`` then follows by the chain rule through ``d`` that :meth:`Indenter.check` verifies for
     the point kernels (checking the distance keeps generation fast).
     """
@@ -374,9 +384,10 @@ def _emit_derivatives(ind: Indenter, printer: NumPyPrinter) -> list[str]:
 def _emit_cell_basis(printer: NumPyPrinter) -> list[str]:
     basis = cell_basis()
     lines = ["def cell_basis(t):",
-             '    """Quadratic Lagrange basis of a contact cell through the nodes ``i-1, i, i+1`` at ``t = -1, 0, 1``.',
+             '    """Quadratic B-spline basis of a contact cell on the nodes ``i-1, i, i+1``, for ``t`` in ``[-1/2, 1/2]``.',
              "",
-             "    The cell's point ``x(t) = L_0 x_{i-1} + L_1 x_i + L_2 x_{i+1}``; the cell spans ``t`` in ``[-1/2, 1/2]``.",
+             "    The cell's point ``x(t) = B_0 x_{i-1} + B_1 x_i + B_2 x_{i+1}``; consecutive cells join with a",
+             "    common tangent at the midpoints of the segments (a C1 curve).",
              "",
              "    Returns",
              "    -------",
@@ -399,7 +410,7 @@ Every kernel takes ``(r, z, c, *params, K, dhat)``: the node coordinates, the in
 (``zc``: sphere centre height; ``zp``: plate height), the geometric parameters (``rho`` for the
 sphere) and the barrier constants.  Local variables are ``(r, z, c)``; gradients are ``(3, m)`` and
 packed upper-triangle Hessians ``(6, m)`` with rows :data:`PAIRS`.  Energy and derivative kernels are
-valid for ``0 < d < dhat`` only.  :func:`cell_basis` is the quadratic basis of a contact cell (the
+valid for ``0 < d < dhat`` only.  :func:`cell_basis` is the quadratic B-spline basis of a contact cell (the
 meridian between the nodes, see the generator's docstring): a point of a cell is linear in its three
 nodes, so the kernels evaluated there give the cell's exact derivatives by the chain rule.
 """

@@ -94,7 +94,8 @@ class ShellIndentation(Problem):
         # the barrier per unit meridian length (the paper's nodal one on its mesh): converges with N
         self.barrier = ContactBarrier(self.indenter, self.K, self.dhat, quadrature=quadrature,
                                       cell_weights=length_weights(el.cap.x))
-        self.c0 = float(self.indenter.contact_position(el.z_pole_ref)) + self.dhat
+        # the indenter's barrier first touches the meridian's curve where it crosses the axis
+        self.c0 = float(self.indenter.contact_position(self.barrier.pole_height(el.cap.x))) + self.dhat
         self.idx = el.idx_force
         self.n_full = el.n_full
         # CSR slots of each contact cell's block (nodes i-1, i, i+1) in the shell's full Hessian pattern
@@ -211,7 +212,7 @@ class ShellIndentation(Problem):
             w_s = el.pole_displacement(x)
             return w_s if name == "w_s" else w_s / self.R
         if name in ("Delta_H", "Delta_H_over_R"):
-            d_pole = float(self.contact(u, p, hessian=False).distances[-1])
+            d_pole = self.barrier.pole_distance(x, self.position(p))
             gap = max(d_pole - self.dhat, 0.0)
             return gap if name == "Delta_H" else gap / self.R
         if name == "kappa_p_R":

@@ -80,8 +80,8 @@ class ReleaseFold:
 class _GapCurve:
     """Equilibria with one barrier sample point's gap prescribed: solutions ``(u, w_b)`` and ``dw_b/dx`` by ``x``."""
 
-    def __init__(self, problem: ShellIndentation, sample: int, tol: float, max_iter: int) -> None:
-        self.P, self.sample = problem, int(sample)
+    def __init__(self, problem: ShellIndentation, sample: int | None, tol: float, max_iter: int) -> None:
+        self.P, self.sample = problem, sample
         self.tol = tol * problem.residual_scale
         self.max_iter = max_iter
         # the gap is a difference of coordinates of order R: its rounding floor
@@ -90,9 +90,13 @@ class _GapCurve:
         self.evaluations = 0
 
     def gap_and_gradient(self, u: np.ndarray, w_b: float) -> tuple[float, np.ndarray, float]:
-        """``x = dhat - d_s`` of the sample point, ``dx/du`` (on the unknowns) and ``dx/dw_b``."""
+        """``x = dhat - d``, ``dx/du`` (on the unknowns) and ``dx/dw_b``: ``d`` the distance of the fixed
+        sample point, or (``sample`` None) of the meridian's point nearest to the indenter."""
         P = self.P
-        d, dd_dx, dd_dc = P.barrier.sample_gap(P.full_state(u), P.position(w_b), self.sample)
+        if self.sample is None:
+            d, dd_dx, dd_dc = P.barrier.closest_point(P.full_state(u), P.position(w_b))[:3]
+        else:
+            d, dd_dx, dd_dc = P.barrier.sample_gap(P.full_state(u), P.position(w_b), self.sample)
         return P.dhat - d, -dd_dx[P.idx], dd_dc  # dx/dw_b = -dd/dw_b = +dd/dc (c = c0 - w_b)
 
     def _system(self, u: np.ndarray, w_b: float) -> tuple[BorderedBandedLU, np.ndarray, float]:
@@ -175,9 +179,15 @@ def locate_release_fold(problem: ShellIndentation, u: np.ndarray, w_b: float, *,
     st = problem.contact(u, w_b, hessian=False)
     if st.n_active == 0:
         raise ReleaseFoldError("locate_release_fold: no node is in contact at the start")
-    # the barrier's sample point nearest to the indenter: the last to leave its range
-    sample, d_near = problem.barrier.nearest_sample(problem.full_state(u), problem.position(w_b))
-    node = int(problem.barrier.cells(problem.N).cell[sample])
+    # the point nearest to the indenter is the last to leave its range: on the meridian's curve when
+    # the barrier integrates over its support, else the nearest fixed sample point
+    barrier, x_full, c = problem.barrier, problem.full_state(u), problem.position(w_b)
+    if barrier.support_points and barrier.quadrature > 1:
+        sample = None
+        d_near, _, _, node, _ = barrier.closest_point(x_full, c)
+    else:
+        sample, d_near = barrier.nearest_sample(x_full, c)
+        node = int(barrier.cells(problem.N).cell[sample])
     curve = _GapCurve(problem, sample, tol, max_iter)
     x_hi = problem.dhat - d_near
     try:

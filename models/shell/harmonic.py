@@ -852,19 +852,17 @@ class HarmonicShell:
         barrier, c = contact
         N = self.N
         c = float(c)
-        r, z = x[0::2], x[1::2]
-        barrier.check(x, c)  # every sample point strictly outside the indenter
-        cells = barrier.cells(N)
-        ds = barrier.sample_distances(x, c)
-        S = np.flatnonzero(ds < barrier.dhat)
+        # the points of the axisymmetric barrier integral: W and W' vanish at the ends of its support,
+        # so the second variation of the integral is the integral of the pointwise one over them
+        pts = barrier.integration_points(x, c)
+        S = pts.cell
         if S.size == 0:
             return None
-        rs, zs = cells.points(r, z)
-        X = np.stack([rs[S], np.zeros(S.size), zs[S]])  # sample points in the frame at theta
-        H = contact_point_hessian(barrier, X, c) * (cells.weight[S] / (2.0 * math.pi))  # per radian
+        X = np.stack([pts.r, np.zeros(S.size), pts.z])  # the points in the frame at theta
+        H = contact_point_hessian(barrier, X, c) * (pts.weight / (2.0 * math.pi))  # per radian
         maps = mode_maps(n)
-        coef = cells.cz[S]  # Lagrange coefficients of the stencil nodes (the mirror is the kind "Q")
-        mirror = (cells.cell[S] == N - 1) & (N >= 2)
+        coef = pts.cz  # coefficients of the stencil nodes (the mirror is the kind "Q")
+        mirror = (pts.cell == N - 1) & (N >= 2)
         Yc, Ys = np.zeros((S.size, 3, 9)), np.zeros((S.size, 3, 9))
         for j in range(3):
             for kind, sel in (("P", ~mirror if j == 2 else np.ones(S.size, bool)), ("Q", mirror if j == 2 else None)):
@@ -879,7 +877,7 @@ class HarmonicShell:
             K = 2.0 * math.pi * np.einsum("sai,abs,sbj->sij", Y, H, Y)
         else:
             K = math.pi * (np.einsum("sai,abs,sbj->sij", Yc, H, Yc) + np.einsum("sai,abs,sbj->sij", Ys, H, Ys))
-        return cells.stencil[cells.cell[S]], K
+        return barrier.cells(N).stencil[S], K
 
     # ---- the polynomial in n, mapped straight to the band ----------------------------------------
     def _family_maps(self, name: str, layout: list, nn: int) -> list:
@@ -1382,7 +1380,7 @@ def block_inertia(K: sp.spmatrix) -> int:
 # the same 2-D energy on a ring mesh of M sectors (an independent check of the blocks)
 # ---------------------------------------------------------------------------------------------------
 def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0, contact: tuple | None = None,
-                     samples: np.ndarray | None = None):
+                     points: Any = None):
     """The 2-D energy of :class:`HarmonicShell` on a ring mesh of ``M`` sectors (``M`` even).
 
     ``X = (X, Y, Z)``: Cartesian node positions, each an array (or :class:`Jet`) of ``N M`` points,
@@ -1391,9 +1389,10 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0,
     ``theta``-derivatives replaced by central differences over the sectors
     (``P' = (P_{k+1} - P_{k-1}) / (2 dtheta)``, ``P'' = (P_{k+1} - 2 P_k + P_{k-1}) / dtheta^2``),
     and the integral over ``theta`` by the sum ``dtheta sum_k`` (the pole's averages by means over
-    ``k``).  ``contact = (barrier, c)`` adds the barrier over the sample points ``samples`` of the
-    barrier's cells (indices; default all), each at every sector, ``W`` by its closed form (points
-    beyond ``dhat`` must be left out by ``samples``: their ``W`` is zero).  Its Hessian at an axisymmetric state is block-circulant; projected on the Fourier mode
+    ``k``).  ``contact = (barrier, c)`` adds the barrier over the points ``points`` of its integral
+    (:class:`contin_models.contact.barrier.IntegrationPoints`; default every fixed sample of the
+    cells), each at every sector, ``W`` by its closed form (points beyond ``dhat`` must be left out
+    of ``points``: their ``W`` is zero).  Its Hessian at an axisymmetric state is block-circulant; projected on the Fourier mode
     ``n`` it tends to the harmonic block as ``M -> infinity``, with an ``O(M^-2)`` difference.
     """
     N, nu = hs.N, hs.nu
@@ -1480,10 +1479,10 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0,
     if contact is not None:
         barrier, cpos = contact
         cells = barrier.cells(N)
-        S = np.arange(cells.cell.size) if samples is None else np.asarray(samples)
-        st_nodes = cells.stencil[cells.cell[S]]  # (S, 3)
-        coef = cells.cz[S]
-        mirror = cells.cell[S] == N - 1
+        cell_of, coef, weight = (cells.cell, cells.cz, cells.weight) if points is None else \
+            (points.cell, points.cz, points.weight)
+        st_nodes = cells.stencil[cell_of]  # (S, 3)
+        mirror = cell_of == N - 1
         pts = None
         for j in range(3):
             nodes = st_nodes[:, j]
@@ -1503,7 +1502,7 @@ def ring_mesh_energy(hs: HarmonicShell, X: tuple, M: int, pressure: float = 0.0,
         t = d * (1.0 / dh)
         lg = t.log() if isinstance(t, Jet) else np.log(t)
         W = (d - dh) * (d - dh) * lg * (-Kc)
-        wts = np.repeat(cells.weight[S], M)
+        wts = np.repeat(weight, M)
         E = E + tot(W * wts) * (1.0 / M)
     if pressure != 0.0:
         Vol = tot(volume_density(P(i), frame(at(i + 1), i), Pp(i),
@@ -1545,9 +1544,9 @@ def ring_mesh_block(hs: HarmonicShell, x: np.ndarray, n: int, M: int, pressure: 
         G[0][3 * j + 2, sl] = -fs * sn  # c: circumferential
         G[1][3 * j + 2, sl] = fs * cs
     X = tuple(Jet.linear(X0[c], G[c]) for c in range(3))
-    samples = None
+    points = None
     if contact is not None:
         barrier, cpos = contact
-        samples = np.flatnonzero(barrier.sample_distances(x, cpos) < barrier.dhat)
-    E = ring_mesh_energy(hs, X, M, pressure, contact, samples)
+        points = barrier.integration_points(x, cpos)
+    E = ring_mesh_energy(hs, X, M, pressure, contact, points)
     return E.h[:, :, 0]

@@ -59,7 +59,10 @@ __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "sn
            "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS"]
 
 #: ``F R / (2 pi D)`` below which a loading stretch counts as having reached the snap (F -> 0).
-SNAP_FORCE_NORM = 1e-6
+SNAP_FORCE_NORM = 1e-4
+#: A fold of the travel at a force below this (``F R / (2 pi D)``) is the release of the last contact
+#: point, located again in that point's gap (:func:`snap_point`).
+RELEASE_FORCE_NORM = 1e-3
 #: ``F R / (2 pi D)`` at which a force-controlled trace takes over from displacement control.
 FORCE_START_NORM = 0.05
 #: Target load of a force-controlled trace in the same unit (beyond any limit point; the indenter's
@@ -166,13 +169,30 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
 def snap_point(problem: ShellIndentation, br: Branch, tol: float) -> SpecialPoint | None:
     """Where a loading stretch snaps: its located fold in ``w_b``, or the release fold beyond ``F -> 0``.
 
-    On the ``F -> 0`` event the release fold is located with the last contact node's gap as the
+    On the ``F -> 0`` event the release fold is located with the last contact point's gap as the
     parameter (:mod:`contin_models.contact.release`) and added to the branch's special points; if that
-    fails, the event itself is the snap and the reason is kept in its ``info``.
+    fails, the event itself is the snap and the reason is kept in its ``info``.  A fold the engine
+    located at a force below :data:`RELEASE_FORCE_NORM` is that release fold too: it is located again
+    in the gap, from the last stored point before it, so that its force is as precise as its travel.
     """
     if br.status != "event" or not br.special_points:
         return None
     last = br.special_points[-1]
+    if last.kind == "fold" and abs(last.observables.get("F_norm", math.inf)) < RELEASE_FORCE_NORM and len(br.p) >= 2:
+        # the engine turned round a release fold (the barrier over its support makes it wide enough),
+        # but there the force changes so fast along the path that the fold's F is fixed to a few
+        # digits only; the gap of the last contact point resolves it: start on the stable side
+        try:
+            rf = locate_release_fold(problem, br.u[-2], br.p[-2], tol=tol)
+        except ReleaseFoldError as exc:
+            last.info["release"] = f"not refined: {exc}"
+            return last
+        last.p, last.u = rf.w_b, rf.u
+        last.observables = problem.evaluate_observables(rf.u, rf.w_b)
+        last.residual = rf.residual
+        last.info.update({"node": rf.node, "gap": rf.gap, "dw_b_dgap": rf.dw_dx,
+                          "located_by": "the gap of the last contact point as parameter"})
+        return last
     if last.kind == "fold" or last.label != "F -> 0":
         return last
     try:
@@ -229,9 +249,10 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
         "classification_note": "the classification is defined on the bilateral point load (load.kind = \"point\")",
     }
     # the travel from the observables: under force control the parameter p is the load, not w_b
-    summary["snaps"] = [{"w_b": float(sn["point"].observables["w_b"]), "kind": sn["point"].kind, "label": sn["point"].label,
-                         "F": float(sn["point"].observables["F"]), "Delta_H": float(sn["point"].observables["Delta_H"]),
-                         "nodes_in_contact_after": sn["contact_after"]} for sn in snaps]
+    observed = [sn["point"].observables or problem.evaluate_observables(sn["point"].u, sn["point"].p) for sn in snaps]
+    summary["snaps"] = [{"w_b": float(obs["w_b"]), "kind": sn["point"].kind, "label": sn["point"].label,
+                         "F": float(obs["F"]), "Delta_H": float(obs["Delta_H"]),
+                         "nodes_in_contact_after": sn["contact_after"]} for sn, obs in zip(snaps, observed)]
     # the snap of the paper is the one after which the shell has left the indenter (eversion); a plate
     # or a large sphere may snap before it into a dimpled shape that stays in contact
     main = next((sn for sn in snaps if sn["contact_after"] == 0), snaps[-1] if snaps else None)

@@ -9,8 +9,12 @@ commit 57912bb (before issue 14's redesign) and are not to be regenerated to mak
 Issue 14 (B3) deliberately changed the indenter contact: the barrier sees the meridian between the
 nodes.  The indenter scenes' points as they are since then were recorded into ``after_b3/`` by
 ``python -m tests.regression.capture --after-b3 sphere_0.5 sphere_1.1 plate`` on the merge of that
-change; the test compares them to 1e-8, and checks that the eversion snap ``w_b_c`` moved by less
-than 1e-3 R from the 57912bb references.
+change.  Issue 14 (B8) changed the contact again: the meridian the barrier sees is the C1 quadratic
+B-spline of the nodes, and the barrier is integrated over its support (where the meridian is within
+``dhat``) instead of at fixed points.  The indenter scenes since then are in ``after_b8/``
+(``python -m tests.regression.capture --after-b8 sphere_0.5 sphere_1.1 plate``); the test compares
+them to 1e-8, and checks that the eversion snap ``w_b_c`` lies within 1e-3 R of the 57912bb
+references.  ``after_b3/`` stays as the record of the intermediate state.
 """
 
 from __future__ import annotations
@@ -61,16 +65,17 @@ def extract(summary: dict) -> dict:
             "summary": {k: summary[k] for k in SUMMARY_FIELDS if k in summary}}
 
 
-#: Scenes whose contact changed in issue 14 (B3), with their later references in this folder.
+#: Scenes whose contact changed in issue 14 (B3, then B8), with their later references in these folders.
 CHANGED_BY_B3 = ("sphere_0.5", "sphere_1.1", "plate")
 AFTER_B3 = HERE / "after_b3"
+AFTER_B8 = HERE / "after_b8"
 
 
 def main() -> int:
     args = sys.argv[1:]
     folder = HERE
-    if args[:1] == ["--after-b3"]:
-        folder, args = AFTER_B3, args[1:]
+    if args[:1] in (["--after-b3"], ["--after-b8"]):
+        folder, args = (AFTER_B3 if args[0] == "--after-b3" else AFTER_B8), args[1:]
         folder.mkdir(exist_ok=True)
     for name in args or list(SCENES):
         record = extract(trace_summary(SCENES[name]))
