@@ -33,9 +33,9 @@ quantities against ``r/R``, log scale, with the point and plate limits as horizo
 ``fig12.csv`` (one row per indenter) and ``summary.json``: the records, and for each quantity
 whether every finite-r value lies between the point and plate values (the paper's statement), with
 the limits, the extreme finite-r values and the largest excursion beyond the limits.  A value counts
-as inside when it is within :data:`BOUND_TOL` ``R`` of the interval: the contact barrier holds the
-touching pole a few 1e-9 R off the indenter, so the travel of a small sphere exceeds the point's
-``w`` by that much.
+as inside when it is within :data:`BOUND_TOL` ``R`` of the interval: a small sphere's travel differs
+from the point's ``w`` by the barrier holding the touching pole a hair off the indenter and by the
+offset of the barrier's curve from the pole node (``O(h^2)``: 1.0e-6 R below it at N = 200).
 """
 
 from __future__ import annotations

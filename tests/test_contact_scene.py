@@ -14,6 +14,7 @@ import contin
 from contin.cli import main
 from contin_models.contact import Sphere
 from contin_models.contact.indentation import ShellIndentation
+from contin_models.shell_scene.contact import SNAP_FORCE_NORM
 
 
 def _trace(out: Path, *sets: str) -> tuple[int, dict, list[dict]]:
@@ -41,7 +42,7 @@ def test_sphere_trace_snaps_and_jumps_to_the_everted_state(sphere_runs):
     (fold,) = [s for s in br.special_points if s.kind == "fold"]
     assert summary["w_b_c"] == pytest.approx(fold.p, rel=1e-7)
     snaps = [r for r in summary["special_points"] if r["kind"] in ("fold", "event")]
-    assert snaps[0]["parameter"] == "w_b" and snaps[0]["F_norm"] < 1e-4 and snaps[0]["Delta_H"] == 0.0
+    assert snaps[0]["parameter"] == "w_b" and snaps[0]["F_norm"] <= 1.000001 * SNAP_FORCE_NORM and snaps[0]["Delta_H"] == 0.0
     (jump,) = summary["jumps"]
     assert jump["success"]
     landing = [r for r in summary["special_points"] if r.get("label") == "jump_to"][0]

@@ -440,22 +440,27 @@ def _derivative(coefs: np.ndarray) -> np.ndarray:
 def _roots_in_brackets(coefs: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """A root of each row's polynomial in ``[lo, hi]`` (shape ``(m, j)``), where its ends differ in sign.
 
-    Newton's method kept inside the bracket (bisection when a step leaves it), a fixed number of
-    iterations: the roots end the barrier's support, where its integrand vanishes to third order, so
-    an error of ``eps`` in a root changes the energy by ``O(eps^4)``.
+    Newton's method kept inside the bracket (bisection when a step leaves it), until the updates
+    fall to 1e-14 (``t`` lies in ``[-1/2, 1/2]``): the roots end the barrier's support, where its
+    integrand vanishes to third order, so an error of ``eps`` in a root changes the energy by
+    ``O(eps^4)``.
     """
     slope = _derivative(coefs)
     f_lo = _polyval(coefs, lo)
     a, b = lo.copy(), hi.copy()
     t = 0.5 * (a + b)
-    for _ in range(12):
+    for _ in range(60):  # bisection alone would be done by then
         f = _polyval(coefs, t)
         left = np.sign(f) == np.sign(f_lo)
         a, b = np.where(left, t, a), np.where(left, b, t)
         df = _polyval(slope, t)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = t - f / df
-        t = np.where((step >= a) & (step <= b), step, 0.5 * (a + b))
+        new = np.where((step >= a) & (step <= b), step, 0.5 * (a + b))
+        done = np.max(np.abs(new - t)) <= 1e-14
+        t = new
+        if done:
+            break
     return t
 
 
@@ -683,6 +688,9 @@ class ContactBarrier:
         self._derivatives = getattr(gen, f"{indenter.name}_derivatives")
         self._gradient = getattr(gen, f"{indenter.name}_gradient")
         self._cells_cache: ContactCells | None = None
+        # the last state's samples and integration points: a residual and a Hessian at one state
+        # find the support once
+        self._points_cache: tuple[np.ndarray, float, ContactCells, np.ndarray, IntegrationPoints] | None = None
 
     @classmethod
     def for_shell(cls, indenter: Sphere | Plate, E: float, R: float,
@@ -795,6 +803,7 @@ class ContactBarrier:
         Returns
         -------
         cell : ndarray of int, shape ``(P,)``
+            Non-decreasing: the points come cell by cell (:meth:`evaluate` sums them by segments).
         cr, cz : ndarray, shape ``(P, 3)``
             The point's ``r`` and ``z`` as combinations of its cell's three nodes.
         weight : ndarray, shape ``(P,)``
@@ -848,16 +857,26 @@ class ContactBarrier:
         keep = d < self.dhat  # the ends of a support piece sit at dhat up to rounding
         return IntegrationPoints(cell[keep], cr[keep], cz[keep], w[keep], rs[keep], zs[keep])
 
+    def _samples_and_points(self, x: np.ndarray, r: np.ndarray, z: np.ndarray,
+                            c: float) -> tuple[ContactCells, np.ndarray, IntegrationPoints]:
+        """:meth:`_checked_samples` and :meth:`_points_within` at ``(x, c)``, remembered for the last state."""
+        cached = self._points_cache
+        if cached is not None and cached[1] == c and np.array_equal(cached[0], x):
+            return cached[2], cached[3], cached[4]
+        cells, ds = self._checked_samples(r, z, c)
+        pts = self._points_within(cells, r, z, c, ds)
+        self._points_cache = (x.copy(), c, cells, ds, pts)
+        return cells, ds, pts
+
     def integration_points(self, x: ArrayLike, c: float) -> IntegrationPoints:
         """The points of the barrier integral within ``dhat`` of the indenter at ``(x, c)``, with weights.
 
         The energy is ``sum_k weight_k W(d(r_k, z_k))`` over them; its derivatives are the point
         kernels' at the same points (module docstring).  Raises ``ValueError`` as :meth:`check`.
         """
-        _, r, z = self._state(x)
+        x, r, z = self._state(x)
         c = self._position(c)
-        cells, ds = self._checked_samples(r, z, c)
-        return self._points_within(cells, r, z, c, ds)
+        return self._samples_and_points(x, r, z, c)[2]
 
     def check(self, x, c: float) -> np.ndarray:
         """Distances of every node, raising :class:`ValueError` if any sample point has ``d <= 0``.
@@ -918,10 +937,9 @@ class ContactBarrier:
     # ---- energy and derivatives -------------------------------------------------------------------
     def energy(self, x, c: float) -> float:
         """Total barrier energy ``E(x, c)`` (raises :class:`ValueError` if a sample point has ``d <= 0``)."""
-        _, r, z = self._state(x)
+        x, r, z = self._state(x)
         c = self._position(c)
-        cells, ds = self._checked_samples(r, z, c)
-        pts = self._points_within(cells, r, z, c, ds)
+        _, _, pts = self._samples_and_points(x, r, z, c)
         if pts.weight.size == 0:
             return 0.0
         return float(np.sum(pts.weight * self._energy(pts.r, pts.z, c, *self._params, self.K, self.dhat)))
@@ -959,9 +977,8 @@ class ContactBarrier:
         """
         x, r, z = self._state(x)
         c = self._position(c)
-        cells, ds = self._checked_samples(r, z, c)
+        cells, ds, pts = self._samples_and_points(x, r, z, c)
         gaps = cells.cell_minimum(ds)
-        pts = self._points_within(cells, r, z, c, ds)
         cell_of, cr_of, cz_of, w, rs, zs = pts.cell, pts.cr, pts.cz, pts.weight, pts.r, pts.z
         act = np.unique(cell_of)
         n = x.size
@@ -984,30 +1001,34 @@ class ContactBarrier:
             bad = int(cell_of[np.argmin(self._dist(rs, zs, c))])
             raise ValueError(f"ContactBarrier: node {bad}'s cell is too close to the {self.indenter.name} indenter "
                              f"(d = {gaps[bad]:.6g}): the barrier derivatives overflow")
-        # chain rule through the sample point x_s = sum_j c_sj x_j (linear in the nodes)
+        # chain rule through the sample point x_s = sum_j c_sj x_j (linear in the nodes); the points
+        # come cell by cell in increasing order, so each cell's sums are one segment's
         where = np.searchsorted(act, cell_of)  # each point's row among the active cells
+        starts = np.searchsorted(where, np.arange(act.size))
+
+        def per_cell(values: np.ndarray) -> np.ndarray:
+            return np.add.reduceat(values, starts, axis=0)
+
         cr, cz = cr_of * w[:, None], cz_of * w[:, None]
-        node_g = np.zeros((act.size, 3, 2))
-        np.add.at(node_g, where, np.stack([cr * g[0][:, None], cz * g[1][:, None]], axis=2))
-        np.add.at(grad, _stencil_dofs(stencils).ravel(), node_g.reshape(-1))
-        cell_e = np.bincount(where, weights=w * e, minlength=act.size)
-        cell_f = -np.bincount(where, weights=w * g[2], minlength=act.size)
+        node_g = per_cell(np.stack([cr * g[0][:, None], cz * g[1][:, None]], axis=2))
+        dofs = _stencil_dofs(stencils)
+        np.add.at(grad, dofs.ravel(), node_g.reshape(-1))
+        cell_e = per_cell(w * e)
+        cell_f = -per_cell(w * g[2])
         st = ContactState(c, d_nodes, gaps, act, stencils, float(np.sum(cell_e)), grad, -float(np.sum(cell_f)),
                           cell_e, cell_f)
         if hessian:
-            # C_s maps the cell's (r_0, z_0, r_1, z_1, r_2, z_2) to the sample point's (r, z)
-            C = np.zeros((w.size, 2, 6))
-            C[:, 0, 0::2], C[:, 1, 1::2] = cr_of, cz_of
-            Hp = np.empty((w.size, 2, 2))
-            Hp[:, 0, 0], Hp[:, 0, 1], Hp[:, 1, 1] = h[0], h[1], h[3]
-            Hp[:, 1, 0] = h[1]
-            blocks = np.zeros((act.size, 6, 6))
-            np.add.at(blocks, where, np.einsum("s,sai,sab,sbj->sij", w, C, Hp, C))
-            lower = np.tril_indices(6, -1)  # exactly symmetric, not only to roundoff: mirror the upper triangle
-            blocks[:, lower[0], lower[1]] = blocks[:, lower[1], lower[0]]
-            xc_local = np.einsum("s,sai,as->si", w, C, np.stack([h[2], h[4]]))
+            # the block of a point on the cell's (r_0, z_0, r_1, z_1, r_2, z_2): its coefficients'
+            # outer products times the point kernel's (r, z) Hessian, each exactly symmetric
+            blocks = np.empty((act.size, 6, 6))
+            blocks[:, 0::2, 0::2] = per_cell((w * h[0])[:, None, None] * cr_of[:, :, None] * cr_of[:, None, :])
+            rz = per_cell((w * h[1])[:, None, None] * cr_of[:, :, None] * cz_of[:, None, :])
+            blocks[:, 0::2, 1::2], blocks[:, 1::2, 0::2] = rz, rz.transpose(0, 2, 1)
+            blocks[:, 1::2, 1::2] = per_cell((w * h[3])[:, None, None] * cz_of[:, :, None] * cz_of[:, None, :])
+            xc_cell = np.empty((act.size, 6))
+            xc_cell[:, 0::2], xc_cell[:, 1::2] = per_cell(cr * h[2][:, None]), per_cell(cz * h[4][:, None])
             xc = np.zeros(n)
-            np.add.at(xc, _stencil_dofs(stencils)[where].ravel(), xc_local.ravel())
+            np.add.at(xc, dofs.ravel(), xc_cell.ravel())
             st.hess_blocks, st.hess_xc, st.hess_cc = blocks, xc, float(np.sum(w * h[5]))
         return st
 

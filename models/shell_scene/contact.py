@@ -10,12 +10,14 @@ is :func:`contin.quasistatic`'s; this module gives it the contact's rules (:func
 :func:`snap_point`) and reports the result.
 
 Where the snap is (``docs/physics.md`` section 4): the path turns back in ``w_b`` as the contact force
-falls to zero.  While the pole is the last node in contact the fold is a sizeable fraction of ``dhat``
-inside the barrier and the engine's extended system locates it.  When the last contact node is off
-the axis (large spheres and the plate, after the pole has detached) the fold lies ~1e-9 R before the
-node leaves the barrier, below any continuation step: a loading stretch then ends on the event
-``F R / (2 pi D) <`` :data:`SNAP_FORCE_NORM` and the fold is located from there with the node's gap
-as the parameter (:func:`contin_models.contact.release.locate_release_fold`, label ``"release"``).
+falls to zero.  While the pole is the last point in contact the fold is a sizeable fraction of ``dhat``
+inside the barrier and the engine's extended system locates it.  When the last contact point is off
+the axis (large spheres and the plate, after the pole has detached) the fold lies a few 1e-8 R before
+the meridian leaves the barrier, where the force changes too fast along the path for the engine to
+fix it precisely: a loading stretch ends on the event ``F R / (2 pi D) <`` :data:`SNAP_FORCE_NORM`
+(or on the engine's fold, at a force below :data:`RELEASE_FORCE_NORM`) and the fold is located from
+there with the gap of the meridian's nearest point as the parameter
+(:func:`contin_models.contact.release.locate_release_fold`, label ``"release"``).
 
 A plate (and a large sphere) may snap earlier at a finite force: the flattened contact region
 buckles inwards into a dimple held by a ring of contact.  Those snaps are jumped like the others;
