@@ -50,7 +50,7 @@ from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.geometry import POLE_RATIO
 from contin_models.shell.problem import ShellPointLoad
 
-from .barrier import QUADRATURE_POINTS, ContactBarrier, ContactState, Plate, Sphere, default_barrier, length_weights
+from .barrier import QUADRATURE_POINTS, SUPPORT_POINTS, ContactBarrier, ContactState, Plate, Sphere, default_barrier, length_weights
 
 __all__ = ["ShellIndentation", "ShellIndentationForce", "BorderedBandedLU"]
 
@@ -70,13 +70,16 @@ class ShellIndentation(Problem):
     pole_ratio : float
         Node spacing at the pole over the spacing elsewhere (the shell's mesh grading).
     quadrature : int
-        Gauss points per contact cell (:data:`contin_models.contact.barrier.QUADRATURE_POINTS`).
+        Fixed Gauss points per contact cell (:data:`contin_models.contact.barrier.QUADRATURE_POINTS`).
+    support_points : int
+        Gauss points on each piece of a cell within ``dhat``
+        (:data:`contin_models.contact.barrier.SUPPORT_POINTS`; 0: integrate at the fixed points).
     """
 
     def __init__(self, R: float = 1.0, E: float = 1e6, nu: float = 0.5, h: float = 0.02, phi_hat: float = 0.8,
                  N: int = 200, indenter: Sphere | Plate | None = None, K: float | None = None,
                  dhat: float | None = None, pole_ratio: float = POLE_RATIO,
-                 quadrature: int = QUADRATURE_POINTS) -> None:
+                 quadrature: int = QUADRATURE_POINTS, support_points: int = SUPPORT_POINTS) -> None:
         self.elastic = ShellPointLoad(R=R, E=E, nu=nu, h=h, phi_hat=phi_hat, N=N, control="force",
                                       pole_ratio=pole_ratio)
         el = self.elastic
@@ -93,7 +96,7 @@ class ShellIndentation(Problem):
                              "contin_models.shell.ShellPointLoad, or a sphere much smaller than the cap)")
         # the barrier per unit meridian length (the paper's nodal one on its mesh): converges with N
         self.barrier = ContactBarrier(self.indenter, self.K, self.dhat, quadrature=quadrature,
-                                      cell_weights=length_weights(el.cap.x))
+                                      cell_weights=length_weights(el.cap.x), support_points=support_points)
         # the indenter's barrier first touches the meridian's curve where it crosses the axis
         self.c0 = float(self.indenter.contact_position(self.barrier.pole_height(el.cap.x))) + self.dhat
         self.idx = el.idx_force
