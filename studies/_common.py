@@ -22,6 +22,7 @@ import csv
 import json
 import os
 import sys
+import time
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
@@ -34,7 +35,7 @@ from contin.scene import SceneError
 from contin_models.shell.boundaries import depth_parameter
 
 __all__ = ["study_parser", "executor_from_args", "output_dir", "run_study", "save_figure", "save_figures", "write_csv",
-           "write_json", "write_text", "json_ready", "print_table", "shell_lambda", "say"]
+           "write_json", "write_text", "json_ready", "print_table", "shell_lambda", "say", "alternate_timings"]
 
 
 def _positive_int(text: str) -> int:
@@ -285,3 +286,15 @@ def say(quiet: bool, msg: str) -> None:
     """A progress line on stderr unless ``quiet``."""
     if not quiet:
         print(msg, file=sys.stderr, flush=True)
+
+
+def alternate_timings(calls: Sequence[Callable[[], Any]], repeat: int) -> list[list[float]]:
+    """Wall times of each call, ``repeat`` rounds with the calls alternating (a shared, noisy machine
+    drifts alike for all of them); one list of times per call.  Warm-up is the caller's."""
+    times: list[list[float]] = [[] for _ in calls]
+    for _ in range(repeat):
+        for call, out in zip(calls, times):
+            start = time.perf_counter()
+            call()
+            out.append(time.perf_counter() - start)
+    return times

@@ -19,10 +19,10 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
 import statistics  # noqa: E402
-import time  # noqa: E402
 
 from contin.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE  # noqa: E402
+from studies._common import alternate_timings  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -35,14 +35,8 @@ def main(argv: list[str] | None = None) -> int:
     watched = load_scene(SHELL_SCENE.schema, None, ["stability.harmonics=true", f"stability.n_max={args.n_max}"])
     SHELL_SCENE.runner(plain, False)
     result = SHELL_SCENE.runner(watched, False)
-    t_plain, t_watched = [], []
-    for _ in range(args.repeat):
-        t = time.perf_counter()
-        SHELL_SCENE.runner(plain, False)
-        t_plain.append(time.perf_counter() - t)
-        t = time.perf_counter()
-        SHELL_SCENE.runner(watched, False)
-        t_watched.append(time.perf_counter() - t)
+    t_plain, t_watched = alternate_timings([lambda: SHELL_SCENE.runner(plain, False),
+                                            lambda: SHELL_SCENE.runner(watched, False)], args.repeat)
     br = result.branches[0]
     modes = br.meta.get("modes", {}).get("n", {})
     n_bif = sum(1 for b in result.branches for s in b.special_points if s.kind == "bifurcation")

@@ -25,12 +25,11 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import argparse  # noqa: E402
 import json  # noqa: E402
 import statistics  # noqa: E402
-import time  # noqa: E402
 from typing import Any  # noqa: E402
 
 from contin.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE  # noqa: E402
-from studies._common import write_text  # noqa: E402
+from studies._common import alternate_timings, write_text  # noqa: E402
 
 PRESSURE_SCENE = ["load.kind=pressure", "load.control=force", "shell.boundary=clamped"]
 
@@ -41,14 +40,8 @@ def bench(repeat: int) -> dict[str, Any]:
     pressure = load_scene(SHELL_SCENE.schema, None, PRESSURE_SCENE)
     SHELL_SCENE.runner(point, False)
     result = SHELL_SCENE.runner(pressure, False)
-    t_point, t_pressure = [], []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        SHELL_SCENE.runner(point, False)
-        t_point.append(time.perf_counter() - t)
-        t = time.perf_counter()
-        SHELL_SCENE.runner(pressure, False)
-        t_pressure.append(time.perf_counter() - t)
+    t_point, t_pressure = alternate_timings([lambda: SHELL_SCENE.runner(point, False),
+                                             lambda: SHELL_SCENE.runner(pressure, False)], repeat)
     br = result.branches[0]
     return {"repeat": repeat, "point_median_s": statistics.median(t_point),
             "pressure_median_s": statistics.median(t_pressure),

@@ -60,8 +60,26 @@ def _median_time(f, repeat: int = 5) -> float:
     return statistics.median(ts)
 
 
-def checks() -> None:
+def indented_state(N: int) -> tuple[ShellStructure, np.ndarray, list[tuple[Any, float]]]:
+    """A cap (``phi_hat = 0.8``, h/R = 0.02, ``N`` nodes) whose top is pressed flat by 4e-3 R (a state
+    with several contact cells within dhat), and barriers against it: a sphere (rho = 0.5 R), a
+    point, a plate, per unit length as in the indentation problem, each with its position."""
     from contin_models.contact.barrier import ContactBarrier, Plate, Sphere, default_barrier, length_weights
+    cap = spherical_cap(1.0, 0.8, N)
+    st = ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding")
+    x = cap.x.copy()
+    z = x[1::2]
+    zt = z.max() - 0.004
+    x[1::2] = np.minimum(z, zt + 0.1 * (z - zt))
+    K, dh = default_barrier(1e6, 1.0)
+    w = length_weights(cap.x)
+    contacts = [(ContactBarrier(Sphere(0.5), K, dh, cell_weights=w), zt + 0.5 + 0.6 * dh),
+                (ContactBarrier(Sphere(0.0), K, dh, cell_weights=w), zt + 0.5 * dh),
+                (ContactBarrier(Plate(), K, dh, cell_weights=w), zt + 0.7 * dh)]
+    return st, x, contacts
+
+
+def checks() -> None:
     from contin_models.shell.harmonic import harmonic_dofs
     from contin_models.shell.volume import volume_hessian
 
@@ -90,15 +108,8 @@ def checks() -> None:
     pp = ShellOfRevolution(cl, "pressure")
     u = _newton(pp, _newton(pp, pp.reference_unknowns(), 0.25 * pc), 0.5 * pc)
     print(f"n = 0 vs traced Hessian + p d2V, clamped cap at p_c/2: {n0_error(cl, pp.full_state(u, 0.5 * pc), 0.5 * pc):.1e}")
-    x = cap.x.copy()
-    z = x[1::2]
-    zt = z.max() - 0.004
-    x[1::2] = np.minimum(z, zt + 0.1 * (z - zt))
-    K, dh = default_barrier(1e6, 1.0)
-    w = length_weights(cap.x)
-    for name, bar, c in (("sphere 0.5R", ContactBarrier(Sphere(0.5), K, dh, cell_weights=w), zt + 0.5 + 0.6 * dh),
-                         ("point", ContactBarrier(Sphere(0.0), K, dh, cell_weights=w), zt + 0.5 * dh),
-                         ("plate", ContactBarrier(Plate(), K, dh, cell_weights=w), zt + 0.7 * dh)):
+    st, x, contacts = indented_state(30)
+    for name, (bar, c) in zip(("sphere 0.5R", "point", "plate"), contacts):
         print(f"n = 0 vs traced Hessian + barrier ({name}, {bar.evaluate(x, c).active.size} active cells): "
               f"{n0_error(st, x, 0.0, (bar, c)):.1e}")
     free = ShellStructure(cap, 1e6, 0.3, 0.02, boundary="free")

@@ -33,6 +33,7 @@ from contin_models.shell.harmonic import (HarmonicShell, Jet, block_eigs, block_
 from contin_models.shell.meridian import complete_sphere_meridian
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure
 from contin_models.shell.volume import volume_hessian
+from studies.harmonic_probe import indented_state
 
 
 def Sphere(R: float, N: int, h: float) -> Any:
@@ -231,25 +232,6 @@ def test_harmonic_block_api() -> None:
         assert block_inertia(K) == 0 and block_eigs(K, 2)[0] > 0  # the stress-free clamped cap is stable
     with pytest.raises(ValueError):
         harmonic_block(st, x, -1)
-
-
-def indented_state(N: int):
-    """A cap whose top is pressed flat by 4e-3 R (a state with several cells within dhat), and its
-    barriers: sphere (rho = 0.5 R), point, plate, per unit length (as the indentation problem)."""
-    from contin_models.contact.barrier import ContactBarrier, Plate, default_barrier, length_weights
-    from contin_models.contact.barrier import Sphere as Ball
-    cap = spherical_cap(1.0, 0.8, N)
-    st = ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding")
-    x = cap.x.copy()
-    z = x[1::2]
-    zt = z.max() - 0.004
-    x[1::2] = np.minimum(z, zt + 0.1 * (z - zt))
-    K, dh = default_barrier(1e6, 1.0)
-    w = length_weights(cap.x)
-    contacts = [(ContactBarrier(Ball(0.5), K, dh, cell_weights=w), zt + 0.5 + 0.6 * dh),
-                (ContactBarrier(Ball(0.0), K, dh, cell_weights=w), zt + 0.5 * dh),
-                (ContactBarrier(Plate(), K, dh, cell_weights=w), zt + 0.7 * dh)]
-    return st, x, contacts
 
 
 def test_n0_block_is_the_traced_hessian_with_contact() -> None:

@@ -193,8 +193,36 @@ def _on_axis(c: float, v: float) -> float:
     return 0.0 if abs(v) == _HALF_PI else c
 
 
+class _CircularArc:
+    """What arcs of a circle parametrised by their angle share: the direction of travel, the length,
+    the angle at a local arclength and the unit tangent.  ``_radius`` is the circle's radius."""
+
+    theta0: float
+    theta1: float
+
+    @property
+    def _radius(self) -> float:
+        raise NotImplementedError
+
+    @property
+    def _sign(self) -> float:
+        return 1.0 if self.theta1 > self.theta0 else -1.0
+
+    @property
+    def length(self) -> float:
+        return self._radius * abs(self.theta1 - self.theta0)
+
+    def angle(self, s: np.ndarray) -> np.ndarray:
+        """Angle at local arclength ``s``."""
+        return self.theta0 + self._sign * np.asarray(s, dtype=float) / self._radius
+
+    def tangent(self, s):
+        t = self.angle(s)
+        return -self._sign * np.sin(t), self._sign * np.cos(t)
+
+
 @dataclass(frozen=True)
-class SphericalArc(Segment):
+class SphericalArc(_CircularArc, Segment):
     """Arc of the circle of radius ``R`` centred on the axis at ``(0, zc)``, from polar angle ``theta0`` to ``theta1``.
 
     The point at polar angle ``theta`` (from the horizontal, ``[-pi/2, pi/2]``) is
@@ -217,12 +245,8 @@ class SphericalArc(Segment):
         object.__setattr__(self, "thickness", _check_thickness(self.thickness, w))
 
     @property
-    def _sign(self) -> float:
-        return 1.0 if self.theta1 > self.theta0 else -1.0
-
-    @property
-    def length(self) -> float:
-        return self.R * abs(self.theta1 - self.theta0)
+    def _radius(self) -> float:
+        return self.R
 
     @property
     def start(self) -> tuple[float, float]:
@@ -234,17 +258,9 @@ class SphericalArc(Segment):
         t = self.theta1
         return _on_axis(self.R * math.cos(t), t), self.zc + self.R * math.sin(t)
 
-    def angle(self, s: np.ndarray) -> np.ndarray:
-        """Polar angle at local arclength ``s``."""
-        return self.theta0 + self._sign * np.asarray(s, dtype=float) / self.R
-
     def point(self, s):
         t = self.angle(s)
         return np.maximum(self.R * np.cos(t), 0.0), self.zc + self.R * np.sin(t)
-
-    def tangent(self, s):
-        t = self.angle(s)
-        return -self._sign * np.sin(t), self._sign * np.cos(t)
 
 
 @dataclass(frozen=True)
@@ -291,7 +307,7 @@ class Cone(Segment):
 
 
 @dataclass(frozen=True)
-class TorusArc(Segment):
+class TorusArc(_CircularArc, Segment):
     """Arc of the circle of radius ``a`` centred at ``(rc, zc)`` (off the axis), angles ``theta0 -> theta1``.
 
     The point at angle ``theta`` is ``(rc + a cos theta, zc + a sin theta)``; ``|theta1 - theta0| <= 2 pi``
@@ -324,12 +340,8 @@ class TorusArc(Segment):
         object.__setattr__(self, "thickness", _check_thickness(self.thickness, w))
 
     @property
-    def _sign(self) -> float:
-        return 1.0 if self.theta1 > self.theta0 else -1.0
-
-    @property
-    def length(self) -> float:
-        return self.a * abs(self.theta1 - self.theta0)
+    def _radius(self) -> float:
+        return self.a
 
     def _pt(self, t: float):
         r = self.rc + self.a * math.cos(t)
@@ -343,16 +355,9 @@ class TorusArc(Segment):
     def end(self):
         return self._pt(self.theta1)
 
-    def angle(self, s):
-        return self.theta0 + self._sign * np.asarray(s, dtype=float) / self.a
-
     def point(self, s):
         t = self.angle(s)
         return np.maximum(self.rc + self.a * np.cos(t), 0.0), self.zc + self.a * np.sin(t)
-
-    def tangent(self, s):
-        t = self.angle(s)
-        return -self._sign * np.sin(t), self._sign * np.cos(t)
 
 
 @dataclass(frozen=True)
