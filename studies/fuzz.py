@@ -54,6 +54,7 @@ TARGET_MIN_NODES = 40
 #: matches none of them is "unexplained": the study then fails, since a user could not act on it.
 CAUSES: tuple[tuple[str, str], ...] = (
     ("use displacement control", r"load\.control = \"displacement\""),
+    ("use force control", r"load\.control = \"force\""),
     ("refine the mesh", r"refine|finer mesh|too few nodes|increase shell\.N"),
     ("max_steps reached", r"max_steps"),
     ("membrane strain beyond the linear law", r"strain"),

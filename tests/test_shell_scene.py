@@ -236,3 +236,19 @@ def test_the_shapes_at_the_special_points_are_saved_and_drawn(runs: dict, tmp_pa
     (tmp_path / "shapes.png").write_bytes(b"old")
     code, _ = _trace(tmp_path, "shell.N=40", "output.figure=false", "continuation.max_steps=20")
     assert not (tmp_path / "shapes.png").exists() and (tmp_path / "shapes.npz").exists()
+
+
+@pytest.mark.parametrize("N, control, expected", [(40, "force", "finer mesh, shell.N = 80"),
+                                                   (800, "force", 'load.control = "displacement"'),
+                                                   (800, "displacement", 'load.control = "force"')])
+def test_mesh_advice_fits_the_mesh(N: int, control: str, expected: str) -> None:
+    """A finer mesh is the advice on a coarse mesh only: at N = 800 the default cap has 147 nodes over
+    its bending length, and its failure under force control (the snap's descent, docs/robustness.md)
+    is not one a finer mesh cures."""
+    from contin.scene import load_scene
+    from contin_models.shell_scene.scene import mesh_advice
+
+    scene = load_scene(SHELL_SCHEMA, None, [f"shell.N={N}", f"load.control={control}"])
+    advice = mesh_advice(scene)
+    assert expected in advice
+    assert ("unlikely to help" in advice) == (N == 800)

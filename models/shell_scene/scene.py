@@ -79,10 +79,10 @@ RESTART_FIXED = ("shell.N", "shell.pole_ratio", "shell.geometry", "shell.boundar
 #: What a force-controlled indentation that stops on the contact ring's steps should try.
 CONTACT_STEPS_ADVICE = (
     "under force control the indentation stopped at a limit load that the shell barely leaves, or at "
-    "more of them than a snap has: where the indenter touches the cap along a ring, the ring moves "
-    "over the mesh in steps and the force along the path ripples with the node spacing "
-    "(docs/robustness.md), and each ripple is a small limit load; trace the scene under displacement "
-    "control (load.control = \"displacement\"), which passes the ripples")
+    "more of them than a snap has: where the indenter touches the cap along a ring on a coarse mesh, "
+    "the force along the path keeps a small wave at the node spacing (docs/robustness.md), and each "
+    "wave is a small limit load; trace the scene under displacement control "
+    "(load.control = \"displacement\"), which passes them")
 
 
 def _stopped_on_contact_steps(message: str) -> bool:
@@ -90,18 +90,29 @@ def _stopped_on_contact_steps(message: str) -> bool:
     return "landed back next to the fold" in message or "max_snaps" in message
 
 
+#: Nodes over the bending length beyond which a finer mesh is no longer the first thing to try.
+WELL_RESOLVED_NODES = 16
+
+
 def mesh_advice(scene: Scene) -> str:
-    """What to try first when a run fails numerically: a finer mesh, with how well this one resolves the cap.
+    """What to try first when a run fails numerically, with how well the mesh resolves the cap.
 
     In the random scenes of ``studies/fuzz.py`` most numerical failures came from meshes too coarse
-    for the bending length ``sqrt(R h)`` (those are now refused); of the rest, some pass on a finer
-    mesh and some do not (docs/robustness.md), so this is advice, not a diagnosis.
+    for the bending length ``sqrt(R h)`` (those are now refused), so on a coarse mesh the advice is a
+    finer one.  On a mesh with :data:`WELL_RESOLVED_NODES` or more nodes over that length a finer mesh
+    is unlikely to help (the default cap under force control at N = 800 fails in its snap's energy
+    descent, with 147 nodes there): the advice is then the other control, or a different step.
+    This is advice, not a diagnosis.
     """
     s = scene["shell"]
     per_length = nodes_per_bending_length(s)
-    return (f"the mesh has {per_length:.1f} nodes over the bending length sqrt(R h) (at least "
-            f"{MIN_NODES_PER_BENDING_LENGTH} are required); the first thing to try is a finer mesh, "
-            f"shell.N = {2 * s['N']}")
+    head = (f"the mesh has {per_length:.1f} nodes over the bending length sqrt(R h) (at least "
+            f"{MIN_NODES_PER_BENDING_LENGTH} are required)")
+    if per_length < WELL_RESOLVED_NODES:
+        return f"{head}; the first thing to try is a finer mesh, shell.N = {2 * s['N']}"
+    other = "displacement" if scene["load"]["control"] == "force" else "force"
+    return (f"{head}, so a finer mesh is unlikely to help; try the other control (load.control = \"{other}\") "
+            f"or a smaller continuation.ds_max")
 
 
 #: Fields of :func:`classify` copied into a :class:`~contin.scene.Classification` (``contin classify --json``).
