@@ -287,8 +287,17 @@ def _descend(problem: Problem, start: _Start, p: float, abs_tol: float,
             x = _kick_off_saddle(problem, x, p, start.ref)
             E = _safe_energy(problem, x, p)
             continue
+        was_shifted = mu > 0.0
         d, mu = _shifted_newton_direction(H, g, mu, start.scale_H)
         step = _line_search(problem, x, p, d, g, E, res)
+        if mu > 0.0 and not was_shifted:
+            # the Hessian is indefinite here: on a ridge (the gradient nearly orthogonal to the
+            # negative curvature) the shifted-Newton step leaves it only by a factor 1 + |lambda| / mu
+            # per iteration, which crawls when |lambda| is far below the shift; a step along the
+            # negative curvature leaves at once
+            curved = _negative_curvature_step(problem, x, p, g, E, start.ref)
+            if curved is not None and (step is None or curved[2] < step[2]):
+                step = curved
         if step is None:
             return x, it, res, False, "line search failed to lower the energy"
         t, x, E = step
@@ -301,6 +310,36 @@ def _kick_off_saddle(problem: Problem, x: np.ndarray, p: float, ref: float) -> n
     vec = stability_info(problem.stability_operator(x, p), k=1, vectors=True).eigenvectors[:, 0]
     kick = 1e-3 * ref * vec / np.max(np.abs(vec))
     return x + min(1.0, problem.max_step_fraction(x, p, kick, 0.0)) * kick
+
+
+#: Sizes of a step along negative curvature, in units of the state's scale.
+CURVATURE_STEPS = (1e-3, 1e-2, 1e-1)
+
+
+def _negative_curvature_step(problem: Problem, x: np.ndarray, p: float, g: np.ndarray, E: float,
+                             ref: float) -> tuple[float, np.ndarray, float] | None:
+    """The best of :data:`CURVATURE_STEPS` along the unstable eigenvector, downhill: ``(1, x_new, E_new)``.
+
+    The sign makes the step a descent direction to first order (either sign when the gradient is
+    orthogonal to it); None when the stability operator has no negative eigenvalue or no step
+    lowers the energy.
+    """
+    info = stability_info(problem.stability_operator(x, p), k=1, vectors=True)
+    if info.n_negative == 0:
+        return None
+    v = info.eigenvectors[:, 0]
+    v = v / np.max(np.abs(v))
+    slope = float(g @ v)
+    signs = (-1.0,) if slope > 0 else (1.0,) if slope < 0 else (1.0, -1.0)
+    best = None
+    for size in CURVATURE_STEPS:
+        for sign in signs:
+            d = sign * size * ref * v
+            y = x + min(1.0, problem.max_step_fraction(x, p, d, 0.0)) * d
+            e = _safe_energy(problem, y, p)
+            if e < E and (best is None or e < best[2]):
+                best = (1.0, y, e)
+    return best
 
 
 def _shifted_newton_direction(H: Any, g: np.ndarray, mu: float, scale_H: float) -> tuple[np.ndarray, float]:

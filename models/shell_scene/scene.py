@@ -100,8 +100,8 @@ def mesh_advice(scene: Scene) -> str:
     In the random scenes of ``studies/fuzz.py`` most numerical failures came from meshes too coarse
     for the bending length ``sqrt(R h)`` (those are now refused), so on a coarse mesh the advice is a
     finer one.  On a mesh with :data:`WELL_RESOLVED_NODES` or more nodes over that length a finer mesh
-    is unlikely to help (the default cap under force control at N = 800 fails in its snap's energy
-    descent, with 147 nodes there): the advice is then the other control, or a different step.
+    is unlikely to help (the default cap at N = 800 has 147 there, and its failures were in the
+    solver, e.g. a snap's energy descent): the advice is then the other control, or a smaller step.
     This is advice, not a diagnosis.
     """
     s = scene["shell"]
