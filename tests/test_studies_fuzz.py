@@ -38,3 +38,30 @@ def test_a_small_seeded_run_writes_its_outputs(tmp_path) -> None:
     assert summary["n_scenes"] == 8 and status in (0, 1)
     assert (tmp_path / "fuzz.csv").exists() and (tmp_path / "fuzz.png").exists()
     assert summary["failures_by_cause"].get("unexplained", 0) == 0, summary["failures"]
+
+
+#: Three random scenes of ``python -m studies.fuzz --count 80 --seed 1`` (indices 56, 44 and 38) that
+#: failed before issue 14's B8 contact change: a plate under displacement control whose corrector
+#: failed on the dimple branch, a sphere and a plate under force control stopped by the ripple of the
+#: contact ring.  In units of R (the scenes are scale-free).
+FORMER_FAILURES = {
+    "plate, displacement": ["shell.h=0.00982023", "shell.phi_hat=0.600264", "shell.nu=0.0502361", "shell.N=43",
+                            "load.kind=plate", "load.control=displacement"],
+    "sphere, force": ["shell.h=0.00376889", "shell.phi_hat=0.898784", "shell.nu=0.212232", "shell.N=53",
+                      "load.kind=sphere", "load.control=force", "load.radius=2.741"],
+    "plate, force": ["shell.h=0.00918671", "shell.phi_hat=0.325757", "shell.nu=0.413112", "shell.N=73",
+                     "load.kind=plate", "load.control=force"],
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(FORMER_FAILURES))
+def test_former_failures_run_to_the_end(tmp_path, name) -> None:
+    from contin.cli import main
+
+    argv = ["trace", "-q", "--set", "output.figure=false", "--out", str(tmp_path / "run")]
+    for item in FORMER_FAILURES[name]:
+        argv += ["--set", item]
+    code = main(argv)
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert code == 0 and summary["status"] == "ok", summary["message"]
