@@ -126,6 +126,26 @@ class _Probe:
         # derivative values below this are rounding noise of the residual divided by the step
         self.floor = 10.0 * roundoff_floor(J, fp, u, p)
 
+    def measured_noise(self, du: np.ndarray, dp: float) -> float:
+        """The residual's rounding noise along ``(du, dp)``, measured: ``||(f(x + d) - f(x - d)) / 2 - J_x d||``
+        for ``d`` of 1e-10 of the point's scales along it (central, so no second-order part is left);
+        a central difference at step ``h`` carries about this noise over ``h``.
+
+        A stiff model's residual is a sum of large terms, e.g. the reference coordinates that a model
+        in displacement form adds back, which ``u`` does not show: at rest (``u = 0``) an estimate
+        from ``|u|`` is zero, while the point-loaded cap at N = 800 has a noise of 2e-5 of its load
+        vector along a random direction.  Along ``p`` alone a linear load has none (the internal
+        terms cancel).
+        """
+        t = self.step(du, dp, 1e-10)
+        try:
+            f_plus = self.problem.checked_residual(self.u + t * du, self.p + t * dp)
+            f_minus = self.problem.checked_residual(self.u - t * du, self.p - t * dp)
+        except (NonFiniteError, FloatingPointError, ValueError):
+            return 0.0
+        linear = np.asarray(self.J @ du, dtype=float).ravel() + self.fp * dp
+        return _norm(0.5 * (f_plus - f_minus) - t * linear)
+
     def step(self, du: np.ndarray, dp: float, rel: float) -> float:
         """Step along ``(du, dp)`` that moves the point by ``rel`` of its scales (inside the model's domain)."""
         size = max(float(np.max(np.abs(du), initial=0.0)) / self.U, abs(dp) / self.P)
@@ -159,18 +179,27 @@ class _Probe:
         a comparison whose sizes are below rounding noise measures nothing and counts as 0.
         """
         best, best_fd = math.inf, predicted
+        f_noise = self.measured_noise(du, dp)
         for rel in FD_STEPS:
             rate = self.residual_rate(du, dp, rel)
             if rate is None:
                 continue
             fd, noise = rate
+            measured = f_noise / self.step(du, dp, rel)
             scale = reference if reference is not None else max(_norm(fd), _norm(predicted))
             err = 0.0 if scale <= noise * math.sqrt(max(fd.size, 1)) else _norm(fd - predicted) / scale
+            # a step agrees, or it disagrees by more than twice its measured rounding noise, or its
+            # noise could hide half the tolerance and it decides nothing
+            allowance = 2.0 * measured / scale if scale > 0 else 0.0
+            if err > FD_TOL and allowance > 0.5 * FD_TOL:
+                continue
+            err = err if err <= FD_TOL else err - allowance
             if err < best:
                 best, best_fd = err, fd
             if best <= FD_TOL:
                 break
-        # no step inside the model's domain: nothing measurable, which is not a failure
+        # no step inside the model's domain, or none above its noise: nothing measurable, which is
+        # not a failure
         return (0.0 if best == math.inf else best), best_fd
 
 
@@ -240,15 +269,27 @@ def _energy_check(probe: _Probe, rng: np.random.Generator) -> CheckResult:
     u1 = probe.u + shift
     f1 = problem.residual(u1, probe.p)
     v = rng.standard_normal(u1.size)
+    # the energy's rounding noise here, measured as for the residual (_Probe.measured_noise)
+    tiny = 1e-10 * U / max(float(np.max(np.abs(v))), 1e-300)
+    noise = abs(0.5 * (problem.energy(u1 + tiny * v, probe.p) - problem.energy(u1 - tiny * v, probe.p))
+                - tiny * float(np.dot(f1, v)))
     best, ratio = math.inf, 1.0
-    for rel in (1e-4, 1e-6):
+    # (the random shift makes a stiff model's energy strongly curved: the point-loaded cap at N = 800
+    # from rest agrees to 1.3 % at 1e-6 and to 4e-6 at 1e-8)
+    for rel in (1e-4, 1e-6, 1e-8):
         h = rel * U / max(float(np.max(np.abs(v))), 1e-300)
         for sign in (1.0, -1.0):
             h *= min(1.0, problem.max_step_fraction(u1, probe.p, sign * h * v, 0.0))
         dE = (problem.energy(u1 + h * v, probe.p) - problem.energy(u1 - h * v, probe.p)) / (2.0 * h)
         fv = float(np.dot(f1, v))
         scale = max(abs(dE), abs(fv))
+        # as for the residual (_Probe.compare): a step agrees, or disagrees beyond its noise, or
+        # decides nothing
         err = 0.0 if scale == 0.0 else abs(dE - fv) / scale
+        allowance = 2.0 * noise / h / scale if scale > 0 else 0.0
+        if err > FD_TOL and allowance > 0.5 * FD_TOL:
+            continue
+        err = err if err <= FD_TOL else err - allowance
         if err < best:
             best, ratio = err, (fv / dE if dE != 0 else math.inf)
         if best <= FD_TOL:

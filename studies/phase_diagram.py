@@ -74,6 +74,11 @@ def phi_at_mark(curve: BoundaryCurve) -> float:
     hits = [e for br in curve.branches for e in br.events("h_mark")]
     if len(hits) != 1:
         raise RuntimeError(f"the {curve.kind} boundary crosses the marked h/R {len(hits)} times, expected once")
+    if not hits[0].located:
+        # an unlocated event carries the end of its bracket, not the crossing
+        raise RuntimeError(f"the {curve.kind} boundary's crossing of the marked h/R was not located "
+                           f"({hits[0].info.get('error', 'no reason given')}; bracket in phi_hat "
+                           f"{hits[0].info.get('bracket_p')})")
     return float(hits[0].p)
 
 
