@@ -408,7 +408,12 @@ def boundary_quantities(kind: str, N: int, ds_max: float = BOUNDARY_DS_MAX) -> d
     lam = fit_eq41(phis, h)["squared"]["value"]
     elapsed = time.perf_counter() - t0
     lam_interp = fit_eq41(*_uniform(curve, FIT_PHI[0], FIT_PHI[1], FIT_POINTS))["squared"]["value"]
-    return {"lambda_d": lam, "lambda_d_interpolated": lam_interp, "phi_at_h": phi_at_mark(curve), "time_s": elapsed,
+    try:
+        phi, phi_failure = phi_at_mark(curve), None
+    except RuntimeError as exc:  # lambda_d stands on its own located points
+        phi, phi_failure = None, str(exc)
+    return {"lambda_d": lam, "lambda_d_interpolated": lam_interp, "phi_at_h": phi, "phi_failure": phi_failure,
+            "time_s": elapsed,
             "trace_time_s": curve.wall_time_s, "steps": [len(b.p) - 1 for b in curve.branches]}
 
 
@@ -618,9 +623,10 @@ def run(full: bool = False, repeat: int = 3, quiet: bool = False) -> dict[str, A
                     rows.append(_row("ours", qn, N, "default", math.nan, None, None, failure=str(exc)))
                     say(quiet, f"  N = {N:4d}: failed ({exc}); the {kind} sequence stops here")
                     break
+                phi = recs[N]["phi_at_h"]
                 say(quiet, f"  N = {N:4d}: lambda_d = {recs[N]['lambda_d']:.10f} (interpolated "
-                           f"{recs[N]['lambda_d_interpolated']:.10f}), phi_hat(h/R=0.02) = {recs[N]['phi_at_h']:.10f} "
-                           f"({recs[N]['time_s']:.1f} s)")
+                           f"{recs[N]['lambda_d_interpolated']:.10f}), phi_hat(h/R=0.02) = "
+                           f"{recs[N]['phi_failure'] if phi is None else format(phi, '.10f')} ({recs[N]['time_s']:.1f} s)")
             bns = tuple(recs)
             boundary_ns[kind] = list(bns)
             if len(bns) < 3:
@@ -637,10 +643,18 @@ def run(full: bool = False, repeat: int = 3, quiet: bool = False) -> dict[str, A
                                  r["lambda_d_interpolated"], references[qn],
                                  solver_rel_error=abs(r["lambda_d_interpolated"] - r["lambda_d"]) / references[qn]["value"]))
             if kind == "bistable":
-                phis = [recs[N]["phi_at_h"] for N in bns]
-                references["phi_hat_bistable_at_h_0.02"] = reference(bns, phis)
-                orders["phi_hat_bistable_at_h_0.02"] = _orders(bns, phis, references["phi_hat_bistable_at_h_0.02"])
+                # the meshes up to the first whose crossing of h/R = 0.02 was not located
+                located = []
                 for N in bns:
+                    if recs[N]["phi_at_h"] is None:
+                        rows.append(_row("ours", "phi_hat_bistable_at_h_0.02", N, "default", recs[N]["time_s"], None,
+                                         None, failure=recs[N]["phi_failure"]))
+                        break
+                    located.append(N)
+                phis = [recs[N]["phi_at_h"] for N in located]
+                references["phi_hat_bistable_at_h_0.02"] = reference(located, phis)
+                orders["phi_hat_bistable_at_h_0.02"] = _orders(located, phis, references["phi_hat_bistable_at_h_0.02"])
+                for N in located:
                     rows.append(_row("ours", "phi_hat_bistable_at_h_0.02", N, "default", recs[N]["time_s"],
                                      recs[N]["phi_at_h"], references["phi_hat_bistable_at_h_0.02"]))
             for ds in BOUNDARY_DS_VARIANTS:
@@ -656,7 +670,7 @@ def run(full: bool = False, repeat: int = 3, quiet: bool = False) -> dict[str, A
                     rows.append(_row("ours", qn, BOUNDARY_DS_N, label, r["time_s"], r[key], references[qn],
                                      solver_rel_error=abs(r[key] - base["lambda_d"]) / references[qn]["value"],
                                      steps=str(r["steps"])))
-                if kind == "bistable":
+                if kind == "bistable" and r["phi_at_h"] is not None and base["phi_at_h"] is not None:
                     rows.append(_row("ours", "phi_hat_bistable_at_h_0.02", BOUNDARY_DS_N, f"ds_max={ds:g}", r["time_s"],
                                      r["phi_at_h"], references["phi_hat_bistable_at_h_0.02"],
                                      solver_rel_error=abs(r["phi_at_h"] - base["phi_at_h"])
