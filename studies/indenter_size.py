@@ -69,6 +69,7 @@ import numpy as np  # noqa: E402
 import contin  # noqa: E402
 from contin.executors import Executor, make_executor  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
+from contin_models.contact.barrier import ContactCells  # noqa: E402
 from contin_models.shell_scene.contact import contact_mode  # noqa: E402
 from contin_models.shell.problem import ShellPointLoad  # noqa: E402
 from contin_models.shell_scene import SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
@@ -198,22 +199,20 @@ def resting_sphere(r: np.ndarray, z: np.ndarray, radius: float) -> dict[str, flo
 def barrier_curve(r: np.ndarray, z: np.ndarray, per_cell: int = 64) -> tuple[np.ndarray, np.ndarray]:
     """Points of the meridian as the contact barrier sees it, pole last (at ``r = 0``).
 
-    The quadratic B-spline whose control points are the nodes (the base node itself first): the
-    piece around node ``i`` is ``(1/2 - t)^2 / 2 x_{i-1} + (3/4 - t^2) x_i + (1/2 + t)^2 / 2 x_{i+1}``
-    for ``t`` in ``[-1/2, 1/2]``, the pole's neighbour mirrored across the axis, and the pole's piece
-    ends on the axis at ``t = 0`` (``contin_models.contact.barrier``).
+    The base node itself, then each cell's curve (:meth:`contin_models.contact.ContactCells.curve`,
+    the quadratic B-spline of the nodes) sampled at ``per_cell`` intervals of ``t`` in
+    ``[-1/2, 1/2]``; the pole's cell only up to ``t = 0``, where it crosses the axis.
     """
     r = np.asarray(r, dtype=float)
     z = np.asarray(z, dtype=float)
-    rr, zz = [r[:1]], [z[:1]]
-    for i in range(1, r.size):
-        last = i == r.size - 1
-        t = np.linspace(-0.5, 0.0 if last else 0.5, per_cell // 2 + 1 if last else per_cell + 1)
-        b0, b1, b2 = (0.5 - t) ** 2 / 2, 0.75 - t * t, (0.5 + t) ** 2 / 2
-        r_next, z_next = (-r[i - 1], z[i - 1]) if last else (r[i + 1], z[i + 1])
-        rr.append(b0 * r[i - 1] + b1 * r[i] + b2 * r_next)
-        zz.append(b0 * z[i - 1] + b1 * z[i] + b2 * z_next)
-    rc, zc = np.concatenate(rr), np.concatenate(zz)
+    cells = np.arange(1, r.size)
+    R, Z = ContactCells(r.size, 1).curve(r, z, cells)
+    t = np.linspace(-0.5, 0.5, per_cell + 1)
+    powers = np.stack([np.ones_like(t), t, t * t])
+    rc, zc = (R @ powers).ravel(), (Z @ powers).ravel()
+    keep = np.ones(rc.size, dtype=bool)
+    keep[-(per_cell // 2):] = False  # the pole's cell beyond the axis: the mirror image
+    rc, zc = np.concatenate([r[:1], rc[keep]]), np.concatenate([z[:1], zc[keep]])
     rc[-1] = 0.0  # on the axis (rounding)
     return rc, zc
 
