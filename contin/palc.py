@@ -126,7 +126,7 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
         except STEP_FAILURES as exc:
             if control.reject(exc):
                 continue
-            turned = _turn_at_fold(curve, current, crossed)
+            turned = _turn_at_fold(curve, current, recorder.u, crossed)
             if turned is None:
                 return "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
             new, contraction, cos_turn = turned, None, 1.0
@@ -159,7 +159,8 @@ def _same_point(u: np.ndarray, p: float, v: np.ndarray, q: float, rtol: float = 
     return abs(p - q) <= rtol * max(abs(q), 1e-300) and float(np.max(np.abs(u - v), initial=0.0)) <= rtol * scale
 
 
-def _turn_at_fold(curve: Curve, current: Point, crossed: list[tuple[np.ndarray, float]]) -> Point | None:
+def _turn_at_fold(curve: Curve, current: Point, history: list[np.ndarray],
+                  crossed: list[tuple[np.ndarray, float]]) -> Point | None:
     """A point past a fold that the arclength steps cannot turn, or None.
 
     In a metric that weights the parameter far above the state (or a fold far sharper than the
@@ -169,6 +170,13 @@ def _turn_at_fold(curve: Curve, current: Point, crossed: list[tuple[np.ndarray, 
     step from the located fold along ``(phi, 0)`` (oriented as the path was going) lands on the far
     side for any step length up to the fold's own scale (the near side's tangent is that null vector
     to first order).  The fold is then found and located on the segment as usual.
+
+    The way through is the way the path came: from the last recorded state (``history``) that lies
+    clearly on one side of the fold, at least half the turn's step away along ``phi``, to the fold.
+    Neither the current point's tangent nor its predecessor can tell it: within the corrector's
+    noise of the fold, the sign of the tangent's state part relative to its load part is the sign
+    of an eigenvalue at roundoff, and in a metric dominated by the load the tangent keeps the load's
+    sign, so its state part may point back (and the last step may have gone back with it).
     """
     try:
         fold = locate_fold(curve.problem, current.u, current.p, v0=current.t_u, tol=curve.settings.tol)
@@ -191,8 +199,10 @@ def _turn_at_fold(curve: Curve, current: Point, crossed: list[tuple[np.ndarray, 
         return None
     phi = phi / size
     flat = Curve(curve.problem, replace(curve.settings, state_weight=1.0, param_weight=1.0))
+    step = 1e-3 * max(float(np.sqrt(np.mean(np.square(fold.u)))), 1e-300)
+    if _approach_side(history, np.asarray(fold.u, dtype=float), phi, 0.5 * step) > 0.0:
+        phi = -phi  # came from the +phi side: go on towards -phi
     origin = Point(np.asarray(fold.u, dtype=float), float(fold.p), phi, 0.0, fold.residual, 0)
-    step = 1e-3 * max(float(np.sqrt(np.mean(origin.u * origin.u))), 1e-300)
     for _ in range(12):
         try:
             c = correct(flat, origin, step, start=(origin.u + step * phi, origin.p))
@@ -203,6 +213,20 @@ def _turn_at_fold(curve: Curve, current: Point, crossed: list[tuple[np.ndarray, 
         return Point(c.u, c.p, t_u, t_p, c.residual, c.iterations, det_sign,
                      current.s + curve.norm(c.u - current.u, c.p - current.p))
     return None
+
+
+#: How many recorded states back :func:`_approach_side` looks for one clearly on one side of a fold.
+APPROACH_LOOKBACK = 50
+
+
+def _approach_side(history: list[np.ndarray], fold_u: np.ndarray, phi: np.ndarray, reach: float) -> float:
+    """Where the path came from, along ``phi`` (scaled to unit rms): the coordinate ``(u - fold_u) . phi / n``
+    of the last recorded state at least ``reach`` from the fold (0.0 if none is that far)."""
+    for u in reversed(history[-APPROACH_LOOKBACK:]):
+        side = float(np.dot(u - fold_u, phi)) / phi.size
+        if abs(side) >= reach:
+            return side
+    return 0.0
 
 
 def _skipped_folds(recorder: Recorder, current: Point, new: Point) -> str:

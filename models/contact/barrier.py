@@ -1019,12 +1019,14 @@ class ContactBarrier:
                           cell_e, cell_f)
         if hessian:
             # the block of a point on the cell's (r_0, z_0, r_1, z_1, r_2, z_2): its coefficients'
-            # outer products times the point kernel's (r, z) Hessian, each exactly symmetric
+            # outer products times the point kernel's (r, z) Hessian.  The outer product is formed
+            # first: s * (c_i c_j) is exactly symmetric in i, j, while (s c_i) c_j is not (it rounds
+            # differently from (s c_j) c_i, and the engine's symmetric solvers see the difference)
             blocks = np.empty((act.size, 6, 6))
-            blocks[:, 0::2, 0::2] = per_cell((w * h[0])[:, None, None] * cr_of[:, :, None] * cr_of[:, None, :])
-            rz = per_cell((w * h[1])[:, None, None] * cr_of[:, :, None] * cz_of[:, None, :])
+            blocks[:, 0::2, 0::2] = per_cell((w * h[0])[:, None, None] * (cr_of[:, :, None] * cr_of[:, None, :]))
+            rz = per_cell((w * h[1])[:, None, None] * (cr_of[:, :, None] * cz_of[:, None, :]))
             blocks[:, 0::2, 1::2], blocks[:, 1::2, 0::2] = rz, rz.transpose(0, 2, 1)
-            blocks[:, 1::2, 1::2] = per_cell((w * h[3])[:, None, None] * cz_of[:, :, None] * cz_of[:, None, :])
+            blocks[:, 1::2, 1::2] = per_cell((w * h[3])[:, None, None] * (cz_of[:, :, None] * cz_of[:, None, :]))
             xc_cell = np.empty((act.size, 6))
             xc_cell[:, 0::2], xc_cell[:, 1::2] = per_cell(cr * h[2][:, None]), per_cell(cz * h[4][:, None])
             xc = np.zeros(n)
