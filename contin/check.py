@@ -357,7 +357,7 @@ def _prepare(problem: Problem, u, p: float) -> tuple[np.ndarray, float, Any, np.
         F = problem.factorize(J)
     except (SingularMatrixError, np.linalg.LinAlgError, RuntimeError):
         F = None
-    U, P = start_scales(u, p, fp, F)
+    U, P = start_scales(u, p, fp, F, getattr(problem, "reference_scales", None))
     return u, p, J, fp, F, U, P
 
 

@@ -23,7 +23,8 @@ from .linalg import BorderedSolver, SingularMatrixError
 from .problem import NonFiniteError, Problem
 from .settings import Settings
 
-__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization", "roundoff_floor", "stagnation_message", "start_scales"]
+__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization", "roundoff_floor", "scales_from_sensitivity", "stagnation_message",
+           "start_scales"]
 
 #: ``(J, df/dp, factorization of J or None)`` at one point
 Linearization = tuple[Any, np.ndarray, Any]
@@ -49,7 +50,8 @@ def _rms(x: np.ndarray) -> float:
     return float(np.linalg.norm(x) / math.sqrt(max(x.size, 1)))
 
 
-def start_scales(u: np.ndarray, p: float, fp: np.ndarray, F: Any) -> tuple[float, float]:
+def start_scales(u: np.ndarray, p: float, fp: np.ndarray, F: Any,
+                 reference: tuple[float, float] | None = None) -> tuple[float, float]:
     """State and parameter scales ``(U, P)`` of a start point, in the model's units.
 
     ``U`` is the RMS size of the state and ``P`` the size of the parameter, each at least what the
@@ -57,26 +59,44 @@ def start_scales(u: np.ndarray, p: float, fp: np.ndarray, F: Any) -> tuple[float
     ``U = max(rms(u), S |p|)`` and ``P = max(|p|, rms(u) / S)`` (so a start at ``p = 0`` gets the
     load that would move the state by its own size, and a start at ``u = 0`` the state change the
     load causes).  Both scale with the units of ``u`` and ``p``.  A scale with no size to measure
-    (``u = 0``, ``p = 0``) is 1: the user's units are then all there is.
+    (``u = 0``, ``p = 0``) is taken from ``reference`` (the scales an earlier run of the same
+    problem measured, see :attr:`contin.Problem.reference_scales`), else 1: the user's units are
+    then all there is.  With a reference, a size below ``1e-8`` of it is zero (a branch point
+    located at ``p = 1e-21`` is at ``p = 0``, not at a scale of ``1e-21``).
 
     Parameters
     ----------
     u, p : the start point.
     fp : ``df/dp`` there.
     F : the factorization of the Jacobian there, or None when it is singular.
+    reference : (U, P), optional
     """
-    u_size, p_size = _rms(u), abs(float(p))
     sens = math.nan
     if F is not None:
         try:
             sens = _rms(np.asarray(F.solve(fp), dtype=float))
         except (SingularMatrixError, np.linalg.LinAlgError, ValueError):
             pass
+    return scales_from_sensitivity(u, p, sens, reference)
+
+
+def scales_from_sensitivity(u: np.ndarray, p: float, sens: float,
+                            reference: tuple[float, float] | None = None) -> tuple[float, float]:
+    """``(U, P)`` of :func:`start_scales` from the point and a sensitivity ``S`` found otherwise (NaN or 0: none)."""
+    ref_U, ref_P = reference if reference is not None else (1.0, 1.0)
+    u_size, p_size = _rms(u), abs(float(p))
+    if reference is not None:
+        u_size = u_size if u_size > ZERO_SCALE * ref_U else 0.0
+        p_size = p_size if p_size > ZERO_SCALE * ref_P else 0.0
     if math.isfinite(sens) and sens > 0:
         U, P = max(u_size, sens * p_size), max(p_size, u_size / sens)
     else:
         U, P = u_size, p_size
-    return (U if U > 0 else 1.0), (P if P > 0 else 1.0)
+    return (U if U > 0 else ref_U), (P if P > 0 else ref_P)
+
+
+#: Below this fraction of a reference scale a size is zero up to roundoff (see :func:`start_scales`).
+ZERO_SCALE = 1e-8
 
 
 def roundoff_floor(J: Any, fp: np.ndarray, u: np.ndarray, p: float) -> float:
@@ -170,8 +190,8 @@ class Curve:
         state by its own size is unbounded.
         """
         st = self.settings
-        return ((st.state_weight is None or st.param_weight is None)
-                and getattr(self.problem, "_residual_scale_value", 0.0) is None)
+        own_units = getattr(self.problem, "gives_residual_scale", True)
+        return (st.state_weight is None or st.param_weight is None) and not own_units
 
     def calibrate(self, u: np.ndarray, p: float) -> tuple[float, float]:
         """Set the open weights and residual scale from the start point's scales; return ``(U, P)``.
@@ -186,7 +206,10 @@ class Curve:
         use the same one.
         """
         J, fp, F = self.linearize(u, p)
-        U, P = start_scales(u, p, fp, F)
+        U, P = start_scales(u, p, fp, F, getattr(self.problem, "reference_scales", None))
+        adopt = getattr(self.problem, "adopt_reference_scales", None)
+        if adopt is not None:
+            adopt(U, P)
         st = self.settings
         if st.state_weight is None:
             self.state_weight = 1.0 / U

@@ -17,6 +17,7 @@ options are :class:`contin.settings.Settings`.
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from collections.abc import Sequence
@@ -27,7 +28,7 @@ import numpy as np
 
 from .branch import Branch, SpecialPoint
 from .corrector import Correction, check_curvature_consistency, correct, quadratic_predictor
-from .curve import CorrectorFailure, Curve, Point, max_abs
+from .curve import CorrectorFailure, Curve, Point, max_abs, scales_from_sensitivity
 from .events import Event
 from .fold import locate_fold
 from .linalg import SingularMatrixError
@@ -131,7 +132,9 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
                 return "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
             new, contraction, cos_turn = turned, None, 1.0
             control.ds = max(control.ds, curve.norm(new.u - current.u, new.p - current.p))
-        skipped = _skipped_folds(recorder, current, new) if control.retries < MAX_SKIP_RETRIES else ""
+        skipped = ""
+        if control.retries < MAX_SKIP_RETRIES:
+            skipped = _skipped_folds(recorder, current, new) or _observable_jump(curve, current, new, cos_turn)
         if skipped and control.reject(skipped):
             continue
         steps += 1
@@ -251,6 +254,57 @@ def _skipped_folds(recorder: Recorder, current: Point, new: Point) -> str:
     return f"Morse index changed from {n0} to {n1} in one step (several folds stepped over)"
 
 
+#: How many times the slopes at a step's ends (plus the turn of the tangent) an observable's change
+#: may be before :func:`_observable_jump` calls the step a jump.
+OBSERVABLE_JUMP = 2.0
+
+
+def _observable_jump(curve: Curve, current: Point, new: Point, cos_turn: float) -> str:
+    """Why the step from ``current`` to ``new`` may have jumped over part of the curve ("" when not).
+
+    Along an arc of length ``ds`` over which the unit tangent turns by ``theta``, an observable
+    ``y`` with slopes ``y'_0``, ``y'_1`` at the ends changes by at most about
+    ``ds (max(|y'_0|, |y'_1|) + theta G)``, ``G`` the size of its gradient in the arclength metric
+    (its slope cannot leave the ends' by more than the tangent turns).  A step that skipped a pair
+    of folds (both ends on the outer arms of an S, with parallel tangents) moves the state, and the
+    observables that see it, by far more than that, while the Morse index and the determinant
+    sign come back to where they were.  Checked for the parameter itself and every observable
+    with a declared derivative (:attr:`contin.Problem.observable_derivatives`), with
+    :data:`OBSERVABLE_JUMP` as the margin and the corrector's resolution as the noise floor.
+    """
+    ds = new.s - current.s
+    if not ds > 0 or current.t_u is None or new.t_u is None:
+        return ""
+    theta = math.acos(min(1.0, max(-1.0, cos_turn)))
+    wu2, wp2 = curve.weights(new.u.size)
+    noise = 10.0 * curve.settings.xtol * (1.0 + curve.norm(new.u, new.p))
+
+    def jumped(name: str, change: float, slopes: tuple[float, float], size: float) -> str:
+        bound = OBSERVABLE_JUMP * ds * (max(abs(slopes[0]), abs(slopes[1])) + theta * size) + noise * size
+        if abs(change) > bound:
+            return (f"{name} changed by {change:.3g} in one step where the slopes at its ends allow {bound:.3g} "
+                    "(part of the curve stepped over)")
+        return ""
+
+    reason = jumped(curve.problem.parameter_name, new.p - current.p, (current.t_p, new.t_p), 1.0 / math.sqrt(wp2))
+    for name, derivative in curve.problem.observable_derivatives.items():
+        if reason:
+            break
+        try:
+            (g0, q0), (g1, q1) = derivative(current.u, current.p), derivative(new.u, new.p)
+            y0 = curve.problem.observables[name](current.u, current.p)
+            y1 = curve.problem.observables[name](new.u, new.p)
+        except (ValueError, TypeError, ArithmeticError, KeyError):
+            continue
+        g1 = np.asarray(g1, dtype=float)
+        size = math.sqrt(float(np.dot(g1, g1)) / wu2 + float(q1) ** 2 / wp2)
+        slopes = (float(np.dot(g0, current.t_u)) + float(q0) * current.t_p,
+                  float(np.dot(g1, new.t_u)) + float(q1) * new.t_p)
+        if all(math.isfinite(v) for v in (y0, y1, size, *slopes)):
+            reason = jumped(name, float(y1) - float(y0), slopes, size)
+    return reason
+
+
 def _progress(steps: int, new: Point, ds: float) -> None:
     print(f"[contin] step {steps}: p = {new.p:.6g}, ds = {ds:.3g}, newton = {new.iterations}", file=sys.stderr)
 
@@ -279,7 +333,7 @@ def _check_start(problem: Problem, start: Point, lin: tuple) -> str:
     from .curve import start_scales
 
     J, fp, F = lin
-    U, P = start_scales(start.u, start.p, fp, F)
+    U, P = start_scales(start.u, start.p, fp, F, getattr(problem, "reference_scales", None))
     report = quick_check(problem, start.u, start.p, J, fp, start.t_u, start.t_p, U, P)
     if report.ok:
         return ""
@@ -422,9 +476,17 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     # its Jacobian is nearly singular along the new tangent, and finite differences there measure the
     # curvature of the residual rather than the slope the start check compares with
     st = replace(st, check_model=False)
-    curve = Curve(problem, st)
     u_bp = np.asarray(branch_point.u, dtype=float)
     n = u_bp.size
+    if Curve(problem, st).needs_calibration():
+        # open weights from the branch point's own scales, for the step off and the whole new branch
+        # (calibrating at the first point instead would measure a nearly singular Jacobian)
+        U, P = branch_point_scales(u_bp, float(branch_point.p), branch_point.info.get("branch_tangent"),
+                                   branch_point.info["bifurcation_direction"],
+                                   reference=getattr(problem, "reference_scales", None))
+        st = replace(st, state_weight=1.0 / U if st.state_weight is None else st.state_weight,
+                     param_weight=1.0 / P if st.param_weight is None else st.param_weight)
+    curve = Curve(problem, st)
     d = _unit(curve, direction * np.asarray(branch_point.info["bifurcation_direction"], dtype=float), n)
     normal = _off_branch_normal(curve, d, branch_point.info.get("branch_tangent"), n)
     step = st.ds if ds is None else float(ds)
@@ -441,6 +503,26 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     br.special_points.insert(0, origin)
     br.meta["origin"] = {"kind": "branch_point", "p": float(branch_point.p)}
     return br
+
+
+def branch_point_scales(u: np.ndarray, p: float, *directions: Any,
+                        reference: tuple[float, float] | None = None) -> tuple[float, float]:
+    """State and parameter scales ``(U, P)`` at a branch point, as :func:`contin.curve.start_scales` at a start.
+
+    The Jacobian is singular there, so the sensitivity ``S = rms(x_u) / |x_p|`` comes from the
+    branches' own directions ``x = (x_u, x_p)`` (the traced branch's tangent and the bifurcating
+    direction; None and those with ``x_p = 0`` say nothing), the largest of them; the rest is
+    :func:`contin.curve.start_scales` (``reference``: the problem's scales from an earlier run).
+    """
+    n = u.size
+    sens = 0.0
+    for x in directions:
+        if x is None:
+            continue
+        x = np.asarray(x, dtype=float)
+        if x.size == n + 1 and np.all(np.isfinite(x)) and x[n] != 0.0:
+            sens = max(sens, float(np.sqrt(np.mean(x[:n] ** 2))) / abs(float(x[n])))
+    return scales_from_sensitivity(u, p, sens, reference)
 
 
 def _unit(curve: Curve, x: np.ndarray, n: int) -> np.ndarray:

@@ -30,6 +30,8 @@ Two ways to build one:
 
 from __future__ import annotations
 
+import math
+
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -173,9 +175,10 @@ class Problem:
         ``max|f| <= tol * residual_scale``, so the tolerance is relative to the model's own units
         and stays above the roundoff floor when a discretization makes the terms large.  When not
         given, the first continuation run calibrates it from its start point
-        (``||J|| U + ||df/dp|| P``, see :func:`contin.curve.start_scales`) together with the
-        arclength weights; until then it reads 1.  Giving it declares the model's units its own:
-        the weights the settings leave open are then 1.
+        (``||df/dp|| P``, see :meth:`contin.curve.Curve.calibrate`) and keeps it; until then it
+        reads 1.  Every run (not only the first) sets the arclength weights its settings leave
+        open from its own start.  Giving it declares the model's units its own: the weights the
+        settings leave open are then 1.
     """
 
     def __init__(
@@ -218,6 +221,7 @@ class Problem:
         self.name = name
         self.parameter_name = parameter_name
         self._residual_scale_value = None if residual_scale is None else float(residual_scale)
+        self._residual_scale_calibrated = False
 
     # ---- residual scale ----------------------------------------------------------------------------
     @property
@@ -229,6 +233,14 @@ class Problem:
     @residual_scale.setter
     def residual_scale(self, value: float | None) -> None:
         self._residual_scale_value = None if value is None else float(value)
+        self._residual_scale_calibrated = False
+
+    @property
+    def gives_residual_scale(self) -> bool:
+        """Whether the model chose its own units: a residual scale given (or a model's own property), not calibrated."""
+        if type(self).residual_scale is not Problem.residual_scale or not hasattr(self, "_residual_scale_value"):
+            return True  # a model's own property, or a subclass that never declared the scale open
+        return self._residual_scale_value is not None and not getattr(self, "_residual_scale_calibrated", False)
 
     def calibrate_residual_scale(self, scale: float) -> None:
         """Adopt ``scale`` as the residual scale unless the model gave one (the first calibration stays).
@@ -238,6 +250,21 @@ class Problem:
         """
         if getattr(self, "_residual_scale_value", None) is None and type(self).residual_scale is Problem.residual_scale:
             self._residual_scale_value = float(scale)
+            self._residual_scale_calibrated = True
+
+    @property
+    def reference_scales(self) -> tuple[float, float] | None:
+        """State and parameter scales ``(U, P)`` the first calibrated run measured at its start (None before).
+
+        Later runs from points where a scale cannot be measured (a branch point, ``u = 0`` or
+        ``p = 0``) fall back on them (:func:`contin.curve.start_scales`).
+        """
+        return getattr(self, "_reference_scales", None)
+
+    def adopt_reference_scales(self, U: float, P: float) -> None:
+        """Keep ``(U, P)`` as :attr:`reference_scales` unless a run already set them (the first stays)."""
+        if getattr(self, "_reference_scales", None) is None and math.isfinite(U) and math.isfinite(P):
+            self._reference_scales = (float(U), float(P))
 
     # ---- the interface ---------------------------------------------------------------------------
     def residual(self, u: Array, p: float) -> Array:

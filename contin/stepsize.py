@@ -19,10 +19,13 @@ the curve gives up after a few).
 from __future__ import annotations
 
 import math
+import re
 
 from .settings import Settings
 
 __all__ = ["StepController"]
+
+_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 
 
 class StepController:
@@ -48,7 +51,8 @@ class StepController:
 
     def reject(self, reason: Exception | str) -> bool:
         """Count a rejected step and shrink; False when the step would fall below ``ds_min``."""
-        key = str(reason).split(" (")[0].split(";")[0]
+        # the reason without its details and numbers, so that like rejections count together
+        key = _NUMBER.sub("#", str(reason).split(" (")[0].split(";")[0])
         self.rejections[key] = self.rejections.get(key, 0) + 1
         self.retries += 1
         if self.ds * self.settings.shrink < self.settings.ds_min:

@@ -360,24 +360,34 @@ class _HessianBranchTest:
     Of the eigenvectors whose test function changes sign on the segment, ``b`` is the one most
     nearly orthogonal to ``df/dp``: at a branch point ``df/dp`` lies in the range of ``J``, at a
     fold it does not, and a fold can share the segment (it does on a shallow arch).
+
+    The candidates are the eigenvectors of smallest |eigenvalue| at the midpoint, then, if none of
+    them changes sign, at the segment's ends: on a long segment the crossing eigenvalue may have
+    moved far from zero by the midpoint, behind others that stay near it (on a trivial branch
+    ``K - p a a^T`` it is at -1.26 there, behind three near +1), while at the end nearer the
+    crossing it is the smallest.
     """
 
     def __init__(self, seg: Segment, candidates: int = 3) -> None:
         self.seg, self.curve = seg, seg.curve
         problem = self.curve.problem
         self.sigma_mid = 0.5 * seg.sigma_B
-        um, pm, _ = seg.point(self.sigma_mid)
-        fp = problem.dresidual_dp(um, pm)
-        fp = fp / max(float(np.linalg.norm(fp)), 1e-300)
         best = None
-        for b in smallest_eigenvectors(problem, um, pm, candidates):
-            ends = [self._g(b, 0.0), self._g(b, seg.sigma_B)]
-            score = abs(float(b @ fp))
-            if ends[0] * ends[1] <= 0 and (best is None or score < best[0]):
-                best = (score, b, ends)
+        for sigma in (self.sigma_mid, 0.0, seg.sigma_B):
+            u, p, _ = seg.point(sigma)
+            fp = problem.dresidual_dp(u, p)
+            fp = fp / max(float(np.linalg.norm(fp)), 1e-300)
+            for b in smallest_eigenvectors(problem, u, p, candidates):
+                ends = [self._g(b, 0.0), self._g(b, seg.sigma_B)]
+                score = abs(float(b @ fp))
+                if ends[0] * ends[1] <= 0 and (best is None or score < best[0]):
+                    best = (score, b, ends)
+            if best is not None:
+                break
         if best is None:
+            um, pm, _ = seg.point(self.sigma_mid)
             b = smallest_eigenvectors(problem, um, pm, 1)[0]
-            best = (abs(float(b @ fp)), b, [self._g(b, 0.0), self._g(b, seg.sigma_B)])
+            best = (0.0, b, [self._g(b, 0.0), self._g(b, seg.sigma_B)])
         self.b, self.ends = best[1], best[2]
 
     def _g(self, b: np.ndarray, sigma: float) -> float:

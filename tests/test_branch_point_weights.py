@@ -201,3 +201,51 @@ def test_a_root_of_the_hessian_test_at_a_fold_is_not_a_branch_point():
     at_fold = [s for s in br.branch_points() if abs(s.p - 9.3610946) < 1e-5]
     assert at_fold and not at_fold[0].located and "fold" in at_fold[0].info["error"]
     assert all(s.info["null_vector_cosine_to_dfdp"] < 1e-6 for s in br.branch_points() if s.located)
+
+
+def coupled_transcritical(n: int = 30, c: float = 0.7, seed: int = 3) -> tuple[Problem, np.ndarray, float]:
+    """``E = u^T K u / 2 - p (a.u)^2 / 2 + c (a.u)^3 / 3`` in ``n`` coupled unknowns (``K`` a random SPD matrix).
+
+    The trivial branch ``u = 0`` loses stability at ``p* = 1 / (a^T K^-1 a)``, where the second branch
+    ``u = s p* K^-1 a``, ``s = a.u = (p - p*) / c``, crosses it transcritically (no symmetry: the energy is
+    cubic along the null vector ``K^-1 a``).  Returns the problem, ``K^-1 a`` and ``p*``.
+    """
+    rng = np.random.default_rng(seed)
+    B = rng.standard_normal((n, n))
+    K = B @ B.T / n + np.eye(n)
+    a = rng.standard_normal(n)
+    Kia = np.linalg.solve(K, a)
+    p_star = 1.0 / float(a @ Kia)
+    aa = np.outer(a, a)
+    prob = Problem(residual=lambda u, p: K @ u - p * (a @ u) * a + c * (a @ u) ** 2 * a,
+                   jacobian=lambda u, p: K - p * aa + 2 * c * (a @ u) * aa,
+                   dresidual_dp=lambda u, p: -(a @ u) * a,
+                   energy=lambda u, p: float(0.5 * u @ K @ u - 0.5 * p * (a @ u) ** 2 + c / 3 * (a @ u) ** 3),
+                   symmetric=True, name="coupled_transcritical")
+    return prob, Kia, p_star
+
+
+@pytest.mark.parametrize("weights", ["unit", "param_1e3", "state_1e-3"])
+def test_transcritical_crossing_in_many_unknowns(weights):
+    c = 0.7
+    prob, Kia, p_star = coupled_transcritical(c=c)
+    n = Kia.size
+    br = continuation(prob, np.zeros(n), 0.0, p_max=2.0 * p_star, **scaled(weights, 0.05, 0.2))
+    assert br.status == "bound", br.message
+    (bp,) = br.branch_points()
+    assert bp.located and abs(bp.p - p_star) <= 1e-10 * p_star
+    assert bp.info["bifurcation_type"] == "transcritical"
+    # the crossing branch's direction, in the stored (weight-free) form: du/dp = p* K^-1 a / c
+    d = np.asarray(bp.info["bifurcation_direction"])
+    np.testing.assert_allclose(d[:n] / d[n], p_star * Kia / c, rtol=1e-6, atol=1e-9 * np.max(np.abs(Kia)))
+    for direction in (1, -1):
+        nb = switch_branch(prob, bp, direction=direction, ds=0.02, p_min=0.2 * p_star, p_max=1.8 * p_star,
+                           max_steps=500)
+        assert nb.status == "bound", nb.message
+        s = (nb.p - p_star) / c  # the closed-form branch at the traced loads
+        np.testing.assert_allclose(nb.u, np.outer(s * p_star, Kia), atol=1e-9 * np.max(np.abs(Kia)))
+        # it left the crossing the way it was sent (along direction * d) and stayed on that side
+        assert np.all(np.sign(nb.p[1:] - p_star) == direction * np.sign(d[n]))
+        # its first step is a fraction of the branch point's own scales (p* and |u| ~ p*^2 |K^-1 a| / c),
+        # not of the units: the first point lies within 5 % of p* from it
+        assert abs(nb.p[1] - p_star) < 0.05 * p_star
