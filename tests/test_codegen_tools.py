@@ -41,9 +41,8 @@ def test_kernel_body_reuses_up_to_sign_drops_dead_and_fills_rows() -> None:
     body.name([sympy.cos(y) * x])  # a temporary the rows below never use
     rows = body.reduce([a * x, a + 2])
     printer = kernel_printer()
-    lines = function_header("k", ["x", "y", "out=None"], ["Rows.", "", "More."]) + body.row_lines([], rows, printer,
-                                                                                                      like="x")
-    source = "\n".join(lines)
+    header = function_header("k", ["x", "y", "out=None"], ["Rows.", "", "More."])
+    source = "\n".join(header + body.row_lines([], rows, printer, like="x"))
     assert "cos" not in source and source.count("_c") >= 1
     k = _run(source)["k"]
     xv, yv = np.array([0.5, 1.5]), np.array([2.0, -1.0])
