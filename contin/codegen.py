@@ -43,6 +43,22 @@ pairs, functions vectorised over ``m`` elements (``x``: ``(n, m)``, ``q``: ``(k,
 and a dictionary ``ELEMENTS`` describing each element (dof, parameter and pair order).  Each kernel's
 rows share one common-subexpression elimination (temporaries ``_c0, _c1, ...``).
 
+Writing your own generator
+--------------------------
+A model whose kernels need more than :class:`Element` (derivatives through a chain of changes of
+variables, closed forms written by hand) writes its own generator from the same parts, which every
+generator of the project uses: :func:`kernel_printer`; :func:`cse_lines` (one elimination, with an
+optional prelude) or :class:`KernelBody` (temporaries accumulated over several steps, reused up to
+sign, dead ones dropped, rows filled by :meth:`KernelBody.row_lines`); :func:`upper_pairs` (the
+packed Hessian order) and :func:`emitted_helpers` (``_prepare``, ``_upper``, ``_unpack`` for the
+generated module); :func:`function_header`, :func:`row_targets`, :func:`count_operations`;
+:func:`module_text` to join the parts and :func:`generator_main` for the command line
+(``--output PATH``, ``--check``)::
+
+    if __name__ == "__main__":
+        raise SystemExit(generator_main(None, generate_source, OUTPUT, "python -m my_model.codegen",
+                                        "Generate my_model/_generated.py."))
+
 Reproducibility: the text depends only on the elements (their order, names and expressions), the
 title and generator strings and the sympy version; nothing time- or machine-dependent is written, so
 regenerating a committed file gives the same bytes (pin sympy's minor version: its
@@ -53,6 +69,7 @@ from __future__ import annotations
 
 import functools
 import keyword
+import sys
 import types
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -60,7 +77,9 @@ from pathlib import Path
 from typing import Any
 
 __all__ = ["Element", "kernel_printer", "cse_lines", "module_text", "generate_kernels", "compile_kernels",
-           "write_generated", "check_generated", "GeneratedFileOutOfDate"]
+           "write_generated", "check_generated", "GeneratedFileOutOfDate", "upper_pairs", "emitted_helpers",
+           "assignment_lines", "needed_assignments", "KernelBody", "row_targets", "count_operations",
+           "function_header", "generator_main"]
 
 #: Names a generated kernel uses for itself: user symbols may not take them.
 _RESERVED = {"numpy"}
@@ -114,8 +133,26 @@ class Element:
     @property
     def pairs(self) -> tuple[tuple[int, int], ...]:
         """Local dof pairs ``(a, b)``, ``a <= b``, in the order of the packed Hessian rows."""
-        n = len(self.dofs)
-        return tuple((a, b) for a in range(n) for b in range(a, n))
+        return upper_pairs(len(self.dofs))
+
+
+def upper_pairs(n: int) -> tuple[tuple[int, int], ...]:
+    """The packed upper-triangle order of a symmetric ``n x n`` matrix: ``(a, b)``, ``a <= b``, row by row.
+
+    Every generated packed Hessian (``P = n (n + 1) / 2`` rows) lists its entries in this order; a
+    generated module that needs it at run time embeds the same rule as ``_upper`` (:func:`emitted_helpers`).
+
+    Parameters
+    ----------
+    n : int
+        Size of the matrix (number of local variables).
+
+    Returns
+    -------
+    tuple of (int, int)
+        ``((0, 0), (0, 1), ..., (0, n-1), (1, 1), ..., (n-1, n-1))``.
+    """
+    return tuple((a, b) for a in range(n) for b in range(a, n))
 
 
 @functools.cache
@@ -159,7 +196,8 @@ def kernel_printer() -> Any:
 
 
 def cse_lines(exprs: Sequence[Any], targets: Sequence[str], printer: Any, indent: str = "    ",
-              skip_zeros: bool = False) -> list[str]:
+              skip_zeros: bool = False, prelude: Sequence[tuple[Any, Any]] = (),
+              float_constants: bool = False) -> list[str]:
     """Common-subexpression elimination of ``exprs`` printed as ``_c<k> = ...`` then ``target = expr``.
 
     Parameters
@@ -174,6 +212,11 @@ def cse_lines(exprs: Sequence[Any], targets: Sequence[str], printer: Any, indent
         Prefix of every line.
     skip_zeros : bool
         Omit assignments of an exact zero (the target is pre-zeroed).
+    prelude : sequence of (sympy.Symbol, sympy.Expr)
+        Named quantities the results may use, in order; those needed are printed first
+        (:func:`needed_assignments`).
+    float_constants : bool
+        Print a result that is a number as a float (``-1.0``: the row is filled by broadcasting).
 
     Returns
     -------
@@ -184,12 +227,60 @@ def cse_lines(exprs: Sequence[Any], targets: Sequence[str], printer: Any, indent
     import sympy
 
     repl, reduced = sympy.cse(list(exprs), symbols=sympy.numbered_symbols("_c"), order="canonical")
-    lines = [f"{indent}{printer.doprint(lhs)} = {printer.doprint(rhs)}" for lhs, rhs in repl]
+    lines = assignment_lines(needed_assignments(list(prelude) + list(repl), reduced), printer, indent)
     for target, e in zip(targets, reduced):
         if skip_zeros and e == 0:
             continue
+        if float_constants and e.is_Number:
+            e = sympy.Float(e)
         lines.append(f"{indent}{target} = {printer.doprint(e)}")
     return lines
+
+
+def assignment_lines(assignments: Sequence[tuple[Any, Any]], printer: Any, indent: str = "    ") -> list[str]:
+    """``name = value`` source lines, one per assignment.
+
+    Parameters
+    ----------
+    assignments : sequence of (sympy.Symbol, sympy.Expr)
+        In order.
+    printer : NumPyPrinter
+        From :func:`kernel_printer`.
+    indent : str
+        Prefix of every line.
+
+    Returns
+    -------
+    list of str
+    """
+    return [f"{indent}{printer.doprint(lhs)} = {printer.doprint(rhs)}" for lhs, rhs in assignments]
+
+
+def needed_assignments(assignments: Sequence[tuple[Any, Any]], results: Sequence[Any]) -> list[tuple[Any, Any]]:
+    """The assignments that ``results`` need, directly or through other assignments, in their order.
+
+    Parameters
+    ----------
+    assignments : sequence of (sympy.Symbol, sympy.Expr)
+        Candidate definitions in order (a prelude, then temporaries); each may use the earlier ones.
+    results : sequence of sympy.Expr
+        What the kernel returns.
+
+    Returns
+    -------
+    list of (sympy.Symbol, sympy.Expr)
+        The needed assignments (dead ones dropped), in the order given.
+    """
+    import sympy
+
+    need = set().union(*(sympy.sympify(e).free_symbols for e in results))
+    keep = []
+    for sym, rhs in reversed(list(assignments)):
+        if sym in need:
+            keep.append((sym, rhs))
+            need |= rhs.free_symbols
+    keep.reverse()
+    return keep
 
 
 def module_text(preamble: str, exported: Sequence[str], constants: str, chunks: Sequence[str]) -> str:
@@ -213,6 +304,281 @@ def module_text(preamble: str, exported: Sequence[str], constants: str, chunks: 
     """
     exports = "__all__ = [\n" + "".join(f'    "{f}",\n' for f in sorted(exported)) + "]"
     return "\n\n\n".join([preamble.rstrip("\n"), exports, constants, *chunks]) + "\n"
+
+
+# ---- kernel bodies built in steps ----------------------------------------------------------------
+def _natural(name: str) -> tuple[str, int]:
+    """Sort key: ``_c2`` before ``_c10``."""
+    head = name.rstrip("0123456789")
+    return (head, int(name[len(head):]) if len(head) < len(name) else -1)
+
+
+def _trivial(e: Any) -> bool:
+    """An atom or minus an atom (free to substitute: any other factor costs an operation per use)."""
+    coeff, core = e.as_coeff_Mul()
+    return core.is_Atom and (coeff == 1 or coeff == -1 or core.is_Number)
+
+
+class KernelBody:
+    """Assignments of one kernel body built in several steps, common subexpressions named ``_c0, _c1, ...``.
+
+    Where :func:`cse_lines` eliminates one list of results at once, a body accumulates the
+    temporaries of successive steps (a chain rule through several changes of variables, say):
+    :meth:`reduce` and :meth:`name` eliminate common subexpressions within a step and against all
+    earlier ones, also up to sign, and :meth:`lines` prints the prelude definitions and temporaries
+    the final results need (dead assignments dropped), deleting each local array after its last use.
+    Temporaries are numbered in the order they are created, so the text is deterministic.
+    """
+
+    def __init__(self) -> None:
+        import sympy
+
+        self.assignments: list[tuple[Any, Any]] = []
+        self.names = sympy.numbered_symbols("_c")
+        self.known: dict = {}  # right-hand side -> the symbol it is assigned to
+
+    def _assign(self, rhs: Any, sym: Any = None) -> Any:
+        """A symbol (or minus a symbol) holding ``rhs``, reusing an earlier assignment if any."""
+        if rhs in self.known:
+            return self.known[rhs]
+        if -rhs in self.known:
+            return -self.known[-rhs]
+        sym = next(self.names) if sym is None else sym
+        self.assignments.append((sym, rhs))
+        self.known[rhs] = sym
+        return sym
+
+    def reduce(self, exprs: Sequence[Any]) -> list[Any]:
+        """Record the common subexpressions of ``exprs``; return the reduced expressions.
+
+        Subexpressions that are a symbol or minus a symbol are substituted instead of assigned (a
+        negation costs as much as any other array operation), and so are repeats of earlier
+        assignments up to the sign (which ``sympy.cse`` does not detect across calls or signs).
+
+        Parameters
+        ----------
+        exprs : sequence of sympy.Expr
+
+        Returns
+        -------
+        list of sympy.Expr
+            ``exprs`` in terms of the body's temporaries.
+        """
+        import sympy
+
+        repl, red = sympy.cse(list(exprs), symbols=self.names, order="canonical")
+        subs: dict = {}
+        for lhs, rhs in repl:
+            rhs = rhs.xreplace(subs)
+            if _trivial(rhs):
+                subs[lhs] = rhs
+            else:
+                sym = self._assign(rhs, lhs)
+                if sym != lhs:
+                    subs[lhs] = sym
+        return [e.xreplace(subs) for e in red]
+
+    def name(self, exprs: Sequence[Any]) -> list[Any]:
+        """Like :meth:`reduce`, but every result is a symbol or minus a symbol (named if needed).
+
+        The returned list holds, for each of ``exprs`` (sympy expressions), a temporary, a negated
+        temporary or an atom: what the next step of a chain rule is written in.
+        """
+        out = []
+        for e in self.reduce(exprs):
+            coeff, core = e.as_coeff_Mul()
+            if _trivial(e):
+                out.append(e)
+            elif coeff == -1:
+                out.append(-self._assign(core))
+            else:
+                out.append(self._assign(e))
+        return out
+
+    def lines(self, prelude: Sequence[tuple[Any, Any]], results: Sequence[Any], printer: Any,
+              targets: Sequence[str] | None = None) -> list[str]:
+        """The prelude definitions and assignments that ``results`` need, in order, printed.
+
+        With ``targets`` (one per result) the results are printed as ``target = result`` lines,
+        and every local array is deleted right after its last use: its memory is reused by the
+        next temporaries instead of piling up (which keeps the working set in cache and the heap
+        small).
+
+        Parameters
+        ----------
+        prelude : sequence of (sympy.Symbol, sympy.Expr)
+            Named quantities computed first, in order (kernel inputs are free symbols).
+        results : sequence of sympy.Expr
+            Reduced results (from :meth:`reduce` or :meth:`name`).
+        printer : NumPyPrinter
+            From :func:`kernel_printer`.
+        targets : sequence of str, optional
+            Where each result is assigned.
+
+        Returns
+        -------
+        list of str
+            Source lines indented by four spaces.
+        """
+        import sympy
+
+        keep = needed_assignments(list(prelude) + self.assignments, results)
+        out = assignment_lines(keep, printer)
+        if targets is None:
+            return out
+        statements = [rhs.free_symbols for _, rhs in keep] + [sympy.sympify(e).free_symbols for e in results]
+        out += [f"    {t} = {printer.doprint(e)}" for t, e in zip(targets, results)]
+        local = {sym for sym, _ in keep}
+        last = {}
+        for k, used in enumerate(statements):
+            for sym in used & local:
+                last[sym] = k
+        dead: dict = {}
+        for sym, k in last.items():
+            dead.setdefault(k, []).append(sym)
+        lines = []
+        for k, line in enumerate(out):
+            lines.append(line)
+            if k in dead and k < len(out) - 1:  # the last ones go at the return anyway
+                lines.append("    del " + ", ".join(sorted((str(sym) for sym in dead[k]), key=_natural)))
+        return lines
+
+    def row_lines(self, prelude: Sequence[tuple[Any, Any]], rows: Sequence[Any], printer: Any, like: str,
+                  out: str = "out") -> list[str]:
+        """Body of a kernel returning its results as the rows of one ``(len(rows), m)`` array.
+
+        The array is the optional argument ``out`` (allocated when ``None``, with the shape of the
+        argument ``like`` after the row count); row ``k`` is ``rows[k]``.
+
+        Parameters
+        ----------
+        prelude : sequence of (sympy.Symbol, sympy.Expr)
+            As for :meth:`lines`.
+        rows : sequence of sympy.Expr
+            Reduced results, one per row.
+        printer : NumPyPrinter
+            From :func:`kernel_printer`.
+        like : str
+            Name of a kernel argument of shape ``(m,)``.
+        out : str
+            Name of the output argument.
+
+        Returns
+        -------
+        list of str
+            Allocation, body and ``return out``, indented by four spaces.
+        """
+        return ([f"    if {out} is None:", f"        {out} = numpy.empty(({len(rows)},) + numpy.shape({like}))"]
+                + self.lines(prelude, rows, printer, row_targets(out, len(rows))) + [f"    return {out}"])
+
+
+def row_targets(array: str, n: int) -> list[str]:
+    """``["array[0]", ..., "array[n-1]"]``: the targets of the rows of a generated ``(n, m)`` output.
+
+    Parameters
+    ----------
+    array : str
+        Name of the output array in the generated code.
+    n : int
+        Number of rows.
+
+    Returns
+    -------
+    list of str
+    """
+    return [f"{array}[{k}]" for k in range(n)]
+
+
+def count_operations(lines: Sequence[str]) -> int:
+    """Array operations in printed code: arithmetic (constant folding excepted) and calls.
+
+    What a vectorised kernel pays per element batch; a generator compares variants of a kernel by it.
+
+    Parameters
+    ----------
+    lines : sequence of str
+        Printed statements (indentation is ignored).
+
+    Returns
+    -------
+    int
+    """
+    import ast
+
+    count = 0
+    for node in ast.walk(ast.parse("\n".join(line.strip() for line in lines))):
+        if isinstance(node, ast.BinOp):
+            count += not (isinstance(node.left, ast.Constant) and isinstance(node.right, ast.Constant))
+        elif isinstance(node, ast.UnaryOp):
+            count += not isinstance(node.operand, ast.Constant)
+        elif isinstance(node, ast.Call):
+            count += 1
+    return count
+
+
+def function_header(name: str, arguments: Sequence[str], doc: Sequence[str]) -> list[str]:
+    """``def name(arguments):`` and its docstring, as source lines.
+
+    Parameters
+    ----------
+    name : str
+        The function's name.
+    arguments : sequence of str
+        Its parameters (``"out=None"`` for a default).
+    doc : sequence of str
+        Docstring lines without indentation (the first is the summary; empty strings are blank lines).
+
+    Returns
+    -------
+    list of str
+    """
+    lines = [f"def {name}({', '.join(arguments)}):", '    """' + doc[0]]
+    lines += [("    " + d) if d else "" for d in doc[1:]]
+    lines.append('    """')
+    return lines
+
+
+#: Source of the helpers a generated module may embed (it imports numpy only); see :func:`emitted_helpers`.
+_HELPERS = {
+    "_prepare": ("def _prepare(*args):\n"
+                 "    arrays = [numpy.asarray(a, dtype=float) for a in args]\n"
+                 "    return (*arrays, numpy.broadcast_shapes(*(a.shape for a in arrays)))\n"),
+    "_upper": ("def _upper(n):\n"
+               "    return tuple((a, b) for a in range(n) for b in range(a, n))\n"),
+    "_unpack": ("def _unpack(packed, n):\n"
+                "    idx = numpy.empty((n, n), dtype=numpy.intp)\n"
+                "    for k, (a, b) in enumerate(_upper(n)):\n"
+                "        idx[a, b] = idx[b, a] = k\n"
+                "    return numpy.moveaxis(packed[idx], (0, 1), (-2, -1)).copy()\n"),
+}
+_HELPER_NEEDS = {"_unpack": ("_upper",)}
+
+
+def emitted_helpers(*names: str) -> str:
+    """Source of run-time helpers for a generated module (plain numpy, no import of contin).
+
+    ``_prepare(*args)``
+        The arguments as float arrays and their broadcast shape (``(*arrays, shape)``).
+    ``_upper(n)``
+        The packed upper-triangle pair order, :func:`upper_pairs`.
+    ``_unpack(packed, n)``
+        A packed ``(P, ...)`` array to the symmetric ``(..., n, n)`` one.
+
+    Parameters
+    ----------
+    *names : str
+        Helpers to emit; those they use are added (``_unpack`` needs ``_upper``).
+
+    Returns
+    -------
+    str
+        Their definitions in the order above, separated by two blank lines, ending with a newline.
+    """
+    unknown = set(names) - set(_HELPERS)
+    if unknown:
+        raise ValueError(f"unknown helpers {sorted(unknown)} (known: {list(_HELPERS)})")
+    wanted = set(names) | {dep for nm in names for dep in _HELPER_NEEDS.get(nm, ())}
+    return "\n\n".join(src for nm, src in _HELPERS.items() if nm in wanted)
 
 
 # ---- element kernels -----------------------------------------------------------------------------
@@ -255,7 +621,7 @@ def _kernel(el: Element, kind: str, exprs: list[Any], printer: Any) -> str:
     doc += [f"    Dofs ``({dofs})`` (rows of ``_x``{', and of the direction ``_v``' if kind == 'hessian_directional' else ''}); "
             f"parameters ``({params})`` (rows of ``_q``); ``_p`` the continuation parameter.",
             "", "    Returns", "    -------", f"    ndarray, shape {shape}", '    """']
-    body = cse_lines(exprs, [f"_out[{k}]" for k in range(len(exprs))], printer, skip_zeros=True)
+    body = cse_lines(exprs, row_targets("_out", len(exprs)), printer, skip_zeros=True)
     used = set().union(*(sympy.sympify(e).free_symbols for e in exprs))
     names = {str(s) for s in used}
     lines = [_signature(el, kind)] + doc + _unpack(el, names, kind == "hessian_directional")
@@ -408,3 +774,45 @@ def check_generated(source: str | Callable[[], str], path: str | Path, command: 
     detail = (f"line {k + 1}: committed {old[k]!r} vs generated {new[k]!r}" if k < min(len(old), len(new))
               else f"lengths differ ({len(old)} vs {len(new)} lines)")
     raise GeneratedFileOutOfDate(f"{path} is out of date ({detail}){hint}")
+
+
+def generator_main(argv: list[str] | None, generate_source: Callable[[], str], default_output: Path, prog: str,
+                   description: str) -> int:
+    """Command line of a generator: write the module, or with ``--check`` exit 1 if it is out of date.
+
+    A generator script ends with ``raise SystemExit(generator_main(None, generate_source, OUTPUT,
+    "python -m my.codegen", "..."))``: ``--output PATH`` writes elsewhere than the committed file,
+    ``--check`` writes nothing and fails when the committed file differs (:func:`check_generated`).
+
+    Parameters
+    ----------
+    argv : list of str or None
+        Arguments (``None``: ``sys.argv[1:]``).
+    generate_source : callable
+        Returns the full text of the generated module.
+    default_output : Path
+        The committed generated file.
+    prog, description : str
+        For the help text (``prog`` is also the command the out-of-date message suggests).
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
+    import argparse
+
+    parser = argparse.ArgumentParser(prog=prog, description=description)
+    parser.add_argument("--output", type=Path, default=default_output, help="file to write")
+    parser.add_argument("--check", action="store_true",
+                        help="do not write; exit 1 if the file differs from what would be generated")
+    args = parser.parse_args(argv)
+    if args.check:
+        try:
+            check_generated(generate_source, args.output, prog)
+        except GeneratedFileOutOfDate as exc:
+            print(exc, file=sys.stderr)
+            return 1
+        return 0
+    write_generated(generate_source, args.output)
+    return 0

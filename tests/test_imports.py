@@ -4,7 +4,7 @@ A *package* here is the unit that owns its private names:
 
 * ``contin`` (the engine is one package: ``contin.palc`` may use ``contin.linalg``'s private helpers);
 * each top-level subpackage of ``models`` (``contin_models.shell``, ``contin_models.contact``, ``contin_models.benchmarks``,
-  ...), and each module directly in ``models/`` on its own (``contin_models.codegen_cli``);
+  ...), and each module directly in ``models/`` on its own (``contin_models.NAME``);
 * ``studies`` (one package: the studies share ``studies._common``).
 
 A name is private when it starts with one underscore (dunders such as ``__version__`` are not).  An
@@ -90,7 +90,7 @@ def test_the_scan_sees_every_package() -> None:
 
 def test_the_scan_flags_what_it_should() -> None:
     assert owner("contin_models.shell.scene") == "contin_models.shell" and owner("contin.cli") == "contin"
-    assert owner("studies._common") == "studies" and owner("contin_models.codegen_cli") == "contin_models.codegen_cli"
+    assert owner("studies._common") == "studies" and owner("contin_models.tools") == "contin_models.tools"
     assert _private("_problem") and not _private("__version__") and not _private("problem")
     bad = ("from contin_models.shell.scene import _problem\n"
            "def f():\n    import contin_models.contact._generated\n"

@@ -86,16 +86,16 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin.codegen import kernel_printer, module_text
-from contin_models.codegen_cli import generator_main
+from contin.codegen import (cse_lines, function_header, generator_main, kernel_printer, module_text, row_targets,
+                            upper_pairs)
 
 __all__ = ["Indenter", "build_indenters", "barrier_definition", "cell_basis", "check_cell_chain_rule",
-           "generate_source", "generate", "main", "DEFAULT_OUTPUT", "PAIRS"]
+           "generate_source", "main", "DEFAULT_OUTPUT", "PAIRS"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_generated.py")
 
 #: Packed upper-triangle pairs of the 3 local variables ``(r, z, c)``.
-PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+PAIRS = upper_pairs(3)
 
 _r, _z = sp.symbols("r z", real=True)
 _K, _dhat = sp.symbols("K dhat", positive=True)
@@ -284,31 +284,13 @@ def build_indenters() -> list[Indenter]:
 
 # ---- printing ------------------------------------------------------------------------------------
 def _body(ind: Indenter, results: list[sp.Expr], printer: NumPyPrinter, targets: list[str]) -> list[str]:
-    """Printed prelude and common subexpressions that ``results`` need, then ``target = result``."""
-    repl, red = sp.cse(results, symbols=sp.numbered_symbols("_c"), order="canonical")
-    assignments = ind.prelude + _barrier_prelude() + list(repl)
-    need = set().union(*(sp.sympify(e).free_symbols for e in red))
-    keep = []
-    for sym, rhs in reversed(assignments):
-        if sym in need:
-            keep.append((sym, rhs))
-            need |= rhs.free_symbols
-    keep.reverse()
-    lines = [f"    {printer.doprint(lhs)} = {printer.doprint(rhs)}" for lhs, rhs in keep]
-    for t, e in zip(targets, red):
-        if e.is_Number:  # a constant row: broadcast it
-            lines.append(f"    {t} = {printer.doprint(sp.Float(e) if e != 0 else sp.Float(0))}")
-        else:
-            lines.append(f"    {t} = {printer.doprint(e)}")
-    return lines
+    """Printed prelude and common subexpressions that ``results`` need, then ``target = result``
+    (a constant row as a float, filled by broadcasting)."""
+    return cse_lines(results, targets, printer, prelude=ind.prelude + _barrier_prelude(), float_constants=True)
 
 
 def _header(ind: Indenter, suffix: str, doc: list[str]) -> list[str]:
-    args = ", ".join(str(a) for a in ind.arguments)
-    lines = [f"def {ind.name}_{suffix}({args}):", '    """' + doc[0]]
-    lines += [("    " + d) if d else "" for d in doc[1:]]
-    lines.append('    """')
-    return lines
+    return function_header(f"{ind.name}_{suffix}", [str(a) for a in ind.arguments], doc)
 
 
 def _valid_note(ind: Indenter) -> list[str]:
@@ -361,7 +343,7 @@ def _emit_derivative(ind: Indenter, printer: NumPyPrinter, suffix: str) -> list[
     doc = [f"{what} with respect to ``({_vars(ind)})``{packed}."] + _valid_note(ind) + [
         "", "Returns", "-------", f"ndarray, shape ``({len(exprs)}, m)``", f"    {rows}"]
     lines = _header(ind, suffix, doc) + [_shape_line(ind), f"    {var} = numpy.empty(({len(exprs)},) + _shape)"]
-    lines += _body(ind, exprs, printer, [f"{var}[{k}]" for k in range(len(exprs))])
+    lines += _body(ind, exprs, printer, row_targets(var, len(exprs)))
     lines.append(f"    return {var}")
     return lines
 
@@ -375,7 +357,7 @@ def _emit_derivatives(ind: Indenter, printer: NumPyPrinter) -> list[str]:
     e, g, h = ind.outputs()
     lines = _header(ind, "derivatives", doc) + [
         _shape_line(ind), "    _g = numpy.empty((3,) + _shape)", "    _h = numpy.empty((6,) + _shape)"]
-    targets = ["_e"] + [f"_g[{k}]" for k in range(3)] + [f"_h[{k}]" for k in range(6)]
+    targets = ["_e"] + row_targets("_g", 3) + row_targets("_h", 6)
     lines += _body(ind, [e] + g + h, printer, targets)
     lines.append("    return _e, _g, _h")
     return lines
@@ -448,6 +430,11 @@ def generate_source() -> str:
     return module_text(_PREAMBLE, functions + ["PAIRS"], pairs, chunks)
 
 
+def main(argv: list[str] | None = None) -> int:
+    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``."""
+    return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.contact.codegen",
+                          __doc__.split("\n")[0])
+
+
 if __name__ == "__main__":
-    raise SystemExit(generator_main(None, generate_source, DEFAULT_OUTPUT, "python -m contin_models.contact.codegen",
-                                    __doc__.split("\n")[0]))
+    raise SystemExit(main())

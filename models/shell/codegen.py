@@ -66,7 +66,8 @@ hundred elements that cost is nearly independent of the array length):
 
 Each step is the exact chain rule ``g' = A^T g``, ``H' = A^T H A + sum_k g_k hess(v_k)``; the
 entries of every intermediate gradient and Hessian get names, common subexpressions are
-eliminated within and across steps (also up to sign) and dead assignments dropped.
+eliminated within and across steps (also up to sign) and dead assignments dropped
+(:class:`contin.codegen.KernelBody`, the engine's kernel body).
 ``tests/test_shell_energy.py`` compares the kernels with a direct sympy differentiation of the
 Cartesian definitions evaluated in 30-digit arithmetic (:meth:`Element.cartesian_gradient`,
 :meth:`Element.cartesian_hessian_upper`) and with finite differences.
@@ -90,7 +91,6 @@ For every element (``<name>`` = ``stretch``, ``bend``, ``bend_cur``):
 
 from __future__ import annotations
 
-import ast
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
@@ -98,10 +98,10 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin_models.codegen_cli import generator_main, module_text
-from contin_models.codegen_printer import kernel_printer
+from contin.codegen import (KernelBody, count_operations, emitted_helpers, function_header, generator_main,
+                            kernel_printer, module_text, upper_pairs)
 
-__all__ = ["Element", "Layer", "build_elements", "generate_source", "generate", "main", "DEFAULT_OUTPUT"]
+__all__ = ["Element", "Layer", "build_elements", "generate_source", "main", "DEFAULT_OUTPUT"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_generated.py")
 
@@ -232,7 +232,7 @@ class Element:
         w = (2 * self.weight * (s1 + self.nu * s2), 2 * self.weight * (self.nu * s1 + s2))
         c = ((2 * self.weight, 2 * self.weight * self.nu), (2 * self.weight * self.nu, 2 * self.weight))
         jac = [[sp.diff(e, q) for q in self.dofs] for e in self.strains.values()]
-        pairs = _upper(n)
+        pairs = list(upper_pairs(n))
         entries = []
         for a, b in pairs:
             gauss_newton = sum(jac[i][a] * c[i][j] * jac[j][b] for i in range(2) for j in range(2))
@@ -289,10 +289,6 @@ class Element:
         leftover = e.atoms(sp.Function)
         assert not leftover, f"{self.name}: functions left after replacement: {leftover}"
         return e
-
-
-def _upper(n: int) -> list[tuple[int, int]]:
-    return [(a, b) for a in range(n) for b in range(a, n)]
 
 
 # ---- element definitions -------------------------------------------------------------------------
@@ -484,108 +480,8 @@ def build_elements() -> list[Element]:
     return [_stretch(), _bend(False), _bend(True)]
 
 
-# ---- printing ------------------------------------------------------------------------------------
-class _Body:
-    """Assignments of one kernel body, common subexpressions named ``_c0, _c1, ...`` in order."""
-
-    def __init__(self) -> None:
-        self.assignments: list[tuple[sp.Symbol, sp.Expr]] = []
-        self.names = sp.numbered_symbols("_c")
-        self.known: dict = {}  # right-hand side -> the symbol it is assigned to
-
-    def _assign(self, rhs: sp.Expr, sym: sp.Symbol | None = None) -> sp.Expr:
-        """A symbol (or minus a symbol) holding ``rhs``, reusing an earlier assignment if any."""
-        if rhs in self.known:
-            return self.known[rhs]
-        if -rhs in self.known:
-            return -self.known[-rhs]
-        sym = next(self.names) if sym is None else sym
-        self.assignments.append((sym, rhs))
-        self.known[rhs] = sym
-        return sym
-
-    def reduce(self, exprs: list[sp.Expr]) -> list[sp.Expr]:
-        """Record the common subexpressions of ``exprs``; return the reduced expressions.
-
-        Subexpressions that are a symbol or minus a symbol are substituted instead of assigned (a
-        negation costs as much as any other array operation), and so are repeats of earlier
-        assignments up to the sign (which ``sympy.cse`` does not detect across calls or signs).
-        """
-        repl, red = sp.cse(exprs, symbols=self.names, order="canonical")
-        subs: dict = {}
-        for lhs, rhs in repl:
-            rhs = rhs.xreplace(subs)
-            if _trivial(rhs):
-                subs[lhs] = rhs
-            else:
-                sym = self._assign(rhs, lhs)
-                if sym != lhs:
-                    subs[lhs] = sym
-        return [e.xreplace(subs) for e in red]
-
-    def name(self, exprs: list[sp.Expr]) -> list[sp.Expr]:
-        """Like :meth:`reduce`, but every result is a symbol or minus a symbol (named if needed)."""
-        out = []
-        for e in self.reduce(exprs):
-            coeff, core = e.as_coeff_Mul()
-            if _trivial(e):
-                out.append(e)
-            elif coeff == -1:
-                out.append(-self._assign(core))
-            else:
-                out.append(self._assign(e))
-        return out
-
-    def lines(self, prelude: list, results: list[sp.Expr], printer: NumPyPrinter,
-              targets: list[str] | None = None) -> list[str]:
-        """The prelude definitions and assignments that ``results`` need, in order, printed.
-
-        With ``targets`` (one per result) the results are printed as ``target = result`` lines,
-        and every local array is deleted right after its last use: its memory is reused by the
-        next temporaries instead of piling up (which keeps the working set in cache and the heap
-        small).
-        """
-        need = set().union(*(sp.sympify(e).free_symbols for e in results))
-        keep = []
-        for sym, rhs in reversed(prelude + self.assignments):
-            if sym in need:
-                keep.append((sym, rhs))
-                need |= rhs.free_symbols
-        keep.reverse()
-        out = [f"    {printer.doprint(lhs)} = {printer.doprint(rhs)}" for lhs, rhs in keep]
-        if targets is None:
-            return out
-        statements = [rhs.free_symbols for _, rhs in keep] + [sp.sympify(e).free_symbols for e in results]
-        out += [f"    {t} = {printer.doprint(e)}" for t, e in zip(targets, results)]
-        local = {sym for sym, _ in keep}
-        last = {}
-        for k, used in enumerate(statements):
-            for sym in used & local:
-                last[sym] = k
-        dead: dict = {}
-        for sym, k in last.items():
-            dead.setdefault(k, []).append(sym)
-        lines = []
-        for k, line in enumerate(out):
-            lines.append(line)
-            if k in dead and k < len(out) - 1:  # the last ones go at the return anyway
-                lines.append("    del " + ", ".join(sorted((str(sym) for sym in dead[k]), key=_natural)))
-        return lines
-
-
-def _natural(name: str):
-    """Sort key: ``_c2`` before ``_c10``."""
-    head = name.rstrip("0123456789")
-    return (head, int(name[len(head):]) if len(head) < len(name) else -1)
-
-
-def _trivial(e: sp.Expr) -> bool:
-    """An atom or minus an atom (free to substitute: any other factor costs an operation per use)."""
-    coeff, core = e.as_coeff_Mul()
-    return core.is_Atom and (coeff == 1 or coeff == -1 or core.is_Number)
-
-
-def _chain(el: Element, body: _Body, hessian: bool, structured: bool = True):
+# ---- the chain rule through the layers -----------------------------------------------------------
+def _chain(el: Element, body: KernelBody, hessian: bool, structured: bool = True):
     """Chain rule from the strain variables to the dofs: gradient list, packed upper Hessian list.
 
     Each intermediate gradient and Hessian is named in ``body`` before the next change of
@@ -594,7 +490,7 @@ def _chain(el: Element, body: _Body, hessian: bool, structured: bool = True):
     """
     jac, shess = el.strain_derivatives()
     nv = len(el.variables)
-    pairs = _upper(nv)
+    pairs = upper_pairs(nv)
     # name the strain derivatives and the stresses, then V = C J: H = sum_i V_i J_i^T + w_i hess_i
     flat = list(el.stress()) + [e for row in jac for e in row]
     if hessian:
@@ -622,15 +518,15 @@ def _chain(el: Element, body: _Body, hessian: bool, structured: bool = True):
         H_new = None
         if H is not None:
             H_new = {}
-            for i, j in _upper(n_in):
+            for i, j in upper_pairs(n_in):
                 e = sp.Add(*[A[k][i] * H[min(k, m), max(k, m)] * A[m][j]
                              for k in range(n_out) for m in range(n_out) if A[k][i] != 0 and A[m][j] != 0])
                 H_new[i, j] = e + sp.Add(*[g[k] * hk[i][j] for k, hk in hessians.items()])
         g, H = g_new, H_new
-    return g, ([H[k] for k in _upper(len(el.dofs))] if H is not None else None)
+    return g, ([H[k] for k in upper_pairs(len(el.dofs))] if H is not None else None)
 
 
-def _rotate(body: _Body, layer: Layer, g: list, H: dict | None):
+def _rotate(body: KernelBody, layer: Layer, g: list, H: dict | None):
     """The chain rule through a rotation layer (:attr:`Layer.rotations`).
 
     Per edge, with ``R = [[c, s], [-s, c]]`` the Jacobian of ``(l, tau)``: the gradient is
@@ -691,11 +587,11 @@ def _rotate(body: _Body, layer: Layer, g: list, H: dict | None):
         for p2, q2 in layer.passthrough.items():
             if q1 <= q2:
                 put(q1, q2, h(p1, p2))
-    assert sorted(H_new) == _upper(n_in)
+    assert tuple(sorted(H_new)) == upper_pairs(n_in)
     return g_new, H_new
 
 
-def _named(body: _Body, g: list, H: dict | None):
+def _named(body: KernelBody, g: list, H: dict | None):
     """Name the entries of a gradient (and Hessian) before the next change of variables."""
     keys = sorted(H) if H is not None else []
     vals = body.name(list(g) + [H[k] for k in keys])
@@ -709,10 +605,7 @@ def _inputs_doc(el: Element) -> str:
 
 def _fast_header(el: Element, suffix: str, doc: list[str], out: bool) -> list[str]:
     names = [str(s) for s, _ in el.inputs] + [str(s) for s in el.params] + (["out=None"] if out else [])
-    lines = [f"def {el.name}_fast_{suffix}({', '.join(names)}):", '    """' + doc[0]]
-    lines += [("    " + d) if d else "" for d in doc[1:]]
-    lines.append('    """')
-    return lines
+    return function_header(f"{el.name}_fast_{suffix}", names, doc)
 
 
 def _fast_doc(el: Element, what: str) -> list[str]:
@@ -720,47 +613,30 @@ def _fast_doc(el: Element, what: str) -> list[str]:
             "parameters, arrays of one shape ``(m,)`` (parameters may be scalars)."]
 
 
-def _emit_rows(el: Element, name: str, rows: list[sp.Expr], body: _Body, doc: list[str],
+def _emit_rows(el: Element, name: str, rows: list[sp.Expr], body: KernelBody, doc: list[str],
                printer: NumPyPrinter) -> list[str]:
-    lines = _fast_header(el, name, doc, True)
-    lines.append("    if out is None:")
-    lines.append(f"        out = numpy.empty(({len(rows)},) + numpy.shape({el.inputs[0][0]}))")
-    lines += body.lines(el.prelude + el.moduli, rows, printer, [f"out[{k}]" for k in range(len(rows))])
-    lines.append("    return out")
-    return lines
+    return (_fast_header(el, name, doc, True)
+            + body.row_lines(el.prelude + el.moduli, rows, printer, like=str(el.inputs[0][0])))
 
 
 def _emit_fast_energy(el: Element, printer: NumPyPrinter) -> list[str]:
     s1, s2 = (v - ref for v, ref in zip(el.strain_values, el.reference))
-    body = _Body()
+    body = KernelBody()
     (red,) = body.reduce([el.weight * (s1**2 + 2 * el.nu * s1 * s2 + s2**2)])
     doc = _fast_doc(el, f"Element {el.doc}.") + ["", "Returns", "-------", "ndarray, shape ``(m,)``"]
     return (_fast_header(el, "energy", doc, False) + body.lines(el.prelude + el.moduli, [red], printer, ["_e"])
             + ["    return _e"])
 
 
-def _count_ops(lines: list[str]) -> int:
-    """Array operations in printed code: arithmetic (constant folding excepted) and calls."""
-    count = 0
-    for node in ast.walk(ast.parse("\n".join(line.strip() for line in lines))):
-        if isinstance(node, ast.BinOp):
-            count += not (isinstance(node.left, ast.Constant) and isinstance(node.right, ast.Constant))
-        elif isinstance(node, ast.UnaryOp):
-            count += not isinstance(node.operand, ast.Constant)
-        elif isinstance(node, ast.Call):
-            count += 1
-    return count
-
-
-def _cheapest_chain(el: Element, hessian: bool, printer: NumPyPrinter) -> tuple[_Body, list[sp.Expr]]:
+def _cheapest_chain(el: Element, hessian: bool, printer: NumPyPrinter) -> tuple[KernelBody, list[sp.Expr]]:
     """The chain rule with and without the rotation form; the variant with fewer operations."""
     best = None
     for structured in (True, False):
-        body = _Body()
+        body = KernelBody()
         g, H = _chain(el, body, hessian=hessian, structured=structured)
         rows = body.reduce(H if hessian else g)
         lines = body.lines(el.prelude + el.moduli, rows, printer) + [printer.doprint(e) for e in rows]
-        cost = _count_ops(lines)
+        cost = count_operations(lines)
         if best is None or cost < best[0]:
             best = (cost, body, rows)
     return best[1], best[2]
@@ -792,7 +668,7 @@ def _emit_fast_strains(el: Element, printer: NumPyPrinter) -> list[str]:
     names = list(el.strains)
     doc = _fast_doc(el, f"Strain measures ``({', '.join(names)})``: {el.doc}.") + [
         "", "Returns", "-------", f"tuple of {len(names)} ndarrays, shape ``(m,)``"]
-    body = _Body()
+    body = KernelBody()
     vals = list(el.strain_values)
     return (_fast_header(el, el.strains_name, doc, False) + body.lines(el.prelude, vals, printer)
             + [f"    return {', '.join(printer.doprint(v) for v in vals)}"])
@@ -801,11 +677,8 @@ def _emit_fast_strains(el: Element, printer: NumPyPrinter) -> list[str]:
 # The convenience functions: node coordinates in, broadcasting, unpacked outputs.
 def _header(el: Element, suffix: str, doc: list[str]) -> list[str]:
     names = [str(s) for s in el.dofs + el.params]
-    lines = [f"def {el.name}_{suffix}({', '.join(names)}):", '    """' + doc[0]]
-    lines += [("    " + d) if d else "" for d in doc[1:]]
-    lines.append('    """')
-    lines.append(f"    {', '.join(names)}, _shape = _prepare({', '.join(names)})")
-    return lines
+    return function_header(f"{el.name}_{suffix}", names, doc) + [
+        f"    {', '.join(names)}, _shape = _prepare({', '.join(names)})"]
 
 
 def _call_fast(el: Element, suffix: str, printer: NumPyPrinter, out: str | None = None) -> str:
@@ -872,21 +745,7 @@ array with one entry per element, or a scalar broadcast to all of them) and retu
 import numpy
 
 
-def _prepare(*args):
-    arrays = [numpy.asarray(a, dtype=float) for a in args]
-    return (*arrays, numpy.broadcast_shapes(*(a.shape for a in arrays)))
-
-
-def _upper(n):
-    return tuple((a, b) for a in range(n) for b in range(a, n))
-
-
-def _unpack(packed, n):
-    idx = numpy.empty((n, n), dtype=numpy.intp)
-    for k, (a, b) in enumerate(_upper(n)):
-        idx[a, b] = idx[b, a] = k
-    return numpy.moveaxis(packed[idx], (0, 1), (-2, -1)).copy()
-'''
+''' + emitted_helpers("_prepare", "_upper", "_unpack")
 
 
 def generate_source() -> str:
@@ -927,6 +786,11 @@ def generate_source() -> str:
     return module_text(_PREAMBLE, functions + ["INPUTS", "NDOF", "UPPER"], constants, chunks)
 
 
+def main(argv: list[str] | None = None) -> int:
+    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``."""
+    return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.codegen",
+                          __doc__.split("\n")[0])
+
+
 if __name__ == "__main__":
-    raise SystemExit(generator_main(None, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.codegen",
-                                    __doc__.split("\n")[0]))
+    raise SystemExit(main())

@@ -35,9 +35,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from contin.codegen import cse_lines
-from contin_models.codegen_cli import generator_main, module_text
-from contin_models.codegen_printer import kernel_printer
+from contin.codegen import cse_lines, generator_main, kernel_printer, module_text
 
 from . import harmonic as H
 
@@ -175,6 +173,7 @@ def generate_source() -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``."""
     return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.harmonic_codegen",
                           "Generate the harmonic blocks' bending Hessian kernels.")
 
