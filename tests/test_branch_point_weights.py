@@ -161,6 +161,18 @@ def test_arch_branch_points_and_folds_are_the_same_with_scaled_weights(arch_unit
     assert all(np.min(np.abs(folds - f.p)) <= 1e-8 * abs(f.p) for f in br.folds())
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("weights", ["state_1e3"])
+def test_arch_branch_points_same_loads_slow(arch_unit, weights):
+    arch, br = arch_unit
+    _, other = arch_branch(**WEIGHTS[weights])
+    bps = other.branch_points()
+    assert all(bp.located for bp in bps)
+    np.testing.assert_allclose([bp.p for bp in bps], [bp.p for bp in br.branch_points()], rtol=1e-8)
+    for bp in bps:
+        check_branch_point(arch, bp)
+
+
 def test_arch_switching_reaches_the_known_branch_points(arch_unit):
     arch, br = arch_unit
     bps = br.branch_points()
