@@ -140,6 +140,8 @@ class Point:
         computes it before the point is accepted; the recorder stores it without recomputing).
     modes : the Morse indices of the problem's operator families by family name, once computed
         (:mod:`contin.modes`).
+    observed : ``(value, d/ds, d/du, d/dp)`` of each observable with a declared derivative, once
+        evaluated (:func:`contin.recorder.observed_rates`: the step guard and the recorder share it).
     """
 
     u: np.ndarray
@@ -152,6 +154,7 @@ class Point:
     s: float = 0.0
     stability: dict[str, Any] | None = None
     modes: dict[str, tuple[int, ...]] | None = None
+    observed: dict[str, tuple[float, float, Any, float]] | None = None
 
 
 class Curve:

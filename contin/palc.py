@@ -33,7 +33,7 @@ from .events import Event
 from .fold import locate_fold
 from .linalg import SingularMatrixError
 from .problem import NonFiniteError, Problem
-from .recorder import Recorder
+from .recorder import Recorder, observed_rates
 from .segment import Segment
 from .settings import Settings, resolve_settings
 from .stepsize import StepController
@@ -287,22 +287,20 @@ def _observable_jump(curve: Curve, current: Point, new: Point, cos_turn: float) 
         return ""
 
     reason = jumped(curve.problem.parameter_name, new.p - current.p, (current.t_p, new.t_p), 1.0 / math.sqrt(wp2))
-    for name, derivative in curve.problem.observable_derivatives.items():
-        if reason:
-            break
-        try:
-            (g0, q0), (g1, q1) = derivative(current.u, current.p), derivative(new.u, new.p)
-            y0 = curve.problem.observables[name](current.u, current.p)
-            y1 = curve.problem.observables[name](new.u, new.p)
-        except (ValueError, TypeError, ArithmeticError, KeyError):
+    if reason or not curve.problem.observable_derivatives:
+        return reason
+    before, after = observed_rates(curve.problem, current), observed_rates(curve.problem, new)
+    for name, (y1, rate1, d_u, d_p) in after.items():
+        if name not in before or d_u is None:
             continue
-        g1 = np.asarray(g1, dtype=float)
-        size = math.sqrt(float(np.dot(g1, g1)) / wu2 + float(q1) ** 2 / wp2)
-        slopes = (float(np.dot(g0, current.t_u)) + float(q0) * current.t_p,
-                  float(np.dot(g1, new.t_u)) + float(q1) * new.t_p)
-        if all(math.isfinite(v) for v in (y0, y1, size, *slopes)):
-            reason = jumped(name, float(y1) - float(y0), slopes, size)
-    return reason
+        y0, rate0 = before[name][0], before[name][1]
+        d_u = np.asarray(d_u, dtype=float)
+        size = math.sqrt(float(np.dot(d_u, d_u)) / wu2 + d_p**2 / wp2)
+        if all(math.isfinite(v) for v in (y0, y1, size, rate0, rate1)):
+            reason = jumped(name, y1 - y0, (rate0, rate1), size)
+            if reason:
+                return reason
+    return ""
 
 
 def _progress(steps: int, new: Point, ds: float) -> None:

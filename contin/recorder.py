@@ -55,15 +55,31 @@ def stability_around(spt: SpecialPoint, n_negative_by: dict[str, np.ndarray], pr
         spt.info.update(table[label])
 
 
-def _rate(derivative: Any, pt: Point) -> float:
-    """``d obs/ds = dobs/du . t_u + dobs/dp t_p`` at an accepted point (NaN when it cannot be evaluated)."""
-    if pt.t_u is None or pt.t_p is None:
-        return math.nan
-    try:
-        d_u, d_p = derivative(pt.u, pt.p)
-        return float(np.dot(d_u, pt.t_u) + d_p * pt.t_p)
-    except (ValueError, TypeError, ArithmeticError):
-        return math.nan
+def observed_rates(problem: Any, pt: Point) -> dict[str, tuple[float, float, Any, float]]:
+    """``(value, d obs/ds, d obs/du, d obs/dp)`` of each observable with a declared derivative at ``pt``.
+
+    Evaluated once per point and kept on it (``pt.observed``): the continuation loop's step guard
+    and the recorder read the same numbers.  ``d obs/ds = dobs/du . t_u + dobs/dp t_p``; NaN where
+    the derivative cannot be evaluated.
+    """
+    if pt.observed is None:
+        observed = {}
+        for name, derivative in problem.observable_derivatives.items():
+            fun = problem.observables.get(name)
+            if fun is None:
+                continue
+            value = float(fun(pt.u, pt.p))
+            d_u, d_p, rate = None, math.nan, math.nan
+            if pt.t_u is not None and pt.t_p is not None:
+                try:
+                    d_u, d_p = derivative(pt.u, pt.p)
+                    d_p = float(d_p)
+                    rate = float(np.dot(d_u, pt.t_u) + d_p * pt.t_p)
+                except (ValueError, TypeError, ArithmeticError):
+                    d_u, d_p, rate = None, math.nan, math.nan
+            observed[name] = (value, rate, d_u, d_p)
+        pt.observed = observed
+    return pt.observed
 
 
 def _watched(spt: SpecialPoint) -> bool:
@@ -114,10 +130,11 @@ class Recorder:
         self.t_p.append(pt.t_p)
         self.res.append(pt.residual)
         self.iters.append(pt.iterations)
+        observed = observed_rates(self.problem, pt) if self.derivatives else {}
         for name, fun in self.problem.observables.items():
-            self.obs[name].append(float(fun(pt.u, pt.p)))
-        for name, derivative in self.derivatives.items():
-            self.tangents[name].append(_rate(derivative, pt))
+            self.obs[name].append(observed[name][0] if name in observed else float(fun(pt.u, pt.p)))
+        for name in self.derivatives:
+            self.tangents[name].append(observed[name][1] if name in observed else math.nan)
         extra = 0
         if self.families:
             from .modes import family_counts  # imported here: modes imports the test functions
