@@ -380,3 +380,37 @@ def test_variable_thickness_derivatives_match_finite_differences(variant):
         assert np.max(np.abs(g - fd_gradient(s, x, part, step))) <= 1e-6 * np.max(np.abs(g)), part
         Hx = s.hessian(x, part).toarray()
         assert np.max(np.abs(Hx - fd_hessian(s, x, part, step))) <= 1e-6 * np.max(np.abs(Hx)), part
+
+
+@pytest.mark.parametrize("variant", ["reference", "current"])
+def test_fused_gradient_and_hessian_equal_the_separate_kernels(variant):
+    """The one-pass gradient + Hessian (used once a Hessian follows a gradient) gives the same numbers.
+
+    A fresh energy evaluates every gradient and Hessian with the separate kernels; the same
+    sequence on a second energy, after one gradient-then-Hessian pair, runs the fused kernels.  The
+    fused rows come from the same chain rule, so they agree to a few ulps, and a gradient-only
+    sequence must stop fusing after one unused Hessian.
+    """
+    rng = np.random.default_rng(3)
+    states = [shell(40, 0.8, variant).cap.x + 1e-3 * rng.standard_normal(80) for _ in range(3)]
+    separate = shell(40, 0.8, variant)
+    fused = shell(40, 0.8, variant)
+    fused.gradient(states[0])
+    fused.hessian(states[0])  # a Hessian followed the gradient: the next gradient fuses
+    for x in states[1:]:
+        g_ref = separate.gradient(x, "stretch") + separate.gradient(x, "bend")
+        H_ref = (separate.hessian(x, "stretch") + separate.hessian(x, "bend")).toarray()
+        g = fused.gradient(x)
+        assert fused._pair_upper is not None
+        H = fused.hessian(x).toarray()
+        assert np.allclose(g, g_ref, rtol=1e-12, atol=1e-12 * np.abs(g_ref).max())
+        assert np.allclose(H, H_ref, rtol=1e-12, atol=1e-12 * np.abs(H_ref).max())
+    # gradient only: the first gradient still fuses (the previous Hessian was asked for), the second not
+    fused.gradient(states[0])
+    assert fused._pair_upper is not None
+    fused.gradient(states[1])
+    assert fused._pair_upper is None
+    # a Hessian at another state than the last gradient's is computed afresh, not taken from the pair
+    fused.gradient(states[2])
+    H_other = fused.hessian(states[0]).toarray()
+    assert np.array_equal(H_other, separate.hessian(states[0]).toarray())

@@ -42,6 +42,7 @@ __all__ = [
     "bend_cur_fast_curvatures",
     "bend_cur_fast_energy",
     "bend_cur_fast_gradient",
+    "bend_cur_fast_gradient_hessian",
     "bend_cur_fast_hessian",
     "bend_cur_gradient",
     "bend_cur_hessian",
@@ -50,12 +51,14 @@ __all__ = [
     "bend_fast_curvatures",
     "bend_fast_energy",
     "bend_fast_gradient",
+    "bend_fast_gradient_hessian",
     "bend_fast_hessian",
     "bend_gradient",
     "bend_hessian",
     "stretch_energy",
     "stretch_fast_energy",
     "stretch_fast_gradient",
+    "stretch_fast_gradient_hessian",
     "stretch_fast_hessian",
     "stretch_fast_strains",
     "stretch_gradient",
@@ -218,6 +221,102 @@ def stretch_fast_hessian(er, ez, rs, lbar, rbar, ks, nu, out=None):
     out[8] = _c30
     del _c30
     out[9] = _c25
+    return out
+
+
+def stretch_fast_gradient_hessian(er, ez, rs, lbar, rbar, ks, nu, out=None):
+    """Gradient and Hessian of the stretching energy of one edge, pi rbar lbar ks (eps11^2 + 2 nu eps11 eps22 + eps22^2), in one pass.
+
+    Fast kernel: arguments are the local variables ``er = -r0 + r1``, ``ez = -z0 + z1``, ``rs = r0 + r1`` and the
+    parameters, arrays of one shape ``(m,)`` (parameters may be scalars).
+
+    Returns
+    -------
+    ndarray, shape ``(14, m)``
+        The 4 rows of ``stretch_fast_gradient`` followed by the 10 rows of
+        ``stretch_fast_hessian`` (written into ``out`` when given).  The two share their
+        intermediate quantities, so this costs about what the Hessian alone costs.
+    """
+    if out is None:
+        out = numpy.empty((14,) + numpy.shape(er))
+    l = numpy.sqrt(er**2 + ez**2)
+    il = (1/l)
+    c = er*il
+    s = ez*il
+    eps11 = l/lbar - 1
+    del l
+    eps22 = -1 + (1/2)*rs/rbar
+    kq = 2*numpy.pi*ks*lbar*rbar
+    kqnu = kq*nu
+    _c0 = eps11*kq + eps22*kqnu
+    _c1 = eps11*kqnu + eps22*kq
+    del eps11, eps22
+    _c2 = (1/lbar)
+    _c3 = (1/2)/rbar
+    _c4 = _c2*kq
+    _c6 = _c2*kqnu
+    del kqnu
+    _c7 = _c3*kq
+    del kq
+    _c8 = _c0*_c2
+    del _c0
+    _c9 = _c1*_c3
+    del _c1
+    _c10 = _c2*_c4
+    del _c2, _c4
+    _c11 = _c3*_c6
+    del _c6
+    _c12 = _c3*_c7
+    del _c3, _c7
+    _c13 = c**2 - s**2
+    _c14 = 2*c*s
+    _c15 = (1/2)*_c10
+    del _c10
+    _c16 = (1/2)*_c8*il
+    del il
+    _c17 = _c15 + _c16
+    _c18 = _c15 - _c16
+    del _c15, _c16
+    _c19 = _c13*_c18
+    del _c13
+    _c20 = _c8*c
+    _c21 = _c8*s
+    del _c8
+    _c22 = _c17 + _c19
+    _c23 = _c14*_c18
+    del _c14, _c18
+    _c24 = _c11*c
+    del c
+    _c25 = _c17 - _c19
+    del _c17, _c19
+    _c26 = _c11*s
+    del _c11, s
+    _c27 = 2*_c24
+    del _c24
+    _c28 = _c12 + _c22
+    _c29 = _c23 - _c26
+    _c30 = _c23 + _c26
+    del _c23, _c26
+    out[0] = -_c20 + _c9
+    out[1] = -_c21
+    out[2] = _c20 + _c9
+    del _c9, _c20
+    out[3] = _c21
+    del _c21
+    out[4] = -_c27 + _c28
+    out[5] = _c29
+    out[6] = _c12 - _c22
+    del _c12, _c22
+    out[7] = -_c29
+    del _c29
+    out[8] = _c25
+    out[9] = -_c30
+    out[10] = -_c25
+    out[11] = _c27 + _c28
+    del _c27, _c28
+    out[12] = _c30
+    del _c30
+    out[13] = _c25
     return out
 
 
@@ -598,6 +697,200 @@ def bend_fast_hessian(ar, az, br, bz, r1, lbar, rbar, k11bar, k22bar, kb, nu, ou
     out[19] = _c67
     del _c67
     out[20] = _c69
+    return out
+
+
+def bend_fast_gradient_hessian(ar, az, br, bz, r1, lbar, rbar, k11bar, k22bar, kb, nu, out=None):
+    """Gradient and Hessian of the bending energy of one interior node, kappa11 over the reference Voronoi length lbar, in one pass.
+
+    Fast kernel: arguments are the local variables ``ar = -r0 + r1``, ``az = -z0 + z1``, ``br = -r1 + r2``, ``bz = -z1 + z2``, ``r1 = r1`` and the
+    parameters, arrays of one shape ``(m,)`` (parameters may be scalars).
+
+    Returns
+    -------
+    ndarray, shape ``(27, m)``
+        The 6 rows of ``bend_fast_gradient`` followed by the 21 rows of
+        ``bend_fast_hessian`` (written into ``out`` when given).  The two share their
+        intermediate quantities, so this costs about what the Hessian alone costs.
+    """
+    if out is None:
+        out = numpy.empty((27,) + numpy.shape(ar))
+    la = numpy.sqrt(ar**2 + az**2)
+    lb = numpy.sqrt(br**2 + bz**2)
+    ila = (1/la)
+    ilb = (1/lb)
+    ca = ar*ila
+    sa = az*ila
+    cb = br*ilb
+    sb = bz*ilb
+    lab = la*lb
+    del la, lb
+    den = ar*br + az*bz + lab
+    tn = (ar*bz - az*br)/den
+    it2 = (1/2)*lab/den
+    del den, lab
+    it = numpy.sqrt(it2)
+    del it2
+    sphi = it*(sa + sb)
+    cphi = it*(ca + cb)
+    del it
+    ir = (1/r1)
+    k22 = ir*sphi
+    del sphi
+    k11 = 2*tn/lbar
+    kq = 2*numpy.pi*kb*lbar*rbar
+    kqnu = kq*nu
+    _c0 = k11 - k11bar
+    del k11
+    _c1 = k22 - k22bar
+    _c2 = (1/lbar)
+    _c3 = tn**2 + 1
+    _c4 = -_c2*_c3
+    del _c2, _c3
+    _c6 = (1/2)*cphi
+    del cphi
+    _c7 = _c6*ir
+    _c8 = -_c4*tn
+    del tn
+    _c9 = -1/4*k22
+    _c10 = ir**2
+    _c11 = -_c10*_c6
+    del _c6
+    _c12 = _c0*kq + _c1*kqnu
+    _c13 = _c0*kqnu + _c1*kq
+    del _c0, _c1
+    _c14 = ir*k22
+    del ir
+    _c15 = 2*_c10*k22
+    del _c10, k22
+    _c16 = _c4*kq
+    _c17 = _c4*kqnu
+    _c18 = _c16 + _c7*kqnu
+    _c19 = -_c16 + _c7*kqnu
+    del _c16, kqnu
+    _c21 = _c17 + _c7*kq
+    _c22 = -_c17 + _c7*kq
+    del _c17
+    _c23 = _c14*kq
+    del kq
+    _c24 = _c12*_c4
+    _c25 = _c13*_c9
+    _c26 = _c12*_c8
+    del _c8, _c12
+    _c27 = _c18*_c4 + _c26
+    del _c18
+    _c28 = _c11*_c13
+    del _c11
+    _c29 = _c13*_c7 + _c24
+    _c30 = _c13*_c7 - _c24
+    del _c24
+    _c31 = _c13*_c14
+    _c32 = _c21*_c7 + _c25 + _c27
+    _c33 = _c13*_c9 + _c21*_c7 - _c27
+    del _c9, _c27
+    _c34 = -_c14*_c21 + _c28
+    del _c21
+    _c35 = -_c19*_c4 + _c22*_c7 + _c25 + _c26
+    del _c4, _c7, _c19, _c25, _c26
+    _c36 = -_c14*_c22 + _c28
+    del _c22, _c28
+    _c37 = _c13*_c15 + _c14*_c23
+    del _c13, _c14, _c15, _c23
+    _c38 = _c29*ila
+    del _c29
+    _c39 = _c30*ilb
+    del _c30
+    _c40 = _c32*ila**2
+    del _c32
+    _c41 = _c33*ila*ilb
+    del _c33
+    _c42 = _c34*ila
+    del _c34
+    _c43 = _c35*ilb**2
+    del _c35
+    _c44 = _c36*ilb
+    del _c36
+    _c45 = _c38*sa
+    _c46 = _c39*sb
+    _c47 = sa**2
+    _c48 = 2*_c45*ca*ila
+    _c49 = ca**2
+    _c50 = _c41*sa
+    _c51 = _c41*ca
+    del _c41
+    _c52 = sb**2
+    _c53 = 2*_c46*cb*ilb
+    _c54 = cb**2
+    _c55 = _c38*ca
+    _c56 = _c39*cb
+    _c57 = _c40*_c47 + _c48
+    _c58 = _c38*ila*(_c47 - _c49) - _c40*ca*sa
+    del _c38, _c47, ila
+    _c59 = _c50*sb
+    _c60 = _c50*cb
+    del _c50
+    _c61 = _c42*sa
+    del sa
+    _c62 = _c40*_c49 - _c48
+    del _c40, _c48, _c49
+    _c63 = _c51*sb
+    _c64 = _c51*cb
+    del _c51
+    _c65 = _c42*ca
+    del _c42, ca
+    _c66 = _c43*_c52 + _c53
+    _c67 = _c39*ilb*(_c52 - _c54) - _c43*cb*sb
+    del _c39, _c52, ilb
+    _c68 = _c44*sb
+    del sb
+    _c69 = _c43*_c54 - _c53
+    del _c43, _c53, _c54
+    _c70 = _c44*cb
+    del _c44, cb
+    _c72 = _c58 + _c60
+    _c76 = _c63 + _c67
+    out[0] = _c45
+    out[1] = -_c55
+    out[2] = -_c31 - _c45 + _c46
+    del _c31, _c45
+    out[3] = _c55 - _c56
+    del _c55
+    out[4] = -_c46
+    del _c46
+    out[5] = _c56
+    del _c56
+    out[6] = _c57
+    out[7] = _c58
+    out[8] = -_c57 + _c59 + _c61
+    out[9] = -_c72
+    out[10] = -_c59
+    out[11] = _c60
+    out[12] = _c62
+    out[13] = -_c58 - _c63 - _c65
+    del _c58
+    out[14] = -_c62 + _c64
+    out[15] = _c63
+    del _c63
+    out[16] = -_c64
+    out[17] = _c37 + _c57 - 2*_c59 - 2*_c61 + _c66 + 2*_c68
+    del _c37, _c57, _c61
+    out[18] = _c65 - _c70 + _c72 + _c76
+    del _c65, _c72
+    out[19] = _c59 - _c66 - _c68
+    del _c59, _c68
+    out[20] = -_c60 - _c67 + _c70
+    del _c60, _c70
+    out[21] = _c62 - 2*_c64 + _c69
+    del _c62
+    out[22] = -_c76
+    del _c76
+    out[23] = _c64 - _c69
+    del _c64
+    out[24] = _c66
+    del _c66
+    out[25] = _c67
+    del _c67
+    out[26] = _c69
     return out
 
 
@@ -1042,6 +1335,254 @@ def bend_cur_fast_hessian(ar, az, br, bz, r1, lbar, rbar, k11bar, k22bar, kb, nu
     out[19] = _c101
     del _c101
     out[20] = _c103
+    return out
+
+
+def bend_cur_fast_gradient_hessian(ar, az, br, bz, r1, lbar, rbar, k11bar, k22bar, kb, nu, out=None):
+    """Gradient and Hessian of the bending energy of one interior node, kappa11 over the current Voronoi length (|e1|+|e2|)/2, in one pass.
+
+    Fast kernel: arguments are the local variables ``ar = -r0 + r1``, ``az = -z0 + z1``, ``br = -r1 + r2``, ``bz = -z1 + z2``, ``r1 = r1`` and the
+    parameters, arrays of one shape ``(m,)`` (parameters may be scalars).
+
+    Returns
+    -------
+    ndarray, shape ``(27, m)``
+        The 6 rows of ``bend_cur_fast_gradient`` followed by the 21 rows of
+        ``bend_cur_fast_hessian`` (written into ``out`` when given).  The two share their
+        intermediate quantities, so this costs about what the Hessian alone costs.
+    """
+    if out is None:
+        out = numpy.empty((27,) + numpy.shape(ar))
+    la = numpy.sqrt(ar**2 + az**2)
+    lb = numpy.sqrt(br**2 + bz**2)
+    ila = (1/la)
+    ilb = (1/lb)
+    ca = ar*ila
+    sa = az*ila
+    cb = br*ilb
+    sb = bz*ilb
+    lab = la*lb
+    den = ar*br + az*bz + lab
+    tn = (ar*bz - az*br)/den
+    it2 = (1/2)*lab/den
+    del den, lab
+    it = numpy.sqrt(it2)
+    del it2
+    sphi = it*(sa + sb)
+    cphi = it*(ca + cb)
+    del it
+    ir = (1/r1)
+    k22 = ir*sphi
+    del sphi
+    isum = (1/(la + lb))
+    del la, lb
+    k11 = 4*isum*tn
+    kq = 2*numpy.pi*kb*lbar*rbar
+    kqnu = kq*nu
+    _c0 = k11 - k11bar
+    _c1 = k22 - k22bar
+    _c2 = -isum*k11
+    _c3 = tn**2
+    _c4 = (1/2)*_c3 + 1/2
+    _c6 = 4*isum
+    _c7 = (1/2)*cphi
+    del cphi
+    _c8 = _c7*ir
+    _c9 = isum**2
+    _c10 = 2*_c9*k11
+    del k11
+    _c11 = 4*_c9
+    del _c9
+    _c12 = _c11*_c4
+    del _c11
+    _c14 = _c3 + 1
+    del _c3
+    _c15 = 2*isum*tn
+    del isum, tn
+    _c16 = _c14*_c15
+    del _c14, _c15
+    _c17 = -1/4*k22
+    _c18 = ir**2
+    _c19 = -_c18*_c7
+    del _c7
+    _c20 = _c0*kq + _c1*kqnu
+    _c21 = _c0*kqnu + _c1*kq
+    del _c0, _c1
+    _c22 = _c4*_c6
+    del _c4, _c6
+    _c23 = ir*k22
+    del ir
+    _c24 = 2*_c18*k22
+    del _c18, k22
+    _c25 = _c2*kq
+    _c26 = _c22*kq
+    _c27 = _c2*kqnu
+    _c28 = _c22*kqnu
+    _c29 = -_c26 + _c8*kqnu
+    _c30 = _c26 + _c8*kqnu
+    del _c26, kqnu
+    _c32 = -_c28 + _c8*kq
+    _c33 = _c28 + _c8*kq
+    del _c28
+    _c34 = _c23*kq
+    del kq
+    _c35 = _c2*_c20
+    _c36 = _c20*_c22
+    _c37 = _c10*_c20 + _c2*_c25
+    del _c10
+    _c38 = _c12*_c20
+    del _c12
+    _c39 = _c27*_c8
+    _c40 = _c22*_c25
+    del _c25
+    _c41 = -_c38 + _c39 + _c40
+    _c42 = -_c23*_c27
+    del _c27
+    _c43 = _c16*_c20
+    del _c16, _c20
+    _c44 = _c22*_c29
+    _c45 = _c17*_c21
+    del _c17
+    _c46 = _c32*_c8 + _c45
+    _c47 = _c19*_c21
+    del _c19
+    _c48 = _c21*_c8 - _c36
+    _c49 = _c21*_c8 + _c36
+    del _c36
+    _c50 = _c21*_c23
+    _c51 = _c38 + _c39 - _c40
+    del _c39, _c40
+    _c52 = _c43 - _c44 + _c46
+    _c53 = _c2*_c29 + _c38
+    del _c2, _c29, _c38
+    _c54 = -_c43 + _c44 + _c46
+    del _c44, _c46
+    _c55 = -_c23*_c32 + _c47
+    del _c32
+    _c56 = _c22*_c30 + _c33*_c8 + _c43 + _c45
+    del _c8, _c22, _c30, _c43, _c45
+    _c57 = -_c23*_c33 + _c47
+    del _c33, _c47
+    _c58 = _c21*_c24 + _c23*_c34
+    del _c21, _c23, _c24, _c34
+    _c59 = _c41*ilb
+    del _c41
+    _c60 = _c48*ila
+    del _c48
+    _c61 = _c49*ilb
+    del _c49
+    _c62 = _c51*ila
+    del _c51
+    _c63 = _c52*ila**2
+    del _c52
+    _c64 = _c53*ila
+    del _c53
+    _c65 = _c54*ila*ilb
+    del _c54
+    _c66 = _c55*ila
+    del _c55
+    _c67 = _c56*ilb**2
+    del _c56
+    _c68 = _c57*ilb
+    del _c57
+    _c69 = ca**2 - sa**2
+    _c70 = 2*ca*sa
+    _c71 = (1/2)*_c35*ila + (1/2)*_c63
+    del _c63
+    _c72 = (1/2)*_c37 + _c71
+    _c73 = (1/2)*_c37 - _c71
+    del _c71
+    _c74 = _c60*ila - _c62
+    del _c62, ila
+    _c75 = _c69*_c73 + _c70*_c74
+    _c76 = cb**2 - sb**2
+    _c77 = 2*cb*sb
+    _c78 = (1/2)*_c35*ilb + (1/2)*_c67
+    del _c67
+    _c79 = (1/2)*_c37 + _c78
+    _c80 = (1/2)*_c37 - _c78
+    del _c78
+    _c81 = -_c59 + _c61*ilb
+    del ilb
+    _c82 = _c76*_c80 + _c77*_c81
+    _c83 = _c37*cb - _c59*sb
+    _c84 = _c37*sb + _c59*cb
+    del _c37, _c59
+    _c85 = _c64*cb - _c65*sb
+    _c86 = _c64*sb + _c65*cb
+    del _c64, _c65
+    _c87 = _c35*ca - _c60*sa
+    _c88 = _c35*sa + _c60*ca
+    del _c60
+    _c89 = _c35*cb - _c61*sb
+    _c90 = _c35*sb + _c61*cb
+    del _c35, _c61
+    _c91 = _c72 + _c75
+    _c92 = -_c69*_c74 + _c70*_c73
+    del _c69, _c70, _c73, _c74
+    _c93 = _c83*ca - _c85*sa
+    _c94 = _c84*ca - _c86*sa
+    _c95 = _c42*ca - _c66*sa
+    _c96 = _c72 - _c75
+    del _c72, _c75
+    _c97 = _c83*sa + _c85*ca
+    del _c83, _c85
+    _c98 = _c84*sa + _c86*ca
+    del _c84, _c86
+    _c99 = _c42*sa + _c66*ca
+    del _c66, ca, sa
+    _c100 = _c79 + _c82
+    _c101 = -_c76*_c81 + _c77*_c80
+    del _c76, _c77, _c80, _c81
+    _c102 = _c42*cb - _c68*sb
+    _c103 = _c79 - _c82
+    del _c79, _c82
+    _c104 = _c42*sb + _c68*cb
+    del _c42, _c68, cb, sb
+    _c108 = _c92 - _c94
+    _c111 = _c101 - _c97
+    out[0] = -_c87
+    out[1] = -_c88
+    out[2] = -_c50 + _c87 - _c89
+    del _c50, _c87
+    out[3] = _c88 - _c90
+    del _c88
+    out[4] = _c89
+    del _c89
+    out[5] = _c90
+    del _c90
+    out[6] = _c91
+    out[7] = _c92
+    out[8] = -_c91 + _c93 - _c95
+    out[9] = -_c108
+    out[10] = -_c93
+    out[11] = -_c94
+    out[12] = _c96
+    out[13] = -_c92 + _c97 - _c99
+    del _c92
+    out[14] = -_c96 + _c98
+    out[15] = -_c97
+    del _c97
+    out[16] = -_c98
+    out[17] = _c100 - 2*_c102 + _c58 + _c91 - 2*_c93 + 2*_c95
+    del _c58, _c91, _c95
+    out[18] = -_c104 + _c108 + _c111 + _c99
+    del _c99, _c108
+    out[19] = -_c100 + _c102 + _c93
+    del _c93, _c102
+    out[20] = -_c101 + _c104 + _c94
+    del _c94, _c104
+    out[21] = _c103 + _c96 - 2*_c98
+    del _c96
+    out[22] = -_c111
+    del _c111
+    out[23] = -_c103 + _c98
+    del _c98
+    out[24] = _c100
+    del _c100
+    out[25] = _c101
+    del _c101
+    out[26] = _c103
     return out
 
 

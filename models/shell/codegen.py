@@ -82,7 +82,9 @@ For every element (``<name>`` = ``stretch``, ``bend``, ``bend_cur``):
   ``<name>_fast_energy`` (shape ``(m,)``), ``<name>_fast_gradient`` (*packed*: shape
   ``(ndof, m)``, derivatives with respect to the node coordinates), ``<name>_fast_hessian``
   (*packed*: shape ``(ndof (ndof + 1) / 2, m)``, the upper triangle ``a <= b`` row by row, the
-  pairs in ``UPPER[name]``) and ``<name>_fast_<strains>``;
+  pairs in ``UPPER[name]``), ``<name>_fast_gradient_hessian`` (the gradient's rows, then the
+  Hessian's, from one body: the engine asks for both at almost every state) and
+  ``<name>_fast_<strains>``;
 * convenience versions with the node coordinates as arguments, broadcasting over all arguments
   and with unpacked outputs: ``<name>_energy`` (``(m,)``), ``<name>_gradient`` (``(m, ndof)``),
   ``<name>_hessian`` (``(m, ndof, ndof)``) and the strain helper (``stretch_strains`` /
@@ -628,13 +630,18 @@ def _emit_fast_energy(el: Element, printer: NumPyPrinter) -> list[str]:
             + ["    return _e"])
 
 
-def _cheapest_chain(el: Element, hessian: bool, printer: NumPyPrinter) -> tuple[KernelBody, list[sp.Expr]]:
-    """The chain rule with and without the rotation form; the variant with fewer operations."""
+def _cheapest_chain(el: Element, hessian: bool, printer: NumPyPrinter,
+                    with_gradient: bool = False) -> tuple[KernelBody, list[sp.Expr]]:
+    """The chain rule with and without the rotation form; the variant with fewer operations.
+
+    The rows are the gradient, or the packed Hessian, or (``with_gradient``) the gradient's rows
+    followed by the Hessian's, sharing one body.
+    """
     best = None
     for structured in (True, False):
         body = KernelBody()
         g, H = _chain(el, body, hessian=hessian, structured=structured)
-        rows = body.reduce(H if hessian else g)
+        rows = body.reduce((list(g) + H if with_gradient else H) if hessian else g)
         lines = body.lines(el.prelude + el.moduli, rows, printer) + [printer.doprint(e) for e in rows]
         cost = count_operations(lines)
         if best is None or cost < best[0]:
@@ -662,6 +669,18 @@ def _emit_fast_hessian(el: Element, printer: NumPyPrinter) -> list[str]:
         f"    ``(a, b)``, ``a <= b``, row by row (``UPPER[{el.name!r}]``; written into ``out`` when",
         "    given)."]
     return _emit_rows(el, "hessian", rows, body, doc, printer)
+
+
+def _emit_fast_gradient_hessian(el: Element, printer: NumPyPrinter) -> list[str]:
+    n = len(el.dofs)
+    body, rows = _cheapest_chain(el, True, printer, with_gradient=True)
+    dofs = ", ".join(str(q) for q in el.dofs)
+    doc = _fast_doc(el, f"Gradient and Hessian of the {el.doc}, in one pass.") + [
+        "", "Returns", "-------", f"ndarray, shape ``({len(rows)}, m)``",
+        f"    The {n} rows of ``{el.name}_fast_gradient`` followed by the {len(rows) - n} rows of",
+        f"    ``{el.name}_fast_hessian`` (written into ``out`` when given).  The two share their",
+        "    intermediate quantities, so this costs about what the Hessian alone costs."]
+    return _emit_rows(el, "gradient_hessian", rows, body, doc, printer)
 
 
 def _emit_fast_strains(el: Element, printer: NumPyPrinter) -> list[str]:
@@ -764,7 +783,8 @@ def generate_source() -> str:
     for el in elements:
         el.check_names()
         emitters = ((_emit_fast_energy, "fast_energy"), (_emit_fast_gradient, "fast_gradient"),
-                    (_emit_fast_hessian, "fast_hessian"), (_emit_fast_strains, f"fast_{el.strains_name}"),
+                    (_emit_fast_hessian, "fast_hessian"), (_emit_fast_gradient_hessian, "fast_gradient_hessian"),
+                    (_emit_fast_strains, f"fast_{el.strains_name}"),
                     (_emit_energy, "energy"), (partial(_emit_derivative, suffix="gradient"), "gradient"),
                     (partial(_emit_derivative, suffix="hessian"), "hessian"),
                     (_emit_strains, el.strains_name))

@@ -98,6 +98,7 @@ class _Term:
         self.energy_fn = getattr(gen, f"{kernels}_fast_energy")
         self.gradient_fn = getattr(gen, f"{kernels}_fast_gradient")
         self.hessian_fn = getattr(gen, f"{kernels}_fast_hessian")
+        self.gradient_hessian_fn = getattr(gen, f"{kernels}_fast_gradient_hessian")
         self.dofs = dofs  # (m, ndof) global indices, increasing along each row
         assert np.all(np.diff(dofs, axis=1) > 0)
         self.m, self.ndof = dofs.shape
@@ -116,13 +117,17 @@ class _Block:
     the block touches (so that each ``bincount`` only spans the block's own range).
     """
 
-    def __init__(self, parts: list[tuple[str, _Term, slice]], upper_slot) -> None:
+    def __init__(self, parts: list[tuple[str, _Term, slice]], upper_slot, n: int) -> None:
         self.parts = [(name, term, sl, tuple(p[sl] if np.ndim(p) else p for p in term.params))
                       for name, term, sl in parts]
-        self.grad = self._slots([(name, t.dofs[sl].T.ravel()) for name, t, sl in parts])
-        self.hess = self._slots([(name, upper_slot(t.dofs[sl][:, t.pairs[:, 0]].T.ravel(),
-                                                   t.dofs[sl][:, t.pairs[:, 1]].T.ravel()))
-                                 for name, t, sl in parts])
+        grad = [(name, t.dofs[sl].T.ravel()) for name, t, sl in parts]
+        hess = [(name, upper_slot(t.dofs[sl][:, t.pairs[:, 0]].T.ravel(), t.dofs[sl][:, t.pairs[:, 1]].T.ravel()))
+                for name, t, sl in parts]
+        self.grad = self._slots(grad)
+        self.hess = self._slots(hess)
+        # the fused kernels' rows (gradient, then Hessian) into one vector: the gradient, then the
+        # Hessian's upper triangle from offset n
+        self.both = self._slots([(name, np.concatenate([g, n + h])) for (name, g), (_, h) in zip(grad, hess)])
 
     @staticmethod
     def _slots(per_part: list[tuple[str, np.ndarray]]) -> dict:
@@ -250,6 +255,12 @@ class ShellEnergy:
         bend = _Term(kernels, b_dofs, _bend_local, (lbar, rbar, k11bar, k22bar, kb_param, nu))
         self._terms = {"stretch": stretch, "bend": bend}  # the order of the packed outputs
         self._build_pattern()
+        # gradient and Hessian in one pass (see gradient()): the state of the last full gradient,
+        # its Hessian's upper triangle when it was computed with it, and whether a Hessian was
+        # asked for at that state
+        self._pair_state: np.ndarray | None = None
+        self._pair_upper: np.ndarray | None = None
+        self._pair_wanted = False
 
     # ---- sparsity pattern and blocks ------------------------------------------------------------
     def _build_pattern(self) -> None:
@@ -277,7 +288,7 @@ class ShellEnergy:
 
         m = max(t.m for t in terms.values())
         self._blocks = [_Block([(name, t, slice(lo, min(lo + _CHUNK, t.m))) for name, t in terms.items()
-                                if lo < t.m], upper_slot)
+                                if lo < t.m], upper_slot, n)
                         for lo in range(0, m, _CHUNK)]
 
     def _local(self, x: np.ndarray, part: str | None) -> dict:
@@ -297,8 +308,8 @@ class ShellEnergy:
                 buf = np.empty(slots.size)
             start = 0
             for term, loc, params, k in block.arguments(local, part):
-                rows = term.ndof if kind == "grad" else term.npk
-                fn = term.gradient_fn if kind == "grad" else term.hessian_fn
+                rows, fn = {"grad": (term.ndof, term.gradient_fn), "hess": (term.npk, term.hessian_fn),
+                            "both": (term.ndof + term.npk, term.gradient_hessian_fn)}[kind]
                 fn(*loc, *params, out=buf[start:start + rows * k].reshape(rows, k))
                 start += rows * k
             if len(self._blocks) == 1 and lo == 0 and hi == size:
@@ -375,7 +386,22 @@ class ShellEnergy:
         ndarray, shape ``(2 N,)``
         """
         self._check_part(part)
-        return self._scatter(x, part, "grad", self.n)
+        if part is not None:
+            return self._scatter(x, part, "grad", self.n)
+        # A solver asks for the Hessian at almost every state whose gradient it asked for (Newton's
+        # residual, then its Jacobian); the fused kernels give both for about the Hessian's cost
+        # (measured at N = 200: 0.16 ms against 0.04 + 0.12 + twice the geometry and the scatter).
+        # They run when the previous full gradient was followed by a Hessian at its state, so that
+        # a gradient-only caller (a line search, relaxation) pays for at most one unused Hessian.
+        x = self._check(x)
+        fuse, self._pair_wanted = self._pair_wanted, False
+        self._pair_state = x.copy()
+        if not fuse:
+            self._pair_upper = None
+            return self._scatter(x, None, "grad", self.n)
+        both = self._scatter(x, None, "both", self.n + self._n_upper)
+        self._pair_upper = both[self.n:]
+        return both[:self.n]
 
     def hessian(self, x: np.ndarray, part: Literal["stretch", "bend"] | None = None) -> sp.csr_matrix:
         """Exact Hessian of :meth:`energy` (same parameters ``x`` and ``part``) in a fixed banded CSR pattern.
@@ -387,7 +413,13 @@ class ShellEnergy:
             the same for every ``x`` and ``part`` (entries of an omitted part are stored zeros).
         """
         self._check_part(part)
-        data = self._scatter(x, part, "hess", self._n_upper).take(self._full_from_upper)
+        upper = None
+        if part is None and self._pair_state is not None and np.array_equal(x, self._pair_state):
+            self._pair_wanted = True
+            upper = self._pair_upper
+        if upper is None:
+            upper = self._scatter(x, part, "hess", self._n_upper)
+        data = upper.take(self._full_from_upper)
         return sp.csr_matrix((data, self._indices.copy(), self._indptr.copy()), shape=(self.n, self.n))
 
     def strains(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
