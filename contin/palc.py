@@ -368,6 +368,12 @@ def _step(curve: Curve, previous: Point | None, current: Point, ds: float) -> tu
     """
     start = quadratic_predictor(previous, current, ds) if previous is not None else None
     c = correct(curve, current, ds, start=start)
+    # The corrector's last linearization, one small update from the point, is good enough for the
+    # path's own tangent (predictor, orientation, the signs that detect special points); locating
+    # them takes tangents linearized at the points themselves (Segment.tangent).  Fresh tangents here
+    # too were measured: no faster, and the arch under a load-dominated metric
+    # (tests/test_branch_point_weights.py, param_weight 1e3 with ds_max 5e2) then turned back at its
+    # near-coincident fold and branch point, 3e-8 apart in the load.
     t_u, t_p, det_sign = curve.tangent(c.u, c.p, current.t_u, current.t_p, lin=c.linearization)
     cos_turn = curve.inner(t_u, t_p, current.t_u, current.t_p)
     if cos_turn < curve.settings.min_tangent_cos:

@@ -14,7 +14,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .corrector import correct
-from .curve import CorrectorFailure, Curve, Linearization, Point
+from .curve import CorrectorFailure, Curve, Point
 
 __all__ = ["Segment", "bracketed_root"]
 
@@ -26,7 +26,6 @@ class Segment:
         self.curve, self.A, self.B = curve, A, B
         self.sigma_B = curve.inner(A.t_u, A.t_p, B.u - A.u, B.p - A.p)
         self._cache: dict[float, tuple[np.ndarray, float, float]] = {}
-        self._linearization: dict[int, Linearization | None] = {}
 
     def interpolate(self, sigma: float) -> tuple[np.ndarray, float]:
         """Cubic Hermite interpolant through A and B (values and tangents) at hyperplane distance ``sigma``.
@@ -60,15 +59,16 @@ class Segment:
             except CorrectorFailure:
                 c = correct(self.curve, A, sigma, max_iter=20)
             out = (c.u, c.p, c.residual)
-            # the corrector's last linearization is one small update from the point: reuse it for the tangent
-            self._linearization[id(c.u)] = c.linearization
         self._cache[sigma] = out
         return out
 
     def tangent(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
         """Unit tangent at a point returned by :meth:`point`, oriented like A's."""
-        lin = self._linearization.get(id(u))
-        t_u, t_p, _ = self.curve.tangent(u, p, self.A.t_u, self.A.t_p, lin=lin)
+        # linearized at the point itself, not taken from the corrector's last linearization (an update
+        # away): a test function built on the tangent (an observable's rate along the curve) must not
+        # carry that update as an error, which moved located extrema by up to 1e-7 of the length
+        # scale (tests/test_located_extrema.py); the model's Jacobian there is mostly cached
+        t_u, t_p, _ = self.curve.tangent(u, p, self.A.t_u, self.A.t_p)
         return t_u, t_p
 
     def root(self, fun: Callable[[float], float], f_A: float, f_B: float, rtol: float, ftol: float = 0.0) -> float:
