@@ -170,11 +170,15 @@ class PoleMirror:
     def gradient_hessian(self, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
         """Gradient (3,) and Hessian (3, 3) in the local variables ``(r_{N-2}, z_{N-2}, z_{N-1})``."""
         k, g, H = self.curvature(a, b)
-        B = k - self.kappa_bar
-        g_ab = 2.0 * self.K * B * g
-        H_ab = 2.0 * self.K * (np.outer(g, g) + B * H)
-        T = self._T
-        return T.T @ g_ab, T.T @ H_ab @ T
+        c, B = 2.0 * self.K, k - self.kappa_bar
+        (ka, kb_), ((kaa, kab), (_, kbb)) = g.tolist(), H.tolist()
+        # T^T g and T^T H T with T = _T (a = r_{N-2}, b = z_{N-1} - z_{N-2}), written out in floats:
+        # the pole element is evaluated with every gradient and Hessian, and small-array numpy
+        # operations cost more than the arithmetic
+        ga, gb = c * B * ka, c * B * kb_
+        haa, hab, hbb = c * (ka * ka + B * kaa), c * (ka * kb_ + B * kab), c * (kb_ * kb_ + B * kbb)
+        return (np.array([ga, -gb, gb]),
+                np.array([[haa, -hab, hab], [-hab, hbb, -hbb], [hab, -hbb, hbb]]))
 
 
 def csr_slots(A: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
