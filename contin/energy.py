@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .linalg import BANDED_FRACTION, DENSE_LIMIT, BandedLU, Factorization, factorize
+from .linalg import BANDED_FRACTION, DENSE_LIMIT, BandedLU, Factorization, FixedPattern, factorize
 from .problem import Problem
 
 __all__ = ["EnergyProblem", "GradientProblem", "column_groups", "detect_pattern"]
@@ -180,8 +180,7 @@ class EnergyProblem(Problem):
         keys, slot = np.unique(rows * n + cols, return_inverse=True)  # sorted: row-major, the CSR order
         self._slot = slot[:rows.size - n]  # the diagonal entries only shape the pattern
         self._nnz = keys.size
-        self._indices = keys % n
-        self._indptr = np.searchsorted(keys // n, np.arange(n + 1)).astype(np.int64)
+        self._csr_pattern = FixedPattern(keys % n, np.searchsorted(keys // n, np.arange(n + 1)).astype(np.int64), (n, n))
         self.bandwidth = int(np.max(np.abs(keys // n - keys % n), initial=0))
         self._banded = n > DENSE_LIMIT and 2 * self.bandwidth + 1 <= max(BANDED_FRACTION * n, 8)
 
@@ -203,7 +202,7 @@ class EnergyProblem(Problem):
         return self._csr(np.ones(self._nnz))
 
     def _csr(self, data: Array) -> sp.csr_matrix:
-        return sp.csr_matrix((data, self._indices.copy(), self._indptr.copy()), shape=(self.n, self.n))
+        return self._csr_pattern.matrix(data)
 
     # ---- assembly --------------------------------------------------------------------------------
     def _vector(self, kind: str, u: Array, p: float) -> Array:

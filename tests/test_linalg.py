@@ -208,3 +208,31 @@ def test_band_inertia_declines_a_zero_pivot() -> None:
     ab[1, 1] = 0.0  # pivot 2 is -1: counted, and the rest resumes
     A = SymmetricBand(ab).toarray()
     assert SymmetricBand(ab).inertia()[0] == int(np.count_nonzero(np.linalg.eigvalsh(A) < 0)) == 1
+
+
+def test_fixed_pattern_matrices_equal_scipy_ones_and_keep_their_pattern():
+    from contin.linalg import FixedPattern
+
+    rng = np.random.default_rng(5)
+    A = sp.random(30, 30, density=0.2, format="csr", random_state=5)
+    A.sum_duplicates()
+    pattern = FixedPattern(A.indices, A.indptr, A.shape)
+    x = rng.standard_normal(30)
+    for _ in range(2):
+        data = rng.standard_normal(A.nnz)
+        M = pattern.matrix(data)
+        ref = sp.csr_matrix((data, A.indices.copy(), A.indptr.copy()), shape=A.shape)
+        assert np.array_equal(M.toarray(), ref.toarray())
+        assert np.allclose(M @ x, ref @ x) and np.allclose(M.T @ x, ref.T @ x)
+    # a structural change in place would corrupt every matrix of the pattern: it raises instead
+    M = pattern.matrix(np.zeros(A.nnz))
+    with pytest.raises(ValueError):
+        M.eliminate_zeros()
+    assert pattern.matrix(np.ones(A.nnz)).nnz == A.nnz
+    with pytest.raises(ValueError, match="shape"):
+        pattern.matrix(np.ones(A.nnz + 1))
+    unsorted = A.indices.copy()
+    unsorted[A.indptr[0]:A.indptr[1]] = unsorted[A.indptr[0]:A.indptr[1]][::-1]
+    if A.indptr[1] - A.indptr[0] > 1:
+        with pytest.raises(ValueError, match="canonical"):
+            FixedPattern(unsorted, A.indptr, A.shape)

@@ -54,6 +54,8 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
+from contin.linalg import FixedPattern
+
 from . import _generated as gen
 from .geometry import ReferenceCap
 
@@ -279,8 +281,9 @@ class ShellEnergy:
         rows, cols = np.divmod(full, n)
         self._full_from_upper = np.searchsorted(upper, np.minimum(rows, cols) * n + np.maximum(rows, cols))
         self._n_upper = upper.size
-        self._indices = cols.astype(np.int32)
-        self._indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
+        self._pattern = FixedPattern(cols.astype(np.int32),
+                                     np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32),
+                                     (n, n))
         self._nnz = full.size
 
         def upper_slot(i, j):
@@ -420,7 +423,7 @@ class ShellEnergy:
         if upper is None:
             upper = self._scatter(x, part, "hess", self._n_upper)
         data = upper.take(self._full_from_upper)
-        return sp.csr_matrix((data, self._indices.copy(), self._indptr.copy()), shape=(self.n, self.n))
+        return self._pattern.matrix(data)
 
     def strains(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Stretching strains of every edge.

@@ -73,7 +73,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from contin.deadload import DeadLoad
-from contin.linalg import BandedLU, Factorization
+from contin.linalg import BandedLU, Factorization, FixedPattern
 from contin.problem import LeadingBlock, Problem
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
@@ -202,13 +202,11 @@ class SubMatrix:
         sub = tagged[idx][:, idx].tocsr()
         sub.sort_indices()
         self.take = sub.data.astype(np.int64) - 1
-        self.indices = sub.indices.copy()
-        self.indptr = sub.indptr.copy()
-        self.shape = sub.shape
+        self.pattern = FixedPattern(sub.indices, sub.indptr, sub.shape)
+        self.indices, self.indptr, self.shape = self.pattern.indices, self.pattern.indptr, self.pattern.shape
 
     def __call__(self, H: sp.csr_matrix) -> sp.csr_matrix:
-        return sp.csr_matrix((H.data[self.take], self.indices.copy(), self.indptr.copy()),
-                             shape=self.shape)
+        return self.pattern.matrix(H.data[self.take])
 
 
 class ShellPointLoad(Problem):
