@@ -191,6 +191,26 @@ class FixedPattern:
         return A
 
 
+#: The band positions of the last few patterns seen by :func:`to_banded`, by the identity of their
+#: read-only index arrays (the matrices of a :class:`FixedPattern` share them, and they cannot change).
+_BAND_POSITIONS: list[tuple[np.ndarray, np.ndarray, tuple[int, int, int], np.ndarray]] = []
+
+
+def _band_positions(A, kl: int, ku: int, extra_rows: int) -> np.ndarray:
+    """Flat positions in band storage of the stored entries of the canonical CSR matrix ``A``."""
+    key = (kl, ku, extra_rows)
+    for indices, indptr, k, positions in _BAND_POSITIONS:
+        if indices is A.indices and indptr is A.indptr and k == key:
+            return positions
+    n = A.shape[0]
+    rows = np.repeat(np.arange(n), np.diff(A.indptr))
+    positions = (extra_rows + ku + rows - A.indices) * n + A.indices
+    if not (A.indices.flags.writeable or A.indptr.flags.writeable):
+        _BAND_POSITIONS.insert(0, (A.indices, A.indptr, key, positions))
+        del _BAND_POSITIONS[4:]
+    return positions
+
+
 def to_banded(A, kl: int, ku: int, extra_rows: int = 0) -> np.ndarray:
     """Copy ``A`` into LAPACK band storage with ``extra_rows`` leading zero rows (``kl`` for gbtrf)."""
     n = A.shape[0]
@@ -210,8 +230,7 @@ def to_banded(A, kl: int, ku: int, extra_rows: int = 0) -> np.ndarray:
         return ab
     if sp.issparse(A) and A.format == "csr" and A.has_canonical_format:
         # no duplicate entries: a plain scatter (np.add.at is several times slower)
-        rows = np.repeat(np.arange(n), np.diff(A.indptr))
-        ab[extra_rows + ku + rows - A.indices, A.indices] = A.data
+        ab.flat[_band_positions(A, kl, ku, extra_rows)] = A.data
         return ab
     coo = A.tocoo() if sp.issparse(A) else sp.coo_matrix(np.asarray(A))
     np.add.at(ab, (extra_rows + ku + coo.row - coo.col, coo.col), coo.data)

@@ -236,3 +236,18 @@ def test_fixed_pattern_matrices_equal_scipy_ones_and_keep_their_pattern():
     if A.indptr[1] - A.indptr[0] > 1:
         with pytest.raises(ValueError, match="canonical"):
             FixedPattern(unsorted, A.indptr, A.shape)
+
+
+def test_to_banded_of_fixed_pattern_matrices_uses_the_right_positions():
+    """The band positions cached for a fixed pattern give the band of each new matrix, not an old one."""
+    from contin.linalg import FixedPattern, to_banded
+
+    n = 40
+    A = sp.diags([np.ones(n - 2), np.ones(n - 1), np.ones(n), np.ones(n - 1)], [-2, -1, 0, 1], format="csr")
+    pattern = FixedPattern(A.indices, A.indptr, A.shape)
+    rng = np.random.default_rng(1)
+    for _ in range(3):
+        data = rng.standard_normal(A.nnz)
+        ref = sp.csr_matrix((data, A.indices.copy(), A.indptr.copy()), shape=A.shape)
+        for extra in (0, 2):
+            assert np.array_equal(to_banded(pattern.matrix(data), 2, 1, extra), to_banded(ref, 2, 1, extra))
