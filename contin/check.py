@@ -345,7 +345,7 @@ def _soft_direction(F: Any, rng: np.random.Generator, n: int) -> np.ndarray | No
             v /= max(float(np.max(np.abs(v))), 1e-300)
     except (SingularMatrixError, np.linalg.LinAlgError, ValueError):
         return None
-    return v if np.all(np.isfinite(v)) else None
+    return v if np.isfinite(v).all() else None
 
 
 def _prepare(problem: Problem, u, p: float) -> tuple[np.ndarray, float, Any, np.ndarray, Any, float, float]:

@@ -250,7 +250,7 @@ class Curve:
         """``(J, df/dp, F)`` at ``(u, p)``; ``F`` is None when the model's factorization fails."""
         J = self.problem.checked_jacobian(u, p)
         fp = self.problem.dresidual_dp(u, p)
-        if not np.all(np.isfinite(fp)):
+        if not np.isfinite(fp).all():
             raise NonFiniteError(f"df/dp of {self.problem.name!r} is not finite at p = {p!r}")
         try:
             F = self.problem.factorize(J)

@@ -43,7 +43,7 @@ def inverse_iteration(J: Any, F: Any, n: int, start: np.ndarray | None = None, t
             y, _ = M.solve(x, trans=trans)
         except (SingularMatrixError, np.linalg.LinAlgError):
             break
-        if not np.all(np.isfinite(y)) or not np.any(y):
+        if not np.isfinite(y).all() or not np.any(y):
             break
         x = y / np.linalg.norm(y)
     return x / np.linalg.norm(x)

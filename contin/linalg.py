@@ -92,7 +92,7 @@ class Factorization:
         raise NotImplementedError
 
     def _check(self, x: np.ndarray) -> np.ndarray:
-        if not np.all(np.isfinite(x)):
+        if not np.isfinite(x).all():
             raise SingularMatrixError("linear solve produced non-finite values (singular matrix)")
         return x
 
@@ -587,7 +587,7 @@ class BorderedSolver:
                 S = self.D - self.C @ X
             S_lu = None
             if self.k:
-                if not np.all(np.isfinite(S)):
+                if not np.isfinite(S).all():
                     raise SingularMatrixError("the Schur complement of the bordered system is not finite")
             if self.k == 1:  # one border (a continuation step): the Schur complement is a number
                 if S[0, 0] == 0.0:

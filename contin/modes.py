@@ -377,7 +377,7 @@ def _subspace_near_zero(H: Any, k: int, start: np.ndarray | None = None) -> tupl
             Y = np.asarray(solve(X))
         except (SingularMatrixError, np.linalg.LinAlgError):
             return None, None
-        if not np.all(np.isfinite(Y)):
+        if not np.isfinite(Y).all():
             return None, None
         Q, _ = np.linalg.qr(Y)
         HQ = H @ Q

@@ -524,7 +524,7 @@ def branch_point_scales(u: np.ndarray, p: float, *directions: Any,
         if x is None:
             continue
         x = np.asarray(x, dtype=float)
-        if x.size == n + 1 and np.all(np.isfinite(x)) and x[n] != 0.0:
+        if x.size == n + 1 and np.isfinite(x).all() and x[n] != 0.0:
             sens = max(sens, float(np.sqrt(np.mean(x[:n] ** 2))) / abs(float(x[n])))
     return scales_from_sensitivity(u, p, sens, reference)
 

@@ -446,7 +446,7 @@ class Problem:
         """Residual, raising :class:`NonFiniteError` instead of returning NaN or inf."""
         with np.errstate(all="ignore"):
             r = self.residual(u, p)
-        if not np.all(np.isfinite(r)):
+        if not np.isfinite(r).all():
             raise NonFiniteError(f"residual of {self.name!r} is not finite at p = {p!r}")
         return r
 
@@ -455,7 +455,7 @@ class Problem:
         with np.errstate(all="ignore"):
             J = self.jacobian(u, p)
         data = J.data if sp.issparse(J) else np.asarray(J)
-        if not np.all(np.isfinite(data)):
+        if not np.isfinite(data).all():
             raise NonFiniteError(f"Jacobian of {self.name!r} is not finite at p = {p!r}")
         return J
 

@@ -197,7 +197,7 @@ def pivot_free_ldlt(H) -> tuple[np.ndarray, Any] | None:
     if lu.L.nnz and float(np.max(np.abs(lu.L.data))) > LDL_GROWTH_LIMIT:
         return None
     d = lu.U.diagonal()
-    if not np.all(np.isfinite(d)) or np.any(d == 0.0):
+    if not np.isfinite(d).all() or np.any(d == 0.0):
         return None
     return d, lu
 

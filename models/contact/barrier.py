@@ -715,7 +715,7 @@ class ContactBarrier:
         if x.ndim != 1 or x.size % 2 or x.size == 0:
             raise ValueError(f"ContactBarrier: {what} must be the interleaved state [r_0, z_0, ...] "
                              f"of even length, got shape {x.shape}")
-        if not np.all(np.isfinite(x)):
+        if not np.isfinite(x).all():
             bad = int(np.flatnonzero(~np.isfinite(x))[0])
             raise ValueError(f"ContactBarrier: {what} is not finite (entry {bad} = {x[bad]!r})")
         return x, x[0::2], x[1::2]
@@ -763,7 +763,7 @@ class ContactBarrier:
         ds = self._dist(*cells.points(r, z), c)
         if not np.all(ds > 0):
             bad = np.flatnonzero(~(ds > 0))
-            s = int(bad[np.argmin(ds[bad])]) if np.all(np.isfinite(ds[bad])) else int(bad[0])
+            s = int(bad[np.argmin(ds[bad])]) if np.isfinite(ds[bad]).all() else int(bad[0])
             i = int(cells.cell[s])
             raise ValueError(
                 f"ContactBarrier: node {i} at (r, z) = ({r[i]:.17g}, {z[i]:.17g}) is not outside the "
@@ -996,7 +996,7 @@ class ContactBarrier:
         else:
             e, g = self._energy(rs, zs, c, *self._params, self.K, self.dhat), \
                 self._gradient(rs, zs, c, *self._params, self.K, self.dhat)
-        if not (np.all(np.isfinite(g)) and (not hessian or np.all(np.isfinite(h)))):
+        if not (np.isfinite(g).all() and (not hessian or np.isfinite(h).all())):
             # only for d so small (d / dhat < ~1e-150) that W'' overflows; never return inf
             bad = int(cell_of[np.argmin(self._dist(rs, zs, c))])
             raise ValueError(f"ContactBarrier: node {bad}'s cell is too close to the {self.indenter.name} indenter "

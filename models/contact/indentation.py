@@ -336,7 +336,7 @@ class BorderedBandedLU(Factorization):
             return
         y = self._band_solve(self.b, False)
         s = self.d - float(self.c @ y)
-        if not (np.all(np.isfinite(y)) and math.isfinite(s)):
+        if not (np.isfinite(y).all() and math.isfinite(s)):
             self._use_sparse("the leading block's solve overflowed")
             return
         self._y, self._yT = y, None
@@ -374,7 +374,7 @@ class BorderedBandedLU(Factorization):
         return np.vstack([x1 - np.outer(y, z), z[None, :]])
 
     def _backward_ok(self, x: np.ndarray, rhs: np.ndarray, trans: bool) -> tuple[bool, np.ndarray]:
-        if not np.all(np.isfinite(x)):
+        if not np.isfinite(x).all():
             return False, rhs
         r = rhs - ((self.J.T @ x) if trans else (self.J @ x))
         bound = self.refine_tol * (self._J_norm * np.max(np.abs(x), initial=0.0) + np.max(np.abs(rhs), initial=0.0))
@@ -389,7 +389,7 @@ class BorderedBandedLU(Factorization):
             with np.errstate(all="ignore"):
                 x = self._block_solve(rhs, trans)
                 ok, r = self._backward_ok(x, rhs, trans)
-                if not ok and np.all(np.isfinite(x)):
+                if not ok and np.isfinite(x).all():
                     if self.stats is not None:
                         self.stats["refined"] = self.stats.get("refined", 0) + 1
                     x = x + self._block_solve(r, trans)

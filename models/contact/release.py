@@ -119,7 +119,7 @@ class _GapCurve:
                 break
             lu, _, _ = self._system(u, w_b)
             step = lu.solve(-np.append(P.residual(u, w_b), gap - x))
-            if not np.all(np.isfinite(step)):
+            if not np.isfinite(step).all():
                 raise ReleaseFoldError(f"gap-constrained Newton at x = {x:.6g}: non-finite step")
             du, dw = step[:-1], float(step[-1])
             # the barrier's filter: no node may reach the indenter along the step

@@ -207,7 +207,7 @@ class ShellEnergy:
             if h_array.shape != (cap.N,):
                 raise ValueError(f"ShellEnergy: h must be a number or an array of shape (N,) = ({cap.N},), "
                                  f"got shape {h_array.shape}")
-            if not (np.all(h_array > 0) and np.all(np.isfinite(h_array))):
+            if not (np.all(h_array > 0) and np.isfinite(h_array).all()):
                 raise ValueError("ShellEnergy: h must be positive and finite at every node")
             h_array.setflags(write=False)
             h = h_array

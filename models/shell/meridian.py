@@ -451,7 +451,7 @@ class TableProfile(Segment):
             raise ValueError(f"{w}: r and z must have the same length, got {r.size} and {z.size}")
         if r.size < 4:
             raise ValueError(f"{w}: the table needs at least 4 points, got {r.size}")
-        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(z))):
+        if not (np.isfinite(r).all() and np.isfinite(z).all()):
             raise ValueError(f"{w}: the table must be finite")
         if np.any(r < 0):
             raise ValueError(f"{w}: r must be >= 0 everywhere (the half plane r >= 0); r[{int(np.argmin(r))}] = {r.min()!r}")
@@ -867,7 +867,7 @@ def meridian(segments: Sequence[Segment], N: int, pole_ratio: float = 1.0, *, wi
             h_nodes[m] = seg_h(k, s[m])
         for k, i in enumerate(junction_nodes):
             h_nodes[i] = 0.5 * (seg_h(k, s[i:i + 1])[0] + seg_h(k + 1, s[i:i + 1])[0])
-        if not (np.all(np.isfinite(h_nodes)) and np.all(h_nodes > 0)):
+        if not (np.isfinite(h_nodes).all() and np.all(h_nodes > 0)):
             k = int(np.flatnonzero(~(h_nodes > 0) | ~np.isfinite(h_nodes))[0])
             raise ValueError(f"{where}: thickness must be positive and finite at every node; node {k} has {h_nodes[k]!r}")
 
@@ -887,7 +887,7 @@ def _node_thickness(thickness, s: np.ndarray, where: str):
         return None
     h = np.asarray(thickness(s), dtype=float) if callable(thickness) else np.full(s.shape, thickness)
     h = np.broadcast_to(h, s.shape).astype(float)
-    if not (np.all(np.isfinite(h)) and np.all(h > 0)):
+    if not (np.isfinite(h).all() and np.all(h > 0)):
         raise ValueError(f"{where}: thickness must be positive and finite at every node")
     return h
 
@@ -1139,7 +1139,7 @@ def with_mode(m: ReferenceMeridian, mode, delta: float, *, normalize: str = "nor
     mode = np.array(mode, dtype=float)
     if mode.shape != (2 * m.N,):
         raise ValueError(f"{where}: mode must have shape ({2 * m.N},), got {mode.shape}")
-    if not np.all(np.isfinite(mode)):
+    if not np.isfinite(mode).all():
         raise ValueError(f"{where}: mode must be finite")
     delta = _finite("delta", delta, where)
     big = float(np.max(np.abs(mode)))
