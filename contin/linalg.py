@@ -35,6 +35,7 @@ __all__ = [
     "Factorization",
     "DenseLU",
     "BandedLU",
+    "TridiagonalLU",
     "SparseLU",
     "SymmetricBand",
     "factorize",
@@ -265,6 +266,41 @@ class BandedLU(Factorization):
         return _sign_log_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
 
 
+class TridiagonalLU(Factorization):
+    """LU with partial pivoting of a tridiagonal matrix (LAPACK gttrf): O(n), no band bookkeeping.
+
+    What :class:`BandedLU` computes for ``kl = ku = 1``, about three times faster to factorize and
+    twice as fast to solve at n = 2000 (gbtrf/gbtrs call BLAS column by column; gttrf/gttrs are
+    plain loops).
+    """
+
+    def __init__(self, A) -> None:
+        self.n = A.shape[0]
+        if self.n < 3:  # scipy's gttrs wrapper needs the second superdiagonal (n - 2 entries) non-empty
+            raise ValueError(f"TridiagonalLU: the matrix must be at least 3 x 3, got {A.shape}")
+        ab = to_banded(A, 1, 1)  # rows: super-, main and sub-diagonal
+        dl, d, du, self._du2, self._piv, info = lapack.dgttrf(ab[2, :-1], ab[1], ab[0, 1:])
+        self._dl, self._d, self._du = dl, d, du
+        self.exactly_singular = info > 0
+
+    def solve(self, b, trans=False):
+        b = np.asarray(b, dtype=float)
+        if b.shape[0] != self.n:
+            raise ValueError(f"TridiagonalLU.solve: b has {b.shape[0]} rows, the matrix {self.n}")
+        if b.size == 0:  # no right-hand side: scipy's gttrs wrapper would write past an empty array
+            return b.copy()
+        x, info = lapack.dgttrs(self._dl, self._d, self._du, self._du2, self._piv, b, trans="T" if trans else "N")
+        return self._check(x)
+
+    def pivots(self) -> np.ndarray:
+        """Diagonal of the U factor."""
+        return self._d
+
+    def det_sign_log(self):
+        # scipy returns gttrf's pivots 1-based (getrf's and gbtrf's are made 0-based)
+        return _sign_log_from_diagonal(self._d, _ipiv_parity(self._piv - 1))
+
+
 class SymmetricBand:
     """A symmetric banded matrix held in LAPACK's upper band storage.
 
@@ -493,7 +529,7 @@ def factorize(A, method: str = "auto") -> Factorization:
     if method in ("auto", "banded"):
         kl, ku = bandwidths(A)
         if method == "banded" or (kl + ku + 1) <= max(BANDED_FRACTION * n, 8):
-            return BandedLU(A, kl, ku)
+            return TridiagonalLU(A) if kl == ku == 1 and n >= 3 else BandedLU(A, kl, ku)
     if method == "auto" and n <= 1500:
         return DenseLU(A)
     return SparseLU(A)

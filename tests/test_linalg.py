@@ -251,3 +251,48 @@ def test_to_banded_of_fixed_pattern_matrices_uses_the_right_positions():
         ref = sp.csr_matrix((data, A.indices.copy(), A.indptr.copy()), shape=A.shape)
         for extra in (0, 2):
             assert np.array_equal(to_banded(pattern.matrix(data), 2, 1, extra), to_banded(ref, 2, 1, extra))
+
+
+@pytest.mark.parametrize("n", [3, 5, 70, 300])
+def test_tridiagonal_lu_solves_and_determinant_sign(n):
+    """gttrf/gttrs against a dense solve and numpy's slogdet (the sign decides fold detection)."""
+    from contin.linalg import TridiagonalLU
+
+    rng = np.random.default_rng(n)
+    for _ in range(10):
+        A = sp.diags([rng.standard_normal(n - 1), 0.3 * rng.standard_normal(n), rng.standard_normal(n - 1)],
+                     [-1, 0, 1], format="csr")
+        F = TridiagonalLU(A)
+        b = rng.standard_normal(n)
+        assert np.allclose(A @ F.solve(b), b) and np.allclose(A.T @ F.solve(b, trans=True), b)
+        B = np.column_stack([b, -2 * b])
+        assert np.allclose(A @ F.solve(B), B)
+        sign, log = F.det_sign_log()
+        ref_sign, ref_log = np.linalg.slogdet(A.toarray())
+        assert sign == ref_sign and log == pytest.approx(ref_log, abs=1e-9)
+
+
+def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity():
+    from contin.linalg import TridiagonalLU
+
+    n = 200
+    A = sp.diags([np.ones(n - 1), -2.0 * np.ones(n), np.ones(n - 1)], [-1, 0, 1], format="csr")
+    assert isinstance(factorize(A), TridiagonalLU)
+    singular = sp.diags([np.zeros(n - 1), np.r_[0.0, np.ones(n - 1)], np.zeros(n - 1)], [-1, 0, 1], format="csr")
+    assert TridiagonalLU(singular).exactly_singular
+    with pytest.raises(ValueError, match="at least 3"):
+        TridiagonalLU(sp.eye(2, format="csr"))
+    assert not isinstance(factorize(sp.eye(2, format="csr"), method="banded"), TridiagonalLU)
+
+
+def test_tridiagonal_lu_with_no_right_hand_side():
+    """A bordered system with no border solves for zero columns (gttrs must not be called on them)."""
+    from contin.linalg import TridiagonalLU
+
+    n = 80
+    F = TridiagonalLU(sp.diags([np.ones(n - 1), 3.0 * np.ones(n), np.ones(n - 1)], [-1, 0, 1], format="csr"))
+    for _ in range(50):
+        assert F.solve(np.zeros((n, 0))).shape == (n, 0)
+        assert F.solve(np.zeros((n, 0)), trans=True).shape == (n, 0)
+    with pytest.raises(ValueError, match="rows"):
+        F.solve(np.ones(n + 1))
