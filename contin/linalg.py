@@ -42,6 +42,7 @@ __all__ = [
     "bandwidths",
     "to_banded",
     "FixedPattern",
+    "symmetric_column",
     "BorderedSolver",
     "SingularMatrixError",
 ]
@@ -210,6 +211,17 @@ def _band_positions(A, kl: int, ku: int, extra_rows: int) -> np.ndarray:
         _BAND_POSITIONS.insert(0, (A.indices, A.indptr, key, positions))
         del _BAND_POSITIONS[4:]
     return positions
+
+
+def symmetric_column(H: sp.csr_matrix, j: int) -> np.ndarray:
+    """Dense column ``j`` of a symmetric CSR matrix, read as its row ``j`` (no transpose, no column slicing)."""
+    lo, hi = H.indptr[j], H.indptr[j + 1]
+    col = np.zeros(H.shape[0])
+    if H.has_canonical_format:  # no duplicate entries: a plain assignment (np.add.at is slow)
+        col[H.indices[lo:hi]] = H.data[lo:hi]
+    else:
+        np.add.at(col, H.indices[lo:hi], H.data[lo:hi])
+    return col
 
 
 def to_banded(A, kl: int, ku: int, extra_rows: int = 0) -> np.ndarray:

@@ -296,3 +296,18 @@ def test_tridiagonal_lu_with_no_right_hand_side():
         assert F.solve(np.zeros((n, 0)), trans=True).shape == (n, 0)
     with pytest.raises(ValueError, match="rows"):
         F.solve(np.ones(n + 1))
+
+
+def test_symmetric_column_with_and_without_duplicate_entries():
+    from contin.linalg import symmetric_column
+
+    rng = np.random.default_rng(2)
+    M = rng.standard_normal((12, 12))
+    S = sp.csr_matrix(M + M.T)
+    for j in (0, 5, 11):
+        assert np.array_equal(symmetric_column(S, j), (M + M.T)[:, j])
+    # duplicates (not canonical: row 3 stores column 4 twice) are summed, as the matrix means
+    dup = sp.csr_matrix((np.array([1.0, 2.0, 3.0]), np.array([4, 4, 3]), np.array([0, 0, 0, 0, 2, 3, 3])),
+                        shape=(6, 6))
+    assert not dup.has_canonical_format
+    assert symmetric_column(dup, 3)[4] == 3.0

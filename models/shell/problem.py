@@ -73,7 +73,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from contin.deadload import DeadLoad
-from contin.linalg import BandedLU, Factorization, FixedPattern
+from contin.linalg import BandedLU, Factorization, FixedPattern, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
@@ -499,10 +499,7 @@ class ShellPointLoad(Problem):
 
     def _pole_column(self, H: sp.csr_matrix) -> np.ndarray:
         """Dense column of ``z_pole`` of the symmetric full Hessian (read as the last row)."""
-        lo, hi = H.indptr[-2], H.indptr[-1]
-        col = np.zeros(self.n_full)
-        np.add.at(col, H.indices[lo:hi], H.data[lo:hi])
-        return col
+        return symmetric_column(H, self.n_full - 1)
 
     def factorize(self, J) -> Factorization:
         """Banded LU with the model's half-bandwidth (O(N)); the dead load's border stays in the band."""

@@ -47,7 +47,7 @@ from typing import Any, Literal
 import numpy as np
 import scipy.sparse as sp
 
-from contin.linalg import BandedLU, Factorization
+from contin.linalg import BandedLU, Factorization, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
 from . import _generated as gen
@@ -406,14 +406,6 @@ def default_harmonics(structure: ShellStructure) -> int:
     return int(math.ceil(1.25 * n_star)) + 2
 
 
-def _column(H: sp.csr_matrix, j: int) -> np.ndarray:
-    """Dense column ``j`` of a symmetric CSR matrix (read as row ``j``)."""
-    lo, hi = H.indptr[j], H.indptr[j + 1]
-    col = np.zeros(H.shape[0])
-    np.add.at(col, H.indices[lo:hi], H.data[lo:hi])
-    return col
-
-
 class ShellOfRevolution(Problem):
     """A :class:`ShellStructure` under one load, as a :class:`contin.Problem`.
 
@@ -671,7 +663,7 @@ class ShellOfRevolution(Problem):
             d = np.zeros(self.structure.n_full)
             d[self.z_node] = 1.0
             return d[self.idx]
-        return -_column(self._elastic_hessian(x, p), self.z_node)[self.idx]  # z_node = zbar - w
+        return -symmetric_column(self._elastic_hessian(x, p), self.z_node)[self.idx]  # z_node = zbar - w
 
     def jacobian_dp(self, u: np.ndarray, p: float):
         if self.control == "force":
@@ -699,7 +691,7 @@ class ShellOfRevolution(Problem):
         if self.control == "force":
             return 0.0
         x = self.full_state(u, p)
-        return float(_column(self._elastic_hessian(x, p), self.z_node)[self.z_node])
+        return float(symmetric_column(self._elastic_hessian(x, p), self.z_node)[self.z_node])
 
     def factorize(self, J) -> Factorization:
         """Banded LU with the shell's half-bandwidth (O(N))."""
@@ -714,7 +706,7 @@ class ShellOfRevolution(Problem):
     def _dobs_load(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
         if self.control == "force":
             return np.zeros(self.n), 1.0
-        col = _column(self._elastic_hessian(self.full_state(u, p), p), self.z_node)
+        col = symmetric_column(self._elastic_hessian(self.full_state(u, p), p), self.z_node)
         return -col[self.idx], float(col[self.z_node])
 
     def _obs_w(self, u: np.ndarray, p: float) -> float:
