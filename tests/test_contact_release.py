@@ -101,7 +101,8 @@ def test_release_fold_needs_a_node_in_contact_and_the_stable_side():
 
 def test_plate_scene_reports_the_dimple_snaps_and_the_eversion_release_fold(tmp_path, large_sphere):
     out = tmp_path / "plate"
-    code = cli_main(["trace", "-q", "--set", "load.kind=plate", "--set", "shell.N=60", "--out", str(out)])
+    code = cli_main(["trace", "-q", "--set", "load.kind=plate", "--set", "shell.N=60", "--set", "output.figure=false",
+                     "--out", str(out)])
     summary = json.loads((out / "summary.json").read_text())
     assert code == 0 and summary["status"] == "ok"
     snaps = summary["snaps"]

@@ -172,7 +172,7 @@ def test_resume_follows_the_other_branch_at_a_branch_point(tmp_path: Path) -> No
 
 
 # ---- the point-loaded cap (N = 60): the whole winding path -----------------------------------------------------
-SHELL = ["--set", "shell.N=60"]
+SHELL = ["--set", "shell.N=60", "--set", "output.figure=false"]  # (no test here looks at the figures)
 _OBS = ("w", "F")
 
 

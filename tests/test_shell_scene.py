@@ -94,7 +94,7 @@ def test_bad_input_is_one_paragraph_exit_2(tmp_path: Path, capsys: pytest.Captur
 
 @pytest.mark.parametrize("phi_hat, expected", [(0.8, "bistable"), (1.2, "monostable"), (1.35, "monotonous")])
 def test_classification_at_h_over_R_0_02(tmp_path: Path, phi_hat: float, expected: str) -> None:
-    code, summary = _trace(tmp_path, "shell.N=60", f"shell.phi_hat={phi_hat}")
+    code, summary = _trace(tmp_path, "shell.N=60", f"shell.phi_hat={phi_hat}", "output.figure=false")
     assert code == 0
     assert summary["classification"] == expected
     if expected == "monostable":
@@ -103,7 +103,7 @@ def test_classification_at_h_over_R_0_02(tmp_path: Path, phi_hat: float, expecte
 
 
 def test_monostable_middle_part_unstable_under_force_stable_under_displacement(tmp_path: Path) -> None:
-    code, summary = _trace(tmp_path, "shell.N=40", "shell.phi_hat=1.2")
+    code, summary = _trace(tmp_path, "shell.N=40", "shell.phi_hat=1.2", "output.figure=false")
     assert code == 0
     with open(tmp_path / "branch.csv") as fh:
         rows = list(csv.DictReader(fh))

@@ -6,6 +6,10 @@ against :func:`contin_models.shell_scene.classify_scene` on the scene with the d
 (the study uses finer steps), the snaps of the loading/unloading sweeps against the folds and force
 extrema of that separate path, and the curves of ``fig3.csv`` against the definitions of the classes
 (``docs/physics.md`` section 5) applied directly to the data.
+
+The default run runs the study on the cases these checks name (``checked``: four base angles of
+figure 3a, three thicknesses of figure 3b, both caps of figure 4); the whole fast mode (``fast``: the
+eight and eight curves of figure 3) runs under ``-m slow``.
 """
 
 from __future__ import annotations
@@ -27,11 +31,20 @@ from studies import force_displacement as study
 from tests.figure_check import assert_figure
 
 
-@pytest.fixture(scope="module")
-def result(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, dict[str, Any]]:
-    out = tmp_path_factory.mktemp("force_displacement")
-    rc = study.main(["--out", str(out), "--quiet"])
-    return out, rc, json.loads((out / "summary.json").read_text())
+#: Figure 3's cases by run: those checked against a separate classification below (the figure-4 caps,
+#: 0.8 and 1.2, among them; each class in each sweep), and the fast mode's whole sweeps.
+CASES = {"checked": ((0.8, 1.1, 1.2, 1.3), (0.03, 0.04, 0.07)), "fast": (study.PHI_3A, study.H_3B)}
+
+
+@pytest.fixture(scope="module", params=["checked", pytest.param("fast", marks=pytest.mark.slow)])
+def result(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, dict[str, Any], tuple]:
+    out = tmp_path_factory.mktemp(f"force_displacement_{request.param}")
+    phis, hs = CASES[request.param]
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(study, "PHI_3A", phis)
+        mp.setattr(study, "H_3B", hs)
+        rc = study.main(["--out", str(out), "--quiet"])
+    return out, rc, json.loads((out / "summary.json").read_text()), (phis, hs)
 
 
 @functools.lru_cache(maxsize=None)
@@ -62,21 +75,21 @@ def _curves(path: Path) -> dict[tuple[str, str], dict[str, np.ndarray]]:
 
 
 def test_writes_every_file_and_succeeds(result) -> None:
-    out, rc, summary = result
+    out, rc, summary, (phis, hs) = result
     assert rc == 0
     for stem in ("fig3", "fig4"):
         assert_figure(out, stem, min_png_bytes=10_000)
         assert (out / f"{stem}.csv").stat().st_size > 1_000
     assert summary["mode"] == "fast" and summary["N"] == study.N_FAST
     assert summary["all_runs_ok"] is True
-    assert [r["phi_hat"] for r in summary["fig3a"]["cases"]] == list(study.PHI_3A)
-    assert [r["h_over_R"] for r in summary["fig3b"]["cases"]] == list(study.H_3B)
+    assert [r["phi_hat"] for r in summary["fig3a"]["cases"]] == list(phis)
+    assert [r["h_over_R"] for r in summary["fig3b"]["cases"]] == list(hs)
 
 
 @pytest.mark.parametrize("phi_hat,h_over_R", [(0.8, 0.02), (1.1, 0.02), (1.2, 0.02), (1.3, 0.02),
                                               (1.0, 0.03), (1.0, 0.04), (1.0, 0.07)])
 def test_class_and_extrema_agree_with_a_separate_classification(result, phi_hat, h_over_R) -> None:
-    _, _, summary = result
+    _, _, summary, _ = result
     rec = _case(summary, phi_hat, h_over_R)
     sep = _separate(phi_hat, h_over_R, summary["N"])
     assert sep.label is not None
@@ -89,9 +102,9 @@ def test_class_and_extrema_agree_with_a_separate_classification(result, phi_hat,
 
 
 def test_fig3_curves_satisfy_the_definition_of_their_class(result) -> None:
-    out, _, summary = result
+    out, _, summary, (phis, hs) = result
     curves = _curves(out / "fig3.csv")
-    assert len(curves) == len(study.PHI_3A) + len(study.H_3B)
+    assert len(curves) == len(phis) + len(hs)
     for (fig, case), c in curves.items():
         cls = set(c["class"])
         assert len(cls) == 1, (fig, case)
@@ -111,7 +124,7 @@ def test_fig3_curves_satisfy_the_definition_of_their_class(result) -> None:
 
 
 def test_force_control_loop_snaps_at_the_path_extrema(result) -> None:
-    _, _, summary = result
+    _, _, summary, _ = result
     for phi in study.PHI_4:
         s = summary["fig4"][f"phi_hat={phi:g}"]
         sep = _separate(phi, study.H_4, summary["N"])
@@ -131,7 +144,7 @@ def test_force_control_loop_snaps_at_the_path_extrema(result) -> None:
 
 
 def test_displacement_control_snaps_at_the_folds_in_w(result) -> None:
-    _, _, summary = result
+    _, _, summary, _ = result
     for phi in study.PHI_4:
         s = summary["fig4"][f"phi_hat={phi:g}"]
         sep = _separate(phi, study.H_4, summary["N"])
@@ -153,7 +166,7 @@ def test_displacement_control_snaps_at_the_folds_in_w(result) -> None:
 
 
 def test_statements_follow_from_the_classes_in_the_summary(result) -> None:
-    _, _, summary = result
+    _, _, summary, _ = result
     st = summary["statements"]
     a = {r["phi_hat"]: r["classification"] for r in summary["fig3a"]["cases"]}
     expect_a = (all(c == "bistable" for p, c in a.items() if p < 1.1 - 1e-9)

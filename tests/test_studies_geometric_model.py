@@ -6,6 +6,9 @@ of the snap shape, here taken from a contact run's release snap rather than from
 not / do hold a node inside.  The helpers are checked against closed forms (a synthetic meridian whose
 ``r_c`` follows from a dense brute-force search, a straight line, self-similar shapes), and the
 bistable / not bistable marks against ``contin classify``.
+
+The default run simulates one transition (``base``: the paper's cap, the one the contact-run check
+below uses); the study's whole fast mode (``fast``: three simulated transitions) runs under ``-m slow``.
 """
 
 from __future__ import annotations
@@ -25,22 +28,28 @@ from tests.figure_check import assert_figure
 FIGURES = ("fig9_geometric_model", "fig10_thickness", "fig11_angle")
 
 
-@pytest.fixture(scope="module")
-def study(tmp_path_factory) -> tuple:
-    out = tmp_path_factory.mktemp("geometric_model")
-    assert gm.main(["--out", str(out), "--quiet"]) == 0
-    return out, json.loads((out / "summary.json").read_text())
+#: The simulated transitions of each run: the default run's one (the base cap), the fast mode's three.
+SIMULATED = {"base": ((gm.PHI_HAT, gm.H_OVER_R),), "fast": gm.SIM_FAST}
+
+
+@pytest.fixture(scope="module", params=["base", pytest.param("fast", marks=pytest.mark.slow)])
+def study(request, tmp_path_factory) -> tuple:
+    out = tmp_path_factory.mktemp(f"geometric_model_{request.param}")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(gm, "SIM_FAST", SIMULATED[request.param])
+        assert gm.main(["--out", str(out), "--quiet"]) == 0
+    return out, json.loads((out / "summary.json").read_text()), SIMULATED[request.param]
 
 
 def test_writes_figures_tables_and_summary(study):
-    out, S = study
+    out, S, simulated = study
     for stem in FIGURES:
         assert_figure(out, stem)
     for name in ("geometric_cases.csv", "simulated_cases.csv", "r_tilde_h_tilde.csv", "scaled_shapes.csv"):
         assert (out / name).stat().st_size > 100, name
     b = S["base"]
     assert isinstance(b["r_c_geometric_over_R"], float) and isinstance(b["r_c_simulated_over_R"], float)
-    assert len(S["simulated"]) >= 2
+    assert [(row["phi_hat"], row["h_over_R"]) for row in S["simulated"]] == list(simulated)
     for row in S["simulated"]:
         assert {"phi_hat", "h_over_R", "r_c_geometric", "r_c_simulated", "lo", "hi"} <= set(row)
     for key in ("r_c_vs_h_geometric_h_le_0.035", "r_c_over_1_minus_sin_vs_phi_geometric_paper_range"):
@@ -57,7 +66,7 @@ def test_geometric_r_c_against_spheres_on_a_contact_snap_shape(study):
     The shape is a contact run's state at its release snap (r/R = 0.9, pole detached), which is the
     free shell's F = 0 state; nothing of the spline construction is used.
     """
-    _, S = study
+    _, S, _ = study
     rc = S["base"]["r_c_geometric_over_R"]
     P, st, w_end = snap_settings(0.9, 200, stability=False)
     br, sp = run_to_snap(P, st, w_end)
@@ -118,7 +127,7 @@ def test_linear_fit_and_collapse_helpers():
 
 def test_bistability_marks_agree_with_contin_classify(study):
     """The caps skipped as not bistable are not bistable for ``contin classify``; the last kept one is."""
-    _, S = study
+    _, S, _ = study
     skipped = [c for c in S["not_bistable"] if c["h_over_R"] == 0.02]
     kept = [c for c in S["phi_cases"] if c["bistable"]]
     assert skipped and kept

@@ -5,11 +5,17 @@ The study's numbers are checked against runs made here through other entry point
 scene's ``w_c_one_sided``), against the paper's statements (physics.md section 6: ``w_b^c`` flat below
 ``r_c`` and decreasing above, ``r_c/R`` near 0.8-0.9, the contact modes, one pole curvature at the snap)
 and, for the resting-sphere helper, against closed forms.
+
+The default run checks a small run of the study (``small``: :data:`SMALL_RADII`, one bisection round
+between them, then stopped by :data:`SMALL_TOL`): the same code from the contact runs to the figures,
+on two radii, one on each side of the transition.  The study's whole fast mode (``fast``: seven radii,
+``r_c`` to 0.025; about 20 s) runs under ``-m slow``, with the statements that need its seven radii.
 """
 
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import math
 
@@ -24,16 +30,40 @@ from studies.bench_contact import run_to_snap, snap_settings
 from tests.figure_check import assert_figure
 
 FIGURES = ("fig6_snap_vs_radius", "fig7_snap_configurations", "fig8_pole_curvature")
+#: The small run: the smallest sphere (continuous contact) and one past the transition (detached).
+SMALL_RADII = (0.1, 0.9)
+#: Its bisection stops after one round (at r/R = 0.5), with the bracket [0.5, 0.9].
+SMALL_TOL = 0.4
+
+
+def _run_study(out, radii: tuple[float, ...], tol: float) -> dict:
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(indenter_size, "RADII_FAST", radii)
+        mp.setattr(indenter_size, "TOL_FAST", tol)
+        assert indenter_size.main(["--out", str(out), "--quiet"]) == 0
+    return json.loads((out / "summary.json").read_text())
 
 
 @pytest.fixture(scope="module")
-def study(tmp_path_factory) -> tuple:
+def small_study(tmp_path_factory) -> tuple:
+    out = tmp_path_factory.mktemp("indenter_size_small")
+    return out, _run_study(out, SMALL_RADII, SMALL_TOL), SMALL_RADII, SMALL_TOL
+
+
+@pytest.fixture(scope="module")
+def fast_study(tmp_path_factory) -> tuple:
     out = tmp_path_factory.mktemp("indenter_size")
-    assert indenter_size.main(["--out", str(out), "--quiet"]) == 0
-    summary = json.loads((out / "summary.json").read_text())
-    return out, summary
+    return out, _run_study(out, indenter_size.RADII_FAST, indenter_size.TOL_FAST), indenter_size.RADII_FAST, \
+        indenter_size.TOL_FAST
 
 
+@pytest.fixture(scope="module", params=["small", pytest.param("fast", marks=pytest.mark.slow)])
+def study(request) -> tuple:
+    """The study's outputs, its summary, its radii and the resolution of its ``r_c`` bisection."""
+    return request.getfixturevalue(f"{request.param}_study")
+
+
+@functools.lru_cache(maxsize=None)
 def _snap(r: float) -> tuple:
     P, st, w_end = snap_settings(r, 200, stability=False)
     br, sp = run_to_snap(P, st, w_end)
@@ -42,7 +72,7 @@ def _snap(r: float) -> tuple:
 
 
 def test_writes_figures_tables_and_summary(study):
-    out, S = study
+    out, S, radii, _ = study
     for stem in FIGURES:
         for ext in ("png", "pdf"):
             f = out / f"{stem}.{ext}"
@@ -51,25 +81,34 @@ def test_writes_figures_tables_and_summary(study):
     assert isinstance(S["r_c_over_R"], float)
     assert S["mode"] == "fast" and S["scene"]["N"] == 200
     required = {"r_over_R", "w_b_c_over_R", "Delta_H_over_R", "contact_mode"}
-    assert len(S["cases"]) >= 5
     for c in S["cases"]:
         assert required <= set(c), c
         assert c["contact_mode"] in ("continuous", "detach-recontact", "detach")
+    assert [c["r_over_R"] for c in S["cases"]] == pytest.approx(sorted(radii))
     radii = [c["r_over_R"] for c in S["cases"]]
-    assert min(radii) == pytest.approx(0.1) and max(radii) == pytest.approx(2.0)
     with open(out / "cases.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert [float(r["r_over_R"]) for r in rows] == radii
     assert [float(r["w_b_c_over_R"]) for r in rows] == [c["w_b_c_over_R"] for c in S["cases"]]
     with open(out / "paths.csv", newline="") as fh:
         paths = list(csv.DictReader(fh))
-    assert {float(r["r_over_R"]) for r in paths} >= {0.0, 0.3, 0.5, 0.7, 0.9, 1.1}  # figure 8 and the point load
+    assert {float(r["r_over_R"]) for r in paths} == {0.0, *radii}  # every case's path and the point load's
     assert (out / "bisection.csv").is_file()
+
+
+def test_small_run_bisects_once(small_study):
+    """The small run's bisection: one round, at the bracket's midpoint, in this process's table."""
+    out, S, _, _ = small_study
+    assert S["r_c_bracket"] == pytest.approx([0.5, 0.9]) and S["r_c_runs"] == 1
+    with open(out / "bisection.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [float(r["r_over_R"]) for r in rows] == pytest.approx([0.1, 0.5, 0.9])
+    assert [r["contact_mode"] for r in rows] == ["continuous", "continuous", "detach"]
 
 
 def test_snap_of_a_case_equals_a_separate_contact_run(study):
     """r/R = 0.9 (detached at the snap): the study's numbers against a run made here."""
-    _, S = study
+    _, S, _, _ = study
     case = next(c for c in S["cases"] if c["r_over_R"] == pytest.approx(0.9))
     P, br, sp = _snap(0.9)
     assert case["w_b_c_over_R"] == pytest.approx(sp.p / P.R, rel=1e-9)
@@ -81,9 +120,9 @@ def test_snap_of_a_case_equals_a_separate_contact_run(study):
 
 def test_transition_bracket_holds_in_separate_runs(study):
     """Independent runs at the ends of the reported r_c bracket fall on either side of the gap tolerance."""
-    _, S = study
+    _, S, _, width = study
     lo, hi = S["r_c_bracket"]
-    assert lo < S["r_c_over_R"] < hi and hi - lo <= 0.025 + 1e-12
+    assert lo < S["r_c_over_R"] < hi and hi - lo <= width + 1e-12
     tol = S["r_c_gap_tol_over_R"]
     P, _, sp_lo = _snap(lo)
     assert 0.0 < tol <= 0.01 * P.dhat / P.R  # tied to the barrier range, well below it
@@ -94,12 +133,12 @@ def test_transition_bracket_holds_in_separate_runs(study):
 
 def test_paper_statements(study):
     """physics.md section 6 (paper figures 6-8): the transition, the modes, one pole curvature."""
-    _, S = study
-    assert 0.7 < S["r_c_over_R"] < 0.9  # "near 0.8-0.9"; the radii 0.7 and 0.9 straddle it
+    _, S, _, _ = study
     cases = S["cases"]
-    below = [c for c in cases if c["r_over_R"] < S["r_c_bracket"][0]]
-    above = [c for c in cases if c["r_over_R"] > S["r_c_bracket"][1]]
-    assert len(below) >= 3 and len(above) >= 3
+    # (the bracket's ends are on either side: the small run's radii are its ends)
+    below = [c for c in cases if c["r_over_R"] <= S["r_c_bracket"][0]]
+    above = [c for c in cases if c["r_over_R"] >= S["r_c_bracket"][1]]
+    assert below and above
     w_below = [c["w_b_c_over_R"] for c in below]
     assert max(w_below) - min(w_below) < 1e-6  # constant below r_c
     assert all(c["Delta_H_over_R"] == 0.0 for c in below)
@@ -113,7 +152,6 @@ def test_paper_statements(study):
             assert m == "continuous", (r, m)
         elif r >= 0.9:
             assert m == "detach", (r, m)
-    assert modes[0.7] == "detach-recontact"
     # with the strict criterion (any gap) no sphere below the transition counts as "detach" either
     assert all(c["contact_mode_strict"] != "detach" for c in cases if c["r_over_R"] <= 0.7)
     # every snap was located: a fold in w_b (by the engine, or the release fold beyond F -> 0) at a
@@ -126,9 +164,21 @@ def test_paper_statements(study):
     assert max(kap) - min(kap) < 1e-3 * abs(np.mean(kap))
 
 
+@pytest.mark.slow
+def test_paper_statements_on_the_seven_radii(fast_study):
+    """What needs the fast mode's seven radii: r_c near 0.8-0.9, three radii either side, the middle mode."""
+    _, S, _, _ = fast_study
+    assert 0.7 < S["r_c_over_R"] < 0.9  # "near 0.8-0.9"; the radii 0.7 and 0.9 straddle it
+    below = [c for c in S["cases"] if c["r_over_R"] < S["r_c_bracket"][0]]
+    above = [c for c in S["cases"] if c["r_over_R"] > S["r_c_bracket"][1]]
+    assert len(below) >= 3 and len(above) >= 3
+    modes = {c["r_over_R"]: c["contact_mode"] for c in S["cases"]}
+    assert modes[0.7] == "detach-recontact"
+
+
 def test_universal_snap_state_is_the_point_scene_one_sided_snap(study):
     """Every snap is the free shell at F = 0: its pole travel is the point scene's w_c_one_sided."""
-    _, S = study
+    _, S, _, _ = study
     scene = load_scene(SHELL_SCHEMA, None, [])
     w_c = SHELL_SCENE.runner(scene, False).summary["w_c_one_sided"]
     assert S["free_snap_state"]["w_s_over_R"] == pytest.approx(w_c, rel=1e-9)

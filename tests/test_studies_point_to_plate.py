@@ -6,6 +6,10 @@ code) and against the point scene's ``w_c_one_sided``; its finite indenters agai
 without the paper: a small sphere touches the pole at the snap, so it snaps where the point does;
 the pole sits where the indenter is plus the gap; and the bounds verdict in ``summary.json`` against
 the numbers of ``fig12.csv``.
+
+The default run runs the study with the smallest and the largest of its fast radii (``ends``: the one
+that snaps where the point does, and the one farthest towards the plate); the whole fast mode
+(``fast``: four radii) runs under ``-m slow``.
 """
 
 from __future__ import annotations
@@ -26,13 +30,20 @@ from studies import point_to_plate as study
 from tests.figure_check import assert_figure
 
 
-@pytest.fixture(scope="module")
-def result(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, dict[str, Any], list[dict[str, Any]]]:
-    out = tmp_path_factory.mktemp("point_to_plate")
-    rc = study.main(["--out", str(out), "--quiet"])
+#: The sphere radii of each run.
+RADII = {"ends": (min(study.RADII_FAST), max(study.RADII_FAST)), "fast": study.RADII_FAST}
+
+
+@pytest.fixture(scope="module", params=["ends", pytest.param("fast", marks=pytest.mark.slow)])
+def result(request: pytest.FixtureRequest,
+           tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, dict[str, Any], list[dict[str, Any]], tuple]:
+    out = tmp_path_factory.mktemp(f"point_to_plate_{request.param}")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(study, "RADII_FAST", RADII[request.param])
+        rc = study.main(["--out", str(out), "--quiet"])
     with open(out / "fig12.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    return out, rc, json.loads((out / "summary.json").read_text()), rows
+    return out, rc, json.loads((out / "summary.json").read_text()), rows, RADII[request.param]
 
 
 def _num(row: dict[str, str], key: str) -> float:
@@ -40,16 +51,16 @@ def _num(row: dict[str, str], key: str) -> float:
 
 
 def test_writes_every_file(result) -> None:
-    out, rc, summary, rows = result
+    out, rc, summary, rows, radii = result
     assert rc == 0
     assert_figure(out, "fig12", min_png_bytes=10_000)
     assert summary["mode"] == "fast" and summary["N"] == study.N_FAST
-    assert [r["indenter"] for r in rows] == ["point"] + ["sphere"] * len(study.RADII_FAST) + ["plate"]
-    assert [_num(r, "r_over_R") for r in rows[1:-1]] == list(study.RADII_FAST)
+    assert [r["indenter"] for r in rows] == ["point"] + ["sphere"] * len(radii) + ["plate"]
+    assert [_num(r, "r_over_R") for r in rows[1:-1]] == list(radii)
 
 
 def test_point_limit_is_the_first_falling_zero_of_the_point_force(result) -> None:
-    _, _, summary, rows = result
+    _, _, summary, rows, _ = result
     N = summary["N"]
     # directly on the problem: displacement control from the reference state to the first F = 0 going down
     P = ShellPointLoad(R=1.0, phi_hat=study.PHI_HAT, h=study.H_OVER_R, N=N)
@@ -73,9 +84,9 @@ def test_point_limit_is_the_first_falling_zero_of_the_point_force(result) -> Non
 
 
 def test_a_small_sphere_snaps_where_the_point_does(result) -> None:
-    _, _, _, rows = result
+    _, _, _, rows, radii = result
     point, small = rows[0], rows[1]
-    assert _num(small, "r_over_R") == min(study.RADII_FAST) <= 0.1
+    assert _num(small, "r_over_R") == min(radii) <= 0.1
     # the pole touches the small sphere at the snap (no gap beyond the barrier range)
     assert _num(small, "Delta_H_over_R") == 0.0
     # so the indenter travel there is the point's, up to the barrier holding the pole a hair off the
@@ -92,7 +103,7 @@ def _pole_offset() -> float:
 
 
 def test_pole_is_where_the_indenter_is_plus_the_gap(result) -> None:
-    _, _, _, rows = result
+    _, _, _, rows, _ = result
     for r in rows:
         # w_s = w_b + Delta H: the gap is measured from the pole to the indenter beyond the barrier range,
         # and w_b is counted from the first touch of that range
@@ -105,7 +116,7 @@ def test_pole_is_where_the_indenter_is_plus_the_gap(result) -> None:
 
 
 def test_bounds_verdict_matches_the_numbers(result) -> None:
-    _, _, summary, rows = result
+    _, _, summary, rows, _ = result
     point, plate, spheres = rows[0], rows[-1], rows[1:-1]
     tol = summary["bounds"]["w_b_c_over_R"]["tol"]
     assert tol <= 1e-5  # well below the spread of w_b^c and Delta H over the radii (>= 1e-2)
