@@ -59,10 +59,15 @@ from contin.linalg import FixedPattern
 from . import _generated as gen
 from .geometry import ReferenceCap
 
-__all__ = ["ShellEnergy", "HALF_BANDWIDTH"]
+__all__ = ["ShellEnergy", "HALF_BANDWIDTH", "kernels"]
 
 HALF_BANDWIDTH = 5
 """Half-bandwidth of the Hessian in the interleaved dof ordering."""
+
+kernels = gen
+"""The generated element kernels this energy calls (:mod:`contin_models.shell._generated`), under a public
+name: for direct use and for instrumenting them (``studies.bench_floor`` times every call).  An energy
+looks its kernels up here when it is built."""
 
 _PARTS = ("stretch", "bend")
 
