@@ -414,3 +414,20 @@ def test_fused_gradient_and_hessian_equal_the_separate_kernels(variant):
     fused.gradient(states[2])
     H_other = fused.hessian(states[0]).toarray()
     assert np.array_equal(H_other, separate.hessian(states[0]).toarray())
+
+
+def test_shells_of_one_mesh_share_their_pattern_and_assemble_alike():
+    """The pattern and scatter slots are built once per mesh size; a shell built later gets the same
+    Hessian as one whose pattern was built for it (an energy of another thickness and angle between)."""
+    import contin_models.shell.energy as energy_module
+
+    a = shell(23, 0.8)
+    b = ShellEnergy(spherical_cap(R, 1.1, 23, 1.0), E, 0.05, NU)
+    c = shell(24, 0.8)
+    assert a._pattern is b._pattern and a._pattern is not c._pattern
+    x = deformed(a, 2)
+    H_shared = a.hessian(x).toarray()
+    energy_module._PATTERNS.clear()
+    fresh = shell(23, 0.8)
+    assert fresh._pattern is not a._pattern
+    assert np.array_equal(fresh.hessian(x).toarray(), H_shared)

@@ -78,6 +78,13 @@ the packed outputs.  (Measured: the time per element is flat for blocks of 4096 
 up to N = 100000; smaller blocks pay numpy's per-operation overhead more often.)"""
 
 
+#: Sparsity patterns and scatter slots by mesh size (and block length): they depend on the elements'
+#: dofs only (the number of nodes), so a family of shells on one mesh (a fold curve in the thickness or the base
+#: angle, a sweep) builds them once.  The slot arrays are shared: nothing writes into them.
+_PATTERNS: dict[tuple, tuple] = {}
+_PATTERN_CACHE_SIZE = 8
+
+
 def _edges(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Node radii and heights (views) and edge vectors ``x_{i+1} - x_i`` of a state vector."""
     r, z = x[0::2], x[1::2]
@@ -124,17 +131,21 @@ class _Block:
     the block touches (so that each ``bincount`` only spans the block's own range).
     """
 
-    def __init__(self, parts: list[tuple[str, _Term, slice]], upper_slot, n: int) -> None:
+    def __init__(self, parts: list[tuple[str, _Term, slice]], slots: tuple[dict, dict, dict]) -> None:
         self.parts = [(name, term, sl, tuple(p[sl] if np.ndim(p) else p for p in term.params))
                       for name, term, sl in parts]
+        self.grad, self.hess, self.both = slots
+
+    @classmethod
+    def slots(cls, parts: list[tuple[str, _Term, slice]], upper_slot, n: int) -> tuple[dict, dict, dict]:
+        """The block's scatter slots of gradients, of Hessians, and of the fused kernels' rows."""
         grad = [(name, t.dofs[sl].T.ravel()) for name, t, sl in parts]
         hess = [(name, upper_slot(t.dofs[sl][:, t.pairs[:, 0]].T.ravel(), t.dofs[sl][:, t.pairs[:, 1]].T.ravel()))
                 for name, t, sl in parts]
-        self.grad = self._slots(grad)
-        self.hess = self._slots(hess)
         # the fused kernels' rows (gradient, then Hessian) into one vector: the gradient, then the
         # Hessian's upper triangle from offset n
-        self.both = self._slots([(name, np.concatenate([g, n + h])) for (name, g), (_, h) in zip(grad, hess)])
+        both = [(name, np.concatenate([g, n + h])) for (name, g), (_, h) in zip(grad, hess)]
+        return cls._slots(grad), cls._slots(hess), cls._slots(both)
 
     @staticmethod
     def _slots(per_part: list[tuple[str, np.ndarray]]) -> dict:
@@ -279,25 +290,30 @@ class ShellEnergy:
         """
         n = self.n
         terms = self._terms
-        keys = [t.dofs[:, t.pairs[:, 0]].ravel() * n + t.dofs[:, t.pairs[:, 1]].ravel() for t in terms.values()]
-        upper = np.unique(np.concatenate(keys))
-        ui, uj = np.divmod(upper, n)
-        full = np.unique(np.concatenate([ui * n + uj, uj * n + ui]))
-        rows, cols = np.divmod(full, n)
-        self._full_from_upper = np.searchsorted(upper, np.minimum(rows, cols) * n + np.maximum(rows, cols))
-        self._n_upper = upper.size
-        self._pattern = FixedPattern(cols.astype(np.int32),
-                                     np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32),
-                                     (n, n))
-        self._nnz = full.size
-
-        def upper_slot(i, j):
-            return np.searchsorted(upper, i * n + j)
-
         m = max(t.m for t in terms.values())
-        self._blocks = [_Block([(name, t, slice(lo, min(lo + _CHUNK, t.m))) for name, t in terms.items()
-                                if lo < t.m], upper_slot, n)
-                        for lo in range(0, m, _CHUNK)]
+        parts = [[(name, t, slice(lo, min(lo + _CHUNK, t.m))) for name, t in terms.items() if lo < t.m]
+                 for lo in range(0, m, _CHUNK)]
+        key = (n, _CHUNK, tuple((name, t.dofs.shape, t.npk) for name, t in terms.items()))
+        if key not in _PATTERNS:
+            keys = [t.dofs[:, t.pairs[:, 0]].ravel() * n + t.dofs[:, t.pairs[:, 1]].ravel() for t in terms.values()]
+            upper = np.unique(np.concatenate(keys))
+            ui, uj = np.divmod(upper, n)
+            full = np.unique(np.concatenate([ui * n + uj, uj * n + ui]))
+            rows, cols = np.divmod(full, n)
+            pattern = FixedPattern(cols.astype(np.int32),
+                                   np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32),
+                                   (n, n))
+
+            def upper_slot(i, j):
+                return np.searchsorted(upper, i * n + j)
+
+            full_from_upper = np.searchsorted(upper, np.minimum(rows, cols) * n + np.maximum(rows, cols))
+            _PATTERNS[key] = (upper.size, full_from_upper, pattern, [_Block.slots(p, upper_slot, n) for p in parts])
+            while len(_PATTERNS) > _PATTERN_CACHE_SIZE:
+                del _PATTERNS[next(iter(_PATTERNS))]
+        self._n_upper, self._full_from_upper, self._pattern, slots = _PATTERNS[key]
+        self._nnz = self._pattern.nnz
+        self._blocks = [_Block(p, sl) for p, sl in zip(parts, slots, strict=True)]
 
     def _local(self, x: np.ndarray, part: str | None) -> dict:
         geo = _edges(self._check(x))

@@ -193,16 +193,30 @@ def csr_slots(A: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarra
     return out
 
 
+#: Submatrix maps of fixed patterns (read-only index arrays, matched by identity) and index sets: a
+#: family of shells on one mesh shares them (see ``contin_models.shell.energy._PATTERNS``).
+_SUBMATRICES: dict[tuple, tuple] = {}
+
+
 class SubMatrix:
     """Fast extraction of a principal submatrix ``H[idx][:, idx]`` for a fixed CSR pattern."""
 
     def __init__(self, pattern: sp.csr_matrix, idx: np.ndarray) -> None:
-        tagged = sp.csr_matrix((np.arange(1, pattern.nnz + 1, dtype=float), pattern.indices.copy(),
-                                pattern.indptr.copy()), shape=pattern.shape)
-        sub = tagged[idx][:, idx].tocsr()
-        sub.sort_indices()
-        self.take = sub.data.astype(np.int64) - 1
-        self.pattern = FixedPattern(sub.indices, sub.indptr, sub.shape)
+        idx = np.asarray(idx)
+        shared = not (pattern.indices.flags.writeable or pattern.indptr.flags.writeable)
+        key = (id(pattern.indices), id(pattern.indptr), idx.tobytes())
+        hit = _SUBMATRICES.get(key) if shared else None
+        if hit is None or hit[0] is not pattern.indices:
+            tagged = sp.csr_matrix((np.arange(1, pattern.nnz + 1, dtype=float), pattern.indices.copy(),
+                                    pattern.indptr.copy()), shape=pattern.shape)
+            sub = tagged[idx][:, idx].tocsr()
+            sub.sort_indices()
+            hit = (pattern.indices, sub.data.astype(np.int64) - 1, FixedPattern(sub.indices, sub.indptr, sub.shape))
+            if shared:
+                _SUBMATRICES[key] = hit
+                while len(_SUBMATRICES) > 16:
+                    del _SUBMATRICES[next(iter(_SUBMATRICES))]
+        _, self.take, self.pattern = hit
         self.indices, self.indptr, self.shape = self.pattern.indices, self.pattern.indptr, self.pattern.shape
 
     def __call__(self, H: sp.csr_matrix) -> sp.csr_matrix:
