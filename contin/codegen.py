@@ -69,6 +69,7 @@ from __future__ import annotations
 
 import functools
 import keyword
+import math
 import sys
 import types
 from collections.abc import Callable, Sequence
@@ -79,7 +80,7 @@ from typing import Any
 __all__ = ["Element", "kernel_printer", "cse_lines", "module_text", "generate_kernels", "compile_kernels",
            "write_generated", "check_generated", "GeneratedFileOutOfDate", "upper_pairs", "emitted_helpers",
            "assignment_lines", "needed_assignments", "KernelBody", "row_targets", "count_operations",
-           "function_header", "generator_main"]
+           "function_header", "generator_main", "c_extension_text"]
 
 #: Names a generated kernel uses for itself: user symbols may not take them.
 _RESERVED = {"numpy"}
@@ -816,3 +817,263 @@ def generator_main(argv: list[str] | None, generate_source: Callable[[], str], d
         return 0
     write_generated(generate_source, args.output)
     return 0
+
+
+# ---- the same kernels in C -------------------------------------------------------------------------
+#: numpy functions of one argument a generated kernel may call, and their C names (math.h)
+_C_FUNCTIONS = {"sqrt": "sqrt", "abs": "fabs", "absolute": "fabs", "sin": "sin", "cos": "cos", "tan": "tan",
+                "exp": "exp", "log": "log", "arctan": "atan", "arcsin": "asin", "arccos": "acos"}
+_C_OPERATORS = {"Add": "+", "Sub": "-", "Mult": "*", "Div": "/"}
+
+_C_PRELUDE = r'''#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <string.h>
+
+/* An argument of a kernel: a float64 buffer (1-D with any whole stride, or C-contiguous) or a number
+   (stride 0). */
+typedef struct {
+    Py_buffer view;
+    int held;
+    const double *data;
+    Py_ssize_t stride;
+    double scalar;
+} Input;
+
+static void release(Input *in, Py_ssize_t n, Py_buffer *out, int out_held) {
+    for (Py_ssize_t k = 0; k < n; k++) {
+        if (in[k].held) PyBuffer_Release(&in[k].view);
+    }
+    if (out_held) PyBuffer_Release(out);
+}
+
+static int is_float64(const Py_buffer *view) {
+    const char *f = view->format;
+    if (f == NULL) return 0;
+    if (f[0] == '<' || f[0] == '=' || f[0] == '@') f++;
+    return view->itemsize == 8 && strcmp(f, "d") == 0;
+}
+
+/* A buffer the kernel cannot use (strided in two dimensions, read-only output, ...) raises
+   ValueError or BufferError in CPython and numpy: the wrapper answers TypeError only. */
+static int as_type_error(void) {
+    PyObject *type, *value, *traceback;
+    PyErr_Fetch(&type, &value, &traceback);
+    PyErr_Format(PyExc_TypeError, "buffer not usable by the compiled kernel (%S)", value ? value : Py_None);
+    Py_XDECREF(type);
+    Py_XDECREF(value);
+    Py_XDECREF(traceback);
+    return -1;
+}
+
+/* Reads the inputs args[0..nin) and the output args[nin] (rows x m); 0, or -1 with TypeError set
+   (the Python wrapper then calls the numpy kernel, which accepts any array-like). */
+static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, Input *in, Py_ssize_t nin,
+                   Py_ssize_t rows, Py_buffer *out, int *out_held, Py_ssize_t *m) {
+    *out_held = 0;
+    *m = 1;
+    for (Py_ssize_t k = 0; k < nin; k++) in[k].held = 0;
+    if (nargs != nin + 1) {
+        PyErr_Format(PyExc_TypeError, "%s takes %zd arguments (the inputs, then out), got %zd", name, nin + 1, nargs);
+        return -1;
+    }
+    for (Py_ssize_t k = 0; k < nin; k++) {
+        if (PyObject_CheckBuffer(args[k])) {
+            if (PyObject_GetBuffer(args[k], &in[k].view, PyBUF_RECORDS_RO) < 0) return as_type_error();
+            in[k].held = 1;
+            const Py_buffer *v = &in[k].view;
+            if (!is_float64(v)) {
+                PyErr_Format(PyExc_TypeError, "%s: argument %zd is not float64", name, k);
+                return -1;
+            }
+            Py_ssize_t size = v->len / 8, stride = 1;
+            if (v->ndim == 1 && v->strides != NULL) {
+                stride = v->strides[0] / 8;
+                if (stride * 8 != v->strides[0]) {
+                    PyErr_Format(PyExc_TypeError, "%s: argument %zd has a stride of %zd bytes", name, k,
+                                 v->strides[0]);
+                    return -1;
+                }
+            } else if (v->ndim > 1 && !PyBuffer_IsContiguous(v, 'C')) {
+                PyErr_Format(PyExc_TypeError, "%s: argument %zd is neither 1-D nor C-contiguous", name, k);
+                return -1;
+            }
+            if (size == 1) {
+                in[k].scalar = *(const double *)v->buf;
+                in[k].data = &in[k].scalar;
+                in[k].stride = 0;
+                continue;
+            }
+            if (*m != 1 && size != *m) {
+                PyErr_Format(PyExc_TypeError, "%s: argument %zd has %zd elements, expected %zd", name, k, size, *m);
+                return -1;
+            }
+            *m = size;
+            in[k].data = (const double *)v->buf;
+            in[k].stride = stride;
+        } else {
+            in[k].scalar = PyFloat_AsDouble(args[k]);
+            if (in[k].scalar == -1.0 && PyErr_Occurred()) {
+                PyErr_Clear();
+                PyErr_Format(PyExc_TypeError, "%s: argument %zd is neither a float64 array nor a number", name, k);
+                return -1;
+            }
+            in[k].data = &in[k].scalar;
+            in[k].stride = 0;
+        }
+    }
+    if (PyObject_GetBuffer(args[nin], out, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0) {
+        return as_type_error();
+    }
+    *out_held = 1;
+    if (!is_float64(out) || out->len / 8 != rows * *m) {
+        PyErr_Format(PyExc_TypeError, "%s: out must be a float64 array of %zd x %zd values", name, rows, *m);
+        return -1;
+    }
+    return 0;
+}
+'''
+
+
+class _CExpression:
+    """Prints a numpy kernel's expression (a Python ``ast`` node) as a fully parenthesised C expression."""
+
+    def __init__(self, function: str) -> None:
+        self.function = function
+
+    def __call__(self, node: Any) -> str:
+        import ast
+
+        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+            return repr(float(node.value))
+        if isinstance(node, ast.Name):
+            return node.id
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "numpy" \
+                and node.attr == "pi":
+            return repr(math.pi)
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            return f"({'-' if isinstance(node.op, ast.USub) else '+'}{self(node.operand)})"
+        if isinstance(node, ast.BinOp) and type(node.op).__name__ in _C_OPERATORS:
+            return f"({self(node.left)} {_C_OPERATORS[type(node.op).__name__]} {self(node.right)})"
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            return self._power(node)
+        if isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords:
+            f = node.func
+            name = (f.attr if isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name) and f.value.id == "numpy"
+                    else f.id if isinstance(f, ast.Name) and f.id == "abs" else None)
+            if name in _C_FUNCTIONS:
+                return f"{_C_FUNCTIONS[name]}({self(node.args[0])})"
+        raise ValueError(f"{self.function}: no C translation for {ast.unparse(node)!r}")
+
+    def _power(self, node: Any) -> str:
+        import ast
+
+        base, exponent = self(node.left), node.right
+        value = (exponent.value if isinstance(exponent, ast.Constant)
+                 else -exponent.operand.value if isinstance(exponent, ast.UnaryOp) and isinstance(exponent.op, ast.USub)
+                 and isinstance(exponent.operand, ast.Constant) else None)
+        # numpy's own shortcuts for these exponents (square, reciprocal, sqrt), so that C gives its bits
+        if value == 2:
+            return f"({base} * {base})"
+        if value == 1:
+            return base
+        if value == -1:
+            return f"(1.0 / {base})"
+        if value == 0.5:
+            return f"sqrt({base})"
+        return f"pow({base}, {self(exponent)})"
+
+
+def _c_kernel(function: Any, rows: int) -> tuple[str, str]:
+    """``(C function text, method-table entry)`` of one generated numpy kernel with an ``out`` argument."""
+    import ast
+
+    name = function.name
+    inputs = [a.arg for a in function.args.args if a.arg != "out"]
+    expression = _CExpression(name)
+    body, declared = [], set(inputs)
+    for statement in function.body:
+        if isinstance(statement, (ast.Delete, ast.Return)) or (
+                isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant)):
+            continue
+        if isinstance(statement, ast.If) and ast.unparse(statement.test) == "out is None":
+            continue
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
+            raise ValueError(f"{name}: no C translation for statement {ast.unparse(statement)!r}")
+        target, value = statement.targets[0], expression(statement.value)
+        if isinstance(target, ast.Name):
+            body.append(f"{'' if target.id in declared else 'double '}{target.id} = {value};")
+            declared.add(target.id)
+        elif (isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name) and target.value.id == "out"
+              and isinstance(target.slice, ast.Constant) and 0 <= target.slice.value < rows):
+            body.append(f"out[{target.slice.value} * _m + _i] = {value};")
+        else:
+            raise ValueError(f"{name}: no C translation for target {ast.unparse(target)!r}")
+    n = len(inputs)
+    lines = [f"static PyObject *c_{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {{",
+             f"    Input in[{n}];",
+             "    Py_buffer view;",
+             "    int out_held;",
+             "    Py_ssize_t _m;",
+             f"    if (prepare(\"{name}\", args, nargs, in, {n}, {rows}, &view, &out_held, &_m) < 0) {{",
+             f"        release(in, {n}, &view, out_held);",
+             "        return NULL;",
+             "    }",
+             "    double *out = (double *)view.buf;",
+             "    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
+    lines += [f"        const double {a} = in[{k}].data[_i * in[{k}].stride];" for k, a in enumerate(inputs)]
+    lines += ["        " + line for line in body]
+    lines += ["    }", f"    release(in, {n}, &view, out_held);", "    Py_RETURN_NONE;", "}"]
+    entry = f'    {{"{name}", (PyCFunction)(void (*)(void))c_{name}, METH_FASTCALL, "{name}(*inputs, out)"}},'
+    return "\n".join(lines), entry
+
+
+def c_extension_text(python_source: str, rows: dict[str, int], module: str, title: str) -> str:
+    """C source of a Python extension module computing generated numpy kernels element by element.
+
+    Each kernel named in ``rows`` must be a function of the generated module ``python_source`` whose
+    last argument is ``out`` and whose body is straight-line code: assignments of arithmetic, powers
+    and the one-argument numpy functions of :data:`_C_FUNCTIONS` to temporaries and to ``out[k]``
+    (``if out is None`` allocation, ``del`` and ``return`` are skipped).  The C function
+    ``<module>.<name>(*inputs, out)`` runs the same operations in the same order for every element,
+    so its results agree with the numpy kernel's to rounding (numpy's shortcuts for the exponents
+    2, -1 and 1/2 are kept).  Inputs are float64 arrays of one size ``m`` (1-D with any stride, or
+    C-contiguous) or numbers;
+    ``out`` a writable C-contiguous float64 array of ``rows x m`` values.  Anything else raises
+    ``TypeError``, which a caller answers by calling the numpy kernel.
+
+    Parameters
+    ----------
+    python_source : str
+        Text of the generated numpy module.
+    rows : dict of str to int
+        Kernel name -> number of output rows.
+    module : str
+        The extension's module name (the last part of its dotted name).
+    title : str
+        First line of the C file's comment.
+
+    Returns
+    -------
+    str
+    """
+    import ast
+
+    functions = {f.name: f for f in ast.parse(python_source).body if isinstance(f, ast.FunctionDef)}
+    missing = sorted(set(rows) - set(functions))
+    if missing:
+        raise ValueError(f"c_extension_text: no kernel named {', '.join(missing)} in the source")
+    kernels = [_c_kernel(functions[name], rows[name]) for name in rows]
+    table = "\n".join(entry for _, entry in kernels)
+    return "\n".join([
+        f"/* {title}",
+        "   Generated from the numpy kernels by contin.codegen.c_extension_text: do not edit. */",
+        _C_PRELUDE,
+        "\n\n".join(text for text, _ in kernels),
+        "",
+        f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",
+        "",
+        f'static struct PyModuleDef moduledef = {{PyModuleDef_HEAD_INIT, "{module}", NULL, -1, methods}};',
+        "",
+        f"PyMODINIT_FUNC PyInit_{module}(void) {{ return PyModule_Create(&moduledef); }}",
+        ""])

@@ -19,7 +19,6 @@ determinant itself, so that branch-point tests cannot overflow.
 
 from __future__ import annotations
 
-import copy
 import warnings
 
 from dataclasses import dataclass, field
@@ -43,6 +42,7 @@ __all__ = [
     "to_banded",
     "FixedPattern",
     "symmetric_column",
+    "same_values",
     "BorderedSolver",
     "SingularMatrixError",
 ]
@@ -188,7 +188,9 @@ class FixedPattern:
         data = np.asarray(data, dtype=float)
         if data.shape != (self.nnz,):
             raise ValueError(f"FixedPattern.matrix: data must have shape ({self.nnz},), got {data.shape}")
-        A = copy.copy(self._template)
+        # a shallow copy of the template without copy.copy's protocol (0.3 against 1.7 us)
+        A = object.__new__(type(self._template))
+        A.__dict__.update(self._template.__dict__)
         A.data = data
         return A
 
@@ -211,6 +213,20 @@ def _band_positions(A, kl: int, ku: int, extra_rows: int) -> np.ndarray:
         _BAND_POSITIONS.insert(0, (A.indices, A.indptr, key, positions))
         del _BAND_POSITIONS[4:]
     return positions
+
+
+def same_values(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two arrays hold the same shape, dtype and bytes: the key test of a state cache.
+
+    Stricter than ``np.array_equal`` (``-0.0`` differs from ``0.0``; equal NaN bits match), which a
+    cache only pays for with a recomputation, and about six times faster for a state vector of a few
+    hundred entries (0.3 against 1.8 us).
+    """
+    if a is b:
+        return True
+    a = a if isinstance(a, np.ndarray) else np.asarray(a)
+    b = b if isinstance(b, np.ndarray) else np.asarray(b)
+    return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
 
 
 def symmetric_column(H: sp.csr_matrix, j: int) -> np.ndarray:
@@ -575,6 +591,38 @@ def _inf_norm(A) -> float:
     return float(np.abs(A).sum(axis=1).max()) if A.size else 0.0
 
 
+def _inf_norm_of(A, factor) -> float:
+    """``_inf_norm(A)``, remembered by ``A``'s factorization: the bordered systems of a Newton step
+    (tangent, correction, test functions) share one main block and its factorization."""
+    memo = getattr(factor, "_inf_norm_memo", None)
+    if memo is not None and memo[0] is A:
+        return memo[1]
+    value = _inf_norm(A)
+    if factor is not None:
+        factor._inf_norm_memo = (A, value)
+    return value
+
+
+def _max_abs(*arrays: np.ndarray) -> float:
+    """Largest modulus over the arrays (0 when all are empty; NaN when any entry is NaN)."""
+    largest = 0.0
+    for a in arrays:
+        if a.size:
+            value = float(np.maximum.reduce(np.abs(a), axis=None))
+            if not value <= largest:  # larger, or NaN (which then stays)
+                largest = value
+                if value != value:
+                    return value
+    return largest
+
+
+def _row_sum_norm(M: np.ndarray) -> float:
+    """Largest row sum of ``|M|`` for a 2-D array (0 when it has no rows)."""
+    if M.shape[1] == 1:  # one border column: the largest modulus, without the row sums
+        return _max_abs(M)
+    return float(np.abs(M).sum(axis=1).max(initial=0.0))
+
+
 @dataclass
 class BorderedSolver:
     """Solve ``[[A, B], [C, D]] [x; z] = [f; g]`` by block elimination on a factorization of ``A``.
@@ -617,9 +665,8 @@ class BorderedSolver:
         self._deflation_sign = 1.0
         if self.refactor is None:
             self.refactor = factorize
-        self._scale = _inf_norm(self.A) + np.abs(self.B).sum(axis=1).max(initial=0.0) + (
-            np.abs(self.C).sum(axis=1).max(initial=0.0) + np.abs(self.D).sum(axis=1).max(initial=0.0)
-        )
+        self._scale = _inf_norm_of(self.A, self.factor) + _row_sum_norm(self.B) + (
+            _row_sum_norm(self.C) + _row_sum_norm(self.D))
         if self.factor is None or getattr(self.factor, "exactly_singular", False):
             if not self._deflate():
                 self._use_full()
@@ -737,16 +784,16 @@ class BorderedSolver:
 
     def _try_block_elimination(self, f, g, trans):
         x, z = self._be_solve(f, g, trans)
-        size = np.max(np.abs(np.concatenate([x.ravel(), z.ravel()])), initial=0.0)
-        rhs = np.max(np.abs(np.concatenate([f.ravel(), g.ravel()])), initial=0.0)
+        size = _max_abs(x, z)
+        rhs = _max_abs(f, g)
         for _ in range(self.max_refine + 1):
             r1, r2 = self._residual(x, z, f, g, trans)
-            res = max(np.max(np.abs(r1), initial=0.0), np.max(np.abs(r2), initial=0.0))
+            res = _max_abs(r1, r2)
             if res <= self.refine_tol * (self._scale * size + rhs):
                 return x, z
             dx, dz = self._be_solve(r1, r2, trans)
             x, z = x + dx, z + dz
-            size = np.max(np.abs(np.concatenate([x.ravel(), z.ravel()])), initial=0.0)
+            size = _max_abs(x, z)
         return None
 
     def solve(self, f, g=None, trans: bool = False):

@@ -42,7 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import lapack
 
-from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU
+from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU, same_values
 from contin.linalg import factorize as generic_factorize
 from contin.deadload import DeadLoad
 from contin.problem import LeadingBlock, NonFiniteError, Problem
@@ -142,7 +142,7 @@ class ShellIndentation(Problem):
         x = self.full_state(u)
         c = self.position(p)
         cached = self._contact_cache
-        if cached is not None and cached[1] == c and np.array_equal(cached[0], x) and (
+        if cached is not None and cached[1] == c and same_values(cached[0], x) and (
                 not hessian or cached[2].hess_blocks is not None):
             return cached[2]
         try:

@@ -93,6 +93,7 @@ For every element (``<name>`` = ``stretch``, ``bend``, ``bend_cur``):
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
@@ -100,12 +101,17 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin.codegen import (KernelBody, count_operations, emitted_helpers, function_header, generator_main,
-                            kernel_printer, module_text, upper_pairs)
+from contin.codegen import (KernelBody, c_extension_text, check_generated, count_operations, emitted_helpers,
+                            function_header, generator_main, kernel_printer, module_text, upper_pairs,
+                            write_generated)
 
-__all__ = ["Element", "Layer", "build_elements", "generate_source", "main", "DEFAULT_OUTPUT"]
+__all__ = ["Element", "Layer", "build_elements", "generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT",
+           "C_OUTPUT"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_generated.py")
+#: The same fast kernels as a C extension (``contin_models.shell._ckernels``), generated from the
+#: committed numpy module by :func:`contin.codegen.c_extension_text` and built when the package installs
+C_OUTPUT = Path(__file__).with_name("_ckernels.c")
 
 
 @dataclass
@@ -806,10 +812,48 @@ def generate_source() -> str:
     return module_text(_PREAMBLE, functions + ["INPUTS", "NDOF", "UPPER"], constants, chunks)
 
 
+def generate_c_source(python_source: str | None = None) -> str:
+    """Text of ``_ckernels.c``: the fast gradient and Hessian kernels of ``python_source`` in C.
+
+    Parameters
+    ----------
+    python_source : str or None
+        Text of the numpy module (``None``: the committed ``_generated.py``, which the C file is
+        generated from and checked against, so that neither needs sympy to agree with the other).
+
+    Returns
+    -------
+    str
+    """
+    text = DEFAULT_OUTPUT.read_text(encoding="utf-8") if python_source is None else python_source
+    namespace: dict = {}
+    exec(compile(text, str(DEFAULT_OUTPUT), "exec"), namespace)
+    from .energy import compiled_rows
+
+    return c_extension_text(text, compiled_rows(namespace["NDOF"]), "_ckernels",
+                            "Fast element kernels of the discrete axisymmetric shell (contin_models.shell._ckernels).")
+
+
 def main(argv: list[str] | None = None) -> int:
-    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``."""
-    return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.codegen",
-                          __doc__.split("\n")[0])
+    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``.
+
+    Without ``--output`` the C extension's source :data:`C_OUTPUT` is written (or checked) too, from
+    the committed numpy module.
+    """
+    prog = "python -m contin_models.shell.codegen"
+    status = generator_main(argv, generate_source, DEFAULT_OUTPUT, prog, __doc__.split("\n")[0])
+    argv = sys.argv[1:] if argv is None else argv
+    if status or any(a.startswith("--output") for a in argv):
+        return status
+    if "--check" in argv:
+        try:
+            check_generated(generate_c_source, C_OUTPUT, prog)
+        except AssertionError as exc:
+            print(exc, file=sys.stderr)
+            return 1
+        return 0
+    write_generated(generate_c_source, C_OUTPUT)
+    return 0
 
 
 if __name__ == "__main__":

@@ -54,20 +54,42 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
-from contin.linalg import FixedPattern
+from contin.compiled import prefer_compiled
+from contin.linalg import FixedPattern, same_values
 
-from . import _generated as gen
+from . import _generated
 from .geometry import ReferenceCap
 
-__all__ = ["ShellEnergy", "HALF_BANDWIDTH", "kernels"]
+__all__ = ["ShellEnergy", "HALF_BANDWIDTH", "kernels", "COMPILED", "compiled_rows"]
 
 HALF_BANDWIDTH = 5
 """Half-bandwidth of the Hessian in the interleaved dof ordering."""
 
-kernels = gen
-"""The generated element kernels this energy calls (:mod:`contin_models.shell._generated`), under a public
-name: for direct use and for instrumenting them (``studies.bench_floor`` times every call).  An energy
-looks its kernels up here when it is built."""
+
+
+def compiled_rows(ndof: dict[str, int]) -> dict[str, int]:
+    """Output rows of each kernel the C extension carries: the fast gradient, Hessian and both, per element.
+
+    Parameters
+    ----------
+    ndof : dict of str to int
+        Local dofs of each element (the generated module's ``NDOF``).
+    """
+    rows = {}
+    for name, n in sorted(ndof.items()):
+        packed = n * (n + 1) // 2
+        rows.update({f"{name}_fast_gradient": n, f"{name}_fast_hessian": packed,
+                     f"{name}_fast_gradient_hessian": n + packed})
+    return rows
+
+
+kernels, COMPILED = prefer_compiled(_generated, "contin_models.shell._ckernels", compiled_rows(_generated.NDOF))
+"""``kernels``: the element kernels this energy calls: those of :mod:`contin_models.shell._generated`, with
+the gradient and Hessian kernels of the C extension ``contin_models.shell._ckernels`` in their place
+where it was built (``COMPILED`` is then True; same numbers, about ten times faster at N = 200; see
+:mod:`contin.compiled`).  Public for direct use and for instrumenting them (``studies.bench_floor``
+times every call); an energy looks its kernels up here when it is built."""
+gen = kernels
 
 _PARTS = ("stretch", "bend")
 
@@ -439,7 +461,7 @@ class ShellEnergy:
         """
         self._check_part(part)
         upper = None
-        if part is None and self._pair_state is not None and np.array_equal(x, self._pair_state):
+        if part is None and self._pair_state is not None and same_values(x, self._pair_state):
             self._pair_wanted = True
             upper = self._pair_upper
         if upper is None:

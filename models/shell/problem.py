@@ -73,7 +73,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from contin.deadload import DeadLoad
-from contin.linalg import BandedLU, Factorization, FixedPattern, symmetric_column
+from contin.linalg import BandedLU, Factorization, FixedPattern, same_values, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
@@ -281,6 +281,9 @@ class ShellPointLoad(Problem):
         self.D = self.shell.kb
         self.n_full = 2 * self.N
         self.z_pole_ref = float(self.cap.z[-1])
+        # the reference state that full_state fills in, built once (ReferenceCap.x interleaves anew)
+        self._x_reference = self.cap.x
+        self._x_reference.setflags(write=False)
         n = self.n_full
         base = np.concatenate([[0], np.arange(2, n - 2)])
         self.idx_displacement = base
@@ -365,7 +368,7 @@ class ShellPointLoad(Problem):
             raise ValueError(f"unknown vector must have shape ({self.n},), got {u.shape}")
         if self.control == "force":  # the last unknown is the pole displacement
             return self.twin.full_state(u[:-1], float(u[-1]))
-        x = self.cap.x
+        x = self._x_reference.copy()
         x[self.idx] = u
         x[-1] = self.z_pole_ref - float(p)
         return x
@@ -377,7 +380,7 @@ class ShellPointLoad(Problem):
 
     def free_state(self, v: np.ndarray) -> np.ndarray:
         """Full state from the free shell's unknowns ``x[idx_force]`` (the pole height among them)."""
-        x = self.cap.x
+        x = self._x_reference.copy()
         x[self.idx_force] = np.asarray(v, dtype=float)
         return x
 
@@ -442,7 +445,7 @@ class ShellPointLoad(Problem):
         """Gradient of :meth:`elastic_energy` in all ``2N`` dofs."""
         # one-state cache: the residual, the reaction force F and F_norm are asked for at the same state
         cached = self.__dict__.get("_grad_cache")
-        if cached is not None and np.array_equal(cached[0], x):
+        if cached is not None and same_values(cached[0], x):
             return cached[1].copy()
         g = self.shell.gradient(x)
         if self._pole is not None:
@@ -462,7 +465,7 @@ class ShellPointLoad(Problem):
         # matrix is shared: callers must not modify it.
         cache = self.__dict__.setdefault("_hess_cache", [])
         for i, (xc, Hc) in enumerate(cache):
-            if np.array_equal(xc, x):
+            if same_values(xc, x):
                 if i:
                     cache.insert(0, cache.pop(i))
                 return Hc

@@ -47,7 +47,7 @@ from typing import Any, Literal
 import numpy as np
 import scipy.sparse as sp
 
-from contin.linalg import BandedLU, Factorization, symmetric_column
+from contin.linalg import BandedLU, Factorization, same_values, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
 from . import _generated as gen
@@ -348,7 +348,7 @@ class ShellStructure:
 
     def gradient(self, x: np.ndarray) -> np.ndarray:
         """Gradient of :meth:`energy` in all ``2N`` dofs (a new array)."""
-        if self._grad_cache is not None and np.array_equal(self._grad_cache[0], x):
+        if self._grad_cache is not None and same_values(self._grad_cache[0], x):
             return self._grad_cache[1].copy()
         g = self.shell.gradient(x)
         for element, dofs in self._poles:
@@ -361,7 +361,7 @@ class ShellStructure:
     def hessian(self, x: np.ndarray) -> sp.csr_matrix:
         """Hessian of :meth:`energy` in all ``2N`` dofs, in :attr:`pattern` (shared: do not modify)."""
         for i, (xc, Hc) in enumerate(self._hess_cache):
-            if np.array_equal(xc, x):
+            if same_values(xc, x):
                 if i:
                     self._hess_cache.insert(0, self._hess_cache.pop(i))
                 return Hc

@@ -1,0 +1,140 @@
+"""The shell's kernels in C (contin_models.shell._ckernels) against the same kernels in numpy.
+
+The C source is generated from the committed numpy module (contin.codegen.c_extension_text); the
+extension is built by the package install where a C compiler is found, and the shell falls back on
+numpy elsewhere.  The numbers must not depend on which ran.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from contin.codegen import c_extension_text
+from contin_models.shell import _generated
+from contin_models.shell.energy import COMPILED, compiled_rows, kernels
+
+ROWS = compiled_rows(_generated.NDOF)
+needs_compiled = pytest.mark.skipif(not COMPILED, reason="the C extension contin_models.shell._ckernels is not built")
+
+
+def _inputs(name: str, m: int, rng: np.random.Generator) -> list:
+    """Plausible element inputs: positive lengths and radii, parameters of either sign."""
+    n_in = getattr(_generated, name).__code__.co_argcount - 1  # all but out
+    args = [rng.uniform(0.2, 1.5, m) for _ in range(n_in)]
+    args[-1] = 0.3  # nu, a number as the shell passes it
+    return args
+
+
+def test_c_source_is_generated_from_the_committed_numpy_kernels():
+    from contin_models.shell.codegen import C_OUTPUT, generate_c_source
+
+    assert C_OUTPUT.read_text(encoding="utf-8") == generate_c_source(), (
+        "models/shell/_ckernels.c is out of date: run `python -m contin_models.shell.codegen`")
+
+
+def test_the_ci_build_has_the_compiled_kernels():
+    if os.environ.get("CI") != "true":
+        pytest.skip("only CI, whose machine has a C compiler, must have built the extension")
+    assert COMPILED, "the package install did not build contin_models.shell._ckernels"
+
+
+@needs_compiled
+@pytest.mark.parametrize("name", sorted(ROWS))
+def test_compiled_kernel_gives_the_numpy_numbers(name):
+    rng = np.random.default_rng(3)
+    args = _inputs(name, 57, rng)
+    expected = getattr(_generated, name)(*args)
+    got = getattr(kernels, name)(*args)
+    assert got.shape == expected.shape == (ROWS[name], 57)
+    # the same operations in the same order: equal up to the last bit on this machine, and within
+    # rounding anywhere (a compiler may contract a multiply-add)
+    np.testing.assert_allclose(got, expected, rtol=1e-13, atol=1e-13 * np.abs(expected).max())
+
+
+@needs_compiled
+def test_compiled_kernel_takes_strided_inputs_numbers_and_a_given_out():
+    name = "bend_cur_fast_gradient_hessian"
+    rng = np.random.default_rng(4)
+    dense = _inputs(name, 40, rng)
+    strided = [np.repeat(a, 2)[::2] if isinstance(a, np.ndarray) else a for a in dense]  # stride 2
+    assert not strided[0].flags.c_contiguous
+    strided[6] = float(dense[6][0])  # a parameter passed as a number...
+    dense[6] = np.full(40, dense[6][0])  # ...is the same as that value for every element
+    out = np.full((ROWS[name], 40), np.nan)
+    assert getattr(kernels, name)(*strided, out=out) is out
+    np.testing.assert_allclose(out, getattr(_generated, name)(*dense), rtol=1e-13, atol=1e-300)
+
+
+@needs_compiled
+def test_inputs_the_extension_does_not_take_fall_back_on_numpy():
+    from contin_models.shell import _ckernels
+
+    name = "stretch_fast_gradient"
+    rng = np.random.default_rng(5)
+    args = _inputs(name, 12, rng)
+    with pytest.raises(TypeError, match="not float64"):
+        _ckernels.stretch_fast_gradient(*[a.astype(np.float32) if isinstance(a, np.ndarray) else a for a in args],
+                                        np.empty((ROWS[name], 12)))
+    with pytest.raises(TypeError, match="elements"):
+        _ckernels.stretch_fast_gradient(args[0][:5], *args[1:], np.empty((ROWS[name], 12)))
+    # the public kernels answer with numpy: integer arrays, a transposed 2-D block
+    integers = [np.arange(1, 13) + k if isinstance(a, np.ndarray) else a for k, a in enumerate(args)]
+    np.testing.assert_array_equal(getattr(kernels, name)(*integers), getattr(_generated, name)(*integers))
+    block = [np.tile(a, (3, 1)).T if isinstance(a, np.ndarray) else a for a in args]  # (12, 3), F-ordered
+    np.testing.assert_allclose(getattr(kernels, name)(*block), getattr(_generated, name)(*block), rtol=1e-13)
+
+
+@needs_compiled
+def test_non_finite_inputs_give_non_finite_outputs_as_in_numpy():
+    name = "stretch_fast_hessian"
+    args = _inputs(name, 6, np.random.default_rng(6))
+    args[0][2] = np.nan
+    args[1][4] = np.inf
+    with np.errstate(all="ignore"):
+        expected = getattr(_generated, name)(*args)
+    got = getattr(kernels, name)(*args)
+    np.testing.assert_array_equal(np.isfinite(got), np.isfinite(expected))
+    assert not np.isfinite(got[:, 2]).any()
+
+
+def test_numpy_kernels_when_compiled_kernels_are_switched_off():
+    code = ("from contin_models.shell.energy import COMPILED, kernels\n"
+            "from contin_models.shell import _generated\n"
+            "assert not COMPILED\n"
+            "assert kernels.stretch_fast_gradient is _generated.stretch_fast_gradient\n"
+            "print('numpy')")
+    env = dict(os.environ, CONTIN_COMPILED="0")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "numpy"
+
+
+def test_translation_refuses_what_it_cannot_translate():
+    source = ("def k_fast_gradient(a, b, out=None):\n"
+              "    for i in range(3):\n"
+              "        out[i] = a\n"
+              "    return out\n")
+    with pytest.raises(ValueError, match="k_fast_gradient: no C translation for statement"):
+        c_extension_text(source, {"k_fast_gradient": 3}, "_k", "test")
+    source = "def k_fast_gradient(a, b, out=None):\n    out[0] = numpy.arctan2(a, b)\n    return out\n"
+    with pytest.raises(ValueError, match="no C translation for 'numpy.arctan2"):
+        c_extension_text(source, {"k_fast_gradient": 1}, "_k", "test")
+    with pytest.raises(ValueError, match="no kernel named missing"):
+        c_extension_text(source, {"missing": 1}, "_k", "test")
+
+
+def test_translation_of_powers_and_constants():
+    source = ("def k_fast_gradient(a, b, out=None):\n"
+              "    t = (1/2)*a**2 + b**(-1) + numpy.sqrt(a)**3 - numpy.pi*abs(b)\n"
+              "    out[0] = t\n"
+              "    out[1] = -1/4*t**0.5\n"
+              "    return out\n")
+    text = c_extension_text(source, {"k_fast_gradient": 2}, "_k", "test")
+    assert ("double t = (((((1.0 / 2.0) * (a * a)) + (1.0 / b)) + pow(sqrt(a), 3.0)) - "
+            "(3.141592653589793 * fabs(b)));") in text
+    assert "out[1 * _m + _i] = (((-1.0) / 4.0) * sqrt(t));" in text
