@@ -1,12 +1,15 @@
-"""Build of the optional C extension; everything else is declared in pyproject.toml.
+"""Build of the optional C extensions; everything else is declared in pyproject.toml.
 
-``contin_models.shell._ckernels`` (generated C, see ``python -m contin_models.shell.codegen``) holds the
-shell's fast element kernels.  It is optional: where no C compiler is found the install still
-succeeds and the shell uses the same kernels in numpy (``contin_models.shell.energy.COMPILED`` tells
-which ones run).
+``contin_models.shell._ckernels`` and ``contin_models.shell._harmonic_ckernels`` (generated C, see
+``python -m contin_models.shell.codegen`` and ``python -m contin_models.shell.harmonic_codegen``) hold
+the shell's element kernels and the harmonic blocks' local Hessian kernels.  They are optional: where
+no C compiler is found the install still succeeds and the shell uses the same kernels in numpy
+(``contin_models.shell.energy.COMPILED`` and ``contin_models.shell.harmonic.COMPILED`` tell which
+ones run).
 """
 
 from setuptools import Extension, setup
 
-setup(ext_modules=[Extension("contin_models.shell._ckernels", ["models/shell/_ckernels.c"], optional=True,
-                             extra_compile_args=["-O2", "-fno-fast-math"])])
+setup(ext_modules=[Extension(f"contin_models.shell.{name}", [f"models/shell/{name}.c"], optional=True,
+                             extra_compile_args=["-O2", "-fno-fast-math"])
+                   for name in ("_ckernels", "_harmonic_ckernels")])

@@ -778,7 +778,7 @@ def check_generated(source: str | Callable[[], str], path: str | Path, command: 
 
 
 def generator_main(argv: list[str] | None, generate_source: Callable[[], str], default_output: Path, prog: str,
-                   description: str) -> int:
+                   description: str, companions: Sequence[tuple[Callable[[], str], Path]] = ()) -> int:
     """Command line of a generator: write the module, or with ``--check`` exit 1 if it is out of date.
 
     A generator script ends with ``raise SystemExit(generator_main(None, generate_source, OUTPUT,
@@ -795,6 +795,9 @@ def generator_main(argv: list[str] | None, generate_source: Callable[[], str], d
         The committed generated file.
     prog, description : str
         For the help text (``prog`` is also the command the out-of-date message suggests).
+    companions : sequence of (callable, Path)
+        Files generated from the committed module (e.g. its C extension's source,
+        :func:`c_extension_text`): without ``--output``, each is written (or checked) after it.
 
     Returns
     -------
@@ -808,29 +811,33 @@ def generator_main(argv: list[str] | None, generate_source: Callable[[], str], d
     parser.add_argument("--check", action="store_true",
                         help="do not write; exit 1 if the file differs from what would be generated")
     args = parser.parse_args(argv)
-    if args.check:
-        try:
-            check_generated(generate_source, args.output, prog)
-        except GeneratedFileOutOfDate as exc:
-            print(exc, file=sys.stderr)
-            return 1
-        return 0
-    write_generated(generate_source, args.output)
+    files = [(generate_source, args.output)]
+    if args.output == default_output:
+        files += list(companions)
+    for source, path in files:
+        if args.check:
+            try:
+                check_generated(source, path, prog)
+            except GeneratedFileOutOfDate as exc:
+                print(exc, file=sys.stderr)
+                return 1
+        else:
+            write_generated(source, path)
     return 0
 
 
 # ---- the same kernels in C -------------------------------------------------------------------------
 #: numpy functions of one argument a generated kernel may call, and their C names (math.h)
-_C_FUNCTIONS = {"sqrt": "sqrt", "abs": "fabs", "absolute": "fabs", "sin": "sin", "cos": "cos", "tan": "tan",
+_C_FUNCTIONS = {"sqrt": "sqrt", "sign": "sign_of", "abs": "fabs", "absolute": "fabs", "sin": "sin", "cos": "cos", "tan": "tan",
                 "exp": "exp", "log": "log", "arctan": "atan", "arcsin": "asin", "arccos": "acos"}
 _C_OPERATORS = {"Add": "+", "Sub": "-", "Mult": "*", "Div": "/"}
 
-_C_PRELUDE = r'''#define PY_SSIZE_T_CLEAN
+_C_PRELUDE = r"""#define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>
 #include <string.h>
 
-/* An argument of a kernel: a float64 buffer (1-D with any whole stride, or C-contiguous) or a number
+/* An input of a kernel: a float64 buffer (1-D with any whole stride, or C-contiguous) or a number
    (stride 0). */
 typedef struct {
     Py_buffer view;
@@ -840,11 +847,25 @@ typedef struct {
     double scalar;
 } Input;
 
-static void release(Input *in, Py_ssize_t n, Py_buffer *out, int out_held) {
-    for (Py_ssize_t k = 0; k < n; k++) {
+/* An output: a writable C-contiguous float64 buffer of rows x m values (row r of element i at r m + i). */
+typedef struct {
+    Py_buffer view;
+    int held;
+    double *data;
+} Output;
+
+static void release(Input *in, Py_ssize_t nin, Output *out, Py_ssize_t nout) {
+    for (Py_ssize_t k = 0; k < nin; k++) {
         if (in[k].held) PyBuffer_Release(&in[k].view);
     }
-    if (out_held) PyBuffer_Release(out);
+    for (Py_ssize_t k = 0; k < nout; k++) {
+        if (out[k].held) PyBuffer_Release(&out[k].view);
+    }
+}
+
+/* numpy.sign of a float: -1, 0 (for either zero) or 1, and NaN for NaN */
+static inline double sign_of(double x) {
+    return x > 0.0 ? 1.0 : x < 0.0 ? -1.0 : x == 0.0 ? 0.0 : x;
 }
 
 static int is_float64(const Py_buffer *view) {
@@ -866,15 +887,16 @@ static int as_type_error(void) {
     return -1;
 }
 
-/* Reads the inputs args[0..nin) and the output args[nin] (rows x m); 0, or -1 with TypeError set
-   (the Python wrapper then calls the numpy kernel, which accepts any array-like). */
+/* Reads the inputs args[0..nin) and the outputs args[nin..nin+nout) (rows[k] x m values each); 0, or
+   -1 with TypeError set (the Python wrapper then calls the numpy kernel, which takes any array-like). */
 static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, Input *in, Py_ssize_t nin,
-                   Py_ssize_t rows, Py_buffer *out, int *out_held, Py_ssize_t *m) {
-    *out_held = 0;
+                   Output *out, Py_ssize_t nout, const Py_ssize_t *rows, Py_ssize_t *m) {
     *m = 1;
     for (Py_ssize_t k = 0; k < nin; k++) in[k].held = 0;
-    if (nargs != nin + 1) {
-        PyErr_Format(PyExc_TypeError, "%s takes %zd arguments (the inputs, then out), got %zd", name, nin + 1, nargs);
+    for (Py_ssize_t k = 0; k < nout; k++) out[k].held = 0;
+    if (nargs != nin + nout) {
+        PyErr_Format(PyExc_TypeError, "%s takes %zd arguments (the inputs, then the outputs), got %zd", name,
+                     nin + nout, nargs);
         return -1;
     }
     for (Py_ssize_t k = 0; k < nin; k++) {
@@ -922,24 +944,50 @@ static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, In
             in[k].stride = 0;
         }
     }
-    if (PyObject_GetBuffer(args[nin], out, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0) {
-        return as_type_error();
-    }
-    *out_held = 1;
-    if (!is_float64(out) || out->len / 8 != rows * *m) {
-        PyErr_Format(PyExc_TypeError, "%s: out must be a float64 array of %zd x %zd values", name, rows, *m);
-        return -1;
+    for (Py_ssize_t k = 0; k < nout; k++) {
+        if (PyObject_GetBuffer(args[nin + k], &out[k].view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0) {
+            return as_type_error();
+        }
+        out[k].held = 1;
+        if (!is_float64(&out[k].view) || out[k].view.len / 8 != rows[k] * *m) {
+            PyErr_Format(PyExc_TypeError, "%s: output %zd must be a float64 array of %zd x %zd values", name, k,
+                         rows[k], *m);
+            return -1;
+        }
+        out[k].data = (double *)out[k].view.buf;
     }
     return 0;
 }
-'''
+"""
 
 
 class _CExpression:
-    """Prints a numpy kernel's expression (a Python ``ast`` node) as a fully parenthesised C expression."""
+    """Prints a numpy kernel's expression (a Python ``ast`` node) as a fully parenthesised C expression.
 
-    def __init__(self, function: str) -> None:
+    ``outputs`` maps the kernel's output arrays to their C names and shapes: reading one of their
+    entries (``_h[0, 10]``) reads the element's value in the output buffer.
+    """
+
+    def __init__(self, function: str, outputs: dict[str, tuple[str, tuple[int, ...]]]) -> None:
         self.function = function
+        self.outputs = outputs
+
+    def entry(self, node: Any) -> str:
+        """C lvalue of an output entry ``name[i, j, ...]`` (constant indices) for the element ``_i``."""
+        import ast
+
+        name = node.value.id if isinstance(node.value, ast.Name) else None
+        index = node.slice.elts if isinstance(node.slice, ast.Tuple) else [node.slice]
+        if name not in self.outputs or not all(isinstance(k, ast.Constant) and isinstance(k.value, int)
+                                               for k in index):
+            raise ValueError(f"{self.function}: no C translation for {ast.unparse(node)!r}")
+        c_name, shape = self.outputs[name]
+        if len(index) != len(shape) or not all(0 <= k.value < d for k, d in zip(index, shape)):
+            raise ValueError(f"{self.function}: index {ast.unparse(node)!r} outside the shape {shape}")
+        flat = 0
+        for k, d in zip(index, shape):
+            flat = flat * d + k.value
+        return f"{c_name}[{flat} * _m + _i]"
 
     def __call__(self, node: Any) -> str:
         import ast
@@ -948,6 +996,8 @@ class _CExpression:
             return repr(float(node.value))
         if isinstance(node, ast.Name):
             return node.id
+        if isinstance(node, ast.Subscript):
+            return self.entry(node)
         if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "numpy" \
                 and node.attr == "pi":
             return repr(math.pi)
@@ -984,62 +1034,129 @@ class _CExpression:
         return f"pow({base}, {self(exponent)})"
 
 
-def _c_kernel(function: Any, rows: int) -> tuple[str, str]:
-    """``(C function text, method-table entry)`` of one generated numpy kernel with an ``out`` argument."""
+def _c_output_name(name: str) -> str:
+    """C name of the pointer to an output's values (``_h`` -> ``out_h``)."""
+    return f"out{name}" if name.startswith("_") else f"out_{name}"
+
+
+def _zeros_shape(value: Any) -> tuple[tuple[int, ...], bool] | None:
+    """``(shape, per_element)`` of ``numpy.zeros(shape)`` (per element when its last extent is ``_m``), or None."""
+    import ast
+
+    if not (isinstance(value, ast.Call) and ast.unparse(value.func) == "numpy.zeros" and len(value.args) == 1):
+        return None
+    arg = value.args[0]
+    extents = arg.elts if isinstance(arg, ast.Tuple) else [arg]
+    per_element = isinstance(extents[-1], ast.Name) and extents[-1].id == "_m"
+    dims = extents[:-1] if per_element else extents
+    if not all(isinstance(d, ast.Constant) and isinstance(d.value, int) for d in dims):
+        return None
+    return tuple(d.value for d in dims), per_element
+
+
+def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None]:
+    """``(C function text, method-table entry, returns)`` of one generated numpy kernel.
+
+    ``rows``: the kernel fills an ``out`` argument of ``rows`` rows (``returns`` is None).  None: the
+    kernel allocates its outputs with ``numpy.zeros`` and returns them (or scalars per element);
+    ``returns`` is then ``(per_element, [shape of each returned value])``.
+    """
     import ast
 
     name = function.name
     inputs = [a.arg for a in function.args.args if a.arg != "out"]
-    expression = _CExpression(name)
     body, declared = [], set(inputs)
-    for statement in function.body:
+    outputs: dict[str, tuple[str, tuple[int, ...]]] = {}
+    returned: list[str] = []
+    per_element = True
+    if rows is not None:
+        outputs["out"] = ("out", (rows,))
+    statements = function.body
+    for statement in statements:
+        if isinstance(statement, ast.Return) and rows is None:
+            value = statement.value
+            returned = [e.id for e in value.elts] if isinstance(value, ast.Tuple) else [value.id]
+    for statement in statements:
         if isinstance(statement, (ast.Delete, ast.Return)) or (
                 isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant)):
             continue
-        if isinstance(statement, ast.If) and ast.unparse(statement.test) == "out is None":
+        if isinstance(statement, ast.If) and ast.unparse(statement.test) == "out is None" and rows is not None:
             continue
         if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
             raise ValueError(f"{name}: no C translation for statement {ast.unparse(statement)!r}")
-        target, value = statement.targets[0], expression(statement.value)
+        target = statement.targets[0]
+        if rows is None and isinstance(target, ast.Name):
+            if target.id == "_m" and ast.unparse(statement.value) == f"numpy.shape({inputs[0]})[0]":
+                continue
+            zeros = _zeros_shape(statement.value)
+            if zeros is not None:
+                outputs[target.id] = (_c_output_name(target.id), zeros[0])
+                per_element = zeros[1]
+                continue
+        expression = _CExpression(name, outputs)
+        value = expression(statement.value)
         if isinstance(target, ast.Name):
             body.append(f"{'' if target.id in declared else 'double '}{target.id} = {value};")
             declared.add(target.id)
-        elif (isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name) and target.value.id == "out"
-              and isinstance(target.slice, ast.Constant) and 0 <= target.slice.value < rows):
-            body.append(f"out[{target.slice.value} * _m + _i] = {value};")
+        elif isinstance(target, ast.Subscript):
+            body.append(f"{expression.entry(target)} = {value};")
         else:
             raise ValueError(f"{name}: no C translation for target {ast.unparse(target)!r}")
-    n = len(inputs)
+    if rows is None:
+        # returned numbers (one per element) get an output of their own, written after the body
+        for r in returned:
+            if r not in outputs:
+                outputs[r] = (_c_output_name(r), ())
+                body.append(f"{outputs[r][0]}[_i] = {r};")
+        order = returned
+    else:
+        order = ["out"]
+    shapes = [outputs[r][1] for r in order]
+    sizes = [math.prod(shape) for shape in shapes]
+    n, nout = len(inputs), len(order)
     lines = [f"static PyObject *c_{name}(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {{",
+             f"    static const Py_ssize_t rows[{nout}] = {{{', '.join(map(str, sizes))}}};",
              f"    Input in[{n}];",
-             "    Py_buffer view;",
-             "    int out_held;",
+             f"    Output outputs[{nout}];",
              "    Py_ssize_t _m;",
-             f"    if (prepare(\"{name}\", args, nargs, in, {n}, {rows}, &view, &out_held, &_m) < 0) {{",
-             f"        release(in, {n}, &view, out_held);",
+             f"    if (prepare(\"{name}\", args, nargs, in, {n}, outputs, {nout}, rows, &_m) < 0) {{",
+             f"        release(in, {n}, outputs, {nout});",
              "        return NULL;",
-             "    }",
-             "    double *out = (double *)view.buf;",
-             "    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
+             "    }"]
+    lines += [f"    double *{outputs[r][0]} = outputs[{k}].data;" for k, r in enumerate(order)]
+    lines += ["    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
     lines += [f"        const double {a} = in[{k}].data[_i * in[{k}].stride];" for k, a in enumerate(inputs)]
     lines += ["        " + line for line in body]
-    lines += ["    }", f"    release(in, {n}, &view, out_held);", "    Py_RETURN_NONE;", "}"]
-    entry = f'    {{"{name}", (PyCFunction)(void (*)(void))c_{name}, METH_FASTCALL, "{name}(*inputs, out)"}},'
-    return "\n".join(lines), entry
+    lines += ["    }", f"    release(in, {n}, outputs, {nout});", "    Py_RETURN_NONE;", "}"]
+    arguments = "*inputs, out" if rows is not None else "*inputs, *outputs"
+    entry = f'    {{"{name}", (PyCFunction)(void (*)(void))c_{name}, METH_FASTCALL, "{name}({arguments})"}},'
+    return "\n".join(lines), entry, (None if rows is not None else (per_element, shapes))
 
 
-def c_extension_text(python_source: str, rows: dict[str, int], module: str, title: str) -> str:
+def c_extension_text(python_source: str, rows: dict[str, int], module: str, title: str,
+                     returning: Sequence[str] = ()) -> str:
     """C source of a Python extension module computing generated numpy kernels element by element.
 
-    Each kernel named in ``rows`` must be a function of the generated module ``python_source`` whose
-    last argument is ``out`` and whose body is straight-line code: assignments of arithmetic, powers
-    and the one-argument numpy functions of :data:`_C_FUNCTIONS` to temporaries and to ``out[k]``
-    (``if out is None`` allocation, ``del`` and ``return`` are skipped).  The C function
-    ``<module>.<name>(*inputs, out)`` runs the same operations in the same order for every element,
-    so its results agree with the numpy kernel's to rounding (numpy's shortcuts for the exponents
-    2, -1 and 1/2 are kept).  Inputs are float64 arrays of one size ``m`` (1-D with any stride, or
-    C-contiguous) or numbers;
-    ``out`` a writable C-contiguous float64 array of ``rows x m`` values.  Anything else raises
+    Each kernel must be a function of the generated module ``python_source`` whose body is
+    straight-line code: assignments of arithmetic, powers and the one-argument numpy functions of
+    :data:`_C_FUNCTIONS` to temporaries and to entries of its outputs (with constant indices).  The
+    C function runs the same operations in the same order for every element, so its results agree
+    with the numpy kernel's to rounding (numpy's shortcuts for the exponents 2, -1 and 1/2 are
+    kept).  Two forms of kernel:
+
+    * named in ``rows`` (name -> number of rows): the kernel's last argument is ``out``, which it
+      fills row by row (``out[k] = ...``; its ``if out is None`` allocation, ``del`` and ``return``
+      are skipped); the C function is ``name(*inputs, out)``;
+    * named in ``returning``: the kernel allocates its outputs with ``numpy.zeros(shape)`` (per
+      element when the last extent is ``_m = numpy.shape(first input)[0]``), fills their entries
+      (``_h[0, 10] = ...``, ``_h[10, 0] = _h[0, 10]``) and returns a tuple of them and of numbers
+      per element; the C function is ``name(*inputs, *outputs)``, the outputs zero-filled arrays in
+      the returned order, and the module's string ``RETURNS`` (a Python literal,
+      :func:`contin.compiled.prefer_compiled` reads it) gives each such kernel's
+      ``(per_element, [shape of each returned value])``.
+
+    Inputs are float64 arrays of one size ``m`` (1-D with any stride, or C-contiguous) or numbers;
+    outputs writable C-contiguous float64 arrays of ``rows x m`` values.  Anything else raises
     ``TypeError``, which a caller answers by calling the numpy kernel.
 
     Parameters
@@ -1047,11 +1164,13 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     python_source : str
         Text of the generated numpy module.
     rows : dict of str to int
-        Kernel name -> number of output rows.
+        The ``out`` kernels and their numbers of output rows.
     module : str
         The extension's module name (the last part of its dotted name).
     title : str
         First line of the C file's comment.
+    returning : sequence of str
+        The kernels that return their outputs.
 
     Returns
     -------
@@ -1060,20 +1179,30 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     import ast
 
     functions = {f.name: f for f in ast.parse(python_source).body if isinstance(f, ast.FunctionDef)}
-    missing = sorted(set(rows) - set(functions))
+    missing = sorted((set(rows) | set(returning)) - set(functions))
     if missing:
         raise ValueError(f"c_extension_text: no kernel named {', '.join(missing)} in the source")
-    kernels = [_c_kernel(functions[name], rows[name]) for name in rows]
-    table = "\n".join(entry for _, entry in kernels)
+    kernels = [_c_kernel(functions[name], n) for name, n in rows.items()]
+    kernels += [_c_kernel(functions[name], None) for name in returning]
+    table = "\n".join(entry for _, entry, _ in kernels)
+    returns = {name: spec for name, (_, _, spec) in zip([*rows, *returning], kernels) if spec is not None}
+    init = [f"PyMODINIT_FUNC PyInit_{module}(void) {{",
+            "    PyObject *module = PyModule_Create(&moduledef);"]
+    if returns:
+        init += [f"    if (module != NULL && PyModule_AddStringConstant(module, \"RETURNS\", \"{returns!r}\") < 0) {{",
+                 "        Py_DECREF(module);",
+                 "        return NULL;",
+                 "    }"]
+    init += ["    return module;", "}"]
     return "\n".join([
         f"/* {title}",
         "   Generated from the numpy kernels by contin.codegen.c_extension_text: do not edit. */",
         _C_PRELUDE,
-        "\n\n".join(text for text, _ in kernels),
+        "\n\n".join(text for text, _, _ in kernels),
         "",
         f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",
         "",
         f'static struct PyModuleDef moduledef = {{PyModuleDef_HEAD_INIT, "{module}", NULL, -1, methods}};',
         "",
-        f"PyMODINIT_FUNC PyInit_{module}(void) {{ return PyModule_Create(&moduledef); }}",
+        *init,
         ""])

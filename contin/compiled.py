@@ -12,6 +12,7 @@ The environment variable ``CONTIN_COMPILED=0`` keeps the numpy kernels (to compa
 
 from __future__ import annotations
 
+import ast
 import importlib
 import os
 import types
@@ -45,7 +46,27 @@ def _kernel(compiled: Callable, fallback: Callable, rows: int) -> Callable:
     return kernel
 
 
-def prefer_compiled(kernels: types.ModuleType, extension: str, rows: Mapping[str, int]) -> tuple[types.ModuleType, bool]:
+def _returning_kernel(compiled: Callable, fallback: Callable, per_element: bool,
+                      shapes: list[tuple[int, ...]]) -> Callable:
+    def kernel(*inputs):
+        m = np.shape(inputs[0])[0] if per_element else None
+        outputs = [np.zeros(shape + (m,) if per_element else shape or (1,)) for shape in shapes]
+        try:
+            compiled(*inputs, *outputs)
+        except TypeError:  # as for the out= kernels: numpy takes what the extension does not
+            return fallback(*inputs)
+        if not per_element:  # the numbers of a single element are numbers, as numpy's are
+            outputs = [float(o[0]) if not shape else o for o, shape in zip(outputs, shapes)]
+        return tuple(outputs) if len(outputs) > 1 else outputs[0]
+
+    kernel.__name__ = kernel.__qualname__ = fallback.__name__
+    kernel.__doc__ = fallback.__doc__
+    kernel.__wrapped__ = fallback
+    return kernel
+
+
+def prefer_compiled(kernels: types.ModuleType, extension: str,
+                    rows: Mapping[str, int] | None = None) -> tuple[types.ModuleType, bool]:
     """The kernels of ``kernels`` with those of the C extension ``extension`` in their place, if it imports.
 
     Parameters
@@ -54,15 +75,18 @@ def prefer_compiled(kernels: types.ModuleType, extension: str, rows: Mapping[str
         The generated numpy module.
     extension : str
         Dotted name of the compiled extension.
-    rows : mapping of str to int
-        Name -> output rows of each kernel the extension carries (called ``name(*inputs, out)``).
+    rows : mapping of str to int or None
+        Name -> output rows of each kernel the extension carries that fills an ``out`` argument (called
+        ``name(*inputs, out)``).  The kernels that return their outputs are those of the extension's
+        ``RETURNS`` (see :func:`contin.codegen.c_extension_text`).
 
     Returns
     -------
     namespace : module
         A new module object holding every public name of ``kernels``; each name in ``rows`` is the
-        compiled kernel behind the numpy kernel's signature (``name(*inputs, out=None)``), falling
-        back on the numpy kernel for inputs the extension does not take.
+        compiled kernel behind the numpy kernel's signature (``name(*inputs, out=None)``), and so is
+        each kernel of the extension's ``RETURNS`` (``name(*inputs)``), falling back on the numpy
+        kernel for inputs the extension does not take.
     compiled : bool
         Whether the extension was imported (False also when ``CONTIN_COMPILED=0``).
     """
@@ -74,10 +98,14 @@ def prefer_compiled(kernels: types.ModuleType, extension: str, rows: Mapping[str
         module = importlib.import_module(extension)
     except ImportError:
         return namespace, False
-    missing = [name for name in rows if not hasattr(module, name)]
-    if missing:
+    rows = dict(rows or {})
+    returns = ast.literal_eval(getattr(module, "RETURNS", "{}"))
+    if any(not hasattr(module, name) or not hasattr(kernels, name) for name in [*rows, *returns]):
         # an extension built from another version of the generated source: use none of it
         return namespace, False
     for name, n in rows.items():
         setattr(namespace, name, _kernel(getattr(module, name), getattr(kernels, name), n))
+    for name, (per_element, shapes) in returns.items():
+        setattr(namespace, name, _returning_kernel(getattr(module, name), getattr(kernels, name), per_element,
+                                                   [tuple(s) for s in shapes]))
     return namespace, True

@@ -509,13 +509,19 @@ def _cholesky_growth(work: np.ndarray, negative: list[int]) -> float:
     """
     kd = work.shape[0] - 1
     n = work.shape[1]
-    diag = work[kd].copy()
-    diag[negative] = np.inf  # their multipliers were checked when they were eliminated
-    worst = 0.0
-    for t in range(1, min(kd, n - 1) + 1):  # row i = j - t of column j: work[kd - t, j]
-        ratio = np.abs(work[kd - t, t:]) / diag[:n - t]
-        worst = max(worst, float(np.max(ratio, initial=0.0)))
-    return worst
+    if kd == 0 or n < 2:
+        return 0.0
+    # work[kd - t, j] (row i = j - t of column j) divided by u_ii = diag[j - t], all rows at once: row r
+    # of the divisors is diag shifted right by kd - r, with inf where the band leaves the matrix
+    padded = np.full(n + kd, np.inf)
+    padded[kd:] = work[kd]
+    padded[kd + np.asarray(negative, dtype=np.intp)] = np.inf  # their multipliers were checked when eliminated
+    step = padded.strides[0]
+    divisors = np.lib.stride_tricks.as_strided(padded, shape=(kd, n), strides=(step, step), writeable=False)
+    ratio = np.abs(work[:kd]) / divisors
+    for r in range(kd):  # entries of the band storage outside the matrix hold anything: not multipliers
+        ratio[r, :kd - r] = 0.0
+    return float(ratio.max())
 
 
 class SparseLU(Factorization):

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from contin.codegen import c_extension_text
-from contin_models.shell import _generated
+from contin_models.shell import _generated, _harmonic_generated, harmonic
 from contin_models.shell.energy import COMPILED, compiled_rows, kernels
 
 ROWS = compiled_rows(_generated.NDOF)
@@ -37,10 +37,43 @@ def test_c_source_is_generated_from_the_committed_numpy_kernels():
         "models/shell/_ckernels.c is out of date: run `python -m contin_models.shell.codegen`")
 
 
+def test_harmonic_c_source_is_generated_from_the_committed_numpy_kernels():
+    from contin_models.shell.harmonic_codegen import C_OUTPUT, generate_c_source
+
+    assert C_OUTPUT.read_text(encoding="utf-8") == generate_c_source(), (
+        "models/shell/_harmonic_ckernels.c is out of date: run `python -m contin_models.shell.harmonic_codegen`")
+
+
 def test_the_ci_build_has_the_compiled_kernels():
     if os.environ.get("CI") != "true":
-        pytest.skip("only CI, whose machine has a C compiler, must have built the extension")
+        pytest.skip("only CI, whose machine has a C compiler, must have built the extensions")
     assert COMPILED, "the package install did not build contin_models.shell._ckernels"
+    assert harmonic.COMPILED, "the package install did not build contin_models.shell._harmonic_ckernels"
+
+
+HARMONIC_PER_ELEMENT = ("bend_cur_curvatures", "bend_ref_curvatures", "stretch_hessian")
+HARMONIC_POLE = ("pole_north_cur_jet", "pole_north_ref_jet", "pole_south_cur_jet", "pole_south_ref_jet")
+
+
+@pytest.mark.skipif(not harmonic.COMPILED, reason="the C extension contin_models.shell._harmonic_ckernels is not built")
+@pytest.mark.parametrize("name", HARMONIC_PER_ELEMENT + HARMONIC_POLE)
+def test_compiled_harmonic_kernel_gives_the_numpy_numbers(name):
+    rng = np.random.default_rng(7)
+    numpy_kernel = getattr(_harmonic_generated, name)
+    n_in = numpy_kernel.__code__.co_argcount
+    if name in HARMONIC_PER_ELEMENT:
+        args = [rng.uniform(0.3, 1.5, 31) for _ in range(n_in)]
+    else:  # one pole: numbers in, numbers and small arrays out
+        args = [float(v) for v in rng.uniform(0.3, 1.5, n_in)]
+    expected, got = numpy_kernel(*args), getattr(harmonic._hgen, name)(*args)
+    expected = expected if isinstance(expected, tuple) else (expected,)
+    got = got if isinstance(got, tuple) else (got,)
+    assert len(got) == len(expected)
+    for e, g in zip(expected, got):
+        assert np.shape(g) == np.shape(e) and isinstance(g, np.ndarray) == isinstance(e, np.ndarray)
+        # libm's pow and numpy's differ in the last bit for the odd powers (x**3, x**5) these kernels
+        # take; the rest is the same operations in the same order
+        np.testing.assert_allclose(g, e, rtol=1e-11, atol=1e-12 * max(np.abs(e).max(), 1.0))
 
 
 @needs_compiled
@@ -126,6 +159,22 @@ def test_translation_refuses_what_it_cannot_translate():
         c_extension_text(source, {"k_fast_gradient": 1}, "_k", "test")
     with pytest.raises(ValueError, match="no kernel named missing"):
         c_extension_text(source, {"missing": 1}, "_k", "test")
+
+
+def test_translation_of_kernels_that_return_their_outputs():
+    source = ("def k(y0, c):\n"
+              "    _m = numpy.shape(y0)[0]\n"
+              "    _h = numpy.zeros((2, 2, _m))\n"
+              "    _v = y0*c\n"
+              "    _h[0, 1] = numpy.sign(y0)\n"
+              "    _h[1, 0] = _h[0, 1]\n"
+              "    return _v, _h\n")
+    text = c_extension_text(source, {}, "_k", "test", returning=["k"])
+    assert "out_h[1 * _m + _i] = sign_of(y0);" in text and "out_h[2 * _m + _i] = out_h[1 * _m + _i];" in text
+    assert "out_v[_i] = _v;" in text
+    assert "\"{'k': (True, [(), (2, 2)])}\"" in text
+    with pytest.raises(ValueError, match="outside the shape"):
+        c_extension_text(source.replace("_h[1, 0] = _h[0, 1]", "_h[2, 0] = _h[0, 1]"), {}, "_k", "t", returning=["k"])
 
 
 def test_translation_of_powers_and_constants():

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-/* An argument of a kernel: a float64 buffer (1-D with any whole stride, or C-contiguous) or a number
+/* An input of a kernel: a float64 buffer (1-D with any whole stride, or C-contiguous) or a number
    (stride 0). */
 typedef struct {
     Py_buffer view;
@@ -15,11 +15,25 @@ typedef struct {
     double scalar;
 } Input;
 
-static void release(Input *in, Py_ssize_t n, Py_buffer *out, int out_held) {
-    for (Py_ssize_t k = 0; k < n; k++) {
+/* An output: a writable C-contiguous float64 buffer of rows x m values (row r of element i at r m + i). */
+typedef struct {
+    Py_buffer view;
+    int held;
+    double *data;
+} Output;
+
+static void release(Input *in, Py_ssize_t nin, Output *out, Py_ssize_t nout) {
+    for (Py_ssize_t k = 0; k < nin; k++) {
         if (in[k].held) PyBuffer_Release(&in[k].view);
     }
-    if (out_held) PyBuffer_Release(out);
+    for (Py_ssize_t k = 0; k < nout; k++) {
+        if (out[k].held) PyBuffer_Release(&out[k].view);
+    }
+}
+
+/* numpy.sign of a float: -1, 0 (for either zero) or 1, and NaN for NaN */
+static inline double sign_of(double x) {
+    return x > 0.0 ? 1.0 : x < 0.0 ? -1.0 : x == 0.0 ? 0.0 : x;
 }
 
 static int is_float64(const Py_buffer *view) {
@@ -41,15 +55,16 @@ static int as_type_error(void) {
     return -1;
 }
 
-/* Reads the inputs args[0..nin) and the output args[nin] (rows x m); 0, or -1 with TypeError set
-   (the Python wrapper then calls the numpy kernel, which accepts any array-like). */
+/* Reads the inputs args[0..nin) and the outputs args[nin..nin+nout) (rows[k] x m values each); 0, or
+   -1 with TypeError set (the Python wrapper then calls the numpy kernel, which takes any array-like). */
 static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, Input *in, Py_ssize_t nin,
-                   Py_ssize_t rows, Py_buffer *out, int *out_held, Py_ssize_t *m) {
-    *out_held = 0;
+                   Output *out, Py_ssize_t nout, const Py_ssize_t *rows, Py_ssize_t *m) {
     *m = 1;
     for (Py_ssize_t k = 0; k < nin; k++) in[k].held = 0;
-    if (nargs != nin + 1) {
-        PyErr_Format(PyExc_TypeError, "%s takes %zd arguments (the inputs, then out), got %zd", name, nin + 1, nargs);
+    for (Py_ssize_t k = 0; k < nout; k++) out[k].held = 0;
+    if (nargs != nin + nout) {
+        PyErr_Format(PyExc_TypeError, "%s takes %zd arguments (the inputs, then the outputs), got %zd", name,
+                     nin + nout, nargs);
         return -1;
     }
     for (Py_ssize_t k = 0; k < nin; k++) {
@@ -97,27 +112,31 @@ static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, In
             in[k].stride = 0;
         }
     }
-    if (PyObject_GetBuffer(args[nin], out, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0) {
-        return as_type_error();
-    }
-    *out_held = 1;
-    if (!is_float64(out) || out->len / 8 != rows * *m) {
-        PyErr_Format(PyExc_TypeError, "%s: out must be a float64 array of %zd x %zd values", name, rows, *m);
-        return -1;
+    for (Py_ssize_t k = 0; k < nout; k++) {
+        if (PyObject_GetBuffer(args[nin + k], &out[k].view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0) {
+            return as_type_error();
+        }
+        out[k].held = 1;
+        if (!is_float64(&out[k].view) || out[k].view.len / 8 != rows[k] * *m) {
+            PyErr_Format(PyExc_TypeError, "%s: output %zd must be a float64 array of %zd x %zd values", name, k,
+                         rows[k], *m);
+            return -1;
+        }
+        out[k].data = (double *)out[k].view.buf;
     }
     return 0;
 }
 
 static PyObject *c_bend_fast_gradient(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {6};
     Input in[11];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("bend_fast_gradient", args, nargs, in, 11, 6, &view, &out_held, &_m) < 0) {
-        release(in, 11, &view, out_held);
+    if (prepare("bend_fast_gradient", args, nargs, in, 11, outputs, 1, rows, &_m) < 0) {
+        release(in, 11, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double ar = in[0].data[_i * in[0].stride];
         const double az = in[1].data[_i * in[1].stride];
@@ -177,20 +196,20 @@ static PyObject *c_bend_fast_gradient(PyObject *self, PyObject *const *args, Py_
         out[4 * _m + _i] = (-_c18);
         out[5 * _m + _i] = _c19;
     }
-    release(in, 11, &view, out_held);
+    release(in, 11, outputs, 1);
     Py_RETURN_NONE;
 }
 
 static PyObject *c_bend_fast_hessian(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {21};
     Input in[11];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("bend_fast_hessian", args, nargs, in, 11, 21, &view, &out_held, &_m) < 0) {
-        release(in, 11, &view, out_held);
+    if (prepare("bend_fast_hessian", args, nargs, in, 11, outputs, 1, rows, &_m) < 0) {
+        release(in, 11, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double ar = in[0].data[_i * in[0].stride];
         const double az = in[1].data[_i * in[1].stride];
@@ -313,20 +332,20 @@ static PyObject *c_bend_fast_hessian(PyObject *self, PyObject *const *args, Py_s
         out[19 * _m + _i] = _c67;
         out[20 * _m + _i] = _c69;
     }
-    release(in, 11, &view, out_held);
+    release(in, 11, outputs, 1);
     Py_RETURN_NONE;
 }
 
 static PyObject *c_bend_fast_gradient_hessian(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {27};
     Input in[11];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("bend_fast_gradient_hessian", args, nargs, in, 11, 27, &view, &out_held, &_m) < 0) {
-        release(in, 11, &view, out_held);
+    if (prepare("bend_fast_gradient_hessian", args, nargs, in, 11, outputs, 1, rows, &_m) < 0) {
+        release(in, 11, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double ar = in[0].data[_i * in[0].stride];
         const double az = in[1].data[_i * in[1].stride];
@@ -458,20 +477,20 @@ static PyObject *c_bend_fast_gradient_hessian(PyObject *self, PyObject *const *a
         out[25 * _m + _i] = _c67;
         out[26 * _m + _i] = _c69;
     }
-    release(in, 11, &view, out_held);
+    release(in, 11, outputs, 1);
     Py_RETURN_NONE;
 }
 
 static PyObject *c_bend_cur_fast_gradient(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {6};
     Input in[11];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("bend_cur_fast_gradient", args, nargs, in, 11, 6, &view, &out_held, &_m) < 0) {
-        release(in, 11, &view, out_held);
+    if (prepare("bend_cur_fast_gradient", args, nargs, in, 11, outputs, 1, rows, &_m) < 0) {
+        release(in, 11, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double ar = in[0].data[_i * in[0].stride];
         const double az = in[1].data[_i * in[1].stride];
@@ -534,20 +553,20 @@ static PyObject *c_bend_cur_fast_gradient(PyObject *self, PyObject *const *args,
         out[4 * _m + _i] = _c20;
         out[5 * _m + _i] = _c21;
     }
-    release(in, 11, &view, out_held);
+    release(in, 11, outputs, 1);
     Py_RETURN_NONE;
 }
 
 static PyObject *c_bend_cur_fast_hessian(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {21};
     Input in[11];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("bend_cur_fast_hessian", args, nargs, in, 11, 21, &view, &out_held, &_m) < 0) {
-        release(in, 11, &view, out_held);
+    if (prepare("bend_cur_fast_hessian", args, nargs, in, 11, outputs, 1, rows, &_m) < 0) {
+        release(in, 11, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double ar = in[0].data[_i * in[0].stride];
         const double az = in[1].data[_i * in[1].stride];
@@ -702,20 +721,20 @@ static PyObject *c_bend_cur_fast_hessian(PyObject *self, PyObject *const *args, 
         out[19 * _m + _i] = _c101;
         out[20 * _m + _i] = _c103;
     }
-    release(in, 11, &view, out_held);
+    release(in, 11, outputs, 1);
     Py_RETURN_NONE;
 }
 
 static PyObject *c_bend_cur_fast_gradient_hessian(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {27};
     Input in[11];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("bend_cur_fast_gradient_hessian", args, nargs, in, 11, 27, &view, &out_held, &_m) < 0) {
-        release(in, 11, &view, out_held);
+    if (prepare("bend_cur_fast_gradient_hessian", args, nargs, in, 11, outputs, 1, rows, &_m) < 0) {
+        release(in, 11, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double ar = in[0].data[_i * in[0].stride];
         const double az = in[1].data[_i * in[1].stride];
@@ -881,20 +900,20 @@ static PyObject *c_bend_cur_fast_gradient_hessian(PyObject *self, PyObject *cons
         out[25 * _m + _i] = _c101;
         out[26 * _m + _i] = _c103;
     }
-    release(in, 11, &view, out_held);
+    release(in, 11, outputs, 1);
     Py_RETURN_NONE;
 }
 
 static PyObject *c_stretch_fast_gradient(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {4};
     Input in[7];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("stretch_fast_gradient", args, nargs, in, 7, 4, &view, &out_held, &_m) < 0) {
-        release(in, 7, &view, out_held);
+    if (prepare("stretch_fast_gradient", args, nargs, in, 7, outputs, 1, rows, &_m) < 0) {
+        release(in, 7, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double er = in[0].data[_i * in[0].stride];
         const double ez = in[1].data[_i * in[1].stride];
@@ -924,20 +943,20 @@ static PyObject *c_stretch_fast_gradient(PyObject *self, PyObject *const *args, 
         out[2 * _m + _i] = (_c5 + _c6);
         out[3 * _m + _i] = _c7;
     }
-    release(in, 7, &view, out_held);
+    release(in, 7, outputs, 1);
     Py_RETURN_NONE;
 }
 
 static PyObject *c_stretch_fast_hessian(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {10};
     Input in[7];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("stretch_fast_hessian", args, nargs, in, 7, 10, &view, &out_held, &_m) < 0) {
-        release(in, 7, &view, out_held);
+    if (prepare("stretch_fast_hessian", args, nargs, in, 7, outputs, 1, rows, &_m) < 0) {
+        release(in, 7, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double er = in[0].data[_i * in[0].stride];
         const double ez = in[1].data[_i * in[1].stride];
@@ -991,20 +1010,20 @@ static PyObject *c_stretch_fast_hessian(PyObject *self, PyObject *const *args, P
         out[8 * _m + _i] = _c30;
         out[9 * _m + _i] = _c25;
     }
-    release(in, 7, &view, out_held);
+    release(in, 7, outputs, 1);
     Py_RETURN_NONE;
 }
 
 static PyObject *c_stretch_fast_gradient_hessian(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {14};
     Input in[7];
-    Py_buffer view;
-    int out_held;
+    Output outputs[1];
     Py_ssize_t _m;
-    if (prepare("stretch_fast_gradient_hessian", args, nargs, in, 7, 14, &view, &out_held, &_m) < 0) {
-        release(in, 7, &view, out_held);
+    if (prepare("stretch_fast_gradient_hessian", args, nargs, in, 7, outputs, 1, rows, &_m) < 0) {
+        release(in, 7, outputs, 1);
         return NULL;
     }
-    double *out = (double *)view.buf;
+    double *out = outputs[0].data;
     for (Py_ssize_t _i = 0; _i < _m; _i++) {
         const double er = in[0].data[_i * in[0].stride];
         const double ez = in[1].data[_i * in[1].stride];
@@ -1066,7 +1085,7 @@ static PyObject *c_stretch_fast_gradient_hessian(PyObject *self, PyObject *const
         out[12 * _m + _i] = _c30;
         out[13 * _m + _i] = _c25;
     }
-    release(in, 7, &view, out_held);
+    release(in, 7, outputs, 1);
     Py_RETURN_NONE;
 }
 
@@ -1085,4 +1104,7 @@ static PyMethodDef methods[] = {
 
 static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_ckernels", NULL, -1, methods};
 
-PyMODINIT_FUNC PyInit__ckernels(void) { return PyModule_Create(&moduledef); }
+PyMODINIT_FUNC PyInit__ckernels(void) {
+    PyObject *module = PyModule_Create(&moduledef);
+    return module;
+}

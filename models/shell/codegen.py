@@ -93,7 +93,6 @@ For every element (``<name>`` = ``stretch``, ``bend``, ``bend_cur``):
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
@@ -101,9 +100,8 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin.codegen import (KernelBody, c_extension_text, check_generated, count_operations, emitted_helpers,
-                            function_header, generator_main, kernel_printer, module_text, upper_pairs,
-                            write_generated)
+from contin.codegen import (KernelBody, c_extension_text, count_operations, emitted_helpers, function_header,
+                            generator_main, kernel_printer, module_text, upper_pairs)
 
 __all__ = ["Element", "Layer", "build_elements", "generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT",
            "C_OUTPUT"]
@@ -840,20 +838,8 @@ def main(argv: list[str] | None = None) -> int:
     Without ``--output`` the C extension's source :data:`C_OUTPUT` is written (or checked) too, from
     the committed numpy module.
     """
-    prog = "python -m contin_models.shell.codegen"
-    status = generator_main(argv, generate_source, DEFAULT_OUTPUT, prog, __doc__.split("\n")[0])
-    argv = sys.argv[1:] if argv is None else argv
-    if status or any(a.startswith("--output") for a in argv):
-        return status
-    if "--check" in argv:
-        try:
-            check_generated(generate_c_source, C_OUTPUT, prog)
-        except AssertionError as exc:
-            print(exc, file=sys.stderr)
-            return 1
-        return 0
-    write_generated(generate_c_source, C_OUTPUT)
-    return 0
+    return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.codegen",
+                          __doc__.split("\n")[0], companions=[(generate_c_source, C_OUTPUT)])
 
 
 if __name__ == "__main__":

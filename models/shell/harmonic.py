@@ -182,15 +182,22 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from contin.compiled import prefer_compiled
 from contin.linalg import SymmetricBand
 from contin.stability import stability_info
 
-from . import _harmonic_generated as _hgen
+from . import _harmonic_generated
 
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "harmonic_mode",
            "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
-           "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH"]
+           "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH",
+           "COMPILED"]
+
+_hgen, COMPILED = prefer_compiled(_harmonic_generated, "contin_models.shell._harmonic_ckernels")
+"""``_hgen``: the generated kernels of the harmonic blocks (:mod:`contin_models.shell._harmonic_generated`),
+computed by the C extension ``contin_models.shell._harmonic_ckernels`` where it was built (``COMPILED``
+is then True; the same numbers, see :mod:`contin.compiled`)."""
 
 #: The pole curvature's local variables that are not zero at an axisymmetric state (the generated jets'
 #: arguments, :mod:`contin_models.shell.harmonic_codegen`).

@@ -35,13 +35,16 @@ from pathlib import Path
 
 import sympy as sp
 
-from contin.codegen import cse_lines, generator_main, kernel_printer, module_text
+from contin.codegen import c_extension_text, cse_lines, generator_main, kernel_printer, module_text
 
 from . import harmonic as H
 
-__all__ = ["generate_source", "main", "DEFAULT_OUTPUT", "VARIANTS"]
+__all__ = ["generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT", "C_OUTPUT", "VARIANTS"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_harmonic_generated.py")
+#: The same kernels as a C extension (``contin_models.shell._harmonic_ckernels``), generated from the
+#: committed numpy module by :func:`contin.codegen.c_extension_text` and built when the package installs
+C_OUTPUT = Path(__file__).with_name("_harmonic_ckernels.c")
 VARIANTS = ("bend_cur", "bend_ref")
 _FREE = (0, 2, 3, 5, 7, 10)
 _STRETCH_FREE = (0, 2, 4)
@@ -172,10 +175,32 @@ def generate_source() -> str:
                        + [_pole_kernel(v) for v in POLE_VARIANTS])
 
 
+def generate_c_source(python_source: str | None = None) -> str:
+    """Text of ``_harmonic_ckernels.c``: every kernel of ``python_source`` in C.
+
+    Parameters
+    ----------
+    python_source : str or None
+        Text of the numpy module (``None``: the committed ``_harmonic_generated.py``, which the C
+        file is generated from and checked against).
+    """
+    import ast
+
+    text = DEFAULT_OUTPUT.read_text(encoding="utf-8") if python_source is None else python_source
+    names = [f.name for f in ast.parse(text).body if isinstance(f, ast.FunctionDef)]
+    return c_extension_text(text, {}, "_harmonic_ckernels",
+                            "Local Hessian kernels of the harmonic blocks (contin_models.shell._harmonic_ckernels).",
+                            returning=names)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``."""
+    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``.
+
+    Without ``--output`` the C extension's source :data:`C_OUTPUT` is written (or checked) too.
+    """
     return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.harmonic_codegen",
-                          "Generate the harmonic blocks' bending Hessian kernels.")
+                          "Generate the harmonic blocks' bending Hessian kernels.",
+                          companions=[(generate_c_source, C_OUTPUT)])
 
 
 if __name__ == "__main__":
