@@ -49,6 +49,9 @@ def test_the_ci_build_has_the_compiled_kernels():
         pytest.skip("only CI, whose machine has a C compiler, must have built the extensions")
     assert COMPILED, "the package install did not build contin_models.shell._ckernels"
     assert harmonic.COMPILED, "the package install did not build contin_models.shell._harmonic_ckernels"
+    from contin import linalg
+
+    assert linalg._tridiagonal_extension() is not None, "the package install did not build contin._tridiagonal"
 
 
 HARMONIC_PER_ELEMENT = ("bend_cur_curvatures", "bend_ref_curvatures", "stretch_hessian")

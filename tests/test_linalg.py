@@ -253,8 +253,20 @@ def test_to_banded_of_fixed_pattern_matrices_uses_the_right_positions():
             assert np.array_equal(to_banded(pattern.matrix(data), 2, 1, extra), to_banded(ref, 2, 1, extra))
 
 
+@pytest.fixture(params=["compiled", "lapack"])
+def tridiagonal_path(request, monkeypatch):
+    """Runs a test with the C extension contin._tridiagonal and again with scipy's LAPACK."""
+    from contin import linalg
+
+    extension = linalg._tridiagonal_extension()
+    if request.param == "compiled" and extension is None:
+        pytest.skip("the C extension contin._tridiagonal is not built")
+    monkeypatch.setattr(linalg, "_TRIDIAGONAL", [extension if request.param == "compiled" else None])
+    return request.param
+
+
 @pytest.mark.parametrize("n", [3, 5, 70, 300])
-def test_tridiagonal_lu_solves_and_determinant_sign(n):
+def test_tridiagonal_lu_solves_and_determinant_sign(n, tridiagonal_path):
     """gttrf/gttrs against a dense solve and numpy's slogdet (the sign decides fold detection)."""
     from contin.linalg import TridiagonalLU
 
@@ -272,7 +284,7 @@ def test_tridiagonal_lu_solves_and_determinant_sign(n):
         assert sign == ref_sign and log == pytest.approx(ref_log, abs=1e-9)
 
 
-def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity():
+def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity(tridiagonal_path):
     from contin.linalg import TridiagonalLU
 
     n = 200
@@ -285,7 +297,7 @@ def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity():
     assert not isinstance(factorize(sp.eye(2, format="csr"), method="banded"), TridiagonalLU)
 
 
-def test_tridiagonal_lu_with_no_right_hand_side():
+def test_tridiagonal_lu_with_no_right_hand_side(tridiagonal_path):
     """A bordered system with no border solves for zero columns (gttrs must not be called on them)."""
     from contin.linalg import TridiagonalLU
 
@@ -296,6 +308,36 @@ def test_tridiagonal_lu_with_no_right_hand_side():
         assert F.solve(np.zeros((n, 0)), trans=True).shape == (n, 0)
     with pytest.raises(ValueError, match="rows"):
         F.solve(np.ones(n + 1))
+
+
+def test_compiled_tridiagonal_lu_is_lapacks_factorization(monkeypatch):
+    """The C factorization is gttrf's (the same factors and pivots); the solves agree to rounding."""
+    from contin import linalg
+
+    extension = linalg._tridiagonal_extension()
+    if extension is None:
+        pytest.skip("the C extension contin._tridiagonal is not built")
+    rng = np.random.default_rng(11)
+    for n in (3, 4, 9, 200):
+        # off-diagonals as large as the diagonal: rows are interchanged at about half the columns
+        A = sp.diags([rng.standard_normal(n - 1), rng.standard_normal(n), rng.standard_normal(n - 1)], [-1, 0, 1],
+                     format="dia")
+        compiled = linalg.TridiagonalLU(A)
+        monkeypatch.setattr(linalg, "_TRIDIAGONAL", [None])
+        lapack = linalg.TridiagonalLU(A.tocsr())
+        monkeypatch.setattr(linalg, "_TRIDIAGONAL", [extension])
+        for name in ("_dl", "_d", "_du", "_du2", "_piv"):
+            assert np.array_equal(getattr(compiled, name), getattr(lapack, name)), name
+        assert 0 < np.count_nonzero(compiled._piv[:-1] != np.arange(n - 1)) or n < 9
+        B = rng.standard_normal((n, 3))
+        for trans in (False, True):
+            x, y = compiled.solve(B, trans=trans), lapack.solve(B, trans=trans)
+            np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * np.abs(y).max())
+        assert compiled.det_sign_log() == lapack.det_sign_log()
+    b = rng.standard_normal(5)
+    kept = b.copy()
+    linalg.TridiagonalLU(sp.diags([np.ones(4), 3 * np.ones(5), np.ones(4)], [-1, 0, 1])).solve(b)
+    assert np.array_equal(b, kept)  # the right-hand side is not overwritten
 
 
 def test_symmetric_column_with_and_without_duplicate_entries():

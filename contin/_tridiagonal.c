@@ -1,0 +1,224 @@
+/* LU with partial pivoting of a tridiagonal matrix and its solves, for contin.linalg.TridiagonalLU.
+
+   The factorization is LAPACK's gttrf (the same pivoting, the same factors: A = P L U with U
+   upper triangular with two superdiagonals).  The solves run LAPACK's gtts2 algorithm with one
+   change: they multiply by the pivots' reciprocals, stored by the factorization, instead of dividing
+   by the pivots.  A back substitution is a chain of dependent operations, and a division's latency
+   is several times a multiplication's: at n = 2000 a solve takes about a fifth of scipy's dgttrs.
+   The results differ from LAPACK's by rounding only.
+
+   Written for this project; built by setup.py as contin._tridiagonal (optional: contin.linalg uses
+   LAPACK where it is not built). */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <string.h>
+
+/* A writable (or read-only when `writable` is 0) C-contiguous buffer of `size` float64 or int64 values. */
+static int get(PyObject *obj, Py_buffer *view, int writable, const char *format, Py_ssize_t size,
+               const char *what) {
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, view, flags) < 0) return -1;
+    const char *f = view->format;
+    if (f != NULL && (f[0] == '<' || f[0] == '=' || f[0] == '@')) f++;
+    if (f == NULL || view->itemsize != 8 || (strcmp(f, format) != 0 && !(format[0] == 'q' && strcmp(f, "l") == 0))
+        || (size >= 0 && view->len / 8 != size)) {
+        PyErr_Format(PyExc_TypeError, "%s: expected %zd values of format '%s'", what, size, format);
+        PyBuffer_Release(view);
+        return -1;
+    }
+    return 0;
+}
+
+/* factor(dl, d, du, du2, piv, rd) -> info.  In place: dl (n-1), d (n), du (n-1) hold the matrix and
+   receive the factors; du2 (n-2), piv (n, int64, 0-based rows) and rd (n, the reciprocals of U's
+   diagonal) are outputs.  info: 0, or k + 1 where U[k, k] is exactly zero (rd then holds inf there). */
+static PyObject *factor(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 6) {
+        PyErr_SetString(PyExc_TypeError, "factor(dl, d, du, du2, piv, rd)");
+        return NULL;
+    }
+    Py_buffer vd;
+    if (get(args[1], &vd, 1, "d", -1, "d") < 0) return NULL;
+    Py_ssize_t n = vd.len / 8;
+    Py_buffer vdl, vdu, vdu2, vpiv, vrd;
+    int held = 0;
+    if (n < 2) {
+        PyErr_SetString(PyExc_TypeError, "factor: n must be at least 2");
+        goto fail;
+    }
+    if (get(args[0], &vdl, 1, "d", n - 1, "dl") < 0) goto fail;
+    held = 1;
+    if (get(args[2], &vdu, 1, "d", n - 1, "du") < 0) goto fail;
+    held = 2;
+    if (get(args[3], &vdu2, 1, "d", n - 2, "du2") < 0) goto fail;
+    held = 3;
+    if (get(args[4], &vpiv, 1, "q", n, "piv") < 0) goto fail;
+    held = 4;
+    if (get(args[5], &vrd, 1, "d", n, "rd") < 0) goto fail;
+    held = 5;
+    double *dl = vdl.buf, *d = vd.buf, *du = vdu.buf, *du2 = vdu2.buf, *rd = vrd.buf;
+    long long *piv = vpiv.buf;
+    for (Py_ssize_t i = 0; i < n - 2; i++) du2[i] = 0.0;
+    for (Py_ssize_t i = 0; i < n - 1; i++) {
+        if (fabs(d[i]) >= fabs(dl[i])) {  /* no interchange */
+            piv[i] = i;
+            if (d[i] != 0.0) {
+                double fact = dl[i] / d[i];
+                dl[i] = fact;
+                d[i + 1] -= fact * du[i];
+            }
+        } else {  /* interchange rows i and i + 1 */
+            piv[i] = i + 1;
+            double fact = d[i] / dl[i];
+            d[i] = dl[i];
+            dl[i] = fact;
+            double temp = du[i];
+            du[i] = d[i + 1];
+            d[i + 1] = temp - fact * d[i + 1];
+            if (i < n - 2) {
+                du2[i] = du[i + 1];
+                du[i + 1] = -fact * du[i + 1];
+            }
+        }
+    }
+    piv[n - 1] = n - 1;
+    Py_ssize_t info = 0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        if (d[i] == 0.0 && info == 0) info = i + 1;
+        rd[i] = 1.0 / d[i];
+    }
+    PyBuffer_Release(&vd);
+    PyBuffer_Release(&vdl);
+    PyBuffer_Release(&vdu);
+    PyBuffer_Release(&vdu2);
+    PyBuffer_Release(&vpiv);
+    PyBuffer_Release(&vrd);
+    return PyLong_FromSsize_t(info);
+fail:
+    PyBuffer_Release(&vd);
+    if (held >= 1) PyBuffer_Release(&vdl);
+    if (held >= 2) PyBuffer_Release(&vdu);
+    if (held >= 3) PyBuffer_Release(&vdu2);
+    if (held >= 4) PyBuffer_Release(&vpiv);
+    if (held >= 5) PyBuffer_Release(&vrd);
+    return NULL;
+}
+
+/* One right-hand side x (length n, stride 1) overwritten by the solution. */
+static void solve_one(Py_ssize_t n, const double *dl, const double *rd, const double *du, const double *du2,
+                      const long long *piv, double *x, int trans) {
+    if (!trans) {
+        /* L: the row interchanges and eliminations of the factorization, in order */
+        for (Py_ssize_t i = 0; i < n - 1; i++) {
+            if (piv[i] == i) {
+                x[i + 1] -= dl[i] * x[i];
+            } else {
+                double temp = x[i];
+                x[i] = x[i + 1];
+                x[i + 1] = temp - dl[i] * x[i];
+            }
+        }
+        /* U: back substitution */
+        x[n - 1] *= rd[n - 1];
+        x[n - 2] = (x[n - 2] - du[n - 2] * x[n - 1]) * rd[n - 2];
+        for (Py_ssize_t i = n - 3; i >= 0; i--) {
+            x[i] = (x[i] - du[i] * x[i + 1] - du2[i] * x[i + 2]) * rd[i];
+        }
+    } else {
+        /* U^T: forward substitution */
+        x[0] *= rd[0];
+        x[1] = (x[1] - du[0] * x[0]) * rd[1];
+        for (Py_ssize_t i = 2; i < n; i++) {
+            x[i] = (x[i] - du[i - 1] * x[i - 1] - du2[i - 2] * x[i - 2]) * rd[i];
+        }
+        /* L^T with the interchanges, in reverse */
+        for (Py_ssize_t i = n - 2; i >= 0; i--) {
+            if (piv[i] == i) {
+                x[i] -= dl[i] * x[i + 1];
+            } else {
+                double temp = x[i + 1];
+                x[i + 1] = x[i] - dl[i] * temp;
+                x[i] = temp;
+            }
+        }
+    }
+}
+
+/* solve(dl, rd, du, du2, piv, x, trans) -> None: x (n, or n x k C-contiguous) overwritten by the
+   solution of A x = b (A^T x = b when trans is true). */
+static PyObject *solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 7) {
+        PyErr_SetString(PyExc_TypeError, "solve(dl, rd, du, du2, piv, x, trans)");
+        return NULL;
+    }
+    int trans = PyObject_IsTrue(args[6]);
+    if (trans < 0) return NULL;
+    Py_buffer vrd;
+    if (get(args[1], &vrd, 0, "d", -1, "rd") < 0) return NULL;
+    Py_ssize_t n = vrd.len / 8;
+    Py_buffer vdl, vdu, vdu2, vpiv, vx;
+    int held = 0;
+    if (n < 2) {
+        PyErr_SetString(PyExc_TypeError, "solve: n must be at least 2");
+        goto fail;
+    }
+    if (get(args[0], &vdl, 0, "d", n - 1, "dl") < 0) goto fail;
+    held = 1;
+    if (get(args[2], &vdu, 0, "d", n - 1, "du") < 0) goto fail;
+    held = 2;
+    if (get(args[3], &vdu2, 0, "d", n - 2, "du2") < 0) goto fail;
+    held = 3;
+    if (get(args[4], &vpiv, 0, "q", n, "piv") < 0) goto fail;
+    held = 4;
+    if (get(args[5], &vx, 1, "d", -1, "x") < 0) goto fail;
+    held = 5;
+    Py_ssize_t total = vx.len / 8;
+    if (total % n != 0 || (vx.ndim == 2 && vx.shape[0] != n) || vx.ndim > 2) {
+        PyErr_Format(PyExc_TypeError, "solve: x must have %zd rows", n);
+        goto fail;
+    }
+    Py_ssize_t k = total / n;
+    double *x = vx.buf;
+    if (k == 1) {
+        solve_one(n, vdl.buf, vrd.buf, vdu.buf, vdu2.buf, vpiv.buf, x, trans);
+    } else if (k > 1) {
+        /* columns of a C-ordered n x k array: gather each, solve, scatter back */
+        double *column = PyMem_Malloc(n * sizeof(double));
+        if (column == NULL) {
+            PyErr_NoMemory();
+            goto fail;
+        }
+        for (Py_ssize_t c = 0; c < k; c++) {
+            for (Py_ssize_t i = 0; i < n; i++) column[i] = x[i * k + c];
+            solve_one(n, vdl.buf, vrd.buf, vdu.buf, vdu2.buf, vpiv.buf, column, trans);
+            for (Py_ssize_t i = 0; i < n; i++) x[i * k + c] = column[i];
+        }
+        PyMem_Free(column);
+    }
+    PyBuffer_Release(&vrd);
+    PyBuffer_Release(&vdl);
+    PyBuffer_Release(&vdu);
+    PyBuffer_Release(&vdu2);
+    PyBuffer_Release(&vpiv);
+    PyBuffer_Release(&vx);
+    Py_RETURN_NONE;
+fail:
+    PyBuffer_Release(&vrd);
+    if (held >= 1) PyBuffer_Release(&vdl);
+    if (held >= 2) PyBuffer_Release(&vdu);
+    if (held >= 3) PyBuffer_Release(&vdu2);
+    if (held >= 4) PyBuffer_Release(&vpiv);
+    if (held >= 5) PyBuffer_Release(&vx);
+    return NULL;
+}
+
+static PyMethodDef methods[] = {
+    {"factor", (PyCFunction)(void (*)(void))factor, METH_FASTCALL, "factor(dl, d, du, du2, piv, rd) -> info"},
+    {"solve", (PyCFunction)(void (*)(void))solve, METH_FASTCALL, "solve(dl, rd, du, du2, piv, x, trans) -> None"},
+    {NULL, NULL, 0, NULL}
+};
+
+static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_tridiagonal", NULL, -1, methods};
+
+PyMODINIT_FUNC PyInit__tridiagonal(void) { return PyModule_Create(&moduledef); }
