@@ -70,6 +70,7 @@ from __future__ import annotations
 import functools
 import keyword
 import math
+import re
 import sys
 import types
 from collections.abc import Callable, Sequence
@@ -1125,7 +1126,8 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
              "    }"]
     lines += [f"    double *{outputs[r][0]} = outputs[{k}].data;" for k, r in enumerate(order)]
     lines += ["    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
-    lines += [f"        const double {a} = in[{k}].data[_i * in[{k}].stride];" for k, a in enumerate(inputs)]
+    used = set(re.findall(r"\b\w+\b", "\n".join(body)))  # an input the kernel ignores is not read
+    lines += [f"        const double {a} = in[{k}].data[_i * in[{k}].stride];" for k, a in enumerate(inputs) if a in used]
     lines += ["        " + line for line in body]
     lines += ["    }", f"    release(in, {n}, outputs, {nout});", "    Py_RETURN_NONE;", "}"]
     arguments = "*inputs, out" if rows is not None else "*inputs, *outputs"
@@ -1202,7 +1204,8 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
         "",
         f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",
         "",
-        f'static struct PyModuleDef moduledef = {{PyModuleDef_HEAD_INIT, "{module}", NULL, -1, methods}};',
+        f'static struct PyModuleDef moduledef = {{PyModuleDef_HEAD_INIT, "{module}", NULL, -1, methods, NULL, NULL, NULL,'
+        " NULL};",
         "",
         *init,
         ""])

@@ -1102,7 +1102,7 @@ static PyMethodDef methods[] = {
     {NULL, NULL, 0, NULL}
 };
 
-static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_ckernels", NULL, -1, methods};
+static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_ckernels", NULL, -1, methods, NULL, NULL, NULL, NULL};
 
 PyMODINIT_FUNC PyInit__ckernels(void) {
     PyObject *module = PyModule_Create(&moduledef);

@@ -150,7 +150,6 @@ static PyObject *c_bend_cur_curvatures(PyObject *self, PyObject *const *args, Py
         const double y5 = in[3].data[_i * in[3].stride];
         const double y7 = in[4].data[_i * in[4].stride];
         const double y10 = in[5].data[_i * in[5].stride];
-        const double lbar = in[6].data[_i * in[6].stride];
         double _c0 = (y0 * y0);
         double _c1 = (y2 * y2);
         double _c2 = (_c0 + _c1);
@@ -1024,7 +1023,6 @@ static PyObject *c_pole_north_cur_jet(PyObject *self, PyObject *const *args, Py_
         const double y9 = in[5].data[_i * in[5].stride];
         const double y11 = in[6].data[_i * in[6].stride];
         const double y13 = in[7].data[_i * in[7].stride];
-        const double lbar = in[8].data[_i * in[8].stride];
         double _c0 = (y0 - y6);
         double _c1 = (-_c0);
         double _c2 = (-y8);
@@ -1699,7 +1697,6 @@ static PyObject *c_pole_south_cur_jet(PyObject *self, PyObject *const *args, Py_
         const double y9 = in[5].data[_i * in[5].stride];
         const double y11 = in[6].data[_i * in[6].stride];
         const double y13 = in[7].data[_i * in[7].stride];
-        const double lbar = in[8].data[_i * in[8].stride];
         double _c0 = (y0 - y6);
         double _c1 = (-y8);
         double _c2 = (_c1 + y11);
@@ -2365,7 +2362,7 @@ static PyMethodDef methods[] = {
     {NULL, NULL, 0, NULL}
 };
 
-static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_harmonic_ckernels", NULL, -1, methods};
+static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_harmonic_ckernels", NULL, -1, methods, NULL, NULL, NULL, NULL};
 
 PyMODINIT_FUNC PyInit__harmonic_ckernels(void) {
     PyObject *module = PyModule_Create(&moduledef);
