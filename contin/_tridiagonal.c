@@ -30,6 +30,23 @@ static int get(PyObject *obj, Py_buffer *view, int writable, const char *format,
     return 0;
 }
 
+/* The buffers args[k] for k < count, each with its writability, format, size and name; on failure
+   those acquired are released and -1 returned. */
+static int get_all(PyObject *const *args, int count, const int *writable, const char *const *formats,
+                   const Py_ssize_t *sizes, const char *const *names, Py_buffer *views) {
+    for (int k = 0; k < count; k++) {
+        if (get(args[k], &views[k], writable[k], formats[k], sizes[k], names[k]) < 0) {
+            for (int j = 0; j < k; j++) PyBuffer_Release(&views[j]);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static void release_all(Py_buffer *views, int count) {
+    for (int k = 0; k < count; k++) PyBuffer_Release(&views[k]);
+}
+
 /* factor(dl, d, du, du2, piv, rd) -> info.  In place: dl (n-1), d (n), du (n-1) hold the matrix and
    receive the factors; du2 (n-2), piv (n, int64, 0-based rows) and rd (n, the reciprocals of U's
    diagonal) are outputs.  info: 0, or k + 1 where U[k, k] is exactly zero (rd then holds inf there). */
@@ -38,27 +55,19 @@ static PyObject *factor(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
         PyErr_SetString(PyExc_TypeError, "factor(dl, d, du, du2, piv, rd)");
         return NULL;
     }
-    Py_buffer vd;
-    if (get(args[1], &vd, 1, "d", -1, "d") < 0) return NULL;
-    Py_ssize_t n = vd.len / 8;
-    Py_buffer vdl, vdu, vdu2, vpiv, vrd;
-    int held = 0;
+    Py_ssize_t n = PyObject_Length(args[1]);
     if (n < 2) {
-        PyErr_SetString(PyExc_TypeError, "factor: n must be at least 2");
-        goto fail;
+        if (!PyErr_Occurred()) PyErr_SetString(PyExc_TypeError, "factor: n must be at least 2");
+        return NULL;
     }
-    if (get(args[0], &vdl, 1, "d", n - 1, "dl") < 0) goto fail;
-    held = 1;
-    if (get(args[2], &vdu, 1, "d", n - 1, "du") < 0) goto fail;
-    held = 2;
-    if (get(args[3], &vdu2, 1, "d", n - 2, "du2") < 0) goto fail;
-    held = 3;
-    if (get(args[4], &vpiv, 1, "q", n, "piv") < 0) goto fail;
-    held = 4;
-    if (get(args[5], &vrd, 1, "d", n, "rd") < 0) goto fail;
-    held = 5;
-    double *dl = vdl.buf, *d = vd.buf, *du = vdu.buf, *du2 = vdu2.buf, *rd = vrd.buf;
-    long long *piv = vpiv.buf;
+    static const int writable[6] = {1, 1, 1, 1, 1, 1};
+    static const char *const formats[6] = {"d", "d", "d", "d", "q", "d"};
+    static const char *const names[6] = {"dl", "d", "du", "du2", "piv", "rd"};
+    const Py_ssize_t sizes[6] = {n - 1, n, n - 1, n - 2, n, n};
+    Py_buffer v[6];
+    if (get_all(args, 6, writable, formats, sizes, names, v) < 0) return NULL;
+    double *dl = v[0].buf, *d = v[1].buf, *du = v[2].buf, *du2 = v[3].buf, *rd = v[5].buf;
+    long long *piv = v[4].buf;
     for (Py_ssize_t i = 0; i < n - 2; i++) du2[i] = 0.0;
     for (Py_ssize_t i = 0; i < n - 1; i++) {
         if (fabs(d[i]) >= fabs(dl[i])) {  /* no interchange */
@@ -88,21 +97,8 @@ static PyObject *factor(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
         if (d[i] == 0.0 && info == 0) info = i + 1;
         rd[i] = 1.0 / d[i];
     }
-    PyBuffer_Release(&vd);
-    PyBuffer_Release(&vdl);
-    PyBuffer_Release(&vdu);
-    PyBuffer_Release(&vdu2);
-    PyBuffer_Release(&vpiv);
-    PyBuffer_Release(&vrd);
+    release_all(v, 6);
     return PyLong_FromSsize_t(info);
-fail:
-    PyBuffer_Release(&vd);
-    if (held >= 1) PyBuffer_Release(&vdl);
-    if (held >= 2) PyBuffer_Release(&vdu);
-    if (held >= 3) PyBuffer_Release(&vdu2);
-    if (held >= 4) PyBuffer_Release(&vpiv);
-    if (held >= 5) PyBuffer_Release(&vrd);
-    return NULL;
 }
 
 /* One right-hand side x (length n, stride 1) overwritten by the solution. */
@@ -154,63 +150,46 @@ static PyObject *solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     }
     int trans = PyObject_IsTrue(args[6]);
     if (trans < 0) return NULL;
-    Py_buffer vrd;
-    if (get(args[1], &vrd, 0, "d", -1, "rd") < 0) return NULL;
-    Py_ssize_t n = vrd.len / 8;
-    Py_buffer vdl, vdu, vdu2, vpiv, vx;
-    int held = 0;
+    Py_ssize_t n = PyObject_Length(args[1]);
     if (n < 2) {
-        PyErr_SetString(PyExc_TypeError, "solve: n must be at least 2");
-        goto fail;
+        if (!PyErr_Occurred()) PyErr_SetString(PyExc_TypeError, "solve: n must be at least 2");
+        return NULL;
     }
-    if (get(args[0], &vdl, 0, "d", n - 1, "dl") < 0) goto fail;
-    held = 1;
-    if (get(args[2], &vdu, 0, "d", n - 1, "du") < 0) goto fail;
-    held = 2;
-    if (get(args[3], &vdu2, 0, "d", n - 2, "du2") < 0) goto fail;
-    held = 3;
-    if (get(args[4], &vpiv, 0, "q", n, "piv") < 0) goto fail;
-    held = 4;
-    if (get(args[5], &vx, 1, "d", -1, "x") < 0) goto fail;
-    held = 5;
-    Py_ssize_t total = vx.len / 8;
-    if (total % n != 0 || (vx.ndim == 2 && vx.shape[0] != n) || vx.ndim > 2) {
+    static const int writable[6] = {0, 0, 0, 0, 0, 1};
+    static const char *const formats[6] = {"d", "d", "d", "d", "q", "d"};
+    static const char *const names[6] = {"dl", "rd", "du", "du2", "piv", "x"};
+    const Py_ssize_t sizes[6] = {n - 1, n, n - 1, n - 2, n, -1};
+    Py_buffer v[6];
+    if (get_all(args, 6, writable, formats, sizes, names, v) < 0) return NULL;
+    const double *dl = v[0].buf, *rd = v[1].buf, *du = v[2].buf, *du2 = v[3].buf;
+    const long long *piv = v[4].buf;
+    Py_buffer *vx = &v[5];
+    Py_ssize_t total = vx->len / 8;
+    if (total % n != 0 || (vx->ndim == 2 && vx->shape[0] != n) || vx->ndim > 2) {
         PyErr_Format(PyExc_TypeError, "solve: x must have %zd rows", n);
-        goto fail;
+        release_all(v, 6);
+        return NULL;
     }
     Py_ssize_t k = total / n;
-    double *x = vx.buf;
+    double *x = vx->buf;
     if (k == 1) {
-        solve_one(n, vdl.buf, vrd.buf, vdu.buf, vdu2.buf, vpiv.buf, x, trans);
+        solve_one(n, dl, rd, du, du2, piv, x, trans);
     } else if (k > 1) {
         /* columns of a C-ordered n x k array: gather each, solve, scatter back */
         double *column = PyMem_Malloc(n * sizeof(double));
         if (column == NULL) {
-            PyErr_NoMemory();
-            goto fail;
+            release_all(v, 6);
+            return PyErr_NoMemory();
         }
         for (Py_ssize_t c = 0; c < k; c++) {
             for (Py_ssize_t i = 0; i < n; i++) column[i] = x[i * k + c];
-            solve_one(n, vdl.buf, vrd.buf, vdu.buf, vdu2.buf, vpiv.buf, column, trans);
+            solve_one(n, dl, rd, du, du2, piv, column, trans);
             for (Py_ssize_t i = 0; i < n; i++) x[i * k + c] = column[i];
         }
         PyMem_Free(column);
     }
-    PyBuffer_Release(&vrd);
-    PyBuffer_Release(&vdl);
-    PyBuffer_Release(&vdu);
-    PyBuffer_Release(&vdu2);
-    PyBuffer_Release(&vpiv);
-    PyBuffer_Release(&vx);
+    release_all(v, 6);
     Py_RETURN_NONE;
-fail:
-    PyBuffer_Release(&vrd);
-    if (held >= 1) PyBuffer_Release(&vdl);
-    if (held >= 2) PyBuffer_Release(&vdu);
-    if (held >= 3) PyBuffer_Release(&vdu2);
-    if (held >= 4) PyBuffer_Release(&vpiv);
-    if (held >= 5) PyBuffer_Release(&vx);
-    return NULL;
 }
 
 static PyMethodDef methods[] = {
