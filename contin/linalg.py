@@ -300,7 +300,7 @@ class TridiagonalLU(Factorization):
     """LU with partial pivoting of a tridiagonal matrix (LAPACK's gttrf): O(n), no band bookkeeping.
 
     What :class:`BandedLU` computes for ``kl = ku = 1``, faster: with the C extension
-    ``contin._tridiagonal`` (built by the install where a compiler is found) the factorization is
+    ``contin._banded`` (built by the install where a compiler is found) the factorization is
     gttrf's and the solves are gttrs's algorithm multiplying by the pivots' reciprocals instead of
     dividing (at n = 2000: 6 against 27 us per solve, and 65 us for :class:`BandedLU`'s); elsewhere
     scipy's LAPACK dgttrf/dgttrs (``CONTIN_COMPILED=0`` keeps them).
@@ -310,7 +310,7 @@ class TridiagonalLU(Factorization):
         self.n = A.shape[0]
         if self.n < 3:  # scipy's gttrs wrapper needs the second superdiagonal (n - 2 entries) non-empty
             raise ValueError(f"TridiagonalLU: the matrix must be at least 3 x 3, got {A.shape}")
-        compiled = _tridiagonal_extension()
+        compiled = _banded_extension()
         if compiled is not None:
             dl, d, du = _tridiagonals(A)
             self._du2, self._piv, self._rd = np.empty(self.n - 2), np.empty(self.n, dtype=np.int64), np.empty(self.n)
@@ -360,20 +360,20 @@ def _tridiagonals(A) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return ab[2, :-1].copy(), ab[1].copy(), ab[0, 1:].copy()
 
 
-_TRIDIAGONAL: list = []
+_BANDED: list = []
 
 
-def _tridiagonal_extension():
-    """The C extension ``contin._tridiagonal``, or None (not built, or ``CONTIN_COMPILED=0``)."""
-    if not _TRIDIAGONAL:
+def _banded_extension():
+    """The C extension ``contin._banded`` (banded factorizations), or None (not built, or ``CONTIN_COMPILED=0``)."""
+    if not _BANDED:
         from .compiled import compiled_enabled
 
         try:
-            from . import _tridiagonal
+            from . import _banded
         except ImportError:
-            _tridiagonal = None
-        _TRIDIAGONAL.append(_tridiagonal if compiled_enabled() else None)
-    return _TRIDIAGONAL[0]
+            _banded = None
+        _BANDED.append(_banded if compiled_enabled() else None)
+    return _BANDED[0]
 
 
 class SymmetricBand:
@@ -481,6 +481,12 @@ class SymmetricBand:
 
         kd, n = self.kd, self.shape[0]
         work = np.array(self.ab, dtype=float, order="F")  # factorized in place, piece by piece
+        compiled = _banded_extension()
+        if compiled is not None:
+            # the same factorization in one pass of C (the same pivots up to rounding, the same checks)
+            scale = float(np.max(np.abs(self.ab[kd]), initial=0.0))
+            columns = compiled.ldlt_negative(work, float(growth_limit), int(max_negative), 1e-14 * scale)
+            return None if columns is None else (columns, work if not columns else None)
         columns: list[int] = []
         start = 0
         scale = None

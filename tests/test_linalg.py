@@ -181,7 +181,7 @@ def test_symmetric_band_agrees_with_its_dense_matrix() -> None:
 
 
 @pytest.mark.parametrize("shift", [-1.5, 0.0, 1.0, 4.0])
-def test_band_inertia_by_restarted_cholesky_matches_eigenvalues(shift: float) -> None:
+def test_band_inertia_by_restarted_cholesky_matches_eigenvalues(shift: float, banded_path) -> None:
     """The pivot-free L D L^T run as banded Cholesky pieces counts like the eigenvalues (or declines)."""
     from contin.linalg import SymmetricBand
 
@@ -200,7 +200,7 @@ def test_band_inertia_by_restarted_cholesky_matches_eigenvalues(shift: float) ->
     assert counted >= 45
 
 
-def test_band_inertia_declines_a_zero_pivot() -> None:
+def test_band_inertia_declines_a_zero_pivot(banded_path) -> None:
     from contin.linalg import SymmetricBand
 
     ab = np.array([[0.0, 1.0, 0.5], [1.0, 1.0, 2.0]])  # [[1, 1, 0], [1, 1, .5], [0, .5, 2]]: pivot 2 is 0
@@ -208,6 +208,43 @@ def test_band_inertia_declines_a_zero_pivot() -> None:
     ab[1, 1] = 0.0  # pivot 2 is -1: counted, and the rest resumes
     A = SymmetricBand(ab).toarray()
     assert SymmetricBand(ab).inertia()[0] == int(np.count_nonzero(np.linalg.eigvalsh(A) < 0)) == 1
+
+
+def test_compiled_band_ldlt_is_the_lapack_pieces_factorization(monkeypatch) -> None:
+    """The C pivot-free L D L^T lists the same negative pivots and, for a definite matrix, gives the
+    Cholesky factor that LAPACK's pieces give (to rounding), which dpbtrs then solves with."""
+    from scipy.linalg import lapack
+
+    from contin import linalg
+    from contin.linalg import SymmetricBand
+
+    extension = linalg._banded_extension()
+    if extension is None:
+        pytest.skip("the C extension contin._banded is not built")
+    rng = np.random.default_rng(12)
+    compared = definite = 0
+    for shift in (-1.0, 0.5, 2.0, 5.0):
+        for _ in range(40):
+            n = int(rng.integers(2, 50))
+            A, ab = _random_band(rng, n, min(int(rng.integers(0, 6)), n - 1), shift)
+            monkeypatch.setattr(linalg, "_BANDED", [extension])
+            fast = SymmetricBand(ab).negative_pivots()
+            monkeypatch.setattr(linalg, "_BANDED", [None])
+            pieces = SymmetricBand(ab).negative_pivots()
+            assert (fast is None) == (pieces is None)
+            if fast is None:
+                continue
+            compared += 1
+            assert fast[0] == pieces[0]
+            assert (fast[1] is None) == (pieces[1] is None)
+            if fast[1] is not None:
+                definite += 1
+                np.testing.assert_allclose(fast[1], pieces[1], rtol=1e-10, atol=1e-12 * np.abs(pieces[1]).max())
+                b = rng.standard_normal(n)
+                np.testing.assert_allclose(A @ lapack.dpbtrs(fast[1], b, lower=0)[0], b, atol=1e-8)
+    assert compared >= 120 and definite >= 25
+    with pytest.raises(ValueError, match="Fortran"):
+        extension.ldlt_negative(np.ones((3, 4)), 1e8, 32, 0.0)  # C order: numpy refuses the buffer
 
 
 def test_fixed_pattern_matrices_equal_scipy_ones_and_keep_their_pattern():
@@ -254,19 +291,19 @@ def test_to_banded_of_fixed_pattern_matrices_uses_the_right_positions():
 
 
 @pytest.fixture(params=["compiled", "lapack"])
-def tridiagonal_path(request, monkeypatch):
-    """Runs a test with the C extension contin._tridiagonal and again with scipy's LAPACK."""
+def banded_path(request, monkeypatch):
+    """Runs a test with the C extension contin._banded and again with scipy's LAPACK (and numpy)."""
     from contin import linalg
 
-    extension = linalg._tridiagonal_extension()
+    extension = linalg._banded_extension()
     if request.param == "compiled" and extension is None:
-        pytest.skip("the C extension contin._tridiagonal is not built")
-    monkeypatch.setattr(linalg, "_TRIDIAGONAL", [extension if request.param == "compiled" else None])
+        pytest.skip("the C extension contin._banded is not built")
+    monkeypatch.setattr(linalg, "_BANDED", [extension if request.param == "compiled" else None])
     return request.param
 
 
 @pytest.mark.parametrize("n", [3, 5, 70, 300])
-def test_tridiagonal_lu_solves_and_determinant_sign(n, tridiagonal_path):
+def test_tridiagonal_lu_solves_and_determinant_sign(n, banded_path):
     """gttrf/gttrs against a dense solve and numpy's slogdet (the sign decides fold detection)."""
     from contin.linalg import TridiagonalLU
 
@@ -284,7 +321,7 @@ def test_tridiagonal_lu_solves_and_determinant_sign(n, tridiagonal_path):
         assert sign == ref_sign and log == pytest.approx(ref_log, abs=1e-9)
 
 
-def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity(tridiagonal_path):
+def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity(banded_path):
     from contin.linalg import TridiagonalLU
 
     n = 200
@@ -297,7 +334,7 @@ def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity(tridiago
     assert not isinstance(factorize(sp.eye(2, format="csr"), method="banded"), TridiagonalLU)
 
 
-def test_tridiagonal_lu_with_no_right_hand_side(tridiagonal_path):
+def test_tridiagonal_lu_with_no_right_hand_side(banded_path):
     """A bordered system with no border solves for zero columns (gttrs must not be called on them)."""
     from contin.linalg import TridiagonalLU
 
@@ -314,18 +351,18 @@ def test_compiled_tridiagonal_lu_is_lapacks_factorization(monkeypatch):
     """The C factorization is gttrf's (the same factors and pivots); the solves agree to rounding."""
     from contin import linalg
 
-    extension = linalg._tridiagonal_extension()
+    extension = linalg._banded_extension()
     if extension is None:
-        pytest.skip("the C extension contin._tridiagonal is not built")
+        pytest.skip("the C extension contin._banded is not built")
     rng = np.random.default_rng(11)
     for n in (3, 4, 9, 200):
         # off-diagonals as large as the diagonal: rows are interchanged at about half the columns
         A = sp.diags([rng.standard_normal(n - 1), rng.standard_normal(n), rng.standard_normal(n - 1)], [-1, 0, 1],
                      format="dia")
         compiled = linalg.TridiagonalLU(A)
-        monkeypatch.setattr(linalg, "_TRIDIAGONAL", [None])
+        monkeypatch.setattr(linalg, "_BANDED", [None])
         lapack = linalg.TridiagonalLU(A.tocsr())
-        monkeypatch.setattr(linalg, "_TRIDIAGONAL", [extension])
+        monkeypatch.setattr(linalg, "_BANDED", [extension])
         for name in ("_dl", "_d", "_du", "_du2", "_piv"):
             assert np.array_equal(getattr(compiled, name), getattr(lapack, name)), name
         assert 0 < np.count_nonzero(compiled._piv[:-1] != np.arange(n - 1)) or n < 9

@@ -1,14 +1,17 @@
-/* LU with partial pivoting of a tridiagonal matrix and its solves, for contin.linalg.TridiagonalLU.
+/* Banded factorizations in C for contin.linalg (built by setup.py as contin._banded; optional:
+   contin.linalg uses LAPACK and numpy where it is not built).
 
-   The factorization is LAPACK's gttrf (the same pivoting, the same factors: A = P L U with U
+   factor, solve: LU with partial pivoting of a tridiagonal matrix and its solves
+   (contin.linalg.TridiagonalLU).  The factorization is LAPACK's gttrf (the same pivoting, the same factors: A = P L U with U
    upper triangular with two superdiagonals).  The solves run LAPACK's gtts2 algorithm with one
    change: they multiply by the pivots' reciprocals, stored by the factorization, instead of dividing
    by the pivots.  A back substitution is a chain of dependent operations, and a division's latency
    is several times a multiplication's: at n = 2000 a solve takes about a fifth of scipy's dgttrs.
    The results differ from LAPACK's by rounding only.
 
-   Written for this project; built by setup.py as contin._tridiagonal (optional: contin.linalg uses
-   LAPACK where it is not built). */
+   ldlt_negative: the pivot-free L D L^T of a symmetric band matrix, counting its negative pivots
+   (contin.linalg.SymmetricBand.negative_pivots), in one pass where the Python version alternates
+   LAPACK's banded Cholesky with eliminations of the negative pivots by hand. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>
@@ -192,12 +195,107 @@ static PyObject *solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     Py_RETURN_NONE;
 }
 
+/* ldlt_negative(work, growth_limit, max_negative, zero_tol) -> list of columns, or None.
+
+   work: the upper band (kd + 1) x n in Fortran order (column j holds A[j - kd .. j, j] in rows
+   0 .. kd), overwritten.  The pivot-free L D L^T runs column by column; each pivot d_j is
+   positive, or negative (its column is listed), or the factorization cannot be trusted and None is
+   returned: a pivot that is not a number, zero, or negative with |d_j| <= zero_tol; a multiplier
+   |A[j, k]| / |d_j| above growth_limit; more than max_negative negative pivots.  When no pivot is
+   negative, work holds the Cholesky factor U (A = U^T U) in LAPACK's upper band storage, ready for
+   dpbtrs. */
+static PyObject *ldlt_negative(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "ldlt_negative(work, growth_limit, max_negative, zero_tol)");
+        return NULL;
+    }
+    double growth_limit = PyFloat_AsDouble(args[1]);
+    Py_ssize_t max_negative = PyLong_AsSsize_t(args[2]);
+    double zero_tol = PyFloat_AsDouble(args[3]);
+    if (PyErr_Occurred()) return NULL;
+    Py_buffer view;
+    if (PyObject_GetBuffer(args[0], &view, PyBUF_F_CONTIGUOUS | PyBUF_FORMAT | PyBUF_WRITABLE) < 0) return NULL;
+    const char *f = view.format;
+    if (f != NULL && (f[0] == '<' || f[0] == '=' || f[0] == '@')) f++;
+    if (view.ndim != 2 || view.itemsize != 8 || f == NULL || strcmp(f, "d") != 0 || view.shape[0] < 1) {
+        PyErr_SetString(PyExc_TypeError, "ldlt_negative: work must be a 2-D Fortran-ordered float64 array");
+        PyBuffer_Release(&view);
+        return NULL;
+    }
+    Py_ssize_t kd = view.shape[0] - 1, n = view.shape[1], ld = kd + 1;
+    double *w = view.buf;  /* A[i, j] (i <= j <= i + kd) at w[(kd + i - j) + j * ld] */
+    PyObject *columns = PyList_New(0);
+    if (columns == NULL) {
+        PyBuffer_Release(&view);
+        return NULL;
+    }
+    double *row = PyMem_Malloc((kd + 1) * sizeof(double));
+    if (row == NULL) {
+        Py_DECREF(columns);
+        PyBuffer_Release(&view);
+        return PyErr_NoMemory();
+    }
+    int trusted = 1;
+    for (Py_ssize_t j = 0; j < n && trusted; j++) {
+        double d = w[kd + j * ld];
+        if (!(d > 0.0) && !(d < 0.0 && fabs(d) > zero_tol)) {
+            trusted = 0;  /* not a number, zero, or negative at the round-off level */
+            break;
+        }
+        Py_ssize_t k = kd < n - 1 - j ? kd : n - 1 - j;
+        double largest = 0.0;
+        for (Py_ssize_t t = 1; t <= k; t++) {
+            row[t] = w[(kd - t) + (j + t) * ld];  /* A[j, j + t] */
+            if (fabs(row[t]) > largest) largest = fabs(row[t]);
+        }
+        if (!(largest / fabs(d) <= growth_limit)) {
+            trusted = 0;
+            break;
+        }
+        if (d < 0.0) {
+            PyObject *column = PyLong_FromSsize_t(j);
+            if (column == NULL || PyList_Append(columns, column) < 0) {
+                Py_XDECREF(column);
+                PyMem_Free(row);
+                Py_DECREF(columns);
+                PyBuffer_Release(&view);
+                return NULL;
+            }
+            Py_DECREF(column);
+            if (PyList_GET_SIZE(columns) > max_negative) {
+                trusted = 0;
+                break;
+            }
+        }
+        /* the Schur complement on the next k rows: A[j + t, j + s] -= A[j, j + t] A[j, j + s] / d */
+        for (Py_ssize_t s = 1; s <= k; s++) {
+            double factor = row[s] / d;
+            double *column_s = w + (j + s) * ld;
+            for (Py_ssize_t t = 1; t <= s; t++) column_s[kd - (s - t)] -= row[t] * factor;
+        }
+        if (d > 0.0) {  /* Cholesky's row: u_jj = sqrt(d), u_j,j+t = A[j, j + t] / u_jj */
+            double u = sqrt(d);
+            w[kd + j * ld] = u;
+            for (Py_ssize_t t = 1; t <= k; t++) w[(kd - t) + (j + t) * ld] = row[t] / u;
+        }
+    }
+    PyMem_Free(row);
+    PyBuffer_Release(&view);
+    if (!trusted) {
+        Py_DECREF(columns);
+        Py_RETURN_NONE;
+    }
+    return columns;
+}
+
 static PyMethodDef methods[] = {
     {"factor", (PyCFunction)(void (*)(void))factor, METH_FASTCALL, "factor(dl, d, du, du2, piv, rd) -> info"},
     {"solve", (PyCFunction)(void (*)(void))solve, METH_FASTCALL, "solve(dl, rd, du, du2, piv, x, trans) -> None"},
+    {"ldlt_negative", (PyCFunction)(void (*)(void))ldlt_negative, METH_FASTCALL,
+     "ldlt_negative(work, growth_limit, max_negative, zero_tol) -> columns or None"},
     {NULL, NULL, 0, NULL}
 };
 
-static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_tridiagonal", NULL, -1, methods, NULL, NULL, NULL, NULL};
+static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_banded", NULL, -1, methods, NULL, NULL, NULL, NULL};
 
-PyMODINIT_FUNC PyInit__tridiagonal(void) { return PyModule_Create(&moduledef); }
+PyMODINIT_FUNC PyInit__banded(void) { return PyModule_Create(&moduledef); }
