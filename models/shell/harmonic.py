@@ -679,11 +679,14 @@ class HarmonicShell:
                                                   np.broadcast_to(np.asarray(lbar, float), (m,)))
             c2 = rbar * lbar * kb  # 2 c
             B11, B22 = k11 - k11bar, k22 - k22bar
-            mix = g11 + nu * g22
-            H = mix[:, None, :] * g11[None, :, :] + (nu * g11 + g22)[:, None, :] * g22[None, :, :]
-            H += 2.0 * (1.0 - nu) * g12[:, None, :] * g12[None, :, :]
-            H += (B11 + nu * B22) * h11 + (B22 + nu * B11) * h22
-            return H * c2
+            # 2 c folded into the small factors first, and the (15, 15, m) products accumulated in
+            # place: five passes over the big arrays instead of eleven (0.83 -> 0.52 ms at m = 200)
+            H = h11 * ((B11 + nu * B22) * c2)
+            H += h22 * ((B22 + nu * B11) * c2)
+            for left, right in (((g11 + nu * g22) * c2, g11), ((nu * g11 + g22) * c2, g22),
+                                ((2.0 * (1.0 - nu)) * g12 * c2, g12)):
+                H += left[:, None, :] * right[None, :, :]
+            return H
         y = Jet.variables(vals)
         e = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
                          *params, None if current else params[0])
