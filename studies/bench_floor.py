@@ -5,7 +5,8 @@ Run ``python -m studies.bench_floor [--repeat 3]``.
 The default scene is traced in-process with warm imports (one untimed run first).  During the timed
 runs every call of the shell's generated element kernels (:mod:`contin_models.shell._generated`) and of
 the LAPACK routines the trace uses (``dgbtrf``, ``dgbtrs``, ``dpbtrf``, ``dgttrf``, ``dgttrs``) is
-counted and timed by a wrapper.  Their sum is the time the trace would take if everything around
+counted and timed by a wrapper, and so is every call of the engine's C banded factorizations
+(``contin._banded``: the stability counts' pivot-free ``L D L^T``, the tridiagonal LU) where built.  Their sum is the time the trace would take if everything around
 them cost nothing: the floor for this work with these kernels.  The table gives, per routine, the
 calls and the time of the median run, and the trace's wall time beside the floor.
 """
@@ -60,6 +61,12 @@ def main(argv: list[str] | None = None) -> int:
         setattr(gen, name, _timed(getattr(gen, name), name, calls, seconds))
     for name in LAPACK:
         setattr(lapack, name, _timed(getattr(lapack, name), name, calls, seconds))
+    from contin.linalg import _banded_extension
+
+    banded = _banded_extension()
+    if banded is not None:  # looked up on the module at each call, like the LAPACK routines
+        for name in ("factor", "solve", "ldlt_negative"):
+            setattr(banded, name, _timed(getattr(banded, name), f"_banded.{name}", calls, seconds))
     model = shell_scene.SHELL_SCENE
     scene = load_scene(model.schema, None, ["output.figure=false"])
     model.run(scene, False)
@@ -77,7 +84,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{'routine':36s} {'calls':>7s} {'time':>9s} {'per call':>10s}")
     for key in sorted(seconds_m, key=seconds_m.get, reverse=True):
         print(f"{key:36s} {calls_m[key]:7d} {seconds_m[key]:8.3f}s {1e6 * seconds_m[key] / calls_m[key]:8.1f}us")
-    print(f"kernels and LAPACK: {floor:.3f} s of {wall:.3f} s ({100 * floor / wall:.0f} %); "
+    print(f"kernels, LAPACK and C factorizations: {floor:.3f} s of {wall:.3f} s ({100 * floor / wall:.0f} %); "
           f"the rest, {wall - floor:.3f} s, is Python and numpy around them")
     print(f"the floor's median over the runs: {statistics.median(sum(r[2].values()) for r in runs):.3f} s")
     return 0
