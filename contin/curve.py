@@ -287,8 +287,7 @@ class Curve:
         nrm = self.norm(t_u, t_p)
         if not np.isfinite(nrm) or nrm == 0.0:
             raise CorrectorFailure("tangent computation failed (singular bordered Jacobian)")
-        sign, _ = solver.det_sign_log()
-        return t_u / nrm, t_p / nrm, sign
+        return t_u / nrm, t_p / nrm, solver.det_sign()
 
     # ---- Newton at fixed parameter ---------------------------------------------------------------
     def newton_fixed_p(self, u: np.ndarray, p: float, max_iter: int = 30) -> tuple[np.ndarray, float, int]:

@@ -22,6 +22,7 @@ from __future__ import annotations
 import warnings
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.linalg as sla
@@ -43,6 +44,7 @@ __all__ = [
     "FixedPattern",
     "symmetric_column",
     "same_values",
+    "banded_extension",
     "BorderedSolver",
     "SingularMatrixError",
 ]
@@ -73,11 +75,17 @@ def _ipiv_parity(ipiv: np.ndarray) -> int:
     return -1 if swaps % 2 else 1
 
 
+def _sign_from_diagonal(diag: np.ndarray, parity: int) -> float:
+    if not diag.all():
+        return 0.0
+    return float(parity * (-1 if np.count_nonzero(diag < 0) % 2 else 1))
+
+
 def _sign_log_from_diagonal(diag: np.ndarray, parity: int) -> tuple[float, float]:
-    if np.any(diag == 0.0):
+    sign = _sign_from_diagonal(diag, parity)
+    if sign == 0.0:
         return 0.0, -np.inf
-    sign = parity * (-1 if np.count_nonzero(diag < 0) % 2 else 1)
-    return float(sign), float(np.sum(np.log(np.abs(diag))))
+    return sign, float(np.sum(np.log(np.abs(diag))))
 
 
 class Factorization:
@@ -92,6 +100,10 @@ class Factorization:
     def det_sign_log(self) -> tuple[float, float]:  # pragma: no cover - interface
         """Return ``(sign, log|det|)``; the sign is 0 for an exactly singular matrix."""
         raise NotImplementedError
+
+    def det_sign(self) -> float:
+        """The sign of the determinant alone (0 for an exactly singular matrix), without its logarithm."""
+        return self.det_sign_log()[0]
 
     def _check(self, x: np.ndarray) -> np.ndarray:
         if not np.isfinite(x).all():
@@ -125,6 +137,9 @@ class DenseLU(Factorization):
         if self.n == 0:
             return 1.0, 0.0
         return _sign_log_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
+
+    def det_sign(self):
+        return 1.0 if self.n == 0 else _sign_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
 
 
 def bandwidths(A) -> tuple[int, int]:
@@ -295,6 +310,9 @@ class BandedLU(Factorization):
     def det_sign_log(self):
         return _sign_log_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
 
+    def det_sign(self):
+        return _sign_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
+
 
 class TridiagonalLU(Factorization):
     """LU with partial pivoting of a tridiagonal matrix (LAPACK's gttrf): O(n), no band bookkeeping.
@@ -310,7 +328,7 @@ class TridiagonalLU(Factorization):
         self.n = A.shape[0]
         if self.n < 3:  # scipy's gttrs wrapper needs the second superdiagonal (n - 2 entries) non-empty
             raise ValueError(f"TridiagonalLU: the matrix must be at least 3 x 3, got {A.shape}")
-        compiled = _banded_extension()
+        compiled = banded_extension()
         if compiled is not None:
             dl, d, du = _tridiagonals(A)
             self._du2, self._piv, self._rd = np.empty(self.n - 2), np.empty(self.n, dtype=np.int64), np.empty(self.n)
@@ -345,6 +363,9 @@ class TridiagonalLU(Factorization):
     def det_sign_log(self):
         return _sign_log_from_diagonal(self._d, _ipiv_parity(self._piv))
 
+    def det_sign(self):
+        return _sign_from_diagonal(self._d, _ipiv_parity(self._piv))
+
 
 def _tridiagonals(A) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """New arrays of the sub-, main and superdiagonal of a tridiagonal ``A``."""
@@ -363,8 +384,10 @@ def _tridiagonals(A) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 _BANDED: list = []
 
 
-def _banded_extension():
-    """The C extension ``contin._banded`` (banded factorizations), or None (not built, or ``CONTIN_COMPILED=0``)."""
+def banded_extension() -> Any:
+    """The C extension module ``contin._banded`` (the tridiagonal LU's and the band L D L^T's C code),
+    or None when it is not built or ``CONTIN_COMPILED=0``: for tests and for instrumenting its calls
+    (``studies.bench_floor``)."""
     if not _BANDED:
         from .compiled import compiled_enabled
 
@@ -485,7 +508,7 @@ class SymmetricBand:
 
         kd, n = self.kd, self.shape[0]
         work = np.array(self.ab, dtype=float, order="F")  # factorized in place, piece by piece
-        compiled = _banded_extension()
+        compiled = banded_extension()
         if compiled is not None:
             # the same factorization in one pass of C (the same pivots up to rounding, the same checks)
             scale = float(np.max(np.abs(self.ab[kd]), initial=0.0))
@@ -895,3 +918,16 @@ class BorderedSolver:
         _, _, S = self._schur_parts(False)
         ss, ls = np.linalg.slogdet(S)
         return float(sa * ss), float(la + ls)
+
+    def det_sign(self) -> float:
+        """Sign of the determinant of the bordered matrix (:meth:`det_sign_log` without the logarithm)."""
+        if self._deflated is not None:
+            return self._deflated.det_sign() * self._deflation_sign
+        if self._full is not None:
+            return self._full.det_sign()
+        sa = self.factor.det_sign()
+        if self.k == 0:
+            return sa
+        _, _, S = self._schur_parts(False)
+        ss = float(np.sign(S[0, 0])) if self.k == 1 else float(np.linalg.slogdet(S)[0])
+        return float(sa * ss)

@@ -61,9 +61,9 @@ def main(argv: list[str] | None = None) -> int:
         setattr(gen, name, _timed(getattr(gen, name), name, calls, seconds))
     for name in LAPACK:
         setattr(lapack, name, _timed(getattr(lapack, name), name, calls, seconds))
-    from contin.linalg import _banded_extension
+    from contin.linalg import banded_extension
 
-    banded = _banded_extension()
+    banded = banded_extension()
     if banded is not None:  # looked up on the module at each call, like the LAPACK routines
         for name in ("factor", "solve", "ldlt_negative"):
             setattr(banded, name, _timed(getattr(banded, name), f"_banded.{name}", calls, seconds))

@@ -218,7 +218,7 @@ def test_compiled_band_ldlt_is_the_lapack_pieces_factorization(monkeypatch) -> N
     from contin import linalg
     from contin.linalg import SymmetricBand
 
-    extension = linalg._banded_extension()
+    extension = linalg.banded_extension()
     if extension is None:
         pytest.skip("the C extension contin._banded is not built")
     rng = np.random.default_rng(12)
@@ -295,7 +295,7 @@ def banded_path(request, monkeypatch):
     """Runs a test with the C extension contin._banded and again with scipy's LAPACK (and numpy)."""
     from contin import linalg
 
-    extension = linalg._banded_extension()
+    extension = linalg.banded_extension()
     if request.param == "compiled" and extension is None:
         pytest.skip("the C extension contin._banded is not built")
     monkeypatch.setattr(linalg, "_BANDED", [extension if request.param == "compiled" else None])
@@ -351,7 +351,7 @@ def test_compiled_tridiagonal_lu_is_lapacks_factorization(monkeypatch):
     """The C factorization is gttrf's (the same factors and pivots); the solves agree to rounding."""
     from contin import linalg
 
-    extension = linalg._banded_extension()
+    extension = linalg.banded_extension()
     if extension is None:
         pytest.skip("the C extension contin._banded is not built")
     rng = np.random.default_rng(11)
