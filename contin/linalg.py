@@ -332,8 +332,7 @@ class TridiagonalLU(Factorization):
         if compiled is not None:
             dl, d, du = _tridiagonals(A)
             self._du2, self._piv, self._rd = np.empty(self.n - 2), np.empty(self.n, dtype=np.int64), np.empty(self.n)
-            with np.errstate(divide="ignore"):
-                info = compiled.factor(dl, d, du, self._du2, self._piv, self._rd)
+            info = compiled.factor(dl, d, du, self._du2, self._piv, self._rd)  # rd[k] = inf for a zero pivot
             self._compiled = compiled
         else:
             dl, d, du, self._du2, piv, info = lapack.dgttrf(*_tridiagonals(A))
@@ -656,11 +655,11 @@ def _matvec(A, x):
 def _inf_norm(A) -> float:
     if sp.issparse(A) and A.format == "dia":
         # row sums of |A| without building |A|: dia data[k, j] sits in row j - offset_k
-        n = A.shape[0]
+        n, m = A.shape
         rows = np.zeros(n)
-        for off, d in zip(A.offsets, A.data):
-            lo, hi = max(0, off), min(A.shape[1], n + off)
-            rows[lo - off:hi - off] += np.abs(d[lo:hi])
+        for off, d in zip(A.offsets.tolist(), np.abs(A.data)):  # Python ints: cheaper index arithmetic
+            lo, hi = max(0, off), min(m, n + off)
+            rows[lo - off:hi - off] += d[lo:hi]
         return float(rows.max()) if n else 0.0
     if sp.issparse(A) and A.format == "csr" and A.shape[0] and A.nnz:
         # row sums straight from the CSR arrays: abs(A) would build a new matrix every call
