@@ -692,12 +692,16 @@ def _max_abs(*arrays: np.ndarray) -> float:
     """Largest modulus over the arrays (0 when all are empty; NaN when any entry is NaN)."""
     largest = 0.0
     for a in arrays:
-        if a.size:
+        if a.size == 1:  # a border's single value: numpy's call overhead is most of the cost
+            value = abs(float(a.flat[0]))
+        elif a.size:
             value = float(np.maximum.reduce(np.abs(a), axis=None))
-            if not value <= largest:  # larger, or NaN (which then stays)
-                largest = value
-                if value != value:
-                    return value
+        else:
+            continue
+        if not value <= largest:  # larger, or NaN (which then stays)
+            largest = value
+            if value != value:
+                return value
     return largest
 
 
