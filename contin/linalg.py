@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import warnings
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -676,16 +677,31 @@ def _inf_norm(A) -> float:
     return float(np.abs(A).sum(axis=1).max()) if A.size else 0.0
 
 
-def _inf_norm_of(A, factor) -> float:
-    """``_inf_norm(A)``, remembered by ``A``'s factorization: the bordered systems of a Newton step
-    (tangent, correction, test functions) share one main block and its factorization."""
-    memo = getattr(factor, "_inf_norm_memo", None)
-    if memo is not None and memo[0] is A:
+def _remembered(factor: Factorization | None, slot: str, key: Any, same: Callable[[Any, Any], bool],
+                compute: Callable[[], Any]) -> Any:
+    """``compute()``, remembered on ``factor`` (attribute ``slot``) for the next call with the same ``key``.
+
+    The bordered systems of a Newton step (the correction, the tangent, the test functions) share one
+    main block and its factorization: what depends on the block alone is computed once for them.
+    """
+    memo = getattr(factor, slot, None)
+    if memo is not None and same(memo[0], key):
         return memo[1]
-    value = _inf_norm(A)
+    value = compute()
     if factor is not None:
-        factor._inf_norm_memo = (A, value)
+        setattr(factor, slot, (key, value))
     return value
+
+
+def _inf_norm_of(A, factor) -> float:
+    """``_inf_norm(A)``, remembered by ``A``'s factorization (while ``A`` is the same object)."""
+    return _remembered(factor, "_inf_norm_memo", A, lambda a, b: a is b, lambda: _inf_norm(A))
+
+
+def _border_solution(factor: Factorization, B: np.ndarray) -> np.ndarray:
+    """``A^-1 B``, remembered by ``A``'s factorization for the next border column of the same values
+    (the tangent after a correction shares the corrector's last Jacobian and its ``df/dp``)."""
+    return _remembered(factor, "_border_memo", B.copy(), same_values, lambda: factor.solve(B))
 
 
 def _max_abs(*arrays: np.ndarray) -> float:
@@ -767,7 +783,7 @@ class BorderedSolver:
                 X = self.factor.solve(self.C.T, trans=True)  # A^T X = C^T
                 S = self.D.T - self.B.T @ X
             else:
-                X = self.factor.solve(self.B)
+                X = _border_solution(self.factor, self.B)
                 S = self.D - self.C @ X
             S_lu = None
             if self.k:
