@@ -66,7 +66,6 @@ HALF_BANDWIDTH = 5
 """Half-bandwidth of the Hessian in the interleaved dof ordering."""
 
 
-
 def compiled_rows(ndof: dict[str, int]) -> dict[str, int]:
     """Output rows of each kernel the C extension carries: the fast gradient, Hessian and both, per element.
 
@@ -89,7 +88,7 @@ the gradient and Hessian kernels of the C extension ``contin_models.shell._ckern
 where it was built (``COMPILED`` is then True; same numbers, about ten times faster at N = 200; see
 :mod:`contin.compiled`).  Public for direct use and for instrumenting them (``studies.bench_floor``
 times every call); an energy looks its kernels up here when it is built."""
-gen = kernels
+gen = kernels  # the module's own short name for them
 
 _PARTS = ("stretch", "bend")
 
