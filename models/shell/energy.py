@@ -34,7 +34,9 @@ triangle of its Hessian, one row per entry.  One ``bincount`` per block of eleme
 to ``N ~ 8000``) scatters them into the global gradient or the upper triangle of the global
 Hessian, whose fixed CSR data is then gathered from it (exactly symmetric).  The cost is a fixed
 number of numpy operations per block, so it is linear in ``N`` (``python -m
-studies.bench_shell_assembly``).
+studies.bench_shell_assembly``).  The gradient and Hessian kernels run in C where the package's
+install built the extension ``contin_models.shell._ckernels`` (:data:`kernels`, :data:`COMPILED`),
+with the numpy kernels' numbers.
 
 Not decided here
 ----------------
