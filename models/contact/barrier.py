@@ -157,6 +157,8 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
+from contin.linalg import same_values
+
 from . import _generated as gen
 
 __all__ = ["Sphere", "Plate", "ContactBarrier", "ContactState", "ContactCells", "IntegrationPoints", "default_barrier",
@@ -861,7 +863,7 @@ class ContactBarrier:
                             c: float) -> tuple[ContactCells, np.ndarray, IntegrationPoints]:
         """:meth:`_checked_samples` and :meth:`_points_within` at ``(x, c)``, remembered for the last state."""
         cached = self._points_cache
-        if cached is not None and cached[1] == c and np.array_equal(cached[0], x):
+        if cached is not None and cached[1] == c and same_values(cached[0], x):
             return cached[2], cached[3], cached[4]
         cells, ds = self._checked_samples(r, z, c)
         pts = self._points_within(cells, r, z, c, ds)
