@@ -106,6 +106,14 @@ class Factorization:
         """The sign of the determinant alone (0 for an exactly singular matrix), without its logarithm."""
         return self.det_sign_log()[0]
 
+    def residual(self, A, f: np.ndarray, x: np.ndarray, trans: bool = False) -> np.ndarray:
+        """``f - A x`` (``f - A^T x`` if ``trans``) for the matrix ``A`` this factorizes.
+
+        The product is ``A``'s own: a solve is checked against the matrix, not against its factors.
+        A factorization that kept ``A``'s entries may compute it faster (:class:`TridiagonalLU`).
+        """
+        return f - (A.T @ x if trans else A @ x)
+
     def _check(self, x: np.ndarray) -> np.ndarray:
         if not np.isfinite(x).all():
             raise SingularMatrixError("linear solve produced non-finite values (singular matrix)")
@@ -331,7 +339,12 @@ class TridiagonalLU(Factorization):
             raise ValueError(f"TridiagonalLU: the matrix must be at least 3 x 3, got {A.shape}")
         compiled = banded_extension()
         if compiled is not None:
-            dl, d, du = _tridiagonals(A)
+            # A's entries, kept beside the factors, give the bordered solver (on this factorization)
+            # A's norm now and its residuals later in one C pass each, where the dia matrix costs numpy
+            # calls per diagonal and scipy's product (see _inf_norm_of)
+            self._matrix, self._source = _tridiagonals(A, copy=False), A
+            self._inf_norm_memo = (A, compiled.inf_norm(*self._matrix))
+            dl, d, du = (a.copy() for a in self._matrix)
             self._du2, self._piv, self._rd = np.empty(self.n - 2), np.empty(self.n, dtype=np.int64), np.empty(self.n)
             info = compiled.factor(dl, d, du, self._du2, self._piv, self._rd)  # rd[k] = inf for a zero pivot
             self._compiled = compiled
@@ -356,6 +369,14 @@ class TridiagonalLU(Factorization):
                                 trans="T" if trans else "N")
         return self._check(x)
 
+    def residual(self, A, f, x, trans=False):
+        if self._compiled is None or A is not self._source or x.ndim != 1 or f.ndim != 1:
+            return super().residual(A, f, x, trans)
+        out = np.empty(self.n)
+        self._compiled.residual(*self._matrix, np.asarray(x, dtype=float), np.asarray(f, dtype=float), out,
+                                bool(trans))
+        return out
+
     def pivots(self) -> np.ndarray:
         """Diagonal of the U factor."""
         return self._d
@@ -367,16 +388,19 @@ class TridiagonalLU(Factorization):
         return _sign_from_diagonal(self._d, _ipiv_parity(self._piv))
 
 
-def _tridiagonals(A) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """New arrays of the sub-, main and superdiagonal of a tridiagonal ``A``."""
+def _tridiagonals(A, copy: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The sub-, main and superdiagonal of a tridiagonal ``A`` as contiguous float arrays: new ones, or
+    with ``copy=False`` views of a dia matrix's own data where they are such (read, do not write)."""
     n = A.shape[0]
     if sp.issparse(A) and A.format == "dia" and len(A.offsets) == len(set(A.offsets.tolist())) \
             and set(A.offsets.tolist()) <= {-1, 0, 1} and A.data.shape[1] >= n:
         # dia data[k, j] holds A[j - offsets[k], j]: the diagonals without a band copy
         rows = dict(zip(A.offsets.tolist(), A.data))
         zeros = np.zeros(n)
-        return (rows.get(-1, zeros)[:n - 1].astype(float, copy=True), rows.get(0, zeros)[:n].astype(float, copy=True),
-                rows.get(1, zeros)[1:n].astype(float, copy=True))
+        diagonals = rows.get(-1, zeros)[:n - 1], rows.get(0, zeros)[:n], rows.get(1, zeros)[1:n]
+        if copy:
+            return tuple(a.astype(float, copy=True) for a in diagonals)
+        return tuple(np.ascontiguousarray(a, dtype=float) for a in diagonals)
     ab = to_banded(A, 1, 1)  # rows: super-, main and sub-diagonal
     return ab[2, :-1].copy(), ab[1].copy(), ab[0, 1:].copy()
 
@@ -707,13 +731,16 @@ def _border_solution(factor: Factorization, B: np.ndarray) -> np.ndarray:
 def _max_abs(*arrays: np.ndarray) -> float:
     """Largest modulus over the arrays (0 when all are empty; NaN when any entry is NaN)."""
     largest = 0.0
+    compiled = banded_extension()
     for a in arrays:
         if a.size == 1:  # a border's single value: numpy's call overhead is most of the cost
             value = abs(float(a.flat[0]))
-        elif a.size:
-            value = float(np.maximum.reduce(np.abs(a), axis=None))
-        else:
+        elif not a.size:
             continue
+        elif compiled is not None and a.dtype == np.float64 and a.flags.c_contiguous:
+            value = compiled.max_abs(a)  # one pass, without numpy's array of |a|
+        else:
+            value = float(np.maximum.reduce(np.abs(a), axis=None))
         if not value <= largest:  # larger, or NaN (which then stays)
             largest = value
             if value != value:
@@ -817,11 +844,14 @@ class BorderedSolver:
         return x, z
 
     def _residual(self, x, z, f, g, trans):
+        # a factorization of the caller's own type may lack residual(): the product then is A's
+        own = type(self.factor).residual if isinstance(self.factor, Factorization) else Factorization.residual
+        r1 = own(self.factor, self.A, f, x, trans)
         if trans:
-            r1 = f - (self.A.T @ x) - self.C.T @ z
+            r1 -= self.C.T @ z
             r2 = g - self.B.T @ x - self.D.T @ z
         else:
-            r1 = f - (self.A @ x) - self.B @ z
+            r1 -= self.B @ z
             r2 = g - self.C @ x - self.D @ z
         return r1, r2
 

@@ -377,6 +377,54 @@ def test_compiled_tridiagonal_lu_is_lapacks_factorization(monkeypatch):
     assert np.array_equal(b, kept)  # the right-hand side is not overwritten
 
 
+@pytest.mark.parametrize("fmt", ["dia", "csr"])
+def test_tridiagonal_lu_residual_and_norm_are_the_matrix_own(fmt, banded_path):
+    """The residual f - A x a factorization gives, and the norm the bordered solver takes from it, are
+    A's, on both paths; a matrix other than the factored one, or several columns, get the product."""
+    from contin import linalg
+
+    rng = np.random.default_rng(5)
+    n = 60
+    A = sp.diags([rng.standard_normal(n - 1), rng.standard_normal(n), rng.standard_normal(n - 1)], [-1, 0, 1],
+                 format=fmt)
+    dense = A.toarray()
+    F = linalg.TridiagonalLU(A)
+    x, f = rng.standard_normal(n), rng.standard_normal(n)
+    for trans in (False, True):
+        ref = f - (dense.T if trans else dense) @ x
+        np.testing.assert_allclose(F.residual(A, f, x, trans), ref, rtol=0, atol=1e-13 * np.abs(ref).max())
+    other = A * 2.0
+    np.testing.assert_allclose(F.residual(other, f, x), f - 2.0 * dense @ x, atol=1e-12)
+    X = rng.standard_normal((n, 2))
+    np.testing.assert_allclose(F.residual(A, X, X), X - dense @ X, atol=1e-12)
+    norm = linalg._inf_norm_of(A, F)
+    assert norm == pytest.approx(np.abs(dense).sum(axis=1).max(), rel=1e-15)
+    if banded_path == "compiled":  # the norm came with the factorization: not recomputed from the matrix
+        assert F._inf_norm_memo[0] is A
+    broken = A.copy()
+    broken.data[broken.data.shape[0] // 2] = np.nan  # a diagonal (dia) or a few entries (csr) of NaN
+    assert np.isnan(linalg._inf_norm_of(broken, linalg.TridiagonalLU(broken)))
+
+
+def test_compiled_max_abs_is_numpys(monkeypatch):
+    """The largest modulus over arrays, with and without the C pass: the same value, NaN kept."""
+    from contin import linalg
+
+    if linalg.banded_extension() is None:
+        pytest.skip("the C extension contin._banded is not built")
+    rng = np.random.default_rng(3)
+    arrays = [rng.standard_normal(50), rng.standard_normal((7, 3)), np.arange(5), rng.standard_normal(40)[::2],
+              np.zeros(0), np.array([-4.5])]
+    for k in range(1, len(arrays) + 1):
+        expected = max(float(np.abs(a).max()) for a in arrays[:k] if a.size)
+        assert linalg._max_abs(*arrays[:k]) == expected
+    with_nan = rng.standard_normal(30)
+    with_nan[17] = np.nan
+    assert np.isnan(linalg._max_abs(np.ones(3), with_nan))
+    assert np.isnan(linalg.banded_extension().max_abs(with_nan))
+    assert linalg.banded_extension().max_abs(np.full(9, -np.inf)) == np.inf
+
+
 def test_symmetric_column_with_and_without_duplicate_entries():
     from contin.linalg import symmetric_column
 
