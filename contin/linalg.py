@@ -154,10 +154,11 @@ class DenseLU(Factorization):
 def bandwidths(A) -> tuple[int, int]:
     """Return the lower and upper bandwidths ``(kl, ku)`` of a sparse or dense matrix."""
     if sp.issparse(A) and A.format == "dia":
-        offs = A.offsets[A.data.any(axis=1)] if A.data.size else A.offsets[:0]
-        if not offs.size:
+        # a dia matrix has a few diagonals: a Python loop over them costs less than numpy's calls over all
+        offs = [off for off, row in zip(A.offsets.tolist(), A.data) if row.any()]
+        if not offs:
             return 0, 0
-        return max(0, -int(offs.min())), max(0, int(offs.max()))
+        return max(0, -min(offs)), max(0, max(offs))
     if sp.issparse(A):
         coo = A.tocoo()
         if coo.nnz == 0:
@@ -702,18 +703,19 @@ def _inf_norm(A) -> float:
 
 
 def _remembered(factor: Factorization | None, slot: str, key: Any, same: Callable[[Any, Any], bool],
-                compute: Callable[[], Any]) -> Any:
+                compute: Callable[[], Any], keep: Callable[[Any], Any] = lambda key: key) -> Any:
     """``compute()``, remembered on ``factor`` (attribute ``slot``) for the next call with the same ``key``.
 
     The bordered systems of a Newton step (the correction, the tangent, the test functions) share one
     main block and its factorization: what depends on the block alone is computed once for them.
+    ``keep(key)`` is what is stored to compare with (a copy of an array the caller may change).
     """
     memo = getattr(factor, slot, None)
     if memo is not None and same(memo[0], key):
         return memo[1]
     value = compute()
     if factor is not None:
-        setattr(factor, slot, (key, value))
+        setattr(factor, slot, (keep(key), value))
     return value
 
 
@@ -725,7 +727,7 @@ def _inf_norm_of(A, factor) -> float:
 def _border_solution(factor: Factorization, B: np.ndarray) -> np.ndarray:
     """``A^-1 B``, remembered by ``A``'s factorization for the next border column of the same values
     (the tangent after a correction shares the corrector's last Jacobian and its ``df/dp``)."""
-    return _remembered(factor, "_border_memo", B.copy(), same_values, lambda: factor.solve(B))
+    return _remembered(factor, "_border_memo", B, same_values, lambda: factor.solve(B), keep=np.copy)
 
 
 def _max_abs(*arrays: np.ndarray) -> float:
