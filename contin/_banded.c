@@ -15,7 +15,8 @@
 
    ldlt_negative: the pivot-free L D L^T of a symmetric band matrix, counting its negative pivots
    (contin.linalg.SymmetricBand.negative_pivots), in one pass where the Python version alternates
-   LAPACK's banded Cholesky with eliminations of the negative pivots by hand. */
+   LAPACK's banded Cholesky with eliminations of the negative pivots by hand; cholesky_solve: a solve
+   with the Cholesky factor it leaves when the matrix is positive definite (LAPACK's pbtrs). */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>
@@ -394,6 +395,59 @@ static PyObject *ldlt_negative(PyObject *self, PyObject *const *args, Py_ssize_t
     return columns;
 }
 
+/* cholesky_solve(u, rdiag, x) -> None: x (n, C-contiguous) overwritten by the solution of U^T U x = x,
+   with U the upper band Cholesky factor that ldlt_negative (or LAPACK's pbtrf) leaves in u ((kd + 1, n),
+   Fortran-ordered, U[i, j] at u[kd + i - j, j]) and rdiag (n) the reciprocals of its diagonal.  LAPACK's
+   pbtrs for one right-hand side, with two changes that shorten the chain of dependent operations
+   from one row to the next: both substitutions are column sweeps (each row's value, once known, is
+   subtracted from the kd rows after it, where a row's sum over the kd before it is a chain of kd
+   multiply-adds), and they multiply by the diagonal's reciprocals instead of dividing. */
+static PyObject *cholesky_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 3) {
+        PyErr_SetString(PyExc_TypeError, "cholesky_solve(u, rdiag, x)");
+        return NULL;
+    }
+    Py_buffer view;
+    if (PyObject_GetBuffer(args[0], &view, PyBUF_F_CONTIGUOUS | PyBUF_FORMAT) < 0) return NULL;
+    const char *f = view.format;
+    if (f != NULL && (f[0] == '<' || f[0] == '=' || f[0] == '@')) f++;
+    if (view.ndim != 2 || view.itemsize != 8 || f == NULL || strcmp(f, "d") != 0 || view.shape[0] < 1) {
+        PyErr_SetString(PyExc_TypeError, "cholesky_solve: u must be a 2-D Fortran-ordered float64 array");
+        PyBuffer_Release(&view);
+        return NULL;
+    }
+    Py_ssize_t kd = view.shape[0] - 1, n = view.shape[1], ld = kd + 1;
+    static const int writable[2] = {0, 1};
+    static const char *const formats[2] = {"d", "d"};
+    static const char *const names[2] = {"cholesky_solve: rdiag", "cholesky_solve: x"};
+    const Py_ssize_t sizes[2] = {n, n};
+    Py_buffer v[2];
+    if (get_all(args + 1, 2, writable, formats, sizes, names, v) < 0) {
+        PyBuffer_Release(&view);
+        return NULL;
+    }
+    const double *u = view.buf, *rdiag = v[0].buf;
+    double *x = v[1].buf;
+    /* U^T z = x: z_j known, U[j, j + t] z_j leaves row j + t (U[j, j + t] at u[kd - t, j + t]) */
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double zj = x[j] * rdiag[j];
+        x[j] = zj;
+        Py_ssize_t k = kd < n - 1 - j ? kd : n - 1 - j;
+        for (Py_ssize_t t = 1; t <= k; t++) x[j + t] -= u[(kd - t) + (j + t) * ld] * zj;
+    }
+    /* U x = z from the last row: x_j known, U[j - t, j] x_j leaves row j - t (column j, contiguous) */
+    for (Py_ssize_t j = n - 1; j >= 0; j--) {
+        const double *col = u + j * ld;
+        double xj = x[j] * rdiag[j];
+        x[j] = xj;
+        Py_ssize_t k = kd < j ? kd : j;
+        for (Py_ssize_t t = 1; t <= k; t++) x[j - t] -= col[kd - t] * xj;
+    }
+    release_all(v, 2);
+    PyBuffer_Release(&view);
+    Py_RETURN_NONE;
+}
+
 static PyMethodDef methods[] = {
     {"factor", (PyCFunction)(void (*)(void))factor, METH_FASTCALL, "factor(dl, d, du, du2, piv, rd) -> info"},
     {"inf_norm", (PyCFunction)(void (*)(void))inf_norm, METH_FASTCALL, "inf_norm(dl, d, du) -> float"},
@@ -401,6 +455,7 @@ static PyMethodDef methods[] = {
      "residual(dl, d, du, x, f, out, trans) -> None"},
     {"max_abs", (PyCFunction)max_abs, METH_O, "max_abs(a) -> float"},
     {"solve", (PyCFunction)(void (*)(void))solve, METH_FASTCALL, "solve(dl, rd, du, du2, piv, x, trans) -> None"},
+    {"cholesky_solve", (PyCFunction)(void (*)(void))cholesky_solve, METH_FASTCALL, "cholesky_solve(u, rdiag, x) -> None"},
     {"ldlt_negative", (PyCFunction)(void (*)(void))ldlt_negative, METH_FASTCALL,
      "ldlt_negative(work, growth_limit, max_negative, zero_tol) -> columns or None"},
     {NULL, NULL, 0, NULL}

@@ -424,6 +424,28 @@ def banded_extension() -> Any:
     return _BANDED[0]
 
 
+def cholesky_band_solver(u: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """Solves with ``U^T U`` for the upper band Cholesky factor ``u`` (LAPACK's storage, as ``pbtrf`` and
+    :meth:`SymmetricBand.negative_pivots` leave it): ``solve(r)`` for ``r`` of one or several columns.
+
+    One right-hand side runs in C (``contin._banded.cholesky_solve``) where it is built: scipy's
+    ``dpbtrs`` wrapper costs more per call than the solve itself on a narrow band.
+    """
+    from scipy.linalg import lapack
+
+    compiled = banded_extension()
+    factor = np.asarray(u, dtype=float, order="F")
+    reciprocals = 1.0 / factor[-1] if compiled is not None else None
+
+    def solve(r: np.ndarray) -> np.ndarray:
+        if compiled is not None and np.ndim(r) == 1:
+            x = np.array(r, dtype=float)
+            compiled.cholesky_solve(factor, reciprocals, x)
+            return x
+        return lapack.dpbtrs(factor, r, lower=0)[0]
+    return solve
+
+
 class SymmetricBand:
     """A symmetric banded matrix held in LAPACK's upper band storage.
 

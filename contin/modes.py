@@ -41,6 +41,7 @@ every control).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -51,7 +52,7 @@ import scipy.sparse as sp
 from .branch import SpecialPoint
 from .curve import Curve, Point
 from .segment import Segment
-from .linalg import BandedLU, SingularMatrixError, SymmetricBand, bandwidths, factorize
+from .linalg import BandedLU, SingularMatrixError, SymmetricBand, bandwidths, cholesky_band_solver, factorize
 from .stability import BANDED_MIN, LDL_GROWTH_LIMIT, pivot_free_ldlt, stability_info
 from .testfunctions import TestFunction
 
@@ -136,13 +137,11 @@ def _factor_and_count(H: Any) -> tuple[int, Callable[[np.ndarray], np.ndarray] |
     """
     B = _band(H)
     if B is not None:
-        from scipy.linalg import lapack
-
         out = B.inertia(LDL_GROWTH_LIMIT)
         if out is not None:
             count, cholesky = out
             if cholesky is not None:
-                return 0, lambda r: lapack.dpbtrs(cholesky, r, lower=0)[0]  # r may have several columns
+                return 0, cholesky_band_solver(cholesky)  # r may have several columns
             lu = BandedLU(B)
             return count, (None if lu.exactly_singular else lu.solve)
         ldlt = pivot_free_ldlt(B)
@@ -172,7 +171,7 @@ def _solver(H: Any) -> Callable[[np.ndarray], np.ndarray] | None:
 
     cb, info = lapack.dpbtrf(B.ab, lower=0)
     if info == 0:
-        return lambda r: lapack.dpbtrs(cb, r, lower=0)[0]
+        return cholesky_band_solver(cb)
     lu = BandedLU(B)
     return None if lu.exactly_singular else lu.solve
 
@@ -255,16 +254,19 @@ def count_and_lowest(H: Any, start: np.ndarray | None = None) -> tuple[int, floa
     count, solve = _factor_and_count(H)
     if solve is None:
         return count, 0.0, v / np.linalg.norm(v)
+    quotient = 0.0
     for _ in range(LOWEST_ITERATIONS):
         try:
             y = solve(v)
         except (SingularMatrixError, np.linalg.LinAlgError):
             return count, 0.0, v / np.linalg.norm(v)
-        norm = np.linalg.norm(y)
-        if not np.isfinite(norm) or norm == 0.0:
+        norm = math.sqrt(float(y @ y))
+        if not math.isfinite(norm) or norm == 0.0:
             return count, 0.0, v / np.linalg.norm(v)
+        # the Rayleigh quotient of y / |y| without a product with H: H y = v makes y^T H y = y^T v
+        quotient = float(y @ v) / (norm * norm)
         v = y / norm
-    return count, float(v @ (H @ v)), v
+    return count, quotient, v
 
 
 def ordered_eigenpairs(H: Any, lo: int, hi: int, vectors: bool = False) -> tuple[np.ndarray, np.ndarray | None]:

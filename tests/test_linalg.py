@@ -406,6 +406,34 @@ def test_tridiagonal_lu_residual_and_norm_are_the_matrix_own(fmt, banded_path):
     assert np.isnan(linalg._inf_norm_of(broken, linalg.TridiagonalLU(broken)))
 
 
+@pytest.mark.parametrize("kd", [0, 1, 4])
+def test_cholesky_band_solver_solves(kd, banded_path):
+    """Solves with a band Cholesky factor (C for one right-hand side, LAPACK's pbtrs otherwise) against a
+    dense solve, for the factor LAPACK's pbtrf and the band L D L^T leave."""
+    from scipy.linalg import lapack
+
+    from contin.linalg import SymmetricBand, cholesky_band_solver
+
+    rng = np.random.default_rng(kd)
+    n = 40
+    M = rng.standard_normal((n, n))
+    dense = M @ M.T + n * np.eye(n)
+    dense[np.abs(np.subtract.outer(np.arange(n), np.arange(n))) > kd] = 0.0
+    band = SymmetricBand.from_sparse(sp.csr_matrix(dense), kd)
+    u, info = lapack.dpbtrf(band.ab, lower=0)
+    assert info == 0
+    columns, factor = band.negative_pivots()
+    assert columns == [] and factor is not None
+    for cholesky in (u, factor):
+        solve = cholesky_band_solver(cholesky)
+        b = rng.standard_normal(n)
+        kept = b.copy()
+        np.testing.assert_allclose(solve(b), np.linalg.solve(dense, b), rtol=1e-12, atol=1e-14)
+        assert np.array_equal(b, kept)  # the right-hand side is not overwritten
+        B = rng.standard_normal((n, 3))
+        np.testing.assert_allclose(solve(B), np.linalg.solve(dense, B), rtol=1e-12, atol=1e-14)
+
+
 def test_compiled_max_abs_is_numpys(monkeypatch):
     """The largest modulus over arrays, with and without the C pass: the same value, NaN kept."""
     from contin import linalg
