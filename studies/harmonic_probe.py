@@ -1,7 +1,7 @@
 """Probe of the harmonic stability blocks (issue 17): cost per block, ring-mesh limit, sphere under pressure.
 
-Run ``python -m studies.harmonic_probe [--checks] [--cost] [--ring] [--sphere] [--N 200 800 3200]``
-(no flag: all four).
+Run ``python -m studies.harmonic_probe [--checks] [--cost] [--ring] [--sphere] [--weyl] [--N 200 800 3200]``
+(no flag: the first four).
 
 ``--checks``
     The ``n = 0`` block on ``(r, z)`` against the traced Hessian (max relative difference) along a
@@ -26,6 +26,12 @@ Run ``python -m studies.harmonic_probe [--checks] [--cost] [--ring] [--sphere] [
     Complete sphere, ``R/h = 100``, ``nu = 0.3``, under pressure: per mesh, the critical pressure of
     each block ``n <= 30`` extrapolated linearly from two stable states (0.96 and 0.98 ``p_c``), the
     first ones, and the traced path's first fold (pseudo-arclength).
+``--weyl``
+    Whether a block's count could be skipped from one point of the default trace with harmonic
+    stability to the next (issue 18): by Weyl's inequality the Morse index cannot change while the
+    block's change (2-norm) stays below its eigenvalue nearest zero.  For every third point and the
+    blocks ``n = 1, 2, 5, 9, 13``, both exactly (dense eigenvalues): the number of pairs where the
+    skip would hold, and the quantiles of change over eigenvalue.
 """
 
 from __future__ import annotations
@@ -217,15 +223,56 @@ def sphere(Ns=(201, 301, 401), n_max: int = 30) -> None:
               if folds else f"   no fold on the traced path ({br.status}, p up to {np.max(br.p) / pc:.4f} p_c)")
 
 
+def weyl(every: int = 3, keys: tuple[int, ...] = (1, 2, 5, 9, 13)) -> None:
+    """``--weyl``: the blocks' change between consecutive points against their eigenvalue nearest zero."""
+    from contin import modes
+    from contin.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCENE
+
+    per_point: list[list[Any]] = []
+    watch = modes.ModeTest.value
+
+    def value(self: Any, pt: Any) -> Any:  # the blocks each point's counts are made of, as dense arrays
+        fresh = pt.modes is None or self.family.name not in pt.modes
+        if fresh:
+            per_point.append([K.toarray() for K in self.family.operators(pt.u, pt.p)])
+        return watch(self, pt)
+
+    modes.ModeTest.value = value
+    try:
+        SHELL_SCENE.runner(load_scene(SHELL_SCENE.schema, None, ["stability.harmonics=true"]), False)
+    finally:
+        modes.ModeTest.value = watch
+    ratios = []
+    for i in range(0, len(per_point) - 1, every):
+        for n in keys:
+            A, B = per_point[i][n - 1], per_point[i + 1][n - 1]
+            if A.shape != B.shape:
+                continue
+            nearest_zero = float(np.min(np.abs(np.linalg.eigvalsh(A))))
+            change = float(np.max(np.abs(np.linalg.eigvalsh(B - A))))
+            ratios.append(change / nearest_zero)
+    r = np.array(ratios)
+    print(f"default trace with harmonic stability: {len(per_point)} points, {r.size} pairs (one point in {every} "
+          f"and the next, n = {', '.join(map(str, keys))})")
+    print(f"pairs where the block's change is below its eigenvalue nearest zero (a skip Weyl allows): "
+          f"{int(np.count_nonzero(r < 1.0))}")
+    q = np.percentile(r, [10, 50, 90])
+    print(f"change / eigenvalue nearest zero, quantiles 10 / 50 / 90 %: {q[0]:.3g} / {q[1]:.3g} / {q[2]:.3g}")
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--checks", action="store_true")
     ap.add_argument("--cost", action="store_true")
     ap.add_argument("--ring", action="store_true")
     ap.add_argument("--sphere", action="store_true")
+    ap.add_argument("--weyl", action="store_true")
     ap.add_argument("--N", type=int, nargs="+", default=[200, 800, 3200])
     a = ap.parse_args(argv)
-    every = not (a.checks or a.cost or a.ring or a.sphere)
+    if a.weyl:
+        weyl()
+    every = not (a.checks or a.cost or a.ring or a.sphere or a.weyl)
     if a.checks or every:
         checks()
     if a.cost or every:

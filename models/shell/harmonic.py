@@ -163,13 +163,14 @@ Measured (``tests/test_harmonic.py``, ``python -m studies.harmonic_probe``)
   traced path's first fold (axisymmetric, at 0.980 / 0.9955 / 1.0014 ``p_c`` for ``N`` = 201 / 301 /
   401 nodes pole to pole); the ``n >= 1`` blocks' critical pressures (extrapolated from two stable
   states) form a cluster at 1.011 .. 1.018 ``p_c`` for ``n = 4 .. 18`` (``N = 401``).
-* Cost (default cap, ``N`` = 200 / 800 / 3200; ``python -m studies.harmonic_probe --cost``): per
-  state (local Hessians and the band coefficients) 1.27 / 2.06 / 6.38 ms, per further block
-  0.02 / 0.04 / 0.10 ms, its count and eigenvalue estimate (a banded Cholesky factorization and three
-  inverse-iteration steps, :func:`contin.modes.count_and_lowest`) 0.08 / 0.27 / 1.04 ms, its two
-  eigenvalues nearest zero (subspace inverse iteration, once per located bifurcation)
-  1.2 / 3.3 / 10 ms.  (The traced model's Hessian: 0.15 / 0.24 / 0.45 ms.)  Along the default trace
-  (``python -m studies.bench_harmonics``): 2.5 times the axisymmetric trace with ``n <= 13``.
+* Cost (default cap, ``N`` = 200 / 800 / 3200; ``python -m studies.harmonic_probe --cost``, medians
+  of four runs on 2026-11-28): per state (local Hessians and the band coefficients) 1.1 / 2.3 / 9.2
+  ms, per further block 0.03 / 0.06 / 0.14 ms, its count and eigenvalue estimate (a banded L D L^T
+  and three inverse-iteration steps, :func:`contin.modes.count_and_lowest`) 0.06 / 0.19 / 0.72 ms,
+  its two eigenvalues nearest zero (subspace inverse iteration, once per located bifurcation)
+  1.8 / 4.4 / 13 ms.  (The traced model's Hessian: 0.04 / 0.12 / 0.42 ms.)  Along the default trace
+  (``python -m studies.bench_harmonics``): 3.2 times the axisymmetric trace with ``n <= 13`` (2.5
+  before the axisymmetric trace itself became 2.7 times faster, issue 18).
 """
 
 from __future__ import annotations
