@@ -39,6 +39,7 @@ __all__ = [
     "TridiagonalLU",
     "SparseLU",
     "SymmetricBand",
+    "cholesky_band_solver",
     "factorize",
     "bandwidths",
     "to_banded",
