@@ -375,8 +375,9 @@ class TridiagonalLU(Factorization):
         if self._compiled is None or A is not self._source or x.ndim != 1 or f.ndim != 1:
             return super().residual(A, f, x, trans)
         out = np.empty(self.n)
-        self._compiled.residual(*self._matrix, np.asarray(x, dtype=float), np.asarray(f, dtype=float), out,
-                                bool(trans))
+        # contiguous copies of strided vectors (a column of a caller's array): the C code reads them flat
+        self._compiled.residual(*self._matrix, np.ascontiguousarray(x, dtype=float),
+                                np.ascontiguousarray(f, dtype=float), out, bool(trans))
         return out
 
     def pivots(self) -> np.ndarray:

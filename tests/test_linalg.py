@@ -397,6 +397,8 @@ def test_tridiagonal_lu_residual_and_norm_are_the_matrix_own(fmt, banded_path):
     np.testing.assert_allclose(F.residual(other, f, x), f - 2.0 * dense @ x, atol=1e-12)
     X = rng.standard_normal((n, 2))
     np.testing.assert_allclose(F.residual(A, X, X), X - dense @ X, atol=1e-12)
+    # strided vectors (columns of an array) are read as vectors, not refused
+    np.testing.assert_allclose(F.residual(A, X[:, 0], X[:, 1]), X[:, 0] - dense @ X[:, 1], atol=1e-12)
     norm = linalg._inf_norm_of(A, F)
     assert norm == pytest.approx(np.abs(dense).sum(axis=1).max(), rel=1e-15)
     if banded_path == "compiled":  # the norm came with the factorization: not recomputed from the matrix
