@@ -337,7 +337,7 @@ def _math(name: str) -> str:
 
 
 def _mark_special_points(ax, br: Branch, x: str, y: str, scale: Mapping[str, float], kinds: Sequence[str],
-                         handles: dict[str, Any], seen: set[str]) -> None:
+                         handles: dict[str, Any]) -> None:
     from . import style
 
     x_name = _axis_name(x, br)
@@ -354,13 +354,12 @@ def _mark_special_points(ax, br: Branch, x: str, y: str, scale: Mapping[str, flo
         mk, name = _fold_marker(folds, x_name) if folds is not None else (kind, _NAMES[kind])
         # an unlocated point (the bracket's end) is drawn hollow whatever its kind
         look = style.marker_style(mk, located=spt.located)
-        if kind == "bifurcation" and "first bifurcation" not in seen:  # the first one's mode, e.g. n = 3
-            seen.add("first bifurcation")
-            key = spt.info.get("key")
-            if key is not None:
-                ax.annotate(f"${spt.info.get('family', 'n')} = {key}$", (px, py), textcoords="offset points",
-                            xytext=(5, 4), fontsize="small", color=style.RED, zorder=9)
-        line, = ax.plot([px], [py], ls="none", label=name if name not in handles else None, **look)
+        label = name
+        if kind == "bifurcation" and name not in handles and spt.info.get("key") is not None:
+            # the first one's mode in its legend entry: a text beside a marker lands on other markers
+            # and curves in a crowded diagram
+            label = f"{name} (first: ${spt.info.get('family', 'n')} = {spt.info['key']}$)"
+        line, = ax.plot([px], [py], ls="none", label=label if name not in handles else None, **look)
         if name not in handles:
             handles[name] = line
 
@@ -448,7 +447,6 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
         y = next(iter(branches[0].observables), "p")
     scale = dict(scale or {})
     handles: dict[str, Any] = {}
-    seen: set[str] = set()
     drawn: set[str] = set()
     branch_handles: list[Any] = []
     for bi, br in enumerate(branches):
@@ -466,7 +464,7 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
                 ln.set_label("_" + label)  # the legend shows the branch by its colour, not its first style
     # after every branch: the legend lists the branches, then the line styles, then the kinds of points
     for br in branches:
-        _mark_special_points(ax, br, x, y, scale, special_kinds, handles, seen)
+        _mark_special_points(ax, br, x, y, scale, special_kinds, handles)
     ref = branches[0]
     fx, fy = scale.get(_axis_name(x, ref), 1.0), scale.get(_axis_name(y, ref), 1.0)
     snapped = False

@@ -45,7 +45,8 @@ MARKERS: dict[str, dict[str, Any]] = {
     "branch_point": {"marker": "s", "ms": 6.5, "mfc": "w", "mec": "k", "mew": 1.0, "zorder": 6},
     "event": {"marker": "d", "ms": 5.5, "mfc": "w", "mec": "0.25", "mew": 0.9, "zorder": 6},
     "jump": {"marker": "x", "ms": 6.0, "mfc": "none", "mec": "k", "mew": 1.1, "zorder": 8},
-    "bifurcation": {"marker": "*", "ms": 11.0, "mfc": RED, "mec": RED, "mew": 0.6, "zorder": 8},
+    # the largest mark, so the lowest: a fold or limit point on a bifurcation shows inside the star
+    "bifurcation": {"marker": "*", "ms": 11.0, "mfc": RED, "mec": RED, "mew": 0.6, "zorder": 5.5},
 }
 
 #: Resolution of the PNG (the PDF is vector); both formats are written by :func:`save`.

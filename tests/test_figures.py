@@ -120,3 +120,66 @@ def test_the_style_saves_both_formats_and_leaves_the_global_rcparams_alone(tmp_p
     assert sorted(p.name for p in written) == ["f.pdf", "f.png"]
     assert (tmp_path / "f.pdf").read_bytes()[:5] == PDF
     assert dict(matplotlib.rcParams) == before
+
+
+def _flat_cap_shapes(with_mode: bool) -> dict[str, np.ndarray]:
+    """Arrays of :func:`contin_models.shell_scene.deformed.shell_shapes` for a flat cap (the shapes figure's
+    hardest case: a cross-section much wider than tall) with four special points and a located mode."""
+    t = np.linspace(0.0, 1.0, 60)
+    r0, z0 = 0.75 * (1.0 - t), 0.72 + 0.28 * np.sqrt(1.0 - (0.75 * (1.0 - t)) ** 2 / 0.75 ** 2)
+    rows = [0.85, 0.6, 0.4, 0.2]
+    out = {"special_kind": np.array(["fold", "bifurcation", "fold", "fold"]),
+           "special_label": np.array(["max(F)", "bifurcation(n)", "fold", "min(F)"]),
+           "special_p": np.array([0.289, 0.323, 0.402, 0.26]),
+           "special_r": np.array([r0] * 4), "special_z": np.array([0.72 + f * (z0 - 0.72) for f in rows]),
+           "reference_r": r0, "reference_z": z0}
+    if with_mode:
+        a = np.exp(-((t - 0.97) / 0.02) ** 2)
+        out.update(mode_record=np.array([1]), mode_n=np.array([1]), mode_a=a[None], mode_b=0 * a[None],
+                   mode_c=0 * a[None])
+    return out
+
+
+@pytest.mark.parametrize("with_mode", [False, True])
+def test_the_shapes_figure_keeps_its_texts_inside_and_apart(with_mode: bool) -> None:
+    """Every title, axis label and legend of the shapes figure lies inside the figure, and no legend lies
+    on an axis label or title (a long panel title once ran off the figure, and a legend anchored under
+    a flat cross-section sat on its r/L)."""
+    from contin import style
+    from contin_models.shell_scene.deformed import draw_shapes
+
+    with style.context():
+        fig, _ = style.figure(nrows=0)
+        fig.suptitle("point load")
+        draw_shapes(fig, _flat_cap_shapes(with_mode), 1.0, "w")
+        fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    page = fig.bbox
+    axes = [ax for ax in fig.axes if ax.axison]
+    legends = [leg for ax in fig.axes if (leg := ax.get_legend()) is not None]
+    texts = [fig._suptitle] + [t for ax in axes for t in (ax.title, ax.xaxis.label, ax.yaxis.label)]
+    assert len(axes) == (2 if with_mode else 1) and len(legends) == len(axes)
+    for artist in texts + legends:
+        box = artist.get_window_extent(renderer)
+        assert page.x0 - 0.5 <= box.x0 and box.x1 <= page.x1 + 0.5, artist
+        assert page.y0 - 0.5 <= box.y0 and box.y1 <= page.y1 + 0.5, artist
+    for leg in legends:
+        for t in texts:
+            assert not leg.get_window_extent(renderer).overlaps(t.get_window_extent(renderer)), t.get_text()
+
+
+def test_the_first_bifurcation_names_its_mode_in_the_legend_not_on_the_axes() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    br = _truss_branch()
+    for k, p in enumerate((0.2, 0.3)):
+        br.special_points.append(contin.SpecialPoint("bifurcation", p, br.u[0].copy(), {"y": 0.1 * k}, located=True,
+                                                     info={"family": "n", "key": 3 + k}))
+    ax = Figure().subplots()
+    contin.plot_branches(br, x="p", y="y", ax=ax, stability="stability")
+    names = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "bifurcation into another mode (first: $n = 3$)" in names
+    assert not ax.texts  # no label beside a marker

@@ -104,8 +104,16 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
     r_max = float(np.max(np.abs(np.concatenate(drawn_r)))) if drawn_r else 1.0
     aspect = min(max(1.1 * z_span / max(2.0 * r_max, 1e-12), 0.15), 1.0)
     width = (style.WIDTH - 2.4) if not modes else (style.WIDTH - 1.2) / 2
-    fig.set_size_inches(style.WIDTH, max(width * aspect + 0.95, 3.4 if modes else 1.8))
-    ax = fig.add_subplot(1, 2 if modes else 1, 1)
+    if not modes:
+        fig.set_size_inches(style.WIDTH, max(width * aspect + 0.95, 1.8))
+        ax = fig.add_subplot(1, 1, 1)
+    else:
+        # the panels above, each legend in a row of its own below its panel: anchored to a panel, a
+        # legend under a flat cross-section would sit on its axis label
+        top = max(width + 0.75, 3.0)  # the square ring panel, its two-line title and its axis label
+        fig.set_size_inches(style.WIDTH, top + LEGEND_ROW)
+        grid = fig.add_gridspec(2, 2, height_ratios=[top, LEGEND_ROW])
+        ax = fig.add_subplot(grid[0, 0])
     if "reference_r" in shapes:
         r0, z0 = shapes["reference_r"] / length, shapes["reference_z"] / length
         ax.plot(*_section(r0, z0), color=style.GREY, lw=0.9, ls=(0, (1.0, 1.5)), label="reference")
@@ -124,7 +132,7 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
     if not modes:
         ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
         return
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.3), borderaxespad=0.0, ncol=1)
+    _legend_below(fig.add_subplot(grid[1, 0]), ax)
     k = int(shapes["mode_record"][0])
     n = int(shapes["mode_n"][0])
     a = shapes["mode_a"][0]
@@ -132,7 +140,7 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
     r_ring = float(shapes["special_r"][k][node]) / length
     theta = np.linspace(0.0, 2.0 * np.pi, 361)
     amp = 0.2 * r_ring / max(float(np.max(np.abs(a))), 1e-300)
-    ax2 = fig.add_subplot(1, 2, 2)
+    ax2 = fig.add_subplot(grid[0, 1])
     ax2.plot(r_ring * np.cos(theta), r_ring * np.sin(theta), color=style.GREY, lw=0.9, ls=(0, (1.0, 1.5)),
              label="axisymmetric")
     rr = r_ring + amp * a[node] * np.cos(n * theta)
@@ -145,9 +153,20 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
     ax2.yaxis.set_major_locator(MaxNLocator(4))
     ax2.set_xlabel("$x / L$")
     ax2.set_ylabel("$y / L$")
-    ax2.set_title(f"first bifurcation at {_symbol(parameter)} = {shapes['special_p'][k]:.3g}: ring of node {node}, "
-                  f"$r/L = {r_ring:.3g}$,\nseen from above")
-    ax2.legend(loc="upper center", bbox_to_anchor=(0.5, -0.3), borderaxespad=0.0)
+    # a title no wider than the panel: the constrained layout keeps it inside the figure only then
+    ax2.set_title(f"first bifurcation, at {_symbol(parameter)} = {shapes['special_p'][k]:.3g}:\n"
+                  f"the ring at $r/L = {r_ring:.3g}$ seen from above")
+    _legend_below(fig.add_subplot(grid[1, 1]), ax2)
+
+
+#: Height in inches of the row that holds the legends under the panels of a figure with a mode.
+LEGEND_ROW = 0.9
+
+
+def _legend_below(cell: Any, ax: Any) -> None:
+    """``ax``'s legend at the top of the empty grid cell ``cell`` (its frame and axes hidden)."""
+    cell.set_axis_off()
+    cell.legend(*ax.get_legend_handles_labels(), loc="upper center", borderaxespad=0.0)
 
 
 def shapes_drawer(shapes: dict[str, np.ndarray], length: float, parameter: str) -> Callable[[Any], None] | None:
