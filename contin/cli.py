@@ -836,6 +836,8 @@ def summary_document(model_name: str, scene: dict, result: TraceResult, wall_tim
     ``complete`` is false when a branch stopped at its step limit before the end of its path
     (:attr:`TraceResult.complete`); ``message`` replaces the result's own when given.
     """
+    from .saved import REPLOT_OPTIONS
+
     doc: dict[str, Any] = {
         "model": model_name,
         "status": result.status,
@@ -859,9 +861,7 @@ def summary_document(model_name: str, scene: dict, result: TraceResult, wall_tim
         "contin_version": __version__,
         # what 'contin plot' needs to draw the run again as it was drawn
         "diagram": {"x": result.x, "y": result.y, "stability": result.stability,
-                    **{k: result.plot_options[k] for k in ("axis_labels", "special_kinds", "zero_line", "scale",
-                                                           "title", "control")
-                       if k in result.plot_options}},
+                    **{k: result.plot_options[k] for k in REPLOT_OPTIONS if k in result.plot_options}},
     }
     for key, value in result.summary.items():
         doc.setdefault(key, value)

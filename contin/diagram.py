@@ -322,13 +322,13 @@ def _folds_in(spt: SpecialPoint, br: Branch) -> str | None:
 _NAMES = {"branch_point": "branch point", "event": "event", "jump": "jump", "bifurcation": "bifurcation into another mode"}
 
 
-def _fold_marker(folds: str, x_name: str) -> tuple[str, str]:
+def _fold_marker(folds: str, x_name: str, symbols: Mapping[str, str]) -> tuple[str, str]:
     """A fold in the quantity on the x axis (the path turns back in it) is an open circle; a fold in any
     other quantity (a limit point of that load under its own control) a filled triangle.
     Returns the marker kind of :data:`contin.style.MARKERS` and the legend name."""
     if folds == x_name:
-        return "fold", f"fold in {_math(folds)}"
-    return "limit point", f"limit point in {_math(folds)}"
+        return "fold", f"fold in {symbols.get(folds) or _math(folds)}"
+    return "limit point", f"limit point in {symbols.get(folds) or _math(folds)}"
 
 
 def _math(name: str) -> str:
@@ -337,7 +337,7 @@ def _math(name: str) -> str:
 
 
 def _mark_special_points(ax, br: Branch, x: str, y: str, scale: Mapping[str, float], kinds: Sequence[str],
-                         handles: dict[str, Any]) -> None:
+                         handles: dict[str, Any], symbols: Mapping[str, str]) -> None:
     from . import style
 
     x_name = _axis_name(x, br)
@@ -351,7 +351,7 @@ def _mark_special_points(ax, br: Branch, x: str, y: str, scale: Mapping[str, flo
         if px is None or py is None:
             continue
         px, py = px * fx, py * fy
-        mk, name = _fold_marker(folds, x_name) if folds is not None else (kind, _NAMES[kind])
+        mk, name = _fold_marker(folds, x_name, symbols) if folds is not None else (kind, _NAMES[kind])
         # an unlocated point (the bracket's end) is drawn hollow whatever its kind
         look = style.marker_style(mk, located=spt.located)
         label = name
@@ -384,7 +384,8 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
                   special_kinds: Sequence[str] = ("fold", "branch_point", "event", "bifurcation"),
                   stability: str | None = None, axis_labels: Mapping[str, str] | None = None,
                   note: str = "", zero_line: bool = False, title: str = "",
-                  scale: Mapping[str, float] | None = None, control: str | None = None, smooth: bool = True):
+                  scale: Mapping[str, float] | None = None, control: str | None = None, smooth: bool = True,
+                  symbols: Mapping[str, str] | None = None):
     r"""Plot branches: stable solid, unstable dashed, unknown stability thin; special points marked.
 
     Each branch is drawn as one line per run of equal stability, each piece between two stored points
@@ -430,6 +431,9 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
         "unstable"); default the ``stability`` label when one is given.
     smooth : bool
         Draw the pieces between stored points as cubics where tangents are stored (else straight).
+    symbols : mapping of str to str, optional
+        The quantities' symbols (mathtext) in the legend's names, by name: ``{"dV": r"$\Delta V$"}``
+        reads "fold in ΔV" where the default is the name itself in math italics.
 
     Returns
     -------
@@ -464,7 +468,7 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
                 ln.set_label("_" + label)  # the legend shows the branch by its colour, not its first style
     # after every branch: the legend lists the branches, then the line styles, then the kinds of points
     for br in branches:
-        _mark_special_points(ax, br, x, y, scale, special_kinds, handles)
+        _mark_special_points(ax, br, x, y, scale, special_kinds, handles, dict(symbols or {}))
     ref = branches[0]
     fx, fy = scale.get(_axis_name(x, ref), 1.0), scale.get(_axis_name(y, ref), 1.0)
     snapped = False

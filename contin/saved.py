@@ -24,6 +24,10 @@ from .branch import Branch, SpecialPoint
 
 __all__ = ["SavedRun", "SavedRunError", "load_run"]
 
+#: The keyword arguments of :func:`contin.plot_branches` that ``summary.json`` keeps under ``"diagram"``
+#: (beside ``x``, ``y`` and ``stability``), so that ``contin plot`` draws a run again as it was drawn.
+REPLOT_OPTIONS = ("axis_labels", "special_kinds", "zero_line", "scale", "title", "control", "symbols")
+
 #: Columns of ``branch.csv`` that are not observables.
 _NOT_OBSERVABLES = ("branch", "p", "s", "residual", "newton_iterations")
 
@@ -101,8 +105,7 @@ def load_run(path: str | Path) -> SavedRun:
     except ValueError as exc:
         raise SavedRunError(f"{str(csv_file)!r}: {exc}") from None
     diagram = summary.get("diagram") or {}
-    options = {k: diagram[k] for k in ("axis_labels", "special_kinds", "zero_line", "scale", "title", "control")
-               if k in diagram}
+    options = {k: diagram[k] for k in REPLOT_OPTIONS if k in diagram}
     if "special_kinds" in options:
         options["special_kinds"] = tuple(options["special_kinds"])
     return SavedRun(path=path, summary=summary, branches=branches, x=str(diagram.get("x") or "p"),

@@ -43,7 +43,8 @@ MARKERS: dict[str, dict[str, Any]] = {
     "fold": {"marker": "o", "ms": 6.5, "mfc": "w", "mec": "k", "mew": 1.0, "zorder": 6},          # the path turns back in x
     "limit point": {"marker": "^", "ms": 5.0, "mfc": "k", "mec": "k", "mew": 0.8, "zorder": 7},   # a limit load of another quantity
     "branch_point": {"marker": "s", "ms": 6.5, "mfc": "w", "mec": "k", "mew": 1.0, "zorder": 6},
-    "event": {"marker": "d", "ms": 5.5, "mfc": "w", "mec": "0.25", "mew": 0.9, "zorder": 6},
+    # smaller than the fold's circle and above it: an event where the path folds shows inside the circle
+    "event": {"marker": "d", "ms": 5.5, "mfc": "w", "mec": "0.25", "mew": 0.9, "zorder": 6.5},
     "jump": {"marker": "x", "ms": 6.0, "mfc": "none", "mec": "k", "mew": 1.1, "zorder": 8},
     # the largest mark, so the lowest: a fold or limit point on a bifurcation shows inside the star
     "bifurcation": {"marker": "*", "ms": 11.0, "mfc": RED, "mec": RED, "mew": 0.6, "zorder": 5.5},

@@ -59,6 +59,15 @@ def test_derivatives_in_contact_match_finite_differences(indenter):
     F = P.evaluate_observables(u, p)["F"]
     assert F > 0
     assert F == pytest.approx(richardson(lambda s: P.energy(u, p + s), dp), rel=1e-6)
+    # and its declared derivatives (the stored path's tangent in F) are those of the force itself
+    dF_du, dF_dp = P.observable_derivatives["F"](u, p)
+    force = P.observables["F"]
+    assert dF_du @ v == pytest.approx(richardson(lambda s: force(u + s * v, p), h), rel=1e-5)
+    assert dF_dp == pytest.approx(richardson(lambda s: force(u, p + s), dp), rel=1e-5)
+    dN_du, dN_dp = P.observable_derivatives["F_norm"](u, p)
+    unit = P.observables["F_norm"](u, p) / F
+    np.testing.assert_allclose(dN_du, unit * dF_du, rtol=1e-14)
+    assert dN_dp == pytest.approx(unit * dF_dp, rel=1e-14)
 
 
 def test_small_sphere_is_the_point_load_at_equal_pole_displacement():

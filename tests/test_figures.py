@@ -183,3 +183,33 @@ def test_the_first_bifurcation_names_its_mode_in_the_legend_not_on_the_axes() ->
     names = [t.get_text() for t in ax.get_legend().get_texts()]
     assert "bifurcation into another mode (first: $n = 3$)" in names
     assert not ax.texts  # no label beside a marker
+
+
+def test_legend_symbols_name_the_quantity_that_folds() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    ax = Figure().subplots()
+    contin.plot_branches(_truss_branch(), x="p", y="y", ax=ax, stability="stability", symbols={"P": r"$\Pi$"})
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["stable", r"fold in $\Pi$"]
+
+
+def test_the_shapes_are_labelled_in_the_diagram_units_and_extrema_as_limit_points() -> None:
+    """A path in ``w`` drawn as ``w/R`` (scale 1/2 here): the shapes' labels give ``w/R``, and ``max(p)``,
+    an extremum of the pressure, is a limit point of ``p`` whatever the model calls its load."""
+    from contin import style
+    from contin_models.shell_scene.deformed import shapes_drawer
+
+    shapes = _flat_cap_shapes(False)
+    shapes["special_label"] = np.array(["max(p)", "", "", "min(F)"])
+    shapes["special_kind"] = np.array(["fold"] * 4)
+    shapes["special_p"] = np.array([0.4, 0.2, 0.6, 1.0])
+    draw = shapes_drawer(shapes, 1.0, "w", {"axis_labels": {"w": "$w/R$"}, "scale": {"w": 0.5}})
+    with style.context():
+        fig, _ = style.figure(nrows=0)
+        draw(fig)
+    names = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert names == ["reference", "limit point, max $p$ at $w/R$ = 0.2", "fold at $w/R$ = 0.1",
+                     "fold at $w/R$ = 0.3", "limit point, min $F$ at $w/R$ = 0.5"]

@@ -114,8 +114,12 @@ class ShellIndentation(Problem):
                        "contact_last": self._obs("contact_last")}
         # the displacement Hessian is the force one without its border (the indenter position, last)
         ops = {"displacement": LeadingBlock("force", -1), "force": self._op_force}
-        super().__init__(observables=observables, symmetric=True, stability_operators=ops,
-                         name=f"shell_{self.indenter.name}_indentation", parameter_name="w_b",
+        # the force's exact derivatives give the stored path its tangent in F: the diagram draws F smooth
+        F_unit = self.R / (2.0 * math.pi * self.D)
+        derivatives = {"F": self._force_derivative,
+                       "F_norm": lambda u, p: tuple(F_unit * d for d in self._force_derivative(u, p))}
+        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
+                         stability_operators=ops, name=f"shell_{self.indenter.name}_indentation", parameter_name="w_b",
                          residual_scale=el.residual_scale)
         self._contact_cache: tuple[np.ndarray, float, ContactState] | None = None
 
@@ -184,6 +188,12 @@ class ShellIndentation(Problem):
     def conjugate_stiffness(self, u: np.ndarray, p: float) -> float:
         """``d2E/dw_b^2 = d2E/dc^2`` of the barrier (the shell's energy does not depend on ``w_b``)."""
         return float(self.contact(u, p).hess_cc)
+
+    def _force_derivative(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        """``(dF/du, dF/dw_b)`` of the force ``F = -dE/dc`` (``c = c_0 - w_b``): ``-d2E/dc dx`` on the free
+        unknowns and ``d2E/dc2``."""
+        st = self.contact(u, p)
+        return -st.hess_xc[self.idx], float(st.hess_cc)
 
     def factorize(self, J) -> Factorization:
         return BandedLU(J, HALF_BANDWIDTH, HALF_BANDWIDTH)

@@ -8,6 +8,7 @@ first located bifurcation's mode as the ring it bends into, seen from above.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -74,7 +75,8 @@ def _symbol(name: str) -> str:
     return {"dV": r"$\Delta V$"}.get(name, f"${name}$")
 
 
-def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, parameter: str) -> None:
+def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, parameter: str,
+                parameter_label: str | None = None, parameter_scale: float = 1.0) -> None:
     """Draw ``shapes`` (:func:`shell_shapes`) on the empty matplotlib Figure ``fig`` (project style,
     :mod:`contin.style`; the figure is resized to fit).
 
@@ -82,11 +84,15 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
     along the path (at most :data:`MAX_DRAWN`), as cross-sections through the axis, in units of
     ``length``, to scale.  Right, when a mode was located: the ring of largest radial amplitude of the
     first bifurcation's mode, seen from above, its amplitude exaggerated to a fifth of the radius.
-    ``parameter``: the name of the path's parameter (labels).
+    ``parameter``: the name of the path's parameter; the labels give its values as
+    ``parameter_scale`` times it under ``parameter_label`` (mathtext) when given, as the diagram's
+    axis does (``$w/R$``, ``$\\Delta V / V_0$``), else the parameter itself by its symbol.
     """
     from contin import style
 
     kinds = [str(k) for k in shapes["special_kind"]]
+    symbol = parameter_label or _symbol(parameter)
+    scale = float(parameter_scale) if parameter_label else 1.0
     chosen: list[int] = []
     bif = [k for k, kind in enumerate(kinds) if kind == "bifurcation"]
     if bif:
@@ -120,8 +126,9 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
     for c, k in zip(style.COLORS, chosen):
         r, z = shapes["special_r"][k] / length, shapes["special_z"][k] / length
         name = str(shapes["special_label"][k])
-        what = {"max(F)": "limit point, max $F$", "min(F)": "limit point, min $F$"}.get(name, kinds[k])
-        label = f"{what} at {_symbol(parameter)} = {shapes['special_p'][k]:.3g}"
+        extremum = re.fullmatch(r"(max|min)\((\w+)\)", name)  # a limit point, e.g. max(F): F's extremum
+        what = f"limit point, {extremum[1]} {_symbol(extremum[2])}" if extremum else kinds[k]
+        label = f"{what} at {symbol} = {scale * shapes['special_p'][k]:.3g}"
         if kinds[k] == "bifurcation" and modes and k in list(shapes["mode_record"]):
             label += f" ($n = {int(shapes['mode_n'][list(shapes['mode_record']).index(k)])}$)"
         ax.plot(*_section(r, z), color=c, lw=1.3, label=label)
@@ -154,7 +161,7 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
     ax2.set_xlabel("$x / L$")
     ax2.set_ylabel("$y / L$")
     # a title no wider than the panel: the constrained layout keeps it inside the figure only then
-    ax2.set_title(f"first bifurcation, at {_symbol(parameter)} = {shapes['special_p'][k]:.3g}:\n"
+    ax2.set_title(f"first bifurcation, at {symbol} = {scale * shapes['special_p'][k]:.3g}:\n"
                   f"the ring at $r/L = {r_ring:.3g}$ seen from above")
     _legend_below(fig.add_subplot(grid[1, 1]), ax2)
 
@@ -169,12 +176,18 @@ def _legend_below(cell: Any, ax: Any) -> None:
     cell.legend(*ax.get_legend_handles_labels(), loc="upper center", borderaxespad=0.0)
 
 
-def shapes_drawer(shapes: dict[str, np.ndarray], length: float, parameter: str) -> Callable[[Any], None] | None:
+def shapes_drawer(shapes: dict[str, np.ndarray], length: float, parameter: str,
+                  plot_options: dict[str, Any] | None = None) -> Callable[[Any], None] | None:
     """:attr:`contin.scene.TraceResult.draw_shapes` of a shell run: :func:`draw_shapes` bound to its arrays
-    (None when there is nothing to draw)."""
+    (None when there is nothing to draw).  ``plot_options``: the run's diagram options; the parameter's
+    axis label and scale there (``axis_labels``, ``scale``) label the shapes as the diagram's axis reads."""
     if not shapes:
         return None
-    return lambda fig: draw_shapes(fig, shapes, length, parameter)
+    options = plot_options or {}
+    label = options.get("axis_labels", {}).get(parameter)
+    label = label if label and "$" in label else None
+    factor = options.get("scale", {}).get(parameter, 1.0)
+    return lambda fig: draw_shapes(fig, shapes, length, parameter, label, factor)
 
 
 def _section(r: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -372,7 +372,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
                          parameter_name=generic.parameter_name, labels=labels,
                          jump_observables=generic.jump_observables, failure=failure,
                          stability=summary["control"], plot_options=plot_options,
-                         shapes=shapes, draw_shapes=shapes_drawer(shapes, problem.R, generic.parameter_name))
+                         shapes=shapes, draw_shapes=shapes_drawer(shapes, problem.R, generic.parameter_name, plot_options))
     if not scene["output"]["figure"]:
         result.plot = lambda ax: ax.text(0.5, 0.5, "figure disabled (output.figure = false)", ha="center",
                                          va="center", transform=ax.transAxes)

@@ -171,7 +171,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br]), x="w_over_h", y="p_over_p_c",
                        parameter_name=problem.parameter_name, labels=labels, plot_options=plot_options,
-                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options))
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -300,7 +300,7 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     # the branch's parameter is dV (an observable column too); the pressure scene's "p" is the pressure
     csv["p"] = br.observables["p"]
     # the volume pushed in as a fraction of the cap's enclosed volume V0
-    plot_options = {"axis_labels": {**PRESSURE_AXIS_LABELS, "dV": r"$\Delta V / V_0$"},
+    plot_options = {"axis_labels": {**PRESSURE_AXIS_LABELS, "dV": r"$\Delta V / V_0$"}, "symbols": {"dV": r"$\Delta V$"},
                     "scale": {"dV": 1.0 / V0}, "special_kinds": ("fold", "bifurcation"), "note": note,
                     "title": scene_title(scene), "control": "volume"}
 
@@ -313,4 +313,4 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
                        table=special_point_table(records, columns=_VOLUME_TABLE_COLUMNS),
                        csv_columns=csv, x="dV", y="p_over_p_c", parameter_name=problem.parameter_name,
                        labels=["path"], plot=plot, plot_options=plot_options,
-                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options))

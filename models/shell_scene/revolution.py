@@ -123,4 +123,4 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br], STABILITY_COLUMNS), x="w", y="F",
                        parameter_name=problem.parameter_name, labels=["path"], plot_options=plot_options,
-                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options))

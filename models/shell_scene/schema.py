@@ -151,7 +151,7 @@ SHELL_SCHEMA = Schema(
         "stability": {
             "harmonics": boolean(False, help="also judge stability against non-axisymmetric modes: the Hessian blocks of "
                                              "wave numbers n = 1 .. n_max at every point, a bifurcation into mode n "
-                                             "located and recorded (off by default: it costs about 2.5 times the trace and "
+                                             "located and recorded (off by default: it costs about 3 times the trace and "
                                              "changes what the paper's classification means, README)"),
             "n_max": integer(0, low=0, high=1000, help="largest wave number watched; 0 = 1.25 times the classical critical "
                                                        "number plus 2 (contin_models.shell.structure.default_harmonics)"),
