@@ -246,7 +246,7 @@ outputs (in DIR):
                  not written when the scene sets output.figure = false
   shapes.npz     where the model saves them: the shape at every special point and the located
                  modes (read with numpy.load; the model's help names the arrays), drawn in
-                 shapes.png
+                 shapes.png (a model may save more on request: its help says how)
   states.npz     the state, parameter and direction at every special point and branch end: what
                  'contin trace --from DIR --label K' restarts from (K: the # column of the table,
                  or end)

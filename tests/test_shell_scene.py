@@ -233,9 +233,19 @@ def test_the_shapes_at_the_special_points_are_saved_and_drawn(runs: dict, tmp_pa
     for k, rec in enumerate(branch_records):
         assert str(shapes["special_kind"][k]) == rec["kind"]
         assert shapes["reference_z"][-1] - shapes["special_z"][k][-1] == pytest.approx(rec["w"], abs=1e-12)
+    assert "path_r" not in shapes  # the path's shapes only on request
     (tmp_path / "shapes.png").write_bytes(b"old")
-    code, _ = _trace(tmp_path, "shell.N=40", "output.figure=false", "continuation.max_steps=20")
+    code, _ = _trace(tmp_path, "shell.N=40", "output.figure=false", "continuation.max_steps=20", "output.shapes=path")
     assert not (tmp_path / "shapes.png").exists() and (tmp_path / "shapes.npz").exists()
+    # on request, the meridian at every row of branch.csv: its pole w below the reference pole
+    shapes = np.load(tmp_path / "shapes.npz")
+    with open(tmp_path / "branch.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert shapes["path_r"].shape == shapes["path_z"].shape == (len(rows), 40) and len(rows) > 10
+    np.testing.assert_array_equal(shapes["path_p"], [float(r["p"]) for r in rows])
+    np.testing.assert_array_equal(shapes["path_branch"], [int(float(r["branch"])) for r in rows])
+    np.testing.assert_allclose(shapes["reference_z"][-1] - shapes["path_z"][:, -1], [float(r["w"]) for r in rows],
+                               atol=1e-12)
 
 
 @pytest.mark.parametrize("N, control, expected", [(40, "force", "finer mesh, shell.N = 80"),

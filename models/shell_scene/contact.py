@@ -291,7 +291,8 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
     if "w_b" in cols:
         cols = {"w": cols["w_b"], "F": cols.get("F"), "w_over_R": cols["w_b_over_R"], "F_norm": cols.get("F_norm"),
                 **{k: v for k, v in cols.items() if k not in ("F", "F_norm")}}
-    shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.elastic.cap.x)
+    shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.elastic.cap.x,
+                          path=scene["output"]["shapes"] == "path")
     plot_options = _plot_options(scene, problem.D)
     return TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                        table=generic.table, csv_columns=cols, x="w_b", y="F", parameter_name=problem.parameter_name,

@@ -21,7 +21,7 @@ MAX_DRAWN = 4
 
 
 def shell_shapes(branches: Sequence[Any], state: Callable[[np.ndarray, float], np.ndarray], families: Sequence[Any] = (),
-                 reference: np.ndarray | None = None) -> dict[str, np.ndarray]:
+                 reference: np.ndarray | None = None, path: bool = False) -> dict[str, np.ndarray]:
     """``shapes.npz`` of a shell run: the deformed meridian at every special point, and the located modes.
 
     Parameters
@@ -32,6 +32,8 @@ def shell_shapes(branches: Sequence[Any], state: Callable[[np.ndarray, float], n
     families : the problem's operator families (:class:`contin.OperatorFamily`); a bifurcation's mode is
         saved when its family has a ``mode_shape``.
     reference : the reference state (saved as ``reference_r``, ``reference_z``).
+    path : also the meridian at every stored point of every branch, in the order of ``branch.csv``'s rows:
+        ``path_branch``, ``path_p`` and ``path_r``, ``path_z`` (one row per point).
 
     Returns
     -------
@@ -40,14 +42,21 @@ def shell_shapes(branches: Sequence[Any], state: Callable[[np.ndarray, float], n
         ``special_branch``, ``special_kind``, ``special_label``, ``special_p``, ``special_r``,
         ``special_z`` (one row per special point); for every located mode ``mode_record`` (its special
         point), ``mode_n``, and its per-node amplitudes ``mode_a``, ``mode_b``, ``mode_c``
-        (``dR = a cos n theta``, ``dZ = b cos n theta``, ``dT = c sin n theta``); empty when the run has
-        no special point.
+        (``dR = a cos n theta``, ``dZ = b cos n theta``, ``dT = c sin n theta``); with ``path`` the
+        ``path_*`` arrays; empty when the run has no special point (and ``path`` is false).
     """
+    out: dict[str, np.ndarray] = {}
+    if path:
+        stored = [(bi, u, p) for bi, br in enumerate(branches) for u, p in zip(br.u, br.p)]
+        if stored:
+            P = np.array([np.asarray(state(u, p), dtype=float) for _, u, p in stored])
+            out.update(path_branch=np.array([bi for bi, _, _ in stored]), path_p=np.array([float(p) for *_, p in stored]),
+                       path_r=P[:, 0::2], path_z=P[:, 1::2])
     rows = [(bi, spt) for bi, br in enumerate(branches) for spt in br.special_points]
     if not rows:
-        return {}
+        return out
     X = np.array([np.asarray(state(spt.u, spt.p), dtype=float) for _, spt in rows])
-    out: dict[str, np.ndarray] = {
+    out |= {
         "special_record": np.arange(len(rows)), "special_branch": np.array([bi for bi, _ in rows]),
         # an extremum declared a limit point (the force's maximum along a displacement path) is a fold, as in
         # summary.json's records

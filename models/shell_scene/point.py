@@ -364,7 +364,8 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
     axis_labels, scale = force_axes("w", R, problem.D)
     plot_options = {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene), "zero_line": True,
                     "special_kinds": ("fold", "bifurcation"), "note": str(cls) if cls else ""}
-    shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.cap.x)
+    shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.cap.x,
+                          path=scene["output"]["shapes"] == "path")
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                          table=special_point_table(records, branch_labels=labels if len(branches) > 1 else None,
                                                    columns=_TABLE_COLUMNS),

@@ -166,7 +166,8 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     plot_options = {"axis_labels": PRESSURE_AXIS_LABELS, "special_kinds": ("fold", "bifurcation"), "note": note,
                     "title": scene_title(scene), "control": "pressure"}
     # output.figure = false is the command line's to honour (contin.scene.wants_figure)
-    shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref)
+    shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref,
+                          path=scene["output"]["shapes"] == "path")
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br]), x="w_over_h", y="p_over_p_c",
@@ -308,7 +309,7 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
         return contin.plot_branches([br], x="p", y="p_over_p_c", ax=ax, **plot_options)
 
     shapes = shell_shapes([br], lambda U, q: pressure.full_state(*problem.split(U)), problem.operator_families,
-                          pressure.x_ref)
+                          pressure.x_ref, path=scene["output"]["shapes"] == "path")
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_VOLUME_TABLE_COLUMNS),
                        csv_columns=csv, x="dV", y="p_over_p_c", parameter_name=problem.parameter_name,

@@ -118,7 +118,8 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
     axis_labels, scale = force_axes("w", length_unit(scene), problem.D, length_symbol="L")
     plot_options = {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene),
                     "special_kinds": ("fold", "bifurcation"), "control": control}
-    shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref)
+    shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref,
+                          path=scene["output"]["shapes"] == "path")
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br], STABILITY_COLUMNS), x="w", y="F",
