@@ -9,6 +9,7 @@ Plotting only reads results; it never computes them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -21,7 +22,8 @@ from .jump import JumpResult
 if TYPE_CHECKING:  # networkx is imported lazily: it costs a noticeable part of import time
     import networkx as nx
 
-__all__ = ["diagram", "plot_branches", "hysteresis_cycles", "save_diagram", "load_diagram"]
+__all__ = ["diagram", "plot_branches", "hysteresis_cycles", "save_diagram", "load_diagram", "smooth_path",
+           "stability_pieces"]
 
 
 class _NodeIndex:
@@ -210,20 +212,12 @@ def hermite_piece(p0: Sequence[float], p1: Sequence[float], m0: Sequence[float],
     return ((2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * p1 + (t3 - t2) * m1)
 
 
-def smooth_path(x: np.ndarray, y: np.ndarray, dx: np.ndarray | None, dy: np.ndarray | None, s: np.ndarray,
-                samples: int = HERMITE_SAMPLES) -> tuple[np.ndarray, np.ndarray]:
-    """The polyline through the points ``(x, y)`` with each piece between consecutive points a cubic Hermite
-    curve (:func:`hermite_piece`) whose end derivatives are the tangents ``(dx, dy)`` (per unit ``s``)
-    times ``s[i+1] - s[i]``; straight where a tangent is missing (None or NaN) or does not fit the
-    piece (it points backwards, or its length times the arclength is not within a factor 4 of the
-    chord, both in the plot's own scale: a tangent stored in other units, a jump between branches).
-
-    Every stored point is on the result; ``samples - 1`` points are added inside each curved piece.
-    """
-    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+def _trusted_pieces(x: np.ndarray, y: np.ndarray, dx: np.ndarray | None, dy: np.ndarray | None,
+                    s: np.ndarray) -> np.ndarray:
+    """Which pieces between consecutive points may be drawn as cubics (:func:`smooth_path`'s rule)."""
     n = x.size
-    if n < 2 or dx is None or dy is None or samples < 2:
-        return x, y
+    if n < 2 or dx is None or dy is None:
+        return np.zeros(max(n - 1, 0), dtype=bool)
     dx, dy, s = np.asarray(dx, dtype=float), np.asarray(dy, dtype=float), np.asarray(s, dtype=float)
     ds = np.diff(s)
     # the plot's own scale: a tangent is judged against the chord in units of each axis' span
@@ -241,13 +235,21 @@ def smooth_path(x: np.ndarray, y: np.ndarray, dx: np.ndarray | None, dy: np.ndar
         return (cos > _MIN_CHORD_COS) & (ratio < _MAX_LENGTH_RATIO) & (ratio > 1.0 / _MAX_LENGTH_RATIO)
     ok = (np.isfinite(dx[:-1]) & np.isfinite(dy[:-1]) & np.isfinite(dx[1:]) & np.isfinite(dy[1:])
           & np.isfinite(ds) & (ds > 0) & (chord > 0))
-    ok &= along(dx[:-1], dy[:-1]) & along(dx[1:], dy[1:])
-    if not ok.any():
+    return ok & along(dx[:-1], dy[:-1]) & along(dx[1:], dy[1:])
+
+
+def _densified(x: np.ndarray, y: np.ndarray, dx: np.ndarray | None, dy: np.ndarray | None, s: np.ndarray,
+               curved: np.ndarray, samples: int) -> tuple[np.ndarray, np.ndarray]:
+    """The points with ``samples - 1`` points of its cubic inside each piece marked ``curved``."""
+    if not curved.any():
         return x, y
+    dx, dy, s = np.asarray(dx, dtype=float), np.asarray(dy, dtype=float), np.asarray(s, dtype=float)
+    ds = np.diff(s)
+    n = x.size
     tau = np.linspace(0.0, 1.0, samples + 1)[1:-1]
     h00, h10, h01, h11 = (2 * tau**3 - 3 * tau**2 + 1, tau**3 - 2 * tau**2 + tau, -2 * tau**3 + 3 * tau**2,
                           tau**3 - tau**2)
-    i = np.flatnonzero(ok)
+    i = np.flatnonzero(curved)
     inner_x = (np.outer(x[i], h00) + np.outer(dx[i] * ds[i], h10) + np.outer(x[i + 1], h01)
                + np.outer(dx[i + 1] * ds[i], h11))
     inner_y = (np.outer(y[i], h00) + np.outer(dy[i] * ds[i], h10) + np.outer(y[i + 1], h01)
@@ -263,6 +265,92 @@ def smooth_path(x: np.ndarray, y: np.ndarray, dx: np.ndarray | None, dy: np.ndar
     return X, Y
 
 
+def smooth_path(x: np.ndarray, y: np.ndarray, dx: np.ndarray | None, dy: np.ndarray | None, s: np.ndarray,
+                samples: int = HERMITE_SAMPLES) -> tuple[np.ndarray, np.ndarray]:
+    """The polyline through the points ``(x, y)`` with each piece between consecutive points a cubic Hermite
+    curve (:func:`hermite_piece`) whose end derivatives are the tangents ``(dx, dy)`` (per unit ``s``)
+    times ``s[i+1] - s[i]``; straight where a tangent is missing (None or NaN) or does not fit the
+    piece (it points backwards, or its length times the arclength is not within a factor 4 of the
+    chord, both in the plot's own scale: a tangent stored in other units, a jump between branches).
+
+    Every stored point is on the result; ``samples - 1`` points are added inside each curved piece.
+    """
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    if x.size < 2 or dx is None or dy is None or samples < 2:
+        return x, y
+    return _densified(x, y, dx, dy, s, _trusted_pieces(x, y, dx, dy, np.asarray(s, dtype=float)), samples)
+
+
+def stability_pieces(x: np.ndarray, y: np.ndarray, dx: np.ndarray | None, dy: np.ndarray | None, s: np.ndarray,
+                     stable: Sequence[bool] | np.ndarray | None, cuts: Iterable[float] = (),
+                     samples: int = HERMITE_SAMPLES) -> list[tuple[np.ndarray, np.ndarray, bool | None]]:
+    """A path drawn smooth (:func:`smooth_path`) and cut into runs of equal stability, for solid and
+    dashed lines.
+
+    Parameters
+    ----------
+    x, y, dx, dy, s, samples
+        As for :func:`smooth_path` (the tangents are judged against the whole path's spans).
+    stable : sequence of bool, optional
+        Stability at each point; None: one run of unknown stability.
+    cuts : iterable of float
+        Arclengths where the stability may change, e.g. of the located folds and bifurcations: where
+        it differs at stored points ``i`` and ``i + 1``, the runs meet at the first cut strictly
+        between ``s[i]`` and ``s[i + 1]``, on the piece's cubic; without one, at point ``i + 1``.
+
+    Returns
+    -------
+    list of (X, Y, stable)
+        In path order; each run ends on the sample the next one starts on.
+    """
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    n = x.size
+    if stable is None or n < 2:
+        return [(*smooth_path(x, y, dx, dy, s, samples), None)]
+    st = [bool(v) for v in stable]
+    s = np.asarray(s, dtype=float)
+    curved = _trusted_pieces(x, y, dx, dy, s) if samples >= 2 else np.zeros(n - 1, dtype=bool)
+    cut = np.sort(np.array([c for c in cuts if c is not None and math.isfinite(c)], dtype=float))
+
+    def through(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:  # stored points a..b, smooth
+        sl = slice(a, b + 1)
+        return _densified(x[sl], y[sl], None if dx is None else np.asarray(dx)[sl],
+                          None if dy is None else np.asarray(dy)[sl], s[sl], curved[a:b], samples)
+
+    def split(i: int, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Piece ``i`` up to its fraction ``t`` (without its start) and from there (without its end)."""
+        if curved[i]:
+            h = s[i + 1] - s[i]
+            ends = ((x[i], y[i]), (x[i + 1], y[i + 1]), (dx[i] * h, dy[i] * h), (dx[i + 1] * h, dy[i + 1] * h))
+            k0, k1 = max(1, round(samples * t)), max(1, round(samples * (1.0 - t)))
+            return (hermite_piece(*ends, np.linspace(0.0, t, k0 + 1)[1:]),
+                    hermite_piece(*ends, np.linspace(t, 1.0, k1 + 1)[:-1]))
+        P = np.array([[x[i] + t * (x[i + 1] - x[i]), y[i] + t * (y[i + 1] - y[i])]])
+        return P, P
+
+    pieces: list[tuple[np.ndarray, np.ndarray, bool | None]] = []
+    start, head = 0, np.empty((0, 2))
+    for i in range(n - 1):
+        if st[i] == st[i + 1]:
+            continue
+        inside = cut[(cut > s[i]) & (cut < s[i + 1])]
+        if inside.size:
+            before, after = split(i, float((inside[0] - s[i]) / (s[i + 1] - s[i])))
+            X, Y = through(start, i)
+            pieces.append((np.concatenate([head[:, 0], X, before[:, 0]]),
+                           np.concatenate([head[:, 1], Y, before[:, 1]]), st[i]))
+            head = after
+        else:  # no located point inside: the change shows at the next stored point
+            X, Y = through(start, i + 1)
+            pieces.append((np.concatenate([head[:, 0], X]), np.concatenate([head[:, 1], Y]), st[i]))
+            head = np.empty((0, 2))
+        start = i + 1
+    if start < n - 1 or head.size:  # a last point alone is already the end of the run before
+        X, Y = through(start, n - 1)
+        pieces.append((np.concatenate([head[:, 0], X]), np.concatenate([head[:, 1], Y]), st[-1]))
+    return pieces
+
+
 def _scaled_tangent(br: Branch, name: str, factor: float) -> np.ndarray | None:
     t = br.tangent(name)
     return None if t is None else t * factor
@@ -271,30 +359,19 @@ def _scaled_tangent(br: Branch, name: str, factor: float) -> np.ndarray | None:
 def _plot_by_stability(ax, br: Branch, x: str, y: str, scale: Mapping[str, float], stable: np.ndarray | None,
                        color: str, label: str | None, smooth: bool) -> set[str]:
     """One branch: one line per run of equal stability, stable solid and unstable dashed (thin when
-    unknown), each drawn smooth from the stored tangents.  Returns the styles drawn."""
+    unknown), each drawn smooth from the stored tangents and changing style at the located special
+    points (:func:`stability_pieces`).  Returns the styles drawn."""
     from . import style
 
     fx, fy = scale.get(_axis_name(x, br), 1.0), scale.get(_axis_name(y, br), 1.0)
     xs, ys = br.observable(x) * fx, br.observable(y) * fy
     dx = _scaled_tangent(br, x, fx) if smooth else None
     dy = _scaled_tangent(br, y, fy) if smooth else None
-    s = br.s if br.s.shape == br.p.shape else np.arange(len(br), dtype=float)
-    n = len(xs)
-    if stable is None:
-        runs = [(0, n, None)]
-    else:
-        # runs of equal stability; neighbouring runs share their boundary point
-        runs, start = [], 0
-        for i in range(1, n + 1):
-            if i == n or stable[i] != stable[start]:
-                # a last point alone (a run's end point that changed stability) is already on the run before
-                if min(i + 1, n) - start > 1 or n == 1:
-                    runs.append((start, min(i + 1, n), bool(stable[start])))
-                start = i
+    stored_s = br.s.shape == br.p.shape
+    s = br.s if stored_s else np.arange(len(br), dtype=float)
+    cuts = [spt.s for spt in br.special_points if spt.located] if stored_s else []
     drawn: set[str] = set()
-    for k, (a, b, st) in enumerate(runs):
-        sl = slice(a, b)
-        px, py = smooth_path(xs[sl], ys[sl], None if dx is None else dx[sl], None if dy is None else dy[sl], s[sl])
+    for k, (px, py, st) in enumerate(stability_pieces(xs, ys, dx, dy, s, stable, cuts)):
         kind = "unknown" if st is None else ("stable" if st else "unstable")
         line = {"stable": style.STABLE, "unstable": style.UNSTABLE, "unknown": style.UNKNOWN}[kind]
         ax.plot(px, py, color=color, label=label if k == 0 else None, solid_capstyle="round",

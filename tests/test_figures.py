@@ -10,7 +10,7 @@ import pytest
 
 import contin
 from contin import cli
-from contin.diagram import hermite_piece, smooth_path
+from contin.diagram import hermite_piece, smooth_path, stability_pieces
 
 PNG, PDF = b"\x89PNG\r\n\x1a\n", b"%PDF-"
 
@@ -213,3 +213,39 @@ def test_the_shapes_are_labelled_in_the_diagram_units_and_extrema_as_limit_point
     names = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     assert names == ["reference", "limit point, max $p$ at $w/R$ = 0.2", "fold at $w/R$ = 0.1",
                      "fold at $w/R$ = 0.3", "limit point, min $F$ at $w/R$ = 0.5"]
+
+
+def test_stability_runs_meet_at_the_located_point_on_the_cubic() -> None:
+    """Eight pieces of the unit circle, stable up to point 3 and unstable from point 4: with a located point a
+    quarter of the way along piece 3, the solid run ends and the dashed one starts there, on the cubic (on
+    the circle to 2e-3); without it they meet at point 4, as before any point is located."""
+    s = np.linspace(0.0, 2 * np.pi, 9)
+    x, y, dx, dy = np.cos(s), np.sin(s), -np.sin(s), np.cos(s)
+    stable = [True] * 4 + [False] * 5
+    cut = s[3] + 0.25 * (s[4] - s[3])
+    (X0, Y0, st0), (X1, Y1, st1) = stability_pieces(x, y, dx, dy, s, stable, [cut, s[6] + 0.1])
+    assert (st0, st1) == (True, False)
+    assert (X0[-1], Y0[-1]) == (X1[0], Y1[0])
+    assert abs(np.hypot(X0[-1], Y0[-1]) - 1.0) < 2e-3 and abs(np.arctan2(Y0[-1], X0[-1]) % (2 * np.pi) - cut) < 1e-2
+    # every stored point drawn once, in the run of its own stability; the whole path as smooth_path draws it
+    for k in range(9):
+        where = [np.any((X == x[k]) & (Y == y[k])) for X, Y in ((X0, Y0), (X1, Y1))]
+        assert where == [k <= 3, k >= 4]
+    whole = smooth_path(x, y, dx, dy, s)
+    assert np.max(np.abs(np.hypot(np.concatenate([X0, X1]), np.concatenate([Y0, Y1])) - 1.0)) < 2e-3
+    assert X0.size + X1.size == whole[0].size + 1  # the split piece as finely sampled, its cut sample in both runs
+    (A0, B0, _), (A1, B1, _) = stability_pieces(x, y, dx, dy, s, stable)
+    assert (A0[-1], B0[-1]) == (A1[0], B1[0]) == (x[4], y[4])
+    np.testing.assert_array_equal(np.concatenate([A0, A1[1:]]), whole[0])
+
+
+def test_stability_runs_leave_no_lone_point_and_unknown_is_one_run() -> None:
+    s = np.linspace(0.0, 1.0, 5)
+    x, y = s, s**2
+    pieces = stability_pieces(x, y, None, None, s, [True] * 4 + [False])
+    assert len(pieces) == 1 and pieces[0][2] is True and pieces[0][0].size == 5
+    (X, Y, st), = stability_pieces(x, y, None, None, s, None)
+    assert st is None and X.size == 5
+    # straight pieces (no tangents) are cut on the chord
+    (X0, Y0, _), (X1, Y1, _) = stability_pieces(x, y, None, None, s, [True, True, False, False, False], [0.3])
+    assert (X0[-1], Y0[-1]) == pytest.approx((0.3, 0.0625 + 0.2 * (0.25 - 0.0625)))
