@@ -787,48 +787,94 @@ def _targets(rows: list[dict[str, Any]], ours: dict[int, dict[str, Any]], refF: 
 # figure and main
 # ---------------------------------------------------------------------------------------------------
 _STYLE = {"ours": ("C0", "o", "ours (PALC + located maximum)"),
-          "ours+Richardson": ("C2", "D", "ours + Richardson (N, 2N, 4N)"),
+          "ours+Richardson": ("C2", "D", "ours + Richardson ($N$, $2N$, $4N$)"),
           "natural_parameter": ("C1", "s", "natural parameter + bisection (force control)"),
           "dynamic_relaxation": ("C3", "^", "dynamic relaxation (displacement ramp)")}
 
 
+def _dr_size(dt_omega: float | None) -> float:
+    """Marker size of a dynamic-relaxation run with a large step: smaller the larger ``dt omega_1``, so the
+    runs that differ only in the step (they end on almost the same point) nest instead of covering each other."""
+    # 4.5 points a factor 100 in dt: a triangle's sides only clear the next one's by a quarter of that
+    return 4.0 + 4.5 * max(0.0, (6.0 - math.log10(max(dt_omega or 1e6, 1.0))) / 2.0)
+
+
 def _panel(ax: Any, rows: list[dict[str, Any]], quantity: str, key: str, where: Callable[[dict[str, Any]], bool],
-           title: str, band: float | None) -> None:
+           title: str, band: float | None, handles: dict[str, Any] | None = None) -> None:
+    """One panel: every run as a marker, each method's Pareto front as a line.  ``handles`` collects one
+    legend handle (marker and line) per kind of thing drawn, by label, for a legend of the figure."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    handles = {} if handles is None else handles
+
+    def entry(label: str, **kw: Any) -> None:
+        # a later panel that draws the method's front as a line gives the entry its line
+        if label not in handles or (kw.get("ls", "-") != "none" and handles[label].get_linestyle() == "None"):
+            handles[label] = Line2D([], [], **kw)
+
     for method, (col, mk, lab) in _STYLE.items():
         sel = [r for r in rows if r["method"] == method and r["quantity"] == quantity and where(r)
                and r.get(key) is not None and r.get(key, 0) > 0 and r.get("value") is not None]
         if not sel:
             continue
-        if method == "dynamic_relaxation":
-            for regime, fill in (("resolved", "full"), ("large_dt", "none")):
-                s = [r for r in sel if r.get("regime") == regime]
-                if s:
-                    ax.plot([r["wall_time_s"] for r in s], [r[key] for r in s], mk, color=col, mfc=col if fill == "full" else "none",
-                            ms=5, ls="none", label=lab + (r", $dt\,\omega_1 \leq 1$" if regime == "resolved" else r", $dt\,\omega_1 > 1$"))
-        else:
-            ax.plot([r["wall_time_s"] for r in sel], [r[key] for r in sel], mk, color=col, ms=4, ls="none", alpha=0.6,
-                    mfc="none")
         front = pareto_front([(r["wall_time_s"], r[key]) for r in sel])
-        if front:
-            ax.plot([t for t, _ in front], [e for _, e in front], "-", color=col, lw=1.2,
-                    label="dynamic relaxation, best of any dt" if method == "dynamic_relaxation" else lab)
+        drawn_front = len(front) > 1  # a front of one run is that run's marker: no line to draw or name
         if method == "dynamic_relaxation":
-            front = pareto_front([(r["wall_time_s"], r[key]) for r in sel if r.get("regime") == "resolved"])
-            if front:
-                ax.plot([t for t, _ in front], [e for _, e in front], "--", color=col, lw=1.0,
-                        label=r"dynamic relaxation, best with $dt\,\omega_1 \leq 1$")
+            for regime, lab_r in (("resolved", r", $dt\,\omega_1 \leq 1$"),
+                                  ("large_dt", r", $dt\,\omega_1 > 1$ (smaller mark: larger $dt$)")):
+                s = sorted((r for r in sel if r.get("regime") == regime), key=lambda r: r.get("dt_omega") or 0.0)
+                for r in s:
+                    big = regime == "large_dt"
+                    ax.plot([r["wall_time_s"]], [r[key]], mk, color=col, mfc="none" if big else col, mew=0.8,
+                            ms=_dr_size(r.get("dt_omega")) if big else 5.0, ls="none", zorder=4)
+                if s:
+                    entry(lab + lab_r, color=col, marker=mk, mfc="none" if regime == "large_dt" else col, mew=0.9,
+                          ms=5.0, ls="none")
+            if drawn_front:
+                ax.plot([t for t, _ in front], [e for _, e in front], "-", color=col, lw=1.2)
+                entry("dynamic relaxation, best of any $dt$", color=col, lw=1.2)
+            res_front = pareto_front([(r["wall_time_s"], r[key]) for r in sel if r.get("regime") == "resolved"])
+            if len(res_front) > 1:
+                ax.plot([t for t, _ in res_front], [e for _, e in res_front], "--", color=col, lw=1.0)
+                entry(r"dynamic relaxation, best with $dt\,\omega_1 \leq 1$", color=col, lw=1.0, ls="--")
+            continue
+        if method == "ours":
+            # the default settings over N open; other solver settings small and filled, so that one that
+            # lands on a default run (same error, similar time) shows inside its circle
+            base = [r for r in sel if str(r["setting"]).startswith("default")]
+            other = [r for r in sel if not str(r["setting"]).startswith("default")]
+            ax.plot([r["wall_time_s"] for r in base], [r[key] for r in base], mk, color=col, ms=5, mfc="none",
+                    mew=0.8, ls="none", zorder=3)
+            if other:
+                ax.plot([r["wall_time_s"] for r in other], [r[key] for r in other], mk, color=col, ms=2.6,
+                        ls="none", zorder=4)
+            if base or drawn_front:
+                entry(lab, color=col, marker=mk, ms=5, mfc="none", mew=0.8, lw=1.2 if drawn_front else 0,
+                      ls="-" if drawn_front else "none")
+            if other:
+                entry("ours, other solver settings", color=col, marker=mk, ms=2.6, ls="none")
+        else:
+            ax.plot([r["wall_time_s"] for r in sel], [r[key] for r in sel], mk, color=col, ms=4.5, mfc="none",
+                    mew=0.8, ls="none", zorder=3)
+            entry(lab, color=col, marker=mk, ms=4.5, mfc="none", mew=0.8, lw=1.2 if drawn_front else 0,
+                  ls="-" if drawn_front else "none")
+        if drawn_front:
+            ax.plot([t for t, _ in front], [e for _, e in front], "-", color=col, lw=1.2)
         if method == "ours" and key == "rel_error":
             dflt = sorted((r for r in sel if r["setting"] == "default"), key=lambda r: r["N"])
             for r in dflt:
-                ax.annotate(f"{r['N']}", (r["wall_time_s"], r[key]), fontsize=6, color=col, xytext=(2, 2),
+                ax.annotate(f"{r['N']}", (r["wall_time_s"], r[key]), fontsize=7, color=col, xytext=(3, 3.5),
                             textcoords="offset points")
     if band:
-        ax.axhspan(1e-20, band, color="0.85", zorder=0, label="below the reference's error estimate")
-    from matplotlib.ticker import LogLocator, NullFormatter
-
+        ax.axhspan(1e-20, band, color="0.85", zorder=0)
+        handles.setdefault("below the reference's error estimate", Patch(color="0.85"))
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.xaxis.set_major_locator(LogLocator(base=10))
+    # the runs span about two decades of time: 1-2-5 ticks, labelled plainly, so that times can be read
+    ax.xaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("wall time [s]")
     ax.set_title(title, fontsize="small")
@@ -843,22 +889,23 @@ def plot(res: dict[str, Any], out: Any) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(16, 5.2))
     all_rows = lambda r: True  # noqa: E731
     vals = [r["rel_error"] for r in rows if r.get("rel_error")] + [1.0]
+    handles: dict[str, Any] = {}
     _panel(axes[0], rows, "F_max", "rel_error", all_rows, "(a) $F_{max}$: relative error against the extrapolated value",
-           S["references"]["F_max"]["relative_error_estimate"])
+           S["references"]["F_max"]["relative_error_estimate"], handles)
     _panel(axes[1], rows, "w_at_F_max", "rel_error", all_rows, "(b) $w$ at $F_{max}$: relative error against the extrapolated value",
-           S["references"]["w_at_F_max"]["relative_error_estimate"])
+           S["references"]["w_at_F_max"]["relative_error_estimate"], handles)
     _panel(axes[2], rows, "F_max", "solver_rel_error", lambda r: r["N"] == TARGET_N,
-           f"(c) $F_{{max}}$ at N = {TARGET_N}: solver error only (against ours, default settings)", None)
+           f"(c) $F_{{max}}$ at $N$ = {TARGET_N}: solver error only (against ours, default settings)", None, handles)
     axes[0].set_ylabel("relative error")
+    axes[1].set_ylabel("relative error")
+    axes[2].set_ylabel("relative solver error")
     lo = max(min(vals) / 3, 1e-13)
     for ax in axes[:2]:
         ax.set_ylim(lo, 2.0)
-    handles, labels = axes[0].get_legend_handles_labels()
-    fig.suptitle(f"Error against run time, default scene ($\\hat\\phi$ = {PHI_HAT}, h/R = {H_OVER_R}), {S['mode']} mode "
-                 "(lines: the best error reached within a time, per method; open circles: other runs of ours)",
-                 fontsize="medium")
+    fig.suptitle(f"Error against run time, default scene ($\\hat\\phi$ = {PHI_HAT}, $h/R$ = {H_OVER_R}), {S['mode']} mode "
+                 "(lines: the best error reached within a time, per method; numbers: $N$)")
     fig.tight_layout(rect=(0, 0.12, 1, 1))
-    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize="small", frameon=False)
+    fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=4, frameon=False)
     save_figure(fig, out, "error_vs_time")
 
 

@@ -321,35 +321,43 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
     """Three panels against lambda: (a) ``p/p_c`` of the axisymmetric snap and of the first bifurcation (its
     ``n`` annotated) with the published values; (b) the difference to them in per cent, at R/h = 100 and near
     the shallow limit; (c) the critical ``n``."""
+    from contin import style
+
     plt = _plt()
+    blue, orange, green = style.COLORS[0], style.COLORS[1], style.COLORS[2]
     fig, (ax, axd, axn) = plt.subplots(3, 1, figsize=(6.4, 8.2), sharex=True,
                                        gridspec_kw={"height_ratios": [2.2, 1.1, 1.1]})
     sel = sorted((r for r in rows if r["N"] == N and r["R_over_h"] == R_OVER_H and r["nu"] == NU),
                  key=lambda r: r["lambda"])
     snap = sorted((lam, p) for lam, p in snaps.items() if p is not None)
-    ax.plot(*zip(*snap), "-", color="tab:gray", lw=1.0, marker="o", ms=3, mfc="white",
+    ax.plot(*zip(*snap), "-", color=style.GREY, lw=1.0, marker="o", ms=3, mfc="white",
             label="axisymmetric snap: first fold in $p$ (harmonics off)")
     bif = [(r["lambda"], r["p_cr_over_p_c"], r["n"]) for r in sel if r["kind"] == "bifurcation"]
     fold = [(r["lambda"], r["p_cr_over_p_c"]) for r in sel if r["kind"] == "fold"]
     if bif:
-        ax.plot([b[0] for b in bif], [b[1] for b in bif], "-", color="tab:blue", lw=1.4, marker="o", ms=3.5,
-                label="first instability: bifurcation into $n$ waves (n annotated)")
+        # above the published marks, so that the computed value stays visible inside them
+        ax.plot([b[0] for b in bif], [b[1] for b in bif], "-", color=blue, lw=1.4, marker="o", ms=3.5,
+                zorder=4, label="first instability: bifurcation into $n$ waves ($n$ written below)")
         for lam, p, n in bif:
             if float(lam).is_integer():
-                ax.annotate(f"{n}", (lam, p), textcoords="offset points", xytext=(0, 9), ha="center",
-                            fontsize="x-small", color="tab:blue")
+                # below the curve: above it the axisymmetric snap comes down to it (lambda = 10, 11)
+                ax.annotate(f"{n}", (lam, p), textcoords="offset points", xytext=(0, -11), ha="center", va="top",
+                            fontsize="x-small", color=blue)
     if fold:
-        ax.plot(*zip(*fold), "s", color="tab:red", ms=5, label="first instability: axisymmetric snap (fold)")
+        ax.plot(*zip(*fold), "s", color=style.RED, ms=5, label="first instability: axisymmetric snap (fold)")
     ax.plot(list(HUANG_1964), [v[0] for v in HUANG_1964.values()], "D", color="k", mfc="none", ms=7,
             label="Huang (1964), shallow-shell theory")
-    ax.plot(list(TENG_ROTTER_1989B), [v[0] for v in TENG_ROTTER_1989B.values()], "+", color="tab:orange", ms=10,
+    ax.plot(list(TENG_ROTTER_1989B), [v[0] for v in TENG_ROTTER_1989B.values()], "+", color=orange, ms=10,
             mew=1.5, label="Teng & Rotter (1989b)")
     none = [r["lambda"] for r in sel if r["kind"] is None]
     ax.set_ylabel(r"pressure $p / p_c$")
     ax.set_ylim(0.4, max(1.3, max(p for _, p in snap) + 0.05))
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="x-small", loc="lower right")
-    title = f"clamped spherical caps under uniform pressure, $\\nu$ = 1/3, R/h = {R_OVER_H:g}, N = {N}"
+    leg = ax.legend(fontsize="x-small", loc="lower right")
+    for handle in leg.legend_handles:  # the plus at its plotted size would reach into the diamond's entry
+        if hasattr(handle, "set_markersize"):
+            handle.set_markersize(min(handle.get_markersize(), 7.0))
+    title = f"clamped spherical caps under uniform pressure, $\\nu$ = 1/3, $R/h$ = {R_OVER_H:g}, $N$ = {N}"
     if none:
         title += f"\n(no instability up to {P_MAX:g} $p_c$ at $\\lambda$ = {', '.join(f'{x:g}' for x in none)})"
     ax.set_title(title, fontsize="small")
@@ -363,36 +371,43 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
                    and r["lambda"] in HUANG_1964 and r["p_cr_over_p_c"] is not None), key=lambda r: r["lambda"])
     ptsS = [(r["lambda"], 100.0 * (r["p_cr_over_p_c"] / HUANG_1964[r["lambda"]][0] - 1.0)) for r in thin]
     axd.axhline(0.0, color="k", lw=0.6)
-    axd.plot(*zip(*pts100), "+-", color="tab:orange", ms=8, mew=1.5, lw=0.8,
-             label=f"R/h = {R_OVER_H:g} vs Teng & Rotter")
-    axd.plot(*zip(*pts100h), "D-", color="k", mfc="none", ms=5, lw=0.8, label=f"R/h = {R_OVER_H:g} vs Huang")
+    axd.plot(*zip(*pts100), "+-", color=orange, ms=8, mew=1.5, lw=0.8,
+             label=f"$R/h$ = {R_OVER_H:g} vs Teng & Rotter")
+    axd.plot(*zip(*pts100h), "D-", color="k", mfc="none", ms=5, lw=0.8, label=f"$R/h$ = {R_OVER_H:g} vs Huang")
     if ptsS:
-        axd.plot(*zip(*ptsS), "x-", color="tab:green", ms=6, lw=0.8, label=f"R/h = {DEPTHS[-1]:g} vs Huang")
-    axd.set_ylabel(r"$p_{cr}$ / published $- 1$ (%)")
+        axd.plot(*zip(*ptsS), "x-", color=green, ms=6, lw=0.8, label=f"$R/h$ = {DEPTHS[-1]:g} vs Huang")
+    axd.set_ylabel(r"$p_\mathrm{cr} / p_\mathrm{published} - 1$ (%)")
     axd.grid(alpha=0.3)
     axd.legend(fontsize="x-small", loc="upper left", ncol=1)
 
-    # (c) the critical n
-    axn.plot([b[0] for b in bif], [b[2] for b in bif], "o-", color="tab:blue", ms=3.5, lw=1.2,
-             label=f"this model, R/h = {R_OVER_H:g}")
+    # (c) the critical n.  Up to four marks share a point (lambda, n): nested by size, the largest (hollow)
+    # lowest, so that each shows -- Huang's diamond around Teng & Rotter's plus (or the hollow circle of a
+    # runner-up n), the thin cap's x across the plus, the computed n's dot on top at the centre
+    axn.plot([b[0] for b in bif], [b[2] for b in bif], "o-", color=blue, ms=3.5, lw=1.2, zorder=4,
+             label=f"this model, $R/h$ = {R_OVER_H:g}")
     if thin:
-        axn.plot([r["lambda"] for r in thin], [r["n"] for r in thin], "x", color="tab:green", ms=7,
-                 label=f"this model, R/h = {DEPTHS[-1]:g}")
-    axn.plot(list(HUANG_1964), [v[1] for v in HUANG_1964.values()], "D", color="k", mfc="none", ms=7,
-             label="Huang (1964)")
-    axn.plot(list(TENG_ROTTER_1989B), [v[1] for v in TENG_ROTTER_1989B.values()], "+", color="tab:orange",
-             ms=10, mew=1.5, label="Teng & Rotter (1989b)")
+        axn.plot([r["lambda"] for r in thin], [r["n"] for r in thin], "x", color=green, ms=6.0, mew=1.3,
+                 zorder=3.8, label=f"this model, $R/h$ = {DEPTHS[-1]:g}")
+    axn.plot(list(HUANG_1964), [v[1] for v in HUANG_1964.values()], "D", color="k", mfc="none", ms=11.5, mew=0.9,
+             zorder=3, label="Huang (1964)")
+    axn.plot(list(TENG_ROTTER_1989B), [v[1] for v in TENG_ROTTER_1989B.values()], "+", color=orange,
+             ms=10, mew=1.2, zorder=3.2, label="Teng & Rotter (1989b)")
     close = [(r["lambda"], r["n"]) for r in mode_rows if r.get("within_half_percent") and not r.get("critical")]
     if close:
-        axn.plot(*zip(*close), "o", color="tab:blue", mfc="none", ms=7, alpha=0.7,
-                 label=r"other $n$ within 0.5 % of $p_{cr}$ (R/h = 100)")
+        axn.plot(*zip(*close), "o", color=blue, mfc="none", ms=6.5, mew=1.2, zorder=3.5,
+                 label=f"other $n$ within 0.5 % of $p_\\mathrm{{cr}}$ ($R/h$ = {R_OVER_H:g})")
     axn.set_xlabel(r"$\lambda = 2\,[3(1-\nu^2)]^{1/4}\sqrt{H/h}$")
     axn.set_ylabel(r"critical $n$")
-    from matplotlib.ticker import MaxNLocator
+    from matplotlib.ticker import FixedLocator
 
-    axn.yaxis.set_major_locator(MaxNLocator(integer=True))
+    n_all = [b[2] for b in bif] + [v[1] for v in HUANG_1964.values()] + [v[1] for v in TENG_ROTTER_1989B.values()]
+    axn.yaxis.set_major_locator(FixedLocator(range(min(n_all), max(n_all) + 1)))
+    axn.set_ylim(min(n_all) - 1.0, max(n_all) + 1.0)  # the diamonds of the first and last n whole
     axn.grid(alpha=0.3)
-    axn.legend(fontsize="x-small", loc="upper left")
+    leg = axn.legend(fontsize="x-small", loc="upper left")
+    for handle in leg.legend_handles:  # the nesting sizes of the diamond and plus would overlap the next entries
+        if hasattr(handle, "set_markersize"):
+            handle.set_markersize(min(handle.get_markersize(), 7.0))
     for a in (ax, axd, axn):
         a.text(0.005, 1.01, f"({'abc'[(ax, axd, axn).index(a)]})", transform=a.transAxes, fontsize="small",
                va="bottom")

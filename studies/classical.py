@@ -76,6 +76,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
+from contin.diagram import smooth_path  # noqa: E402
 from contin_models.shell.pressure import ShellPressure, cap_lambda, phi_hat_for_lambda  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
                              write_csv, write_json)
@@ -292,9 +293,17 @@ def pressure_curve(pr: ShellPressure, *, ds_max: float = 0.02, w_max: float | No
                       "w_avg_over_h": (V0 - float(s.observables["V"])) / (math.pi * a * a * pr.h),
                       "r_over_a": (pr.cap.x[0::2] / a).tolist(),
                       "deflection_over_h": ((pr.cap.x[1::2] - x[1::2]) / pr.h).tolist()})
+    # the tangents along the arclength let the figures draw the path smooth between the stored points
     return {"p_over_p_c": br.p / pr.p_c, "w_over_h": br.observable("w_over_h"),
             "w_avg_over_h": (V0 - V) / (math.pi * a * a * pr.h), "folds": folds, "message": br.message,
-            "a": a}
+            "a": a, "s": br.s, "dp_over_p_c": _tangent(br, "p", 1.0 / pr.p_c),
+            "dw_over_h": _tangent(br, "w_over_h", 1.0),
+            "dw_avg_over_h": _tangent(br, "V", -1.0 / (math.pi * a * a * pr.h))}
+
+
+def _tangent(br: contin.Branch, name: str, factor: float) -> np.ndarray | None:
+    t = br.tangent(name)
+    return None if t is None else t * factor
 
 
 def bathe_cap(N: int) -> ShellPressure:
@@ -313,7 +322,8 @@ def bathe_comparison(N: int) -> tuple[dict[str, Any], list[dict[str, Any]]]:
                              bounds={"w_over_h": (None, 3.0)})
     w = br.observable("w_over_h")
     q = br.p * scale
-    curve = {"w_over_h": w, "q_norm": q, "lambda": pr.lam(), "R_over_h": pr.R / pr.h, "a_over_h": a / pr.h,
+    curve = {"w_over_h": w, "q_norm": q, "s": br.s, "dw_over_h": _tangent(br, "w_over_h", 1.0),
+             "dq_norm": _tangent(br, "p", scale), "lambda": pr.lam(), "R_over_h": pr.R / pr.h, "a_over_h": a / pr.h,
              "folds": len([s for s in br.special_points if s.kind == "fold"]), "message": br.message,
              "monotonic": bool(np.all(np.diff(w) > 0) and np.all(np.diff(q) > 0))}
     # a dense copy of our curve (piecewise linear between converged points) for the distances
@@ -342,62 +352,129 @@ def _plt() -> Any:
 
 def plot_snap(rows: Sequence[dict[str, Any]], finest: int, fine: Sequence[dict[str, Any]]) -> Any:
     """``p_snap / p_c`` against ``lambda`` at each R/h (finest mesh), the fine scan and the published values."""
+    from contin.style import COLORS, GREY
+
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    styles = {100.0: ("tab:red", "s"), 400.0: ("tab:blue", "o"), 1000.0: ("tab:green", "^"),
-              10000.0: ("tab:purple", "v")}
-    for rh, (color, marker) in styles.items():
+    # up to eight values lie within 0.02 p_c at each published lambda: the published ones are drawn
+    # first and thin (their arms and outlines show around ours), ours above them, nested from the large
+    # hollow circle (R/h = 400) to the small dot (R/h = 10000) inside the triangle (R/h = 1000); the
+    # square (R/h = 100), 0.005 p_c higher, is hollow so that it hides neither
+    styles = {100.0: dict(color=COLORS[1], marker="s", ms=5.5, mfc="none", mew=1.0, zorder=4.5),
+              400.0: dict(color=COLORS[0], marker="o", ms=8.0, mfc="none", mew=1.0, zorder=4),
+              1000.0: dict(color=COLORS[2], marker="^", ms=4.4, zorder=5),
+              10000.0: dict(color=COLORS[6], marker="o", ms=2.2, zorder=6)}
+    for rh, st in styles.items():
         pts = sorted((r["lambda"], r["p_snap_over_p_c"]) for r in rows if r["variant"] == "clamped"
                      and r["R_over_h"] == rh and r["N"] == finest and r["p_snap_over_p_c"] is not None)
-        if pts:
-            ax.plot(*zip(*pts), marker=marker, color=color, ms=4, lw=0.9, label=f"this model, R/h = {rh:g}, N = {finest}")
+        if not pts:
+            continue
+        label = f"$R/h = {rh:g}$, $N = {finest}$"
+        if rh != R_OVER_H:
+            ax.plot(*zip(*pts), ls="none", label=label, **st)
+            continue
+        # a sweep, one run per lambda, joined only through the fine scan's samples too: a chord from
+        # lambda = 5 to 6 would pass 0.06 p_c below them; the circles mark this mesh's own samples
+        on_line = dict(pts)
+        on_line.update({r["lambda"]: r["p_snap_over_p_c"] for r in fine
+                        if r["p_snap_over_p_c"] is not None and r["lambda"] not in on_line})
+        xs = sorted(on_line)
+        ax.plot(xs, [on_line[x] for x in xs], ls="-", lw=0.8, markevery=[i for i, x in enumerate(xs) if x in dict(pts)],
+                label=label, **st)
+    if fine:
+        pts = sorted((r["lambda"], r["p_snap_over_p_c"]) for r in fine
+                     if r["p_snap_over_p_c"] is not None and r["lambda"] not in BUDIANSKY)
+        ax.plot(*zip(*pts), "o", color=COLORS[0], ms=3.0, zorder=4,
+                label=f"fine scan, $R/h = {fine[0]['R_over_h']:g}$, $N = {fine[0]['N']}$")
     nu13 = sorted((r["lambda"], r["p_snap_over_p_c"]) for r in rows if r["variant"].startswith("nu=1/3, shallow"))
     if nu13:
-        ax.plot(*zip(*nu13), "*", color="k", ms=8, label=r"this model, $\nu$ = 1/3, R/h = 10000, N = 400")
-    if fine:
-        pts = sorted((r["lambda"], r["p_snap_over_p_c"]) for r in fine)
-        ax.plot(*zip(*pts), ".", color="tab:blue", ms=3, label=f"fine scan, R/h = {fine[0]['R_over_h']:g}")
-    ax.plot(list(BUDIANSKY), list(BUDIANSKY.values()), "D", color="k", mfc="none", ms=8, label="Budiansky (1959)")
-    ax.plot(list(DUMIR_NATH), list(DUMIR_NATH.values()), "x", color="k", ms=7, label="Dumir & Nath (1984)")
-    ax.plot(list(TENG_ROTTER), list(TENG_ROTTER.values()), "+", color="tab:orange", ms=10, mew=1.5,
+        ax.plot(*zip(*nu13), "*", color="k", mfc="none", ms=8.5, mew=0.8, zorder=3.5,
+                label=r"$\nu = 1/3$, $R/h = 10000$, $N = 400$")
+    ax.plot(list(BUDIANSKY), list(BUDIANSKY.values()), "D", color="k", mfc="none", ms=8.5, mew=0.8, zorder=3,
+            label="Budiansky (1959)")
+    ax.plot(list(DUMIR_NATH), list(DUMIR_NATH.values()), "x", color=GREY, ms=7, mew=0.9, zorder=3,
+            label="Dumir & Nath (1984)")
+    ax.plot(list(TENG_ROTTER), list(TENG_ROTTER.values()), "+", color=COLORS[4], ms=10, mew=1.0, zorder=3,
             label="Teng & Rotter (1989a)")
     mono = sorted({r["lambda"] for r in rows if r["p_snap_over_p_c"] is None})
     for lam in mono:
-        ax.axvline(lam, color="tab:gray", lw=0.6, ls=":")
+        ax.axvline(lam, color=GREY, lw=0.6, ls=":")
     ax.set_xlabel(r"$\lambda = 2\,[3(1-\nu^2)]^{1/4}\sqrt{H/h}$")
-    ax.set_ylabel(r"axisymmetric snap pressure $p_{snap} / p_c$")
-    title = "clamped spherical caps under uniform pressure, $\\nu = 0.3$ unless stated\n(published values: Teng & Rotter 1989a, Table 1)"
+    ax.set_ylabel(r"axisymmetric snap pressure $p_\mathrm{snap} / p_c$")
+    title = ("clamped spherical caps under uniform pressure, $\\nu = 0.3$ unless stated\n"
+             "(published values: Teng & Rotter 1989a, Table 1)")
     if mono:
-        title += f"; dotted: no fold up to {P_MAX:g} $p_c$"
+        title += f"; dotted: no fold up to ${P_MAX:g}\\,p_c$"
     ax.set_title(title, fontsize="small")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="x-small", loc="upper left")
+    # lower right: below the curves once they have risen past lambda = 6
+    ax.legend(fontsize="x-small", loc="lower right", title="this model unless a source is named",
+              title_fontsize="x-small")
     fig.tight_layout()
     return fig
 
 
 def plot_shallow(limit: Sequence[dict[str, Any]]) -> Any:
-    """``p_snap / p_c`` relative to Budiansky against ``h/R``: the approach to the shallow limit."""
+    """``p_snap / p_c`` relative to Budiansky against ``h/R``: the approach to the shallow limit.
+
+    Left all depths; right the detail near ``h/R = 0``, where the thinnest cap (``h/R = 1e-4``) and the
+    extrapolated limit lie a marker's width apart on the left panel's scale.
+    """
+    from matplotlib.patches import Rectangle
+
+    from contin.style import GREY
+
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(6.0, 4.2))
+    fig, (ax, zoom) = plt.subplots(1, 2, figsize=(7.4, 4.2), gridspec_kw={"width_ratios": [1.55, 1.0]})
     hr = np.array([1.0 / d for d in DEPTHS])
-    for row, marker in zip([r for r in limit if r["budiansky"]], "osD^v<>"):
+    # sizes nest where two lambdas meet (5 and 6 at h/R = 0.0025, 5 and 7 at the limit): the smaller
+    # mark is drawn above the larger, so both outlines show
+    markers = "osD^v<>"
+    sizes = (5.5, 7.0, 5.5, 4.5, 5.0, 5.5, 5.5)
+    x_box, y_box = (-1.2e-4, 1.12e-3), (-2.6, -1.5)
+    off_box = []
+    for k, row in enumerate(r for r in limit if r["budiansky"]):
         ref = row["budiansky"]
-        vals = np.array([row[f"p_{d:g}"] for d in DEPTHS]) / ref - 1.0
-        line, = ax.plot(hr, 100 * vals, marker=marker, ms=5, lw=0, label=f"$\\lambda$ = {row['lambda']:g}")
+        vals = 100 * (np.array([row[f"p_{d:g}"] for d in DEPTHS]) / ref - 1.0)
         xs = np.linspace(0.0, 0.0105, 20)
-        ax.plot(xs, 100 * ((row["p_shallow"] + row["slope_c"] * xs) / ref - 1.0), color=line.get_color(), lw=0.8)
-        ax.plot([0.0], [100 * row["shallow_vs_budiansky"]], marker=marker, color=line.get_color(), mfc="none", ms=7)
-    ax.axhline(0.0, color="k", lw=0.8)
-    ax.set_xlabel("$h/R$ (at fixed $\\lambda$; open markers: extrapolated shallow limit $h/R \\to 0$)")
-    ax.set_ylabel("$p_{snap}$ / Budiansky $- 1$  [%]")
-    ax.set_title("depth effect: finest mesh, R/h = 100, 400, 1000, 10000;\n"
-                 "lines: $p_0 + c\\,h/R$ through R/h = 1000 and 10000", fontsize="small")
+        fit = 100 * ((row["p_shallow"] + row["slope_c"] * xs) / ref - 1.0)
+        p0 = 100 * row["shallow_vs_budiansky"]
+        ms, marker = sizes[k % len(sizes)], markers[k % len(markers)]
+        z = 4.0 + (8.0 - ms) / 10.0
+        # the detail's abscissa in units of 1e-3 (tick labels without an offset factor)
+        for a, f in ((ax, 1.0), (zoom, 1e3)):
+            line, = a.plot(f * hr, vals, ls="none", marker=marker, ms=ms, zorder=z, label=f"$\\lambda = {row['lambda']:g}$")
+            a.plot(f * xs, fit, color=line.get_color(), lw=0.8, zorder=2)
+            # the extrapolated limit, the figure's point: hollow and above the computed ones, which show
+            # through it where they are a marker's width away
+            a.plot([0.0], [p0], marker=marker, color=line.get_color(), mfc="none", mew=1.1, ms=ms + 1.5,
+                   zorder=z + 2.0)
+        if not y_box[0] <= p0 <= y_box[1]:
+            off_box.append(f"{row['lambda']:g}")
+    ax.axhline(0.0, color="k", lw=0.8, zorder=1)
+    for a in (ax, zoom):
+        a.grid(alpha=0.3)
+    ax.set_xlabel(r"$h/R$ (at fixed $\lambda$)")
+    zoom.set_xlabel(r"$10^3\,h/R$")
+    ax.set_ylabel(r"$p_\mathrm{snap}/p_\mathrm{Budiansky} - 1$  [%]")
     ax.set_xlim(-0.0005, 0.0105)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize="x-small", ncol=2)
+    ax.add_patch(Rectangle((x_box[0], y_box[0]), x_box[1] - x_box[0], y_box[1] - y_box[0], fill=False,
+                           ec=GREY, lw=0.7, zorder=1.5))
+    ax.set_title("finest mesh, $R/h$ = 100, 400, 1000, 10000 (filled);\n"
+                 "open: shallow limit $h/R \\to 0$ of the lines $p_0 + c\\,h/R$ through $R/h$ = 1000, 10000",
+                 fontsize="small", loc="left")
+    zoom.set_xlim(1e3 * x_box[0], 1e3 * x_box[1])
+    zoom.set_ylim(*y_box)
+    zoom.set_title("detail of the grey box" + (f" ($\\lambda = {', '.join(off_box)}$ below)" if off_box else ""),
+                   fontsize="small")
+    ax.legend(fontsize="x-small", ncol=2, loc="upper left")
     fig.tight_layout()
     return fig
+
+
+def _smooth(c: dict[str, Any], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
+    """The branch ``c`` (a :func:`pressure_curve` or the Bathe curve) smooth between its stored points."""
+    return smooth_path(c[x], c[y], c.get("d" + x), c.get("d" + y), c["s"])
 
 
 def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) -> Any:
@@ -405,15 +482,15 @@ def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) ->
     plt = _plt()
     fig, axes = plt.subplots(1, 3, figsize=(13.5, 4.3))
     for lam, c in curves.items():
-        line, = axes[0].plot(c["w_over_h"], c["p_over_p_c"], lw=1.1, label=f"$\\lambda$ = {lam:g}")
-        axes[1].plot(c["w_avg_over_h"], c["p_over_p_c"], lw=1.1, color=line.get_color())
+        line, = axes[0].plot(*_smooth(c, "w_over_h", "p_over_p_c"), lw=1.1, label=f"$\\lambda = {lam:g}$")
+        axes[1].plot(*_smooth(c, "w_avg_over_h", "p_over_p_c"), lw=1.1, color=line.get_color())
         if c["folds"]:
             f = c["folds"][0]
             axes[0].plot(f["w_over_h"], f["p_over_p_c"], "o", color=line.get_color(), ms=5)
             axes[1].plot(f["w_avg_over_h"], f["p_over_p_c"], "o", color=line.get_color(), ms=5)
             if lam in shapes:
                 axes[2].plot(f["r_over_a"], f["deflection_over_h"], color=line.get_color(), lw=1.2,
-                             label=f"$\\lambda$ = {lam:g}: $p$ = {f['p_over_p_c']:.3f} $p_c$")
+                             label=f"$\\lambda = {lam:g}$: $p = {f['p_over_p_c']:.3f}\\,p_c$")
     axes[0].set_xlabel("pole deflection $w/h$")
     axes[1].set_xlabel(r"average deflection $(V_0 - V)/(\pi a^2 h)$")
     for ax in axes[:2]:
@@ -422,13 +499,14 @@ def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) ->
         ax.grid(alpha=0.3)
     axes[0].set_xlim(0.0, 8.0)
     axes[1].set_xlim(0.0, 3.0)
-    axes[0].legend(fontsize="x-small", loc="upper right")
-    axes[0].set_title(f"clamped caps, R/h = {R_OVER_H:g}, N = 200, $\\nu$ = 0.3\n(dots: first fold; traced up to 1.4 $p_c$)",
-                      fontsize="small")
+    # in the free space between the lambda = 4 and 5 curves' rising ends: upper right lay on lambda = 5
+    axes[0].legend(fontsize="x-small", loc="center", bbox_to_anchor=(0.72, 0.55))
+    axes[0].set_title(f"clamped caps, $R/h = {R_OVER_H:g}$, $N = 200$, $\\nu = 0.3$\n"
+                      "(dots: first fold; traced up to $1.4\\,p_c$)", fontsize="small")
     axes[1].set_title("same curves against the average deflection", fontsize="small")
     axes[2].set_xlabel("reference radius $r/a$ (0: pole, 1: clamped edge)")
-    axes[2].set_ylabel("downward deflection $(z_{ref} - z)/h$ at the first fold")
-    axes[2].set_title("deflected shape at the snap: the mechanism changes near $\\lambda$ = 5.5", fontsize="small")
+    axes[2].set_ylabel(r"downward deflection $(z_\mathrm{ref} - z)/h$ at the first fold")
+    axes[2].set_title("deflected shape at the snap: the mechanism changes near $\\lambda = 5.5$", fontsize="small")
     axes[2].axhline(0.0, color="k", lw=0.6)
     axes[2].grid(alpha=0.3)
     axes[2].legend(fontsize="x-small")
@@ -438,15 +516,20 @@ def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) ->
 
 def plot_bathe(curve: dict[str, Any]) -> Any:
     """The Bathe cap: our load-deflection curve against the two published ones."""
+    from contin.style import COLORS, RED
+
     plt = _plt()
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
-    ax.plot(curve["w_over_h"], curve["q_norm"], "-", color="k", lw=1.2,
-            label=f"this model, N = {curve['N']} ($\\lambda$ = {curve['lambda']:.2f})")
-    ax.plot(*zip(*BATHE_TR_POINTS), "^", color="tab:red", ms=6, label="Teng & Rotter (1989a), Fig. 13")
-    ax.plot(*zip(*BATHE_B_POINTS), "o", color="tab:blue", mfc="none", ms=6, label="Bathe et al. (1975)")
+    ax.plot(*_smooth(curve, "w_over_h", "q_norm"), "-", color="k", lw=1.2, zorder=2,
+            label=f"this model, $N = {curve['N']}$ ($\\lambda = {curve['lambda']:.2f}$)")
+    # the two sources' points lie a marker's width apart at w/h = 0.45 and 1.0: small filled triangles
+    # above large hollow circles keep both visible
+    ax.plot(*zip(*BATHE_B_POINTS), "o", color=COLORS[0], mfc="none", ms=7.5, mew=1.0, zorder=3,
+            label="Bathe et al. (1975)")
+    ax.plot(*zip(*BATHE_TR_POINTS), "^", color=RED, ms=4.5, zorder=4, label="Teng & Rotter (1989a), Fig. 13")
     ax.set_xlabel("apex deflection $w_c / h$")
     ax.set_ylabel("load $q\\,(a/h)^4 / E$")
-    ax.set_title("clamped cap R = 100 in, h = 0.5 in, $\\phi_0$ = 7.1°, $\\nu$ = 0.3\n"
+    ax.set_title("clamped cap $R = 100$ in, $h = 0.5$ in, $\\phi_0 = 7.1°$, $\\nu = 0.3$\n"
                  "(published points as digitised in AQUINAS Example GNA03)", fontsize="small")
     ax.set_xlim(0.0, 3.0)
     ax.set_ylim(0.0, 16.0)

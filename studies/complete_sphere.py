@@ -167,34 +167,61 @@ def plot(membrane: Sequence[dict[str, Any]], bifurcation: Sequence[dict[str, Any
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FixedFormatter, FixedLocator, NullFormatter, NullLocator
+
+    from contin.style import COLORS, GREY, marker_style
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(9.0, 3.6))
-    for k, roh in enumerate(sorted({r["R_over_h"] for r in membrane})):
+    depths = sorted({r["R_over_h"] for r in membrane})
+    equator = {roh: [abs(r["equator_error"]) for r in membrane if r["R_over_h"] == roh] for roh in depths}
+    # the equator's error does not depend on R/h (the depths agree to 2e-5 relative): the first depth
+    # is a wide solid line under large hollow circles, the others dashed with small dots on top of it
+    same = all(np.allclose(e, equator[depths[0]], rtol=1e-3) for e in equator.values())
+    for k, roh in enumerate(depths):
         rows = [r for r in membrane if r["R_over_h"] == roh]
         N = [r["N"] for r in rows]
-        # the equator's error does not depend on R/h: hollow, larger markers keep both visible
-        a.loglog(N, [abs(r["equator_error"]) for r in rows], "o-", ms=9 - 4 * k, mfc="none" if k == 0 else None,
-                 label=f"equator, R/h = {roh:g}")
-        a.loglog(N, [abs(r["pole_error"]) for r in rows], "s--", label=f"pole, R/h = {roh:g}")
+        color = COLORS[k % len(COLORS)]
+        solid = k == 0
+        note = " (coincides)" if same and not solid else ""
+        a.loglog(N, equator[roh], color=color, ls="-" if solid else (0, (3.5, 2.0)), lw=2.2 if solid else 1.1,
+                 marker="o", ms=8 if solid else 3.5, mfc="none" if solid else color, mew=1.0, zorder=2 if solid else 3,
+                 label=f"equator, $R/h = {roh:g}${note}")
+        a.loglog(N, [abs(r["pole_error"]) for r in rows], color=color, ls="-" if solid else (0, (3.5, 2.0)), lw=1.2,
+                 marker="s", ms=4.5, label=f"pole, $R/h = {roh:g}$")
     N = np.array(sorted({r["N"] for r in membrane}), dtype=float)
-    a.loglog(N, 1e-5 * (N[0] / N) ** 2 * 10, ":", color="gray", label=r"$\propto N^{-2}$")
+    a.loglog(N, 1e-5 * (N[0] / N) ** 2 * 10, ":", color=GREY, label=r"$\propto N^{-2}$")
+    # ticks at the meshes computed, not at the log axis' round numbers
+    a.xaxis.set_major_locator(FixedLocator(N))
+    a.xaxis.set_major_formatter(FixedFormatter([f"{n:g}" for n in N]))
+    a.xaxis.set_minor_locator(NullLocator())
+    a.xaxis.set_minor_formatter(NullFormatter())
+    a.set_xlim(N[0] / 1.15, N[-1] * 1.15)
+    # room above the coarsest pole error for the legend (upper right), which then lies on no line
+    top = max(abs(r["pole_error"]) for r in membrane)
+    a.set_ylim(top=4.0 * top)
     a.set_xlabel("nodes on the meridian, $N$")
-    a.set_ylabel(r"$|w / w_{exact} - 1|$")
-    a.set_title("membrane shrinkage under pressure", fontsize="small")
-    a.legend(fontsize="x-small")
+    a.set_ylabel(r"$|w / w_\mathrm{exact} - 1|$")
+    a.set_title("membrane state: relative error of the linear shrinkage $w$ against $N$", fontsize="small")
+    a.legend(fontsize="x-small", loc="upper right")
     rows = [r for r in bifurcation if r["p_over_p_c"] is not None]
     x = [r["R_over_h"] for r in rows]
-    b.semilogx(x, [r["p_over_p_c"] for r in rows], "o", color="k", label="first singular point (ours)")
+    for kind in sorted({r["kind"] for r in rows}):
+        sel = [r for r in rows if r["kind"] == kind]
+        b.semilogx([r["R_over_h"] for r in sel], [r["p_over_p_c"] for r in sel], ls="none",
+                   label=f"first {kind.replace('_', ' ')} (ours)", **marker_style(kind))
     for r in rows:
-        b.annotate(f"l = {r['l']} ({r['kind'].replace('_', ' ')})\nclassical l* = {r['l_star']:.1f}",
-                   (r["R_over_h"], r["p_over_p_c"]), textcoords="offset points", xytext=(4, 6), fontsize="x-small")
-    b.axhline(1.0, color="gray", lw=0.8)
-    b.axhspan(0.98, 1.02, color="gray", alpha=0.15, label=r"$p_c \pm 2\,\%$")
+        b.annotate(f"$l = {r['l']}$, $l^* = {r['l_star']:.1f}$", (r["R_over_h"], r["p_over_p_c"]),
+                   textcoords="offset points", xytext=(5, 6), fontsize="x-small")
+    b.axhline(1.0, color=GREY, lw=0.8)
+    b.axhspan(0.98, 1.02, color=GREY, alpha=0.15, lw=0, label=r"$p_c \pm 2\,\%$")
     b.set_xlabel("$R/h$")
     b.set_ylabel(r"$p / p_c$")
     b.set_ylim(0.95, 1.05)
     b.set_xlim(min(x) / 1.5, max(x) * 6)
-    b.set_title("axisymmetric bifurcation of the complete sphere", fontsize="small")
+    b.set_title("first singular point of the axisymmetric pressure path", fontsize="small")
+    b.text(0.02, 0.97, "$l$: degree of the Legendre polynomial $P_l(\\cos\\beta)$ carrying most of the mode\n"
+           "$l^*$: classical degree, $l^*(l^*+1) = \\sqrt{12(1-\\nu^2)}\\,R/h$",
+           transform=b.transAxes, va="top", ha="left", fontsize="x-small")
     b.legend(fontsize="x-small", loc="lower right")
     fig.tight_layout()
     return fig

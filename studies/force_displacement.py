@@ -59,6 +59,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
+from contin import style  # noqa: E402
+from contin.diagram import smooth_path, stability_pieces  # noqa: E402
 from contin.scene import TraceResult, load_scene  # noqa: E402
 from contin_models.shell.problem import ShellPointLoad  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
@@ -113,38 +115,18 @@ def case_scene(phi_hat: float, h_over_R: float, N: int, steps: int = STEPS_FULL)
     return load_scene(SHELL_SCHEMA, None, case_overrides(phi_hat, h_over_R, N, steps))
 
 
-def _curve(br: contin.Branch) -> tuple[np.ndarray, np.ndarray, list[bool | None]]:
-    """``w/R``, ``F_norm`` and displacement stability of a path, with its located special points inserted.
-
-    A located point (fold, extremum, event) lies between stored points ``index`` and ``index + 1``;
-    its stability is None (it belongs to both neighbouring segments).
-    """
-    w = list(br.observables["w_over_R"])
-    F = list(br.observables["F_norm"])
-    stab: list[bool | None] = [bool(s) for s in br.stable_under("displacement")]
-    extra = sorted((sp for sp in br.special_points if sp.located and 0 <= sp.index < len(br) - 1
-                    and "w_over_R" in sp.observables), key=lambda sp: (sp.index, sp.s), reverse=True)
-    for sp in extra:
-        k = sp.index + 1
-        w.insert(k, float(sp.observables["w_over_R"]))
-        F.insert(k, float(sp.observables["F_norm"]))
-        stab.insert(k, None)
-    return np.array(w), np.array(F), stab
+def _stability_pieces(br: contin.Branch) -> list[tuple[np.ndarray, np.ndarray, bool | None]]:
+    """``w/R`` and ``F_norm`` of a path drawn smooth, in runs of equal displacement stability that change at
+    the located special points (:func:`contin.diagram.stability_pieces`)."""
+    return stability_pieces(br.observables["w_over_R"], br.observables["F_norm"], br.tangent("w_over_R"),
+                            br.tangent("F_norm"), br.s, br.stable_under("displacement"),
+                            [sp.s for sp in br.special_points if sp.located])
 
 
-def _runs(x: np.ndarray, y: np.ndarray, stab: Sequence[bool | None]) -> list[tuple[np.ndarray, np.ndarray, bool]]:
-    """Split a polyline into runs of equal stability; a segment is stable if both known ends are."""
-    seg = []
-    for i in range(len(x) - 1):
-        ends = [s for s in (stab[i], stab[i + 1]) if s is not None]
-        seg.append(all(ends) if ends else True)
-    out: list[tuple[np.ndarray, np.ndarray, bool]] = []
-    lo = 0
-    for i in range(1, len(seg) + 1):
-        if i == len(seg) or seg[i] != seg[lo]:
-            out.append((x[lo:i + 1], y[lo:i + 1], seg[lo]))
-            lo = i
-    return out
+def _smooth(br: contin.Branch) -> tuple[np.ndarray, np.ndarray]:
+    """``w/R`` and ``F_norm`` of a branch, smooth between its stored points (their tangents)."""
+    return smooth_path(br.observables["w_over_R"], br.observables["F_norm"], br.tangent("w_over_R"),
+                       br.tangent("F_norm"), br.s)
 
 
 def trace_case(phi_hat: float, h_over_R: float, N: int, steps: int = STEPS_FULL
@@ -416,35 +398,53 @@ def check_statements(fig3a: list[dict[str, Any]], fig3b: list[dict[str, Any]], f
 # ---------------------------------------------------------------------------------------------------
 # figures
 # ---------------------------------------------------------------------------------------------------
-def _plot_fig3_panel(ax: Any, runs: list[tuple[str, dict[str, Any], TraceResult]], title: str) -> None:
+#: Symbols of the swept quantities of figure 3 (mathtext), by record key.
+_SYMBOL = {"phi_hat": r"\hat\phi", "h_over_R": "h/R"}
+F_LABEL, W_LABEL = r"$F R / 2\pi D$", r"$w/R$"
+#: The first maximum and last minimum of F: filled triangles in the curve's colour, a black edge so that
+#: one on top of another curve or of a neighbouring mark still shows, drawn above every curve.
+_EXTREMUM = {"ms": 5.5, "mec": "k", "mew": 0.6, "ls": "none", "zorder": 5}
+
+
+def _plot_fig3_panel(ax: Any, runs: list[tuple[str, dict[str, Any], TraceResult]], title: str, key: str) -> None:
+    from matplotlib.lines import Line2D
+
     cmap = plt.get_cmap("viridis")
-    for k, (label, rec, trace) in enumerate(runs):
+    case_handles, has_max, has_min = [], False, False
+    for k, (_, rec, trace) in enumerate(runs):
         color = cmap(k / max(1, len(runs) - 1) * 0.9)
-        w, F, stab = _curve(trace.branches[0])
-        for x, y, ok in _runs(w, F, stab):
+        for x, y, ok in _stability_pieces(trace.branches[0]):
             if ok:
-                ax.plot(x, y, "-", color=color, lw=1.5)
+                ax.plot(x, y, color=color, zorder=2, **style.STABLE)
             else:
-                ax.plot(x, y, "--", color=color, lw=0.7, alpha=0.5)
-        ax.plot([], [], "-", color=color, label=f"{label}: {rec['classification'] or 'undecided'}")
+                # thinner and faded: the unstable loops of the thin caps would otherwise bury the stable parts
+                ax.plot(x, y, color=color, ls=style.UNSTABLE["ls"], lw=0.7, alpha=0.5, zorder=1)
+        case_handles.append(Line2D([], [], color=color, **style.STABLE,
+                                   label=f"${_SYMBOL[key]} = {rec[key]:g}$: {rec['classification'] or 'undecided'}"))
         if rec["F_max_norm"] is not None:
-            ax.plot(rec["w_at_F_max_over_R"], rec["F_max_norm"], "^", color=color, ms=5)
+            ax.plot(rec["w_at_F_max_over_R"], rec["F_max_norm"], "^", mfc=color, **_EXTREMUM)
+            has_max = True
         if rec["F_min_norm"] is not None:
-            ax.plot(rec["w_at_F_min_over_R"], rec["F_min_norm"], "v", color=color, ms=5)
-    ax.axhline(0.0, color="0.6", lw=0.6)
-    ax.plot([], [], "k-", label="stable (displacement control)")
-    ax.plot([], [], "k--", lw=0.7, alpha=0.5, label="unstable")
-    ax.set_xlabel("w / R")
-    ax.set_ylabel("F R / (2 pi D)")
+            ax.plot(rec["w_at_F_min_over_R"], rec["F_min_norm"], "v", mfc=color, **_EXTREMUM)
+            has_min = True
+    ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
+    extra = [Line2D([], [], color="0.15", **style.STABLE, label="stable (displacement control)"),
+             Line2D([], [], color="0.15", ls=style.UNSTABLE["ls"], lw=0.7, alpha=0.5, label="unstable")]
+    if has_max:
+        extra.append(Line2D([], [], marker="^", mfc="0.6", **_EXTREMUM, label=r"first maximum of $F$"))
+    if has_min:
+        extra.append(Line2D([], [], marker="v", mfc="0.6", **_EXTREMUM, label=r"last minimum of $F$"))
+    ax.set_xlabel(W_LABEL)
+    ax.set_ylabel(F_LABEL)
     ax.set_title(title, fontsize="medium")
-    ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.legend(handles=case_handles + extra, fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
 
 
 def plot_fig3(runs_a: list, runs_b: list, N: int) -> Any:
     """Figure 3: (a) the phi_hat sweep at h/R = 0.02, (b) the h/R sweep at phi_hat = 1.0."""
     fig, axes = plt.subplots(1, 2, figsize=(16, 5.6))
-    _plot_fig3_panel(axes[0], runs_a, f"(a) h/R = {H_3A:g}, N = {N}")
-    _plot_fig3_panel(axes[1], runs_b, f"(b) phi_hat = {PHI_3B:g}, N = {N}")
+    _plot_fig3_panel(axes[0], runs_a, f"(a) $h/R = {H_3A:g}$, $N = {N}$", "phi_hat")
+    _plot_fig3_panel(axes[1], runs_b, rf"(b) $\hat\phi = {PHI_3B:g}$, $N = {N}$", "h_over_R")
     fig.suptitle("Point indentation, displacement-controlled path (class of each run in the legend)",
                  fontsize="medium")
     fig.tight_layout()
@@ -453,53 +453,111 @@ def plot_fig3(runs_a: list, runs_b: list, N: int) -> Any:
 
 def plot_fig4(cases: dict[float, dict[str, Any]], paths: dict[float, TraceResult], N: int) -> Any:
     """Figure 4: loading/unloading under both controls (rows 1, 2) and the shapes (row 3)."""
+    from matplotlib.lines import Line2D
+
     fig, axes = plt.subplots(3, len(cases), figsize=(6.2 * len(cases), 14), squeeze=False)
-    styles = {"loading": ("-", "tab:red"), "unloading": ("--", "tab:blue"), "back to F = 0": (":", "tab:green")}
+    # "back to F = 0" dash-dotted: dotted is the snaps' style
+    styles = {"loading": ("-", "tab:red"), "unloading": ("--", "tab:blue"), "back to F = 0": ("-.", "tab:green")}
+    names = {"back to F = 0": "back to $F = 0$"}
     for col, (phi, case) in enumerate(cases.items()):
         tag = "ab"[col] if col < 2 else str(col)
         for row, ctl in enumerate(("displacement", "force")):
             ax = axes[row, col]
-            br = paths[phi].branches[0]
-            ax.plot(br.observables["w_over_R"], br.observables["F_norm"], "-", color="0.8", lw=3,
+            ax.plot(*_smooth(paths[phi].branches[0]), "-", color="0.8", lw=3,
                     label="whole path (displacement control)", zorder=0)
             d = case[ctl]
+            snaps = []
             for name, sw in d["sweeps"]:
                 ls, color = styles.get(name, ("-", "k"))
                 for b in sw.branches:
                     if len(b):
-                        ax.plot(b.observables["w_over_R"], b.observables["F_norm"], ls, color=color, lw=1.5)
-                ax.plot([], [], ls, color=color, label=name)
+                        ax.plot(*_smooth(b), ls, color=color, lw=1.5)
+                ax.plot([], [], ls, color=color, label=names.get(name, name))
                 for jr in sw.jumps:
                     a, z = _obs(d["problem"], jr.u_from, jr.p), _obs(d["problem"], jr.u_to, jr.p)
                     ax.annotate("", xy=(z["w_over_R"], z["F_norm"]), xytext=(a["w_over_R"], a["F_norm"]),
                                 arrowprops={"arrowstyle": "->", "ls": ":", "color": color, "lw": 1.3})
-            ax.plot([], [], "k:", label="snap")
+                if sw.jumps:
+                    snaps.append((name, color))
+            # the snap arrows take their sweep's colour: one entry per sweep that snaps, none without a snap
+            handles, _ = ax.get_legend_handles_labels()
+            handles += [Line2D([], [], ls=":", color=color, lw=1.3, label=f"snap on {names.get(name, name)}")
+                        for name, color in snaps]
             if ctl == "displacement":
                 for k, (_, _, _, o) in enumerate(case["shapes"]):
-                    ax.plot(o["w_over_R"], o["F_norm"], "o", color=f"C{k}", ms=6, mec="k")
-                    ax.annotate(str(k + 1), (o["w_over_R"], o["F_norm"]), textcoords="offset points",
-                                xytext=(5, 4), fontsize="small")
+                    ax.plot(o["w_over_R"], o["F_norm"], "o", color=f"C{k}", ms=6, mec="k", zorder=5)
             lp = d["loop"]
-            ax.axhline(0.0, color="0.6", lw=0.6)
-            ax.set_title(f"({tag}{row + 1}) phi_hat = {phi:g}, {ctl} control: "
+            ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
+            ax.set_title(rf"({tag}{row + 1}) $\hat\phi = {phi:g}$, {ctl} control: "
                          f"{'hysteresis' if lp['hysteresis'] else 'no hysteresis'}", fontsize="medium")
-            ax.set_xlabel("w / R")
-            ax.set_ylabel("F R / (2 pi D)")
-            ax.legend(fontsize="x-small")
+            ax.set_xlabel(W_LABEL)
+            ax.set_ylabel(F_LABEL)
+            ax.legend(handles=handles, fontsize="x-small")
         ax = axes[2, col]
         for k, (label, x, _, o) in enumerate(case["shapes"]):
             r, z = x[0::2], x[1::2]
             # the meridian runs from the base (node 0) to the pole: mirror it about the axis
             ax.plot(np.concatenate([-r, r[::-1]]), np.concatenate([z, z[::-1]]), "-", color=f"C{k}", lw=1.2,
-                    label=f"{k + 1}: {label} (w/R = {o['w_over_R']:.3f})")
+                    label=f"{k + 1}: {label} ($w/R = {o['w_over_R']:.3f}$)")
         ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel("r / R")
-        ax.set_ylabel("z / R")
-        ax.set_title(f"({tag}3) phi_hat = {phi:g}: meridian at the numbered points", fontsize="medium")
+        ax.set_xlabel(r"$r/R$")
+        ax.set_ylabel(r"$z/R$")
+        ax.set_title(rf"({tag}3) $\hat\phi = {phi:g}$: meridian at the numbered points", fontsize="medium")
         ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
-    fig.suptitle(f"Loading and unloading, h/R = {H_4:g}, N = {N}", fontsize="medium")
-    fig.tight_layout()
+    fig.suptitle(f"Loading and unloading, $h/R = {H_4:g}$, $N = {N}$", fontsize="medium")
+    # tight_layout leaves the suptitle against the top row's titles: keep a strip for it
+    fig.tight_layout(h_pad=1.5, rect=(0, 0, 1, 0.985))
+    # the numbers go where the curves are not, which is known once the layout has fixed the axes
+    for col, case in enumerate(cases.values()):
+        ax = axes[0, col]
+        placed: list[np.ndarray] = []
+        for k, (_, _, _, o) in enumerate(case["shapes"]):
+            xy = (o["w_over_R"], o["F_norm"])
+            off = _free_offset(ax, xy, placed)
+            ax.annotate(str(k + 1), xy, textcoords="offset points", xytext=off, fontsize="small",
+                        ha="center", va="center")
+            placed.append(ax.transData.transform(xy) + np.asarray(off) * fig.dpi / 72.0)
     return fig
+
+
+#: Where a point's number may go, in points from the point (its centre).
+_OFFSETS = ((8, 8), (8, -8), (-8, 8), (-8, -8), (10, 0), (-10, 0), (0, 10), (0, -10))
+
+
+def _free_offset(ax: Any, xy: tuple[float, float], placed: Sequence[np.ndarray]) -> tuple[float, float]:
+    """The offset of :data:`_OFFSETS` whose place lies farthest from every line and number on ``ax``
+    (and inside it)."""
+    segments = []
+    for line in ax.lines:
+        pts = line.get_transform().transform(np.asarray(line.get_xydata(), float))
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        if len(pts) == 1:
+            segments.append(np.hstack([pts, pts]))
+        elif len(pts) > 1:
+            segments.append(np.hstack([pts[:-1], pts[1:]]))
+    for ann in ax.texts:
+        if getattr(ann, "xyann", None) is not None and ann.get_text() == "":
+            a = ax.transData.transform(ann.xy)
+            b = ax.transData.transform(ann.xyann)
+            segments.append(np.array([[*b, *a]]))
+    seg = np.vstack(segments) if segments else np.zeros((0, 4))
+    box = ax.get_window_extent()
+    base = ax.transData.transform(xy)
+    best, best_score = _OFFSETS[0], -np.inf
+    for off in _OFFSETS:
+        c = base + np.asarray(off) * ax.figure.dpi / 72.0
+        a, b = seg[:, :2], seg[:, 2:]
+        d = b - a
+        t = np.clip(np.einsum("ij,ij->i", c - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-12), 0.0, 1.0)
+        score = float(np.min(np.hypot(*(a + t[:, None] * d - c).T), initial=np.inf))
+        for q in placed:
+            score = min(score, float(np.hypot(*(q - c))))
+        margin = 8 * ax.figure.dpi / 72.0
+        if not (box.x0 + margin < c[0] < box.x1 - margin and box.y0 + margin < c[1] < box.y1 - margin):
+            score -= 1e6
+        if score > best_score:
+            best, best_score = off, score
+    return best
 
 
 # ---------------------------------------------------------------------------------------------------

@@ -469,6 +469,10 @@ def _circle(ax: Any, zc: float, rad: float, **kw: Any) -> None:
     ax.plot(rad * np.cos(t), zc + rad * np.sin(t), **kw)
 
 
+#: The barrier range dhat of the simulated runs, in units of R (as in :func:`run`).
+_DHAT = 1e-3
+
+
 def _fig9(res: dict[str, Any]) -> Any:
     import matplotlib.pyplot as plt
 
@@ -477,67 +481,76 @@ def _fig9(res: dict[str, Any]) -> Any:
     nc = m["curves"]
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.6))
     keep = nc["s"] < 0.98 * nc["s_crest"]
-    a.plot(nc["s"][keep], nc["g"][keep], "-", color="C0", label="$\\tilde r - \\tilde h$")
+    a.plot(nc["s"][keep], nc["g"][keep], "-", color="C0", label="$\\tilde r - \\tilde h$ (left axis)")
     a.axhline(0, color="0.6", lw=0.6)
-    a.axvline(m["s_star"], color="k", ls="--", lw=0.8)
-    a.axvline(nc["s_crest"], color="0.6", ls=":", lw=0.8)
-    a.text(nc["s_crest"], a.get_ylim()[1], " crest", fontsize="x-small", va="top", color="0.4")
-    a.set_xlabel("arc length from the pole, s/R")
+    a.axvline(m["s_star"], color="k", ls="--", lw=0.8, label=f"$s^*/R$ = {m['s_star']:.3f}: $\\tilde r = \\tilde h$")
+    a.axvline(nc["s_crest"], color="0.6", ls=":", lw=0.8, label="crest of the snap shape")
+    a.set_xlabel("arc length from the pole $s/R$")
     a.set_ylabel("$(\\tilde r - \\tilde h)/R$")
     a2 = a.twinx()
-    a2.plot(nc["s"][keep], nc["r_tilde"][keep], ":", color="C2", label="$\\tilde r$")
+    a2.plot(nc["s"][keep], nc["r_tilde"][keep], ":", color="C2", label="$\\tilde r$ (right axis)")
     a2.set_ylim(0, 3.0)
     a2.set_ylabel("$\\tilde r / R$", color="C2")
     sim = S["base"]["r_c_simulated_over_R"]
-    txt = f"geometric $r_c/R$ = {m['r_c']:.4f} at s/R = {m['s_star']:.3f}"
+    txt = f"geometric model: $r_c/R$ = {m['r_c']:.3f} at $s^*$"
     if sim is not None:
         lo, hi = S["base"]["r_c_simulated_bracket"]
-        txt += f"\nsimulated $r_c/R$ = {sim:.4f} (bracket {lo:.4f}..{hi:.4f}; + dhat = {sim + 1e-3:.4f})"
+        txt += (f"\ncontact runs: $r_c/R \\in [{lo:.3f}, {hi:.3f}]$,"
+                f" $r_c/R + \\hat d \\in [{lo + _DHAT:.3f}, {hi + _DHAT:.3f}]$")
     a.set_title("(a) $\\tilde r - \\tilde h$ along the universal snap shape", fontsize="small")
-    a.text(0.02, 0.04, txt, transform=a.transAxes, fontsize="x-small")
-    a.legend(loc="center left", fontsize="x-small")
+    a.text(0.02, 0.04, txt, transform=a.transAxes, fontsize="small")
+    # between the curve near 0 and the dotted r~ below it, where the band is empty
+    h1, l1 = a.get_legend_handles_labels()
+    h2, l2 = a2.get_legend_handles_labels()
+    a.legend(h1[:1] + h2 + h1[1:], l1[:1] + l2 + l1[1:], loc="center left", bbox_to_anchor=(0.01, 0.62))
     # (b) spheres tangent to the shape at a few s, centred on the axis
     r, z = base["r"], base["z"]
-    b.plot(r, z, "-", color="k", lw=2)
+    b.plot(r, z, "-", color="k", lw=2, label="snap shape (free, $F = 0$)")
     b.plot(-r, z, "-", color="k", lw=2)
     picks = [0.5 * m["s_star"], m["s_star"], 0.5 * (m["s_star"] + nc["s_crest"])]
     for k, sv in enumerate(picks):
         c = _centres(nc["spline_r"], nc["spline_z"], np.array([sv]), nc["z_pole"])
         rad, zc = float(c["r_tilde"][0]), float(c["z_centre"][0])
-        lab = ["$\\tilde r > \\tilde h$: the sphere would cross the pole",
-               "$\\tilde r = \\tilde h$: $r = r_c$", "$\\tilde r < \\tilde h$: pole detached"][k]
-        _circle(b, zc, rad, color=f"C{k + 1}", lw=1, label=f"s/R = {sv:.3f}, r/R = {rad:.3f} ({lab})")
+        lab = ["$\\tilde r > \\tilde h$: crosses the pole", "$\\tilde r = \\tilde h$: $r = r_c$",
+               "$\\tilde r < \\tilde h$: pole detached"][k]
+        _circle(b, zc, rad, color=f"C{k + 1}", lw=1, label=f"$s/R$ = {sv:.3f}, $\\tilde r/R$ = {rad:.3f} ({lab})")
         b.plot([float(nc["spline_r"](sv))], [float(nc["spline_z"](sv))], "o", color=f"C{k + 1}", ms=4)
         b.plot([0], [zc], "+", color=f"C{k + 1}")
     b.set_aspect("equal")
     b.set_xlim(-0.9, 0.9)
     b.set_ylim(0.4, 1.9)
-    b.set_xlabel("r/R")
-    b.set_ylabel("z/R")
-    b.legend(fontsize="xx-small", loc="upper left")
-    b.set_title("(b) spheres tangent to the snap shape, centred on the axis", fontsize="small")
+    b.set_xlabel("$x/R$")
+    b.set_ylabel("$z/R$")
+    # inside the spheres, above the shape and below their centres: the only place no curve crosses
+    b.legend(loc="center", bbox_to_anchor=(0.0, 1.12), bbox_transform=b.transData)
+    b.set_title("(b) spheres centred on the axis (+), tangent to the snap shape (dots)", fontsize="small")
     fig.tight_layout()
     return fig
 
 
-def _plot_r_c(ax: Any, cases: list[dict[str, Any]], x_key: str) -> list[dict[str, Any]]:
-    """Plot the critical indenter size of ``cases`` against ``c[x_key]`` on ``ax``; return the simulated cases.
+def _plot_r_c(ax: Any, cases: list[dict[str, Any]], x_key: str, scale: Any = None) -> list[dict[str, Any]]:
+    """Plot the critical indenter size of ``cases`` against ``c[x_key]`` on ``ax`` (divided by ``scale(case)``
+    when given); return the simulated cases.
 
-    The geometric model (open marks where the fold in w comes before F = 0) and the contact
-    simulations with their bisection brackets.
+    The geometric model (one value a cap: markers, a thin line to guide the eye; a larger open circle
+    where the fold in w comes before F = 0) and the contact simulations with their bisection brackets.
     """
-    ax.plot([c[x_key] for c in cases], [c["r_c_geometric"] for c in cases], "o-", color="C0", ms=4,
+    f = scale or (lambda c: 1.0)
+    ax.plot([c[x_key] for c in cases], [c["r_c_geometric"] / f(c) for c in cases], "o-", color="C0", ms=4, lw=0.8,
             label="geometric model")
     ff = [c for c in cases if c["fold_first"]]
     if ff:
-        ax.plot([c[x_key] for c in ff], [c["r_c_geometric"] for c in ff], "o", mfc="w", color="C0", ms=7,
-                label="fold in w before F = 0")
+        ax.plot([c[x_key] for c in ff], [c["r_c_geometric"] / f(c) for c in ff], "o", mfc="none", color="C0", ms=8,
+                label="fold in $w$ before $F = 0$")
     sims = [c for c in cases if c["r_c_simulated"] is not None]
     if sims:
-        ax.errorbar([c[x_key] for c in sims], [c["r_c_simulated"] for c in sims],
-                    yerr=[[c["r_c_simulated"] - c["r_c_simulated_bracket"][0] for c in sims],
-                          [c["r_c_simulated_bracket"][1] - c["r_c_simulated"] for c in sims]],
-                    fmt="s", color="C3", ms=5, capsize=3, label="contact simulation (bisection)")
+        # the bracket is the result, and about as tall as a marker: drawn alone, its caps wider than the
+        # model's dot (the two agree to about dhat), so that neither hides the other
+        ax.errorbar([c[x_key] for c in sims], [c["r_c_simulated"] / f(c) for c in sims],
+                    yerr=[[(c["r_c_simulated"] - c["r_c_simulated_bracket"][0]) / f(c) for c in sims],
+                          [(c["r_c_simulated_bracket"][1] - c["r_c_simulated"]) / f(c) for c in sims]],
+                    fmt="none", ecolor="C3", elinewidth=1.0, capsize=4.5, capthick=1.3, zorder=3,
+                    label="contact simulation (bisection bracket)")
     return sims
 
 
@@ -549,23 +562,24 @@ def _fig10(res: dict[str, Any]) -> Any:
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.4))
     for k, c in enumerate(cases):
         col = plt.cm.viridis(k / max(len(cases) - 1, 1))
-        a.plot(c["r"], c["z"], "-", color=col, lw=1, label=f"h/R = {c['h_over_R']:g}")
+        a.plot(c["r"], c["z"], "-", color=col, lw=1, label=f"{c['h_over_R']:g}")
         a.plot(-c["r"], c["z"], "-", color=col, lw=1)
-    a.set_xlabel("r/R")
-    a.set_ylabel("z/R")
-    a.set_title(f"(a) snap shapes, $\\hat\\phi$ = {PHI_HAT} (z exaggerated)", fontsize="small")
-    a.legend(fontsize="xx-small", ncol=2)
+    a.set_xlabel("$x/R$")
+    a.set_ylabel("$z/R$")
+    a.set_title(f"(a) snap shapes, $\\hat\\phi$ = {PHI_HAT} ($z$ exaggerated)", fontsize="small")
+    # above the dips, between the crests
+    a.legend(ncol=3, title="$h/R$", loc="upper center")
     h = np.array([c["h_over_R"] for c in cases])
     _plot_r_c(b, cases, "h_over_R")
     f = fits["r_c_vs_h_geometric_h_le_0.035"]
     if f["slope"] is not None:
         hh = np.linspace(h.min(), H_LINEAR_MAX, 50)
         b.plot(hh, f["slope"] * hh + f["intercept"], "--", color="k", lw=0.8,
-               label=f"linear fit h/R <= {H_LINEAR_MAX}: slope {f['slope']:.3f}, $R^2$ = {f['r2']:.5f}")
-    b.set_xlabel("h/R")
+               label=f"linear fit, $h/R \\leq {H_LINEAR_MAX:g}$: slope ${f['slope']:.3g}$, $R^2$ = {f['r2']:.3f}")
+    b.set_xlabel("$h/R$")
     b.set_ylabel("$r_c/R$")
     b.set_title(f"(b) critical indenter size against thickness, $\\hat\\phi$ = {PHI_HAT}", fontsize="small")
-    b.legend(fontsize="x-small")
+    b.legend(loc="upper right")
     fig.tight_layout()
     return fig
 
@@ -583,40 +597,41 @@ def _fig11(res: dict[str, Any]) -> Any:
         a.plot(-c["r"], c["z"], "-", color=col, lw=1)
         X, Z = _scaled(c)
         c_.plot(X, Z, "-", color=col, lw=1, label=f"{c['phi_hat']:g}")
-    a.set_xlabel("r/R")
-    a.set_ylabel("z/R")
-    a.set_title("(a) snap shapes, h/R = 0.02 (z exaggerated)", fontsize="small")
-    a.legend(fontsize="xx-small", ncol=3, title="$\\hat\\phi$", title_fontsize="x-small")
+    a.set_xlabel("$x/R$")
+    a.set_ylabel("$z/R$")
+    a.set_title(f"(a) snap shapes, $h/R$ = {H_OVER_R} ($z$ exaggerated)", fontsize="small")
+    # room under the deepest dip for the legend: no shape reaches there
+    lo, hi = a.get_ylim()
+    a.set_ylim(lo - 0.22 * (hi - lo), hi)
+    a.legend(ncol=len(cases) // 2 + len(cases) % 2, title="$\\hat\\phi$", loc="lower center")
     col = S["collapse"]
     c_.set_xlabel("$r / (R\\cos\\hat\\phi)$")
-    c_.set_ylabel("$(z - z_{pole}) / (R(1 - \\sin\\hat\\phi))$")
+    c_.set_ylabel("$(z - z_\\mathrm{pole}) / (R(1 - \\sin\\hat\\phi))$")
     c_.set_title(f"(c) scaled snap shapes: max spread {col['all_bistable']['max_spread']:.3f} "
-                 f"({100 * col['all_bistable']['relative_max_spread']:.0f} % of the range; unscaled z: "
+                 f"({100 * col['all_bistable']['relative_max_spread']:.0f} % of the range; unscaled $z$: "
                  f"{100 * col['baseline_r_scaled_z_unscaled_all_bistable']['relative_max_spread']:.0f} %)", fontsize="small")
-    phi = np.array([c["phi_hat"] for c in cases])
-    sims = _plot_r_c(b, cases, "phi_hat")
+    # the shapes rise from the pole at the bottom left: the top left is empty
+    c_.legend(ncol=3, title="$\\hat\\phi$", loc="upper left")
+    _plot_r_c(b, cases, "phi_hat")
     nb = S["not_bistable"]
     nbp = [x["phi_hat"] for x in nb if x["h_over_R"] == H_OVER_R]
     if nbp:
-        b.axvspan(min(nbp) - 0.0125, max(nbp) + 0.0125, color="0.9", label="not bistable (no snap at F = 0)")
+        b.axvspan(min(nbp) - 0.0125, max(nbp) + 0.0125, color="0.9", label="not bistable (no snap at $F = 0$)")
     b.set_xlabel("$\\hat\\phi$")
     b.set_ylabel("$r_c/R$")
-    b.set_title("(b) critical indenter size against the base angle, h/R = 0.02", fontsize="small")
-    b.legend(fontsize="x-small")
-    y = [c["r_c_geometric"] / (1 - math.sin(c["phi_hat"])) for c in cases]
-    d.plot(phi, y, "o-", ms=4, color="C0", label="geometric model")
-    if sims:
-        d.plot([c["phi_hat"] for c in sims], [c["r_c_simulated"] / (1 - math.sin(c["phi_hat"])) for c in sims], "s",
-               color="C3", ms=5, label="contact simulation")
+    b.set_title(f"(b) critical indenter size against the base angle, $h/R$ = {H_OVER_R}", fontsize="small")
+    b.legend(loc="lower left")
+    _plot_r_c(d, cases, "phi_hat", scale=lambda c: 1.0 - math.sin(c["phi_hat"]))
     f = S["fits"]["r_c_over_1_minus_sin_vs_phi_geometric_paper_range"]
     if f["slope"] is not None:
         pp = np.linspace(*PHI_PAPER, 50)
         d.plot(pp, f["slope"] * pp + f["intercept"], "--", color="k", lw=0.8,
-               label=f"linear fit $\\hat\\phi$ in {PHI_PAPER}: slope {f['slope']:.3f}, $R^2$ = {f['r2']:.5f}")
+               label=f"linear fit, ${PHI_PAPER[0]:g} \\leq \\hat\\phi \\leq {PHI_PAPER[1]:g}$: "
+                     f"slope ${f['slope']:.3g}$, $R^2$ = {f['r2']:.3f}")
     d.set_xlabel("$\\hat\\phi$")
     d.set_ylabel("$r_c / (R(1 - \\sin\\hat\\phi))$")
     d.set_title("(d) normalized critical indenter size", fontsize="small")
-    d.legend(fontsize="x-small")
+    d.legend(loc="upper left")
     fig.tight_layout()
     return fig
 

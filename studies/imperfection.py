@@ -316,31 +316,46 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from contin.style import COLORS, RED
+
     fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.8), sharey=True)
     titles = {"hemisphere": "clamped hemisphere", "sphere": "complete sphere"}
-    markers = "osD^v"
+    # the curves meet within a marker's width at small delta (lambda_I = 1 and 3, lambda_I = 4 and the
+    # mode): the large hollow marks lie below, the small filled ones on top of them, so both show
+    marks = ({"marker": "o", "ms": 6.0, "mfc": "none", "mew": 1.0, "zorder": 3},
+             {"marker": "s", "ms": 3.6, "zorder": 4},
+             {"marker": "D", "ms": 3.6, "zorder": 4},
+             {"marker": "^", "ms": 6.5, "mfc": "none", "mew": 1.0, "zorder": 3})
     for ax, shell in zip(axes, SHELLS):
-        sel = [r for r in rows if r["shell"] == shell and r["nu"] == NU]
+        sel = [r for r in rows if r["shell"] == shell and r["nu"] == NU and r["kappa"] is not None]
         lams = sorted({r["lambda_I"] for r in sel if r["imperfection"] == "dimple"})
-        for j, lam in enumerate(lams):
-            cur = sorted((r for r in sel if r["imperfection"] == "dimple" and r["lambda_I"] == lam and r["kappa"] is not None),
-                         key=lambda r: r["delta_over_h"])
-            ax.plot([r["delta_over_h"] for r in cur], [r["kappa"] for r in cur], "-", marker=markers[j % 5], ms=3.5,
-                    lw=1.2, label=rf"dimple, $\lambda_I = {lam:g}$")
-        cur = sorted((r for r in sel if r["imperfection"] == "mode" and r["kappa"] is not None),
-                     key=lambda r: r["delta_over_h"])
-        if cur:
-            ax.plot([r["delta_over_h"] for r in cur], [r["kappa"] for r in cur], "k--", lw=1.2,
-                    label="critical-mode shape\n(largest inward normal $\\delta$)")
+        curves = [(rf"dimple, $\lambda_I = {lam:g}$", dict(marks[j % len(marks)], color=COLORS[j % len(COLORS)]),
+                   sorted((r for r in sel if r["imperfection"] == "dimple" and r["lambda_I"] == lam),
+                          key=lambda r: r["delta_over_h"]))
+                  for j, lam in enumerate(lams)]
+        mode = sorted((r for r in sel if r["imperfection"] == "mode"), key=lambda r: r["delta_over_h"])
+        if mode:
+            # a sweep of separate runs: a dot at every sample, no interpolation between them
+            curves.append(("critical-mode shape\n(largest inward normal $\\delta$)",
+                           {"marker": "o", "ms": 3.0, "color": "k", "ls": (0, (4.0, 2.2)), "zorder": 5}, mode))
+        for label, style, cur in curves:
+            # every curve starts at the perfect shell: its one point is drawn once below, not once a curve
+            ax.plot([r["delta_over_h"] for r in cur], [r["kappa"] for r in cur], **{"ls": "-", "lw": 1.2, **style},
+                    markevery=[i for i, r in enumerate(cur) if r["delta_over_h"] != 0.0], label=label)
+        perfect = sorted({round(r["kappa"], 6) for r in sel if r["delta_over_h"] == 0.0})
+        if perfect:
+            ax.plot([0.0] * len(perfect), perfect, "o", color="k", mfc="w", mew=1.0, ms=5.0, zorder=7,
+                    label="perfect shell")
         for pub in (p for p in PUBLISHED if p["shell"] == shell):
-            ax.plot([pub["delta_over_h"]], [pub["kappa"]], "*", color="crimson", ms=11, mec="k", mew=0.6, clip_on=False,
-                    zorder=5, label="3-D FE, near-perfect limit\n(Ubamanyu et al. 2025)")
+            # the largest mark, so the lowest: the perfect shell's circle shows inside it
+            ax.plot([pub["delta_over_h"]], [pub["kappa"]], "*", color=RED, ms=11, mec="k", mew=0.6, clip_on=False,
+                    zorder=2.5, label="3-D FE, near-perfect limit\n(Ubamanyu et al. 2025)")
         ax.set_xlabel(r"imperfection amplitude $\delta / h$")
         ax.set_title(f"{titles[shell]}, $R/h = {R_OVER_H:g}$, $\\nu = {NU:g}$", fontsize="medium")
         ax.set_xlim(left=-0.1)
         ax.set_ylim(0.0, 1.1)
         ax.grid(alpha=0.3, lw=0.5)
-    axes[0].set_ylabel(r"knockdown $\kappa = p_{max} / p_c$")
+    axes[0].set_ylabel(r"knockdown $\kappa = p_\mathrm{max} / p_c$")
     axes[1].legend(fontsize="x-small", loc="upper right")
     fig.tight_layout()
     return fig

@@ -234,7 +234,8 @@ def snap_case(r: float, N: int = 200, extra: Sequence[str] = (), keep_path: bool
         Further scene overrides (``"shell.h=0.03"``, ``"shell.phi_hat=1.0"``, ...).
     keep_path, keep_shape : bool
         Also return the loading path (the observables of :data:`_PATH_OBS` per stored point, the snap
-        appended) and the node coordinates at the snap.
+        appended, and ``path_tangents``: the arclength ``s`` and ``d/ds`` of ``w_b_over_R`` and
+        ``F_norm`` where the branch stores them, NaN at the snap) and the node coordinates at the snap.
 
     Returns
     -------
@@ -263,6 +264,12 @@ def snap_case(r: float, N: int = 200, extra: Sequence[str] = (), keep_path: bool
         "dhat": P.dhat, "points": len(br.p), "status": br.status, "time_s": time.perf_counter() - t0}
     if keep_path:
         rec["path"] = {name: np.append(br.observable(name), obs[name]) for name in _PATH_OBS}
+        # d/ds along the path where the branch stores them (NaN at the appended snap): the figures draw
+        # the path smooth between stored points with them (contin.diagram.smooth_path)
+        d_F = br.tangent("F_norm")
+        rec["path_tangents"] = {
+            "s": np.append(br.s, sp.s), "w_b_over_R": np.append(br.tangent_p / R, np.nan),
+            "F_norm": np.append(d_F if d_F is not None else np.full(len(br.p), np.nan), np.nan)}
     if keep_shape:
         x = P.full_state(sp.u)
         rec["r"], rec["z"] = x[0::2] / R, x[1::2] / R
@@ -523,6 +530,17 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200,
 # ---------------------------------------------------------------------------------------------------
 # figures
 # ---------------------------------------------------------------------------------------------------
+def _smooth_path_of(d: dict[str, Any], y: str) -> tuple[np.ndarray, np.ndarray]:
+    """A case's loading path ``(w_b/R, y)``, each piece between stored points a cubic through both with the
+    path's stored direction (:func:`contin.diagram.smooth_path`); straight where no tangent is stored."""
+    from contin.diagram import smooth_path
+
+    p, t = d["path"], d.get("path_tangents")
+    if t is None or y not in t:
+        return p["w_b_over_R"], p[y]
+    return smooth_path(p["w_b_over_R"], p[y], t["w_b_over_R"], t[y], t["s"])
+
+
 def _fig6(res: dict[str, Any]) -> Any:
     import matplotlib.pyplot as plt
 
@@ -531,36 +549,42 @@ def _fig6(res: dict[str, Any]) -> Any:
     r_all = [d["r_over_R"] for d in cases]
     norm = matplotlib.colors.Normalize(min(r_all), max(r_all))
     for d in cases:
-        p = d["path"]
-        a.plot(p["w_b_over_R"], p["F_norm"], "-", lw=1.0, color=plt.cm.viridis(norm(d["r_over_R"])))
-    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=a, label="r/R", pad=0.01)
+        a.plot(*_smooth_path_of(d, "F_norm"), "-", lw=1.0, color=plt.cm.viridis(norm(d["r_over_R"])))
+    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=a, label="indenter radius $r/R$", pad=0.01)
     fp = free["path"]
     a.plot(fp["w_over_R"][::2], fp["F_norm"][::2], "o", mfc="none", ms=3.5, color="k", label="point load (bilateral)")
     a.axhline(0, color="0.7", lw=0.6)
     a.set_xlabel("$w_b/R$")
-    a.set_ylabel("$F R / (2\\pi D)$")
+    a.set_ylabel("$F R / 2\\pi D$")
     a.set_title("(a) loading paths to the snap")
-    a.legend(fontsize="x-small", loc="lower left")
+    # the paths start together at the origin and end on the axis: the top right is the free corner
+    a.legend(loc="upper right")
     r = np.array([d["r_over_R"] for d in cases])
     rr = np.linspace(0.05, max(r.max(), 2.0), 400)
     dhat = S["scene"]["dhat_over_R"]
     curve = barrier_curve(free["r"], free["z"])
     pred = np.array([resting_sphere(*curve, x + dhat)["gap"] for x in rr])
-    b.plot(r, [d["w_b_c_over_R"] for d in cases], "o-", color="C0", label="$w_b^c/R$ (contact runs)")
-    b.plot(rr, free["w_s_over_R"] - pred, ":", color="C0", lw=1.2, label="$w_s^*/R - \\Delta H/R$ (sphere on free snap shape)")
-    b.set_xlabel("$r/R$")
+    # one run a radius: markers at the runs, thin lines between them only to guide the eye
+    b.plot(r, [d["w_b_c_over_R"] for d in cases], "o-", color="C0", ms=5, lw=0.7, zorder=3,
+           label="$w_b^c/R$ (contact runs)")
+    b.plot(rr, free["w_s_over_R"] - pred, ":", color="C0", lw=1.2,
+           label="$w_s^*/R - \\Delta H/R$ (sphere on free snap shape)")
+    b.set_xlabel("indenter radius $r/R$")
     b.set_ylabel("$w_b^c/R$", color="C0")
     b2 = b.twinx()
-    b2.plot(r, [d["Delta_H_over_R"] for d in cases], "s-", color="C3", label="$\\Delta H/R$ (contact runs)")
+    b2.plot(r, [d["Delta_H_over_R"] for d in cases], "s-", color="C3", ms=4.5, lw=0.7, zorder=3,
+            label="$\\Delta H/R$ (contact runs)")
     b2.plot(rr, pred, ":", color="C3", lw=1.2, label="$\\Delta H/R$ (sphere on free snap shape)")
     b2.set_ylabel("$\\Delta H/R$ at the snap", color="C3")
-    b.axvline(S["r_c_over_R"], color="k", ls="--", lw=0.8)
-    b.text(S["r_c_over_R"], b.get_ylim()[0], f" $r_c/R$ = {S['r_c_over_R']:.4f}", fontsize="small", va="bottom")
+    # r_c is known to its bisection bracket only: the bracket shaded, its midpoint dashed
+    lo, hi = S["r_c_bracket"]
+    b.axvspan(lo, hi, color="0.88", lw=0, zorder=0)
+    b.axvline(S["r_c_over_R"], color="k", ls="--", lw=0.8, label=f"$r_c/R \\in [{lo:.3f}, {hi:.3f}]$ (bisection)")
     h1, l1 = b.get_legend_handles_labels()
     h2, l2 = b2.get_legend_handles_labels()
-    b.legend(h1 + h2, l1 + l2, fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
+    b.legend(h1 + h2, l1 + l2, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
     b.set_title("(b) snap travel and pole gap against the indenter size")
-    fig.suptitle(f"Sphere indentation, $\\hat\\phi$ = {PHI_HAT}, h/R = {H_OVER_R}, N = {S['scene']['N']}", fontsize="medium")
+    fig.suptitle(f"Sphere indentation, $\\hat\\phi$ = {PHI_HAT}, $h/R$ = {H_OVER_R}, $N$ = {S['scene']['N']}")
     fig.tight_layout()
     return fig
 
@@ -568,66 +592,92 @@ def _fig6(res: dict[str, Any]) -> Any:
 def _fig7(res: dict[str, Any]) -> Any:
     import matplotlib.pyplot as plt
 
-    cases, free = res["cases"], res["free"]
-    want = [0.5, res["summary"]["r_c_over_R"], 1.1]
+    cases, free, S = res["cases"], res["free"], res["summary"]
+    nearest = lambda rw: min(cases, key=lambda c: abs(c["r_over_R"] - rw))  # noqa: E731
+    # no run keeps its shape at r_c itself (the bisection's runs keep none): the first sampled radius past
+    # its bracket stands for the transition, and its title says so
+    above = [c for c in cases if c["r_over_R"] > S["r_c_bracket"][1]]
+    middle = ((min(above, key=lambda c: c["r_over_R"]), ", the first sample above $r_c/R$") if above
+              else (nearest(S["r_c_over_R"]), ", the sample nearest $r_c/R$"))
+    picks = [(nearest(0.5), ""), middle, (nearest(1.1), "")]
     fig, axes = plt.subplots(1, 3, figsize=(12, 4.4), sharey=True)
-    dhat = res["summary"]["scene"]["dhat_over_R"]
-    for ax, rw in zip(axes, want):
-        d = min(cases, key=lambda c: abs(c["r_over_R"] - rw))
-        ax.plot(free["r"], free["z"], "-", color="0.6", lw=3, label="free snap state (point load, F = 0)")
+    dhat = S["scene"]["dhat_over_R"]
+    for ax, (d, what) in zip(axes, picks):
+        ax.plot(free["r"], free["z"], "-", color="0.6", lw=3, label="free snap state (point load at $F = 0$)")
         ax.plot(-free["r"], free["z"], "-", color="0.6", lw=3)
         ax.plot(d["r"], d["z"], "-", color="C0", lw=1.2, label="contact run at its snap")
         ax.plot(-d["r"], d["z"], "-", color="C0", lw=1.2)
         rest = resting_sphere(*barrier_curve(free["r"], free["z"]), d["r_over_R"] + dhat)
         t = np.linspace(0, 2 * np.pi, 400)
         rad = d["r_over_R"]
-        ax.plot(rad * np.cos(t), rest["centre"] + rad * np.sin(t), "-", color="C3", lw=1.0, label="indenter")
+        ax.plot(rad * np.cos(t), rest["centre"] + rad * np.sin(t), "-", color="C3", lw=1.0,
+                label="indenter (sphere of radius $r$)")
         ax.set_aspect("equal")
         ax.set_xlim(-1.0, 1.0)
         ax.set_ylim(0.5, 1.65)
-        ax.set_title(f"r/R = {rad:g}: {d['contact_mode']}, $\\Delta H/R$ = {d['Delta_H_over_R']:.4f}", fontsize="small")
-        ax.set_xlabel("r/R")
-    axes[0].set_ylabel("z/R")
-    axes[0].legend(fontsize="x-small", loc="upper left")
+        ax.set_title(f"$r/R$ = {rad:g}{what}\n{d['contact_mode']}, $\\Delta H/R$ = {d['Delta_H_over_R']:.3g}",
+                     fontsize="small")
+        # the section's horizontal coordinate: r is the indenter's radius here
+        ax.set_xlabel("$x/R$")
+    axes[0].set_ylabel("$z/R$")
     fig.tight_layout()
+    # under the panels (every corner of them holds a shape or the indenter), after the layout, which
+    # would otherwise narrow the panels to the legend's width
+    axes[1].legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
     return fig
 
 
 def _fig8(res: dict[str, Any]) -> Any:
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
 
     cases, free = res["cases"], res["free"]
     sel = [d for d in cases if any(abs(d["r_over_R"] - r) < 1e-9 for r in FIG8_RADII)]
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex="col")
     fp = free["path"]
+    n = len(sel)
     for k, d in enumerate(sel):
         p = d["path"]
-        c = plt.cm.plasma(k / max(len(sel), 1))
-        lab = f"r/R = {d['r_over_R']:g} ({d['contact_mode']})"
+        c = plt.cm.plasma(k / max(n, 1))
+        lab = f"$r/R$ = {d['r_over_R']:g} ({d['contact_mode']})"
         axes[0, 0].plot(p["w_b_over_R"], p["kappa_p_R"], "-", color=c, label=lab)
         axes[0, 1].plot(p["w_s_over_R"], p["kappa_p_R"], "-", color=c, label=lab)
         axes[1, 0].plot(p["w_b_over_R"], p["Delta_H_over_R"], "-", color=c, label=lab)
         axes[1, 1].plot(p["w_s_over_R"], p["Delta_H_over_R"], "-", color=c, label=lab)
+        # the snaps coincide (the universal snap state): rings shrinking from the first radius to the
+        # last nest there instead of covering each other
         for ax, x in ((axes[0, 0], "w_b_over_R"), (axes[0, 1], "w_s_over_R")):
-            ax.plot(p[x][-1], p["kappa_p_R"][-1], "o", color=c, ms=4)
+            ax.plot(p[x][-1], p["kappa_p_R"][-1], "o", mfc="none", mec=c, mew=0.9, ms=3.5 + 2.8 * (n - 1 - k),
+                    zorder=4 + k)
     kmin = min(float(np.min(d["path"]["kappa_p_R"])) for d in sel)
     kmax = max(float(np.max(d["path"]["kappa_p_R"])) for d in sel)
     for ax in (axes[0, 0], axes[0, 1]):
         ax.plot(fp["w_over_R"], fp["kappa_p_R"], ":", color="k", lw=1,
-                label=f"point load (min {np.min(fp['kappa_p_R']):.1f}, off scale)")
+                label=f"point load (min ${np.min(fp['kappa_p_R']):.3g}$, off scale)")
         ax.set_ylim(kmin - 0.4, kmax + 0.4)
-        ax.axhline(free["kappa_p_R"], color="0.6", lw=0.6)
+        ax.axhline(free["kappa_p_R"], color="0.6", lw=0.6,
+                   label=f"free snap state ($F = 0$): $\\kappa_p R = {free['kappa_p_R']:.3g}$")
         ax.set_ylabel("$\\kappa_p R$")
     for ax in (axes[1, 0], axes[1, 1]):
         ax.set_ylabel("$\\Delta H/R$")
-        ax.axhline(res["summary"]["scene"]["dhat_over_R"], color="0.6", lw=0.6, ls="--")
+        dh = res["summary"]["scene"]["dhat_over_R"]
+        ax.axhline(dh, color="0.6", lw=0.6, ls="--")
+        # right end, above the line: the paths there are flat at 0 or far above it
+        ax.annotate("$\\Delta H = \\hat d$", (1.0, dh), xycoords=("axes fraction", "data"), xytext=(-3, 2),
+                    textcoords="offset points", ha="right", va="bottom", fontsize="small", color="0.4")
     axes[1, 0].set_xlabel("$w_b/R$ (indenter)")
     axes[1, 1].set_xlabel("$w_s/R$ (pole)")
     axes[0, 0].set_title("(a) pole curvature against indenter travel", fontsize="small")
-    axes[0, 1].set_title("(c) pole curvature against pole travel", fontsize="small")
-    axes[1, 0].set_title("(b) pole gap against indenter travel (dashed: dhat)", fontsize="small")
+    axes[0, 1].set_title("(b) pole curvature against pole travel", fontsize="small")
+    axes[1, 0].set_title("(c) pole gap against indenter travel", fontsize="small")
     axes[1, 1].set_title("(d) pole gap against pole travel", fontsize="small")
-    axes[0, 0].legend(fontsize="x-small", loc="lower right")
+    # above the curves (they start at kappa_p R = 1 and fall below the free state's line at once):
+    # the radii in (a), the reference lines and the snap rings in (b)
+    axes[0, 0].legend(handles=axes[0, 0].get_legend_handles_labels()[0][:n], loc="upper right")
+    refs = axes[0, 1].get_legend_handles_labels()[0][n:]
+    refs.append(Line2D([], [], ls="none", marker="o", mfc="none", mec="0.25", mew=0.9, ms=6,
+                       label="snap (rings nest where snaps coincide)"))
+    axes[0, 1].legend(handles=refs, loc="upper right")
     fig.tight_layout()
     return fig
 

@@ -40,7 +40,6 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import math  # noqa: E402
-import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Sequence  # noqa: E402
 from typing import Any  # noqa: E402
@@ -206,38 +205,53 @@ def plot(curves: dict[str, BoundaryCurve], rows: list[dict[str, Any]], fits: dic
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colours = {"bistable": "tab:red", "monostable": "tab:blue", "monotonous": "tab:green"}
+    from contin import style
+
+    colours = {"bistable": style.COLORS[1], "monostable": style.COLORS[0], "monotonous": style.COLORS[2]}
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.5))
+    # the grid's dots above the boundaries, with a white rim: a cell that lies on a curve stays visible
     for cls, col in colours.items():
         pts = [(r["shell.phi_hat"], r["shell.h"]) for r in rows if r.get("label") == cls]
         if pts:
-            ax.scatter(*zip(*pts), s=18, color=col, label=f"grid: {cls}", zorder=2)
+            ax.scatter(*zip(*pts), s=20, color=col, edgecolors="w", linewidths=0.6, label=f"grid: {cls}", zorder=5)
     bad = [(r["shell.phi_hat"], r["shell.h"]) for r in rows if not r.get("label")]
     if bad:
-        ax.scatter(*zip(*bad), s=22, marker="x", color="k", label="grid: unclassified", zorder=2)
-    styles = {"bistable": ("k", "bistable / monostable (F_min = 0)"),
-              "monotonous": ("0.35", "monostable / monotonous (cusp)")}
+        ax.scatter(*zip(*bad), s=22, marker="x", color="k", label="grid: unclassified", zorder=5)
+    names = {"bistable": "bistable / monostable", "monotonous": "monostable / monotonous"}
+    styles = {"bistable": ("k", r"($F_{\min} = 0$)"), "monotonous": (style.GREY, "(cusp)")}
+    # the fits on top of the curves they fit, in a colour of their own: where they agree, both show
+    fit_colour = style.COLORS[3]
     for kind, c in curves.items():
-        col, lab = styles[kind]
-        ax.plot(c.phi_hat, c.h_over_R, "-", color=col, lw=2, label=f"traced: {lab}", zorder=3)
-        bx.plot(c.phi_hat, c.lam, "-", color=col, lw=2, label=f"traced: {kind}")
+        col, how = styles[kind]
+        # drawn through the stored points only: the fold-curve runs store no d(h/R)/ds to draw cubics with
+        ax.plot(c.phi_hat, c.h_over_R, "-", color=col, lw=1.6, label=f"traced: {names[kind]} {how}", zorder=3)
+        bx.plot(c.phi_hat, c.lam, "-", color=col, lw=1.6, label=f"traced: {names[kind]}", zorder=3)
         lam_d = fits["boundaries"][kind]["squared"]["value"]
         phi = np.linspace(*PHI_RANGE, 100)
-        ax.plot(phi, math.sqrt(12 * (1 - NU ** 2)) * (math.pi / 2 - phi) ** 2 / lam_d ** 2, ":", color=col, lw=1)
-        bx.axhline(PAPER_LAMBDA_D[kind], color=col, ls="--", lw=0.8)
+        ax.plot(phi, math.sqrt(12 * (1 - NU ** 2)) * (math.pi / 2 - phi) ** 2 / lam_d ** 2, ls=(0, (1.2, 1.6)),
+                color=fit_colour, lw=1.3, zorder=4, label=r"eq. (4.1) fit ($\lambda = \lambda_d$)" if kind == "bistable" else None)
+        bx.axhline(PAPER_LAMBDA_D[kind], color=col, ls="--", lw=0.8, zorder=1,
+                   label=rf"paper: $\lambda_d = {PAPER_LAMBDA_D[kind]:g}$")
         gp = fits["grid_points"][kind]
         if gp:
-            bx.plot([p["phi_hat"] for p in gp], [p["lambda"] for p in gp], "o", mfc="none", color=col,
-                    label=f"grid: {kind} (cell midpoints)")
+            bx.plot([p["phi_hat"] for p in gp], [p["lambda"] for p in gp], "o", mfc="w", color=col, zorder=4,
+                    label=f"grid: {names[kind]} (cell midpoints)")
     ax.set_yscale("log")
     ax.set_xlabel(r"$\hat\phi$")
-    ax.set_ylabel("h / R")
-    ax.set_title("phase diagram: grid and traced boundaries (dotted: eq. 4.1 fit)")
-    ax.legend(fontsize=7, loc="lower left", framealpha=0.9)
+    ax.set_ylabel(r"$h/R$")
+    ax.set_title("(a) phase diagram: grid and traced boundaries")
+    handles, labels = ax.get_legend_handles_labels()
+    fit = [i for i, lab in enumerate(labels) if lab.startswith("eq.")]
+    keep = [i for i in range(len(labels)) if i not in fit] + fit
+    ax.legend([handles[i] for i in keep], [labels[i] for i in keep], fontsize=7, loc="lower left", framealpha=0.9)
     bx.set_xlabel(r"$\hat\phi$")
     bx.set_ylabel(r"$\lambda$ on the boundary")
-    bx.set_title("depth parameter along the boundaries (dashed: paper)")
-    bx.legend(fontsize=7)
+    bx.set_title("(b) depth parameter along the boundaries")
+    handles, labels = bx.get_legend_handles_labels()
+    # grouped by boundary: traced, grid, paper
+    order = sorted(range(len(labels)), key=lambda i: (("monostable / monotonous" in labels[i]) or "3.65" in labels[i],
+                                                        labels[i].startswith("paper")))
+    bx.legend([handles[i] for i in order], [labels[i] for i in order], fontsize=7)
     fig.tight_layout()
     save_figure(fig, out, "phase_diagram")
 

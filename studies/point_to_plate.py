@@ -185,29 +185,64 @@ def _monotone(vals: np.ndarray) -> str:
     return "not monotone"
 
 
+#: Per quantity of :data:`QUANTITIES`: the panel's title and the axis' symbol (mathtext).
+PANELS = {"w_b_c_over_R": ("(a) indenter travel at the snap", r"$w_b^c/R$"),
+          "w_s_over_R": ("(b) pole displacement at the snap", r"$w_s/R$"),
+          "Delta_H_over_R": ("(c) pole-indenter gap at the snap", r"$\Delta H/R$")}
+
+
+def _sig3(v: float) -> str:
+    """Three significant digits (N = 60 and 200 agree to about 1e-4 R: no more is meaningful)."""
+    return "0" if v == 0 else f"{v:#.3g}".rstrip(".")
+
+
+def _times_ten(v: float) -> str:
+    r"""``4e-08`` as mathtext ``4 \times 10^{-8}`` (one significant digit)."""
+    m, e = f"{v:.0e}".split("e")
+    return rf"{m} \times 10^{{{int(e)}}}"
+
+
 def plot_fig12(point: dict[str, Any], plate: dict[str, Any], spheres: list[dict[str, Any]], N: int) -> Any:
     """Figure 12c: the three snap quantities against r/R with the point and plate limits."""
+    from contin import style
+
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
     r = np.array([s["r_over_R"] for s in spheres])
-    for ax, (key, label) in zip(axes, QUANTITIES):
-        # w_s is the same for every indenter: plot its deviation from the point value to show the spread
-        shift = point[key] if abs(point[key] - plate[key]) < 1e-4 else 0.0
-        ax.plot(r, [s[key] - shift for s in spheres], "o-", color="k", mfc="none", label="sphere, radius r")
-        ax.axhline(point[key] - shift, color="tab:blue", ls="--", label=f"point (r -> 0): {point[key]:.6f}")
-        ax.axhline(plate[key] - shift, color="tab:red", ls="-.", label=f"plate (r -> inf): {plate[key]:.6f}")
+    c_point, c_plate = style.COLORS[0], style.COLORS[1]
+    for ax, (key, _) in zip(axes, QUANTITIES):
+        title, symbol = PANELS[key]
+        vals = np.array([s[key] for s in spheres])
+        # a sweep over separate runs: markers at the radii, joined by thin straight lines; drawn above the
+        # limits, which are wide and pale enough to show on either side where a sphere equals one of them
+        ax.plot(r, vals, "-", color="k", lw=0.8, marker="o", ms=5, mfc="w", mec="k", mew=1.0, zorder=4,
+                label="sphere of radius $r$")
+        ax.axhline(point[key], color=c_point, ls=(0, (5, 3)), lw=2.2, alpha=0.75, zorder=2,
+                   label=rf"point ($r \to 0$): {_sig3(point[key])}")
+        ax.axhline(plate[key], color=c_plate, ls=(0, (6, 2, 1.5, 2)), lw=1.4, zorder=3,
+                   label=rf"plate ($r \to \infty$): {_sig3(plate[key])}")
         ax.set_xscale("log")
-        ax.set_xlabel("r / R")
-        if shift:
-            ax.set_ylabel(label.replace("w_s / R", f"w_s / R - {shift:.6f}"))
-            dev = max(abs(s[key] - shift) for s in spheres + [plate])
-            ax.set_ylim(-3 * max(dev, 1e-10), 3 * max(dev, 1e-10))
-            ax.set_title("the same for every indenter (universal snap shape)", fontsize="small")
-        else:
-            ax.set_ylabel(label)
-        ax.legend(fontsize="small")
-    fig.suptitle(f"Snap of the cap phi_hat = {PHI_HAT:g}, h/R = {H_OVER_R:g} (N = {N}): point and plate limits",
-                 fontsize="medium")
-    fig.tight_layout()
+        ax.set_xlabel("$r/R$")
+        ax.set_ylabel(symbol)
+        ax.set_title(title, fontsize="medium")
+    a, b, c = axes
+    # (a) and (b) are the same kind of displacement: on one scale, w_s is seen not to move while w_b^c does
+    lo = min(plate["w_b_c_over_R"], *(s["w_b_c_over_R"] for s in spheres))
+    hi = max(point["w_b_c_over_R"], point["w_s_over_R"], plate["w_s_over_R"])
+    pad = 0.08 * (hi - lo)
+    for ax in (a, b):
+        ax.set_ylim(lo - pad, hi + 2.5 * pad)
+    every = [point["w_s_over_R"], plate["w_s_over_R"], *(s["w_s_over_R"] for s in spheres)]
+    spread = max(every) - min(every)
+    b.text(0.5, 0.5, f"$w_s/R = {_sig3(point['w_s_over_R'])}$ for the point, the plate and every sphere\n"
+                     f"(they agree to within ${_times_ten(max(spread, 1e-16))}$)",
+           transform=b.transAxes, ha="center", va="center", fontsize="small",
+           bbox={"boxstyle": "square,pad=0.4", "fc": "w", "ec": "0.8", "lw": 0.6})
+    a.legend(fontsize="small", loc="center left")
+    b.legend(fontsize="small", loc="lower left")
+    c.legend(fontsize="small", loc="center left")
+    fig.suptitle(rf"Snap of the cap $\hat\phi = {PHI_HAT:g}$, $h/R = {H_OVER_R:g}$ ($N = {N}$): "
+                 "point and plate limits", fontsize="medium")
+    fig.tight_layout(rect=(0, 0, 1, 0.98))
     return fig
 
 

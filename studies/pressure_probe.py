@@ -33,8 +33,6 @@ import math  # noqa: E402
 from collections.abc import Sequence  # noqa: E402
 from typing import Any  # noqa: E402
 
-import numpy as np  # noqa: E402
-
 import contin  # noqa: E402
 from contin_models.shell.geometry import spherical_cap  # noqa: E402
 from contin_models.shell.pressure import ShellPressure, classical_pressure  # noqa: E402
@@ -91,23 +89,38 @@ def pressure_folds(N: int) -> list[float]:
 
 
 def plot(curves: Sequence[dict[str, Any]], folds: Sequence[float]) -> Any:
-    """``F_max`` against ``p``: the fold curve, and the pressure-path folds on ``F = 0``."""
+    """``F_max`` against ``p``: the fold curve, its cusp, and the pressure-path folds on ``F = 0``."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from contin import style
+
     fig, ax = plt.subplots(figsize=(5.6, 3.8))
+    # straight between stored points: the fold curve's branch stores no tangent of F (FoldCurveProblem
+    # gives no observable derivatives); its stored points are close enough that no corner shows
     for c in curves:
         ax.plot([r["p_over_p_c"] for r in c["rows"]], [r["F_norm"] for r in c["rows"]], lw=1.2,
-                label=f"limit load of the point force, N = {c['N']}")
-    ax.axhline(0.0, color="gray", lw=0.7)
-    xs = [f for f in folds if f <= max(r["p_over_p_c"] for r in curves[0]["rows"]) * 1.05]
-    ax.plot(xs, [0.0] * len(xs), "D", mfc="none", color="k", label="folds of the pressure alone (traced apart)")
+                label=f"limit load of the point force, $N$ = {c['N']}")
+    ax.axhline(0.0, color="gray", lw=0.7, zorder=0)
+    p_end = max(r["p_over_p_c"] for r in curves[0]["rows"])
+    xs = [f for f in folds if f <= p_end * 1.05]
+    off = [f for f in folds if f > p_end * 1.05]
+    label = r"folds in $p$ of the pressure path alone ($F = 0$, traced apart)"
+    if off:
+        # the pressure path's first folds (near p_c) are far right of the fold curve: named, not drawn
+        label += f"\n({len(off)} more at {min(off):.3g}\u2013{max(off):.3g} $p_c$, beyond the axes)"
+    ax.plot(xs, [0.0] * len(xs), ls="none", label=label, **style.marker_style("fold"))
+    for c in curves:
+        if c.get("cusp_p_over_p_c") is not None and c.get("cusp_F_norm") is not None:
+            ax.plot([c["cusp_p_over_p_c"]], [c["cusp_F_norm"]], ls="none", marker="o", ms=5.0, mfc="k", mec="k",
+                    zorder=7, label=(f"cusp at $p$ = {c['cusp_p_over_p_c']:.3g} $p_c$ (the curve turns back; "
+                                     "tracing stops)") if c is curves[0] else None)
     ax.set_xlabel(r"fixed pressure $p / p_c$")
-    ax.set_ylabel(r"limit load $F_{max} R / (2 \pi D)$")
+    ax.set_ylabel(r"limit load $F_\mathrm{max} R / 2\pi D$")
     ax.set_title("clamped cap ($\\lambda = 12$, $R/h = 100$) probed at its pole under pressure", fontsize="small")
-    ax.legend(fontsize="x-small")
+    ax.legend(fontsize="x-small", loc="upper right")
     fig.tight_layout()
     return fig
 

@@ -281,19 +281,48 @@ def _path_rows(run: dict[str, Any]) -> list[dict[str, Any]]:
     return rows
 
 
+def _located(br: Branch) -> list[float]:
+    """Arclengths of a branch's located special points."""
+    return [sp.s for sp in br.special_points if sp.located]
+
+
+def _curve(br: Branch, V0: float, p_c: float, pressure_controlled: bool) -> tuple[np.ndarray, ...]:
+    """``dV/V0``, ``p/p_c``, their derivatives along the arclength and the arclength of a stored branch.
+
+    Read by observable name, not through ``Branch.tangent``: on the volume-controlled branch ``tangent("p")``
+    is the parameter's (``dV``), not the pressure's."""
+    if pressure_controlled:
+        x = 1.0 - br.observables["V"] / V0
+        dV = br.tangents.get("V")
+        dx = None if dV is None else -dV / V0
+    else:
+        x, dx = br.p / V0, br.tangent_p / V0
+    y = br.observables["p_over_p_c"]
+    dy = br.tangents.get("p_over_p_c")
+    if dy is None and pressure_controlled:
+        dy = br.tangent_p / p_c
+    return x, y, dx, dy, br.s
+
+
 def plot(runs: Sequence[dict[str, Any]]) -> Any:
     """``p / p_c`` against ``dV / V0`` for each cap: both paths, each styled by its own control's stability.
 
     One column per cap: the whole path on top, the snaps below (the range of ``dV`` where the path
     turns).  The pressure-controlled path is drawn thick and light underneath the volume-controlled one
     (they are the same equilibria up to where the pressure trace stops); dotted arrows are the jump of
-    each control at its first snap.
+    each control at its first snap.  Both paths are drawn smooth between their stored points from the
+    stored tangents (:func:`contin.diagram.smooth_path`).
     """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
 
+    from contin import style
+    from contin.diagram import stability_pieces
+
+    c_pressure, c_volume = style.COLORS[4], style.COLORS[0]
     fig, axes = plt.subplots(2, len(runs), figsize=(5.4 * len(runs), 8.0), squeeze=False)
     for col, run in enumerate(runs):
         cap, res = run["cap"], run["result"]
@@ -303,45 +332,64 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
         folds = [r for r in run["points"] if r["folds_in"] == "dV"]
         turns = [r["dV_over_V0"] for r in run["points"] if r["dV_over_V0"] < 0.6]
         zoom_x = max(2.0 * pc["dV_at_p_max_over_V0"], 1.1 * max(turns, default=0.0))
+        # each control's style changes at its located points (folds, extrema) between stored points
+        paths = [(_curve(pr, V0, cap.p_c, True), pr.stable, _located(pr), c_pressure, 5.0, 2, "pressure"),
+                 (_curve(vol, V0, cap.p_c, False), vol.stable_under(VOLUME_LABELS[0]), _located(vol), c_volume, None,
+                  3, "volume")]
         for row, ax in enumerate(axes[:, col]):
-            def draw(x: np.ndarray, y: np.ndarray, stable: np.ndarray, color: str, lw: float, label: str) -> None:
-                start = 0
-                for i in range(1, len(x) + 1):
-                    if i == len(x) or stable[i] != stable[start]:
-                        sl = slice(start, min(i + 1, len(x)))
-                        ax.plot(x[sl], y[sl], "-" if stable[start] else "--", color=color, lw=lw,
-                                label=label if start == 0 else None, zorder=3 if lw < 2 else 2)
-                        start = i
-            draw((V0 - pr.observables["V"]) / V0, pr.p / cap.p_c, pr.stable, "tab:orange", 5.0,
-                 "pressure control: stable solid, unstable dashed")
-            draw(vol.p / V0, vol.observables["p"] / cap.p_c, vol.stable_under(VOLUME_LABELS[0]), "tab:blue", 1.4,
-                 "volume control: stable solid, unstable dashed")
-            ax.plot([pc["dV_at_p_max_over_V0"]], [pc["p_max_over_p_c"]], "^", color="k", ms=7,
-                    label="limit point in p (pressure control snaps)", zorder=5)
+            if row == 1:
+                ax.set_xlim(0.0, zoom_x)
+            entries = []
+            for (x, y, dx, dy, s), stable, cuts, color, lw, z, control in paths:
+                kinds = set()
+                for X, Y, st in stability_pieces(x, y, dx, dy, s, stable, cuts):
+                    line = dict(style.STABLE if st else style.UNSTABLE)
+                    if lw is not None:
+                        line["lw"] = lw
+                    ax.plot(X, Y, color=color, zorder=z, solid_capstyle="round", dash_capstyle="butt", **line)
+                    kinds.add("stable" if st else "unstable")
+                # the legend names only the line styles drawn (the shallower cap is stable throughout under volume)
+                words = [w for k, w in (("stable", "stable solid"), ("unstable", "unstable dashed")) if k in kinds]
+                entries.append(Line2D([], [], color=color, lw=lw or style.STABLE["lw"],
+                                      label=f"{control} control: {', '.join(words)}"))
+            limit, = ax.plot([pc["dV_at_p_max_over_V0"]], [pc["p_max_over_p_c"]], ls="none",
+                             label="limit point in $p$ (pressure control snaps)", **style.marker_style("limit point"))
+            entries.append(limit)
+            arrow = dict(arrowstyle="->", ls=":", lw=1.4, shrinkA=0, shrinkB=0)
             if pc["landing_success"]:
-                ax.annotate("", xy=(pc["landing_dV_over_V0"], pc["p_max_over_p_c"]),
-                            xytext=(pc["dV_at_p_max_over_V0"], pc["p_max_over_p_c"]),
-                            arrowprops=dict(arrowstyle="->", ls=":", color="tab:orange", lw=1.4))
+                x0, x1, y0 = pc["dV_at_p_max_over_V0"], pc["landing_dV_over_V0"], pc["p_max_over_p_c"]
+                right = ax.get_xlim()[1] if row == 1 else math.inf
+                if x1 <= right:
+                    ax.annotate("", xy=(x1, y0), xytext=(x0, y0), zorder=4,
+                                arrowprops=dict(arrow, color=c_pressure, shrinkB=3))
+                else:
+                    # the landing is beyond the detail's range: the arrow runs to the panel's edge and says where
+                    # it lands (an annotation whose end lies outside the axes is not drawn at all)
+                    edge = x0 + 0.985 * (right - x0)
+                    ax.annotate("", xy=(edge, y0), xytext=(x0, y0), zorder=4, arrowprops=dict(arrow, color=c_pressure))
+                    ax.annotate(f"snap to $\\Delta V/V_0$ = {x1:.3g}", (edge, y0), textcoords="offset points",
+                                xytext=(-8, -5), ha="right", va="top", fontsize="x-small", color=c_pressure)
             if folds:
-                ax.plot([r["dV_over_V0"] for r in folds], [r["p_over_p_c"] for r in folds], "o", mfc="w", mec="k",
-                        ms=6, label="fold in dV (volume control snaps at the first)", zorder=5)
+                fold, = ax.plot([r["dV_over_V0"] for r in folds], [r["p_over_p_c"] for r in folds], ls="none",
+                                label="fold in $\\Delta V$ (volume control snaps at the first)",
+                                **style.marker_style("fold"))
+                entries.append(fold)
                 first = folds[0]
                 if first.get("landing_p_over_p_c") is not None:
                     ax.annotate("", xy=(first["dV_over_V0"], first["landing_p_over_p_c"]),
-                                xytext=(first["dV_over_V0"], first["p_over_p_c"]),
-                                arrowprops=dict(arrowstyle="->", ls=":", color="tab:blue", lw=1.4))
+                                xytext=(first["dV_over_V0"], first["p_over_p_c"]), zorder=4,
+                                arrowprops=dict(arrow, color=c_volume, shrinkA=4))
             ax.set_xlabel(r"$\Delta V / V_0 = (V_0 - V) / V_0$ (volume pushed in)")
             ax.set_ylabel(r"$p / p_c$")
             ax.grid(alpha=0.3, lw=0.5)
             if row == 0:
-                ax.set_title(f"clamped cap, $\\lambda$ = {res['lambda']:g}, R/h = {R_OVER_H:g}, N = {res['N']}",
+                ax.set_title(f"clamped cap, $\\lambda$ = {res['lambda']:g}, $R/h$ = {R_OVER_H:g}, $N$ = {res['N']}",
                              fontsize="small")
                 ax.set_xlim(0.0, None)
                 ax.set_ylim(0.0, None)
-                ax.legend(fontsize="x-small", loc="upper left")
+                ax.legend(handles=entries, fontsize="x-small", loc="upper left")
             else:
                 inside = vol.p / V0 <= zoom_x
-                ax.set_xlim(0.0, zoom_x)
                 ax.set_ylim(0.0, 1.12 * float(np.max(vol.observables["p"][inside])) / cap.p_c)
                 ax.set_title("the snaps (detail)", fontsize="small")
     fig.tight_layout()
