@@ -74,6 +74,7 @@ import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
 from contin.palc import Curve, Settings  # noqa: E402
+from contin.style import WIDTH  # noqa: E402
 from contin_models.shell import ShellPointLoad  # noqa: E402
 from contin_models.shell.boundaries import BoundaryCurve, bistable_boundary, monotonous_boundary  # noqa: E402
 from studies._common import output_dir, print_table, save_figure, say, study_parser, write_csv, write_json  # noqa: E402
@@ -881,12 +882,63 @@ def _panel(ax: Any, rows: list[dict[str, Any]], quantity: str, key: str, where: 
     ax.grid(True, which="major", lw=0.3)
 
 
+def _place_labels(fig: Any, axes: Sequence[Any]) -> None:
+    """Put each run's ``N`` label (an annotation beside its marker: up and right by default) at the corner of
+    its marker where it covers the fewest drawn markers and lines, inside its panel and clear of the other
+    labels: the runs' times vary from one run of the study to the next, so a fixed corner can land on
+    another method's marker."""
+    from matplotlib.text import Annotation
+
+    fig.canvas.draw()  # the layout first: the panels' final size
+    renderer = fig.canvas.get_renderer()
+    px = fig.dpi / 72.0
+    corners = ((3, 3.5, "left", "bottom"), (3, -3.5, "left", "top"), (-3, 3.5, "right", "bottom"),
+               (-3, -3.5, "right", "top"))
+    for ax in axes:
+        pts, pads = [], []
+        for line in ax.get_lines():
+            xy = ax.transData.transform(np.asarray(line.get_xydata(), dtype=float))
+            xy = xy[np.all(np.isfinite(xy), axis=1)]
+            if line.get_marker() not in (None, "None", "none", ""):
+                pts.append(xy)
+                pads.append(np.full(len(xy), 0.5 * line.get_markersize() * px))
+            if line.get_linestyle() not in ("None", "none", "") and len(xy) > 1:
+                for a, b in zip(xy[:-1], xy[1:]):
+                    t = np.linspace(0.0, 1.0, max(2, int(np.hypot(*(b - a)) / 2.0)))[:, None]
+                    pts.append(a + t * (b - a))
+                    pads.append(np.full(len(t), 0.5 * line.get_linewidth() * px))
+        xy = np.concatenate(pts) if pts else np.empty((0, 2))
+        pad = np.concatenate(pads) if pads else np.empty(0)
+        box = ax.get_window_extent(renderer)
+        placed: list[Any] = []
+        for ann in [t for t in ax.texts if isinstance(t, Annotation)]:
+            best = None
+            for k, (dx, dy, ha, va) in enumerate(corners):
+                ann.set_position((dx, dy))
+                ann.set_horizontalalignment(ha)
+                ann.set_verticalalignment(va)
+                bb = ann.get_window_extent(renderer)
+                hits = int(np.count_nonzero((xy[:, 0] > bb.x0 - pad) & (xy[:, 0] < bb.x1 + pad)
+                                            & (xy[:, 1] > bb.y0 - pad) & (xy[:, 1] < bb.y1 + pad)))
+                hits += 1000 * sum(bb.overlaps(o) for o in placed)
+                hits += 10000 * (bb.x0 < box.x0 or bb.x1 > box.x1 or bb.y0 < box.y0 or bb.y1 > box.y1)
+                if best is None or hits < best[0]:
+                    best = (hits, k, bb)
+            dx, dy, ha, va = corners[best[1]]
+            ann.set_position((dx, dy))
+            ann.set_horizontalalignment(ha)
+            ann.set_verticalalignment(va)
+            placed.append(best[2])
+
+
 def plot(res: dict[str, Any], out: Any) -> None:
     """The error-against-time figure: F_max and w (total error) and F_max at N = 200 (solver error only)."""
     import matplotlib.pyplot as plt
 
     rows, S = res["rows"], res["summary"]
-    fig, axes = plt.subplots(1, 3, figsize=(16, 5.2))
+    # a page wide (contin.style.WIDTH): the three panels one above the other, on one time axis (the panels
+    # keep the width of their time axis, where the runs crowd), the legend under them
+    fig, axes = plt.subplots(3, 1, figsize=(WIDTH, 8.4), sharex=True, layout="constrained")
     all_rows = lambda r: True  # noqa: E731
     vals = [r["rel_error"] for r in rows if r.get("rel_error")] + [1.0]
     handles: dict[str, Any] = {}
@@ -902,10 +954,13 @@ def plot(res: dict[str, Any], out: Any) -> None:
     lo = max(min(vals) / 3, 1e-13)
     for ax in axes[:2]:
         ax.set_ylim(lo, 2.0)
-    fig.suptitle(f"Error against run time, default scene ($\\hat\\phi$ = {PHI_HAT}, $h/R$ = {H_OVER_R}), {S['mode']} mode "
+        ax.set_xlabel("")  # the time axis is shared: labelled under the last panel
+    fig.suptitle(f"Error against run time, default scene ($\\hat\\phi$ = {PHI_HAT}, $h/R$ = {H_OVER_R}), {S['mode']} mode\n"
                  "(lines: the best error reached within a time, per method; numbers: $N$)")
-    fig.tight_layout(rect=(0, 0.12, 1, 1))
-    fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=4, frameon=False)
+    # two columns a page wide: the longest entries on two lines
+    labels = [lab.replace("(displacement ramp), ", "(displacement ramp),\n") for lab in handles]
+    fig.legend(list(handles.values()), labels, loc="outside lower center", ncol=2, frameon=False)
+    _place_labels(fig, axes)
     save_figure(fig, out, "error_vs_time")
 
 

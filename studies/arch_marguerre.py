@@ -160,12 +160,16 @@ def plot(rows: Sequence[dict[str, Any]], krows: Sequence[dict[str, Any]], paths:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (a, b, c) = plt.subplots(1, 3, figsize=(13.0, 4.0))
+    from contin.style import WIDTH
+
+    # a column of three at a page's width; a row each, so that (b)'s legend beside it narrows no other panel
+    fig = plt.figure(figsize=(WIDTH, 8.4), layout="constrained")
+    a, b, c = (sf.subplots() for sf in fig.subfigures(3, 1, height_ratios=[1.0, 1.0, 0.9]))
     for (rg, color) in ((10.0, "tab:blue"), (5.0, "tab:red")):
         w, q = paths[("arch", rg)]
-        a.plot(w, q, "-", color=color, lw=1.2, label=f"bars+hinges n = 80, h/r = {rg:g}")
+        a.plot(w, q, "-", color=color, lw=1.2, label=f"bars+hinges, $n = 80$, $h/r = {rg:g}$")
         w, q = paths[("marguerre", rg)]
-        a.plot(w, q, "--", color="k", lw=0.8, label="Marguerre (K = 33)" if rg == 10.0 else None)
+        a.plot(w, q, "--", color="k", lw=0.8, label="Marguerre ($K = 33$)" if rg == 10.0 else None)
         for r in rows:
             if r["shape"] == "circle" and r["h/r"] == rg and r["h/L"] == 0.01 and r["n"] == 80:
                 a.plot(r["w_bp"], r["Q_bp"], "o", mfc="none", color=color)
@@ -174,37 +178,38 @@ def plot(rows: Sequence[dict[str, Any]], krows: Sequence[dict[str, Any]], paths:
     a.plot([], [], "ks", mfc="none", label="first limit point")
     a.axhline(0, color="0.7", lw=0.5)
     # the loop is still the symmetric path (asymmetry zero throughout): the third mode takes over and
-    # the crown rises again while the quarter points go down
-    a.annotate("loop: still symmetric,\nhigher symmetric modes", xy=(0.75, 120), fontsize="x-small")
+    # the crown rises again while the quarter points go down; right of the loop's tip, on no line
+    a.annotate("loop: still symmetric,\nhigher symmetric modes", xy=(0.9, 105), fontsize="small")
     a.set_xlabel("crown deflection / rise")
     a.set_ylabel(r"$Q = 4PL^3/(\pi^4 EI\, r)$")
-    a.set_title("symmetric path, circular arch, h/L = 0.01", fontsize="small")
-    a.legend(fontsize="x-small")
+    a.set_title("symmetric path, circular arch, $h/L = 0.01$", fontsize="small")
+    a.legend()
     marks = {20: "v", 40: "^", 80: "o", 160: "D", "inf": "*"}
     for rg, color in ((10.0, "tab:blue"), (5.0, "tab:red")):
         for n, mk in marks.items():
             sel = [r for r in rows if r["shape"] == "circle" and r["h/r"] == rg and r["n"] == n]
             if sel:
                 b.loglog([r["h/L"] for r in sel], [abs(r["err_bp"]) for r in sel], marker=mk, color=color,
-                         ls="-" if n == "inf" else ":", lw=0.9, label=f"h/r = {rg:g}, n = {n}")
+                         ls="-" if n == "inf" else ":", lw=0.9,
+                         label=f"$h/r = {rg:g}$, $n = {chr(92) + 'infty' if n == 'inf' else n}$")
     x = np.array([0.01, 0.1])
     b.loglog(x, 2.0 * x ** 2, "k-", lw=0.6, label=r"slope 2: $2\,(h/L)^2$")
-    b.set_xlabel("rise / span  h/L")
-    b.set_ylabel("|Q_bp(bars) / Q_bp(Marguerre) - 1|")
-    b.set_title("first branch point against shallow theory\n(n = inf: Richardson from n = 40, 80)", fontsize="small")
-    b.legend(fontsize="xx-small", ncol=2)
+    b.set_xlabel("rise / span  $h/L$")
+    b.set_ylabel(r"$|Q_\mathrm{bp}(\mathrm{bars})\,/\,Q_\mathrm{bp}(\mathrm{Marguerre}) - 1|$")
+    b.set_title("first branch point against shallow theory ($n = \\infty$: Richardson from $n$ = 40, 80)",
+                fontsize="small")
+    b.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     for rg, color in ((10.0, "tab:blue"), (5.0, "tab:red")):
         sel = [r for r in krows if r["shape"] == "parabola" and r["h/r"] == rg]
         last = sel[-1]
         for key, ls in (("Q_bp", "o-"), ("Q_fold", "s--")):
             c.semilogy([r["K"] for r in sel[:-1]], [abs(r[key] / last[key] - 1) for r in sel[:-1]], ls, color=color,
-                       mfc="none", label=f"h/r = {rg:g}, {'branch point' if key == 'Q_bp' else 'limit point'}")
+                       mfc="none", label=f"$h/r = {rg:g}$, {'branch point' if key == 'Q_bp' else 'limit point'}")
     c.set_xscale("log", base=2)
-    c.set_xlabel("K (sine modes)")
-    c.set_ylabel(f"relative change from K = {sel[-1]['K']}")
-    c.set_title("Marguerre loads against K (parabolic arch)", fontsize="small")
-    c.legend(fontsize="x-small")
-    fig.tight_layout()
+    c.set_xlabel("$K$ (sine modes)")
+    c.set_ylabel(f"relative change from $K = {sel[-1]['K']}$")
+    c.set_title("Marguerre loads against $K$ (parabolic arch)", fontsize="small")
+    c.legend()
     return fig
 
 

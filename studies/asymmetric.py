@@ -325,8 +325,9 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
 
     plt = _plt()
     blue, orange, green = style.COLORS[0], style.COLORS[1], style.COLORS[2]
-    fig, (ax, axd, axn) = plt.subplots(3, 1, figsize=(6.4, 8.2), sharex=True,
-                                       gridspec_kw={"height_ratios": [2.2, 1.1, 1.1]})
+    # a page's width (contin.style.WIDTH): printable as saved, its texts at the style's sizes
+    fig, (ax, axd, axn) = plt.subplots(3, 1, figsize=(style.WIDTH, 8.3), sharex=True,
+                                       gridspec_kw={"height_ratios": [2.2, 1.25, 1.2]})
     sel = sorted((r for r in rows if r["N"] == N and r["R_over_h"] == R_OVER_H and r["nu"] == NU),
                  key=lambda r: r["lambda"])
     snap = sorted((lam, p) for lam, p in snaps.items() if p is not None)
@@ -342,7 +343,7 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
             if float(lam).is_integer():
                 # below the curve: above it the axisymmetric snap comes down to it (lambda = 10, 11)
                 ax.annotate(f"{n}", (lam, p), textcoords="offset points", xytext=(0, -11), ha="center", va="top",
-                            fontsize="x-small", color=blue)
+                            fontsize="small", color=blue)
     if fold:
         ax.plot(*zip(*fold), "s", color=style.RED, ms=5, label="first instability: axisymmetric snap (fold)")
     ax.plot(list(HUANG_1964), [v[0] for v in HUANG_1964.values()], "D", color="k", mfc="none", ms=7,
@@ -353,7 +354,7 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
     ax.set_ylabel(r"pressure $p / p_c$")
     ax.set_ylim(0.4, max(1.3, max(p for _, p in snap) + 0.05))
     ax.grid(alpha=0.3)
-    leg = ax.legend(fontsize="x-small", loc="lower right")
+    leg = ax.legend(loc="lower right")
     for handle in leg.legend_handles:  # the plus at its plotted size would reach into the diamond's entry
         if hasattr(handle, "set_markersize"):
             handle.set_markersize(min(handle.get_markersize(), 7.0))
@@ -378,7 +379,7 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
         axd.plot(*zip(*ptsS), "x-", color=green, ms=6, lw=0.8, label=f"$R/h$ = {DEPTHS[-1]:g} vs Huang")
     axd.set_ylabel(r"$p_\mathrm{cr} / p_\mathrm{published} - 1$ (%)")
     axd.grid(alpha=0.3)
-    axd.legend(fontsize="x-small", loc="upper left", ncol=1)
+    axd.legend(loc="upper left", ncol=1)
 
     # (c) the critical n.  Up to four marks share a point (lambda, n): nested by size, the largest (hollow)
     # lowest, so that each shows -- Huang's diamond around Teng & Rotter's plus (or the hollow circle of a
@@ -404,7 +405,7 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
     axn.yaxis.set_major_locator(FixedLocator(range(min(n_all), max(n_all) + 1)))
     axn.set_ylim(min(n_all) - 1.0, max(n_all) + 1.0)  # the diamonds of the first and last n whole
     axn.grid(alpha=0.3)
-    leg = axn.legend(fontsize="x-small", loc="upper left")
+    leg = axn.legend(loc="upper left")
     for handle in leg.legend_handles:  # the nesting sizes of the diamond and plus would overlap the next entries
         if hasattr(handle, "set_markersize"):
             handle.set_markersize(min(handle.get_markersize(), 7.0))

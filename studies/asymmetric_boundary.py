@@ -171,27 +171,29 @@ def plot(curve: Sequence[dict[str, Any]], mesh: Sequence[dict[str, Any]], n: int
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.0, 4.8))
+    from contin import style as look
+
+    fig, ax = plt.subplots(figsize=(look.WIDTH, 4.8))  # a page's width: printable as saved
     ff = np.linspace(0.45, 1.5, 200)
     for lam, label, style in ((LAMBDA_MONOTONOUS, r"monostable / monotonous ($\lambda$ = 3.81)", "--"),
                               (LAMBDA_BISTABLE, r"bistable / monostable ($\lambda$ = 5.73)", "-.")):
         ax.semilogy(ff, (depth_parameter(ff, 1.0) / lam) ** 2, style, color="gray", lw=1.0, label=label)
     ax.semilogy([r["phi_hat"] for r in curve], [r["h_over_R"] for r in curve], "-", color="tab:red", lw=1.6,
-                label=f"bifurcation into n = {n} at $F_{{max}}$ (continued, N = {curve[0]['N'] if curve else '?'})")
+                label=f"bifurcation into $n$ = {n} at $F_\\mathrm{{max}}$ (continued, $N$ = {curve[0]['N'] if curve else '?'})")
     ax.semilogy([r["phi_hat"] for r in curve], [r["h_over_R"] for r in curve], ".", color="tab:red", ms=4)
     for r in mesh:
         ax.semilogy([r["phi_hat"]], [r["h_over_R"]], "o", mfc="none", color="k", ms=4 + 2 * math.log2(r["N"] / 100))
     if mesh:
-        ax.plot([], [], "o", mfc="none", color="k", label="its point at N = " + ", ".join(str(r["N"]) for r in mesh))
-    ax.text(0.52, 0.0035, "bistable, bifurcates into\n$n$ = 3 before $F_{max}$", fontsize="x-small", color="tab:red")
-    ax.text(0.55, 0.05, "bistable,\n$F_{max}$ first", fontsize="x-small", color="gray")
-    ax.text(1.13, 0.021, "monostable", fontsize="x-small", color="gray")
-    ax.text(1.3, 0.07, "monotonous", fontsize="x-small", color="gray")
+        ax.plot([], [], "o", mfc="none", color="k", label="its point at $N$ = " + ", ".join(str(r["N"]) for r in mesh))
+    ax.text(0.52, 0.0035, "bistable, bifurcates into\n$n$ = 3 before $F_\\mathrm{max}$", fontsize="small", color="tab:red")
+    ax.text(0.55, 0.05, "bistable,\n$F_\\mathrm{max}$ first", fontsize="small", color="gray")
+    ax.text(1.13, 0.021, "monostable", fontsize="small", color="gray")
+    ax.text(1.3, 0.07, "monotonous", fontsize="small", color="gray")
     ax.set_xlabel(r"$\hat\phi$ (base angle) [rad]")
     ax.set_ylabel("$h/R$")
     ax.set_xlim(0.45, 1.5)
     ax.set_ylim(1e-3, 0.2)
-    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
     ax.set_title(r"point-loaded caps, $\nu = 0.5$, pole held: where the cap leaves the axisymmetric path"
                  "\nbefore its limit load", fontsize="small")
     fig.tight_layout()

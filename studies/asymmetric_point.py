@@ -103,7 +103,8 @@ def plot(rows: Sequence[dict[str, Any]], boundary: Sequence[dict[str, Any]] = ()
 
     before_f, before_w, none = style.RED, style.COLORS[4], style.COLORS[0]
 
-    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.0), sharey=True)
+    # a page's width (contin.style.WIDTH), two panels of about 2.8 in: printable as saved
+    fig, axes = plt.subplots(1, 2, figsize=(style.WIDTH, 3.7), sharey=True, layout="constrained")
     markers = {"monotonous": "o", "monostable": "s", "bistable": "D", None: "x"}
     h_values = sorted({r["h_over_R"] for r in rows})
     for ax, held in zip(axes, (False, True)):
@@ -112,17 +113,17 @@ def plot(rows: Sequence[dict[str, Any]], boundary: Sequence[dict[str, Any]] = ()
             ax.semilogy(r["phi_hat"], r["h_over_R"], markers.get(r["class"], "x"), color=color, ms=8, mfc="none")
             if r["first_n"] is not None:
                 ax.annotate(str(r["first_n"]), (r["phi_hat"], r["h_over_R"]), textcoords="offset points",
-                            xytext=(7, 0), ha="left", va="center", fontsize="x-small")
+                            xytext=(7, 0), ha="left", va="center", fontsize="small")
         pts = [(b["phi_hat"], b["h_over_R"]) for b in boundary if b.get("h_over_R")]
         if held and pts:
             ax.semilogy(*zip(*pts), "k+-", lw=0.8, ms=9, label=r"bifurcation reaches $F_\mathrm{max}$")
             lam = float(np.mean([(12 * 0.75) ** 0.25 * (math.pi / 2 - f) / math.sqrt(hh) for f, hh in pts]))
             ff = np.linspace(0.55, 1.45, 50)
             ax.semilogy(ff, ((12 * 0.75) ** 0.25 * (math.pi / 2 - ff) / lam) ** 2, ":", color="gray", lw=0.8)
-            # beside the dotted line (not on it), where it is inside the grid's range of h/R
-            h_text = 1.4 * min(h_values)
+            # beside the dotted line (not on it), between the lowest row and the located points above it
+            h_text = 1.15 * min(h_values)
             ax.annotate(f"$\\lambda$ = {lam:.3g}", (math.pi / 2 - lam * math.sqrt(h_text) / (12 * 0.75) ** 0.25, h_text),
-                        textcoords="offset points", xytext=(5, 0), ha="left", va="center", fontsize="x-small",
+                        textcoords="offset points", xytext=(5, 0), ha="left", va="center", fontsize="small",
                         color="gray")
         ax.set_xlabel(r"$\hat\phi$ (base angle) [rad]")
         # the sampled thicknesses as plain decimals: log-axis ticks such as 3x10^-2 fall between the data
@@ -136,16 +137,17 @@ def plot(rows: Sequence[dict[str, Any]], boundary: Sequence[dict[str, Any]] = ()
     from matplotlib.lines import Line2D
 
     handles = [Line2D([], [], ls="", marker=m, color="k", mfc="none", label=str(c)) for c, m in markers.items() if c]
-    handles += [Line2D([], [], ls="", marker="o", color=c, mfc="none", label=t) for c, t in (
+    # the located boundary is drawn (with --boundary): its line belongs in the legend as well, in the first
+    # column (what a mark or line is), the colours in the second
+    handles += [ln for ln in axes[1].get_lines() if not ln.get_label().startswith("_")]
+    colours = [Line2D([], [], ls="", marker="o", color=c, mfc="none", label=t) for c, t in (
         (before_f, r"bifurcation before $F_\mathrm{max}$"), (before_w, r"bifurcation before the fold in $w$"),
         (none, r"no bifurcation before the fold in $w$ (or no fold)"))]
-    # the located boundary is drawn (with --boundary): its line belongs in the legend as well
-    handles += [ln for ln in axes[1].get_lines() if not ln.get_label().startswith("_")]
-    fig.legend(handles=handles, fontsize="x-small", loc="lower center", ncol=len(handles), frameon=False,
-               columnspacing=1.2, handletextpad=0.4)
-    fig.suptitle(r"point-loaded caps ($\nu = 0.5$): first non-axisymmetric bifurcation (its wave number $n$ beside the marker)",
+    # two columns below the panels (one row of them would be wider than the page)
+    fig.legend(handles=handles + colours, loc="outside lower center", ncol=2, frameon=False,
+               columnspacing=2.0, handletextpad=0.4)
+    fig.suptitle(r"point-loaded caps ($\nu = 0.5$): first non-axisymmetric bifurcation ($n$ beside the marker)",
                  fontsize="small")
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
     return fig
 
 

@@ -352,10 +352,10 @@ def _plt() -> Any:
 
 def plot_snap(rows: Sequence[dict[str, Any]], finest: int, fine: Sequence[dict[str, Any]]) -> Any:
     """``p_snap / p_c`` against ``lambda`` at each R/h (finest mesh), the fine scan and the published values."""
-    from contin.style import COLORS, GREY
+    from contin.style import COLORS, GREY, WIDTH
 
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    fig, ax = plt.subplots(figsize=(WIDTH, 4.4), layout="constrained")
     # up to eight values lie within 0.02 p_c at each published lambda: the published ones are drawn
     # first and thin (their arms and outlines show around ours), ours above them, nested from the large
     # hollow circle (R/h = 400) to the small dot (R/h = 10000) inside the triangle (R/h = 1000); the
@@ -408,24 +408,24 @@ def plot_snap(rows: Sequence[dict[str, Any]], finest: int, fine: Sequence[dict[s
     ax.set_title(title, fontsize="small")
     ax.grid(alpha=0.3)
     # lower right: below the curves once they have risen past lambda = 6
-    ax.legend(fontsize="x-small", loc="lower right", title="this model unless a source is named",
-              title_fontsize="x-small")
-    fig.tight_layout()
+    ax.legend(loc="lower right", title="this model unless a source is named")
     return fig
 
 
 def plot_shallow(limit: Sequence[dict[str, Any]]) -> Any:
     """``p_snap / p_c`` relative to Budiansky against ``h/R``: the approach to the shallow limit.
 
-    Left all depths; right the detail near ``h/R = 0``, where the thinnest cap (``h/R = 1e-4``) and the
-    extrapolated limit lie a marker's width apart on the left panel's scale.
+    Above all depths; below the detail near ``h/R = 0``, where the thinnest cap (``h/R = 1e-4``) and the
+    extrapolated limit lie a marker's width apart on the upper panel's scale.
     """
     from matplotlib.patches import Rectangle
 
-    from contin.style import GREY
+    from contin.style import GREY, WIDTH
 
     plt = _plt()
-    fig, (ax, zoom) = plt.subplots(1, 2, figsize=(7.4, 4.2), gridspec_kw={"width_ratios": [1.55, 1.0]})
+    # a column: side by side at a page's width the detail would be 2.2 in wide
+    fig, (ax, zoom) = plt.subplots(2, 1, figsize=(WIDTH, 6.6), gridspec_kw={"height_ratios": [1.35, 1.0]},
+                                   layout="constrained")
     hr = np.array([1.0 / d for d in DEPTHS])
     # sizes nest where two lambdas meet (5 and 6 at h/R = 0.0025, 5 and 7 at the limit): the smaller
     # mark is drawn above the larger, so both outlines show
@@ -456,7 +456,8 @@ def plot_shallow(limit: Sequence[dict[str, Any]]) -> Any:
         a.grid(alpha=0.3)
     ax.set_xlabel(r"$h/R$ (at fixed $\lambda$)")
     zoom.set_xlabel(r"$10^3\,h/R$")
-    ax.set_ylabel(r"$p_\mathrm{snap}/p_\mathrm{Budiansky} - 1$  [%]")
+    for a in (ax, zoom):  # one above the other: each its own label
+        a.set_ylabel(r"$p_\mathrm{snap}/p_\mathrm{Budiansky} - 1$  [%]")
     ax.set_xlim(-0.0005, 0.0105)
     ax.add_patch(Rectangle((x_box[0], y_box[0]), x_box[1] - x_box[0], y_box[1] - y_box[0], fill=False,
                            ec=GREY, lw=0.7, zorder=1.5))
@@ -467,8 +468,7 @@ def plot_shallow(limit: Sequence[dict[str, Any]]) -> Any:
     zoom.set_ylim(*y_box)
     zoom.set_title("detail of the grey box" + (f" ($\\lambda = {', '.join(off_box)}$ below)" if off_box else ""),
                    fontsize="small")
-    ax.legend(fontsize="x-small", ncol=2, loc="upper left")
-    fig.tight_layout()
+    ax.legend(ncol=2, loc="upper left")
     return fig
 
 
@@ -479,8 +479,14 @@ def _smooth(c: dict[str, Any], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
 
 def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) -> Any:
     """``p/p_c`` against pole and average deflection, and the deflected shape at the first fold."""
+    from contin.style import WIDTH
+
     plt = _plt()
-    fig, axes = plt.subplots(1, 3, figsize=(13.5, 4.3))
+    # the two load-deflection panels side by side (one ordinate), the shapes at the snap below them
+    # at the page's width; the curves' legend is the upper row's own, under its panels
+    fig = plt.figure(figsize=(WIDTH, 6.4), layout="constrained")
+    top, bottom = fig.subfigures(2, 1, height_ratios=[1.25, 1.0])
+    axes = [*top.subplots(1, 2, sharey=True), bottom.subplots()]
     for lam, c in curves.items():
         line, = axes[0].plot(*_smooth(c, "w_over_h", "p_over_p_c"), lw=1.1, label=f"$\\lambda = {lam:g}$")
         axes[1].plot(*_smooth(c, "w_avg_over_h", "p_over_p_c"), lw=1.1, color=line.get_color())
@@ -493,33 +499,31 @@ def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) ->
                              label=f"$\\lambda = {lam:g}$: $p = {f['p_over_p_c']:.3f}\\,p_c$")
     axes[0].set_xlabel("pole deflection $w/h$")
     axes[1].set_xlabel(r"average deflection $(V_0 - V)/(\pi a^2 h)$")
+    axes[0].set_ylabel("$p/p_c$")
     for ax in axes[:2]:
-        ax.set_ylabel("$p/p_c$")
         ax.set_ylim(0.0, 1.3)
         ax.grid(alpha=0.3)
     axes[0].set_xlim(0.0, 8.0)
     axes[1].set_xlim(0.0, 3.0)
-    # in the free space between the lambda = 4 and 5 curves' rising ends: upper right lay on lambda = 5
-    axes[0].legend(fontsize="x-small", loc="center", bbox_to_anchor=(0.72, 0.55))
-    axes[0].set_title(f"clamped caps, $R/h = {R_OVER_H:g}$, $N = 200$, $\\nu = 0.3$\n"
-                      "(dots: first fold; traced up to $1.4\\,p_c$)", fontsize="small")
-    axes[1].set_title("same curves against the average deflection", fontsize="small")
+    top.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncol=len(curves))
+    top.suptitle(f"clamped caps, $R/h = {R_OVER_H:g}$, $N = 200$, $\\nu = 0.3$ (dots: first fold; traced up to "
+                 "$1.4\\,p_c$);\nthe same curves against the pole (left) and the average deflection (right)",
+                 fontsize="small")
     axes[2].set_xlabel("reference radius $r/a$ (0: pole, 1: clamped edge)")
-    axes[2].set_ylabel(r"downward deflection $(z_\mathrm{ref} - z)/h$ at the first fold")
+    axes[2].set_ylabel("downward deflection\n" r"$(z_\mathrm{ref} - z)/h$ at the first fold")
     axes[2].set_title("deflected shape at the snap: the mechanism changes near $\\lambda = 5.5$", fontsize="small")
     axes[2].axhline(0.0, color="k", lw=0.6)
     axes[2].grid(alpha=0.3)
-    axes[2].legend(fontsize="x-small")
-    fig.tight_layout()
+    axes[2].legend()
     return fig
 
 
 def plot_bathe(curve: dict[str, Any]) -> Any:
     """The Bathe cap: our load-deflection curve against the two published ones."""
-    from contin.style import COLORS, RED
+    from contin.style import COLORS, RED, WIDTH
 
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(5.8, 4.2))
+    fig, ax = plt.subplots(figsize=(WIDTH, 4.2), layout="constrained")
     ax.plot(*_smooth(curve, "w_over_h", "q_norm"), "-", color="k", lw=1.2, zorder=2,
             label=f"this model, $N = {curve['N']}$ ($\\lambda = {curve['lambda']:.2f}$)")
     # the two sources' points lie a marker's width apart at w/h = 0.45 and 1.0: small filled triangles
@@ -534,8 +538,7 @@ def plot_bathe(curve: dict[str, Any]) -> Any:
     ax.set_xlim(0.0, 3.0)
     ax.set_ylim(0.0, 16.0)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="x-small", loc="upper left")
-    fig.tight_layout()
+    ax.legend(loc="upper left")
     return fig
 
 

@@ -162,16 +162,17 @@ def bifurcation_row(r_over_h: float, N: int) -> dict[str, Any]:
 
 
 def plot(membrane: Sequence[dict[str, Any]], bifurcation: Sequence[dict[str, Any]]) -> Any:
-    """Left: membrane error against N; right: the bifurcation pressure against R/h with the mode degrees."""
+    """Above: membrane error against N; below: the bifurcation pressure against R/h with the mode degrees."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FixedFormatter, FixedLocator, NullFormatter, NullLocator
 
-    from contin.style import COLORS, GREY, marker_style
+    from contin.style import COLORS, GREY, WIDTH, marker_style
 
-    fig, (a, b) = plt.subplots(1, 2, figsize=(9.0, 3.6))
+    # one above the other at a page's width, each legend right of its panel
+    fig, (a, b) = plt.subplots(2, 1, figsize=(WIDTH, 6.2), layout="constrained")
     depths = sorted({r["R_over_h"] for r in membrane})
     equator = {roh: [abs(r["equator_error"]) for r in membrane if r["R_over_h"] == roh] for roh in depths}
     # the equator's error does not depend on R/h (the depths agree to 2e-5 relative): the first depth
@@ -196,13 +197,12 @@ def plot(membrane: Sequence[dict[str, Any]], bifurcation: Sequence[dict[str, Any
     a.xaxis.set_minor_locator(NullLocator())
     a.xaxis.set_minor_formatter(NullFormatter())
     a.set_xlim(N[0] / 1.15, N[-1] * 1.15)
-    # room above the coarsest pole error for the legend (upper right), which then lies on no line
     top = max(abs(r["pole_error"]) for r in membrane)
     a.set_ylim(top=4.0 * top)
     a.set_xlabel("nodes on the meridian, $N$")
     a.set_ylabel(r"$|w / w_\mathrm{exact} - 1|$")
     a.set_title("membrane state: relative error of the linear shrinkage $w$ against $N$", fontsize="small")
-    a.legend(fontsize="x-small", loc="upper right")
+    a.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     rows = [r for r in bifurcation if r["p_over_p_c"] is not None]
     x = [r["R_over_h"] for r in rows]
     for kind in sorted({r["kind"] for r in rows}):
@@ -211,7 +211,7 @@ def plot(membrane: Sequence[dict[str, Any]], bifurcation: Sequence[dict[str, Any
                    label=f"first {kind.replace('_', ' ')} (ours)", **marker_style(kind))
     for r in rows:
         b.annotate(f"$l = {r['l']}$, $l^* = {r['l_star']:.1f}$", (r["R_over_h"], r["p_over_p_c"]),
-                   textcoords="offset points", xytext=(5, 6), fontsize="x-small")
+                   textcoords="offset points", xytext=(5, 6), fontsize="small")
     b.axhline(1.0, color=GREY, lw=0.8)
     b.axhspan(0.98, 1.02, color=GREY, alpha=0.15, lw=0, label=r"$p_c \pm 2\,\%$")
     b.set_xlabel("$R/h$")
@@ -221,9 +221,8 @@ def plot(membrane: Sequence[dict[str, Any]], bifurcation: Sequence[dict[str, Any
     b.set_title("first singular point of the axisymmetric pressure path", fontsize="small")
     b.text(0.02, 0.97, "$l$: degree of the Legendre polynomial $P_l(\\cos\\beta)$ carrying most of the mode\n"
            "$l^*$: classical degree, $l^*(l^*+1) = \\sqrt{12(1-\\nu^2)}\\,R/h$",
-           transform=b.transAxes, va="top", ha="left", fontsize="x-small")
-    b.legend(fontsize="x-small", loc="lower right")
-    fig.tight_layout()
+           transform=b.transAxes, va="top", ha="left", fontsize="small")
+    b.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     return fig
 
 

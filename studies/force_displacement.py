@@ -437,28 +437,39 @@ def _plot_fig3_panel(ax: Any, runs: list[tuple[str, dict[str, Any], TraceResult]
     ax.set_xlabel(W_LABEL)
     ax.set_ylabel(F_LABEL)
     ax.set_title(title, fontsize="medium")
-    ax.legend(handles=case_handles + extra, fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    # beside the axes: the curves fill the whole panel (the style's legend size, readable at page width)
+    ax.legend(handles=case_handles + extra, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
 
 
 def plot_fig3(runs_a: list, runs_b: list, N: int) -> Any:
-    """Figure 3: (a) the phi_hat sweep at h/R = 0.02, (b) the h/R sweep at phi_hat = 1.0."""
-    fig, axes = plt.subplots(1, 2, figsize=(16, 5.6))
+    """Figure 3: (a) the phi_hat sweep at h/R = 0.02 above (b) the h/R sweep at phi_hat = 1.0 (a page wide)."""
+    fig, axes = plt.subplots(2, 1, figsize=(style.WIDTH, 7.4), layout="constrained")
     _plot_fig3_panel(axes[0], runs_a, f"(a) $h/R = {H_3A:g}$, $N = {N}$", "phi_hat")
     _plot_fig3_panel(axes[1], runs_b, rf"(b) $\hat\phi = {PHI_3B:g}$, $N = {N}$", "h_over_R")
     fig.suptitle("Point indentation, displacement-controlled path (class of each run in the legend)",
                  fontsize="medium")
-    fig.tight_layout()
     return fig
 
 
 def plot_fig4(cases: dict[float, dict[str, Any]], paths: dict[float, TraceResult], N: int) -> Any:
-    """Figure 4: loading/unloading under both controls (rows 1, 2) and the shapes (row 3)."""
+    """Figure 4: loading/unloading under both controls (rows 1, 2) and the shapes (row 3), a column per cap.
+
+    A page wide: the curves' legend is the figure's (above the panels), each column's shapes have theirs
+    below them; the columns share one grid, so that their rows line up.
+    """
     from matplotlib.lines import Line2D
 
-    fig, axes = plt.subplots(3, len(cases), figsize=(6.2 * len(cases), 14), squeeze=False)
+    fig = plt.figure(figsize=(style.WIDTH, 8.4), layout="constrained")
+    # the figure's legend belongs to a subfigure holding the panels: a figure's own "outside" legend would
+    # lie on its suptitle
+    body = fig.subfigures(1, 1)
+    axes = body.subplots(3, len(cases), squeeze=False, height_ratios=(1.0, 1.0, 0.72))
     # "back to F = 0" dash-dotted: dotted is the snaps' style
     styles = {"loading": ("-", "tab:red"), "unloading": ("--", "tab:blue"), "back to F = 0": ("-.", "tab:green")}
     names = {"back to F = 0": "back to $F = 0$"}
+    # the legend of rows 1 and 2, one for the figure: every curve style of any panel, then every snap style
+    curve_handles: dict[str, Any] = {}
+    snap_handles: dict[str, Any] = {}
     for col, (phi, case) in enumerate(cases.items()):
         tag = "ab"[col] if col < 2 else str(col)
         for row, ctl in enumerate(("displacement", "force")):
@@ -480,19 +491,23 @@ def plot_fig4(cases: dict[float, dict[str, Any]], paths: dict[float, TraceResult
                 if sw.jumps:
                     snaps.append((name, color))
             # the snap arrows take their sweep's colour: one entry per sweep that snaps, none without a snap
-            handles, _ = ax.get_legend_handles_labels()
-            handles += [Line2D([], [], ls=":", color=color, lw=1.3, label=f"snap on {names.get(name, name)}")
-                        for name, color in snaps]
+            handles, labels = ax.get_legend_handles_labels()
+            for h, lab in zip(handles, labels):
+                curve_handles.setdefault(lab, h)
+            for name, color in snaps:
+                label = f"snap on {names.get(name, name)}"
+                snap_handles.setdefault(label, Line2D([], [], ls=":", color=color, lw=1.3, label=label))
             if ctl == "displacement":
                 for k, (_, _, _, o) in enumerate(case["shapes"]):
                     ax.plot(o["w_over_R"], o["F_norm"], "o", color=f"C{k}", ms=6, mec="k", zorder=5)
             lp = d["loop"]
             ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
-            ax.set_title(rf"({tag}{row + 1}) $\hat\phi = {phi:g}$, {ctl} control: "
-                         f"{'hysteresis' if lp['hysteresis'] else 'no hysteresis'}", fontsize="medium")
+            # the column's cap heads its first panel
+            head = rf"({tag}) $\hat\phi = {phi:g}$" + "\n" if row == 0 else ""
+            ax.set_title(f"{head}({tag}{row + 1}) {ctl} control: {'hysteresis' if lp['hysteresis'] else 'no hysteresis'}",
+                         fontsize="medium")
             ax.set_xlabel(W_LABEL)
             ax.set_ylabel(F_LABEL)
-            ax.legend(handles=handles, fontsize="x-small")
         ax = axes[2, col]
         for k, (label, x, _, o) in enumerate(case["shapes"]):
             r, z = x[0::2], x[1::2]
@@ -502,12 +517,22 @@ def plot_fig4(cases: dict[float, dict[str, Any]], paths: dict[float, TraceResult
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel(r"$r/R$")
         ax.set_ylabel(r"$z/R$")
-        ax.set_title(rf"({tag}3) $\hat\phi = {phi:g}$: meridian at the numbered points", fontsize="medium")
-        ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
+        ax.set_title(f"({tag}3) meridian at the numbered points", fontsize="medium")
+        # below the panel (placed under its axis label once the layout is known): the labels are too long
+        # for the narrow panel
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=1, handlelength=2.0)
+    body.legend(handles=[*curve_handles.values(), *snap_handles.values()], loc="outside upper center", ncol=3,
+               handlelength=2.4)
     fig.suptitle(f"Loading and unloading, $h/R = {H_4:g}$, $N = {N}$", fontsize="medium")
-    # tight_layout leaves the suptitle against the top row's titles: keep a strip for it
-    fig.tight_layout(h_pad=1.5, rect=(0, 0, 1, 0.985))
-    # the numbers go where the curves are not, which is known once the layout has fixed the axes
+    # the shapes' legends just under their axis labels, then the numbers where the curves are not: both are
+    # known once the layout has fixed the axes; lay the figure out again with the legends moved and keep it
+    fig.draw_without_rendering()
+    for ax in axes[2]:
+        label = ax.xaxis.label.get_window_extent()
+        y = ax.transAxes.inverted().transform((0.0, label.y0))[1]
+        ax.get_legend().set_bbox_to_anchor((0.5, y - 0.02), transform=ax.transAxes)
+    fig.draw_without_rendering()
+    fig.set_layout_engine("none")
     for col, case in enumerate(cases.values()):
         ax = axes[0, col]
         placed: list[np.ndarray] = []

@@ -143,7 +143,9 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(8.0, 4.2))
+    from contin import style
+
+    fig, ax = plt.subplots(figsize=(style.WIDTH, 3.7))  # a page's width: printable as saved
     markers = {"point": "o", "sphere": "s", "plate": "^"}
     for kind, marker in markers.items():
         for outcome, colour in (("complete", "tab:green"), ("refused", "0.6"), ("failed", "tab:red")):
@@ -157,9 +159,8 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     ax.set_ylabel(r"$h/R$")
     s = summarize(rows)
     ax.set_title(f"{s['n_complete']} of {s['n_scenes'] - s['n_refused']} accepted random scenes complete "
-                 f"({100 * s['complete_rate_judged']:.0f} % with N >= {TARGET_MIN_NODES}); size ~ N",
-                 fontsize="medium")
-    ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+                 f"({100 * s['complete_rate_judged']:.0f} % with $N \\geq {TARGET_MIN_NODES}$); marker size grows with $N$")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     return fig
 

@@ -67,6 +67,7 @@ import numpy as np  # noqa: E402
 from scipy.interpolate import CubicSpline  # noqa: E402
 from scipy.optimize import brentq  # noqa: E402
 
+from contin.style import WIDTH  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figures, say, study_parser,  # noqa: E402
                              write_csv, write_json)
 from studies.indenter_size import GAP_TOL_FACTOR, free_snap_state, locate_transition, resting_sphere  # noqa: E402
@@ -479,7 +480,9 @@ def _fig9(res: dict[str, Any]) -> Any:
     base, S = res["base"], res["summary"]
     m = base["model"]
     nc = m["curves"]
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.6))
+    # a page wide (contin.style.WIDTH), (a) above (b): side by side, (a) would be too narrow for its note
+    fig, (a, b) = plt.subplots(2, 1, figsize=(WIDTH, 8.0), layout="constrained",
+                               gridspec_kw={"height_ratios": (1.0, 1.45)})
     keep = nc["s"] < 0.98 * nc["s_crest"]
     a.plot(nc["s"][keep], nc["g"][keep], "-", color="C0", label="$\\tilde r - \\tilde h$ (left axis)")
     a.axhline(0, color="0.6", lw=0.6)
@@ -524,7 +527,6 @@ def _fig9(res: dict[str, Any]) -> Any:
     # inside the spheres, above the shape and below their centres: the only place no curve crosses
     b.legend(loc="center", bbox_to_anchor=(0.0, 1.12), bbox_transform=b.transData)
     b.set_title("(b) spheres centred on the axis (+), tangent to the snap shape (dots)", fontsize="small")
-    fig.tight_layout()
     return fig
 
 
@@ -559,7 +561,8 @@ def _fig10(res: dict[str, Any]) -> Any:
 
     cases = [c for c in res["h_cases"] if c["bistable"]]
     fits = res["summary"]["fits"]
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.4))
+    # a page wide (contin.style.WIDTH), (a) above (b): side by side, the legends would cover the curves
+    fig, (a, b) = plt.subplots(2, 1, figsize=(WIDTH, 6.6), layout="constrained")
     for k, c in enumerate(cases):
         col = plt.cm.viridis(k / max(len(cases) - 1, 1))
         a.plot(c["r"], c["z"], "-", color=col, lw=1, label=f"{c['h_over_R']:g}")
@@ -580,7 +583,6 @@ def _fig10(res: dict[str, Any]) -> Any:
     b.set_ylabel("$r_c/R$")
     b.set_title(f"(b) critical indenter size against thickness, $\\hat\\phi$ = {PHI_HAT}", fontsize="small")
     b.legend(loc="upper right")
-    fig.tight_layout()
     return fig
 
 
@@ -589,8 +591,10 @@ def _fig11(res: dict[str, Any]) -> Any:
 
     cases = [c for c in res["phi_cases"] if c["bistable"]]
     S = res["summary"]
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8.5))
-    a, b, c_, d = axes.ravel()
+    # a page wide (contin.style.WIDTH): the shapes in the left column, the critical sizes in the right one,
+    # each column's legend (the same for both its panels) under it, where it hides no curve
+    fig, axes = plt.subplots(2, 2, figsize=(WIDTH, 7.9), layout="constrained")
+    (a, b), (c_, d) = axes
     for k, c in enumerate(cases):
         col = plt.cm.plasma(k / max(len(cases), 1))
         a.plot(c["r"], c["z"], "-", color=col, lw=1, label=f"{c['phi_hat']:g}")
@@ -600,18 +604,14 @@ def _fig11(res: dict[str, Any]) -> Any:
     a.set_xlabel("$x/R$")
     a.set_ylabel("$z/R$")
     a.set_title(f"(a) snap shapes, $h/R$ = {H_OVER_R} ($z$ exaggerated)", fontsize="small")
-    # room under the deepest dip for the legend: no shape reaches there
-    lo, hi = a.get_ylim()
-    a.set_ylim(lo - 0.22 * (hi - lo), hi)
-    a.legend(ncol=len(cases) // 2 + len(cases) % 2, title="$\\hat\\phi$", loc="lower center")
     col = S["collapse"]
     c_.set_xlabel("$r / (R\\cos\\hat\\phi)$")
     c_.set_ylabel("$(z - z_\\mathrm{pole}) / (R(1 - \\sin\\hat\\phi))$")
-    c_.set_title(f"(c) scaled snap shapes: max spread {col['all_bistable']['max_spread']:.3f} "
+    c_.set_title(f"(c) scaled snap shapes: max spread {col['all_bistable']['max_spread']:.3f}\n"
                  f"({100 * col['all_bistable']['relative_max_spread']:.0f} % of the range; unscaled $z$: "
                  f"{100 * col['baseline_r_scaled_z_unscaled_all_bistable']['relative_max_spread']:.0f} %)", fontsize="small")
-    # the shapes rise from the pole at the bottom left: the top left is empty
-    c_.legend(ncol=3, title="$\\hat\\phi$", loc="upper left")
+    c_.legend(ncol=4, title="$\\hat\\phi$", loc="upper center", bbox_to_anchor=(0.5, -0.2), handlelength=1.8,
+              columnspacing=1.2)
     _plot_r_c(b, cases, "phi_hat")
     nb = S["not_bistable"]
     nbp = [x["phi_hat"] for x in nb if x["h_over_R"] == H_OVER_R]
@@ -619,20 +619,23 @@ def _fig11(res: dict[str, Any]) -> Any:
         b.axvspan(min(nbp) - 0.0125, max(nbp) + 0.0125, color="0.9", label="not bistable (no snap at $F = 0$)")
     b.set_xlabel("$\\hat\\phi$")
     b.set_ylabel("$r_c/R$")
-    b.set_title(f"(b) critical indenter size against the base angle, $h/R$ = {H_OVER_R}", fontsize="small")
-    b.legend(loc="lower left")
+    b.set_title(f"(b) $r_c$ against the base angle, $h/R$ = {H_OVER_R}", fontsize="small")
     _plot_r_c(d, cases, "phi_hat", scale=lambda c: 1.0 - math.sin(c["phi_hat"]))
     f = S["fits"]["r_c_over_1_minus_sin_vs_phi_geometric_paper_range"]
     if f["slope"] is not None:
         pp = np.linspace(*PHI_PAPER, 50)
         d.plot(pp, f["slope"] * pp + f["intercept"], "--", color="k", lw=0.8,
-               label=f"linear fit, ${PHI_PAPER[0]:g} \\leq \\hat\\phi \\leq {PHI_PAPER[1]:g}$: "
+               label=f"linear fit, ${PHI_PAPER[0]:g} \\leq \\hat\\phi \\leq {PHI_PAPER[1]:g}$:\n"
                      f"slope ${f['slope']:.3g}$, $R^2$ = {f['r2']:.3f}")
     d.set_xlabel("$\\hat\\phi$")
     d.set_ylabel("$r_c / (R(1 - \\sin\\hat\\phi))$")
     d.set_title("(d) normalized critical indenter size", fontsize="small")
-    d.legend(loc="upper left")
-    fig.tight_layout()
+    # one legend for (b) and (d): what both draw, then the fit of (d) and the band of (b)
+    handles: dict[str, Any] = {}
+    for ax in (d, b):
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(lab, h)
+    d.legend(list(handles.values()), list(handles), loc="upper center", bbox_to_anchor=(0.5, -0.2))
     return fig
 
 

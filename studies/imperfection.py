@@ -316,9 +316,10 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin.style import COLORS, RED
+    from contin.style import COLORS, RED, WIDTH
 
-    fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.8), sharey=True)
+    # side by side at a page's width (one ordinate), the legend under both panels
+    fig, axes = plt.subplots(1, 2, figsize=(WIDTH, 4.3), sharey=True, layout="constrained")
     titles = {"hemisphere": "clamped hemisphere", "sphere": "complete sphere"}
     # the curves meet within a marker's width at small delta (lambda_I = 1 and 3, lambda_I = 4 and the
     # mode): the large hollow marks lie below, the small filled ones on top of them, so both show
@@ -356,8 +357,7 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
         ax.set_ylim(0.0, 1.1)
         ax.grid(alpha=0.3, lw=0.5)
     axes[0].set_ylabel(r"knockdown $\kappa = p_\mathrm{max} / p_c$")
-    axes[1].legend(fontsize="x-small", loc="upper right")
-    fig.tight_layout()
+    fig.legend(*axes[1].get_legend_handles_labels(), loc="outside lower center", ncol=3)
     return fig
 
 

@@ -69,6 +69,7 @@ import numpy as np  # noqa: E402
 import contin  # noqa: E402
 from contin.executors import Executor, make_executor  # noqa: E402
 from contin.scene import load_scene  # noqa: E402
+from contin.style import WIDTH  # noqa: E402
 from contin_models.contact.barrier import ContactCells  # noqa: E402
 from contin_models.shell_scene.contact import contact_mode  # noqa: E402
 from contin_models.shell.problem import ShellPointLoad  # noqa: E402
@@ -545,7 +546,10 @@ def _fig6(res: dict[str, Any]) -> Any:
     import matplotlib.pyplot as plt
 
     cases, free, S = res["cases"], res["free"], res["summary"]
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2))
+    # a page wide (contin.style.WIDTH), the panels one above the other: side by side, each would be too
+    # narrow for its colour bar or its second axis (tight_layout: the colour bar takes its room from (a)
+    # alone, next to it, where the constrained layout would align it with the second axis of (b))
+    fig, (a, b) = plt.subplots(2, 1, figsize=(WIDTH, 7.4))
     r_all = [d["r_over_R"] for d in cases]
     norm = matplotlib.colors.Normalize(min(r_all), max(r_all))
     for d in cases:
@@ -582,10 +586,10 @@ def _fig6(res: dict[str, Any]) -> Any:
     b.axvline(S["r_c_over_R"], color="k", ls="--", lw=0.8, label=f"$r_c/R \\in [{lo:.3f}, {hi:.3f}]$ (bisection)")
     h1, l1 = b.get_legend_handles_labels()
     h2, l2 = b2.get_legend_handles_labels()
-    b.legend(h1 + h2, l1 + l2, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
+    b.legend(h1 + h2, l1 + l2, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2)
     b.set_title("(b) snap travel and pole gap against the indenter size")
     fig.suptitle(f"Sphere indentation, $\\hat\\phi$ = {PHI_HAT}, $h/R$ = {H_OVER_R}, $N$ = {S['scene']['N']}")
-    fig.tight_layout()
+    fig.tight_layout(h_pad=1.2)
     return fig
 
 
@@ -600,7 +604,11 @@ def _fig7(res: dict[str, Any]) -> Any:
     middle = ((min(above, key=lambda c: c["r_over_R"]), ", the first sample above $r_c/R$") if above
               else (nearest(S["r_c_over_R"]), ", the sample nearest $r_c/R$"))
     picks = [(nearest(0.5), ""), middle, (nearest(1.1), "")]
-    fig, axes = plt.subplots(1, 3, figsize=(12, 4.4), sharey=True)
+    # a page wide (contin.style.WIDTH): three panels side by side would be too narrow, so a 2 x 2 grid,
+    # the legend in the fourth cell
+    fig, grid = plt.subplots(2, 2, figsize=(WIDTH, 4.6), sharey=True, layout="constrained",
+                             gridspec_kw={"wspace": 0.06})
+    axes = grid.ravel()[:3]
     dhat = S["scene"]["dhat_over_R"]
     for ax, (d, what) in zip(axes, picks):
         ax.plot(free["r"], free["z"], "-", color="0.6", lw=3, label="free snap state (point load at $F = 0$)")
@@ -619,11 +627,11 @@ def _fig7(res: dict[str, Any]) -> Any:
                      fontsize="small")
         # the section's horizontal coordinate: r is the indenter's radius here
         ax.set_xlabel("$x/R$")
-    axes[0].set_ylabel("$z/R$")
-    fig.tight_layout()
-    # under the panels (every corner of them holds a shape or the indenter), after the layout, which
-    # would otherwise narrow the panels to the legend's width
-    axes[1].legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+    for ax in grid[:, 0]:
+        ax.set_ylabel("$z/R$")
+    # in the fourth cell (every corner of the panels holds a shape or the indenter)
+    grid[1, 1].axis("off")
+    grid[1, 1].legend(*axes[0].get_legend_handles_labels(), loc="center", frameon=False)
     return fig
 
 
@@ -633,7 +641,9 @@ def _fig8(res: dict[str, Any]) -> Any:
 
     cases, free = res["cases"], res["free"]
     sel = [d for d in cases if any(abs(d["r_over_R"] - r) < 1e-9 for r in FIG8_RADII)]
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex="col")
+    # a page wide (contin.style.WIDTH): each row shares its y axis (the same quantity and range), so the
+    # panels keep their width, and the legends go under the panels, where they hide no curve
+    fig, axes = plt.subplots(2, 2, figsize=(WIDTH, 6.6), sharex="col", sharey="row", layout="constrained")
     fp = free["path"]
     n = len(sel)
     for k, d in enumerate(sel):
@@ -657,9 +667,9 @@ def _fig8(res: dict[str, Any]) -> Any:
         ax.set_ylim(kmin - 0.4, kmax + 0.4)
         ax.axhline(free["kappa_p_R"], color="0.6", lw=0.6,
                    label=f"free snap state ($F = 0$): $\\kappa_p R = {free['kappa_p_R']:.3g}$")
-        ax.set_ylabel("$\\kappa_p R$")
+    axes[0, 0].set_ylabel("$\\kappa_p R$")
+    axes[1, 0].set_ylabel("$\\Delta H/R$")
     for ax in (axes[1, 0], axes[1, 1]):
-        ax.set_ylabel("$\\Delta H/R$")
         dh = res["summary"]["scene"]["dhat_over_R"]
         ax.axhline(dh, color="0.6", lw=0.6, ls="--")
         # right end, above the line: the paths there are flat at 0 or far above it
@@ -671,14 +681,12 @@ def _fig8(res: dict[str, Any]) -> Any:
     axes[0, 1].set_title("(b) pole curvature against pole travel", fontsize="small")
     axes[1, 0].set_title("(c) pole gap against indenter travel", fontsize="small")
     axes[1, 1].set_title("(d) pole gap against pole travel", fontsize="small")
-    # above the curves (they start at kappa_p R = 1 and fall below the free state's line at once):
-    # the radii in (a), the reference lines and the snap rings in (b)
-    axes[0, 0].legend(handles=axes[0, 0].get_legend_handles_labels()[0][:n], loc="upper right")
+    # under the panels, one legend for the figure: the radii (every panel), then the reference lines and
+    # the snap rings (the top row)
     refs = axes[0, 1].get_legend_handles_labels()[0][n:]
     refs.append(Line2D([], [], ls="none", marker="o", mfc="none", mec="0.25", mew=0.9, ms=6,
                        label="snap (rings nest where snaps coincide)"))
-    axes[0, 1].legend(handles=refs, loc="upper right")
-    fig.tight_layout()
+    fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0][:n] + refs, loc="outside lower center", ncol=2)
     return fig
 
 

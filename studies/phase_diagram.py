@@ -208,7 +208,8 @@ def plot(curves: dict[str, BoundaryCurve], rows: list[dict[str, Any]], fits: dic
     from contin import style
 
     colours = {"bistable": style.COLORS[1], "monostable": style.COLORS[0], "monotonous": style.COLORS[2]}
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.5))
+    # a page wide: (a) above (b), on one phi_hat axis
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(style.WIDTH, 7.6), sharex=True, layout="constrained")
     # the grid's dots above the boundaries, with a white rim: a cell that lies on a curve stays visible
     for cls, col in colours.items():
         pts = [(r["shell.phi_hat"], r["shell.h"]) for r in rows if r.get("label") == cls]
@@ -237,13 +238,12 @@ def plot(curves: dict[str, BoundaryCurve], rows: list[dict[str, Any]], fits: dic
             bx.plot([p["phi_hat"] for p in gp], [p["lambda"] for p in gp], "o", mfc="w", color=col, zorder=4,
                     label=f"grid: {names[kind]} (cell midpoints)")
     ax.set_yscale("log")
-    ax.set_xlabel(r"$\hat\phi$")
     ax.set_ylabel(r"$h/R$")
     ax.set_title("(a) phase diagram: grid and traced boundaries")
     handles, labels = ax.get_legend_handles_labels()
     fit = [i for i, lab in enumerate(labels) if lab.startswith("eq.")]
     keep = [i for i in range(len(labels)) if i not in fit] + fit
-    ax.legend([handles[i] for i in keep], [labels[i] for i in keep], fontsize=7, loc="lower left", framealpha=0.9)
+    ax.legend([handles[i] for i in keep], [labels[i] for i in keep], loc="lower left", framealpha=0.9)
     bx.set_xlabel(r"$\hat\phi$")
     bx.set_ylabel(r"$\lambda$ on the boundary")
     bx.set_title("(b) depth parameter along the boundaries")
@@ -251,8 +251,7 @@ def plot(curves: dict[str, BoundaryCurve], rows: list[dict[str, Any]], fits: dic
     # grouped by boundary: traced, grid, paper
     order = sorted(range(len(labels)), key=lambda i: (("monostable / monotonous" in labels[i]) or "3.65" in labels[i],
                                                         labels[i].startswith("paper")))
-    bx.legend([handles[i] for i in order], [labels[i] for i in order], fontsize=7)
-    fig.tight_layout()
+    bx.legend([handles[i] for i in order], [labels[i] for i in order])
     save_figure(fig, out, "phase_diagram")
 
 

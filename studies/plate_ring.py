@@ -72,18 +72,19 @@ def plot(rows: Sequence[dict[str, Any]], w_b: np.ndarray, F: np.ndarray, F_unit:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (a, b) = plt.subplots(1, 2, figsize=(8.4, 3.4))
+    from contin.style import WIDTH
+
+    fig, (a, b) = plt.subplots(1, 2, figsize=(WIDTH, 3.0), layout="constrained")
     a.plot(w_b, F / F_unit, "-", lw=1.2, color="tab:blue")
     a.set_xlabel(r"$w_b/R$")
     a.set_ylabel(r"$F R / 2\pi D$")
-    a.set_title(f"dimple branch, N = 200: {sign_changes(w_b, F)} sign changes of dF/dw_b", fontsize="small")
+    a.set_title(f"dimple branch, $N = 200$: {sign_changes(w_b, F)} sign changes of $dF/dw_b$", fontsize="small")
     b.plot([r["N"] for r in rows], [r["w_b"] for r in rows], "o-", color="tab:red")
     b.set_xscale("log", base=2)
     b.set_xticks([r["N"] for r in rows], [str(r["N"]) for r in rows])
-    b.set_xlabel("N (nodes on the meridian)")
+    b.set_xlabel("$N$ (nodes on the meridian)")
     b.set_ylabel(r"$w_b/R$ at the dimple snap")
     b.set_title("dimple snap against the mesh", fontsize="small")
-    fig.tight_layout()
     return fig
 
 

@@ -203,10 +203,11 @@ def _times_ten(v: float) -> str:
 
 
 def plot_fig12(point: dict[str, Any], plate: dict[str, Any], spheres: list[dict[str, Any]], N: int) -> Any:
-    """Figure 12c: the three snap quantities against r/R with the point and plate limits."""
+    """Figure 12c: the three snap quantities against r/R with the point and plate limits (a column of three)."""
     from contin import style
 
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
+    # a page wide: the three panels one above the other, on one r/R axis
+    fig, axes = plt.subplots(3, 1, figsize=(style.WIDTH, 7.2), sharex=True, layout="constrained")
     r = np.array([s["r_over_R"] for s in spheres])
     c_point, c_plate = style.COLORS[0], style.COLORS[1]
     for ax, (key, _) in zip(axes, QUANTITIES):
@@ -221,10 +222,10 @@ def plot_fig12(point: dict[str, Any], plate: dict[str, Any], spheres: list[dict[
         ax.axhline(plate[key], color=c_plate, ls=(0, (6, 2, 1.5, 2)), lw=1.4, zorder=3,
                    label=rf"plate ($r \to \infty$): {_sig3(plate[key])}")
         ax.set_xscale("log")
-        ax.set_xlabel("$r/R$")
         ax.set_ylabel(symbol)
         ax.set_title(title, fontsize="medium")
     a, b, c = axes
+    c.set_xlabel("$r/R$")
     # (a) and (b) are the same kind of displacement: on one scale, w_s is seen not to move while w_b^c does
     lo = min(plate["w_b_c_over_R"], *(s["w_b_c_over_R"] for s in spheres))
     hi = max(point["w_b_c_over_R"], point["w_s_over_R"], plate["w_s_over_R"])
@@ -242,7 +243,6 @@ def plot_fig12(point: dict[str, Any], plate: dict[str, Any], spheres: list[dict[
     c.legend(fontsize="small", loc="center left")
     fig.suptitle(rf"Snap of the cap $\hat\phi = {PHI_HAT:g}$, $h/R = {H_OVER_R:g}$ ($N = {N}$): "
                  "point and plate limits", fontsize="medium")
-    fig.tight_layout(rect=(0, 0, 1, 0.98))
     return fig
 
 

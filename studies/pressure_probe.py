@@ -97,7 +97,7 @@ def plot(curves: Sequence[dict[str, Any]], folds: Sequence[float]) -> Any:
 
     from contin import style
 
-    fig, ax = plt.subplots(figsize=(5.6, 3.8))
+    fig, ax = plt.subplots(figsize=(style.WIDTH, 3.8))  # a page's width: printable as saved
     # straight between stored points: the fold curve's branch stores no tangent of F (FoldCurveProblem
     # gives no observable derivatives); its stored points are close enough that no corner shows
     for c in curves:
@@ -120,7 +120,7 @@ def plot(curves: Sequence[dict[str, Any]], folds: Sequence[float]) -> Any:
     ax.set_xlabel(r"fixed pressure $p / p_c$")
     ax.set_ylabel(r"limit load $F_\mathrm{max} R / 2\pi D$")
     ax.set_title("clamped cap ($\\lambda = 12$, $R/h = 100$) probed at its pole under pressure", fontsize="small")
-    ax.legend(fontsize="x-small", loc="upper right")
+    ax.legend(loc="upper right")
     fig.tight_layout()
     return fig
 

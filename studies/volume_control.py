@@ -307,8 +307,9 @@ def _curve(br: Branch, V0: float, p_c: float, pressure_controlled: bool) -> tupl
 def plot(runs: Sequence[dict[str, Any]]) -> Any:
     """``p / p_c`` against ``dV / V0`` for each cap: both paths, each styled by its own control's stability.
 
-    One column per cap: the whole path on top, the snaps below (the range of ``dV`` where the path
-    turns).  The pressure-controlled path is drawn thick and light underneath the volume-controlled one
+    One column per cap, page-wide in all: the whole path on top, the snaps below (the range of ``dV``
+    where the path turns), the cap's legend under both.  The pressure-controlled path is drawn thick and
+    light underneath the volume-controlled one
     (they are the same equilibria up to where the pressure trace stops); dotted arrows are the jump of
     each control at its first snap.  Both paths are drawn smooth between their stored points from the
     stored tangents (:func:`contin.diagram.smooth_path`).
@@ -323,7 +324,12 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
     from contin.diagram import stability_pieces
 
     c_pressure, c_volume = style.COLORS[4], style.COLORS[0]
-    fig, axes = plt.subplots(2, len(runs), figsize=(5.4 * len(runs), 8.0), squeeze=False)
+    # a page's width (contin.style.WIDTH) split into one column per cap, printable as saved
+    fig, grid = plt.subplots(3, len(runs), figsize=(style.WIDTH, 7.6), squeeze=False, layout="constrained",
+                             gridspec_kw={"height_ratios": [1.0, 1.0, 0.26]})
+    axes, below = grid[:2], grid[2]  # the bottom row holds the legends: the panels of both columns aligned
+    for ax in below:
+        ax.set_axis_off()
     for col, run in enumerate(runs):
         cap, res = run["cap"], run["result"]
         V0 = cap.pressure.V0
@@ -368,7 +374,7 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
                     edge = x0 + 0.985 * (right - x0)
                     ax.annotate("", xy=(edge, y0), xytext=(x0, y0), zorder=4, arrowprops=dict(arrow, color=c_pressure))
                     ax.annotate(f"snap to $\\Delta V/V_0$ = {x1:.3g}", (edge, y0), textcoords="offset points",
-                                xytext=(-8, -5), ha="right", va="top", fontsize="x-small", color=c_pressure)
+                                xytext=(-8, -5), ha="right", va="top", fontsize="small", color=c_pressure)
             if folds:
                 fold, = ax.plot([r["dV_over_V0"] for r in folds], [r["p_over_p_c"] for r in folds], ls="none",
                                 label="fold in $\\Delta V$ (volume control snaps at the first)",
@@ -387,12 +393,12 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
                              fontsize="small")
                 ax.set_xlim(0.0, None)
                 ax.set_ylim(0.0, None)
-                ax.legend(handles=entries, fontsize="x-small", loc="upper left")
+                # below the column's panels: inside, at a half page's width, it would cover the paths
+                below[col].legend(handles=entries, loc="upper center", borderaxespad=0.0)
             else:
                 inside = vol.p / V0 <= zoom_x
                 ax.set_ylim(0.0, 1.12 * float(np.max(vol.observables["p"][inside])) / cap.p_c)
                 ax.set_title("the snaps (detail)", fontsize="small")
-    fig.tight_layout()
     return fig
 
 
