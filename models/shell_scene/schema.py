@@ -136,8 +136,7 @@ SHELL_SCHEMA = Schema(
             "dhat": real(0.0, ge=0, help="barrier range [m]; 0 = 1e-3 R (the paper's 1e-3 for R = 1 m)"),
         },
         "output": {
-            "figure": boolean(True, help="draw the diagram and the shapes figure (false: no figure file is written, and "
-                                         "a library caller's TraceResult.plot shows a note instead)"),
+            "figure": boolean(True, help="draw the diagram and the shapes figure (false: no figure file is written)"),
             "shapes": choice("special", ("special", "path"),
                              help="what shapes.npz holds: the deformed meridian at every special point (special), or "
                                   "also at every stored point of the path (path: its path_* arrays, one row per row "
