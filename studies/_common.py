@@ -282,6 +282,47 @@ def shell_lambda(phi_hat: float | np.ndarray, h_over_R: float | np.ndarray, nu: 
     return depth_parameter(phi_hat, h_over_R, nu)
 
 
+def clearest_offset(ax: Any, xy: Sequence[float], offsets: Sequence[Sequence[float]],
+                    placed: Sequence[np.ndarray] = ()) -> tuple[int, np.ndarray]:
+    """Where a label beside the data point ``xy`` of ``ax`` hides least: the index of the offset of
+    ``offsets`` (in points, to the label's centre) whose place lies farthest from every line, marker and
+    annotation arrow drawn on ``ax`` and from the labels already ``placed`` (their centres, in display
+    pixels), inside the axes; and that place.  Call it once the layout is final: a fixed offset lands on
+    another curve or mark wherever the data crowd, and where they crowd changes from run to run.
+    """
+    segments = []
+    for line in ax.lines:
+        pts = line.get_transform().transform(np.asarray(line.get_xydata(), float))
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        if len(pts) == 1 or (len(pts) and line.get_linestyle() in ("None", "none", "")):
+            segments.append(np.hstack([pts, pts]))  # markers alone: points
+        elif len(pts) > 1:
+            segments.append(np.hstack([pts[:-1], pts[1:]]))
+    for ann in ax.texts:
+        if getattr(ann, "xyann", None) is not None and ann.get_text() == "":  # an arrow
+            a = ax.transData.transform(ann.xy)
+            b = ax.transData.transform(ann.xyann)
+            segments.append(np.array([[*b, *a]]))
+    seg = np.vstack(segments) if segments else np.zeros((0, 4))
+    box = ax.get_window_extent()
+    px = ax.figure.dpi / 72.0
+    base = ax.transData.transform(xy)
+    a, d = seg[:, :2], seg[:, 2:] - seg[:, :2]
+    best, best_place, best_score = 0, base + np.asarray(offsets[0]) * px, -np.inf
+    for k, off in enumerate(offsets):
+        c = base + np.asarray(off, dtype=float) * px
+        t = np.clip(np.einsum("ij,ij->i", c - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-12), 0.0, 1.0)
+        score = float(np.min(np.hypot(*(a + t[:, None] * d - c).T), initial=np.inf))
+        for q in placed:
+            score = min(score, float(np.hypot(*(q - c))))
+        margin = 8 * px
+        if not (box.x0 + margin < c[0] < box.x1 - margin and box.y0 + margin < c[1] < box.y1 - margin):
+            score -= 1e6
+        if score > best_score:
+            best, best_place, best_score = k, c, score
+    return best, best_place
+
+
 def say(quiet: bool, msg: str) -> None:
     """A progress line on stderr unless ``quiet``."""
     if not quiet:

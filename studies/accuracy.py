@@ -77,7 +77,8 @@ from contin.palc import Curve, Settings  # noqa: E402
 from contin.style import WIDTH  # noqa: E402
 from contin_models.shell import ShellPointLoad  # noqa: E402
 from contin_models.shell.boundaries import BoundaryCurve, bistable_boundary, monotonous_boundary  # noqa: E402
-from studies._common import output_dir, print_table, save_figure, say, study_parser, write_csv, write_json  # noqa: E402
+from studies._common import (clearest_offset, output_dir, print_table, save_figure, say, study_parser,  # noqa: E402
+                             write_csv, write_json)
 from studies.baselines import (critical_damping, dr_reaction_maximum, lowest_frequency, lumped_masses,  # noqa: E402
                                natural_parameter_limit)
 from studies.shell_mesh_convergence import first_force_maximum, observed_orders, orders_against, richardson  # noqa: E402
@@ -883,52 +884,24 @@ def _panel(ax: Any, rows: list[dict[str, Any]], quantity: str, key: str, where: 
 
 
 def _place_labels(fig: Any, axes: Sequence[Any]) -> None:
-    """Put each run's ``N`` label (an annotation beside its marker: up and right by default) at the corner of
-    its marker where it covers the fewest drawn markers and lines, inside its panel and clear of the other
-    labels: the runs' times vary from one run of the study to the next, so a fixed corner can land on
-    another method's marker."""
+    """Put each run's ``N`` label beside its marker where it hides least (:func:`studies._common.clearest_offset`):
+    the runs' times vary from one run of the study to the next, so a fixed corner can land on another
+    method's marker."""
     from matplotlib.text import Annotation
 
     fig.canvas.draw()  # the layout first: the panels' final size
-    renderer = fig.canvas.get_renderer()
-    px = fig.dpi / 72.0
-    corners = ((3, 3.5, "left", "bottom"), (3, -3.5, "left", "top"), (-3, 3.5, "right", "bottom"),
-               (-3, -3.5, "right", "top"))
     for ax in axes:
-        pts, pads = [], []
-        for line in ax.get_lines():
-            xy = ax.transData.transform(np.asarray(line.get_xydata(), dtype=float))
-            xy = xy[np.all(np.isfinite(xy), axis=1)]
-            if line.get_marker() not in (None, "None", "none", ""):
-                pts.append(xy)
-                pads.append(np.full(len(xy), 0.5 * line.get_markersize() * px))
-            if line.get_linestyle() not in ("None", "none", "") and len(xy) > 1:
-                for a, b in zip(xy[:-1], xy[1:]):
-                    t = np.linspace(0.0, 1.0, max(2, int(np.hypot(*(b - a)) / 2.0)))[:, None]
-                    pts.append(a + t * (b - a))
-                    pads.append(np.full(len(t), 0.5 * line.get_linewidth() * px))
-        xy = np.concatenate(pts) if pts else np.empty((0, 2))
-        pad = np.concatenate(pads) if pads else np.empty(0)
-        box = ax.get_window_extent(renderer)
-        placed: list[Any] = []
-        for ann in [t for t in ax.texts if isinstance(t, Annotation)]:
-            best = None
-            for k, (dx, dy, ha, va) in enumerate(corners):
-                ann.set_position((dx, dy))
-                ann.set_horizontalalignment(ha)
-                ann.set_verticalalignment(va)
-                bb = ann.get_window_extent(renderer)
-                hits = int(np.count_nonzero((xy[:, 0] > bb.x0 - pad) & (xy[:, 0] < bb.x1 + pad)
-                                            & (xy[:, 1] > bb.y0 - pad) & (xy[:, 1] < bb.y1 + pad)))
-                hits += 1000 * sum(bb.overlaps(o) for o in placed)
-                hits += 10000 * (bb.x0 < box.x0 or bb.x1 > box.x1 or bb.y0 < box.y0 or bb.y1 > box.y1)
-                if best is None or hits < best[0]:
-                    best = (hits, k, bb)
-            dx, dy, ha, va = corners[best[1]]
-            ann.set_position((dx, dy))
-            ann.set_horizontalalignment(ha)
-            ann.set_verticalalignment(va)
-            placed.append(best[2])
+        placed: list[np.ndarray] = []
+        for ann in [t for t in ax.texts if isinstance(t, Annotation) and t.get_text()]:
+            best, place = clearest_offset(ax, ann.xy, _LABEL_OFFSETS, placed)
+            ann.set_position(_LABEL_OFFSETS[best])
+            ann.set_horizontalalignment("center")
+            ann.set_verticalalignment("center")
+            placed.append(place)
+
+
+#: Where a run's ``N`` label may go, in points from its marker to the label's centre (up and right first).
+_LABEL_OFFSETS = ((9, 7), (9, -7), (-9, 7), (-9, -7))
 
 
 def plot(res: dict[str, Any], out: Any) -> None:

@@ -64,8 +64,8 @@ from contin.diagram import smooth_path, stability_pieces  # noqa: E402
 from contin.scene import TraceResult, load_scene  # noqa: E402
 from contin_models.shell.problem import ShellPointLoad  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
-from studies._common import (output_dir, print_table, save_figure, say, shell_lambda, study_parser,  # noqa: E402
-                             write_csv, write_json)
+from studies._common import (clearest_offset, output_dir, print_table, save_figure, say, shell_lambda,  # noqa: E402
+                             study_parser, write_csv, write_json)
 
 NAME = "force_displacement"
 #: Figure 3a: base angles at h/R = 0.02 (the paper's range [0.6, 1.3]).
@@ -538,51 +538,15 @@ def plot_fig4(cases: dict[float, dict[str, Any]], paths: dict[float, TraceResult
         placed: list[np.ndarray] = []
         for k, (_, _, _, o) in enumerate(case["shapes"]):
             xy = (o["w_over_R"], o["F_norm"])
-            off = _free_offset(ax, xy, placed)
-            ax.annotate(str(k + 1), xy, textcoords="offset points", xytext=off, fontsize="small",
+            best, place = clearest_offset(ax, xy, _OFFSETS, placed)
+            ax.annotate(str(k + 1), xy, textcoords="offset points", xytext=_OFFSETS[best], fontsize="small",
                         ha="center", va="center")
-            placed.append(ax.transData.transform(xy) + np.asarray(off) * fig.dpi / 72.0)
+            placed.append(place)
     return fig
 
 
 #: Where a point's number may go, in points from the point (its centre).
 _OFFSETS = ((8, 8), (8, -8), (-8, 8), (-8, -8), (10, 0), (-10, 0), (0, 10), (0, -10))
-
-
-def _free_offset(ax: Any, xy: tuple[float, float], placed: Sequence[np.ndarray]) -> tuple[float, float]:
-    """The offset of :data:`_OFFSETS` whose place lies farthest from every line and number on ``ax``
-    (and inside it)."""
-    segments = []
-    for line in ax.lines:
-        pts = line.get_transform().transform(np.asarray(line.get_xydata(), float))
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
-        if len(pts) == 1:
-            segments.append(np.hstack([pts, pts]))
-        elif len(pts) > 1:
-            segments.append(np.hstack([pts[:-1], pts[1:]]))
-    for ann in ax.texts:
-        if getattr(ann, "xyann", None) is not None and ann.get_text() == "":
-            a = ax.transData.transform(ann.xy)
-            b = ax.transData.transform(ann.xyann)
-            segments.append(np.array([[*b, *a]]))
-    seg = np.vstack(segments) if segments else np.zeros((0, 4))
-    box = ax.get_window_extent()
-    base = ax.transData.transform(xy)
-    best, best_score = _OFFSETS[0], -np.inf
-    for off in _OFFSETS:
-        c = base + np.asarray(off) * ax.figure.dpi / 72.0
-        a, b = seg[:, :2], seg[:, 2:]
-        d = b - a
-        t = np.clip(np.einsum("ij,ij->i", c - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-12), 0.0, 1.0)
-        score = float(np.min(np.hypot(*(a + t[:, None] * d - c).T), initial=np.inf))
-        for q in placed:
-            score = min(score, float(np.hypot(*(q - c))))
-        margin = 8 * ax.figure.dpi / 72.0
-        if not (box.x0 + margin < c[0] < box.x1 - margin and box.y0 + margin < c[1] < box.y1 - margin):
-            score -= 1e6
-        if score > best_score:
-            best, best_score = off, score
-    return best
 
 
 # ---------------------------------------------------------------------------------------------------
