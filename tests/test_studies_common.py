@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from studies import _common
@@ -102,3 +103,27 @@ def test_an_unwritable_study_output_exits_2(tmp_path: Path) -> None:
                           timeout=120)
     assert proc.returncode == 2 and proc.stdout == "" and "Traceback" not in proc.stderr
     assert proc.stderr.startswith("error: cannot create the output directory") and proc.stderr.count("\n") == 1
+
+
+def test_clearest_offset_puts_a_label_where_nothing_is_drawn() -> None:
+    """A line through the point from lower left to upper right, and one label already to the lower right:
+    of the four corners the label goes to the upper left, the one farthest from both."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from studies._common import clearest_offset
+
+    ax = Figure(figsize=(4, 4)).subplots()
+    ax.plot([0.0, 1.0], [0.0, 1.0])
+    ax.set_xlim(0.0, 1.0)
+    ax.set_ylim(0.0, 1.0)
+    ax.figure.canvas.draw()
+    offsets = [(10, 10), (10, -10), (-10, 10), (-10, -10)]
+    placed = [ax.transData.transform((0.5, 0.5)) + np.array([10.0, -10.0]) * ax.figure.dpi / 72.0]
+    best, place = clearest_offset(ax, (0.5, 0.5), offsets, placed)
+    assert best == 2
+    np.testing.assert_allclose(place, ax.transData.transform((0.5, 0.5)) + np.array([-10.0, 10.0]) * ax.figure.dpi / 72.0)
+    # near the axes' edge the corner outside is never chosen, however empty it is
+    assert clearest_offset(ax, (0.02, 0.6), offsets)[0] in (0, 1)
