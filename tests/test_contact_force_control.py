@@ -31,7 +31,7 @@ W_END = 0.33  # the displacement trace goes a little past the maximum of F (w_b 
 
 
 def _param_weight(P) -> float:
-    # F measured in ten times the shell's force unit 2 pi D / R, as the shell scenes do, so that
+    # F measured in ten times the shell's force unit 2 pi D / R, as the point-load scenes do, so that
     # an arclength step moves the load and the state by comparable amounts
     return 1.0 / (10.0 * 2.0 * math.pi * P.D / P.R)
 
@@ -292,3 +292,20 @@ def test_step_filter_includes_the_indenter_travel():
     down[1::2] = -1e-2
     dU = np.append(down[Pf.displacement.idx], 1e-2)
     assert Pf.max_step_fraction(U, F, dU, 0.0) == 1.0
+
+
+@pytest.mark.slow
+def test_a_thin_shallow_cap_under_a_forced_sphere_reaches_the_end_of_travel():
+    """The fuzz study's scene 11 (docs/robustness.md): with the load weighed by the cap's depth, the
+    loading of the everted shell pressed on the sphere ran out of the scene's 3000 steps."""
+    from contin.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCENE
+
+    scene = load_scene(SHELL_SCENE.schema, None, [
+        "shell.R=3.44359741000081", "shell.E=244162575.4191826", "shell.h=0.00387197843511877",
+        "shell.phi_hat=1.402906343560587", "shell.nu=0.41341266477836053", "shell.N=48",
+        "load.kind=sphere", "load.radius=4.117945163675228", "load.control=force", "output.figure=false"])
+    result = SHELL_SCENE.run(scene, progress=False)
+    assert result.status == "ok", result.message
+    assert [b.status for b in result.branches] == ["event", "bound"]
+    assert sum(len(b.p) for b in result.branches) < scene["continuation"]["max_steps"]
