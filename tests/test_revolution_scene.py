@@ -127,3 +127,36 @@ def test_scenes_that_cannot_be_built_are_refused(capsys: pytest.CaptureFixture, 
 def test_classify_is_the_papers_cap_only(capsys: pytest.CaptureFixture) -> None:
     code, _, err = run_cli(capsys, "classify", "-q", "--set", "shell.geometry=cone")
     assert code == 2 and "the classes are the paper's" in err
+
+
+@pytest.mark.parametrize("sets, closed_form", [
+    # Reissner's point stiffness of a sphere, 16 sqrt(3 (1 - nu^2)) D / (h R), far from the support
+    (["shell.boundary=pinned", "shell.R=1", "shell.h=0.02", "shell.nu=0.5"],
+     lambda D, s: 16 * math.sqrt(3 * (1 - 0.5**2)) * D / (0.02 * 1.0)),
+    # Timoshenko's clamped plate, 16 pi D / a^2
+    (["shell.geometry=plate", "shell.boundary=clamped", "shell.nu=0.3"],
+     lambda D, s: 16 * math.pi * D / s["shell"]["a"] ** 2),
+])
+def test_rest_stiffness_is_the_linear_shells(sets: list[str], closed_form) -> None:
+    from contin_models.shell_scene.build import length_unit, rest_stiffness, revolution_problem
+
+    scene = load_scene(SHELL_SCHEMA, None, sets + ["load.control=force"])
+    problem = revolution_problem(scene)
+    assert rest_stiffness(problem, length_unit(scene)) == pytest.approx(closed_form(problem.D, scene), rel=1e-3)
+
+
+def test_force_control_traces_the_displacement_path_through_every_fold(capsys: pytest.CaptureFixture,
+                                                                       tmp_path: Path) -> None:
+    """A clamped cap under a ring force winds through 16 folds and then stiffens steeply (F R/(2 pi D)
+    up to 1e4 at the end of travel); with the load weighed by the rest stiffness, force control
+    follows the same path (before: max_steps after 3000 steps, F R/(2 pi D) = 410)."""
+    sets = ["load.kind=ring", "shell.boundary=clamped"]
+    by_travel, _ = trace(capsys, tmp_path / "w", *sets)
+    by_force, rows = trace(capsys, tmp_path / "F", *sets, "load.control=force")
+    assert by_force["status"] == "ok" and len(rows) < 1000
+    points = [(p["F"], p["w"]) for p in by_force["special_points"]]
+    reference = [(p["F"], p["w"]) for p in by_travel["special_points"]]
+    assert len(points) == len(reference) == 16
+    for F, w in points:
+        nearest = min(reference, key=lambda q: abs(q[0] - F) / max(abs(F), 1.0) + abs(q[1] - w))
+        assert nearest == pytest.approx((F, w), rel=1e-7, abs=1e-8)

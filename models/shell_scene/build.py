@@ -39,7 +39,7 @@ from .shape import length_scale, reference_meridian, rise
 __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path", "point_problem",
            "point_settings", "pressure_problem", "pressure_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH",
            "FORCE_JUMP_ATTEMPTS", "is_papers_cap", "length_unit", "travel", "scene_meridian", "scene_structure",
-           "revolution_problem", "revolution_settings", "buckling_mode", "FLAT_TRAVEL_OVER_H", "harmonics_of",
+           "revolution_problem", "revolution_settings", "rest_stiffness", "buckling_mode", "FLAT_TRAVEL_OVER_H", "harmonics_of",
            "watch_harmonics"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
@@ -236,18 +236,46 @@ def revolution_problem(scene: Scene, control: str | None = None, perfect: bool =
                              harmonics=harmonics, pole_held=load["kind"] == "point" and load.get("pole_held", False))
 
 
+def rest_stiffness(problem: ShellOfRevolution, length: float) -> float:
+    """The unloaded shell's stiffness ``dF/dw`` at ``F = 0`` under its load (one linear solve).
+
+    ``length`` is the scene's length unit (:func:`length_unit`), the scale of the difference step.
+    ``w`` is the load's deflection (the pole's, or the ring's).  On a sphere under a point load at
+    the pole, away from its support, this is Reissner's ``16 sqrt(3 (1 - nu^2)) D / (h R)``; on a
+    clamped plate of radius ``a``, ``16 pi D / a^2``.
+
+    Raises
+    ------
+    ValueError
+        When the unloaded shell has no finite positive stiffness (a mechanism).
+    """
+    if problem.control == "displacement":
+        raise ValueError("rest_stiffness: the problem is under displacement control; build it under force control")
+    u0 = problem.reference_unknowns()
+    p0 = 0.0
+    du_dp = -problem.factorize(problem.jacobian(u0, p0)).solve(problem.dresidual_dp(u0, p0))
+    w = problem.observables["w"]
+    # a central difference over a step that moves the state by 1e-6 of the length unit
+    step = 1e-6 * length / max(float(np.max(np.abs(du_dp))), 1e-300)
+    dw_dp = float(w(u0 + step * du_dp, p0) - w(u0 - step * du_dp, p0)) / (2.0 * step)
+    if not (math.isfinite(dw_dp) and dw_dp > 0.0):
+        raise ValueError(f"rest_stiffness: the unloaded shell has no finite positive stiffness (dw/dF = {dw_dp!r})")
+    return 1.0 / dw_dp
+
+
 def revolution_settings(scene: Scene, problem: ShellOfRevolution, progress: bool = False) -> contin.Settings:
     """Continuation settings of a point or ring load on any shell: steps in the scene's length unit, both labels' stability.
 
-    The force is measured in units of ``2 pi D / L`` times 10, as for the paper's point load; the
-    path ends at the deflection :func:`end_of_path`.
+    Under force control the load is weighed by :func:`rest_stiffness` ``k``: a change ``k L`` of the
+    force counts as much as one length unit ``L`` of the state, so that the force and the deflection
+    weigh alike while the shell is linear, and a path winding through many folds takes about the
+    steps it takes under displacement control.  The path ends at the deflection :func:`end_of_path`.
     """
     c = scene["continuation"]
     L = length_unit(scene)
     ds_max = _step_cap(scene)
     ds = min(c["ds"], ds_max)
-    f_unit = 2.0 * math.pi * problem.D / L
-    param_weight = 1.0 / L if problem.control == "displacement" else 1.0 / (10.0 * f_unit)
+    param_weight = 1.0 / L if problem.control == "displacement" else 1.0 / (rest_stiffness(problem, L) * L)
     bounds = {"w": (None, end_of_path(scene))}
     ends = {"p_max": end_of_path(scene)} if problem.control == "displacement" else {}
     return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
