@@ -236,7 +236,7 @@ def revolution_problem(scene: Scene, control: str | None = None, perfect: bool =
                              harmonics=harmonics, pole_held=load["kind"] == "point" and load.get("pole_held", False))
 
 
-def rest_stiffness(problem: ShellOfRevolution, length: float) -> float:
+def rest_stiffness(problem: ShellOfRevolution | ShellPointLoad, length: float) -> float:
     """The unloaded shell's stiffness ``dF/dw`` at ``F = 0`` under its load (one linear solve).
 
     ``length`` is the scene's length unit (:func:`length_unit`), the scale of the difference step.
@@ -320,10 +320,9 @@ def point_settings(scene: Scene, problem: ShellPointLoad, progress: bool = False
     c, R = scene["continuation"], scene["shell"]["R"]
     ds_max = _step_cap(scene)
     ds = min(c["ds"], ds_max)
-    # weights make ds dimensionless in units of R: positions and w are lengths; F is measured in
-    # units of 2 pi D / R times the Reissner-type scale of the path (F_norm ~ 1..10 over the path)
-    f_unit = 2.0 * math.pi * problem.D / R
-    param_weight = 1.0 / R if problem.control == "displacement" else 1.0 / (10.0 * f_unit)
+    # weights make ds dimensionless in units of R: positions and w are lengths; a force is measured by
+    # the deflection it gives the unloaded cap (rest_stiffness), as on any shell of revolution
+    param_weight = 1.0 / R if problem.control == "displacement" else 1.0 / (rest_stiffness(problem, R) * R)
     return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
                            stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
 
