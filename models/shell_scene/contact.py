@@ -52,7 +52,7 @@ from contin_models.contact.indentation import ShellIndentation, ShellIndentation
 from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning
 
-from .build import contact_problem, pole_moved, watch_harmonics
+from .build import contact_problem, point_problem, pole_moved, rest_stiffness, watch_harmonics
 from .deformed import shapes_drawer, shell_shapes
 from .labels import force_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene, record_instability
@@ -70,12 +70,6 @@ FORCE_START_NORM = 0.05
 #: Target load of a force-controlled trace in the same unit (beyond any limit point; the indenter's
 #: travel bounds end the trace first).
 FORCE_END_NORM = 100.0
-#: Largest change of ``F R / (2 pi D)`` in one step of a force-controlled trace at the largest step.
-#: The load is weighed in the arclength by this, not by the cap's depth: the steps are capped at a
-#: fraction of the eversion depth (:func:`contin_models.shell_scene.build.travel`), which on a thin
-#: shallow cap is so small that a load weighed as on the paper's cap crept to its end in thousands of
-#: steps once the everted shell pressed on the indenter (fuzz scene 11, docs/robustness.md).
-LOAD_STEP_NORM = 0.25
 #: Relative travel past the snap at which the jump minimises, tried in turn (a hair past the snap
 #: no equilibrium is near, so the minimisation has to leave for the distant stable state).
 _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
@@ -163,10 +157,11 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
         return _result(forced, scene, [], [], [], f"displacement control did not reach the start load of force "
                        f"control ({lead.message})", [], control="force")
     U, F = forced.from_displacement_state(lead.u[-1], lead.p[-1])
-    # a largest step moves the load by LOAD_STEP_NORM force units at most, whatever the cap's depth;
-    # the target load is never reached: the travel bounds end the sweep
+    stiffness = rest_stiffness(point_problem(scene, "force"), problem.R)
+    # the load weighed as on the point-loaded cap (rest_stiffness: a force k R counts as R); the
+    # target load is never reached: the travel bounds end the sweep
     qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=MAX_SNAPS,
-                            param_weight=settings.ds_max / (LOAD_STEP_NORM * f_unit), snap=indentation_force_snap_rules(forced, problem.R),
+                            param_weight=1.0 / (stiffness * problem.R), snap=indentation_force_snap_rules(forced, problem.R),
                             bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
     failure = "" if qs.status in ("completed", "stopped") and all(
         br.status in ("bound", "event") for br in qs.branches) else qs.message
