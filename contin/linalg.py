@@ -49,6 +49,9 @@ __all__ = [
     "banded_extension",
     "BorderedSolver",
     "SingularMatrixError",
+    "arrow_structure",
+    "ArrowParts",
+    "ArrowCholesky",
 ]
 
 #: Below this size a dense LU is cheaper than anything clever.
@@ -446,6 +449,88 @@ def cholesky_band_solver(u: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
             return x
         return lapack.dpbtrs(factor, r, lower=0)[0]
     return solve
+
+
+#: Most trailing dense rows (and columns) :func:`arrow_structure` looks for.
+ARROW_MAX_BORDER = 2
+
+
+def arrow_structure(H) -> tuple[int, int] | None:
+    """``(b, m)`` when the sparse symmetric ``H`` is a narrow band except for its last ``m`` rows and columns.
+
+    Such an *arrow* matrix is a structure's Hessian with a few unknowns coupled to many nodes (the
+    travel of an indenter under a dead load touches every node in contact).  ``b`` is the half
+    bandwidth of the leading ``n - m`` block, which must be at most a tenth of it (the band pays);
+    ``m`` the smallest such border, up to :data:`ARROW_MAX_BORDER`.  None when ``H`` is dense, already
+    banded itself, or of no such form.
+    """
+    if not sp.issparse(H):
+        return None
+    n = H.shape[0]
+    coo = H.tocoo()
+    distance = np.abs(coo.row.astype(np.int64) - coo.col.astype(np.int64))
+    if distance.size == 0 or int(distance.max()) + 1 <= 0.1 * n:
+        return None
+    for m in range(1, ARROW_MAX_BORDER + 1):
+        lead = n - m
+        inside = (coo.row < lead) & (coo.col < lead)
+        b = int(distance[inside].max(initial=0))
+        if lead > 0 and b + 1 <= 0.1 * lead:
+            return b, m
+    return None
+
+
+class ArrowParts:
+    """The blocks of a symmetric arrow matrix ``[[A, B], [B^T, C]]`` (:func:`arrow_structure`), taken once.
+
+    ``band`` is ``A``'s lower band in LAPACK storage (``band[i - j, j] = A[i, j]``), ``border`` is
+    ``B`` and ``corner`` is ``C``, both dense.  Several shifts of one matrix
+    (:class:`ArrowCholesky`) share them.
+    """
+
+    def __init__(self, H, b: int, m: int) -> None:
+        n = H.shape[0]
+        self.lead = lead = n - m
+        csr = sp.csr_matrix(H)
+        coo = sp.tril(csr[:lead, :lead], format="coo")
+        self.band = np.zeros((b + 1, lead))
+        np.add.at(self.band, (coo.row - coo.col, coo.col), coo.data)
+        self.border = csr[:lead, lead:].toarray()
+        self.corner = csr[lead:, lead:].toarray()
+
+
+class ArrowCholesky:
+    """Cholesky factorization of a symmetric arrow matrix plus a shift, ``H + mu I`` (:func:`arrow_structure`).
+
+    ``H + mu I = [[A, B], [B^T, C]]`` with ``A`` banded: ``A = L L^T`` in band storage, then the
+    Schur complement ``S = C - B^T A^-1 B`` (``m x m``) densely.  ``H + mu I`` is positive definite
+    exactly when both factorizations succeed, so a failure raises :class:`numpy.linalg.LinAlgError`,
+    as ``scipy.linalg.cho_factor`` does for a dense matrix.  O(n b^2 + n b m) work.
+
+    Parameters
+    ----------
+    parts : ArrowParts
+        The matrix's blocks (``ArrowParts(H, b, m)``).
+    mu : float
+        The shift.
+    """
+
+    def __init__(self, parts: ArrowParts, mu: float = 0.0) -> None:
+        self.lead = parts.lead
+        self._border = parts.border
+        band = parts.band.copy()
+        band[0] += mu
+        self._band = sla.cholesky_banded(band, lower=True)
+        self._a_inv_border = sla.cho_solve_banded((self._band, True), parts.border)
+        schur = parts.corner + mu * np.eye(parts.corner.shape[0]) - parts.border.T @ self._a_inv_border
+        self._schur = sla.cho_factor(0.5 * (schur + schur.T), lower=True)
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """``(H + mu I)^-1 rhs`` for a vector or the columns of a matrix, by block elimination."""
+        rhs = np.asarray(rhs, dtype=float)
+        top = sla.cho_solve_banded((self._band, True), rhs[:self.lead])
+        tail = sla.cho_solve(self._schur, rhs[self.lead:] - self._border.T @ top)
+        return np.concatenate([top - self._a_inv_border @ tail, tail])
 
 
 class SymmetricBand:

@@ -10,7 +10,9 @@ pivoting the factorization can suffer element growth on an indefinite matrix; wh
 grow beyond :data:`LDL_GROWTH_LIMIT` (or a pivot is exactly zero) the count falls back to an
 eigensolver.  The eigenvalues themselves come from dense ``eigh`` for small matrices, LAPACK's
 banded symmetric eigensolver with index selection for banded ones (its reduction to tridiagonal form
-costs O(n^2 b), so it is asked for only when ``k > 0``), and ARPACK for the rest.
+costs O(n^2 b), so it is asked for only when ``k > 0``), Lanczos in shift-invert mode just below the
+spectrum for an *arrow* matrix (a band with a few dense border rows, :func:`contin.linalg.arrow_structure`:
+an indenter's travel under a dead load couples to every node in contact), and ARPACK for the rest.
 
 Nested operators (an operator and its leading block, e.g. a structure's Hessian under a dead load and
 under its prescribed displacement): :func:`nested_inertias` counts both from one pivot-free
@@ -31,7 +33,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .linalg import BANDED_FRACTION, BandedLU, Factorization, SymmetricBand, bandwidths, factorize
+from .linalg import (BANDED_FRACTION, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
+                     factorize)
 
 __all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias"]
 
@@ -229,6 +232,12 @@ def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:
     kl, ku = bandwidths(H)
     b = max(kl, ku)
     banded = n > BANDED_MIN and b + 1 <= 0.1 * n
+    if not banded and n > BANDED_MIN:
+        arrow = arrow_structure(H)
+        if arrow is not None:
+            info = _arrow_info(H, *arrow, k, vectors)
+            if info is not None:
+                return info
     if n <= DENSE_LIMIT and not banded:
         return _dense_info(H, k, vectors)
     if banded:
@@ -268,6 +277,59 @@ def _banded_info(H, b: int, k: int, vectors: bool) -> StabilityInfo:
         m = max(k, n_neg)
         _, V = sla.eig_banded(ab, lower=True, select="i", select_range=(0, m - 1))
     return StabilityInfo(n_neg, np.asarray(w), V)
+
+
+#: Most eigenpairs of an arrow matrix computed by Lanczos; more (a state far from stable) go dense.
+ARROW_MAX_EIGENPAIRS = 16
+#: Restarts of ARPACK on an arrow matrix before the dense route takes over (about 20 solves each).
+ARROW_MAX_RESTARTS = 20
+
+
+def _arrow_info(H, b: int, m: int, k: int, vectors: bool) -> StabilityInfo | None:
+    """The ``k`` smallest eigenvalues of an arrow matrix (:func:`contin.linalg.arrow_structure`), or None.
+
+    The Morse index from the pivot-free ``L D L^T`` (:func:`inertia`); the eigenvalues by Lanczos on
+    ``(H - sigma I)^-1`` (ARPACK in shift-invert mode, :class:`contin.linalg.ArrowCholesky` for the
+    solves) with ``sigma`` just below the spectrum.  Cauchy's interlacing places the smallest
+    eigenvalue of ``H`` below the band block's smallest, ``lambda_1(A)``, and the ``(m + 1)``-th above
+    it; ``sigma = lambda_1(A) - delta``, ``delta`` doubled from ``1e-8 |H|`` until ``H - sigma I`` is
+    positive definite, so the wanted eigenvalues lie within ``delta / 2`` of ``sigma`` and the rest
+    at least ``delta`` away: the iteration converges fast.  None (the caller then takes the dense or
+    ARPACK route) when the count cannot be trusted or ARPACK does not converge.
+    """
+    n = H.shape[0]
+    n_neg = inertia(H)
+    if n_neg is None:
+        return None
+    want = max(k, n_neg) if vectors else k
+    if want > ARROW_MAX_EIGENPAIRS or want >= n - 1:
+        return None
+    H = sp.csr_matrix(H)
+    parts = ArrowParts(H, b, m)
+    size = float(np.max(np.abs(H.data), initial=0.0)) or 1.0
+    lowest_lead = sla.eig_banded(parts.band, lower=True, eigvals_only=True, select="i", select_range=(0, 0))[0]
+    delta = 1e-8 * size
+    for _ in range(100):
+        try:
+            shifted = ArrowCholesky(parts, delta - lowest_lead)
+            break
+        except np.linalg.LinAlgError:
+            delta *= 2.0
+    else:
+        return None
+    sigma = lowest_lead - delta
+    inverse = spla.LinearOperator((n, n), matvec=shifted.solve, dtype=float)
+    # a fixed start vector: the same matrix gives the same eigenvectors, run after run
+    start = np.random.default_rng(12345).standard_normal(n)
+    try:
+        # few restarts: the wanted eigenvalues are well apart from the rest unless several are wanted
+        # and lie in a cluster, where the dense route is the faster one
+        w, V = spla.eigsh(H, k=want, sigma=sigma, which="LM", OPinv=inverse, v0=start, maxiter=ARROW_MAX_RESTARTS)
+    except spla.ArpackNoConvergence:
+        return None
+    order = np.argsort(w)
+    w, V = w[order], V[:, order]
+    return StabilityInfo(n_neg, w[:k], V if vectors else None)
 
 
 #: Largest matrix whose eigenvalues are computed densely when ARPACK does not converge (a few

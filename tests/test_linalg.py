@@ -468,3 +468,73 @@ def test_symmetric_column_with_and_without_duplicate_entries():
                         shape=(6, 6))
     assert not dup.has_canonical_format
     assert symmetric_column(dup, 3)[4] == 3.0
+
+
+# ---- arrow matrices: a band with a few dense border rows (an indenter's travel under a dead load) ----
+
+def _arrow(n: int, m: int, negative: int, stiffness: float, seed: int = 0) -> sp.csr_matrix:
+    """A stiff pentadiagonal operator (eigenvalues over decades) shifted to ``negative`` negative
+    eigenvalues, with ``m`` border rows coupled to 40 random unknowns each."""
+    rng = np.random.default_rng(seed)
+    fourth = sp.diags([1.0, -4.0, 6.0, -4.0, 1.0], [-2, -1, 0, 1, 2], shape=(n, n)).toarray()
+    second = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n, n)).toarray()
+    A = stiffness * fourth + second
+    if negative:
+        A -= np.linalg.eigvalsh(A)[negative] * np.eye(n)
+    for j in range(1, m + 1):
+        row = np.zeros(n - m)
+        row[rng.integers(0, n - m, size=40)] = rng.normal(size=40)
+        A[-j, :n - m], A[:n - m, -j] = row, row
+        A[-j, -j] = 10.0 * stiffness * (1.0 + rng.random())
+    return sp.csr_matrix(A)
+
+
+def test_arrow_structure_finds_the_border() -> None:
+    from contin.linalg import arrow_structure
+
+    assert arrow_structure(_arrow(300, 1, 0, 1e3)) == (2, 1)
+    assert arrow_structure(_arrow(300, 2, 0, 1e3)) == (2, 2)
+    band = sp.diags([1.0, 2.0, 1.0], [-1, 0, 1], shape=(300, 300), format="csr")
+    assert arrow_structure(band) is None  # a band already
+    assert arrow_structure(sp.csr_matrix(np.ones((300, 300)))) is None
+    assert arrow_structure(np.eye(300)) is None  # dense storage
+
+
+@pytest.mark.parametrize("m", [1, 2])
+def test_arrow_cholesky_solves_and_refuses_an_indefinite_shift(m: int) -> None:
+    from contin.linalg import ArrowCholesky, ArrowParts, arrow_structure
+
+    H = _arrow(300, m, 2, 1e3)
+    dense = H.toarray()
+    lowest = np.linalg.eigvalsh(dense)[0]
+    parts = ArrowParts(H, *arrow_structure(H))
+    mu = -lowest * 1.001
+    rhs = np.random.default_rng(1).normal(size=(300, 3))
+    x = ArrowCholesky(parts, mu).solve(rhs)
+    shifted = dense + mu * np.eye(300)
+    # backward stable: the residual is rounding of |H| |x| (the shift puts H + mu I near singular)
+    residual = np.abs(shifted @ x - rhs).max()
+    assert residual <= 1e-12 * np.abs(shifted).sum(axis=1).max() * np.abs(x).max()
+    np.testing.assert_allclose(x, np.linalg.solve(shifted, rhs), rtol=1e-6, atol=1e-9 * np.abs(x).max())
+    assert ArrowCholesky(parts, mu).solve(rhs[:, 0]).shape == (300,)
+    with pytest.raises(np.linalg.LinAlgError):
+        ArrowCholesky(parts, -lowest * 0.999)
+
+
+@pytest.mark.parametrize("m, negative, stiffness", [(1, 0, 1e4), (1, 1, 1e4), (2, 2, 1e6), (1, 3, 1e2), (2, 0, 1.0)])
+def test_arrow_eigenpairs_agree_with_dense(m: int, negative: int, stiffness: float) -> None:
+    from contin.linalg import arrow_structure
+    from contin.stability import _arrow_info, stability_info
+
+    H = _arrow(401, m, negative, stiffness, seed=m + negative)
+    w, V = np.linalg.eigh(H.toarray())
+    size = np.abs(H.data).max()
+    info = _arrow_info(H, *arrow_structure(H), 2, True)
+    assert info is not None  # the arrow route itself, not a fallback
+    assert info.n_negative == int(np.count_nonzero(w < 0))
+    np.testing.assert_allclose(info.eigenvalues, w[:2], rtol=0, atol=1e-12 * size)
+    for i in range(max(2, info.n_negative)):
+        assert abs(info.eigenvectors[:, i] @ V[:, i]) == pytest.approx(1.0, abs=1e-9)
+    # stability_info takes that route for such a matrix, and gives the count alone as well
+    assert stability_info(H, k=0).n_negative == info.n_negative
+    np.testing.assert_allclose(stability_info(H, k=1).eigenvalues, w[:1], rtol=0, atol=1e-12 * size)
