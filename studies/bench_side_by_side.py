@@ -1,7 +1,7 @@
 """Benchmark: the default shell trace (or Bratu) of this tree against another checkout, side by side in one run.
 
-Run ``python -m studies.bench_side_by_side --baseline DIR [--repeat 7] [--case shell|bratu]`` where DIR is a checkout of
-the baseline (e.g. ``git worktree add /tmp/base 57912bb``).  Each repetition traces the default
+Run ``python -m studies.bench_side_by_side --baseline DIR [--repeat 7] [--case shell|bratu] [--set KEY=VALUE ...]``
+where DIR is a checkout of the baseline (e.g. ``git worktree add /tmp/base 57912bb``).  Each repetition traces the default
 scene (the model's runner in-process, no output files, BLAS single-threaded) in a fresh
 process of each tree, alternating, so that both see the same load of a shared machine.  Inside the
 process the trace runs twice and the second run is timed, with warm imports: since issue 18 the
@@ -9,7 +9,9 @@ command line defers the engine's heavy imports (scipy.sparse, the generated kern
 trace, while the baseline imports them with the runner's module, so a first run would charge this tree
 alone for them (about 0.3 s).  The first run's wall time is printed too.  It prints
 the median wall and CPU time of each and their ratio, and the work done (steps, special points),
-so that a change of speed can be told apart from a change of work.
+so that a change of speed can be told apart from a change of work.  ``--set`` traces another scene
+than the default (scene keys as ``contin trace --set`` takes them, e.g. ``--set load.kind=plate --set
+load.control=force``); the run's status is printed beside its work.
 
 ``--case bratu`` times the engine alone instead: the 1-D Bratu problem with n = 2000 from ``lam = 0``
 through its located fold to ``max(u) = 4`` (as ``studies.bench_bratu``), the median of 9 runs inside
@@ -48,7 +50,7 @@ for name in ("models.shell.scene", "contin_models.shell_scene"):  # the baseline
     except ImportError:
         continue
 model = module.SHELL_SCENE
-scene = load_scene(model.schema, None, ["output.figure=false"])
+scene = load_scene(model.schema, None, ["output.figure=false"] + SETS)
 def timed():
     wall, cpu = time.perf_counter(), time.process_time()
     result = model.run(scene, False)
@@ -57,7 +59,8 @@ first, _, _ = timed()  # pays for the imports a runner defers to its first call
 wall, cpu, result = timed()
 print(json.dumps({"wall": wall, "cpu": cpu, "first": first,
                   "n_steps": sum(max(len(b.p) - 1, 0) for b in result.branches),
-                  "n_special": sum(len(b.special_points) for b in result.branches), "module": name}))
+                  "n_special": sum(len(b.special_points) for b in result.branches), "module": name,
+                  "status": result.status}))
 """
 
 
@@ -102,10 +105,11 @@ def _import_path(tree: Path, shims: Path) -> str:
     return os.pathsep.join([str(shim), str(tree)])
 
 
-def one_run(tree: Path, shims: Path, case: str = "shell") -> dict:
-    """Trace the default scene (or Bratu) once in a fresh process importing ``tree``; its times and work."""
+def one_run(tree: Path, shims: Path, case: str = "shell", sets: list[str] | None = None) -> dict:
+    """Trace the default scene, or the scene of ``sets`` (or Bratu), once in a fresh process importing ``tree``;
+    its times and work."""
     env = dict(os.environ, PYTHONPATH=_import_path(tree, shims))
-    child = CHILD if case == "shell" else BRATU_CHILD
+    child = f"SETS = {list(sets or [])!r}\n" + CHILD if case == "shell" else BRATU_CHILD
     out = subprocess.run([sys.executable, "-c", child], cwd="/", env=env, capture_output=True, text=True)
     if out.returncode:
         raise RuntimeError(f"the default trace of {tree} failed:\n{out.stderr.strip()}")
@@ -119,13 +123,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=7, help="repetitions per tree (default 7)")
     parser.add_argument("--case", choices=("shell", "bratu"), default="shell",
                         help="the default shell trace (default) or the engine on Bratu n = 2000")
+    parser.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE",
+                        help="a scene key of the shell case (repeatable); default the default scene")
     args = parser.parse_args(argv)
+    if args.sets and args.case != "shell":
+        parser.error("--set applies to --case shell only")
     runs: dict[str, list[dict]] = {"this": [], "baseline": []}
     shims = Path(tempfile.mkdtemp(prefix="contin_bench_"))
     try:
         for i in range(args.repeat):
             for label, tree in (("this", ROOT), ("baseline", args.baseline.resolve())):
-                runs[label].append(one_run(tree, shims, args.case))
+                runs[label].append(one_run(tree, shims, args.case, args.sets))
             print(f"[{i + 1}/{args.repeat}] this {runs['this'][-1]['wall']:.3f} s, "
                   f"baseline {runs['baseline'][-1]['wall']:.3f} s", file=sys.stderr)
     finally:
@@ -135,7 +143,8 @@ def main(argv: list[str] | None = None) -> int:
     for label, rs in runs.items():
         first = f" (first run {med[label]['first']:.3f} s)" if "first" in med[label] else ""
         print(f"{label:9s} median wall {med[label]['wall']:.3f} s{first}, cpu {med[label]['cpu']:.3f} s; "
-              f"{rs[0]['n_steps']} steps, {rs[0]['n_special']} special points ({rs[0]['module']})")
+              f"{rs[0]['n_steps']} steps, {rs[0]['n_special']} special points"
+              f"{', status ' + rs[0]['status'] if 'status' in rs[0] else ''} ({rs[0]['module']})")
     print(f"ratio this/baseline: wall {med['this']['wall'] / med['baseline']['wall']:.3f}, "
           f"cpu {med['this']['cpu'] / med['baseline']['cpu']:.3f}")
     return 0
