@@ -134,3 +134,30 @@ def test_fold_that_ends_a_run_reports_the_side_it_came_from():
     (fold,) = load.folds()
     assert fold.info["ends_branch"] and fold.info["n_negative_before"] == 0
     assert fold.info["stable_before"] is True and "stable_after" not in fold.info
+
+
+def test_a_step_along_a_tiny_negative_curvature_is_found_at_a_small_size(monkeypatch):
+    """E = -eps u0^2 / 2 + K u0^4 + u1^2 / 2 near its saddle: with eps = 1e-6 and K = 1e3 the quartic
+    outweighs the negative curvature at 1e-4 of the scale and beyond, so only the smaller sizes lower
+    the energy; without them the descent would crawl off the saddle by shifted-Newton steps."""
+    import importlib
+
+    import contin
+
+    jump_module = importlib.import_module("contin.jump")
+    eps, K = 1e-6, 1e3
+
+    def energy(u, p):
+        return -0.5 * eps * u[0] ** 2 + K * u[0] ** 4 + 0.5 * u[1] ** 2
+
+    def gradient(u, p):
+        return np.array([-eps * u[0] + 4 * K * u[0] ** 3, u[1]])
+
+    problem = contin.GradientProblem(energy, gradient)
+    x = np.array([1e-9, 0.0])
+    g, E = gradient(x, 0.0), energy(x, 0.0)
+    step = jump_module._negative_curvature_step(problem, x, 0.0, g, E, 1.0)
+    assert step is not None and step[2] < E
+    assert 0 < abs(step[1][0]) <= 1.1e-5 and step[1][0] > 0  # downhill: the side the gradient points away from
+    monkeypatch.setattr(jump_module, "SMALL_CURVATURE_STEPS", ())
+    assert jump_module._negative_curvature_step(problem, x, 0.0, g, E, 1.0) is None
