@@ -418,7 +418,7 @@ Run 'contin COMMAND --help' for the options of a command.""")
 # ---------------------------------------------------------------------------------------------------
 def _cmd_plot(args: argparse.Namespace) -> int:
     """``contin plot``: saved runs drawn again (:mod:`contin.saved`), overlaid when there are several."""
-    from .saved import SavedRunError, load_run
+    from .saved import SavedRunError, load_run, overlay_labels
 
     try:
         runs = [load_run(path) for path in args.runs]
@@ -428,6 +428,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     x, y = args.x or first.x, args.y or first.y
     branches, colors, labels = [], [], []
     from .style import COLORS as prop
+    title, run_labels = overlay_labels(runs)
     for k, run in enumerate(runs):
         for axis in (x, y):
             known = list(dict.fromkeys([run.summary.get("parameter", "p"),
@@ -438,7 +439,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         for i, br in enumerate(run.branches):
             branches.append(br)
             colors.append(prop[k % len(prop)])
-            labels.append((run.path.name or str(run.path)) if i == 0 and len(runs) > 1 else None)
+            labels.append(run_labels[k] if i == 0 and len(runs) > 1 else None)
     target = Path(args.out) if args.out else (first.path / "diagram.png" if len(runs) == 1 else Path("overlay.png"))
     if target.suffix.lower() not in (".png", ".pdf"):
         raise CliError(f"contin plot: --out {str(target)!r} must end in .png or .pdf")
@@ -447,7 +448,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     # the figure in both formats: FILE as asked and the other format beside it
     try:
         written = atomic_write(figure_files(target.with_suffix(""), lambda: saved_runs_figure(
-            runs, branches, x, y, colors, labels)))
+            runs, branches, x, y, colors, labels, title if len(runs) > 1 else None)))
     except OSError as exc:
         raise CliError(f"cannot write {str(target)!r}: {exc.strerror or exc}") from None
     target = ", ".join(str(path) for path in written)

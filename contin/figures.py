@@ -63,14 +63,18 @@ def shapes_figure(result: Any) -> Any:
     return fig
 
 
-def saved_runs_figure(runs: Sequence[Any], branches: list, x: str, y: str | None, colors: list, labels: list) -> Any:
-    """Saved runs (:class:`contin.saved.SavedRun`) drawn again: one run as it was drawn, several overlaid."""
+def saved_runs_figure(runs: Sequence[Any], branches: list, x: str, y: str | None, colors: list, labels: list,
+                      title: str | None = None) -> Any:
+    """Saved runs (:class:`contin.saved.SavedRun`) drawn again: one run as it was drawn, several overlaid.
+
+    An overlay is titled ``title`` (:func:`contin.saved.overlay_labels`), by default by the runs' directories.
+    """
     from .diagram import plot_branches
 
     first = runs[0]
     options = dict(first.plot_options)
     if len(runs) > 1:
-        options["title"] = " / ".join(str(r.path.name or r.path) for r in runs)
+        options["title"] = title or " / ".join(str(r.path.name or r.path) for r in runs)
     else:
         options.setdefault("title", f"{first.summary.get('model', '?')}: {first.path.name or first.path}")
     with style.context():

@@ -16,13 +16,14 @@ import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from .branch import Branch, SpecialPoint
 
-__all__ = ["SavedRun", "SavedRunError", "load_run"]
+__all__ = ["SavedRun", "SavedRunError", "load_run", "overlay_labels"]
 
 #: The keyword arguments of :func:`contin.plot_branches` that ``summary.json`` keeps under ``"diagram"``
 #: (beside ``x``, ``y`` and ``stability``), so that ``contin plot`` draws a run again as it was drawn.
@@ -143,3 +144,36 @@ def _branch(rows: list[dict[str, str]], index: int, parameter: str, observable_n
                   tangent_p=tangent.pop("p", np.full(n, np.nan)), residual=column["residual"], newton_iterations=np.zeros(n, dtype=int),
                   observables=observables, n_negative=n_negative, stability_by=stability_by, special_points=specials,
                   meta={"parameter_name": parameter}, tangents=tangent)
+
+
+def _flat_scene(summary: dict[str, Any]) -> dict[str, Any]:
+    """``section.key -> value`` of a run's scene, without the output section (it changes no result)."""
+    scene = summary.get("scene")
+    if not isinstance(scene, dict):
+        return {}
+    return {f"{section}.{key}": value for section, keys in scene.items() if isinstance(keys, dict)
+            and section != "output" for key, value in keys.items()}
+
+
+def _shown(value: Any) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def overlay_labels(runs: Sequence[SavedRun]) -> tuple[str, list[str]]:
+    """The title of an overlay of saved runs and a legend label for each run.
+
+    Runs of one model whose scenes differ are told apart by the scene keys that differ
+    (``shell.phi_hat = 0.8`` against ``shell.phi_hat = 1.2``, the title naming the model); otherwise
+    (another model, no saved scene, the same scene) by their directory names.
+    """
+    names = [str(run.path.name or run.path) for run in runs]
+    models = {run.summary.get("model") for run in runs}
+    scenes = [_flat_scene(run.summary) for run in runs]
+    keys = sorted({key for scene in scenes for key in scene})
+    differing = [key for key in keys if len({repr(scene.get(key)) for scene in scenes}) > 1]
+    if len(models) != 1 or not all(scenes) or not differing:
+        return " / ".join(names), names
+    labels = [", ".join(f"{key} = {_shown(scene.get(key))}" for key in differing) for scene in scenes]
+    if len(set(labels)) < len(labels):  # two runs of one scene among others: their directories tell them apart
+        labels = [f"{label} ({name})" for label, name in zip(labels, names)]
+    return f"{models.pop()}: runs that differ in {', '.join(differing)}", labels

@@ -481,3 +481,21 @@ def test_plot_refuses_what_it_cannot_draw(tmp_path, capsys, case, needles):
             "suffix": ["plot", str(out), "-o", str(tmp_path / "a.svg")]}[case]
     code, _, err = run_cli(capsys, *args)
     assert code == 2 and all(n in err for n in needles), err
+
+
+def test_an_overlay_names_its_runs_by_the_scene_keys_that_differ(tmp_path):
+    from contin.saved import SavedRun, overlay_labels
+
+    def run(name, model, phi, N=200, figure=True):
+        scene = {"shell": {"phi_hat": phi, "N": N}, "output": {"figure": figure}}
+        return SavedRun(path=tmp_path / name, summary={"model": model, "scene": scene}, branches=[])
+
+    title, labels = overlay_labels([run("a", "shell", 0.8), run("b", "shell", 1.2, figure=False)])
+    assert title == "shell: runs that differ in shell.phi_hat"  # the output section changes no result
+    assert labels == ["shell.phi_hat = 0.8", "shell.phi_hat = 1.2"]
+    _, labels = overlay_labels([run("a", "shell", 0.8), run("b", "shell", 1.2, N=400)])
+    assert labels == ["shell.N = 200, shell.phi_hat = 0.8", "shell.N = 400, shell.phi_hat = 1.2"]
+    _, labels = overlay_labels([run("a", "shell", 0.8), run("b", "shell", 0.8), run("c", "shell", 1.2)])
+    assert labels == ["shell.phi_hat = 0.8 (a)", "shell.phi_hat = 0.8 (b)", "shell.phi_hat = 1.2 (c)"]
+    assert overlay_labels([run("a", "shell", 0.8), run("b", "shell", 0.8)]) == ("a / b", ["a", "b"])
+    assert overlay_labels([run("a", "shell", 0.8), run("b", "bratu", 0.8)]) == ("a / b", ["a", "b"])
