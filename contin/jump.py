@@ -319,8 +319,8 @@ def _kick_off_saddle(problem: Problem, x: np.ndarray, p: float, ref: float) -> n
 CURVATURE_STEPS = (1e-3, 1e-2, 1e-1)
 #: Smaller sizes, tried when none of :data:`CURVATURE_STEPS` lowers the energy: where the negative
 #: eigenvalue is tiny the higher-order terms of the energy outweigh it already at 1e-3 of the scale,
-#: and the descent would otherwise crawl off the saddle (about 240 iterations a snap of the plate under
-#: a dead load, 26 with these).
+#: and the descent would otherwise crawl off the saddle (the plate under a dead load: 1155 iterations
+#: for its two snaps, 194 with these).
 SMALL_CURVATURE_STEPS = (1e-4, 1e-5, 1e-6)
 
 
