@@ -163,7 +163,7 @@ def overlay_labels(runs: Sequence[SavedRun]) -> tuple[str, list[str]]:
     """The title of an overlay of saved runs and a legend label for each run.
 
     Runs of one model whose scenes differ are told apart by the scene keys that differ
-    (``shell.phi_hat = 0.8`` against ``shell.phi_hat = 1.2``, the title naming the model); otherwise
+    (``model.n = 20`` against ``model.n = 40``, the title naming the model); otherwise
     (another model, no saved scene, the same scene) by their directory names.
     """
     names = [str(run.path.name or run.path) for run in runs]
