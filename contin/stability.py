@@ -293,9 +293,10 @@ def _arrow_info(H, b: int, m: int, k: int, vectors: bool) -> StabilityInfo | Non
     solves) with ``sigma`` just below the spectrum.  Cauchy's interlacing places the smallest
     eigenvalue of ``H`` below the band block's smallest, ``lambda_1(A)``, and the ``(m + 1)``-th above
     it; ``sigma = lambda_1(A) - delta``, ``delta`` doubled from ``1e-8 |H|`` until ``H - sigma I`` is
-    positive definite, so the wanted eigenvalues lie within ``delta / 2`` of ``sigma`` and the rest
-    at least ``delta`` away: the iteration converges fast.  None (the caller then takes the dense or
-    ARPACK route) when the count cannot be trusted or ARPACK does not converge.
+    positive definite, so the smallest eigenvalue lies within ``delta / 2`` of ``sigma`` (within
+    ``delta`` when the first ``delta`` serves) and the ``(m + 1)``-th at least ``delta`` away: the
+    iteration converges fast.  None (the caller then takes the dense or ARPACK route) when the count
+    cannot be trusted, ARPACK does not converge, or its eigenvalues disagree with the count.
     """
     n = H.shape[0]
     n_neg = inertia(H)
@@ -329,6 +330,8 @@ def _arrow_info(H, b: int, m: int, k: int, vectors: bool) -> StabilityInfo | Non
         return None
     order = np.argsort(w)
     w, V = w[order], V[:, order]
+    if int(np.count_nonzero(w < 0)) != min(want, n_neg):
+        return None  # Lanczos missed an eigenvalue below zero, or found one the L D L^T did not count
     return StabilityInfo(n_neg, w[:k], V if vectors else None)
 
 
