@@ -19,7 +19,7 @@ import scipy.sparse as sp
 
 from .branch import BranchFileError, SpecialPoint, _jsonable
 from .io import read_bundle, write_bundle
-from .linalg import ArrowCholesky, ArrowParts, arrow_structure, bandwidths
+from .linalg import ArrowCholesky, ArrowParts, arrow_structure, bandwidths, lower_band
 from .problem import NonFiniteError, Problem
 from .stability import stability_info
 
@@ -127,9 +127,7 @@ def _shifted_cholesky_solver(H, mu: float):
     b = max(kl, ku)
     try:
         if n > 400 and b + 1 <= 0.1 * n:
-            coo = sp.tril(sp.csr_matrix(H), format="coo")
-            ab = np.zeros((b + 1, n))
-            np.add.at(ab, (coo.row - coo.col, coo.col), coo.data)
+            ab = lower_band(sp.csr_matrix(H), b)
             ab[0] += mu
             c = sla.cholesky_banded(ab, lower=True)
             return lambda rhs: sla.cho_solve_banded((c, True), rhs)

@@ -49,6 +49,7 @@ __all__ = [
     "banded_extension",
     "BorderedSolver",
     "SingularMatrixError",
+    "lower_band",
     "arrow_structure",
     "ArrowParts",
     "ArrowCholesky",
@@ -451,6 +452,15 @@ def cholesky_band_solver(u: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
     return solve
 
 
+def lower_band(H, b: int) -> np.ndarray:
+    """The lower band of the symmetric ``H`` (sparse or dense) in LAPACK storage: ``ab[i - j, j] = H[i, j]``."""
+    n = H.shape[0]
+    coo = sp.tril(H, format="coo") if sp.issparse(H) else sp.coo_matrix(np.tril(np.asarray(H)))
+    ab = np.zeros((b + 1, n))
+    np.add.at(ab, (coo.row - coo.col, coo.col), coo.data)
+    return ab
+
+
 #: Most trailing dense rows (and columns) :func:`arrow_structure` looks for.
 ARROW_MAX_BORDER = 2
 
@@ -492,9 +502,7 @@ class ArrowParts:
         n = H.shape[0]
         self.lead = lead = n - m
         csr = sp.csr_matrix(H)
-        coo = sp.tril(csr[:lead, :lead], format="coo")
-        self.band = np.zeros((b + 1, lead))
-        np.add.at(self.band, (coo.row - coo.col, coo.col), coo.data)
+        self.band = lower_band(csr[:lead, :lead], b)
         self.border = csr[:lead, lead:].toarray()
         self.corner = csr[lead:, lead:].toarray()
 

@@ -155,10 +155,6 @@ def _flat_scene(summary: dict[str, Any]) -> dict[str, Any]:
             and section != "output" for key, value in keys.items()}
 
 
-def _shown(value: Any) -> str:
-    return f"{value:g}" if isinstance(value, float) else str(value)
-
-
 def overlay_labels(runs: Sequence[SavedRun]) -> tuple[str, list[str]]:
     """The title of an overlay of saved runs and a legend label for each run.
 
@@ -173,7 +169,9 @@ def overlay_labels(runs: Sequence[SavedRun]) -> tuple[str, list[str]]:
     differing = [key for key in keys if len({repr(scene.get(key)) for scene in scenes}) > 1]
     if len(models) != 1 or not all(scenes) or not differing:
         return " / ".join(names), names
-    labels = [", ".join(f"{key} = {_shown(scene.get(key))}" for key in differing) for scene in scenes]
+    from .scene import _show  # the scene's own way of writing a value (TOML)
+
+    labels = [", ".join(f"{key} = {_show(scene.get(key))}" for key in differing) for scene in scenes]
     if len(set(labels)) < len(labels):  # two runs of one scene among others: their directories tell them apart
         labels = [f"{label} ({name})" for label, name in zip(labels, names)]
     return f"{models.pop()}: runs that differ in {', '.join(differing)}", labels

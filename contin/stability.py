@@ -34,7 +34,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .linalg import (BANDED_FRACTION, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
-                     factorize)
+                     factorize, lower_band)
 
 __all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias"]
 
@@ -68,14 +68,6 @@ class StabilityInfo:
     def stable(self) -> bool:
         """True when there is no negative eigenvalue."""
         return self.n_negative == 0
-
-
-def _lower_band(H, b: int) -> np.ndarray:
-    n = H.shape[0]
-    coo = sp.tril(H, format="coo") if sp.issparse(H) else sp.coo_matrix(np.tril(np.asarray(H)))
-    ab = np.zeros((b + 1, n))
-    np.add.at(ab, (coo.row - coo.col, coo.col), coo.data)
-    return ab
 
 
 def inertia(H) -> int | None:
@@ -262,7 +254,7 @@ def _banded_info(H, b: int, k: int, vectors: bool) -> StabilityInfo:
 
     When all of them are negative the Morse index comes from the inertia (or all negative eigenvalues).
     """
-    ab = _lower_band(H, b)
+    ab = lower_band(H, b)
     w = sla.eig_banded(ab, lower=True, eigvals_only=True, select="i", select_range=(0, k - 1))
     if w[-1] < 0:
         counted = inertia(H)
