@@ -561,12 +561,12 @@ def _cmd_trace(args: argparse.Namespace) -> int:
         t0 = time.perf_counter()
         result = _run(model, scene, progress=not args.quiet, start=start)
         if start is not None:
-            from .restart import restart_record
-
-            result.summary["restart"] = restart_record(args.restart_from, start, args.overrides)
+            _describe_restart(result, args, start)
         table = _numbered(result)  # before the summary is written: the records get their numbers
         wall = time.perf_counter() - t0
         message = _status_message(model, scene, result)
+        if start is not None:
+            message = f"{result.summary['restart']['note']}; {message}"
         written = write_outputs(out, name, scene, result, wall, message=message)
     say(f"wrote {', '.join(str(p) for p in written)} ({wall:.2f} s)")
 
@@ -598,7 +598,7 @@ def _numbered(result: TraceResult) -> list[dict[str, Any]]:
 
 def _restart(args: argparse.Namespace) -> tuple[str, ModelRunner, dict[str, dict[str, Any]], Any]:
     """``--from OUT --label K``: the saved run's model, its scene updated by ``--set``, and the saved point."""
-    from .restart import RestartError, can_resume, read_start, restart_scene
+    from .restart import RestartError, attach_saved_path, can_resume, read_start, restart_scene
 
     if args.restart_from is None or args.label is None:
         raise CliError("--from OUT and --label K go together: --from names the saved run, --label the point of it "
@@ -617,11 +617,9 @@ def _restart(args: argparse.Namespace) -> tuple[str, ModelRunner, dict[str, dict
     model = load_model(name)
     if not can_resume(model):
         raise CliError(f"model {name!r} cannot restart from a saved point; trace it anew")
-    if start.kind == "end" and start.complete and not args.overrides:
-        raise CliError(f"--label {args.label}: branch {start.branch} of {args.restart_from!r} reached its planned end "
-                       f"there; to go further, move that end with --set (or restart from a special point)")
     try:
         scene = restart_scene(model, summary, args.overrides)
+        args.not_joined = attach_saved_path(model, start, summary, scene)
     except RestartError as exc:
         raise CliError(str(exc)) from None
     except SceneError as exc:
@@ -629,10 +627,30 @@ def _restart(args: argparse.Namespace) -> tuple[str, ModelRunner, dict[str, dict
     return name, model, scene, start
 
 
+def _describe_restart(result: TraceResult, args: argparse.Namespace, start: Any) -> None:
+    """Say in the summary, the status line and the diagram's title what a restarted run's results describe:
+    the whole path (joined to the saved run's) or only the part traced from the point."""
+    from .restart import restart_record
+
+    record = restart_record(args.restart_from, start, args.overrides, getattr(args, "not_joined", ()))
+    where = f"{start.describe()} of {str(args.restart_from)!r}"
+    if start.continues_saved_path:
+        record["note"] = f"restarted from {where}, joined to the saved path before it: the results describe the whole path"
+        title = f"restarted from {args.restart_from} (point {start.name}), joined to its path"
+    else:
+        record["note"] = (f"restarted from {where}; the results describe only the part traced from there "
+                          f"({'; '.join(getattr(args, 'not_joined', ()))})")
+        title = f"only the part traced from point {start.name} of {args.restart_from}"
+    result.summary["restart"] = record
+    result.plot_options["title"] = "\n".join(t for t in (result.plot_options.get("title"), title) if t)
+
+
 def _run(model: ModelRunner, scene: dict, progress: bool, start: Any = None) -> TraceResult:
+    from .restart import RestartError
+
     try:
         result = model.run(scene, progress) if start is None else model.resume(scene, start, progress)  # type: ignore[attr-defined]
-    except SceneError as exc:  # a runner may reject a combination only it can judge: still bad input
+    except (SceneError, RestartError) as exc:  # a runner may reject a combination only it can judge: still bad input
         raise CliError(str(exc)) from None
     except engine_failures() as exc:  # the outputs are still written for these
         return TraceResult(branches=[], failure=f"run failed: {type(exc).__name__}: {exc}")

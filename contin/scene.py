@@ -748,7 +748,8 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
     -------
     list of dict
         A branch record has ``kind``, ``label``, ``branch``, ``parameter``, ``p``, ``observables``,
-        ``residual``, ``located``, ``bracket_p`` and ``error`` where known, and ``stable_before`` /
+        ``residual``, ``located``, ``index`` (it lies between stored points ``index`` and ``index + 1``),
+        ``s`` (its arclength along the branch), ``bracket_p`` and ``error`` where known, and ``stable_before`` /
         ``stable_after`` under the point's stability label.  An extremum event that declares a limit
         point (``contin.extremum(..., folds=...)``) is recorded as ``kind = "fold"`` with the quantity
         that folds as ``parameter``.  A bifurcation into another mode (:mod:`contin.modes`) carries
@@ -763,7 +764,8 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
                 "kind": "fold" if declared else spt.kind, "label": spt.label, "branch": bi,
                 "parameter": spt.info["folds"] if declared else parameter_name,
                 "p": float(spt.p), "observables": {k: float(v) for k, v in spt.observables.items()},
-                "residual": float(spt.residual), "located": bool(spt.located),
+                "residual": float(spt.residual), "located": bool(spt.located), "index": int(spt.index),
+                "s": float(spt.s),
             }
             rec.update(_stability_fields(spt))
             if "bracket_p" in spt.info and spt.info["bracket_p"] is not None:
