@@ -688,13 +688,23 @@ class Classification:
     failure: str = ""
 
     @property
+    def complete(self) -> bool:
+        """True when the run behind the class reached the end of its path (or there is no run to judge)."""
+        return self.trace is None or self.trace.complete
+
+    @property
     def success(self) -> bool:
-        """True when a class was decided and nothing failed on the way."""
-        return self.label is not None and not self.failure
+        """True when a class was decided, nothing failed on the way and the run reached the end of its path.
+
+        A class proved on part of a path (a cap seen bistable before its step limit) is still reported
+        as :attr:`label`, but the run is not a success: the quantities read off the path (its snap loads,
+        its folds) are those of the part traced, and the status says ``"incomplete"``.
+        """
+        return self.label is not None and not self.failure and self.complete
 
     @property
     def status(self) -> str:
-        """``"ok"``, the failing run's status, or ``"failed"``."""
+        """``"ok"``, the failing run's status (``"incomplete"`` for a path cut short), or ``"failed"``."""
         if self.success:
             return "ok"
         if self.trace is not None and not self.trace.success:

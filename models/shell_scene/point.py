@@ -201,14 +201,14 @@ def _traced_part_only(cls: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def _classification_line(c: dict[str, Any]) -> str:
+def _classification_line(c: dict[str, Any], complete: bool = True) -> str:
     if c["classification"] is None and "classification_on_traced_part" in c:
         return "classification: none (the run describes only the part traced from the saved point)"
     if c["classification"] is None:
         return (f"classification: undecided (the path did not reach eversion; on the part traced it looks "
                 f"{c.get('classification_on_partial_path')})")
     if c["F_max"] is None and c["F_min"] is None:
-        return f"classification: {c['classification']} (no extremum of F)"
+        return f"classification: {c['classification']} (no extremum of F{'' if complete else ' on the part traced'})"
 
     def fmt(v: Any) -> str:
         return "-" if v is None else f"{v:.6g}"
@@ -370,7 +370,7 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
             "from the displacement-controlled path to eversion" if complete else
             f"the path did not reach eversion ({branches[0].message}); a class other than bistable needs the "
             f"whole path{everted_note}")
-        line = _classification_line(cls)
+        line = _classification_line(cls, complete)
         branches[0].message = f"{branches[0].message}; {line}"
     elif scene["load"]["control"] == "displacement":
         summary["classification"] = None
