@@ -226,6 +226,8 @@ def _matched_points(branches: Sequence[Any], records: Sequence[Mapping[str, Any]
     record of :func:`contin.scene.special_point_records` carries), else its parameter.  Jump records are
     not matched here.
     """
+    from .scene import special_label
+
     out: dict[int, tuple[int, int]] = {}
     cursor: dict[int, int] = {}
     for k, rec in enumerate(records):
@@ -235,7 +237,7 @@ def _matched_points(branches: Sequence[Any], records: Sequence[Mapping[str, Any]
         points = branches[b].special_points
         for j in range(cursor.get(b, 0), len(points)):
             spt = points[j]
-            if str(spt.label) != str(rec.get("label", "")):
+            if special_label(spt) != str(rec.get("label", "")):
                 continue
             where = ("s", float(spt.s)) if "s" in rec else ("p", float(spt.p))
             if _same(where[1], float(rec.get(where[0], math.nan))):

@@ -57,7 +57,7 @@ __all__ = [
     "format_toml_value", "schema_as_toml",
     "integer", "real", "boolean", "choice", "text",
     "TraceResult", "Classification", "ModelRunner", "Classifier", "Resumer", "SceneModel", "can_classify",
-    "special_point_records", "special_point_table", "branch_columns", "check_classifiable", "wants_figure",
+    "special_point_records", "special_label", "special_point_table", "branch_columns", "check_classifiable", "wants_figure",
     "engine_failures",
     "BUDGET_STATUSES",
 ]
@@ -739,6 +739,14 @@ def _stability_fields(spt: SpecialPoint) -> dict[str, bool]:
     return {key: bool(known[key]) for key in ("stable_before", "stable_after") if known.get(key) is not None}
 
 
+def special_label(spt: SpecialPoint) -> str:
+    """The label a special point's record and table row carry: its own, but for a bifurcation into another
+    mode the mode it goes into (``n = 3``: the family's name and the key, :mod:`contin.modes`)."""
+    if spt.kind == "bifurcation" and spt.info.get("key") is not None:
+        return f"{spt.info.get('family', 'key')} = {spt.info['key']}"
+    return spt.label
+
+
 def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult] = (),
                           jump_observables: Sequence[tuple[dict, dict]] = (), parameter_name: str = "p", *,
                           fields: Callable[[SpecialPoint], Mapping[str, Any]] | None = None) -> list[dict[str, Any]]:
@@ -771,7 +779,7 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
         for spt in br.special_points:
             declared = spt.kind == "event" and spt.info.get("folds") is not None
             rec: dict[str, Any] = {
-                "kind": "fold" if declared else spt.kind, "label": spt.label, "branch": bi,
+                "kind": "fold" if declared else spt.kind, "label": special_label(spt), "branch": bi,
                 "parameter": spt.info["folds"] if declared else parameter_name,
                 "p": float(spt.p), "observables": {k: float(v) for k, v in spt.observables.items()},
                 "residual": float(spt.residual), "located": bool(spt.located), "index": int(spt.index),

@@ -67,10 +67,12 @@ from contin_models.shell.strain import strain_peak, strain_warning
 from .build import end_of_path, force_snap_rules, point_problem, point_settings
 from .deformed import shapes_drawer, shell_shapes
 from .labels import force_axes, scene_title
-from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, record_instability
+from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, instability_text, record_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a point load.
 _INSTABILITY_FIELDS = ("F", "F_norm", "w", "w_over_R")
+#: How the status line and the diagram name the first instability (:func:`instability_text`): in the diagram's units.
+_SHOWN = (("w_over_R", "w/R", "w/R"), ("F_norm", "F R/(2 pi D)", r"F R/2\pi D"))
 
 __all__ = ["classify", "path_complete", "run_point", "run_point_force", "resume_point", "MAX_SNAPS"]
 
@@ -379,12 +381,17 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         summary["classification"] = None
         summary["classification_note"] = ("the classification is defined on the displacement-controlled path; "
                                           "'contin classify' traces it whatever load.control says")
+    # the first instability is named wherever the snap is: the status line and the diagram
+    instability = instability_text(summary, _SHOWN)
+    if instability and branches and len(branches[0]):
+        branches[0].message = f"{branches[0].message}; {instability}"
     # the diagram styles by the scene's control; an "F = 0" event is in the table, not on the figure
     cls = summary.get("classification")
     # the axes in the cap's reference units: w/R and F R/(2 pi D)
     axis_labels, scale = force_axes("w", R, problem.D)
+    note = "; ".join(t for t in (str(cls) if cls else "", instability_text(summary, _SHOWN, tex=True)) if t)
     plot_options = {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene), "zero_line": True,
-                    "special_kinds": ("fold", "bifurcation"), "note": str(cls) if cls else ""}
+                    "special_kinds": ("fold", "bifurcation"), "note": note}
     shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.cap.x,
                           path=scene["output"]["shapes"] == "path")
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
