@@ -368,7 +368,11 @@ def _parse_row(raw: dict[str, str], columns: Sequence[str], n_axes: int,
             row[col] = text
         elif col == "label":
             row[col] = text or None
-        elif col in ("failure", "status"):
+        elif col == "failure":
+            row[col] = text
+        elif col == "status":
+            if not text or not all(c.islower() or c == "_" for c in text):
+                raise _damaged(col, text, "is not a status (a word such as ok or incomplete)")
             row[col] = text
         elif col == "scene":
             try:
@@ -393,6 +397,8 @@ def _parse_row(raw: dict[str, str], columns: Sequence[str], n_axes: int,
         raise ValueError("it has neither a class (label) nor a failure")
     if "status" not in row and "failure" in row:  # a CSV written before rows had a status
         row["status"] = "failed" if row["failure"] else "ok"
+    if "failure" in row and (row["status"] == "ok") != (not row["failure"]):
+        raise ValueError(f"its status {row['status']!r} does not fit its failure (ok exactly when there is none)")
     return row
 
 
