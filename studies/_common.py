@@ -278,7 +278,7 @@ def print_table(rows: Iterable[dict[str, Any]], columns: Sequence[str], digits: 
 
 
 def shell_lambda(phi_hat: float | np.ndarray, h_over_R: float | np.ndarray, nu: float = 0.5) -> Any:
-    """Shell depth parameter ``lambda`` (physics.md section 1); see :func:`contin_models.shell.boundaries.depth_parameter`."""
+    """Shell depth parameter ``lambda`` (``docs/model.md#geometry``); see :func:`contin_models.shell.boundaries.depth_parameter`."""
     return depth_parameter(phi_hat, h_over_R, nu)
 
 

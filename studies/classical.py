@@ -89,7 +89,7 @@ DEPTHS = (100.0, 400.0, 1000.0, 10000.0)
 P_MAX = 3.0
 
 #: Axisymmetric snap pressure over p_c of clamped shallow caps, nu = 0.3: Budiansky (1959), as
-#: tabulated by Teng & Rotter (1989a, Table 1); quoted in docs/revolution.md section 5.
+#: tabulated by Teng & Rotter (1989a, Table 1); quoted in docs/model.md#classical-values.
 BUDIANSKY = {4.0: 0.578, 5.0: 0.629, 5.5: 0.789, 6.0: 0.995, 7.0: 1.068, 8.0: 1.13}
 #: The same table's other two columns: Dumir & Nath (1984) and Teng & Rotter's own finite elements
 #: (1989a).  Read from AQUINAS's reproduction of that table (github.com/AchilleasF/AQUINAS-FE,

@@ -9,7 +9,7 @@ removed by holding the equator's height (:class:`contin_models.shell.structure.S
 a uniform external pressure ``p`` (:class:`contin_models.shell.structure.ShellOfRevolution`).
 
 (1) **Membrane state.**  Linear theory of a complete sphere: the uniform shrinkage
-``dR/R = -p R (1 - nu) / (2 E h)`` (``docs/revolution.md`` section 5) of membrane theory, times
+``dR/R = -p R (1 - nu) / (2 E h)`` (``docs/model.md#classical-values``) of membrane theory, times
 ``1 / (1 + (h/R)^2 / 12)`` once the bending energy of the uniform curvature change ``-e/R`` is
 counted (an ``(h/R)^2`` correction, 8e-6 at ``R/h = 100``).  The linear response ``dx/dp`` at the
 reference state is compared with it at the equator and at the poles for three meshes, with the

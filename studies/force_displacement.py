@@ -9,7 +9,7 @@ about 10 s fast, 25 s with ``--full``.  Both write into
 ``fig3.png`` / ``fig3.pdf`` and ``fig3.csv``
     Paper figure 3: the normalized force ``F R / (2 pi D)`` against ``w / R`` along the whole
     displacement-controlled path of the bilateral point load (the path the classification is
-    defined on, ``docs/physics.md`` sections 4 and 5), from the reference state to 5 % past
+    defined on, ``docs/model.md#classes``), from the reference state to 5 % past
     eversion.  (a) ``h/R = 0.02``, ``phi_hat`` = 0.6, 0.7, ..., 1.3; (b) ``phi_hat = 1.0``,
     ``h/R`` = 0.01, 0.02, ..., 0.08.  Parts stable under displacement control are solid, unstable
     parts dashed; each curve is labelled with the class of that same run
@@ -33,8 +33,8 @@ about 10 s fast, 25 s with ``--full``.  Both write into
     and per control the snaps (where, from which force to which), whether the loading and unloading
     sweeps form a hysteresis loop (:func:`contin.hysteresis_cycles` of their diagram), the loop's
     width and area, and the elastic energy the snaps release (equal to the area up to the trapezoid
-    rule).  Then the three statements of the paper these figures carry (``docs/physics.md``
-    section 6), each with the numbers that decide it and ``"reproduced"`` true or false.
+    rule).  Then the three statements of the paper these figures carry (``docs/model.md#what-the-paper-reports``),
+    each with the numbers that decide it and ``"reproduced"`` true or false.
 
 Forces are ``F_norm = F R / (2 pi D)`` and displacements ``w / R`` throughout; loop areas are in
 units of ``2 pi D`` (``oint F_norm d(w/R)``).
@@ -298,7 +298,7 @@ def hysteresis_case(phi_hat: float, h_over_R: float, N: int, F_max: float | None
 
 
 # ---------------------------------------------------------------------------------------------------
-# statements of the paper (docs/physics.md section 6)
+# statements of the paper (docs/model.md#what-the-paper-reports)
 # ---------------------------------------------------------------------------------------------------
 def _boundary_estimate(recs: list[dict[str, Any]], key: str) -> float | None:
     """Where F_min crosses zero between the last bistable and the first monostable case (linear in ``key``)."""

@@ -13,7 +13,7 @@ indenter snaps at that fold, at a finite force, before the force-free state; the
 (``fold_first``) and the model is still applied to the force-free state, which is where the large
 indenters release the shell.
 
-The model (physics.md section 6).  The normal to the snap shape at arc length ``s`` (from the pole)
+The model (``docs/model.md#what-the-paper-reports``).  The normal to the snap shape at arc length ``s`` (from the pole)
 meets the axis at a centre; ``r~(s)`` is the distance from the shell point to it and ``h~(s)`` its
 height above the pole.  A sphere with that centre and radius ``r~`` touches the shape at ``s``; it also
 passes through the pole where ``r~ - h~ = 0``.  ``r~ - h~ > 0`` near the pole (a sphere resting on the

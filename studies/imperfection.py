@@ -14,7 +14,7 @@ knockdown in terms of ``lambda_I`` and ``delta/h`` depends on ``nu`` only weakly
    towards both poles), its rigid translation removed by holding the equator's height
    (:class:`contin_models.shell.structure.ShellStructure`).
 
-**Imperfections** (``docs/revolution.md`` section 4), in the stress-free reference shape:
+**Imperfections** (``docs/model.md#imperfections``), in the stress-free reference shape:
 
 * a Gaussian dimple at the (north) pole, ``w_I = -delta exp(-(beta/beta_0)^2)``
   (:func:`contin_models.shell.meridian.with_dimple`), of width

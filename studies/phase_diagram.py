@@ -16,7 +16,7 @@ The two routes are compared cell by cell: every classified cell must lie on the 
 its class says, except cells within one grid spacing of a boundary (a neighbouring cell of the grid
 lies on the other side of it).
 
-Eq. (4.1) of the paper is fitted to each boundary in both forms (``docs/physics.md`` section 5):
+Eq. (4.1) of the paper is fitted to each boundary in both forms (``docs/model.md#classes``):
 
 * literal: ``h/R = sqrt(12 (1 - nu^2)) (pi/2 - phi_hat)^2 / lambda_d``;
 * squared: ``h/R = sqrt(12 (1 - nu^2)) (pi/2 - phi_hat)^2 / lambda_d^2``, i.e. the boundary is

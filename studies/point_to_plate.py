@@ -2,7 +2,7 @@
 
 Run ``python -m studies.point_to_plate [--out DIR] [--full] [--quiet]``.  The cap is the paper's
 ``phi_hat = 0.8``, ``h/R = 0.02`` (``nu = 0.5``, ``R = 1``).  For each indenter the study finds the
-snap of the displacement-controlled indentation (``docs/physics.md`` section 4) and records there
+snap of the displacement-controlled indentation (``docs/model.md#snaps``) and records there
 
 - ``w_b^c / R``: the indenter travel at the snap (the paper's critical indentation displacement),
 - ``w_s / R``: the pole displacement at the snap,

@@ -34,7 +34,7 @@ def test_classify_refuses_an_indenter_and_says_what_to_run(capsys: pytest.Captur
     code, out, err = run_cli(capsys, "classify", "-q", "--set", f"load.kind={kind}", "--set", "shell.N=40")
     assert code == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
     assert err.startswith(f'contin: error: scene field load.kind = "{kind}" cannot be classified')
-    for needle in ('allowed: load.kind = "point"', "physics.md section 5", "--set load.kind=point", "contin trace"):
+    for needle in ('allowed: load.kind = "point"', "docs/model.md#classes", "--set load.kind=point", "contin trace"):
         assert needle in err
 
 

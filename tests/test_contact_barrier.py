@@ -1,4 +1,4 @@
-"""Contact barrier (physics.md section 3, eq. 3.16): generated kernels, exact derivatives against
+"""Contact barrier (docs/model.md#contact, eq. 3.16): generated kernels, exact derivatives against
 finite differences and 30-digit sympy, the contact cells (the barrier integrated over quadratic
 cells between the nodes: an independent quadrature, derivatives, the band, the paper's nodal
 barrier as one point per cell), C2 continuity at dhat, blow-up at contact, the IPC step filter on

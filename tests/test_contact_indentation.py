@@ -2,8 +2,8 @@
 
 References are independent of the code under test: finite differences of the energy, the bilateral
 point load of :class:`contin_models.shell.ShellPointLoad` (a small sphere touches the pole alone, so the two
-equilibria must coincide at equal pole displacement), and the physics of section 4 of
-``docs/physics.md`` (the snap is a fold in the indenter travel where the force has fallen to zero).
+equilibria must coincide at equal pole displacement), and the physics of
+``docs/model.md#snaps`` (the snap is a fold in the indenter travel where the force has fallen to zero).
 """
 
 from __future__ import annotations

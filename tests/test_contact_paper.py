@@ -1,11 +1,11 @@
-"""Issue 4, tests 3-5: the contact snap of the paper (physics.md section 6; paper figures 6-8).
+"""Issue 4, tests 3-5: the contact snap of the paper (docs/model.md#what-the-paper-reports; paper figures 6-8).
 
 The cap is the default scene (``phi_hat = 0.8``, ``h/R = 0.02``, ``R = 1``, ``E = 1e6``); every run is the
 runner's first loading stretch (:func:`studies.bench_contact.run_to_snap`: continuation from the first
 touch of the barrier with ``stop_at=("fold",)`` and the ``F_norm -> 0`` event, the settings of
 ``contin trace``), ended at the located snap.
 
-Reference statements (physics.md section 6, not outputs of this code): ``w_b^c`` is constant for small r
+Reference statements (docs/model.md#what-the-paper-reports, not outputs of this code): ``w_b^c`` is constant for small r
 and decreases once ``r/R`` exceeds ``r_c/R`` near 0.8-0.9; the pole-indenter gap ``Delta_H`` opens at the
 same ``r_c``; contact modes: continuous contact ``r/R <= 0.5``, detach-then-recontact 0.6-0.8, detach
 ``>= 0.9``; the pole curvature at the snap is the same for every r.

@@ -4,7 +4,7 @@ Point 4: at h/R = 0.02, phi_hat in {0.6, 0.8, 1.0} is bistable, 1.2 monostable, 
 phi_hat = 1.0, h/R = 0.01 is bistable, 0.05 monostable, 0.09 monotonous -- each at two meshes.  The
 cases 0.8, 1.2 and 1.35 at N = 60 are in ``test_shell_scene.py``; here are the others and the
 refined meshes.  Besides the scene's own ``classification``, every case is checked against the
-definitions (``docs/physics.md`` section 5) applied directly to the stored points of ``branch.csv``.
+definitions (``docs/model.md#classes``) applied directly to the stored points of ``branch.csv``.
 
 Point 5: the stability labels change exactly at located folds -- the displacement-control count of
 negative eigenvalues only across a fold in w, the force-control count only across an extremum of F
@@ -54,7 +54,7 @@ def _trace(tmp_path: Path, N: int, phi_hat: float, h: float) -> tuple[dict, dict
 
 
 def class_from_definitions(cols: dict[str, np.ndarray]) -> str:
-    """The class from the stored points alone (physics.md section 5), without the located special points.
+    """The class from the stored points alone (docs/model.md#classes), without the located special points.
 
     monotonous: F increases with w along the whole path (which then never folds in w); bistable: some
     point stable under displacement control carries F < 0; monostable otherwise.

@@ -2,7 +2,7 @@
 
 Numbers quoted in comments come from ``python -m studies.shell_mesh_convergence``.
 
-* Reissner's limit (``docs/physics.md`` section 7): ``k / (8 sqrt(D E h) / R) -> 1`` as
+* Reissner's limit (``docs/model.md#checks``): ``k / (8 sqrt(D E h) / R) -> 1`` as
   ``h/R -> 0``.  The shortfall at finite ``h/R`` is the compliance of the sliding base -- the
   membrane thrust of the point load has a horizontal part the base cannot take, and an edge bending
   layer carries it -- which is checked against Geckeler's edge-layer closed form.
@@ -12,7 +12,7 @@ Numbers quoted in comments come from ``python -m studies.shell_mesh_convergence`
   observed order is the successive-difference order
   ``p_N = log2(|F_N - F_{N/2}| / |F_{2N} - F_N|)``, which needs no reference value; a further test
   repeats the check against a Richardson reference from N = 1600 .. 6400.
-* Scale invariance (physics.md section 1): ``w/R`` and ``F R / (2 pi D)`` of every special point of
+* Scale invariance (docs/model.md#geometry): ``w/R`` and ``F R / (2 pi D)`` of every special point of
   the default-scene trace are unchanged when ``E -> 1e3 E`` and ``(R, h) -> 10 (R, h)``.
 """
 

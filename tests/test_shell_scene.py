@@ -126,7 +126,7 @@ def test_force_control_snaps_to_the_everted_state(runs: dict) -> None:
 
 @pytest.mark.parametrize("control", ["displacement", "force"])
 def test_summary_and_csv_follow_the_command_line_contract(runs: dict, control: str) -> None:
-    """design.md, "Command line contract": the fields of summary.json and the columns of branch.csv."""
+    """The command line's contract (``docs/cli.md``): the fields of summary.json and the columns of branch.csv."""
     out, code, summary = runs[control]
     assert code == 0
     # the fully resolved scene: every key of the schema, the overrides applied

@@ -1,6 +1,6 @@
 """The engine's step filter (``Problem.max_step_fraction``): a model defined only on part of space.
 
-A spring pulled by the load ``p`` pushes ``u0`` towards negative values; a log barrier (physics.md
+A spring pulled by the load ``p`` pushes ``u0`` towards negative values; a log barrier (docs/model.md#contact,
 eq. 3.16 in one dimension) keeps ``u0 > 0`` and is undefined beyond.  With the filter no residual
 is ever evaluated at ``u0 <= 0``; without it the same runs do evaluate there (so the tests can fail).
 """

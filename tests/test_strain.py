@@ -24,7 +24,7 @@ def _branch(states: list[np.ndarray], loads: list[float]) -> Branch:
 
 
 def test_dilations_give_their_own_strain_as_the_peak() -> None:
-    # x -> (1 + e) x strains every edge by exactly e in both directions (docs/physics.md section 7)
+    # x -> (1 + e) x strains every edge by exactly e in both directions (docs/model.md#checks)
     P = ShellPointLoad(N=40)
     x0 = P.cap.x.copy()
     identity = SimpleNamespace(shell=P.shell, full_state=lambda u, p: u)

@@ -5,7 +5,7 @@ against runs made here, independently of the study: the class and the force extr
 against :func:`contin_models.shell_scene.classify_scene` on the scene with the default continuation steps
 (the study uses finer steps), the snaps of the loading/unloading sweeps against the folds and force
 extrema of that separate path, and the curves of ``fig3.csv`` against the definitions of the classes
-(``docs/physics.md`` section 5) applied directly to the data.
+(``docs/model.md#classes``) applied directly to the data.
 
 The default run runs the study on the cases these checks name (``checked``: four base angles of
 figure 3a, three thicknesses of figure 3b, both caps of figure 4); the whole fast mode (``fast``: the

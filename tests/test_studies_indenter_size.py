@@ -2,7 +2,7 @@
 
 The study's numbers are checked against runs made here through other entry points
 (:func:`studies.bench_contact.run_to_snap` with :func:`studies.bench_contact.snap_settings`, the point
-scene's ``w_c_one_sided``), against the paper's statements (physics.md section 6: ``w_b^c`` flat below
+scene's ``w_c_one_sided``), against the paper's statements (docs/model.md#what-the-paper-reports: ``w_b^c`` flat below
 ``r_c`` and decreasing above, ``r_c/R`` near 0.8-0.9, the contact modes, one pole curvature at the snap)
 and, for the resting-sphere helper, against closed forms.
 
@@ -132,7 +132,7 @@ def test_transition_bracket_holds_in_separate_runs(study):
 
 
 def test_paper_statements(study):
-    """physics.md section 6 (paper figures 6-8): the transition, the modes, one pole curvature."""
+    """docs/model.md#what-the-paper-reports (paper figures 6-8): the transition, the modes, one pole curvature."""
     _, S, _, _ = study
     cases = S["cases"]
     # (the bracket's ends are on either side: the small run's radii are its ends)

@@ -2,8 +2,8 @@
 
 Barrier
 -------
-A point at distance ``d`` from the indenter surface carries the energy (``docs/physics.md``
-eq. 3.16)::
+A point at distance ``d`` from the indenter surface carries the energy (``docs/model.md#contact``,
+the paper's eq. 3.16)::
 
     W(d) = -K_c (d - dhat)^2 log(d / dhat)   for 0 < d < dhat,    0 for d >= dhat,
 

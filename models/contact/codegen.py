@@ -6,7 +6,7 @@ Regenerating reproduces the committed file byte for byte (``tests/test_contact_b
 it): the output is built from a fixed list of indenters in a fixed order, common subexpressions get
 stable names ``_c0, _c1, ...`` and nothing time- or machine-dependent is written.
 
-The barrier (``docs/physics.md`` section 3, paper eq. 3.16)
+The barrier (``docs/model.md#contact``, paper eq. 3.16)
 -----------------------------------------------------------
 Per shell node at distance ``d`` from the indenter surface::
 

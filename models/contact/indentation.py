@@ -9,7 +9,7 @@ the free shell (:meth:`contin_models.shell.ShellPointLoad.free_state`): every do
 plus the barrier (:class:`contin_models.contact.ContactBarrier`); the barrier's cell blocks lie inside the
 shell's band, so the Jacobian keeps half-bandwidth 5 and every solve stays O(N).
 
-Snap under displacement control (``docs/physics.md`` section 4): as the contact force falls towards
+Snap under displacement control (``docs/model.md#snaps``): as the contact force falls towards
 zero the barrier softens and the path turns back in ``w_b``: a fold in the parameter, located by the
 engine's minimally augmented system.
 

@@ -1,6 +1,6 @@
 """Phase boundaries of the point-loaded cap, traced as curves in the ``(phi_hat, h/R)`` plane.
 
-``docs/physics.md`` section 5: a cap is monotonous, monostable or bistable according to the limit
+``docs/model.md#classes``: a cap is monotonous, monostable or bistable according to the limit
 points (folds) of its force ``F`` along the equilibrium path.
 
 * **Bistable / monostable**: the lower limit load ``F_min`` crosses zero.  A fold in ``F`` at
@@ -55,7 +55,7 @@ E_TIMES_H = 1e6 * 0.02
 
 
 def depth_parameter(phi_hat: Any, h_over_R: Any, nu: float = 0.5) -> Any:
-    """``lambda = (12 (1 - nu^2))^(1/4) (pi/2 - phi_hat) sqrt(R/h)`` (``docs/physics.md`` section 1)."""
+    """``lambda = (12 (1 - nu^2))^(1/4) (pi/2 - phi_hat) sqrt(R/h)`` (``docs/model.md#geometry``)."""
     return (12.0 * (1.0 - nu * nu)) ** 0.25 * (math.pi / 2 - np.asarray(phi_hat)) / np.sqrt(np.asarray(h_over_R))
 
 

@@ -6,7 +6,7 @@ Regenerating must reproduce the committed file byte for byte (``tests/test_shell
 it): the output is built from a fixed element list in a fixed order, common subexpressions get
 stable names ``_c0, _c1, ...`` and nothing time- or machine-dependent is written.
 
-Elements (notation of ``docs/physics.md`` section 2; a bar means "in the reference configuration")
+Elements (notation of ``docs/model.md#the-discrete-shell``; a bar means "in the reference configuration")
 ------------------------------------------------------------------------------------------------
 ``stretch``
     One edge ``i`` between nodes ``(r0, z0)``, ``(r1, z1)``; 4 local dofs ``[r0, z0, r1, z1]``.
@@ -19,9 +19,9 @@ Elements (notation of ``docs/physics.md`` section 2; a bar means "in the referen
 
     * ``kappa11 = 2 tan(xi / 2) / L = 2 cross / ((|e1| |e2| + dot) L)``, ``xi`` the signed
       turning angle (positive when the meridian turns counter-clockwise, as it does on the
-      reference cap traversed from base to pole).  ``L = lbar`` (reference Voronoi length, as
-      physics.md section 2 writes it) for ``bend``; ``L = (|e1| + |e2|) / 2`` (current Voronoi
-      length) for ``bend_cur``.
+      reference cap traversed from base to pole).  ``L = lbar`` (reference Voronoi length, the
+      paper's eq. 3.9 read with a bar, ``docs/model.md#the-discrete-shell``) for ``bend``;
+      ``L = (|e1| + |e2|) / 2`` (current Voronoi length) for ``bend_cur``.
     * ``kappa22 = n_r / r1`` with the node normal ``n`` = the unit bisector of the two edge
       normals, i.e. ``t = e1/|e1| + e2/|e2|`` rotated clockwise: ``n = (t_z, -t_r) / |t|``.  In
       closed form ``n_r = (e1_z/|e1| + e2_z/|e2|) / sqrt(2 + 2 dot / (|e1| |e2|))``.

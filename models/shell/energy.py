@@ -3,7 +3,7 @@
 The state is the interleaved vector ``x = [r_0, z_0, r_1, z_1, ..., r_{N-1}, z_{N-1}]`` of all node
 coordinates, so every element touches a contiguous block of dofs and the Hessian is banded with
 half-bandwidth 5 (a bending element couples nodes ``i-1 .. i+1``).  The energy is eq. (3.12) of the
-paper (``docs/physics.md`` section 2):
+paper (``docs/model.md#the-discrete-shell``):
 
 * stretching: every edge ``i = 0 .. N-2``,
   ``pi rbar^i lbar^i ks (eps11^2 + 2 nu eps11 eps22 + eps22^2)``, ``ks = E h / (1 - nu^2)``;
@@ -20,8 +20,8 @@ The element formulas, their exact gradients and Hessians live in the generated m
 :mod:`contin_models.shell._generated` (see :mod:`contin_models.shell.codegen` for the definitions: ``kappa11`` is
 ``2 tan(xi/2) / L``, ``kappa22 = n_r / r_i`` with the node normal the unit bisector of the two edge
 normals).  ``kappa11_length`` selects ``L``: ``"current"`` (the deformed Voronoi length; the
-default) or ``"reference"`` (the reference one, as physics.md section 2 writes the formula).  Only
-``"current"`` passes the pure-dilation check of physics.md section 7 (``kappa11 = 1/((1+e) R)``);
+default) or ``"reference"`` (the reference one, the paper's eq. 3.9 read with a bar).  Only
+``"current"`` passes the pure-dilation check of ``docs/model.md#checks`` (``kappa11 = 1/((1+e) R)``);
 both reach Reissner's stiffness as ``h/R -> 0`` (they differ by 3e-4 there) but differ by 0.3 % in
 F at ``w/R = 0.1`` for the default scene (``python -m studies.shell_mesh_convergence``), so the choice
 matters in the nonlinear range.
@@ -43,7 +43,7 @@ Not decided here
 Boundary conditions and the pole.  No dof is fixed.  The bending element is skipped at the base
 node (it has one edge) and at the pole node (``r = 0``, where ``n_r / r`` is 0/0), which is only
 what is needed to avoid a division by zero: it is *not* a pole treatment.  The symmetric pole
-treatment of physics.md section 2 (mirror node across the axis, ``kappa22 = kappa11`` at the pole,
+treatment of ``docs/model.md#pole-and-edge`` (mirror node across the axis, ``kappa22 = kappa11`` at the pole,
 vanishing area weight; to be shown second-order convergent in ``1/N``) and the sliding base are
 decided in the next step.
 """
@@ -207,8 +207,8 @@ class ShellEnergy:
         Poisson's ratio, in ``(-1, 1)`` (``nu = 1/2`` is allowed: the plane-stress constants stay
         finite).
     kappa11_length : {"reference", "current"}
-        Length in ``kappa11 = 2 tan(xi/2) / L``: the reference Voronoi length (as physics.md
-        section 2 writes it) or the current one (the default; see the module docstring).  At the
+        Length in ``kappa11 = 2 tan(xi/2) / L``: the reference Voronoi length (the paper's
+        eq. 3.9 read with a bar) or the current one (the default; see the module docstring).  At the
         reference state both give the same curvature; they differ by terms of order (membrane
         strain) x (curvature).
 

@@ -2,7 +2,7 @@
 
 The meridian of a spherical cap of radius ``R`` lies in the ``(r, z)`` half plane ``r >= 0``.  Its
 base is at polar angle ``phi_hat`` measured from the horizontal r-axis, i.e. at
-``(R cos phi_hat, R sin phi_hat)``, and its pole at ``(0, R)`` (``docs/physics.md`` section 1).  The
+``(R cos phi_hat, R sin phi_hat)``, and its pole at ``(0, R)`` (``docs/model.md#geometry``).  The
 ``N`` nodes run from the base (node 0) to the pole (node ``N-1``); traversed from base to pole the
 meridian turns counter-clockwise, so its curvatures are positive.
 

@@ -4,7 +4,7 @@ The traced model is axisymmetric: its energy (:class:`contin_models.shell.struct
 is a function of the meridian's nodes ``(r_i, z_i)``.  To judge stability against non-axisymmetric
 modes this module defines a **2-D shell energy** of rings of material points whose restriction to
 axisymmetric states is exactly the traced 1-D energy, and computes the blocks of its Hessian per
-wave number ``n`` ("harmonic" or semi-analytic discretisation, ``docs/revolution.md`` section 6, as
+wave number ``n`` ("harmonic" or semi-analytic discretisation, ``docs/model.md#harmonic-blocks``, as
 BOSOR and AQUINAS do).
 
 Kinematics
@@ -1217,7 +1217,7 @@ def harmonic_dofs(structure: Any, n: int, remove_rigid: bool = True, control_fix
         ``n = 0`` only: e.g. the loaded node's height ``2k + 1`` under displacement control.  A
         prescribed pole deflection, volume or indenter position is an axisymmetric constraint; the
         ``n >= 1`` fields change none of them to first order, so every control shares the
-        ``n >= 1`` blocks (``docs/revolution.md`` section 6).
+        ``n >= 1`` blocks (``docs/model.md#harmonic-blocks``).
     """
     n = int(n)
     N = int(structure.N)

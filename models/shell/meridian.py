@@ -1,4 +1,4 @@
-"""General reference meridians of a shell of revolution (issue 16, ``docs/revolution.md`` sections 1 and 4).
+"""General reference meridians of a shell of revolution (issue 16, ``docs/model.md#geometry``).
 
 The discrete energy (:class:`contin_models.shell.ShellEnergy`) works on any reference polyline: the
 reference edge lengths, radii, Voronoi lengths and curvatures are computed from the reference nodes,
@@ -1027,7 +1027,7 @@ def table_meridian(r, z, N: int, pole_ratio: float = 1.0, *, thickness=None,
 
 # ---- imperfections -------------------------------------------------------------------------------
 def dimple_width(lambda_I: float, R: float, h: float, nu: float) -> float:
-    """``beta0 = lambda_I / ((12 (1 - nu^2))^(1/4) sqrt(R / h))`` (``docs/revolution.md`` section 4)."""
+    """``beta0 = lambda_I / ((12 (1 - nu^2))^(1/4) sqrt(R / h))`` (``docs/model.md#imperfections``)."""
     where = "dimple_width"
     lam = _positive("lambda_I", lambda_I, where)
     R = _positive("R", R, where)
@@ -1076,7 +1076,7 @@ def _displaced(m: ReferenceMeridian, dr: np.ndarray, dz: np.ndarray, tag: str) -
 
 def with_dimple(m: ReferenceMeridian, delta: float, beta0: float | None = None, *, lambda_I: float | None = None,
                 R: float | None = None, h: float | None = None, nu: float | None = None) -> ReferenceMeridian:
-    """A Gaussian dimple at the pole (``docs/revolution.md`` section 4), as a new stress-free reference.
+    """A Gaussian dimple at the pole (``docs/model.md#imperfections``), as a new stress-free reference.
 
     Each node moves along the smooth curve's normal by ``w_I(beta) = -delta exp(-(beta / beta0)^2)``
     (outward positive, so ``delta > 0`` pushes the pole in, towards the centre, decreasing the

@@ -1,6 +1,6 @@
 """Uniform pressure on the discrete spherical cap, as a :class:`contin.Problem` (issue 16).
 
-The energy is ``E_el(x) + p (V(x) - V0)`` (``docs/revolution.md`` section 3): the elastic energy of
+The energy is ``E_el(x) + p (V(x) - V0)`` (``docs/model.md#loads``): the elastic energy of
 the shell (stretching, bending and the pole's mirror element, as for
 :class:`contin_models.shell.ShellPointLoad`) plus the potential of an external pressure ``p``
 (positive pushing the cap in) from :class:`contin_models.shell.volume.PressureTerm`, with the base
@@ -10,8 +10,8 @@ plane fixed at the reference base height.  The pressure is the parameter (force 
 holds the mechanism; this module keeps the cap's constructor, its normalisations and the reasoning
 behind the clamp.
 
-Supports (``docs/revolution.md`` section 2)
--------------------------------------------
+Supports (``docs/model.md#supports``)
+-------------------------------------
 ``"sliding"``
     ``z_0`` fixed, ``r_0`` free: the paper's base.
 ``"pinned"``
@@ -83,7 +83,7 @@ def cap_lambda(R: float, h: float, phi_hat: float, nu: float) -> float:
     """Shallow-cap parameter ``lambda = 2 (3 (1 - nu^2))^(1/4) sqrt(H / h)``, ``H = R (1 - sin phi_hat)``.
 
     The rise ``H`` is that of the cap whose base is at ``phi_hat`` from the equator
-    (``docs/revolution.md`` sections 1 and 5).  It is not the paper's ``lambda``
+    (``docs/model.md#classical-values``).  It is not the paper's ``lambda``
     (:func:`contin_models.shell.boundaries.depth_parameter`), which it equals in the shallow limit.
     """
     H = R * (1.0 - math.sin(phi_hat))
@@ -105,7 +105,7 @@ class ShellPressure(ShellOfRevolution):
     ----------
     R, E, nu, h, phi_hat : float
         Sphere radius, Young's modulus, Poisson's ratio, thickness and base angle from the equator
-        (``docs/physics.md`` section 1).
+        (``docs/model.md#geometry``).
     N : int
         Number of nodes (base = 0, pole = ``N-1``).
     boundary : {"clamped", "pinned", "sliding"}

@@ -3,7 +3,7 @@
 Boundary conditions
 -------------------
 * Sliding base: the base node's height ``z_0`` is fixed at its reference value, its radius ``r_0``
-  is free (paper section 2 / 4a, ``docs/physics.md`` section 2).
+  is free (paper section 2 / 4a, ``docs/model.md#supports``).
 * Pole on the axis: ``r_{N-1} = 0`` is eliminated from the unknowns.
 
 Pole treatment
@@ -39,9 +39,9 @@ interior nodes' rings ``2 pi rbar_i lbar_i`` the cells tile the cap.  That weigh
 coefficient of the logarithmic error term, and other weights are consistent too but worse or
 tuned: scaling it by 0.5 or 2 gives orders 1.71..1.74 or 1.98..3.45 (erratic) for
 ``F(w/R = 0.1)``; 1.25 happens to cancel the log term for this load (orders 2.07..2.09), which
-physics.md section 2 gives no reason for.  The reference length ``lbar`` in the pole curvature
+nothing in the model gives a reason for.  The reference length ``lbar`` in the pole curvature
 alone (interior nodes with current lengths) would make the pole the one node that fails the
-pure-dilation check of physics.md section 7 (its curvature would stay ``kappabar`` instead of
+pure-dilation check of ``docs/model.md#checks`` (its curvature would stay ``kappabar`` instead of
 ``kappabar / (1 + e)``).  Neither is used.
 
 Controls
@@ -230,7 +230,7 @@ class ShellPointLoad(Problem):
     ----------
     R, E, nu, h, phi_hat : float
         Sphere radius, Young's modulus, Poisson's ratio, thickness, base angle
-        (``docs/physics.md`` section 1).
+        (``docs/model.md#geometry``).
     N : int
         Number of nodes (base = 0, pole = ``N-1``).
     control : {"displacement", "force"}

@@ -1,7 +1,7 @@
 """The largest membrane strain along traced branches, and the warning a run gives when it is large.
 
 The shell's material law is linear in the engineering strains ``eps11 = l / lbar - 1`` and
-``eps22 = r / rbar - 1`` (``docs/physics.md`` section 2), which is meaningful for strains of a few
+``eps22 = r / rbar - 1`` (``docs/model.md#the-discrete-shell``), which is meaningful for strains of a few
 per cent.  Most scenes stay well inside that range (the default scene: 0.076, at the base ring while
 the cap passes through flat).  A point load is different: the pole is a singular point of the
 continuum solution.  Its bending curvature grows like the logarithm of the mesh spacing there, and

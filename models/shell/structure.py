@@ -4,7 +4,7 @@
 :class:`contin_models.shell.ShellEnergy` on a reference polyline (a spherical cap, a plate, a cone,
 a complete sphere, ...), a mirror bending element at every end on the axis (a closed pole, as in
 :class:`contin_models.shell.ShellPointLoad`), and the supports of the edge at node 0
-(``docs/revolution.md`` section 2):
+(``docs/model.md#supports``):
 
 ``"sliding"``
     ``z_0`` fixed, ``r_0`` free, the edge rotates freely (the paper's base).
@@ -22,7 +22,7 @@ self-equilibrium (pressure) may act on such a shell, so that support carries no 
 problems check it (:class:`ShellOfRevolution` refuses a point or ring force on it).
 
 :class:`ShellOfRevolution` composes the structure with one load as a :class:`contin.Problem`
-(``docs/revolution.md`` section 3):
+(``docs/model.md#loads``):
 
 * a point force ``F`` at the pole or a ring force ``Q`` on a node ring, potential ``-F w`` with
   ``w = zbar_k - z_k`` the node's deflection (positive down).  Force control: ``F`` is the

@@ -9,7 +9,7 @@ the support itself, so the run ends there (status ``bound``).  The loading, snap
 is :func:`contin.quasistatic`'s; this module gives it the contact's rules (:func:`snap_rules`,
 :func:`snap_point`) and reports the result.
 
-Where the snap is (``docs/physics.md`` section 4): the path turns back in ``w_b`` as the contact force
+Where the snap is (``docs/model.md#snaps``): the path turns back in ``w_b`` as the contact force
 falls to zero.  While the pole is the last point in contact the fold is a sizeable fraction of ``dhat``
 inside the barrier and the engine's extended system locates it.  When the last contact point is off
 the axis (large spheres and the plate, after the pole has detached) the fold lies a few 1e-8 R before

@@ -4,7 +4,8 @@ The scene traces the whole connected equilibrium path of a spherical cap loaded 
 pole, from the reference state until the shell is everted (the pole past the mirror image of its
 start, ``w = 2 R (1 - sin phi_hat)``, by ``continuation.overshoot``), locates every fold in ``w``
 and every extremum of ``F`` (the limit points under force control), labels every point's stability
-under both controls and classifies the response (``docs/physics.md`` sections 4 and 5).
+under both controls and classifies the response (``docs/model.md#snaps``,
+``docs/model.md#classes``).
 
 The scene keys are :data:`contin_models.shell_scene.schema.SHELL_SCHEMA`'s.  A sphere or plate indenter is
 run by :mod:`contin_models.shell_scene.contact` (its docstring describes that ``summary.json``); what
@@ -22,8 +23,8 @@ residual of its defining system.  Under force control each snap adds two ``"kind
 (``parameter`` ``"F"``, the load held fixed): ``jump_from`` (the limit point it leaves, with that
 point's residual and ``stable_before``) and ``jump_to`` (the stable landing state, ``stable_after``).
 
-Classification (``docs/physics.md`` section 5)
-----------------------------------------------
+Classification (``docs/model.md#classes``)
+---------------------------------------------------------------
 ``monotonous``: no extremum of F and no fold in w on the path.  Otherwise ``bistable`` when F < 0
 (below round-off) at some point of the path that is stable under displacement control, else
 ``monostable``.  ``F_max`` is the first local maximum of F along the path (the force-control snap
@@ -110,7 +111,7 @@ def _point_fields(spt: SpecialPoint) -> dict[str, Any]:
 
 
 def classify(branch: Branch, records: list[dict[str, Any]], D: float, R: float) -> dict[str, Any]:
-    """Classify a displacement-controlled path (``docs/physics.md`` section 5).
+    """Classify a displacement-controlled path (``docs/model.md#classes``).
 
     Parameters
     ----------

@@ -124,8 +124,8 @@ _CLASSIFY_FIELDS = ("F_max", "w_at_F_max", "F_min", "w_at_F_min", "F_max_norm", 
 def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     """Classify a shell scene (``contin classify --model shell``).
 
-    The class is defined on the displacement-controlled path to eversion (``docs/physics.md``
-    section 5), so that path is traced whatever ``load.control`` says; every other key of the scene
+    The class is defined on the displacement-controlled path to eversion (``docs/model.md#classes``),
+    so that path is traced whatever ``load.control`` says; every other key of the scene
     is used as given.
 
     Parameters
@@ -201,21 +201,21 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     return Classification(label=label, values=values, lines=lines, trace=trace, failure=failure)
 
 
-#: The class is defined on the point-load path (``docs/physics.md`` section 5): ``contin classify``
+#: The class is defined on the point-load path (``docs/model.md#classes``): ``contin classify``
 #: refuses an indenter and says what to run instead.
 _CLASSIFY_REQUIRES = (
     Constraint(("load.kind",), lambda s: s["load"]["kind"] == "point", 'load.kind = "point"',
                "the classes monotonous, monostable and bistable are defined on the displacement path of the point "
-               "load at the pole, docs/physics.md section 5; an indenter can only push, so its path has no F < 0 to "
+               "load at the pole, docs/model.md#classes; an indenter can only push, so its path has no F < 0 to "
                "classify. The class of this cap: the same command with --set load.kind=point. The indenter's own "
                "snap (w_b_c, F at the snaps): 'contin trace' with this scene, in summary.json"),
     Constraint(("shell.geometry", "shell.boundary", "imperfection.kind"),
                lambda s: s["shell"]["geometry"] == "sphere" and s["shell"]["boundary"] == "sliding"
                and s["imperfection"]["kind"] == "none",
                'shell.geometry = "sphere", shell.boundary = "sliding", imperfection.kind = "none"',
-               "the classes are the paper's, defined for its perfect spherical cap on the sliding base (docs/physics.md "
-               "section 5); for another shell 'contin trace' reports the limit loads F_max, F_min and the folds in w "
-               "in summary.json"),
+               "the classes are the paper's, defined for its perfect spherical cap on the sliding base "
+               "(docs/model.md#classes); for another shell 'contin trace' reports the limit loads F_max, F_min and the "
+               "folds in w in summary.json"),
 )
 
 SHELL_SCENE = SceneModel(

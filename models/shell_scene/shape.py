@@ -1,6 +1,6 @@
 """The scene's reference shape: ``shell.geometry`` and ``[imperfection]`` -> a reference meridian.
 
-Geometries (``docs/revolution.md`` section 1), each from its edge (node 0) to its pole on the axis:
+Geometries (``docs/model.md#geometry``), each from its edge (node 0) to its pole on the axis:
 
 ``"sphere"`` (default)
     the spherical cap of radius ``shell.R`` whose edge is at ``shell.phi_hat`` from the equator (the
@@ -26,7 +26,7 @@ The classical pressure ``p_c = 2 E (h/L)^2 / sqrt(3 (1 - nu^2))`` of a scene use
 ``L`` (for the sphere, the cap's ``R``).  The rise ``H`` is the pole's height above the edge; the
 eversion depth ``2 H``.
 
-Imperfections (``[imperfection]``, ``docs/revolution.md`` section 4), the stress-free shape:
+Imperfections (``[imperfection]``, ``docs/model.md#imperfections``), the stress-free shape:
 ``kind = "dimple"`` a Gaussian dimple at the pole of depth ``delta_over_h h`` and width ``lambda_I``
 (:func:`contin_models.shell.meridian.with_dimple`, with ``R`` the length scale); ``kind = "mode"``
 the perfect shell's buckling mode (the null vector at the first fold or branch point of its path
