@@ -535,7 +535,7 @@ def _say(quiet: bool) -> Callable[[str], None]:
     return say
 
 
-def _status_message(model: ModelRunner, scene: dict, result: TraceResult) -> str:
+def _status_message(model: ModelRunner, scene: dict, result: TraceResult | Classification) -> str:
     """The result's message; for a run cut short by its step limit, which scene key raises it."""
     message = result.message
     if not result.complete:
@@ -561,12 +561,12 @@ def _cmd_trace(args: argparse.Namespace) -> int:
         t0 = time.perf_counter()
         result = _run(model, scene, progress=not args.quiet, start=start)
         if start is not None:
-            from .restart import restart_record
-
-            result.summary["restart"] = restart_record(args.restart_from, start, args.overrides)
+            _describe_restart(result, args, start)
         table = _numbered(result)  # before the summary is written: the records get their numbers
         wall = time.perf_counter() - t0
         message = _status_message(model, scene, result)
+        if start is not None:
+            message = f"{result.summary['restart']['note']}; {message}"
         written = write_outputs(out, name, scene, result, wall, message=message)
     say(f"wrote {', '.join(str(p) for p in written)} ({wall:.2f} s)")
 
@@ -598,7 +598,7 @@ def _numbered(result: TraceResult) -> list[dict[str, Any]]:
 
 def _restart(args: argparse.Namespace) -> tuple[str, ModelRunner, dict[str, dict[str, Any]], Any]:
     """``--from OUT --label K``: the saved run's model, its scene updated by ``--set``, and the saved point."""
-    from .restart import RestartError, can_resume, read_start, restart_scene
+    from .restart import RestartError, attach_saved_path, can_resume, read_start, restart_scene
 
     if args.restart_from is None or args.label is None:
         raise CliError("--from OUT and --label K go together: --from names the saved run, --label the point of it "
@@ -617,11 +617,9 @@ def _restart(args: argparse.Namespace) -> tuple[str, ModelRunner, dict[str, dict
     model = load_model(name)
     if not can_resume(model):
         raise CliError(f"model {name!r} cannot restart from a saved point; trace it anew")
-    if start.kind == "end" and start.complete and not args.overrides:
-        raise CliError(f"--label {args.label}: branch {start.branch} of {args.restart_from!r} reached its planned end "
-                       f"there; to go further, move that end with --set (or restart from a special point)")
     try:
         scene = restart_scene(model, summary, args.overrides)
+        args.not_joined = attach_saved_path(model, start, summary, scene)
     except RestartError as exc:
         raise CliError(str(exc)) from None
     except SceneError as exc:
@@ -629,10 +627,30 @@ def _restart(args: argparse.Namespace) -> tuple[str, ModelRunner, dict[str, dict
     return name, model, scene, start
 
 
+def _describe_restart(result: TraceResult, args: argparse.Namespace, start: Any) -> None:
+    """Say in the summary, the status line and the diagram's title what a restarted run's results describe:
+    the whole path (joined to the saved run's) or only the part traced from the point."""
+    from .restart import restart_record
+
+    record = restart_record(args.restart_from, start, args.overrides, getattr(args, "not_joined", ()))
+    where = f"{start.describe()} of {str(args.restart_from)!r}"
+    if start.continues_saved_path:
+        record["note"] = f"restarted from {where}, joined to the saved path before it: the results describe the whole path"
+        title = f"restarted from {args.restart_from} (point {start.name}), joined to its path"
+    else:
+        record["note"] = (f"restarted from {where}; the results describe only the part traced from there "
+                          f"({'; '.join(getattr(args, 'not_joined', ()))})")
+        title = f"only the part traced from point {start.name} of {args.restart_from}"
+    result.summary["restart"] = record
+    result.plot_options["title"] = "\n".join(t for t in (result.plot_options.get("title"), title) if t)
+
+
 def _run(model: ModelRunner, scene: dict, progress: bool, start: Any = None) -> TraceResult:
+    from .restart import RestartError
+
     try:
         result = model.run(scene, progress) if start is None else model.resume(scene, start, progress)  # type: ignore[attr-defined]
-    except SceneError as exc:  # a runner may reject a combination only it can judge: still bad input
+    except (SceneError, RestartError) as exc:  # a runner may reject a combination only it can judge: still bad input
         raise CliError(str(exc)) from None
     except engine_failures() as exc:  # the outputs are still written for these
         return TraceResult(branches=[], failure=f"run failed: {type(exc).__name__}: {exc}")
@@ -728,6 +746,7 @@ def _cmd_classify(args: argparse.Namespace) -> int:
     say = _say(args.quiet)
     docs: list[dict[str, Any]] = []
     results: list[Classification] = []
+    messages: list[str] = []
     for _, scene in scenes:
         say(f"classifying model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
         t0 = time.perf_counter()
@@ -735,12 +754,13 @@ def _cmd_classify(args: argparse.Namespace) -> int:
         wall = time.perf_counter() - t0
         say(f"classified in {wall:.2f} s")
         results.append(result)
-        docs.append(classification_document(name, scene, result, wall))
+        messages.append(_status_message(model, scene, result) if not result.success else "")
+        docs.append(classification_document(name, scene, result, wall, message=messages[-1]))
     if args.json:
         print(json.dumps(docs[0] if len(docs) == 1 else docs, indent=2, allow_nan=False))
     else:
-        for result in results:
-            print(format_classification(name, result))
+        for result, message in zip(results, messages):
+            print(format_classification(name, result, message))
     return 0 if all(r.success for r in results) else 1
 
 
@@ -750,6 +770,11 @@ def _swept_cell(value: Any) -> Any:
         text = f"{value:.8g}"
         return text if any(c in text for c in ".e") else text + ".0"
     return value
+
+
+def _row_status(row: dict[str, Any]) -> str:
+    """A sweep row's status (a row of a CSV written before rows had one: ``ok`` unless it failed)."""
+    return row.get("status") or ("failed" if row["failure"] else "ok")
 
 
 def _sweep_table(rows: Sequence[dict[str, Any]], axes: Sequence[str]) -> list[dict[str, Any]]:
@@ -770,7 +795,9 @@ def _sweep_table(rows: Sequence[dict[str, Any]], axes: Sequence[str]) -> list[di
     table = []
     for row in rows:
         line: dict[str, Any] = {axis: _swept_cell(row[axis]) for axis in axes}
-        line["class"] = row["label"] or ("failed" if row["failure"] else "undecided")
+        status = _row_status(row)
+        line["class"] = row["label"] or ("failed" if row["failure"] and status != "incomplete" else "undecided")
+        line["status"] = "" if status == "ok" else status  # a column only where a row is not ok
         line.update({k: v for k, v in row.items() if k.endswith("_norm") and k not in axes})
         line["time_s"] = f"{row['wall_time_s']:.2f}" if row["wall_time_s"] is not None else ""
         line["failure"] = row["failure"]
@@ -820,8 +847,13 @@ def _classify_sweep(name: str, model: ModelRunner, scenes: list[tuple[dict[str, 
         counts[line["class"]] = counts.get(line["class"], 0) + 1
     print("classes: " + ", ".join(f"{label} {n}" for label, n in counts.items()))
     if failed:
-        print(status_text(f"status: failed - {len(failed)} of {len(rows)} combinations could not be classified "
-                          f"(see the failure column)"))
+        short = sum(1 for row in failed if _row_status(row) == "incomplete")
+        parts = [f"{short} of {len(rows)} combinations stopped before the end of their path (a class shown was "
+                 f"proved on the part traced)"] if short else []
+        if len(failed) > short:
+            parts.append(f"{len(failed) - short} of {len(rows)} could not be classified")
+        print(status_text(f"status: {'incomplete' if short == len(failed) else 'failed'} - {'; '.join(parts)} (see "
+                          f"the failure column)"))
         return 1
     print(f"status: ok - all {len(rows)} combinations classified")
     return 0
@@ -870,14 +902,18 @@ def summary_document(model_name: str, scene: dict, result: TraceResult, wall_tim
 
 
 def classification_document(model_name: str, scene: dict, result: Classification,
-                            wall_time_s: float) -> dict[str, Any]:
-    """What ``contin classify --json`` prints; the model's values never replace the standard fields."""
+                            wall_time_s: float, message: str | None = None) -> dict[str, Any]:
+    """What ``contin classify --json`` prints; the model's values never replace the standard fields.
+
+    ``message`` replaces the result's own (the command line adds which key raises a step limit).
+    """
     doc: dict[str, Any] = {
         "model": model_name,
         "classification": result.label,
         "success": result.success,
         "status": result.status,
-        "message": result.message,
+        "complete": result.complete,
+        "message": result.message if message is None else message,
     }
     for key, value in result.values.items():
         doc.setdefault(key, value)
@@ -888,11 +924,13 @@ def classification_document(model_name: str, scene: dict, result: Classification
     return json_ready(doc)
 
 
-def format_classification(model_name: str, result: Classification) -> str:
-    """The text ``contin classify`` prints: the class, the model's lines, and the status."""
+def format_classification(model_name: str, result: Classification, message: str | None = None) -> str:
+    """The text ``contin classify`` prints: the class, the model's lines, and the status (with ``message`` in place
+    of the result's own, when given)."""
     lines = [f"classification ({model_name}): {result.label or 'undecided'}"]
     lines += [f"  {line}" for line in result.lines]
-    lines.append(status_text(f"status: {result.status}" + (f" - {result.message}" if not result.success else "")))
+    text = result.message if message is None else message
+    lines.append(status_text(f"status: {result.status}" + (f" - {text}" if not result.success else "")))
     return "\n".join(lines)
 
 

@@ -27,7 +27,7 @@ __all__ = ["SavedRun", "SavedRunError", "load_run", "overlay_labels"]
 
 #: The keyword arguments of :func:`contin.plot_branches` that ``summary.json`` keeps under ``"diagram"``
 #: (beside ``x``, ``y`` and ``stability``), so that ``contin plot`` draws a run again as it was drawn.
-REPLOT_OPTIONS = ("axis_labels", "special_kinds", "zero_line", "scale", "title", "control", "symbols")
+REPLOT_OPTIONS = ("axis_labels", "special_kinds", "zero_line", "scale", "title", "note", "control", "symbols")
 
 #: Columns of ``branch.csv`` that are not observables.
 _NOT_OBSERVABLES = ("branch", "p", "s", "residual", "newton_iterations")

@@ -57,7 +57,7 @@ __all__ = [
     "format_toml_value", "schema_as_toml",
     "integer", "real", "boolean", "choice", "text",
     "TraceResult", "Classification", "ModelRunner", "Classifier", "Resumer", "SceneModel", "can_classify",
-    "special_point_records", "special_point_table", "branch_columns", "check_classifiable", "wants_figure",
+    "special_point_records", "special_label", "special_point_table", "branch_columns", "check_classifiable", "wants_figure",
     "engine_failures",
     "BUDGET_STATUSES",
 ]
@@ -688,13 +688,23 @@ class Classification:
     failure: str = ""
 
     @property
+    def complete(self) -> bool:
+        """True when the run behind the class reached the end of its path (or there is no run to judge)."""
+        return self.trace is None or self.trace.complete
+
+    @property
     def success(self) -> bool:
-        """True when a class was decided and nothing failed on the way."""
-        return self.label is not None and not self.failure
+        """True when a class was decided, nothing failed on the way and the run reached the end of its path.
+
+        A class proved on part of a path (a cap seen bistable before its step limit) is still reported
+        as :attr:`label`, but the run is not a success: the quantities read off the path (its snap loads,
+        its folds) are those of the part traced, and the status says ``"incomplete"``.
+        """
+        return self.label is not None and not self.failure and self.complete
 
     @property
     def status(self) -> str:
-        """``"ok"``, the failing run's status, or ``"failed"``."""
+        """``"ok"``, the failing run's status (``"incomplete"`` for a path cut short), or ``"failed"``."""
         if self.success:
             return "ok"
         if self.trace is not None and not self.trace.success:
@@ -729,6 +739,14 @@ def _stability_fields(spt: SpecialPoint) -> dict[str, bool]:
     return {key: bool(known[key]) for key in ("stable_before", "stable_after") if known.get(key) is not None}
 
 
+def special_label(spt: SpecialPoint) -> str:
+    """The label a special point's record and table row carry: its own, but for a bifurcation into another
+    mode the mode it goes into (``n = 3``: the family's name and the key, :mod:`contin.modes`)."""
+    if spt.kind == "bifurcation" and spt.info.get("key") is not None:
+        return f"{spt.info.get('family', 'key')} = {spt.info['key']}"
+    return spt.label
+
+
 def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult] = (),
                           jump_observables: Sequence[tuple[dict, dict]] = (), parameter_name: str = "p", *,
                           fields: Callable[[SpecialPoint], Mapping[str, Any]] | None = None) -> list[dict[str, Any]]:
@@ -748,7 +766,8 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
     -------
     list of dict
         A branch record has ``kind``, ``label``, ``branch``, ``parameter``, ``p``, ``observables``,
-        ``residual``, ``located``, ``bracket_p`` and ``error`` where known, and ``stable_before`` /
+        ``residual``, ``located``, ``index`` (it lies between stored points ``index`` and ``index + 1``),
+        ``s`` (its arclength along the branch), ``bracket_p`` and ``error`` where known, and ``stable_before`` /
         ``stable_after`` under the point's stability label.  An extremum event that declares a limit
         point (``contin.extremum(..., folds=...)``) is recorded as ``kind = "fold"`` with the quantity
         that folds as ``parameter``.  A bifurcation into another mode (:mod:`contin.modes`) carries
@@ -760,10 +779,11 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
         for spt in br.special_points:
             declared = spt.kind == "event" and spt.info.get("folds") is not None
             rec: dict[str, Any] = {
-                "kind": "fold" if declared else spt.kind, "label": spt.label, "branch": bi,
+                "kind": "fold" if declared else spt.kind, "label": special_label(spt), "branch": bi,
                 "parameter": spt.info["folds"] if declared else parameter_name,
                 "p": float(spt.p), "observables": {k: float(v) for k, v in spt.observables.items()},
-                "residual": float(spt.residual), "located": bool(spt.located),
+                "residual": float(spt.residual), "located": bool(spt.located), "index": int(spt.index),
+                "s": float(spt.s),
             }
             rec.update(_stability_fields(spt))
             if "bracket_p" in spt.info and spt.info["bracket_p"] is not None:

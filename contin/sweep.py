@@ -15,10 +15,13 @@ appending one CSV row per finished combination.  Rerun with the same CSV and the
 reused: an interrupted sweep loses only the combinations that were running.
 
 The CSV has one row per combination.  Its columns are the swept keys (``section.key``), ``label``
-(the class; empty when undecided), the scalar values of the model's
-:class:`~contin.scene.Classification` (numbers, booleans; empty when absent), ``wall_time_s``,
-``failure`` (empty when the combination was classified) and ``scene`` (the resolved scene as
-compact JSON, so that every row says exactly what it was computed for).
+(the class; empty when undecided), ``status`` (the classification's :attr:`~contin.scene.Classification.status`:
+``ok``, ``incomplete`` when the path stopped before its end, whether or not it proved a class on the way,
+or why it failed), the scalar values of the model's :class:`~contin.scene.Classification` (numbers,
+booleans; empty when absent), ``wall_time_s``, ``failure`` (empty when the combination was classified
+on its whole path; else why not) and ``scene`` (the resolved scene as compact JSON, so that every row
+says exactly what it was computed for).  A CSV written before rows had a ``status`` is read and
+resumed as it is.
 
 Nothing here knows about any particular model: models are found through the registry
 (:func:`contin.registry.load_model`) or passed as runner objects.
@@ -60,7 +63,8 @@ MAX_COMBINATIONS = 1_000_000
 TAIL_COLUMNS = ("wall_time_s", "failure", "scene")
 #: Start of the ``failure`` of a combination whose worker process died; such rows are recomputed on resume.
 WORKER_DIED = "the worker process died"
-_STANDARD = ("label",) + TAIL_COLUMNS
+#: Columns every row has: the class and the run's status (``ok``, ``incomplete``, ``failed``, ...).
+_STANDARD = ("label", "status") + TAIL_COLUMNS
 
 Scene = dict[str, dict[str, Any]]
 _FLOAT_MAX = sys.float_info.max
@@ -366,6 +370,10 @@ def _parse_row(raw: dict[str, str], columns: Sequence[str], n_axes: int,
             row[col] = text or None
         elif col == "failure":
             row[col] = text
+        elif col == "status":
+            if not text or not all(c.islower() or c == "_" for c in text):
+                raise _damaged(col, text, "is not a status (a word such as ok or incomplete)")
+            row[col] = text
         elif col == "scene":
             try:
                 scene = json.loads(text, parse_constant=_no_json_constant)
@@ -387,6 +395,10 @@ def _parse_row(raw: dict[str, str], columns: Sequence[str], n_axes: int,
             row[col] = value
     if "label" in row and "failure" in row and row["label"] is None and not row["failure"]:
         raise ValueError("it has neither a class (label) nor a failure")
+    if "status" not in row and "failure" in row:  # a CSV written before rows had a status
+        row["status"] = "failed" if row["failure"] else "ok"
+    if "failure" in row and (row["status"] == "ok") != (not row["failure"]):
+        raise ValueError(f"its status {row['status']!r} does not fit its failure (ok exactly when there is none)")
     return row
 
 
@@ -582,7 +594,7 @@ class _CsvStore:
         new = [k for k in row if k not in (self.columns or ()) and k not in self.axes and k not in _STANDARD]
         self.written.append(row)
         if self.columns is None:
-            self.columns = [*self.axes, "label", *new, *TAIL_COLUMNS]
+            self.columns = [*self.axes, "label", "status", *new, *TAIL_COLUMNS]
             assert self._fh is not None
             self._fh.write(_csv_line(self.columns, {c: c for c in self.columns}))
         elif new:
@@ -627,7 +639,7 @@ def _scalar_values(values: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-_Outcome = tuple[str | None, dict[str, Any], str, float]  # label, scalar values, failure, wall time
+_Outcome = tuple[str | None, dict[str, Any], str, str, float]  # label, scalar values, status, failure, wall time
 
 
 def _classify_safely(runner: Any, scene: Scene) -> _Outcome:
@@ -635,13 +647,14 @@ def _classify_safely(runner: Any, scene: Scene) -> _Outcome:
     t0 = time.perf_counter()
     label: str | None = None
     values: dict[str, Any] = {}
+    status = "failed"
     try:
         result = runner.classify(scene, False)
         if not isinstance(result, Classification):
             failure = (f"internal error: classify() of {getattr(runner, 'name', 'the model')!r} returned "
                        f"{type(result).__name__}, expected Classification")
         else:
-            label, values = result.label, _scalar_values(result.values)
+            label, values, status = result.label, _scalar_values(result.values), result.status
             failure = "" if result.success else " ".join(result.message.split())
     except SceneError as exc:
         failure = f"the model rejected this scene: {' '.join(str(exc).split())}"
@@ -649,7 +662,7 @@ def _classify_safely(runner: Any, scene: Scene) -> _Outcome:
         failure = f"run failed: {_one_line(exc)}"
     except Exception as exc:  # a bug in the model or in contin: reported in the row, the sweep goes on
         failure = f"internal error: {_one_line(exc)}"
-    return label, values, failure, time.perf_counter() - t0
+    return label, values, status, failure, time.perf_counter() - t0
 
 
 def _load_runner(name: str) -> ModelRunner:
@@ -701,7 +714,7 @@ def _classify_in_worker(key: str, scene: Scene) -> _Outcome:
     """Classify one scene with the model the worker loaded under ``key`` (:func:`_init_worker`)."""
     runner, error = _WORKER.get(key, (None, "the worker was not initialized"))
     if runner is None:
-        return None, {}, f"the model could not be loaded in the worker process: {error}", 0.0
+        return None, {}, "failed", f"the model could not be loaded in the worker process: {error}", 0.0
     return _classify_safely(runner, scene)
 
 
@@ -717,9 +730,10 @@ def _duration(seconds: float) -> str:
 
 
 def _make_row(values: dict[str, Any], scene: Scene, outcome: _Outcome) -> dict[str, Any]:
-    label, model_values, failure, wall = outcome
+    label, model_values, status, failure, wall = outcome
     row: dict[str, Any] = dict(values)
     row["label"] = label
+    row["status"] = status
     for key, v in model_values.items():
         if key not in row and key not in _STANDARD:
             row[key] = v
@@ -910,7 +924,7 @@ def _classify_all(run_on: Executor, task: tuple[Callable[[Scene], _Outcome], Cal
     with closing(run_on.map_unordered(fn, items, initializer=initializer, initargs=initargs)) as results:
         for k, outcome in results:
             if isinstance(outcome, WorkerDied):
-                outcome = (None, {}, f"{WORKER_DIED} while classifying this combination (killed, out of "
+                outcome = (None, {}, "failed", f"{WORKER_DIED} while classifying this combination (killed, out of "
                                      f"memory, or a crash in compiled code); it is computed again on resume", 0.0)
             record(todo[k], outcome)
 
@@ -932,7 +946,7 @@ def _final_rows(axes: Sequence[str], rows: Sequence[Row | None]) -> tuple[list[R
     columns : list of str
         The columns, in order.
     """
-    columns = [*axes, "label"]
+    columns = [*axes, "label", "status"]
     for row in rows:
         assert row is not None
         columns += [k for k in row if k not in columns and k not in TAIL_COLUMNS]

@@ -531,7 +531,8 @@ HEADER = COMPLETE.decode().splitlines()[0]
 def assert_complete_and_sound(path: Path, code: int) -> None:
     """The CSV after an accepted run: one row per combination, each consistent with its scene, cells as written."""
     columns, rows = read_sweep_csv(path)
-    assert columns[:3] == ["toy.n", "toy.kind", "label"] and columns[-3:] == ["wall_time_s", "failure", "scene"]
+    assert columns[:4] == ["toy.n", "toy.kind", "label", "status"] and columns[-3:] == ["wall_time_s", "failure",
+                                                                                        "scene"]
     ours = [r for r in rows if (r["toy.n"], r["toy.kind"]) in COMBOS]
     assert sorted((r["toy.n"], r["toy.kind"]) for r in ours) == sorted(COMBOS)  # each exactly once
     for r in rows:
@@ -539,7 +540,8 @@ def assert_complete_and_sound(path: Path, code: int) -> None:
         assert r["label"] is not None or r["failure"]
     with open(path, newline="", encoding="utf-8") as fh:  # independently of read_sweep_csv: finite numbers only
         for rec in csv.DictReader(fh):
-            for col in columns[columns.index("label") + 1:-2]:
+            assert (rec["status"] == "ok") == (rec["failure"] == ""), (rec["status"], rec["failure"])
+            for col in columns[columns.index("status") + 1:-2]:
                 cell = rec[col]
                 assert cell in ("", "true", "false") or math.isfinite(float(cell)), (col, cell)
     assert code == (1 if any(r["failure"] for r in ours) else 0)

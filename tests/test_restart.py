@@ -82,15 +82,16 @@ def test_a_cut_bratu_path_resumed_from_its_end_finds_the_fold_of_the_uncut_run(b
     assert full["fold_lam"] == pytest.approx(resumed["fold_lam"], rel=RTOL)
 
 
-def test_a_bratu_restart_from_the_fold_goes_on_to_the_same_end(bratu_runs: dict[str, Path]) -> None:
+def test_a_bratu_restart_from_the_fold_is_joined_to_the_path_before_it(bratu_runs: dict[str, Path]) -> None:
     full = np.genfromtxt(bratu_runs["full"] / "branch.csv", delimiter=",", names=True)
     after = np.genfromtxt(bratu_runs["from_fold"] / "branch.csv", delimiter=",", names=True)
     doc = json.loads((bratu_runs["from_fold"] / "summary.json").read_text())
-    # the fold it started from is not found again; the upper branch runs to the same bound (max_u = 4)
-    assert doc["status"] == "ok" and doc["special_points"] == []
-    assert after["p"][0] == pytest.approx(json.loads((bratu_runs["full"] / "summary.json").read_text())["fold_lam"],
-                                          rel=1e-12)
-    assert after["p"][-1] == pytest.approx(full["p"][-1], rel=RTOL)
+    full_doc = json.loads((bratu_runs["full"] / "summary.json").read_text())
+    # the same path as the uncut run: its fold once (not found again at the start), and on to the same bound
+    assert doc["status"] == "ok" and doc["restart"]["joined"]
+    assert_same_points(full_doc["special_points"], doc["special_points"], ("max_u", "u_mid"))
+    assert doc["fold_lam"] == full_doc["fold_lam"]
+    assert after["p"][0] == 0.0 and after["p"][-1] == pytest.approx(full["p"][-1], rel=RTOL)
     assert after["max_u"][-1] == pytest.approx(full["max_u"][-1], rel=RTOL)
     assert np.all(np.diff(after["max_u"]) > 0)  # on along the upper branch, not back down the lower one
 
@@ -116,7 +117,8 @@ def test_states_file_holds_every_special_point_and_the_end(bratu_runs: dict[str,
     (["--from", "{full}"], "--from OUT and --label K go together"),
     (["--label", "1"], "--from OUT and --label K go together"),
     (["--from", "{full}", "--label", "1", "--model", "truss"], "was traced with the model 'bratu'"),
-    (["--from", "{full}", "--label", "end"], "reached its planned end there"),
+    (["--from", "{full}", "--label", "end"], "lies at the end of this scene's path or beyond it"),
+    (["--from", "{full}", "--label", "end", "--set", "continuation.max_steps=3000"], "there is nothing to trace"),
 ])
 def test_bad_restarts_are_one_line_and_exit_2(bratu_runs: dict[str, Path], tmp_path: Path,
                                               capsys: pytest.CaptureFixture, argv: list[str], needle: str) -> None:
@@ -191,20 +193,26 @@ def test_a_cut_shell_path_resumed_from_its_end_reproduces_the_uncut_run(shell_ru
     full, resumed = points(shell_runs["full"]), points(shell_runs["resumed"])
     cut = json.loads((shell_runs["cut"] / "summary.json").read_text())
     assert cut["status"] == "incomplete"
-    done = len(points(shell_runs["cut"]))  # the special points the cut run found before its end
-    assert len(full) > done + 10
-    assert_same_points(full[done:], resumed, _OBS)
+    assert len(full) > len(points(shell_runs["cut"])) + 10
+    # joined to the saved path: every special point of the uncut run, numbered as it numbers them
+    assert_same_points(full, resumed, _OBS)
+    assert [r["number"] for r in resumed] == [r["number"] for r in full]
     doc = json.loads((shell_runs["resumed"] / "summary.json").read_text())
-    assert doc["status"] == "ok" and doc["complete"] and doc["restart"]["kind"] == "end"
-    # a restart traces part of the path: the class is not claimed from it unless F < 0 is seen stable
-    assert "restarted from a saved point" in doc["classification_note"]
+    reference = json.loads((shell_runs["full"] / "summary.json").read_text())
+    assert doc["status"] == "ok" and doc["complete"] and doc["restart"]["kind"] == "end" and doc["restart"]["joined"]
+    assert doc["classification"] == reference["classification"] == "bistable"
+    for key in ("F_max", "F_min"):  # the snap loads of the whole path, not of the part traced after the cut
+        assert doc[key] == pytest.approx(reference[key], rel=EXTREMUM_LOCATION_RTOL)
+    assert doc["classification_note"] == reference["classification_note"]
+    rows = np.genfromtxt(shell_runs["resumed"] / "branch.csv", delimiter=",", names=True)
+    assert rows["w"][0] == 0.0 and rows["w"][-1] == pytest.approx(reference["w_end"], rel=1e-9)
 
 
-def test_a_shell_restart_from_its_first_fold_finds_the_later_special_points(shell_runs: dict, tmp_path: Path) -> None:
+def test_a_shell_restart_from_its_first_fold_describes_the_whole_path(shell_runs: dict, tmp_path: Path) -> None:
     full = points(shell_runs["full"])
     k = next(r["number"] for r in full if r["kind"] == "fold" and r["parameter"] == "w")  # the first fold in w
     cli.main(["trace", "-q", "--out", str(tmp_path / "after"), "--from", str(shell_runs["full"]), "--label", str(k)])
-    assert_same_points(full[k:], points(tmp_path / "after"), _OBS)  # every special point after it, not it again
+    assert_same_points(full, points(tmp_path / "after"), _OBS)  # the points before it kept, it once, those after found
 
 
 def test_a_shell_restart_refuses_another_mesh(shell_runs: dict, tmp_path: Path, capsys: pytest.CaptureFixture) -> None:

@@ -99,10 +99,11 @@ def _run_bratu(scene: Scene, progress: bool) -> TraceResult:
 
 def _resume_bratu(scene: Scene, start: SavedPoint, progress: bool) -> TraceResult:
     """The branch on from a saved point (``contin trace --from OUT --label K``), along its saved direction."""
-    from contin.restart import resume
+    from contin.restart import continue_saved, resume
 
     problem, st, _, _ = build_bratu(scene, progress)
-    return _bratu_result(problem, resume(problem, start, st))
+    (br,), _ = continue_saved(start, [resume(problem, start, st)])
+    return _bratu_result(problem, br)
 
 
 def _bratu_result(problem: Bratu, br: contin.Branch) -> TraceResult:
@@ -211,11 +212,12 @@ def _resume_truss(scene: Scene, start: SavedPoint, progress: bool) -> TraceResul
         raise SceneError("load.cycle = true cannot be restarted from a saved point: the loop's three sweeps start "
                          "from the unloaded truss; restart the S-curve (load.cycle = false) or trace the loop anew",
                          "constraint")
-    from contin.restart import resume
+    from contin.restart import continue_saved, resume
 
     problem, st, _, _ = build_truss(scene, progress)
     (_, p_max), _ = problem.limit_points()
-    return _s_curve(problem, resume(problem, start, st), {"P_max_closed_form": p_max, "P_min_closed_form": -p_max})
+    (br,), _ = continue_saved(start, [resume(problem, start, st)])
+    return _s_curve(problem, br, {"P_max_closed_form": p_max, "P_min_closed_form": -p_max})
 
 
 TRUSS_SCENE = SceneModel(

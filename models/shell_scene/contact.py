@@ -55,7 +55,7 @@ from contin_models.shell.strain import strain_peak, strain_warning
 from .build import contact_problem, point_problem, pole_moved, rest_stiffness, watch_harmonics
 from .deformed import shapes_drawer, shell_shapes
 from .labels import force_axes, scene_title
-from .schema import STABILITY_COLUMNS, Scene, record_instability
+from .schema import STABILITY_COLUMNS, Scene, instability_text, record_instability
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
            "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS"]
@@ -295,6 +295,11 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
     shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.elastic.cap.x,
                           path=scene["output"]["shapes"] == "path")
     plot_options = _plot_options(scene, problem.D)
+    shown = (("w_over_R", "w_b/R", "w_b/R"), ("F_norm", "F R/(2 pi D)", r"F R/2\pi D"))
+    instability = instability_text(summary, shown)
+    if instability and branches and len(branches[0]):
+        branches[0].message = f"{branches[0].message}; {instability}"
+        plot_options["note"] = instability_text(summary, shown, tex=True)
     return TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                        table=generic.table, csv_columns=cols, x="w_b", y="F", parameter_name=problem.parameter_name,
                        labels=labels, jump_observables=generic.jump_observables, failure=failure,

@@ -60,7 +60,7 @@ import numpy as np
 
 import contin
 from contin.branch import Branch, SpecialPoint
-from contin.restart import Start, resume
+from contin.restart import RestartError, Start, beyond_end, continue_saved, resume
 from contin.scene import SceneError, TraceResult, branch_columns, special_point_records, special_point_table
 from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
@@ -68,10 +68,12 @@ from contin_models.shell.strain import strain_peak, strain_warning
 from .build import end_of_path, force_snap_rules, point_problem, point_settings
 from .deformed import shapes_drawer, shell_shapes
 from .labels import force_axes, scene_title
-from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, record_instability
+from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, instability_text, record_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a point load.
 _INSTABILITY_FIELDS = ("F", "F_norm", "w", "w_over_R")
+#: How the status line and the diagram name the first instability (:func:`instability_text`): in the diagram's units.
+_SHOWN = (("w_over_R", "w/R", "w/R"), ("F_norm", "F R/(2 pi D)", r"F R/2\pi D"))
 
 __all__ = ["classify", "path_complete", "run_point", "run_point_force", "resume_point", "MAX_SNAPS"]
 
@@ -187,12 +189,29 @@ def _jump_fields(records: list[dict[str, Any]], branches: list[Branch]) -> None:
             rec["stable_after"] = rec["stable"]
 
 
-def _classification_line(c: dict[str, Any]) -> str:
+#: Why a run restarted from a saved point and not joined to the saved path has no class (:func:`_traced_part_only`).
+_TRACED_PART_NOTE = ("this run traced the path from a saved point on, not joined to the path from the unloaded cap: "
+                     "the class and the snap loads F_max, F_min belong to that whole path ('contin classify' traces "
+                     "it); the special points of the part traced are in the table")
+
+
+def _traced_part_only(cls: dict[str, Any]) -> dict[str, Any]:
+    """The classification fields of a restarted run that describes only the part it traced: no class and no
+    snap loads (they belong to the whole path), what the traced part shows kept apart."""
+    out = {key: None for key in cls if key.startswith(("F_max", "F_min", "w_at_F_"))}
+    out.update(classification=None, classification_on_traced_part=cls["classification"],
+               classification_note=_TRACED_PART_NOTE)
+    return out
+
+
+def _classification_line(c: dict[str, Any], complete: bool = True) -> str:
+    if c["classification"] is None and "classification_on_traced_part" in c:
+        return "classification: none (the run describes only the part traced from the saved point)"
     if c["classification"] is None:
         return (f"classification: undecided (the path did not reach eversion; on the part traced it looks "
                 f"{c.get('classification_on_partial_path')})")
     if c["F_max"] is None and c["F_min"] is None:
-        return f"classification: {c['classification']} (no extremum of F)"
+        return f"classification: {c['classification']} (no extremum of F{'' if complete else ' on the part traced'})"
 
     def fmt(v: Any) -> str:
         return "-" if v is None else f"{v:.6g}"
@@ -217,12 +236,11 @@ def run_point(scene: Scene, progress: bool = False, start: Start | None = None) 
     if start is None:
         br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end, events=events)
     else:
-        br = resume(problem, start, st, p_max=w_end, events=events)
-    partial = start is not None
-    if path_complete(br) or not len(br):
+        (br,), _ = continue_saved(start, [resume(problem, start, st, p_max=w_end, events=events)])
+    partial = start is not None and not start.continues_saved_path
+    if path_complete(br) or not len(br) or partial:
         return _result([br], [], problem, scene, ["path"], "", partial=partial)
-    return _result([br, _everted_branch(problem, st, s["phi_hat"])], [], problem, scene, ["path", _EVERTED], "",
-                   partial=partial)
+    return _result([br, _everted_branch(problem, st, s["phi_hat"])], [], problem, scene, ["path", _EVERTED], "")
 
 
 #: Label of the branch traced back from the mirror image of the cap when the path stops before eversion.
@@ -332,9 +350,16 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         summary.update(max_strain=peak.value, w_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
     summary["warnings"] = [warning] if warning else []
     record_instability(summary, records, problem.parameter_name, _INSTABILITY_FIELDS, problem)
-    if scene["load"]["control"] == "displacement" and branches and len(branches[0]):
+    if partial:  # the traced part's first loss of stability, not the path's from the unloaded cap
+        summary["first_instability_on_traced_part"] = summary.pop("first_instability")
+    if scene["load"]["control"] == "displacement" and branches and len(branches[0]) and partial:
+        # the class and the snap loads belong to the path from the unloaded cap, which this run did not trace
+        summary.update(_traced_part_only(classify(branches[0], [r for r in records if r.get("branch", 0) == 0],
+                                                  problem.D, R)))
+        branches[0].message = f"{branches[0].message}; {_classification_line(summary)}"
+    elif scene["load"]["control"] == "displacement" and branches and len(branches[0]):
         cls = classify(branches[0], [r for r in records if r.get("branch", 0) == 0], problem.D, R)
-        complete = path_complete(branches[0]) and not partial  # a restart traces the path from a saved point on
+        complete = path_complete(branches[0])
         everted_note = ""
         if not complete:
             everted_note = _use_everted_branch(cls, branches, records, labels, problem.D, R)
@@ -346,11 +371,9 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         summary.update(_one_sided_snap(records) or {})
         summary["classification_note"] = (
             "from the displacement-controlled path to eversion" if complete else
-            f"the run restarted from a saved point and traced the path from there ({branches[0].message}); a class "
-            f"other than bistable needs the whole path{everted_note}" if partial else
             f"the path did not reach eversion ({branches[0].message}); a class other than bistable needs the "
             f"whole path{everted_note}")
-        line = _classification_line(cls)
+        line = _classification_line(cls, complete)
         branches[0].message = f"{branches[0].message}; {line}"
     elif scene["load"]["control"] == "displacement":
         summary["classification"] = None
@@ -359,12 +382,17 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
         summary["classification"] = None
         summary["classification_note"] = ("the classification is defined on the displacement-controlled path; "
                                           "'contin classify' traces it whatever load.control says")
+    # the first instability is named wherever the snap is: the status line and the diagram
+    instability = instability_text(summary, _SHOWN)
+    if instability and branches and len(branches[0]):
+        branches[0].message = f"{branches[0].message}; {instability}"
     # the diagram styles by the scene's control; an "F = 0" event is in the table, not on the figure
     cls = summary.get("classification")
     # the axes in the cap's reference units: w/R and F R/(2 pi D)
     axis_labels, scale = force_axes("w", R, problem.D)
+    note = "; ".join(t for t in (str(cls) if cls else "", instability_text(summary, _SHOWN, tex=True)) if t)
     plot_options = {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene), "zero_line": True,
-                    "special_kinds": ("fold", "bifurcation"), "note": str(cls) if cls else ""}
+                    "special_kinds": ("fold", "bifurcation"), "note": note}
     shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.cap.x,
                           path=scene["output"]["shapes"] == "path")
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
@@ -387,13 +415,27 @@ MAX_SNAPS = 4
 
 def run_point_force(scene: Scene, progress: bool = False, start: Start | None = None) -> TraceResult:
     """Dead load at the pole: load to each force limit point, snap, keep loading until eversion; given ``start`` (a
-    saved point in the force control's unknowns), from there, loading or unloading as the saved path went."""
+    saved point in the force control's unknowns), from there, loading or unloading as the saved path went.
+
+    The scene's path lies between the unloaded pole and eversion: a sweep ends where the pole passes
+    ``w_end`` (eversion and ``continuation.overshoot`` past it) or, unloading, falls back to ``w = 0``,
+    whether it gets there along a branch or by a snap.
+    """
     w_end = end_of_path(scene)
     problem = point_problem(scene, "force")
     st = point_settings(scene, problem, progress)
     u0, F0, direction = problem.reference_unknowns(), 0.0, 1
     if start is not None:
         u0, F0, direction = start.u, start.p, start.direction or 1
+    # loading from the unloaded cap starts on w = 0 itself: that end only bounds an unloading sweep
+    w_range = (0.0 if direction < 0 else None, w_end)
+    if start is not None:
+        past = beyond_end(problem, start, bounds={"w": w_range})
+        if past:
+            raise RestartError(f"{start.describe()} lies at an end of this scene's path or beyond it ({past}; the "
+                               f"path runs from the unloaded pole, w = 0, to eversion and continuation.overshoot "
+                               f"past it) and the pole moved on outwards there: there is nothing to trace under "
+                               f"force control; restart from a point inside the path")
         nneg = problem.stability(u0, F0, 0)["force"].n_negative
         if nneg:
             raise SceneError(f"{start.describe()} is unstable under force control ({nneg} negative eigenvalue"
@@ -401,19 +443,22 @@ def run_point_force(scene: Scene, progress: bool = False, start: Start | None = 
                              f"force control from a point stable under it (stable_force = 1 in branch.csv)",
                              "constraint")
 
-    def beyond_eversion(jr: contin.JumpResult) -> str | None:
+    def outside_path(jr: contin.JumpResult) -> str | None:
         w_to = problem.evaluate_observables(jr.u_to, jr.p)["w"]
-        return f"landed beyond eversion (w = {w_to:.6g} >= {w_end:.6g})" if w_to >= w_end else None
+        if w_to >= w_end:
+            return f"landed beyond eversion (w = {w_to:.6g} >= {w_end:.6g})"
+        return f"landed back past the unloaded pole (w = {w_to:.6g} <= 0)" if direction < 0 and w_to <= 0 else None
 
-    # no end load: the pole displacement's bound at eversion ends the sweep; the located limit
-    # points alone end a stretch, as they always did for this scene
+    # no end load: the pole displacement's bounds end the sweep; the located limit points alone end a
+    # stretch, as they always did for this scene
     qs = contin.quasistatic(problem, u0, F0, None, st, direction=direction, max_snaps=MAX_SNAPS,
-                            snap=force_snap_rules(problem, "w", problem.R), stop_after_jump=beyond_eversion,
-                            stop_at_branch_points=False, check_stability=False, bounds={"w": (None, w_end)})
+                            snap=force_snap_rules(problem, "w", problem.R), stop_after_jump=outside_path,
+                            stop_at_branch_points=False, check_stability=False, bounds={"w": w_range})
+    branches, jumps = (qs.branches, qs.jumps) if start is None else continue_saved(start, qs.branches, qs.jumps)
     word = "loading" if direction > 0 else "unloading"
-    labels = [word if k == 0 else f"{word} after snap {k}" for k in range(len(qs.branches))]
-    return _result(qs.branches, qs.jumps, problem, scene, labels, qs.message if qs.failed else "",
-                   partial=start is not None)
+    labels = [word if k == 0 else f"{word} after snap {k}" for k in range(len(branches))]
+    return _result(branches, jumps, problem, scene, labels, qs.message if qs.failed else "",
+                   partial=start is not None and not start.continues_saved_path)
 
 
 def resume_point(scene: Scene, start: Start, progress: bool = False) -> TraceResult:

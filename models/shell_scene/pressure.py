@@ -73,7 +73,7 @@ from contin_models.shell.structure import ShellOfRevolution
 from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
 from .deformed import shapes_drawer, shell_shapes
 from .labels import PRESSURE_AXIS_LABELS, scene_title
-from .schema import Scene, record_fields, record_instability
+from .schema import Scene, instability_text, record_fields, record_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a pressure.
 _INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
@@ -138,6 +138,21 @@ def run_pressure(scene: Scene, progress: bool = False) -> TraceResult:
     return _run_volume_control(scene, progress)
 
 
+#: How the status line and the diagram name the first instability (:func:`instability_text`), in their units.
+_SHOWN_PRESSURE = (("p_over_p_c", "p/p_c", "p/p_c"), ("w_over_h", "w/h", "w/h"))
+_SHOWN_VOLUME = (("dV_over_V0", "dV/V0", r"\Delta V/V_0"), ("p_over_p_c", "p/p_c", "p/p_c"))
+
+
+def _plain_instability(summary: dict[str, Any], shown: tuple[tuple[str, str, str], ...]) -> str:
+    text = instability_text(summary, shown)
+    return f"; {text}" if text else ""
+
+
+def _tex_instability(summary: dict[str, Any], shown: tuple[tuple[str, str, str], ...]) -> str:
+    text = instability_text(summary, shown, tex=True)
+    return f"; {text}" if text else ""
+
+
 def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     """The path under a prescribed pressure, from ``p = 0``."""
     s = scene["shell"]
@@ -158,11 +173,13 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     record_instability(summary, records, "p", _INSTABILITY_FIELDS, problem)
     snap = summary["p_snap_over_p_c"]
     note = (rf"$\lambda = {summary['lambda']:.3g}$"
-            + (f"; snaps at $p/p_c = {snap:.4g}$" if snap is not None else "; no fold"))
+            + (f"; snaps at $p/p_c = {snap:.4g}$" if snap is not None else "; no fold")
+            + _tex_instability(summary, _SHOWN_PRESSURE))
     if len(br):
         br.message = f"{br.message}; " + (f"first fold (snap under pressure) at p/p_c = {snap:.6g}, w/h = "
                                           f"{summary['w_at_p_snap_over_h']:.6g}" if snap is not None else
                                           "no fold in p on the path (no snap)")
+        br.message += _plain_instability(summary, _SHOWN_PRESSURE)
     plot_options = {"axis_labels": PRESSURE_AXIS_LABELS, "special_kinds": ("fold", "bifurcation"), "note": note,
                     "title": scene_title(scene), "control": "pressure"}
     # output.figure = false is the command line's to honour (contin.scene.wants_figure)
@@ -293,10 +310,11 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     seen += (f"; first fold in the volume (snap under volume control) at dV/V0 = {dV_snap:.6g}, p/p_c = "
              f"{summary['p_at_dV_snap_over_p_c']:.6g}" if dV_snap is not None else "; no fold in the volume (no snap)")
     if len(br):
-        br.message = f"{br.message}; {seen}"
+        br.message = f"{br.message}; {seen}{_plain_instability(summary, _SHOWN_VOLUME)}"
     note = (rf"$\lambda = {summary['lambda']:.3g}$"
             + (f"; $p_{{max}}/p_c = {p_snap:.4g}$" if p_snap is not None else "")
-            + (rf"; snaps at $\Delta V/V_0 = {dV_snap:.4g}$" if dV_snap is not None else r"; no fold in $\Delta V$"))
+            + (rf"; snaps at $\Delta V/V_0 = {dV_snap:.4g}$" if dV_snap is not None else r"; no fold in $\Delta V$")
+            + _tex_instability(summary, _SHOWN_VOLUME))
     csv = branch_columns([br], _VOLUME_STABILITY_COLUMNS)
     # the branch's parameter is dV (an observable column too); the pressure scene's "p" is the pressure
     csv["p"] = br.observables["p"]

@@ -40,7 +40,7 @@ from contin.scene import TraceResult, branch_columns, special_point_records, spe
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
 from .deformed import shapes_drawer, shell_shapes
-from .schema import STABILITY_COLUMNS, Scene, record_fields, record_instability
+from .schema import STABILITY_COLUMNS, Scene, instability_text, record_fields, record_instability
 from .labels import force_axes, scene_title
 from .shape import rise
 
@@ -112,12 +112,15 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
         summary.update(ring_radius=load["ring_radius"], ring_node_radius=float(problem.x_ref[2 * node]))
     snap = (f"first limit load F = {summary['F_max']:.6g} at w = {summary['w_at_F_max']:.6g}"
             if F_max is not None else "no limit load")
+    shown = (("w_over_L", "w/L", "w/L"), ("F_norm", "F L/(2 pi D)", r"F L/2\pi D"))
+    instability = instability_text(summary, shown)
     if len(br):
-        br.message = f"{br.message}; {snap}"
+        br.message = f"{br.message}; {snap}" + (f"; {instability}" if instability else "")
     # w of the loaded node and the total load F, in the shape's length L and the bending unit 2 pi D / L
     axis_labels, scale = force_axes("w", length_unit(scene), problem.D, length_symbol="L")
     plot_options = {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene),
-                    "special_kinds": ("fold", "bifurcation"), "control": control}
+                    "special_kinds": ("fold", "bifurcation"), "control": control,
+                    "note": instability_text(summary, shown, tex=True)}
     shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref,
                           path=scene["output"]["shapes"] == "path")
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,

@@ -164,12 +164,14 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     s = scene["shell"]
     lines = [f"scene: R = {s['R']:g}, h/R = {s['h'] / s['R']:g}, phi_hat = {s['phi_hat']:g}, nu = {s['nu']:g}, "
              f"N = {s['N']}; lambda = {summ['lambda']:.4g}"]
+    complete = trace.complete and bool(trace.branches) and path_complete(trace.branches[0])
     rows = [("", "F", "w", "F R/(2 pi D)", "w/R", "")]
     for tag, what in (("max", "first local maximum of F: the snap load under force control"),
                       ("min", "last local minimum of F: the snap-back load on unloading")):
         F = summ.get(f"F_{tag}")
         if F is None:
-            rows.append((f"F_{tag}", "-", "-", "-", "-", "none on the path"))
+            rows.append((f"F_{tag}", "-", "-", "-", "-", "none on the path" if complete else
+                         "not found on the part traced: the path stopped before eversion"))
         else:
             rows.append((f"F_{tag}", f"{F:.6g}", f"{summ[f'w_at_F_{tag}']:.6g}", f"{summ[f'F_{tag}_norm']:.6g}",
                          f"{summ[f'w_at_F_{tag}_over_R']:.6g}", what))
@@ -194,7 +196,7 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     elif scene.get("stability", {}).get("harmonics"):
         lines.append("asymmetric: no bifurcation into a non-axisymmetric mode along the path")
     lines += [f"warning: {w}" for w in summ.get("warnings", [])]
-    values["path_complete"] = bool(trace.branches) and path_complete(trace.branches[0])
+    values["path_complete"] = complete
     failure = "" if label is not None else summ.get("classification_note", "the path could not be traced")
     return Classification(label=label, values=values, lines=lines, trace=trace, failure=failure)
 

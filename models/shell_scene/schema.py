@@ -28,7 +28,7 @@ from contin_models.shell.supports import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
-__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "record_fields", "record_instability", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
+__all__ = ["SHELL_SCHEMA", "shell_first_instability", "instability_text", "harmonic_summary", "record_fields", "record_instability", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
            "minimum_nodes", "nodes_per_bending_length"]
 
 Scene = dict[str, dict[str, Any]]
@@ -257,6 +257,41 @@ def shell_first_instability(records: list[dict[str, Any]], parameter: str, field
         out.setdefault("n", None)
         out.pop("family", None)
     return out
+
+
+def instability_text(summary: dict[str, Any], shown: tuple[tuple[str, str, str], ...], tex: bool = False) -> str:
+    """What the status line (``tex`` false) or the diagram's title (``tex`` true) says of the path's first
+    instability when the run watches the harmonics (empty when it does not).
+
+    Parameters
+    ----------
+    summary : dict
+        The run's summary, with ``first_instability`` and ``harmonics`` (:func:`record_instability`).
+    shown : tuple of (field, plain name, TeX name)
+        The loads to name it by, in the diagram's units, e.g. ``("w_over_R", "w/R", "w/R")``.
+    tex : bool
+        Write it for a matplotlib title (mathtext), shorter.
+    """
+    if "harmonics" not in summary:
+        return ""
+    first = summary.get("first_instability")
+    if first is None:
+        return ("no fold and no bifurcation into $n$ waves on the path" if tex else
+                "first instability: none on the path (no fold under this control, no bifurcation into n waves)")
+
+    def at(names: int) -> str:
+        parts = [f"{tex_name if tex else plain} = {first[field]:.4g}" for field, plain, tex_name in shown[:names]
+                 if first.get(field) is not None]
+        return (" at $" + "$, $".join(parts) + "$") if tex and parts else (" at " + ", ".join(parts) if parts else "")
+    if first["kind"] == "bifurcation":
+        if tex:
+            return f"first instability: $n = {first['n']}${at(1)}"
+        waves = "1 circumferential wave" if first["n"] == 1 else f"{first['n']} circumferential waves"
+        return (f"first instability: a bifurcation into {waves} (n = {first['n']}){at(len(shown))}, where the shell "
+                f"leaves the axisymmetric path traced here")
+    if tex:
+        return f"first instability: the fold{at(1)}"
+    return f"first instability: the fold{at(len(shown))} (no bifurcation into n waves before it)"
 
 
 def record_instability(summary: dict[str, Any], records: list[dict[str, Any]], parameter: str,
