@@ -325,6 +325,23 @@ def test_set_values_from_the_issue(args, needles):
         assert files_in(Path(tmp)) == []
 
 
+# the numbers of the mesh rule by hand: ceil(4 (pi/2 - 0.8) / sqrt(h/R)) with R = 1
+@pytest.mark.parametrize("args, needles, absent", [
+    (["--set", "shell.N=20"], ["this shell needs shell.N >= 22", "shell.N = 20 puts 3.7 nodes"], []),
+    (["--set", "shell.N=40", "--set", "shell.h=0.002"], ["this shell needs shell.N >= 69"], []),
+    (["--set", "shell.geometry=table", "--set", "shell.table=nofile.csv"],
+     ["shell.table", "file not found: 'nofile.csv'", "current directory"], ["torus", "knuckle", "shell.a ="]),
+    (["--set", "shell.h", "inf"], ["bad --set argument 'shell.h'", "did you mean --set shell.h=inf?"], []),
+    (["--set", "shell.h=", "0.01"], ["did you mean --set shell.h=0.01?"], []),
+])
+def test_the_refusal_gives_the_number_the_missing_file_and_the_form(args, needles, absent):
+    """The mesh rule's refusal says what N this shell needs, a missing table says so (not the torus's rule),
+    and a value split from its --set by a space is shown put back."""
+    err = check_trace_rejects(args, *needles)
+    for word in absent:
+        assert word not in err, (word, err)
+
+
 # ---- scene files --------------------------------------------------------------------------------------------
 def _template(model: str) -> bytes:
     code, out, _ = call("models", model, "--toml")

@@ -45,18 +45,44 @@ def _nodes_ok(n: int) -> bool:
 #: Nodes per bending length ``sqrt(R h)`` below which a scene is refused (``shell.N``).
 MIN_NODES_PER_BENDING_LENGTH = 4
 
-def _geometry_ok(scene: dict[str, dict[str, Any]]) -> bool:
-    """Whether the scene's shape can be built (the torispherical head's proportions, the table's file)."""
+def _shape_error(scene: dict[str, dict[str, Any]]) -> str:
+    """Why the scene's shape cannot be built (the torispherical head's proportions, the table's file), or ``""``."""
     from .shape import reference_meridian
 
     shell = scene["shell"]
     if shell.get("geometry", "sphere") == "sphere":
-        return True
+        return ""
     try:
         reference_meridian(shell, N=16)
-    except ValueError:
-        return False
-    return True
+    except ValueError as exc:
+        return str(exc)
+    return ""
+
+
+def _geometry_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    """Whether the scene's shape can be built."""
+    return not _shape_error(scene)
+
+
+def _shape_ok(geometry: str) -> Any:
+    """The check of one geometry's shape: other geometries pass it."""
+    return lambda scene: scene["shell"]["geometry"] != geometry or _geometry_ok(scene)
+
+
+def _mesh_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    """The mesh rule: at least :data:`MIN_NODES_PER_BENDING_LENGTH` nodes over the bending length."""
+    return not _geometry_ok(scene) or not _thin(scene) or scene["shell"]["N"] >= minimum_nodes(scene["shell"])
+
+
+def _mesh_needs(scene: dict[str, dict[str, Any]]) -> str:
+    """What the mesh rule asks of this scene's ``shell.N``, as a number."""
+    shell = scene["shell"]
+    needed = minimum_nodes(shell)
+    out = (f"this shell needs shell.N >= {needed} (shell.N = {shell['N']} puts {nodes_per_bending_length(shell):.2g} "
+           f"nodes over the bending length)")
+    if needed > MAX_NODES:
+        out += f", more than the largest shell.N = {MAX_NODES}: the shell is too thin for the model's meshes"
+    return out
 
 
 def _thin(scene: dict[str, dict[str, Any]]) -> bool:
@@ -168,18 +194,22 @@ SHELL_SCHEMA = Schema(
                    "shell.h < shell.R (other geometries: below the meridian's smallest radius of curvature, "
                    "shell.a for the cone and the plate, shell.knuckle for the torus)",
                    "the shell model is thin: its thickness must be below its radius"),
-        Constraint(("shell.N", "shell.h", "shell.R", "shell.phi_hat"),
-                   lambda s: not _geometry_ok(s) or not _thin(s) or s["shell"]["N"] >= minimum_nodes(s["shell"]),
+        Constraint(("shell.N", "shell.h", "shell.R", "shell.phi_hat"), _mesh_ok,
                    f"shell.N >= {MIN_NODES_PER_BENDING_LENGTH} L / sqrt(rho h), L the meridian's length and rho its "
                    "smallest radius of curvature (the sphere: (pi/2 - phi_hat) / sqrt(h/R))",
                    f"a snapping cap bends over the length sqrt(R h); with fewer than {MIN_NODES_PER_BENDING_LENGTH} "
                    "nodes over it the discrete path winds through spurious folds and snaps (random scenes below "
-                   "the rule failed 12 times in 15, studies/fuzz.py); refine the mesh"),
-        Constraint(("shell.geometry", "shell.a", "shell.R", "shell.knuckle", "shell.table"), _geometry_ok,
-                   "a buildable shape: torus 0 < shell.knuckle < shell.a < shell.R; table an existing CSV of at least "
-                   "4 points r, z ending on the axis",
-                   "the torispherical head's knuckle joins its crown inside the base radius; run the scene with "
-                   "--set to fix the shape (the file of a table geometry is read when the scene is checked)"),
+                   "the rule failed 12 times in 15, studies/fuzz.py); refine the mesh",
+                   detail=_mesh_needs),
+        Constraint(("shell.geometry", "shell.a", "shell.R", "shell.knuckle"), _shape_ok("torus"),
+                   "a buildable shape: torus 0 < shell.knuckle < shell.a < shell.R",
+                   "the torispherical head's knuckle joins its crown inside the base radius"),
+        Constraint(("shell.geometry", "shell.table"), _shape_ok("table"),
+                   "a buildable shape: shell.table names an existing CSV file of at least 4 points r, z from the "
+                   "edge to the pole on the axis",
+                   "the file of a table geometry is read when the scene is checked; a relative path is taken from "
+                   "the current directory",
+                   detail=_shape_error),
         Constraint(("shell.boundary", "shell.geometry", "imperfection.kind", "load.kind"),
                    lambda s: s["load"]["kind"] not in ("sphere", "plate")
                    or (s["shell"]["boundary"] == "sliding" and s["shell"]["geometry"] == "sphere"
