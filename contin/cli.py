@@ -801,8 +801,11 @@ def _classify_sweep(name: str, model: ModelRunner, scenes: list[tuple[dict[str, 
     except SceneError as exc:  # the CSV belongs to another sweep or cannot be written: before any work
         raise CliError(str(exc)) from None
     except KeyboardInterrupt:
-        print(f"contin: the finished combinations are in {str(csv_path)!r}; run the same command again to "
-              f"resume", file=sys.stderr)
+        if csv_path.exists():
+            print(f"contin: the finished combinations are in {str(csv_path)!r}; run the same command again to "
+                  f"resume", file=sys.stderr)
+        else:  # the CSV is created with its first row
+            print(f"contin: no combination finished; {str(csv_path)!r} was not written", file=sys.stderr)
         raise
     failed = [row for row in rows if row["failure"]]
     say(f"swept {len(rows)} combinations in {time.perf_counter() - t0:.2f} s; wrote {str(csv_path)!r}")
