@@ -12,6 +12,7 @@ import csv
 import multiprocessing
 import os
 import signal
+import subprocess
 import sys
 import time
 from contextlib import closing, contextmanager
@@ -242,6 +243,27 @@ def test_closing_the_generator_early_stops_the_workers():
     assert first[0] in (0, 1, 2) and time.perf_counter() - t0 < 40
     assert _children_gone(before), {p.pid for p in multiprocessing.active_children()} - before
     ex.close()
+
+
+# ---- one BLAS thread ------------------------------------------------------------------------------------------
+_REPORT_THREADS = """
+import contextlib, io, os, sys
+sys.argv = ["contin", "--help"]
+from contin.launch import main
+with contextlib.redirect_stdout(io.StringIO()):
+    status = main()
+print(status, *(os.environ.get(var, "unset") for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")))
+"""
+
+
+@pytest.mark.parametrize("given, expected", [({}, "0 1 1 1"), ({"OPENBLAS_NUM_THREADS": "2"}, "0 2 1 1")])
+def test_the_command_runs_blas_on_one_thread_unless_told_otherwise(given, expected):
+    """OpenBLAS's threaded inner products on state vectors beyond ten thousand entries cost a trace of a shell
+    of 6400 nodes six times its time on a busy 2-core machine: the command sets one thread before numpy loads."""
+    env = {k: v for k, v in os.environ.items() if not k.endswith(("_NUM_THREADS", "_MAXIMUM_THREADS"))} | given
+    done = subprocess.run([sys.executable, "-c", _REPORT_THREADS], env=env, capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[-2] == expected
 
 
 # ---- Dask (an optional extra: skipped without it) -------------------------------------------------------------
