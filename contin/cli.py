@@ -528,6 +528,18 @@ def _resolve_scene(model: ModelRunner, name: str, args: argparse.Namespace) -> d
         raise CliError(f"{exc}{_unknown_key_hint(exc, args, name)}") from None
 
 
+def _forecast(model: ModelRunner, scene: dict[str, dict[str, Any]]) -> None:
+    """Say the model's warning about the cost of running ``scene`` (``forecast``), if it has one.
+
+    Said even with ``--quiet``: it is a warning, not progress, and it comes before a run that would
+    otherwise be silent for minutes.
+    """
+    forecast = getattr(model, "forecast", None)
+    note = forecast(scene) if forecast is not None else None
+    if note:
+        print(status_text(f"contin: warning: {note}"), file=sys.stderr, flush=True)
+
+
 def _say(quiet: bool) -> Callable[[str], None]:
     def say(msg: str) -> None:
         if not quiet:
@@ -558,6 +570,7 @@ def _cmd_trace(args: argparse.Namespace) -> int:
     with _output_dir(args.out) as out:
         say(f"tracing model {name!r}{' from ' + repr(args.scene) if args.scene else ''}"
             f"{' from ' + start.describe() + ' of ' + repr(args.restart_from) if start is not None else ''}")
+        _forecast(model, scene)
         t0 = time.perf_counter()
         result = _run(model, scene, progress=not args.quiet, start=start)
         if start is not None:
@@ -730,6 +743,7 @@ def _cmd_classify(args: argparse.Namespace) -> int:
     results: list[Classification] = []
     for _, scene in scenes:
         say(f"classifying model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
+        _forecast(model, scene)
         t0 = time.perf_counter()
         result = _classify_one(model, scene, progress=not args.quiet)
         wall = time.perf_counter() - t0

@@ -1098,6 +1098,10 @@ class SceneModel:
         What ``contin trace --from OUT --label K`` calls (:class:`Resumer`); without it the model cannot restart.
     restart_fixed : sequence of str
         Scene keys (``section.key``) that a restart keeps: they fix the structure of the saved state.
+    forecast : callable ``(scene) -> str or None``, optional
+        A warning about what running a resolved scene will cost (e.g. roughly how long a very fine mesh
+        takes, and why), said by the command line before it traces or classifies the scene; None when
+        there is nothing to say.
     """
 
     name: str
@@ -1111,6 +1115,7 @@ class SceneModel:
     help: Mapping[str, str] = field(default_factory=dict)
     resumer: Callable[[dict[str, dict[str, Any]], Any, bool], TraceResult] | None = None
     restart_fixed: Sequence[str] = ()
+    forecast: Callable[[dict[str, dict[str, Any]]], str | None] | None = None
 
     @property
     def can_resume(self) -> bool:

@@ -2,9 +2,9 @@
 
 The engine's linear algebra is banded and sparse, and its dense calls are level-1 BLAS on vectors of
 the size of the state (inner products, norms).  OpenBLAS runs those on every core once a vector has
-more than about ten thousand entries (a shell of more than about 5000 nodes), and each call then waits
-for the other threads to wake: a hundred microseconds where one thread takes two, thousands of times
-a step, and worse when the other cores are busy.  One thread per process is the engine's setting: the
+more than about ten thousand entries, and each call then waits for the other threads to wake: a
+hundred microseconds where one thread takes two, thousands of times a step, and worse when the other
+cores are busy.  One thread per process is the engine's setting: the
 ``contin`` command defaults to it (:func:`default_to_one_thread`, before numpy is loaded), the local
 worker processes of :mod:`contin.executors` get it, and the studies and the tests set it.  A
 variable the user has set is left as it is.

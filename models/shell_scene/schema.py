@@ -28,14 +28,25 @@ from contin_models.shell.supports import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
-__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "record_fields", "record_instability", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
-           "minimum_nodes", "nodes_per_bending_length"]
+__all__ = ["SHELL_SCHEMA", "shell_first_instability", "harmonic_summary", "record_fields", "record_instability", "MAX_NODES", "LARGE_MESH", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
+           "minimum_nodes", "nodes_per_bending_length", "run_time_forecast"]
 
 Scene = dict[str, dict[str, Any]]
 
-#: Largest ``shell.N``: 125 times the finest mesh of the studies (N = 800).  The cost is linear in N, but
-#: a mistyped huge N would otherwise run for hours or fail allocating instead of being rejected.
-MAX_NODES = 100_000
+#: Largest ``shell.N``.  Rounding grows with the mesh (the bending stiffness is a discrete fourth
+#: derivative): past a few thousand nodes it outweighs the discretization error, and on finer meshes
+#: it breaks the trace itself (the default path at N = 50000 scatters into spurious extrema and never
+#: reaches eversion); docs/scenes.md has the measurements.
+MAX_NODES = 20_000
+#: ``shell.N`` above which the command line warns, before the run, roughly how long it takes
+#: (:func:`run_time_forecast`).
+LARGE_MESH = 8000
+# The default path's cost on a fine mesh, for the forecast (docs/scenes.md): seconds per step at
+# N = 3200 on one core, the exponent of its growth with N from 3200 to 20000 nodes (faster than N:
+# the band matrices outgrow the processor's cache, and rounding costs Newton iterations), and its steps.
+_STEP_SECONDS_AT_3200 = 0.027
+_STEP_GROWTH = 1.25
+_PATH_STEPS = 230
 
 
 def _nodes_ok(n: int) -> bool:
@@ -102,7 +113,9 @@ SHELL_SCHEMA = Schema(
             "h": real(0.02, gt=0, help="thickness [m]"),
             "phi_hat": real(0.8, gt=0, lt=math.pi / 2,
                             help="base angle from the horizontal [rad] (small = deep cap)"),
-            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}", "number of nodes on the meridian"),
+            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}",
+                       f"number of nodes on the meridian (above {LARGE_MESH} a run is announced with an estimate of "
+                       "its time)"),
             "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
                                                     "graded towards the point load by default)"),
             "boundary": choice("sliding", SUPPORTS,
@@ -274,6 +287,30 @@ def minimum_nodes(shell: dict[str, Any]) -> int:
         The scene's ``[shell]`` section (``R``, ``h``, ``phi_hat``).
     """
     return math.ceil(MIN_NODES_PER_BENDING_LENGTH / nodes_per_bending_length(shell, N=1) - 1e-9)
+
+
+def run_time_forecast(scene: Scene) -> str | None:
+    """The warning said before a scene on a very fine mesh runs: roughly how long, and why; None below
+    :data:`LARGE_MESH` nodes.
+
+    The estimate is the default path's (the point load on the paper's cap) measured on one core of a
+    2-core machine; the other loads take more steps, and ``stability.harmonics`` about 3 times longer.
+
+    Parameters
+    ----------
+    scene : dict
+        The resolved scene.
+    """
+    N = scene["shell"]["N"]
+    if N <= LARGE_MESH:
+        return None
+    per_step = _STEP_SECONDS_AT_3200 * (N / 3200) ** _STEP_GROWTH
+    total = per_step * _PATH_STEPS
+    duration = f"{total:.0f} s" if total < 90 else f"{total / 60:.0f} minutes"
+    return (f"shell.N = {N} is a very fine mesh: expect roughly {duration} for the default point load's path "
+            f"({_PATH_STEPS} steps of about {per_step:.2g} s on one core; other loads differ, stability.harmonics "
+            f"takes about 3 times as long); a step costs more than N times a coarse mesh's, and on the default cap "
+            f"rounding, which grows with N, leaves the results no more accurate than at N = 3200 (docs/scenes.md)")
 
 
 def shell_first_instability(records: list[dict[str, Any]], parameter: str, fields: tuple[str, ...]) -> dict[str, Any] | None:
