@@ -113,7 +113,8 @@ SHELL_SCHEMA = Schema(
             "h": real(0.02, gt=0, help="thickness [m]"),
             "phi_hat": real(0.8, gt=0, lt=math.pi / 2,
                             help="base angle from the horizontal [rad] (small = deep cap)"),
-            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}",
+            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES} (on finer meshes rounding breaks "
+                                            "the trace, docs/scenes.md)",
                        f"number of nodes on the meridian (above {LARGE_MESH} a run is announced with an estimate of "
                        "its time)"),
             "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
@@ -309,8 +310,9 @@ def run_time_forecast(scene: Scene) -> str | None:
     duration = f"{total:.0f} s" if total < 90 else f"{total / 60:.0f} minutes"
     return (f"shell.N = {N} is a very fine mesh: expect roughly {duration} for the default point load's path "
             f"({_PATH_STEPS} steps of about {per_step:.2g} s on one core; other loads differ, stability.harmonics "
-            f"takes about 3 times as long); a step costs more than N times a coarse mesh's, and on the default cap "
-            f"rounding, which grows with N, leaves the results no more accurate than at N = 3200 (docs/scenes.md)")
+            f"takes about 3 times as long); a step costs more than N times a coarse mesh's, and on the default cap, "
+            f"beyond N = 3200, rounding, which grows with N, moves the located points (w at F_max) more than the "
+            f"finer mesh corrects them (docs/scenes.md)")
 
 
 def shell_first_instability(records: list[dict[str, Any]], parameter: str, fields: tuple[str, ...]) -> dict[str, Any] | None:
