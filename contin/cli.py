@@ -528,6 +528,18 @@ def _resolve_scene(model: ModelRunner, name: str, args: argparse.Namespace) -> d
         raise CliError(f"{exc}{_unknown_key_hint(exc, args, name)}") from None
 
 
+def _forecast(model: ModelRunner, scene: dict[str, dict[str, Any]]) -> None:
+    """Say the model's warning about the cost of running ``scene`` (``forecast``), if it has one.
+
+    Said even with ``--quiet``: it is a warning, not progress, and it comes before a run that would
+    otherwise be silent for minutes.
+    """
+    forecast = getattr(model, "forecast", None)
+    note = forecast(scene) if forecast is not None else None
+    if note:
+        print(status_text(f"contin: warning: {note}"), file=sys.stderr, flush=True)
+
+
 def _say(quiet: bool) -> Callable[[str], None]:
     def say(msg: str) -> None:
         if not quiet:
@@ -558,6 +570,7 @@ def _cmd_trace(args: argparse.Namespace) -> int:
     with _output_dir(args.out) as out:
         say(f"tracing model {name!r}{' from ' + repr(args.scene) if args.scene else ''}"
             f"{' from ' + start.describe() + ' of ' + repr(args.restart_from) if start is not None else ''}")
+        _forecast(model, scene)
         t0 = time.perf_counter()
         result = _run(model, scene, progress=not args.quiet, start=start)
         if start is not None:
@@ -749,6 +762,7 @@ def _cmd_classify(args: argparse.Namespace) -> int:
     messages: list[str] = []
     for _, scene in scenes:
         say(f"classifying model {name!r}{' from ' + repr(args.scene) if args.scene else ''}")
+        _forecast(model, scene)
         t0 = time.perf_counter()
         result = _classify_one(model, scene, progress=not args.quiet)
         wall = time.perf_counter() - t0
@@ -828,8 +842,11 @@ def _classify_sweep(name: str, model: ModelRunner, scenes: list[tuple[dict[str, 
     except SceneError as exc:  # the CSV belongs to another sweep or cannot be written: before any work
         raise CliError(str(exc)) from None
     except KeyboardInterrupt:
-        print(f"contin: the finished combinations are in {str(csv_path)!r}; run the same command again to "
-              f"resume", file=sys.stderr)
+        if csv_path.exists():
+            print(f"contin: the finished combinations are in {str(csv_path)!r}; run the same command again to "
+                  f"resume", file=sys.stderr)
+        else:  # the CSV is created with its first row
+            print(f"contin: no combination finished; {str(csv_path)!r} was not written", file=sys.stderr)
         raise
     failed = [row for row in rows if row["failure"]]
     say(f"swept {len(rows)} combinations in {time.perf_counter() - t0:.2f} s; wrote {str(csv_path)!r}")

@@ -39,6 +39,9 @@ from itertools import islice
 from types import TracebackType
 from typing import Any
 
+# the BLAS and OpenMP thread counts of the worker processes, set to one: the parallelism is over tasks
+from .threads import THREAD_ENV
+
 __all__ = ["Executor", "SerialExecutor", "ProcessExecutor", "DaskExecutor", "WorkerDied", "ExecutorError",
            "make_executor", "default_workers", "DASK_EXTRA", "DEFAULT_CONNECT_TIMEOUT"]
 
@@ -46,9 +49,6 @@ __all__ = ["Executor", "SerialExecutor", "ProcessExecutor", "DaskExecutor", "Wor
 DASK_EXTRA = "pip install 'contin[dask]'"
 #: Seconds to wait for a Dask scheduler to answer, and for it to have a worker.
 DEFAULT_CONNECT_TIMEOUT = 10.0
-# BLAS and OpenMP thread counts of the worker processes: the parallelism is over tasks
-_THREAD_ENV = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
-               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
 _DIED = "the worker process died while running this task (killed, out of memory, or a crash in compiled code)"
 
 Task = Callable[[Any], Any]
@@ -227,7 +227,7 @@ def _process_init(initializer: Callable[..., Any] | None, initargs: Sequence[Any
             signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     except (ValueError, OSError):
         pass
-    for var in _THREAD_ENV:
+    for var in THREAD_ENV:
         os.environ[var] = "1"
     if initializer is not None:
         try:
@@ -250,8 +250,8 @@ def _spawning() -> Iterator[None]:
     its initializer runs; the blocked SIGINT keeps a Ctrl-C during a worker's start-up from printing
     a traceback there (the initializer then ignores SIGINT; the parent handles it).
     """
-    saved = {var: os.environ.get(var) for var in _THREAD_ENV}
-    os.environ.update(dict.fromkeys(_THREAD_ENV, "1"))
+    saved = {var: os.environ.get(var) for var in THREAD_ENV}
+    os.environ.update(dict.fromkeys(THREAD_ENV, "1"))
     mask = hasattr(signal, "pthread_sigmask") and threading.current_thread() is threading.main_thread()
     old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if mask else None
     try:

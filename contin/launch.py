@@ -3,7 +3,8 @@
 ``contin.cli`` and the models' scenes load in a few hundredths of a second (no numpy: the help and a
 refused scene need none), and a run then imports numpy, scipy and the engine, which takes longer; a
 Ctrl-C during an import would print Python's traceback of it and kill the process by the signal.
-This module imports nothing but :mod:`sys` and :mod:`signal`, and importing the ``contin`` package
+This module imports nothing but :mod:`sys`, :mod:`signal` and :mod:`contin.threads` (which imports
+:mod:`os`), and importing the ``contin`` package
 around it costs nothing either: ``contin/__init__.py`` imports the engine's names on first use.  :func:`main`
 imports and runs the command line and turns an interrupt at any point before the command handles
 it into the command's own message (``contin: interrupted``) and exit status 130.
@@ -21,6 +22,9 @@ final collections no longer walk the hundred thousand objects that numpy, scipy,
 run left: after a trace of the default scene the exit took about 0.2 s, and takes 0.03 s (issue 18).  Nothing is
 skipped and the exit status is the command's.  Called with ``argv`` (in-process, as the tests do), the
 collector is left alone.
+
+Run as the command, it also gives the BLAS library one thread unless the user chose otherwise
+(:mod:`contin.threads`): numpy is loaded after that.
 """
 
 from __future__ import annotations
@@ -30,6 +34,8 @@ import signal
 import sys
 from collections.abc import Sequence
 from typing import Any
+
+from contin.threads import default_to_one_thread
 
 __all__ = ["main"]
 
@@ -48,6 +54,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     int
         The exit status of :func:`contin.cli.main`, or 130 when interrupted before it took over.
     """
+    if argv is None:
+        default_to_one_thread()  # before numpy is loaded (contin.threads: why one BLAS thread)
     status = _run(argv)
     if argv is None:
         _flush()

@@ -159,12 +159,17 @@ class Constraint:
         The rule in words, e.g. ``"continuation.ds <= continuation.ds_max"``.
     reason : str
         Why the rule exists (optional; appended to the error).
+    detail : callable, optional
+        ``detail(scene) -> str``: what the rule asks of this scene in particular, called only when the
+        check fails (e.g. the number a formula gives, or why a file could not be read); the error
+        puts it before the rule in general.
     """
 
     fields: tuple[str, ...]
     check: Callable[[dict[str, dict[str, Any]]], bool]
     allowed: str
     reason: str = ""
+    detail: Callable[[dict[str, dict[str, Any]]], str] | None = None
 
 
 @dataclass(frozen=True)
@@ -262,8 +267,9 @@ def parse_override(text_: str) -> tuple[str, str, Any]:
     name = name.strip()
     section, dot, key = name.partition(".")
     if not sep or not dot or not section or not key or "." in key or not raw.strip():
-        raise SceneError(f"bad --set argument {text_!r}: expected the form section.key=value, "
-                         f"e.g. --set continuation.ds=0.05", "syntax")
+        example = f"--set {name}=VALUE" if dot and section and key and "." not in key else "--set continuation.ds=0.05"
+        raise SceneError(f"bad --set argument {text_!r}: expected the form section.key=value in one argument, with "
+                         f"no space around '=', e.g. {example}", "syntax")
     raw = raw.strip()
     try:
         doc = tomllib.loads(f"value = {raw}")
@@ -323,6 +329,9 @@ def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterab
         for unknown sections or keys, the allowed ones; for an unreadable or invalid file, the file and
         the parser's message.
     """
+    overrides = list(overrides)
+    # a malformed --set is reported before the file is read: `--set section.key 1` makes '1' the file
+    parsed = [_parsed_override(item, path) for item in overrides]
     # value and where it came from, for error messages
     given: dict[str, dict[str, tuple[Any, str]]] = {}
     if path is not None:
@@ -344,8 +353,7 @@ def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterab
             for key, value in content.items():
                 _known_key(schema, section, key, where)
                 given.setdefault(section, {})[key] = (value, where)
-    for item in overrides:
-        section, key, value = parse_override(item)
+    for item, (section, key, value) in zip(overrides, parsed, strict=True):
         where = f"(from --set {item})"
         _known_section(schema, section, where)
         _known_key(schema, section, key, where)
@@ -372,6 +380,20 @@ def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterab
     return scene
 
 
+def _parsed_override(item: str, path: str | Path | None) -> tuple[str, str, Any]:
+    """:func:`parse_override`; when ``item`` lacks its value and the scene file named ``path`` does not exist,
+    the error suggests the ``--set`` that puts them together (``--set section.key 1`` makes two arguments)."""
+    try:
+        return parse_override(item)
+    except SceneError as exc:
+        name, _, raw = item.partition("=")
+        stray = str(path).lstrip("=").strip() if path is not None else ""
+        if raw.strip() or not stray or Path(str(path)).exists() or "." not in name:
+            raise
+        raise SceneError(f"{exc}; did you mean --set {name.strip()}={stray}? ({str(path)!r} was read as the scene "
+                         f"file)", exc.kind) from None
+
+
 def _check_constraints(constraints: Iterable[Constraint], scene: dict[str, dict[str, Any]], verdict: str) -> None:
     """Raise :class:`SceneError` (``"constraint"``) naming the fields and values of the first constraint that fails."""
     for con in constraints:
@@ -379,7 +401,8 @@ def _check_constraints(constraints: Iterable[Constraint], scene: dict[str, dict[
             values = ", ".join(f"{n} = {_show(scene[n.split('.')[0]][n.split('.')[1]])}" for n in con.fields)
             reason = f" ({con.reason})" if con.reason else ""
             noun = "field" if len(con.fields) == 1 else "fields"
-            raise SceneError(f"scene {noun} {values} {verdict}; allowed: {con.allowed}{reason}", "constraint")
+            detail = f": {con.detail(scene)}" if con.detail is not None else ""
+            raise SceneError(f"scene {noun} {values} {verdict}{detail}; allowed: {con.allowed}{reason}", "constraint")
 
 
 def check_classifiable(model: Any, scene: dict[str, dict[str, Any]]) -> None:
@@ -1095,6 +1118,10 @@ class SceneModel:
         What ``contin trace --from OUT --label K`` calls (:class:`Resumer`); without it the model cannot restart.
     restart_fixed : sequence of str
         Scene keys (``section.key``) that a restart keeps: they fix the structure of the saved state.
+    forecast : callable ``(scene) -> str or None``, optional
+        A warning about what running a resolved scene will cost (e.g. roughly how long a very fine mesh
+        takes, and why), said by the command line before it traces or classifies the scene; None when
+        there is nothing to say.
     """
 
     name: str
@@ -1108,6 +1135,7 @@ class SceneModel:
     help: Mapping[str, str] = field(default_factory=dict)
     resumer: Callable[[dict[str, dict[str, Any]], Any, bool], TraceResult] | None = None
     restart_fixed: Sequence[str] = ()
+    forecast: Callable[[dict[str, dict[str, Any]]], str | None] | None = None
 
     @property
     def can_resume(self) -> bool:

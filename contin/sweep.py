@@ -30,12 +30,14 @@ Nothing here knows about any particular model: models are found through the regi
 from __future__ import annotations
 
 import csv
+import errno
 import functools
 import hashlib
 import io
 import itertools
 import json
 import math
+import os
 import pickle
 import sys
 import time
@@ -511,7 +513,11 @@ def _read_csv(path: Path, axes: Sequence[str] | None = None) -> tuple[list[str] 
 
 
 class _CsvStore:
-    """The sweep's CSV: reads what a previous run left, then appends one flushed row per combination."""
+    """The sweep's CSV: reads what a previous run left, then appends one flushed row per combination.
+
+    A new file (or the replacement of an old one) is created with its first row, not before: a sweep
+    interrupted before any combination finished leaves no empty file, and an old file as it was.
+    """
 
     def __init__(self, path: str | Path, axes: list[str], combos: Sequence[Combination], resume: bool) -> None:
         self.path = Path(path)
@@ -526,11 +532,12 @@ class _CsvStore:
         rewrite = False
         if resume and self.path.exists():
             rewrite = self._load(combos)
+        self._mode = "a" if resume and self.columns else "w"  # of the first open, at the first row
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             if rewrite:
                 self._rewrite(self.written)
-            self._fh = open(self.path, "a" if resume and self.columns else "w", encoding="utf-8", newline="")
+            _check_writable(self.path)
         except OSError as exc:
             raise SweepError(f"cannot write the sweep CSV {str(self.path)!r}: {exc.strerror or exc}", "file") from None
 
@@ -588,6 +595,7 @@ class _CsvStore:
             for row in rows:
                 fh.write(_csv_line(columns, row))
         atomic_write([(self.path, write)], keep_mode=True)
+        self._mode = "a"  # the rows that follow go after these
 
     def append(self, row: dict[str, Any]) -> None:
         """Write one row and flush it; extend the header (rewriting the file) if the row has new columns."""
@@ -595,16 +603,21 @@ class _CsvStore:
         self.written.append(row)
         if self.columns is None:
             self.columns = [*self.axes, "label", "status", *new, *TAIL_COLUMNS]
-            assert self._fh is not None
-            self._fh.write(_csv_line(self.columns, {c: c for c in self.columns}))
+            self._open().write(_csv_line(self.columns, {c: c for c in self.columns}))
         elif new:
             self.columns = [*self.columns[:-len(TAIL_COLUMNS)], *new, *TAIL_COLUMNS]
             self._rewrite(self.written)
-            self._fh = open(self.path, "a", encoding="utf-8", newline="")
             return
-        assert self._fh is not None
-        self._fh.write(_csv_line(self.columns, row))
-        self._fh.flush()
+        fh = self._open()
+        fh.write(_csv_line(self.columns, row))
+        fh.flush()
+
+    def _open(self) -> io.TextIOWrapper:
+        """The file, opened for the rows (created or truncated the first time when it is not resumed)."""
+        if self._fh is None:
+            self._fh = open(self.path, self._mode, encoding="utf-8", newline="")
+            self._mode = "a"
+        return self._fh
 
     def finish(self, rows: Sequence[dict[str, Any]], columns: list[str]) -> None:
         """Rewrite the file in combination order with the final columns (the rows are all there already)."""
@@ -615,6 +628,16 @@ class _CsvStore:
         if self._fh is not None:
             self._fh.close()
             self._fh = None
+
+
+def _check_writable(path: Path) -> None:
+    """Raise ``OSError`` when ``path`` could not be written (created in its directory, or replaced).
+
+    The sweep creates its CSV with the first row; this tells before any work that it could.
+    """
+    target = path if path.exists() else path.parent
+    if not os.access(target, os.W_OK):
+        raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), str(target))
 
 
 # ---------------------------------------------------------------------------------------------------

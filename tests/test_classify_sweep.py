@@ -394,6 +394,39 @@ def test_cli_interrupt_keeps_the_rows_and_exits_130(tmp_path, capsys, monkeypatc
     assert code == 0 and "resumed 2 of 4" in err and [r["toy.n"] for r in data_rows(path)] == ["1", "2", "3", "4"]
 
 
+def _interrupted_classify(scene, progress):
+    raise KeyboardInterrupt
+
+
+def test_cli_interrupt_before_any_row_leaves_no_csv(tmp_path, capsys, monkeypatch):
+    model = SceneModel("toy", "a stand-in", TOY_SCHEMA, _toy_run, classifier=_interrupted_classify)
+    monkeypatch.setattr(cli, "load_model", lambda name: model)
+    path = tmp_path / "sub" / "toy.csv"
+    code, out, err = run_cli(capsys, "classify", "-j", "1", "--sweep", "toy.n=1,2", "--csv", str(path))
+    assert code == 130 and "Traceback" not in err
+    assert not path.exists()  # no empty file in the way of the next run
+    assert "no combination finished" in " ".join(err.split())
+    # an earlier sweep's file is left as it was, even by --no-resume, until a row replaces it
+    monkeypatch.setattr(cli, "load_model", lambda name: TOY)
+    assert run_cli(capsys, "classify", "-q", "-j", "1", "--sweep", "toy.n=1,2", "--csv", str(path))[0] == 0
+    before = path.read_bytes()
+    monkeypatch.setattr(cli, "load_model", lambda name: model)
+    code, _, err = run_cli(capsys, "classify", "-j", "1", "--no-resume", "--sweep", "toy.n=1,2", "--csv", str(path))
+    assert code == 130 and path.read_bytes() == before
+    assert "the finished combinations are in" in " ".join(err.split())
+
+
+def test_an_unwritable_csv_is_refused_before_any_work(tmp_path, monkeypatch):
+    access = os.access
+    # as a read-only directory (chmod would not stop root)
+    monkeypatch.setattr(os, "access", lambda path, mode: not str(path).startswith(str(tmp_path)) and access(path, mode))
+    counting = Counting(TOY)
+    with pytest.raises(SweepError, match="cannot write the sweep CSV"):
+        run_sweep(counting, sweep_scenes(TOY_SCHEMA, [("toy.n", [1, 2])]), tmp_path / "toy.csv", workers=1,
+                  progress=False)
+    assert counting.calls == [] and list(tmp_path.iterdir()) == []
+
+
 def test_classify_help_shows_the_sweep(capsys):
     assert cli.main(["classify", "--help"]) == 0
     text = capsys.readouterr().out

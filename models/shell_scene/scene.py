@@ -15,7 +15,7 @@ from contin.scene import Classification, Constraint, SceneError, SceneModel, Tra
 
 # the runners (and with them the shell, numpy and the engine) are imported when a scene runs: loading
 # SHELL_SCENE, as the command line does for its help and to check a scene, reads the schema only
-from .schema import MIN_NODES_PER_BENDING_LENGTH, SHELL_SCHEMA, Scene, nodes_per_bending_length
+from .schema import MIN_NODES_PER_BENDING_LENGTH, SHELL_SCHEMA, Scene, nodes_per_bending_length, run_time_forecast
 
 __all__ = ["SHELL_SCENE", "RESTART_FIXED", "classify_scene", "resume_scene", "run_scene"]
 
@@ -228,6 +228,7 @@ SHELL_SCENE = SceneModel(
     classify_requires=_CLASSIFY_REQUIRES,
     resumer=resume_scene,
     restart_fixed=RESTART_FIXED,
+    forecast=run_time_forecast,
     default=True,
     examples={
         "trace": (("--set shell.phi_hat=1.2 --set shell.N=100 --out /tmp/run", "a monostable cap"),

@@ -28,14 +28,26 @@ from contin_models.shell.supports import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
-__all__ = ["SHELL_SCHEMA", "shell_first_instability", "instability_text", "harmonic_summary", "record_fields", "record_instability", "MAX_NODES", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene", "eversion_displacement",
-           "minimum_nodes", "nodes_per_bending_length"]
+__all__ = ["SHELL_SCHEMA", "shell_first_instability", "instability_text", "harmonic_summary", "record_fields",
+           "record_instability", "MAX_NODES", "LARGE_MESH", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene",
+           "eversion_displacement", "minimum_nodes", "nodes_per_bending_length", "run_time_forecast"]
 
 Scene = dict[str, dict[str, Any]]
 
-#: Largest ``shell.N``: 125 times the finest mesh of the studies (N = 800).  The cost is linear in N, but
-#: a mistyped huge N would otherwise run for hours or fail allocating instead of being rejected.
-MAX_NODES = 100_000
+#: Largest ``shell.N``.  Rounding grows with the mesh (the bending stiffness is a discrete fourth
+#: derivative): past a few thousand nodes it outweighs the discretization error, and on finer meshes
+#: it breaks the trace itself (the default path at N = 50000 scatters into spurious extrema and never
+#: reaches eversion); docs/scenes.md has the measurements.
+MAX_NODES = 20_000
+#: ``shell.N`` above which the command line warns, before the run, roughly how long it takes
+#: (:func:`run_time_forecast`).
+LARGE_MESH = 8000
+# The default path's cost on a fine mesh, for the forecast (docs/scenes.md): seconds per step at
+# N = 3200 on one core, the exponent of its growth with N from 3200 to 20000 nodes (faster than N:
+# the band matrices outgrow the processor's cache, and rounding costs Newton iterations), and its steps.
+_STEP_SECONDS_AT_3200 = 0.027
+_STEP_GROWTH = 1.25
+_PATH_STEPS = 230
 
 
 def _nodes_ok(n: int) -> bool:
@@ -45,18 +57,44 @@ def _nodes_ok(n: int) -> bool:
 #: Nodes per bending length ``sqrt(R h)`` below which a scene is refused (``shell.N``).
 MIN_NODES_PER_BENDING_LENGTH = 4
 
-def _geometry_ok(scene: dict[str, dict[str, Any]]) -> bool:
-    """Whether the scene's shape can be built (the torispherical head's proportions, the table's file)."""
+def _shape_error(scene: dict[str, dict[str, Any]]) -> str:
+    """Why the scene's shape cannot be built (the torispherical head's proportions, the table's file), or ``""``."""
     from .shape import reference_meridian
 
     shell = scene["shell"]
     if shell.get("geometry", "sphere") == "sphere":
-        return True
+        return ""
     try:
         reference_meridian(shell, N=16)
-    except ValueError:
-        return False
-    return True
+    except ValueError as exc:
+        return str(exc)
+    return ""
+
+
+def _geometry_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    """Whether the scene's shape can be built."""
+    return not _shape_error(scene)
+
+
+def _shape_ok(geometry: str) -> Any:
+    """The check of one geometry's shape: other geometries pass it."""
+    return lambda scene: scene["shell"]["geometry"] != geometry or _geometry_ok(scene)
+
+
+def _mesh_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    """The mesh rule: at least :data:`MIN_NODES_PER_BENDING_LENGTH` nodes over the bending length."""
+    return not _geometry_ok(scene) or not _thin(scene) or scene["shell"]["N"] >= minimum_nodes(scene["shell"])
+
+
+def _mesh_needs(scene: dict[str, dict[str, Any]]) -> str:
+    """What the mesh rule asks of this scene's ``shell.N``, as a number."""
+    shell = scene["shell"]
+    needed = minimum_nodes(shell)
+    out = (f"this shell needs shell.N >= {needed} (shell.N = {shell['N']} puts {nodes_per_bending_length(shell):.2g} "
+           f"nodes over the bending length)")
+    if needed > MAX_NODES:
+        out += f", more than the largest shell.N = {MAX_NODES}: the shell is too thin for the model's meshes"
+    return out
 
 
 def _thin(scene: dict[str, dict[str, Any]]) -> bool:
@@ -76,7 +114,10 @@ SHELL_SCHEMA = Schema(
             "h": real(0.02, gt=0, help="thickness [m]"),
             "phi_hat": real(0.8, gt=0, lt=math.pi / 2,
                             help="base angle from the horizontal [rad] (small = deep cap)"),
-            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES}", "number of nodes on the meridian"),
+            "N": Field(int, 200, _nodes_ok, f"an integer >= 10 and <= {MAX_NODES} (on finer meshes rounding breaks "
+                                            "the trace, docs/scenes.md)",
+                       f"number of nodes on the meridian (above {LARGE_MESH} a run is announced with an estimate of "
+                       "its time)"),
             "pole_ratio": real(0.5, gt=0, le=1, help="node spacing at the pole / elsewhere (1 = uniform mesh; "
                                                     "graded towards the point load by default)"),
             "boundary": choice("sliding", SUPPORTS,
@@ -168,18 +209,22 @@ SHELL_SCHEMA = Schema(
                    "shell.h < shell.R (other geometries: below the meridian's smallest radius of curvature, "
                    "shell.a for the cone and the plate, shell.knuckle for the torus)",
                    "the shell model is thin: its thickness must be below its radius"),
-        Constraint(("shell.N", "shell.h", "shell.R", "shell.phi_hat"),
-                   lambda s: not _geometry_ok(s) or not _thin(s) or s["shell"]["N"] >= minimum_nodes(s["shell"]),
+        Constraint(("shell.N", "shell.h", "shell.R", "shell.phi_hat"), _mesh_ok,
                    f"shell.N >= {MIN_NODES_PER_BENDING_LENGTH} L / sqrt(rho h), L the meridian's length and rho its "
                    "smallest radius of curvature (the sphere: (pi/2 - phi_hat) / sqrt(h/R))",
                    f"a snapping cap bends over the length sqrt(R h); with fewer than {MIN_NODES_PER_BENDING_LENGTH} "
                    "nodes over it the discrete path winds through spurious folds and snaps (random scenes below "
-                   "the rule failed 12 times in 15, studies/fuzz.py); refine the mesh"),
-        Constraint(("shell.geometry", "shell.a", "shell.R", "shell.knuckle", "shell.table"), _geometry_ok,
-                   "a buildable shape: torus 0 < shell.knuckle < shell.a < shell.R; table an existing CSV of at least "
-                   "4 points r, z ending on the axis",
-                   "the torispherical head's knuckle joins its crown inside the base radius; run the scene with "
-                   "--set to fix the shape (the file of a table geometry is read when the scene is checked)"),
+                   "the rule failed 12 times in 15, studies/fuzz.py); refine the mesh",
+                   detail=_mesh_needs),
+        Constraint(("shell.geometry", "shell.a", "shell.R", "shell.knuckle"), _shape_ok("torus"),
+                   "a buildable shape: torus 0 < shell.knuckle < shell.a < shell.R",
+                   "the torispherical head's knuckle joins its crown inside the base radius"),
+        Constraint(("shell.geometry", "shell.table"), _shape_ok("table"),
+                   "a buildable shape: shell.table names an existing CSV file of at least 4 points r, z from the "
+                   "edge to the pole on the axis",
+                   "the file of a table geometry is read when the scene is checked; a relative path is taken from "
+                   "the current directory",
+                   detail=_shape_error),
         Constraint(("shell.boundary", "shell.geometry", "imperfection.kind", "load.kind"),
                    lambda s: s["load"]["kind"] not in ("sphere", "plate")
                    or (s["shell"]["boundary"] == "sliding" and s["shell"]["geometry"] == "sphere"
@@ -244,6 +289,31 @@ def minimum_nodes(shell: dict[str, Any]) -> int:
         The scene's ``[shell]`` section (``R``, ``h``, ``phi_hat``).
     """
     return math.ceil(MIN_NODES_PER_BENDING_LENGTH / nodes_per_bending_length(shell, N=1) - 1e-9)
+
+
+def run_time_forecast(scene: Scene) -> str | None:
+    """The warning said before a scene on a very fine mesh runs: roughly how long, and why; None below
+    :data:`LARGE_MESH` nodes.
+
+    The estimate is the default path's (the point load on the paper's cap) measured on one core of a
+    2-core machine; the other loads take more steps, and ``stability.harmonics`` about 3 times longer.
+
+    Parameters
+    ----------
+    scene : dict
+        The resolved scene.
+    """
+    N = scene["shell"]["N"]
+    if N <= LARGE_MESH:
+        return None
+    per_step = _STEP_SECONDS_AT_3200 * (N / 3200) ** _STEP_GROWTH
+    total = per_step * _PATH_STEPS
+    duration = f"{total:.0f} s" if total < 90 else f"{total / 60:.0f} minutes"
+    return (f"shell.N = {N} is a very fine mesh: expect roughly {duration} for the default point load's path "
+            f"({_PATH_STEPS} steps of about {per_step:.2g} s on one core; other loads differ, stability.harmonics "
+            f"takes about 3 times as long); a step costs more than N times a coarse mesh's, and on the default cap, "
+            f"beyond N = 3200, rounding, which grows with N, moves the located points (w at F_max) more than the "
+            f"finer mesh corrects them (docs/scenes.md)")
 
 
 def shell_first_instability(records: list[dict[str, Any]], parameter: str, fields: tuple[str, ...]) -> dict[str, Any] | None:

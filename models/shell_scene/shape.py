@@ -60,10 +60,17 @@ def read_table(path: str) -> tuple[np.ndarray, np.ndarray]:
     import numpy as np
 
     p = Path(path)
+    if not p.exists():
+        where = "" if p.is_absolute() else f" (looked for in the current directory {str(Path.cwd())!r})"
+        raise ValueError(f"shell.table: file not found: {path!r}{where}")
     if not p.is_file():
-        raise ValueError(f"shell.table: no such file {path!r}")
+        raise ValueError(f"shell.table: {path!r} is not a file")
     rows = []
-    with p.open(newline="") as f:
+    try:
+        f = p.open(newline="")
+    except OSError as exc:
+        raise ValueError(f"shell.table: cannot read {path!r}: {exc.strerror or exc}") from None
+    with f:
         for k, row in enumerate(csv.reader(f)):
             cells = [c.strip() for c in row if c.strip()]
             if not cells:
