@@ -44,7 +44,7 @@ from scipy.linalg import lapack
 
 from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU, same_values
 from contin.linalg import factorize as generic_factorize
-from contin.deadload import DeadLoad
+from contin.deadload import DeadLoad, bordered_matrix
 from contin.problem import LeadingBlock, NonFiniteError, Problem
 from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.geometry import POLE_RATIO
@@ -101,10 +101,7 @@ class ShellIndentation(Problem):
         self.c0 = float(self.indenter.contact_position(self.barrier.pole_height(el.cap.x))) + self.dhat
         self.idx = el.idx_force
         self.n_full = el.n_full
-        # CSR slots of each contact cell's block (nodes i-1, i, i+1) in the shell's full Hessian pattern
-        H0 = el.elastic_hessian(el.cap.x)
-        self._pattern = H0
-        self._node_slots = self.barrier.hessian_slots(H0)
+        self._cell_slots = self._free_cell_slots()
         observables = {"F": self._obs("F"), "w_b": lambda u, p: float(p), "w_s": self._obs("w_s"),
                        "Delta_H": self._obs("Delta_H"), "kappa_p_R": self._obs("kappa_p_R"),
                        "n_contact": self._obs("n_contact"),
@@ -163,19 +160,34 @@ class ShellIndentation(Problem):
 
     def residual(self, u: np.ndarray, p: float) -> np.ndarray:
         x = self.full_state(u)
-        g = self.elastic.elastic_gradient(x) + self.contact(u, p, hessian=False).gradient
+        # with the barrier's Hessian: the Jacobian is asked for at almost every state whose residual is
+        g = self.elastic.elastic_gradient(x) + self.contact(u, p).gradient
         return g[self.idx]
 
-    def _full_hessian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        x = self.full_state(u)
-        H = self.elastic.elastic_hessian(x)  # a copy: the shell's cached matrix is shared
-        st = self.contact(u, p)
-        if st.active.size:
-            np.add.at(H.data, self._node_slots[st.active].ravel(), st.hess_blocks.reshape(-1))
-        return H
+    def _free_cell_slots(self) -> np.ndarray:
+        """Places of every contact cell's 6x6 block in the values of the Jacobian, shape ``(N, 36)``.
+
+        The block of cell ``i`` (nodes ``i-1, i, i+1``, :meth:`ContactState.hessian_triplets`'s order)
+        lands in the shell's full Hessian pattern (:meth:`ContactBarrier.hessian_slots`); the slots are
+        carried to the pattern of its block on the unknowns, -1 for an entry of a fixed dof (the base
+        height, the pole radius).  Repeated slots (the pole's mirrored neighbour) accumulate.
+        """
+        H = self.elastic.elastic_hessian(self.elastic.cap.x)
+        full = self.barrier.hessian_slots(H)
+        H.data = np.arange(1, H.nnz + 1, dtype=float)  # each entry tagged by its slot (+ 1)
+        origin = self.elastic.free_block(H, "force").data.astype(np.int64) - 1
+        to_free = np.full(H.nnz, -1, dtype=np.int64)
+        to_free[origin] = np.arange(origin.size)
+        return to_free[full]
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        return self.elastic.free_block(self._full_hessian(u, p), "force")
+        J = self.elastic.free_hessian(self.full_state(u), "force")
+        st = self.contact(u, p)
+        if st.active.size:
+            slots = self._cell_slots[st.active].ravel()
+            kept = slots >= 0
+            np.add.at(J.data, slots[kept], st.hess_blocks.reshape(-1)[kept])
+        return J
 
     def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
         # c = c0 - w_b: d/dw_b of the barrier gradient is -d2E/dx dc
@@ -205,10 +217,8 @@ class ShellIndentation(Problem):
     # ---- stability -------------------------------------------------------------------------------
     def _op_force(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         """Hessian with the indenter position as a further unknown (dead load on the indenter)."""
-        J = self.jacobian(u, p)
         st = self.contact(u, p)
-        col = st.hess_xc[self.idx].reshape(-1, 1)
-        return sp.bmat([[J, sp.csr_matrix(col)], [sp.csr_matrix(col.T), np.array([[st.hess_cc]])]], format="csr")
+        return bordered_matrix(self.jacobian(u, p), st.hess_xc[self.idx], st.hess_cc)
 
     # ---- observables -----------------------------------------------------------------------------
     def _obs(self, name: str):

@@ -458,6 +458,14 @@ class ShellPointLoad(Problem):
         """Hessian of :meth:`elastic_energy` in all ``2N`` dofs (banded CSR, fixed pattern)."""
         return self._hessian(x).copy()
 
+    def free_hessian(self, x: np.ndarray, control: Literal["displacement", "force"]) -> sp.csr_matrix:
+        """:meth:`free_block` of :meth:`elastic_hessian`: the Hessian on the unknowns of ``control``.
+
+        A matrix of its own (the caller may add to its values), taken in O(nnz) from the cached
+        Hessian without copying all of it first.
+        """
+        return self._sub[control](self._hessian(x))
+
     def _hessian(self, x: np.ndarray) -> sp.csr_matrix:
         # Small cache of the last few states: the engine asks for the Jacobian, df/dp, the
         # stability operators and exact observable derivatives at the same state, and the fold
@@ -526,7 +534,7 @@ class ShellPointLoad(Problem):
     def _op_force(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         """The force-control Hessian; the displacement-control one is its leading block (``LeadingBlock``)."""
         # the dead-load term is linear in the state: its Hessian is zero
-        return self._sub["force"](self._hessian(self.full_state(u, p)))
+        return self.free_hessian(self.full_state(u, p), "force")
 
     def reaction_force(self, x: np.ndarray) -> float:
         """``F = dE_el/dw = -dE_el/dz_pole`` of a full state (positive when pushing down)."""
