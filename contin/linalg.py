@@ -477,13 +477,17 @@ def arrow_structure(H) -> tuple[int, int] | None:
     if not sp.issparse(H):
         return None
     n = H.shape[0]
-    coo = H.tocoo()
-    distance = np.abs(coo.row.astype(np.int64) - coo.col.astype(np.int64))
+    if H.format == "csr":  # the entries' rows straight from the row pointers, without a COO copy
+        rows, cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr)), H.indices.astype(np.int64)
+    else:
+        coo = H.tocoo()
+        rows, cols = coo.row.astype(np.int64), coo.col.astype(np.int64)
+    distance = np.abs(rows - cols)
     if distance.size == 0 or int(distance.max()) + 1 <= 0.1 * n:
         return None
     for m in range(1, ARROW_MAX_BORDER + 1):
         lead = n - m
-        inside = (coo.row < lead) & (coo.col < lead)
+        inside = (rows < lead) & (cols < lead)
         b = int(distance[inside].max(initial=0))
         if lead > 0 and b + 1 <= 0.1 * lead:
             return b, m
