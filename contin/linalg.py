@@ -51,6 +51,7 @@ __all__ = [
     "SingularMatrixError",
     "lower_band",
     "arrow_structure",
+    "inf_norm",
     "ArrowParts",
     "ArrowCholesky",
 ]
@@ -799,7 +800,11 @@ def _matvec(A, x):
     return A @ x
 
 
-def _inf_norm(A) -> float:
+def inf_norm(A) -> float:
+    """The infinity norm (largest row sum of ``|A|``) of a sparse or dense matrix, 0 without rows.
+
+    CSR and DIA matrices are summed from their arrays: ``abs(A)`` would build a new matrix first.
+    """
     if sp.issparse(A) and A.format == "dia":
         # row sums of |A| without building |A|: dia data[k, j] sits in row j - offset_k
         n, m = A.shape
@@ -841,8 +846,8 @@ def _remembered(factor: Factorization | None, slot: str, key: Any, same: Callabl
 
 
 def _inf_norm_of(A, factor) -> float:
-    """``_inf_norm(A)``, remembered by ``A``'s factorization (while ``A`` is the same object)."""
-    return _remembered(factor, "_inf_norm_memo", A, lambda a, b: a is b, lambda: _inf_norm(A))
+    """``inf_norm(A)``, remembered by ``A``'s factorization (while ``A`` is the same object)."""
+    return _remembered(factor, "_inf_norm_memo", A, lambda a, b: a is b, lambda: inf_norm(A))
 
 
 def _border_solution(factor: Factorization, B: np.ndarray) -> np.ndarray:
@@ -1012,7 +1017,7 @@ class BorderedSolver:
         if j is None:
             return False
         n = self.A.shape[0]
-        sigma = max(_inf_norm(self.A), 1e-300)
+        sigma = max(inf_norm(self.A), 1e-300)
         e = np.zeros((n, 1))
         e[j] = 1.0
         A2 = sp.csr_matrix(self.A) + sp.csr_matrix(([sigma], ([j], [j])), shape=(n, n))
@@ -1080,7 +1085,7 @@ class BorderedSolver:
         """Sign and log-modulus of the determinant of the bordered matrix."""
         if self._deflated is not None:
             s_, l_ = self._deflated.det_sign_log()
-            sigma = max(_inf_norm(self.A), 1e-300)
+            sigma = max(inf_norm(self.A), 1e-300)
             return s_ * self._deflation_sign, l_ + float(np.log(sigma))
         if self._full is not None:
             return self._full.det_sign_log()

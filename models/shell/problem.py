@@ -73,7 +73,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from contin.deadload import DeadLoad
-from contin.linalg import BandedLU, Factorization, FixedPattern, same_values, symmetric_column
+from contin.linalg import BandedLU, Factorization, FixedPattern, inf_norm, same_values, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
@@ -93,8 +93,7 @@ def shell_residual_scale(E: float, h: float, R: float, H: sp.csr_matrix) -> floa
 
     The residual scale of every shell problem (see the Notes of :class:`ShellPointLoad` for why).
     """
-    H_inf = float(np.max(np.abs(H).sum(axis=1)))
-    return max(E * h * R, ROUNDOFF_MARGIN * H_inf * R)
+    return max(E * h * R, ROUNDOFF_MARGIN * inf_norm(H) * R)
 
 
 def _scaled(derivative: tuple[np.ndarray, float], factor: float) -> tuple[np.ndarray, float]:
@@ -182,14 +181,17 @@ class PoleMirror:
 
 
 def csr_slots(A: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-    """Positions in ``A.data`` of the entries ``(rows[k], cols[k])`` (which must be stored)."""
-    out = np.empty(len(rows), dtype=np.int64)
-    for k, (i, j) in enumerate(zip(rows, cols)):
-        lo, hi = A.indptr[i], A.indptr[i + 1]
-        pos = lo + np.searchsorted(A.indices[lo:hi], j)
-        if pos >= hi or A.indices[pos] != j:
-            raise KeyError(f"entry ({i}, {j}) is not in the sparsity pattern")
-        out[k] = pos
+    """Positions in ``A.data`` of the entries ``(rows[k], cols[k])`` (which must be stored; ``A`` canonical)."""
+    rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
+    n = A.shape[1]
+    # the stored entries' keys row * n + col are sorted in a canonical CSR matrix
+    keys = np.repeat(np.arange(A.shape[0], dtype=np.int64), np.diff(A.indptr)) * n + A.indices
+    want = rows * n + cols
+    out = np.searchsorted(keys, want)
+    missing = (out >= keys.size) | (keys[np.minimum(out, keys.size - 1)] != want)
+    if np.any(missing):
+        k = int(np.flatnonzero(missing)[0])
+        raise KeyError(f"entry ({rows[k]}, {cols[k]}) is not in the sparsity pattern")
     return out
 
 
@@ -324,7 +326,7 @@ class ShellPointLoad(Problem):
     def _residual_scale(self, control: str) -> float:
         """``max(E h R, ROUNDOFF_MARGIN ||H_ref||_inf R)`` on the unknowns of ``control`` (class Notes)."""
         H = self._sub[control](self._hessian(self.cap.x))
-        self.hessian_norm = float(np.max(np.abs(H).sum(axis=1)))
+        self.hessian_norm = inf_norm(H)
         return shell_residual_scale(self.E, self.h, self.R, H)
 
     def _load_by_force(self, twin: "ShellPointLoad") -> None:
