@@ -107,6 +107,10 @@ def test_bordered_matrices_of_a_fixed_pattern_are_right_call_after_call() -> Non
         col = np.zeros(40)
         col[nonzero] = rng.standard_normal(len(nonzero))
         made.append((bordered_matrix(pattern.matrix(values), col, 5.0), values, col))
+    # the repeated border is filled into the first one's pattern, not built anew (the phase boundaries'
+    # force-controlled members border a Jacobian of one pattern at every Newton step)
+    assert made[1][0].indices is made[0][0].indices and made[1][0].indptr is made[0][0].indptr
+    assert made[2][0].indices is not made[0][0].indices
     for M, values, col in made:  # earlier matrices are not overwritten by later ones
         A_ = sp.csr_matrix((values, base.indices, base.indptr), shape=base.shape).toarray()
         expected = np.block([[A_, col[:, None]], [col[None, :], np.array([[5.0]])]])

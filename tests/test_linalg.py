@@ -569,3 +569,16 @@ def test_inertias_of_an_arrow_matrix_with_an_indefinite_band_are_counted_as_befo
     sizes = (200, 400, 401)
     assert leading_inertias(sp.csr_matrix(H), sizes) == [int(np.count_nonzero(np.linalg.eigvalsh(H[:k, :k]) < 0))
                                                          for k in sizes]
+
+
+def test_inf_norm_of_every_storage_is_the_largest_absolute_row_sum() -> None:
+    from contin.linalg import inf_norm
+
+    rng = np.random.default_rng(5)
+    dense = rng.standard_normal((30, 30)) * (rng.random((30, 30)) < 0.2)
+    dense[7] = 0.0  # an empty row
+    expected = float(np.abs(dense).sum(axis=1).max())
+    for matrix in (dense, sp.csr_matrix(dense), sp.dia_matrix(dense), sp.csc_matrix(dense)):
+        assert inf_norm(matrix) == pytest.approx(expected, rel=1e-14)
+    assert inf_norm(sp.csr_matrix((0, 0))) == 0.0
+
