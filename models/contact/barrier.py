@@ -1074,10 +1074,10 @@ class ContactBarrier:
             raise ValueError(f"ContactBarrier: node {bad}'s cell is too close to the {self.indenter.name} indenter "
                              f"(d = {gaps[bad]:.6g}): the barrier derivatives overflow")
         act, cell_e, cell_f, grad, blocks, xc = sums
-        st = ContactState(c, d_nodes, gaps, act, cells.stencil[act], float(np.sum(cell_e)), grad,
-                          -float(np.sum(cell_f)), cell_e, cell_f)
+        st = ContactState(c, d_nodes, gaps, act, cells.stencil[act], float(cell_e.sum()), grad, -float(cell_f.sum()),
+                          cell_e, cell_f)
         if hessian:
-            st.hess_blocks, st.hess_xc, st.hess_cc = blocks, xc, float(np.sum(pts.weight * h[5]))
+            st.hess_blocks, st.hess_xc, st.hess_cc = blocks, xc, float((pts.weight * h[5]).sum())
         return st
 
     def _chain_rule(self, pts: IntegrationPoints, e: np.ndarray, g: np.ndarray, h: np.ndarray | None,

@@ -140,17 +140,16 @@ class ShellIndentation(Problem):
 
     def contact(self, u: np.ndarray, p: float, hessian: bool = True) -> ContactState:
         """Barrier state at ``(u, w_b)``; raises :class:`contin.NonFiniteError` if a node penetrates."""
-        x = self.full_state(u)
-        c = self.position(p)
+        # keyed by the unknowns: the observables of a stored point ask for the same state a dozen times
         cached = self._contact_cache
-        if cached is not None and cached[1] == c and same_values(cached[0], x) and (
+        if cached is not None and cached[1] == p and same_values(cached[0], u) and (
                 not hessian or cached[2].hess_blocks is not None):
             return cached[2]
         try:
-            state = self.barrier.evaluate(x, c, hessian=hessian)
+            state = self.barrier.evaluate(self.full_state(u), self.position(p), hessian=hessian)
         except ValueError as exc:  # d <= 0: outside the model's domain
             raise NonFiniteError(f"{self.name}: {exc}") from None
-        self._contact_cache = (x.copy(), c, state)
+        self._contact_cache = (np.array(u, dtype=float), float(p), state)
         return state
 
     # ---- the Problem interface -------------------------------------------------------------------
