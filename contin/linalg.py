@@ -421,13 +421,9 @@ def banded_extension() -> Any:
     or None when it is not built or ``CONTIN_COMPILED=0``: for tests and for instrumenting its calls
     (``studies.bench_floor``)."""
     if not _BANDED:
-        from .compiled import compiled_enabled
+        from .compiled import optional_extension
 
-        try:
-            from . import _banded
-        except ImportError:
-            _banded = None
-        _BANDED.append(_banded if compiled_enabled() else None)
+        _BANDED.append(optional_extension("contin._banded"))
     return _BANDED[0]
 
 

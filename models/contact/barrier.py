@@ -160,7 +160,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
-from contin.compiled import prefer_compiled
+from contin.compiled import optional_extension, prefer_compiled
 from contin.linalg import same_values
 
 from . import _generated
@@ -199,13 +199,7 @@ def barrier_extension() -> Any:
     not built; the two agree to rounding (``tests/test_contact_compiled.py``).
     """
     if not _EXTENSION:
-        from contin.compiled import compiled_enabled
-
-        try:
-            from . import _cbarrier
-        except ImportError:
-            _cbarrier = None
-        _EXTENSION.append(_cbarrier if compiled_enabled() else None)
+        _EXTENSION.append(optional_extension("contin_models.contact._cbarrier"))
     return _EXTENSION[0]
 
 
