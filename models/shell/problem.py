@@ -308,6 +308,7 @@ class ShellPointLoad(Problem):
         else:
             self._pole = None
 
+        self._hessian(self.cap.x, H0)  # the reference Hessian, for the residual scale and the first steps
         scale = self._residual_scale("displacement")
         observables = {"F": self._obs_F, "w": self._obs_w, "w_over_R": self._obs_w_over_R,
                        "F_norm": self._obs_F_norm}
@@ -468,18 +469,19 @@ class ShellPointLoad(Problem):
         """
         return self._sub[control](self._hessian(x))
 
-    def _hessian(self, x: np.ndarray) -> sp.csr_matrix:
+    def _hessian(self, x: np.ndarray, shell_hessian: sp.csr_matrix | None = None) -> sp.csr_matrix:
         # Small cache of the last few states: the engine asks for the Jacobian, df/dp, the
         # stability operators and exact observable derivatives at the same state, and the fold
         # Newton alternates between a state and its finite-difference neighbours.  The returned
-        # matrix is shared: callers must not modify it.
+        # matrix is shared: callers must not modify it.  ``shell_hessian``: the shell's own Hessian
+        # at ``x`` when the caller has it already (it becomes the cached matrix).
         cache = self.__dict__.setdefault("_hess_cache", [])
         for i, (xc, Hc) in enumerate(cache):
             if same_values(xc, x):
                 if i:
                     cache.insert(0, cache.pop(i))
                 return Hc
-        H = self.shell.hessian(x)
+        H = self.shell.hessian(x) if shell_hessian is None else shell_hessian
         if self._pole is not None:
             _, Hp = self._pole.gradient_hessian(*self._pole_ab(x))
             H.data[self._pole_slots] += Hp.ravel()
