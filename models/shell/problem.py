@@ -292,7 +292,7 @@ class ShellPointLoad(Problem):
         self.idx_force = np.concatenate([base, [n - 1]])
         self.idx = self.idx_displacement
 
-        H0 = self.shell.hessian(self.cap.x)
+        H0 = self.shell.hessian(self._x_reference)
         self._sub = {"displacement": SubMatrix(H0, self.idx_displacement),
                      "force": SubMatrix(H0, self.idx_force)}
 
@@ -308,7 +308,7 @@ class ShellPointLoad(Problem):
         else:
             self._pole = None
 
-        self._hessian(self.cap.x, H0)  # the reference Hessian, for the residual scale and the first steps
+        self._hessian(self._x_reference, H0)  # the reference Hessian, for the residual scale and the first steps
         scale = self._residual_scale("displacement")
         observables = {"F": self._obs_F, "w": self._obs_w, "w_over_R": self._obs_w_over_R,
                        "F_norm": self._obs_F_norm}
@@ -326,7 +326,7 @@ class ShellPointLoad(Problem):
 
     def _residual_scale(self, control: str) -> float:
         """``max(E h R, ROUNDOFF_MARGIN ||H_ref||_inf R)`` on the unknowns of ``control`` (class Notes)."""
-        H = self._sub[control](self._hessian(self.cap.x))
+        H = self._sub[control](self._hessian(self._x_reference))
         self.hessian_norm = inf_norm(H)
         return shell_residual_scale(self.E, self.h, self.R, H)
 
