@@ -9,8 +9,9 @@ has as many negative pivots in ``D`` as ``H`` has negative eigenvalues, at O(n b
 pivoting the factorization can suffer element growth on an indefinite matrix; when the multipliers
 grow beyond :data:`LDL_GROWTH_LIMIT` (or a pivot is exactly zero) the count falls back to an
 eigensolver.  For an *arrow* matrix (below) whose band is positive definite, the same pivots come from
-the band's factorization and the border's Schur complement, without a general sparse factorization.  The eigenvalues themselves come from dense ``eigh`` for small matrices, LAPACK's
-banded symmetric eigensolver with index selection for banded ones (its reduction to tridiagonal form
+the band's factorization and the border's Schur complement, without a general sparse factorization.
+The eigenvalues themselves come from dense ``eigh`` for small matrices, LAPACK's banded symmetric
+eigensolver with index selection for banded ones (its reduction to tridiagonal form
 costs O(n^2 b), so it is asked for only when ``k > 0``), Lanczos in shift-invert mode just below the
 spectrum for an *arrow* matrix (a band with a few dense border rows, :func:`contin.linalg.arrow_structure`:
 an indenter's travel under a dead load couples to every node in contact), and ARPACK for the rest.
