@@ -42,7 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import lapack
 
-from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU, same_values
+from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU, inf_norm, same_values
 from contin.linalg import factorize as generic_factorize
 from contin.deadload import DeadLoad, bordered_matrix
 from contin.problem import LeadingBlock, NonFiniteError, Problem
@@ -333,11 +333,7 @@ class BorderedBandedLU(Factorization):
         if off.size and (off.max() > self.kl or -off.min() > self.ku):
             raise NotBorderedBandError("BorderedBandedLU: the leading block has entries outside the band "
                                        f"(kl = {self.kl}, ku = {self.ku})")
-        # max-norm of J for the backward-error test (row sums straight from the CSR arrays)
-        lengths = np.diff(J.indptr)
-        sums = (np.add.reduceat(np.abs(vals), J.indptr[:-1]) if np.all(lengths) else
-                np.bincount(rows, weights=np.abs(vals), minlength=n))
-        self._J_norm = float(np.max(sums))
+        self._J_norm = inf_norm(J)  # for the backward-error test
         col_m = (cols == m) & (rows < m)
         row_m = (rows == m) & (cols < m)
         self.b = np.zeros(m)
