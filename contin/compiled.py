@@ -20,12 +20,22 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-__all__ = ["prefer_compiled", "compiled_enabled"]
+__all__ = ["prefer_compiled", "compiled_enabled", "optional_extension"]
 
 
 def compiled_enabled() -> bool:
     """False when the environment variable ``CONTIN_COMPILED`` is ``0`` (or ``false``, ``no``, ``off``)."""
     return os.environ.get("CONTIN_COMPILED", "1").strip().lower() not in ("0", "false", "no", "off")
+
+
+def optional_extension(name: str) -> types.ModuleType | None:
+    """The C extension module ``name`` (dotted), or None where the install did not build it or ``CONTIN_COMPILED=0``."""
+    if not compiled_enabled():
+        return None
+    try:
+        return importlib.import_module(name)
+    except ImportError:
+        return None
 
 
 def _kernel(compiled: Callable, fallback: Callable, rows: int) -> Callable:
@@ -92,11 +102,8 @@ def prefer_compiled(kernels: types.ModuleType, extension: str,
     """
     namespace = types.ModuleType(kernels.__name__, kernels.__doc__)
     namespace.__dict__.update({k: v for k, v in vars(kernels).items() if not k.startswith("__")})
-    if not compiled_enabled():
-        return namespace, False
-    try:
-        module = importlib.import_module(extension)
-    except ImportError:
+    module = optional_extension(extension)
+    if module is None:
         return namespace, False
     rows = dict(rows or {})
     returns = ast.literal_eval(getattr(module, "RETURNS", "{}"))

@@ -29,7 +29,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
-from .linalg import Factorization, factorize
+from .linalg import Factorization, FixedPattern, factorize
 from .problem import LeadingBlock, Problem
 
 __all__ = ["ConjugateForce", "DeadLoad", "bordered_matrix"]
@@ -47,21 +47,62 @@ class ConjugateForce(Protocol):
 
 
 def bordered_matrix(A: Any, col: np.ndarray, d: float) -> sp.csr_matrix:
-    """``[[A, col], [col^T, d]]`` as canonical CSR, built in O(nnz) (only the nonzeros of ``col`` are stored)."""
-    A = sp.csr_matrix(A)
+    """``[[A, col], [col^T, d]]`` as canonical CSR, built in O(nnz) (only the nonzeros of ``col`` are stored).
+
+    Where ``A`` is a matrix of a fixed pattern (:class:`contin.linalg.FixedPattern`: read-only index
+    arrays), the bordered pattern and the places of ``A``'s values in it are kept for the next call
+    with the same pattern and the same nonzeros of ``col``: the matrix is then filled, not built.
+    """
+    A = A if isinstance(A, sp.csr_matrix) else sp.csr_matrix(A)
     if not A.has_canonical_format:
         A = A.copy()
         A.sum_duplicates()
-    m = A.shape[0]
+    col = np.asarray(col, dtype=float)
     nz = np.flatnonzero(col)
-    # each bordered row ends with its column-m entry: insert it at the row's end (indices stay sorted)
-    ends = A.indptr[nz + 1]
-    indices = np.concatenate([np.insert(A.indices, ends, m), nz, [m]]).astype(np.int32, copy=False)
-    data = np.concatenate([np.insert(A.data, ends, col[nz]), col[nz], [d]])
-    shift = np.zeros(m + 1, dtype=np.int64)
-    shift[nz + 1] = 1
-    indptr = np.append(A.indptr + np.cumsum(shift), A.nnz + 2 * nz.size + 1)
-    return sp.csr_matrix((data, indices, indptr), shape=(m + 1, m + 1))
+    layout = _border_layout(A, nz)
+    data = np.empty(layout.pattern.nnz)
+    data[layout.inner] = A.data
+    data[layout.border] = col[nz]
+    data[layout.row] = col[nz]
+    data[-1] = d
+    return layout.pattern.matrix(data)
+
+
+class _BorderLayout:
+    """The pattern of ``[[A, col], [col^T, d]]`` and where ``A``'s values and the border go in its values."""
+
+    def __init__(self, A: sp.csr_matrix, nz: np.ndarray) -> None:
+        m = A.shape[0]
+        shift = np.zeros(m + 1, dtype=np.int64)
+        shift[nz + 1] = 1
+        shift = np.cumsum(shift)  # bordered rows above each row: each ends with its column-m entry
+        indptr = np.append(A.indptr + shift, A.nnz + 2 * nz.size + 1)
+        self.inner = np.arange(A.nnz) + np.repeat(shift[:-1], np.diff(A.indptr))
+        self.border = indptr[nz + 1] - 1
+        self.row = np.arange(A.nnz + nz.size, A.nnz + 2 * nz.size)
+        indices = np.empty(A.nnz + 2 * nz.size + 1, dtype=np.int32)
+        indices[self.inner], indices[self.border] = A.indices, m
+        indices[self.row], indices[-1] = nz, m
+        self.pattern = FixedPattern(indices, indptr, (m + 1, m + 1))
+
+
+#: The bordered layouts of the last few fixed patterns and border nonzeros (by the identity of the
+#: patterns' read-only index arrays, which cannot change).
+_LAYOUTS: list[tuple[np.ndarray, np.ndarray, np.ndarray, _BorderLayout]] = []
+
+
+def _border_layout(A: sp.csr_matrix, nz: np.ndarray) -> _BorderLayout:
+    fixed = not (A.indices.flags.writeable or A.indptr.flags.writeable)
+    if fixed:
+        for k, (indices, indptr, columns, layout) in enumerate(_LAYOUTS):
+            if indices is A.indices and indptr is A.indptr and np.array_equal(columns, nz):
+                _LAYOUTS.insert(0, _LAYOUTS.pop(k))
+                return layout
+    layout = _BorderLayout(A, nz)
+    if fixed:
+        _LAYOUTS.insert(0, (A.indices, A.indptr, nz, layout))
+        del _LAYOUTS[16:]
+    return layout
 
 
 class DeadLoad(Problem):

@@ -51,6 +51,7 @@ __all__ = [
     "SingularMatrixError",
     "lower_band",
     "arrow_structure",
+    "inf_norm",
     "ArrowParts",
     "ArrowCholesky",
 ]
@@ -420,13 +421,9 @@ def banded_extension() -> Any:
     or None when it is not built or ``CONTIN_COMPILED=0``: for tests and for instrumenting its calls
     (``studies.bench_floor``)."""
     if not _BANDED:
-        from .compiled import compiled_enabled
+        from .compiled import optional_extension
 
-        try:
-            from . import _banded
-        except ImportError:
-            _banded = None
-        _BANDED.append(_banded if compiled_enabled() else None)
+        _BANDED.append(optional_extension("contin._banded"))
     return _BANDED[0]
 
 
@@ -477,13 +474,17 @@ def arrow_structure(H) -> tuple[int, int] | None:
     if not sp.issparse(H):
         return None
     n = H.shape[0]
-    coo = H.tocoo()
-    distance = np.abs(coo.row.astype(np.int64) - coo.col.astype(np.int64))
+    if H.format == "csr":  # the entries' rows straight from the row pointers, without a COO copy
+        rows, cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr)), H.indices.astype(np.int64)
+    else:
+        coo = H.tocoo()
+        rows, cols = coo.row.astype(np.int64), coo.col.astype(np.int64)
+    distance = np.abs(rows - cols)
     if distance.size == 0 or int(distance.max()) + 1 <= 0.1 * n:
         return None
     for m in range(1, ARROW_MAX_BORDER + 1):
         lead = n - m
-        inside = (coo.row < lead) & (coo.col < lead)
+        inside = (rows < lead) & (cols < lead)
         b = int(distance[inside].max(initial=0))
         if lead > 0 and b + 1 <= 0.1 * lead:
             return b, m
@@ -795,7 +796,11 @@ def _matvec(A, x):
     return A @ x
 
 
-def _inf_norm(A) -> float:
+def inf_norm(A) -> float:
+    """The infinity norm (largest row sum of ``|A|``) of a sparse or dense matrix, 0 without rows.
+
+    CSR and DIA matrices are summed from their arrays: ``abs(A)`` would build a new matrix first.
+    """
     if sp.issparse(A) and A.format == "dia":
         # row sums of |A| without building |A|: dia data[k, j] sits in row j - offset_k
         n, m = A.shape
@@ -837,8 +842,8 @@ def _remembered(factor: Factorization | None, slot: str, key: Any, same: Callabl
 
 
 def _inf_norm_of(A, factor) -> float:
-    """``_inf_norm(A)``, remembered by ``A``'s factorization (while ``A`` is the same object)."""
-    return _remembered(factor, "_inf_norm_memo", A, lambda a, b: a is b, lambda: _inf_norm(A))
+    """``inf_norm(A)``, remembered by ``A``'s factorization (while ``A`` is the same object)."""
+    return _remembered(factor, "_inf_norm_memo", A, lambda a, b: a is b, lambda: inf_norm(A))
 
 
 def _border_solution(factor: Factorization, B: np.ndarray) -> np.ndarray:
@@ -1008,7 +1013,7 @@ class BorderedSolver:
         if j is None:
             return False
         n = self.A.shape[0]
-        sigma = max(_inf_norm(self.A), 1e-300)
+        sigma = max(inf_norm(self.A), 1e-300)
         e = np.zeros((n, 1))
         e[j] = 1.0
         A2 = sp.csr_matrix(self.A) + sp.csr_matrix(([sigma], ([j], [j])), shape=(n, n))
@@ -1076,7 +1081,7 @@ class BorderedSolver:
         """Sign and log-modulus of the determinant of the bordered matrix."""
         if self._deflated is not None:
             s_, l_ = self._deflated.det_sign_log()
-            sigma = max(_inf_norm(self.A), 1e-300)
+            sigma = max(inf_norm(self.A), 1e-300)
             return s_ * self._deflation_sign, l_ + float(np.log(sigma))
         if self._full is not None:
             return self._full.det_sign_log()

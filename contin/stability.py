@@ -8,8 +8,10 @@ factorization without pivoting in the natural order, which keeps a band's fill i
 has as many negative pivots in ``D`` as ``H`` has negative eigenvalues, at O(n b^2) cost.  Without
 pivoting the factorization can suffer element growth on an indefinite matrix; when the multipliers
 grow beyond :data:`LDL_GROWTH_LIMIT` (or a pivot is exactly zero) the count falls back to an
-eigensolver.  The eigenvalues themselves come from dense ``eigh`` for small matrices, LAPACK's
-banded symmetric eigensolver with index selection for banded ones (its reduction to tridiagonal form
+eigensolver.  For an *arrow* matrix (below) whose band is positive definite, the same pivots come from
+the band's factorization and the border's Schur complement, without a general sparse factorization.
+The eigenvalues themselves come from dense ``eigh`` for small matrices, LAPACK's banded symmetric
+eigensolver with index selection for banded ones (its reduction to tridiagonal form
 costs O(n^2 b), so it is asked for only when ``k > 0``), Lanczos in shift-invert mode just below the
 spectrum for an *arrow* matrix (a band with a few dense border rows, :func:`contin.linalg.arrow_structure`:
 an indenter's travel under a dead load couples to every node in contact), and ARPACK for the rest.
@@ -34,7 +36,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .linalg import (BANDED_FRACTION, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
-                     factorize, lower_band)
+                     cholesky_band_solver, factorize, lower_band)
 
 __all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias"]
 
@@ -93,11 +95,66 @@ def leading_inertias(H, sizes) -> list[int] | None:
         out = band.negative_pivots(LDL_GROWTH_LIMIT)
         if out is not None:
             return [sum(1 for j in out[0] if j < m) for m in sizes]
+    else:
+        counts = _arrow_inertias(H, sizes)
+        if counts is not None:
+            return counts
     d = _ldlt_pivots(H)
     if d is None:
         return None
     negative = np.concatenate([[0], np.cumsum(d < 0.0)])
     return [int(negative[m]) for m in sizes]
+
+
+def _arrow_inertias(H, sizes) -> list[int] | None:
+    """:func:`leading_inertias` of an arrow matrix whose band block is positive definite, by blocks; else None.
+
+    ``H = [[A, B], [B^T, C]]`` with ``A`` banded (:func:`contin.linalg.arrow_structure`, e.g. a shell's
+    Hessian bordered by an indenter's travel): the pivot-free ``L D L^T`` of ``H`` is ``A``'s followed by
+    that of the Schur complement ``S = C - B^T A^{-1} B``.  ``A``'s banded factorization
+    (:meth:`contin.linalg.SymmetricBand.negative_pivots`, which leaves its Cholesky factor when ``A`` is
+    positive definite) and ``S``'s, a few rows, give every count for a fraction of the general sparse
+    factorization's cost.  None when ``H`` is no arrow, ``A`` is not positive definite (the general
+    factorization then counts) or a pivot cannot be trusted.
+    """
+    if not sp.issparse(H) or H.shape[0] <= BANDED_MIN:
+        return None
+    arrow = arrow_structure(H)
+    if arrow is None:
+        return None
+    b, m = arrow
+    csr = H.tocsr()
+    if not csr.has_canonical_format:
+        csr = csr.copy()
+        csr.sum_duplicates()
+    n = csr.shape[0]
+    lead = n - m
+    rows, cols, data = np.repeat(np.arange(n), np.diff(csr.indptr)), csr.indices, csr.data
+    upper = (cols >= rows) & (cols < lead)  # A's upper band, as SymmetricBand keeps it
+    ab = np.zeros((b + 1, lead))
+    ab[b + rows[upper] - cols[upper], cols[upper]] = data[upper]  # canonical: no entry twice
+    out = SymmetricBand(ab).negative_pivots(LDL_GROWTH_LIMIT)
+    if out is None or out[0]:
+        return None
+    solve = cholesky_band_solver(out[1])
+    border, corner = np.zeros((lead, m)), np.zeros((m, m))
+    side, tail = (rows < lead) & (cols >= lead), (rows >= lead) & (cols >= lead)
+    border[rows[side], cols[side] - lead] = data[side]
+    corner[rows[tail] - lead, cols[tail] - lead] = data[tail]
+    schur = corner - border.T @ np.column_stack([solve(border[:, k]) for k in range(m)])
+    schur = 0.5 * (schur + schur.T)
+    pivots = []
+    for k in range(m):  # the pivot-free L D L^T of S, checked as the general factorization is
+        d = float(schur[k, k])
+        if not np.isfinite(d) or d == 0.0:
+            return None
+        multipliers = schur[k + 1:, k] / d
+        if multipliers.size and float(np.max(np.abs(multipliers))) > LDL_GROWTH_LIMIT:
+            return None
+        schur[k + 1:, k + 1:] -= np.outer(multipliers, schur[k, k + 1:])
+        pivots.append(d)
+    negative = np.concatenate([[0], np.cumsum(np.array(pivots) < 0.0)])
+    return [0 if size <= lead else int(negative[size - lead]) for size in sizes]
 
 
 def _narrow_band(H) -> SymmetricBand | None:

@@ -81,6 +81,12 @@ class _Members:
         return P
 
 
+def _filters_steps(member: Problem) -> bool:
+    """Whether the members of a family (of ``member``'s class) restrict steps to a domain; without a
+    filter of their own no member need be built to ask (:meth:`Problem.max_step_fraction` is 1)."""
+    return type(member).max_step_fraction is not Problem.max_step_fraction
+
+
 def _jacobian_derivative(P: Problem, u: np.ndarray, p: float, v: np.ndarray) -> Any:
     # a model's own (exact) second derivative when it has one, a central difference otherwise
     if type(P).jacobian_directional_derivative is not Problem.jacobian_directional_derivative:
@@ -208,6 +214,8 @@ class FoldCurveProblem(Problem):
 
     def max_step_fraction(self, U: np.ndarray, q: float, dU: np.ndarray, dq: float) -> float:
         # the member's own domain filter, for the state and first-parameter part of the step
+        if not _filters_steps(self.base):
+            return 1.0
         u, p = self.split(U)
         return self.member(q).max_step_fraction(u, p, dU[:-1], float(dU[-1]) * self.p_scale)
 
@@ -236,6 +244,11 @@ class FamilyProblem(Problem):
         Name of ``q`` (parameter name and observable).
     q_step : float, optional
         Step of the central differences in ``q`` (default ``1e-6 * max(1, |q0|)``).
+    base : Problem, optional
+        A member already built (of this family or of one that differs from it in another parameter
+        only): its observables' names, symmetry, factorization and residual scale serve instead of
+        building ``family(q0)`` for them.  A family made anew at every value of another parameter
+        (the fold curve of a :class:`FoldCurveProblem` over it) then builds only the members it uses.
 
     Notes
     -----
@@ -244,11 +257,12 @@ class FamilyProblem(Problem):
     """
 
     def __init__(self, family: Callable[[float], Problem], p_fixed: float, q0: float, q_name: str = "q",
-                 q_step: float | None = None) -> None:
+                 q_step: float | None = None, base: Problem | None = None) -> None:
         self.member = _Members(family)
         self.p_fixed = float(p_fixed)
         self.q_step = float(q_step) if q_step is not None else 1e-6 * max(1.0, abs(float(q0)))
-        base = self.member(float(q0))
+        if base is None:
+            base = self.member(float(q0))
         self.base = base
         obs: dict[str, Callable] = {name: self._member_observable(name) for name in base.observables}
         obs[q_name] = lambda u, q: float(q)
@@ -294,6 +308,8 @@ class FamilyProblem(Problem):
         return self.base.factorize(J)
 
     def max_step_fraction(self, u: np.ndarray, q: float, du: np.ndarray, dq: float) -> float:
+        if not _filters_steps(self.base):
+            return 1.0
         return self.member(q).max_step_fraction(u, self.p_fixed, du, 0.0)
 
 

@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from contin import Problem, continuation
 from contin.deadload import DeadLoad, bordered_matrix
@@ -88,6 +89,33 @@ def test_bordered_matrix_matches_the_dense_border() -> None:
     col = np.array([0.0, 1.5, 0.0, -2.0, 0.0])
     dense = np.block([[A_, col[:, None]], [col[None, :], np.array([[3.0]])]])
     np.testing.assert_array_equal(bordered_matrix(A_, col, 3.0).toarray(), dense)
+
+
+def test_bordered_matrices_of_a_fixed_pattern_are_right_call_after_call() -> None:
+    """The bordered layout of a fixed pattern is kept for the next call: each matrix still has its own
+    values, and a border with other nonzeros gets its own layout."""
+    from contin.linalg import FixedPattern
+
+    rng = np.random.default_rng(2)
+    off = rng.standard_normal(39)
+    dense = np.diag(rng.uniform(1.0, 2.0, 40)) + np.diag(off, 1) + np.diag(off, -1)
+    base = sp.csr_matrix(dense)
+    pattern = FixedPattern(base.indices, base.indptr, base.shape)
+    made = []
+    for nonzero in ([37, 38, 39], [37, 38, 39], [0, 20], []):
+        values = rng.standard_normal(base.nnz)
+        col = np.zeros(40)
+        col[nonzero] = rng.standard_normal(len(nonzero))
+        made.append((bordered_matrix(pattern.matrix(values), col, 5.0), values, col))
+    # the repeated border is filled into the first one's pattern, not built anew (the phase boundaries'
+    # force-controlled members border a Jacobian of one pattern at every Newton step)
+    assert made[1][0].indices is made[0][0].indices and made[1][0].indptr is made[0][0].indptr
+    assert made[2][0].indices is not made[0][0].indices
+    for M, values, col in made:  # earlier matrices are not overwritten by later ones
+        A_ = sp.csr_matrix((values, base.indices, base.indptr), shape=base.shape).toarray()
+        expected = np.block([[A_, col[:, None]], [col[None, :], np.array([[5.0]])]])
+        np.testing.assert_array_equal(M.toarray(), expected)
+        assert M.has_canonical_format and M.nnz == base.nnz + 2 * np.count_nonzero(col) + 1
 
 
 def test_a_problem_without_a_conjugate_force_is_refused() -> None:

@@ -538,3 +538,47 @@ def test_arrow_eigenpairs_agree_with_dense(m: int, negative: int, stiffness: flo
     # stability_info takes that route for such a matrix, and gives the count alone as well
     assert stability_info(H, k=0).n_negative == info.n_negative
     np.testing.assert_allclose(stability_info(H, k=1).eigenvalues, w[:1], rtol=0, atol=1e-12 * size)
+
+
+@pytest.mark.parametrize("m", [1, 2])
+@pytest.mark.parametrize("corner", ["stiff", "soft"])
+def test_inertias_of_an_arrow_matrix_come_from_its_band_and_schur_complement(m: int, corner: str, monkeypatch) -> None:
+    """An arrow matrix with a positive definite band (a shell under an indenter's dead load before its
+    limit load) is counted from the band's factorization and the border's Schur complement, not by the
+    general sparse factorization; a soft corner makes the complement, and the whole matrix, indefinite."""
+    from contin import stability
+
+    H = _arrow(401, m, 0, 1e3, seed=m).toarray()
+    if corner == "soft":
+        H[-1, -1] = 1e-3
+    sizes = (401 - m, 400, 401)
+    expected = [int(np.count_nonzero(np.linalg.eigvalsh(H[:k, :k]) < 0)) for k in sizes]
+    assert expected[-1] == (1 if corner == "soft" else 0)
+
+    def general(_):
+        raise AssertionError("the general sparse factorization was used")
+
+    monkeypatch.setattr(stability, "_ldlt_pivots", general)
+    assert stability.leading_inertias(sp.csr_matrix(H), sizes) == expected
+
+
+def test_inertias_of_an_arrow_matrix_with_an_indefinite_band_are_counted_as_before() -> None:
+    from contin.stability import leading_inertias
+
+    H = _arrow(401, 1, 2, 1e3, seed=4).toarray()
+    sizes = (200, 400, 401)
+    assert leading_inertias(sp.csr_matrix(H), sizes) == [int(np.count_nonzero(np.linalg.eigvalsh(H[:k, :k]) < 0))
+                                                         for k in sizes]
+
+
+def test_inf_norm_of_every_storage_is_the_largest_absolute_row_sum() -> None:
+    from contin.linalg import inf_norm
+
+    rng = np.random.default_rng(5)
+    dense = rng.standard_normal((30, 30)) * (rng.random((30, 30)) < 0.2)
+    dense[7] = 0.0  # an empty row
+    expected = float(np.abs(dense).sum(axis=1).max())
+    for matrix in (dense, sp.csr_matrix(dense), sp.dia_matrix(dense), sp.csc_matrix(dense)):
+        assert inf_norm(matrix) == pytest.approx(expected, rel=1e-14)
+    assert inf_norm(sp.csr_matrix((0, 0))) == 0.0
+

@@ -137,3 +137,32 @@ def test_phase_diagram_study_runs_in_fast_mode_whole_grid(tmp_path):
     assert phase_diagram.main(["--out", str(tmp_path), "-q"]) == 0
     s = _check_study_outputs(tmp_path)
     assert s["agreement"]["cells"] == 10 * 7
+
+
+def test_bistable_boundary_builds_only_the_members_it_evaluates(monkeypatch):
+    """The fold curve makes the thickness family anew at every phi_hat it visits; each family builds the
+    members it evaluates (the state and its finite-difference neighbours in ln h and phi_hat), and takes
+    its names and settings from one shared member instead of building one more at its start for them."""
+    built, evaluated = [], set()
+    member = B.thickness_member
+
+    def counted(*args, **kwargs):
+        built.append(member(*args, **kwargs))
+        return built[-1]
+
+    for name in ("residual", "jacobian", "dresidual_dp"):
+        def marked(self, u, p, _real=getattr(B.DisplacementForm, name)):
+            evaluated.add(id(self))
+            return _real(self, u, p)
+
+        monkeypatch.setattr(B.DisplacementForm, name, marked)
+
+    def observable(self, fun):  # an observable read counts as a use too
+        return lambda u, p: (evaluated.add(id(self)), fun(u + self.origin, p))[1]
+
+    monkeypatch.setattr(B.DisplacementForm, "_wrap", observable)
+    monkeypatch.setattr(B, "thickness_member", counted)
+    curve = B.bistable_boundary(N, phi_range=(0.97, 1.03))
+    assert curve.phi_hat[0] == pytest.approx(0.97) and curve.phi_hat[-1] == pytest.approx(1.03)
+    unused = [P for P in built if id(P) not in evaluated]
+    assert len(built) > 50 and len(unused) <= 1, (len(built), len(unused))  # at most the shared one

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from contin import continuation
 from contin.linalg import bandwidths
@@ -193,3 +194,13 @@ def test_a_replaced_pole_element_acts_under_both_controls():
         x = P.full_state(u, 0.0)
         expected = P.shell.energy(x) + stiffer.energy(*(float(x[-4]), float(x[-1] - x[-3])))
         assert P.energy(u, 0.0) == pytest.approx(expected, rel=1e-12) and P.energy(u, 0.0) > e0
+
+
+def test_csr_slots_finds_stored_entries_and_refuses_missing_ones() -> None:
+    from contin_models.shell.problem import csr_slots
+
+    A = sp.csr_matrix(np.array([[1.0, 0, 2.0], [0, 3.0, 0], [4.0, 5.0, 6.0]]))
+    slots = csr_slots(A, [2, 0, 1, 2], [1, 2, 1, 0])
+    np.testing.assert_array_equal(A.data[slots], [5.0, 2.0, 3.0, 4.0])
+    with pytest.raises(KeyError, match=r"entry \(1, 2\)"):
+        csr_slots(A, [0, 1], [0, 2])

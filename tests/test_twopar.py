@@ -184,6 +184,27 @@ def test_cusp_curve_problem_follows_the_closed_form():
         assert np.max(np.abs(U[:, 0] + r / 3)) < 1e-5  # u at the cusp
 
 
+def test_family_problem_given_a_base_builds_only_the_members_it_evaluates():
+    """With a member to take its settings from, a family builds nothing when it is made and nothing to
+    ask for a domain filter its members do not have; it evaluates as the family that built its own."""
+    built = []
+
+    def family(q):
+        built.append(q)
+        return CuspNormalForm(q)
+
+    base = CuspNormalForm(5.0)
+    fam = contin.FamilyProblem(family, 0.25, 2.0, q_name="q", q_step=1e-5, base=base)
+    assert built == [] and fam.symmetric and set(fam.observables) == {"u", "q"}
+    assert fam.max_step_fraction(np.array([0.3]), 2.1, np.array([1.0]), 0.5) == 1.0 and built == []
+    own = contin.FamilyProblem(CuspNormalForm, 0.25, 2.0, q_name="q", q_step=1e-5)
+    u = np.array([0.3])
+    np.testing.assert_array_equal(fam.residual(u, 2.1), own.residual(u, 2.1))
+    np.testing.assert_array_equal(fam.dresidual_dp(u, 2.1), own.dresidual_dp(u, 2.1))
+    assert fam.observables["u"](u, 2.1) == own.observables["u"](u, 2.1)
+    assert built == [2.1, 2.1 + 1e-5, 2.1 - 1e-5]
+
+
 def test_family_problem_folds_in_the_second_parameter_at_fixed_load():
     """``u^3 - q u = p0`` at fixed ``p0 > 0`` as a problem in ``q``: its fold is at ``q = 3 (p0/2)^(2/3)``."""
     p0 = 0.25

@@ -7,7 +7,10 @@ incremental-potential-contact step filter (:meth:`ContactBarrier.max_safe_fracti
 :func:`default_barrier` scales the paper's ``K_c = 1e8``, ``dhat = 1e-3`` with ``E`` and ``R``.
 
 The kernels come from :mod:`contin_models.contact._generated`, plain numpy emitted by
-``python -m contin_models.contact.codegen`` (the only module that needs sympy; it is not imported here).
+``python -m contin_models.contact.codegen`` (the only module that needs sympy; it is not imported here),
+and run as the C extension ``contin_models.contact._ckernels`` generated from them where the install
+built it; the work per state around them (the support of the barrier integral, the chain rule, the
+step filter) runs in ``contin_models.contact._cbarrier`` likewise (numpy elsewhere, the same numbers).
 """
 
 from .barrier import (PAPER_DHAT, PAPER_E, PAPER_K, PAPER_R, ContactBarrier, ContactState, Plate, Sphere,

@@ -49,7 +49,9 @@ the moving points, times the basis weights.  The fixed points of :data:`QUADRATU
 remain the barrier's domain check and the step filter's watch points, and select the cells worth
 searching (those with a point within ``2 dhat``).  ``support_points = 0`` integrates at the fixed
 points instead (the earlier rule, kept for comparison).  For a uniform gap ``d`` a cell gives
-``a_i W(d)``.
+``a_i W(d)``.  This work per state (the samples, the support, the chain rule below and the step
+filter) runs in C where the install built ``contin_models.contact._cbarrier``
+(:func:`barrier_extension`): the same steps as the numpy code here, which runs elsewhere, to rounding.
 
 Cell weights ``a_i``.  With ``a_i = 1`` (the default of :class:`ContactBarrier`) every cell counts
 one node's worth, as the paper's nodal sum.  But a nodal sum makes the barrier's stiffness per unit
@@ -152,18 +154,24 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
+from contin.compiled import optional_extension, prefer_compiled
 from contin.linalg import same_values
 
-from . import _generated as gen
+from . import _generated
+
+#: The generated point kernels, in C where the install built ``contin_models.contact._ckernels``
+#: (:func:`contin.compiled.prefer_compiled`; ``COMPILED`` tells whether it did; the same numbers).
+kernels, COMPILED = prefer_compiled(_generated, "contin_models.contact._ckernels")
 
 __all__ = ["Sphere", "Plate", "ContactBarrier", "ContactState", "ContactCells", "IntegrationPoints", "default_barrier",
-           "barrier_value", "length_weights", "PAPER_K", "PAPER_DHAT", "PAPER_E", "PAPER_R", "PAPER_N",
-           "QUADRATURE_POINTS", "SUPPORT_POINTS"]
+           "barrier_value", "barrier_extension", "kernels", "COMPILED", "length_weights", "PAPER_K", "PAPER_DHAT",
+           "PAPER_E", "PAPER_R", "PAPER_N", "QUADRATURE_POINTS", "SUPPORT_POINTS"]
 
 #: The paper's barrier constants and the modulus and radius they were chosen for.
 PAPER_K, PAPER_DHAT, PAPER_E, PAPER_R = 1e8, 1e-3, 1e6, 1.0
@@ -179,6 +187,20 @@ QUADRATURE_POINTS = 15
 #: the piece and vanishes to third order at its ends, so the rule converges fast: it agrees with
 #: adaptive quadrature to 1e-10 from a light touch to deep contact (``tests/test_contact_barrier.py``).
 SUPPORT_POINTS = 12
+
+_EXTENSION: list = []
+
+
+def barrier_extension() -> Any:
+    """The C extension ``contin_models.contact._cbarrier``, or None when it is not built or ``CONTIN_COMPILED=0``.
+
+    It runs the barrier's work per state (the support of the integral, the chain rule and the step
+    filter) in C, the same steps as the numpy code of :class:`ContactBarrier`, which runs where it is
+    not built; the two agree to rounding (``tests/test_contact_compiled.py``).
+    """
+    if not _EXTENSION:
+        _EXTENSION.append(optional_extension("contin_models.contact._cbarrier"))
+    return _EXTENSION[0]
 
 
 def default_barrier(E: float, R: float, dhat_over_R: float = PAPER_DHAT / PAPER_R) -> tuple[float, float]:
@@ -352,7 +374,7 @@ class ContactCells:
         else:
             t, w = np.polynomial.legendre.leggauss(q)
             t, w = 0.5 * t, 0.5 * w  # the cell is t in [-1/2, 1/2]
-            L = gen.cell_basis(t).T  # (q, 3)
+            L = kernels.cell_basis(t).T  # (q, 3)
         i = np.arange(N)
         self.stencil = np.stack([i - 1, i, i + 1], axis=1)
         self.stencil[0] = 0
@@ -685,14 +707,16 @@ class ContactBarrier:
         self._support_rule = np.polynomial.legendre.leggauss(self.support_points) if self.support_points else None
         self.cell_weights = None if cell_weights is None else np.array(cell_weights, dtype=float)
         self._params = indenter.params
-        self._distance = getattr(gen, f"{indenter.name}_distance")
-        self._energy = getattr(gen, f"{indenter.name}_energy")
-        self._derivatives = getattr(gen, f"{indenter.name}_derivatives")
-        self._gradient = getattr(gen, f"{indenter.name}_gradient")
+        self._distance = getattr(kernels, f"{indenter.name}_distance")
+        self._energy = getattr(kernels, f"{indenter.name}_energy")
+        self._derivatives = getattr(kernels, f"{indenter.name}_derivatives")
+        self._gradient = getattr(kernels, f"{indenter.name}_gradient")
         self._cells_cache: ContactCells | None = None
         # the last state's samples and integration points: a residual and a Hessian at one state
         # find the support once
         self._points_cache: tuple[np.ndarray, float, ContactCells, np.ndarray, IntegrationPoints] | None = None
+        # the extension's room for the points of the integral, reused from state to state
+        self._workspace: tuple[np.ndarray, ...] | None = None
 
     @classmethod
     def for_shell(cls, indenter: Sphere | Plate, E: float, R: float,
@@ -836,7 +860,7 @@ class ContactBarrier:
         t = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * xi
         cell = np.repeat(near[rows], xi.size)
         weight = (0.5 * (b - a)[:, None] * wq).ravel() * cells.cell_weight[cell]
-        basis = gen.cell_basis(t.ravel()).T
+        basis = kernels.cell_basis(t.ravel()).T
         cr, cz = basis * cells._sign_r[cell], basis
         return (np.concatenate([cells.cell[base], cell]), np.concatenate([cells.cr[base], cr]),
                 np.concatenate([cells.cz[base], cz]), np.concatenate([cells.weight[base], weight]))
@@ -861,14 +885,56 @@ class ContactBarrier:
 
     def _samples_and_points(self, x: np.ndarray, r: np.ndarray, z: np.ndarray,
                             c: float) -> tuple[ContactCells, np.ndarray, IntegrationPoints]:
-        """:meth:`_checked_samples` and :meth:`_points_within` at ``(x, c)``, remembered for the last state."""
+        """The cells, each cell's smallest sample distance and the points of the integral at ``(x, c)``.
+
+        :meth:`_checked_samples` and :meth:`_points_within`, in C where the extension is built
+        (:func:`barrier_extension`); remembered for the last state.
+        """
         cached = self._points_cache
         if cached is not None and cached[1] == c and same_values(cached[0], x):
             return cached[2], cached[3], cached[4]
-        cells, ds = self._checked_samples(r, z, c)
-        pts = self._points_within(cells, r, z, c, ds)
-        self._points_cache = (x.copy(), c, cells, ds, pts)
-        return cells, ds, pts
+        found = self._compiled_support(x, c)
+        if found is None:  # numpy, which also raises the errors that name a point inside the indenter
+            cells, ds = self._checked_samples(r, z, c)
+            gaps, pts = cells.cell_minimum(ds), self._points_within(cells, r, z, c, ds)
+        else:
+            cells, gaps, pts = found
+        self._points_cache = (x.copy(), c, cells, gaps, pts)
+        return cells, gaps, pts
+
+    @property
+    def _radius(self) -> float:
+        """The sphere's radius for the extension (0 for a plate, which it does not read)."""
+        return self.indenter.radius if isinstance(self.indenter, Sphere) else 0.0
+
+    def _support_extension(self) -> Any:
+        """The C extension where it runs this barrier's support integration (not the fixed-point rules)."""
+        if self.quadrature == 1 or self._support_rule is None:
+            return None
+        return barrier_extension()
+
+    def _compiled_support(self, x: np.ndarray,
+                          c: float) -> tuple[ContactCells, np.ndarray, IntegrationPoints] | None:
+        """:meth:`_samples_and_points`'s work in C; None without the extension or when a point is not outside."""
+        ext = self._support_extension()
+        if ext is None:
+            return None
+        n = x.size // 2
+        cells = self.cells(n)
+        xi, wq = self._support_rule
+        room = 1 + 4 * xi.size * (n - 1)  # at most four monotone pieces per cell
+        if self._workspace is None or self._workspace[0].size != room:
+            self._workspace = (np.empty(room, dtype=np.int64), np.empty((room, 3)), np.empty((room, 3)),
+                               np.empty(room), np.empty(room), np.empty(room))
+        cell, cr, cz, w, rs, zs = self._workspace
+        gaps = np.empty(n)
+        count = ext.support(np.ascontiguousarray(x), c, self._radius, isinstance(self.indenter, Plate), self.dhat,
+                            cells._basis, cells.cell_weight, xi, wq, gaps, cell, cr, cz, w, rs, zs)
+        if count < 0:
+            return None
+        pts = IntegrationPoints(cell[:count].copy(), cr[:count].copy(), cz[:count].copy(), w[:count].copy(),
+                                rs[:count].copy(), zs[:count].copy())
+        return cells, gaps, pts
 
     def integration_points(self, x: ArrayLike, c: float) -> IntegrationPoints:
         """The points of the barrier integral within ``dhat`` of the indenter at ``(x, c)``, with weights.
@@ -979,32 +1045,76 @@ class ContactBarrier:
         """
         x, r, z = self._state(x)
         c = self._position(c)
-        cells, ds, pts = self._samples_and_points(x, r, z, c)
-        gaps = cells.cell_minimum(ds)
-        cell_of, cr_of, cz_of, w, rs, zs = pts.cell, pts.cr, pts.cz, pts.weight, pts.r, pts.z
-        act = np.unique(cell_of)
+        cells, gaps, pts = self._samples_and_points(x, r, z, c)
         n = x.size
-        grad = np.zeros(n)
         d_nodes = self._dist(r, z, c)
-        stencils = cells.stencil[act]
-        if act.size == 0:
+        if pts.weight.size == 0:
             empty = np.zeros(0)
-            st = ContactState(c, d_nodes, gaps, act, stencils, 0.0, grad, 0.0, empty, empty)
+            act = np.zeros(0, dtype=int)
+            st = ContactState(c, d_nodes, gaps, act, cells.stencil[act], 0.0, np.zeros(n), 0.0, empty, empty)
             if hessian:
                 st.hess_blocks, st.hess_xc, st.hess_cc = np.zeros((0, 6, 6)), np.zeros(n), 0.0
             return st
+        rs, zs = pts.r, pts.z
         if hessian:
             e, g, h = self._derivatives(rs, zs, c, *self._params, self.K, self.dhat)
         else:
-            e, g = self._energy(rs, zs, c, *self._params, self.K, self.dhat), \
-                self._gradient(rs, zs, c, *self._params, self.K, self.dhat)
-        if not (np.isfinite(g).all() and (not hessian or np.isfinite(h).all())):
+            e, g, h = self._energy(rs, zs, c, *self._params, self.K, self.dhat), \
+                self._gradient(rs, zs, c, *self._params, self.K, self.dhat), None
+        sums = self._chain_rule(pts, e, g, h, n)
+        if sums is None:
             # only for d so small (d / dhat < ~1e-150) that W'' overflows; never return inf
-            bad = int(cell_of[np.argmin(self._dist(rs, zs, c))])
+            bad = int(pts.cell[np.argmin(self._dist(rs, zs, c))])
             raise ValueError(f"ContactBarrier: node {bad}'s cell is too close to the {self.indenter.name} indenter "
                              f"(d = {gaps[bad]:.6g}): the barrier derivatives overflow")
-        # chain rule through the sample point x_s = sum_j c_sj x_j (linear in the nodes); the points
-        # come cell by cell in increasing order, so each cell's sums are one segment's
+        act, cell_e, cell_f, grad, blocks, xc = sums
+        st = ContactState(c, d_nodes, gaps, act, cells.stencil[act], float(cell_e.sum()), grad, -float(cell_f.sum()),
+                          cell_e, cell_f)
+        if hessian:
+            st.hess_blocks, st.hess_xc, st.hess_cc = blocks, xc, float((pts.weight * h[5]).sum())
+        return st
+
+    def _chain_rule(self, pts: IntegrationPoints, e: np.ndarray, g: np.ndarray, h: np.ndarray | None,
+                    n: int) -> tuple[np.ndarray, ...] | None:
+        """The cells' sums of the point kernels' values through the points' stencil coefficients.
+
+        A point ``x_s = sum_j c_sj x_j`` is linear in its cell's nodes, so the cell's derivatives are the
+        point kernel's times the coefficients (times the weights), summed over the cell's points.  In C
+        where the extension is built (:func:`barrier_extension`).
+
+        Parameters
+        ----------
+        pts : IntegrationPoints
+            The points (at least one), cell by cell in increasing order.
+        e, g, h : ndarray
+            The point kernels' energies ``(P,)``, gradients ``(3, P)`` and packed Hessians ``(6, P)``
+            (None: no Hessian).
+        n : int
+            Size of the interleaved state.
+
+        Returns
+        -------
+        (active, cell_e, cell_f, gradient, blocks, xc) or None
+            The cells with a point, their energies and forces ``-dE_i/dc``, ``dE/dx``, the 6x6 blocks and
+            ``d2E/dx dc`` (the last two None without ``h``); None when a derivative is not finite.
+        """
+        hessian = h is not None
+        ext = barrier_extension()
+        if ext is not None:
+            size = pts.weight.size
+            act, cell_e, cell_f = np.empty(size, dtype=np.int64), np.empty(size), np.empty(size)
+            grad = np.zeros(n)
+            blocks, xc = (np.empty((size, 6, 6)), np.zeros(n)) if hessian else (None, None)
+            m = ext.assemble(n // 2, pts.cell.astype(np.int64, copy=False), pts.cr, pts.cz, pts.weight, e, g, grad,
+                             act, cell_e, cell_f, h, blocks, xc)
+            if m < 0:
+                return None
+            return act[:m], cell_e[:m], cell_f[:m], grad, (blocks[:m] if hessian else None), xc
+        if not (np.isfinite(g).all() and (not hessian or np.isfinite(h).all())):
+            return None
+        cell_of, cr_of, cz_of, w = pts.cell, pts.cr, pts.cz, pts.weight
+        act = np.unique(cell_of)
+        # the points come cell by cell in increasing order, so each cell's sums are one segment's
         where = np.searchsorted(act, cell_of)  # each point's row among the active cells
         starts = np.searchsorted(where, np.arange(act.size))
 
@@ -1013,28 +1123,27 @@ class ContactBarrier:
 
         cr, cz = cr_of * w[:, None], cz_of * w[:, None]
         node_g = per_cell(np.stack([cr * g[0][:, None], cz * g[1][:, None]], axis=2))
-        dofs = _stencil_dofs(stencils)
+        dofs = _stencil_dofs(self.cells(n // 2).stencil[act])
+        grad = np.zeros(n)
         np.add.at(grad, dofs.ravel(), node_g.reshape(-1))
         cell_e = per_cell(w * e)
         cell_f = -per_cell(w * g[2])
-        st = ContactState(c, d_nodes, gaps, act, stencils, float(np.sum(cell_e)), grad, -float(np.sum(cell_f)),
-                          cell_e, cell_f)
-        if hessian:
-            # the block of a point on the cell's (r_0, z_0, r_1, z_1, r_2, z_2): its coefficients'
-            # outer products times the point kernel's (r, z) Hessian.  The outer product is formed
-            # first: s * (c_i c_j) is exactly symmetric in i, j, while (s c_i) c_j is not (it rounds
-            # differently from (s c_j) c_i, and the engine's symmetric solvers see the difference)
-            blocks = np.empty((act.size, 6, 6))
-            blocks[:, 0::2, 0::2] = per_cell((w * h[0])[:, None, None] * (cr_of[:, :, None] * cr_of[:, None, :]))
-            rz = per_cell((w * h[1])[:, None, None] * (cr_of[:, :, None] * cz_of[:, None, :]))
-            blocks[:, 0::2, 1::2], blocks[:, 1::2, 0::2] = rz, rz.transpose(0, 2, 1)
-            blocks[:, 1::2, 1::2] = per_cell((w * h[3])[:, None, None] * (cz_of[:, :, None] * cz_of[:, None, :]))
-            xc_cell = np.empty((act.size, 6))
-            xc_cell[:, 0::2], xc_cell[:, 1::2] = per_cell(cr * h[2][:, None]), per_cell(cz * h[4][:, None])
-            xc = np.zeros(n)
-            np.add.at(xc, dofs.ravel(), xc_cell.ravel())
-            st.hess_blocks, st.hess_xc, st.hess_cc = blocks, xc, float(np.sum(w * h[5]))
-        return st
+        if not hessian:
+            return act, cell_e, cell_f, grad, None, None
+        # the block of a point on the cell's (r_0, z_0, r_1, z_1, r_2, z_2): its coefficients'
+        # outer products times the point kernel's (r, z) Hessian.  The outer product is formed
+        # first: s * (c_i c_j) is exactly symmetric in i, j, while (s c_i) c_j is not (it rounds
+        # differently from (s c_j) c_i, and the engine's symmetric solvers see the difference)
+        blocks = np.empty((act.size, 6, 6))
+        blocks[:, 0::2, 0::2] = per_cell((w * h[0])[:, None, None] * (cr_of[:, :, None] * cr_of[:, None, :]))
+        rz = per_cell((w * h[1])[:, None, None] * (cr_of[:, :, None] * cz_of[:, None, :]))
+        blocks[:, 0::2, 1::2], blocks[:, 1::2, 0::2] = rz, rz.transpose(0, 2, 1)
+        blocks[:, 1::2, 1::2] = per_cell((w * h[3])[:, None, None] * (cz_of[:, :, None] * cz_of[:, None, :]))
+        xc_cell = np.empty((act.size, 6))
+        xc_cell[:, 0::2], xc_cell[:, 1::2] = per_cell(cr * h[2][:, None]), per_cell(cz * h[4][:, None])
+        xc = np.zeros(n)
+        np.add.at(xc, dofs.ravel(), xc_cell.ravel())
+        return act, cell_e, cell_f, grad, blocks, xc
 
     def nearest_sample(self, x: ArrayLike, c: float) -> tuple[int, float]:
         """The sample point closest to the indenter: its index and distance (after :meth:`check`)."""
@@ -1099,7 +1208,7 @@ class ContactBarrier:
         vals = _polyval(g, breaks)
         k = np.argmin(vals, axis=1)
         t_all = breaks[np.arange(inner.size), k]
-        basis = gen.cell_basis(t_all).T
+        basis = kernels.cell_basis(t_all).T
         nodes = cells.stencil[inner]
         rs = np.sum(basis * cells._sign_r[inner] * r[nodes], axis=1)
         zs = np.sum(basis * z[nodes], axis=1)
@@ -1131,7 +1240,7 @@ class ContactBarrier:
         _, r, z = self._state(x)
         if self.quadrature == 1 or r.size == 1:
             return float(z[-1])
-        middle = float(gen.cell_basis(0.0)[1])  # the mirrored neighbour has the rest
+        middle = float(kernels.cell_basis(0.0)[1])  # the mirrored neighbour has the rest
         return float(middle * z[-1] + (1.0 - middle) * z[-2])
 
     def _point_distance_gradient(self, rp: float, zp: float, c: float) -> tuple[float, float, float, float]:
@@ -1186,6 +1295,13 @@ class ContactBarrier:
         if dx.size != x.size:
             raise ValueError(f"ContactBarrier.max_safe_fraction: dx has {dx.size} entries, x has {x.size}")
         dc = self._position(dc, "dc")
+        ext = barrier_extension()
+        if ext is not None:
+            t = ext.safe_fraction(np.ascontiguousarray(x), np.ascontiguousarray(dx), c, dc, self._radius,
+                                  isinstance(self.indenter, Plate), self.cells(r.size)._basis)
+            if t >= 0:
+                return 1.0 if t > 1.0 else safety * t
+            # a sample point is not outside: numpy's check below names it
         cells, d = self._checked_samples(r, z, c)
         r, z = cells.points(r, z)
         dr, dz = cells.points(dr, dz)

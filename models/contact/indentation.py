@@ -42,9 +42,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import lapack
 
-from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU, same_values
+from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU, inf_norm, same_values
 from contin.linalg import factorize as generic_factorize
-from contin.deadload import DeadLoad
+from contin.deadload import DeadLoad, bordered_matrix
 from contin.problem import LeadingBlock, NonFiniteError, Problem
 from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.geometry import POLE_RATIO
@@ -101,10 +101,7 @@ class ShellIndentation(Problem):
         self.c0 = float(self.indenter.contact_position(self.barrier.pole_height(el.cap.x))) + self.dhat
         self.idx = el.idx_force
         self.n_full = el.n_full
-        # CSR slots of each contact cell's block (nodes i-1, i, i+1) in the shell's full Hessian pattern
-        H0 = el.elastic_hessian(el.cap.x)
-        self._pattern = H0
-        self._node_slots = self.barrier.hessian_slots(H0)
+        self._cell_slots = self._free_cell_slots()
         observables = {"F": self._obs("F"), "w_b": lambda u, p: float(p), "w_s": self._obs("w_s"),
                        "Delta_H": self._obs("Delta_H"), "kappa_p_R": self._obs("kappa_p_R"),
                        "n_contact": self._obs("n_contact"),
@@ -143,17 +140,16 @@ class ShellIndentation(Problem):
 
     def contact(self, u: np.ndarray, p: float, hessian: bool = True) -> ContactState:
         """Barrier state at ``(u, w_b)``; raises :class:`contin.NonFiniteError` if a node penetrates."""
-        x = self.full_state(u)
-        c = self.position(p)
+        # keyed by the unknowns: the observables of a stored point ask for the same state a dozen times
         cached = self._contact_cache
-        if cached is not None and cached[1] == c and same_values(cached[0], x) and (
+        if cached is not None and cached[1] == p and same_values(cached[0], u) and (
                 not hessian or cached[2].hess_blocks is not None):
             return cached[2]
         try:
-            state = self.barrier.evaluate(x, c, hessian=hessian)
+            state = self.barrier.evaluate(self.full_state(u), self.position(p), hessian=hessian)
         except ValueError as exc:  # d <= 0: outside the model's domain
             raise NonFiniteError(f"{self.name}: {exc}") from None
-        self._contact_cache = (x.copy(), c, state)
+        self._contact_cache = (np.array(u, dtype=float), float(p), state)
         return state
 
     # ---- the Problem interface -------------------------------------------------------------------
@@ -163,19 +159,34 @@ class ShellIndentation(Problem):
 
     def residual(self, u: np.ndarray, p: float) -> np.ndarray:
         x = self.full_state(u)
-        g = self.elastic.elastic_gradient(x) + self.contact(u, p, hessian=False).gradient
+        # with the barrier's Hessian: the Jacobian is asked for at almost every state whose residual is
+        g = self.elastic.elastic_gradient(x) + self.contact(u, p).gradient
         return g[self.idx]
 
-    def _full_hessian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        x = self.full_state(u)
-        H = self.elastic.elastic_hessian(x)  # a copy: the shell's cached matrix is shared
-        st = self.contact(u, p)
-        if st.active.size:
-            np.add.at(H.data, self._node_slots[st.active].ravel(), st.hess_blocks.reshape(-1))
-        return H
+    def _free_cell_slots(self) -> np.ndarray:
+        """Places of every contact cell's 6x6 block in the values of the Jacobian, shape ``(N, 36)``.
+
+        The block of cell ``i`` (nodes ``i-1, i, i+1``, :meth:`ContactState.hessian_triplets`'s order)
+        lands in the shell's full Hessian pattern (:meth:`ContactBarrier.hessian_slots`); the slots are
+        carried to the pattern of its block on the unknowns, -1 for an entry of a fixed dof (the base
+        height, the pole radius).  Repeated slots (the pole's mirrored neighbour) accumulate.
+        """
+        H = self.elastic.elastic_hessian(self.elastic.cap.x)
+        full = self.barrier.hessian_slots(H)
+        H.data = np.arange(1, H.nnz + 1, dtype=float)  # each entry tagged by its slot (+ 1)
+        origin = self.elastic.free_block(H, "force").data.astype(np.int64) - 1
+        to_free = np.full(H.nnz, -1, dtype=np.int64)
+        to_free[origin] = np.arange(origin.size)
+        return to_free[full]
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        return self.elastic.free_block(self._full_hessian(u, p), "force")
+        J = self.elastic.free_hessian(self.full_state(u), "force")
+        st = self.contact(u, p)
+        if st.active.size:
+            slots = self._cell_slots[st.active].ravel()
+            kept = slots >= 0
+            np.add.at(J.data, slots[kept], st.hess_blocks.reshape(-1)[kept])
+        return J
 
     def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
         # c = c0 - w_b: d/dw_b of the barrier gradient is -d2E/dx dc
@@ -205,10 +216,8 @@ class ShellIndentation(Problem):
     # ---- stability -------------------------------------------------------------------------------
     def _op_force(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         """Hessian with the indenter position as a further unknown (dead load on the indenter)."""
-        J = self.jacobian(u, p)
         st = self.contact(u, p)
-        col = st.hess_xc[self.idx].reshape(-1, 1)
-        return sp.bmat([[J, sp.csr_matrix(col)], [sp.csr_matrix(col.T), np.array([[st.hess_cc]])]], format="csr")
+        return bordered_matrix(self.jacobian(u, p), st.hess_xc[self.idx], st.hess_cc)
 
     # ---- observables -----------------------------------------------------------------------------
     def _obs(self, name: str):
@@ -324,11 +333,7 @@ class BorderedBandedLU(Factorization):
         if off.size and (off.max() > self.kl or -off.min() > self.ku):
             raise NotBorderedBandError("BorderedBandedLU: the leading block has entries outside the band "
                                        f"(kl = {self.kl}, ku = {self.ku})")
-        # max-norm of J for the backward-error test (row sums straight from the CSR arrays)
-        lengths = np.diff(J.indptr)
-        sums = (np.add.reduceat(np.abs(vals), J.indptr[:-1]) if np.all(lengths) else
-                np.bincount(rows, weights=np.abs(vals), minlength=n))
-        self._J_norm = float(np.max(sums))
+        self._J_norm = inf_norm(J)  # for the backward-error test
         col_m = (cols == m) & (rows < m)
         row_m = (rows == m) & (cols < m)
         self.b = np.zeros(m)

@@ -255,9 +255,13 @@ def bistable_boundary(N: int, phi_range: tuple[float, float] = (0.5, 1.45), phi0
     s_star = float(hits[0].p)
     start = {"phi_hat": phi0, "h_over_R": math.exp(s_star), "seconds": time.perf_counter() - t0}
 
+    # every phi_hat the fold curve visits makes its family anew: they all take their names, symmetry
+    # and residual scale from this one member, and build only the members they evaluate
+    base = thickness_member(phi0, s_star, N, nu)
+
     def family(phi: float) -> contin.FamilyProblem:
         return contin.FamilyProblem(lambda s: thickness_member(phi, s, N, nu), 0.0, s_star, q_name="ln_h",
-                                    q_step=DIFFERENCE_STEP)
+                                    q_step=DIFFERENCE_STEP, base=base)
 
     problem = contin.FoldCurveProblem(family, (u_star, s_star), phi0, q_name="phi_hat", q_step=DIFFERENCE_STEP)
     problem.observables["h_over_R"] = lambda U, q: math.exp(problem.split(U)[1])

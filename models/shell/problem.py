@@ -73,7 +73,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from contin.deadload import DeadLoad
-from contin.linalg import BandedLU, Factorization, FixedPattern, same_values, symmetric_column
+from contin.linalg import BandedLU, Factorization, FixedPattern, inf_norm, same_values, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
@@ -93,8 +93,7 @@ def shell_residual_scale(E: float, h: float, R: float, H: sp.csr_matrix) -> floa
 
     The residual scale of every shell problem (see the Notes of :class:`ShellPointLoad` for why).
     """
-    H_inf = float(np.max(np.abs(H).sum(axis=1)))
-    return max(E * h * R, ROUNDOFF_MARGIN * H_inf * R)
+    return max(E * h * R, ROUNDOFF_MARGIN * inf_norm(H) * R)
 
 
 def _scaled(derivative: tuple[np.ndarray, float], factor: float) -> tuple[np.ndarray, float]:
@@ -182,14 +181,17 @@ class PoleMirror:
 
 
 def csr_slots(A: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-    """Positions in ``A.data`` of the entries ``(rows[k], cols[k])`` (which must be stored)."""
-    out = np.empty(len(rows), dtype=np.int64)
-    for k, (i, j) in enumerate(zip(rows, cols)):
-        lo, hi = A.indptr[i], A.indptr[i + 1]
-        pos = lo + np.searchsorted(A.indices[lo:hi], j)
-        if pos >= hi or A.indices[pos] != j:
-            raise KeyError(f"entry ({i}, {j}) is not in the sparsity pattern")
-        out[k] = pos
+    """Positions in ``A.data`` of the entries ``(rows[k], cols[k])`` (which must be stored; ``A`` canonical)."""
+    rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
+    n = A.shape[1]
+    # the stored entries' keys row * n + col are sorted in a canonical CSR matrix
+    keys = np.repeat(np.arange(A.shape[0], dtype=np.int64), np.diff(A.indptr)) * n + A.indices
+    want = rows * n + cols
+    out = np.searchsorted(keys, want)
+    missing = (out >= keys.size) | (keys[np.minimum(out, keys.size - 1)] != want)
+    if np.any(missing):
+        k = int(np.flatnonzero(missing)[0])
+        raise KeyError(f"entry ({rows[k]}, {cols[k]}) is not in the sparsity pattern")
     return out
 
 
@@ -290,7 +292,7 @@ class ShellPointLoad(Problem):
         self.idx_force = np.concatenate([base, [n - 1]])
         self.idx = self.idx_displacement
 
-        H0 = self.shell.hessian(self.cap.x)
+        H0 = self.shell.hessian(self._x_reference)
         self._sub = {"displacement": SubMatrix(H0, self.idx_displacement),
                      "force": SubMatrix(H0, self.idx_force)}
 
@@ -306,6 +308,7 @@ class ShellPointLoad(Problem):
         else:
             self._pole = None
 
+        self._hessian(self._x_reference, H0)  # the reference Hessian, for the residual scale and the first steps
         scale = self._residual_scale("displacement")
         observables = {"F": self._obs_F, "w": self._obs_w, "w_over_R": self._obs_w_over_R,
                        "F_norm": self._obs_F_norm}
@@ -323,8 +326,8 @@ class ShellPointLoad(Problem):
 
     def _residual_scale(self, control: str) -> float:
         """``max(E h R, ROUNDOFF_MARGIN ||H_ref||_inf R)`` on the unknowns of ``control`` (class Notes)."""
-        H = self._sub[control](self._hessian(self.cap.x))
-        self.hessian_norm = float(np.max(np.abs(H).sum(axis=1)))
+        H = self._sub[control](self._hessian(self._x_reference))
+        self.hessian_norm = inf_norm(H)
         return shell_residual_scale(self.E, self.h, self.R, H)
 
     def _load_by_force(self, twin: "ShellPointLoad") -> None:
@@ -458,18 +461,27 @@ class ShellPointLoad(Problem):
         """Hessian of :meth:`elastic_energy` in all ``2N`` dofs (banded CSR, fixed pattern)."""
         return self._hessian(x).copy()
 
-    def _hessian(self, x: np.ndarray) -> sp.csr_matrix:
+    def free_hessian(self, x: np.ndarray, control: Literal["displacement", "force"]) -> sp.csr_matrix:
+        """:meth:`free_block` of :meth:`elastic_hessian`: the Hessian on the unknowns of ``control``.
+
+        A matrix of its own (the caller may add to its values), taken in O(nnz) from the cached
+        Hessian without copying all of it first.
+        """
+        return self._sub[control](self._hessian(x))
+
+    def _hessian(self, x: np.ndarray, shell_hessian: sp.csr_matrix | None = None) -> sp.csr_matrix:
         # Small cache of the last few states: the engine asks for the Jacobian, df/dp, the
         # stability operators and exact observable derivatives at the same state, and the fold
         # Newton alternates between a state and its finite-difference neighbours.  The returned
-        # matrix is shared: callers must not modify it.
+        # matrix is shared: callers must not modify it.  ``shell_hessian``: the shell's own Hessian
+        # at ``x`` when the caller has it already (it becomes the cached matrix).
         cache = self.__dict__.setdefault("_hess_cache", [])
         for i, (xc, Hc) in enumerate(cache):
             if same_values(xc, x):
                 if i:
                     cache.insert(0, cache.pop(i))
                 return Hc
-        H = self.shell.hessian(x)
+        H = self.shell.hessian(x) if shell_hessian is None else shell_hessian
         if self._pole is not None:
             _, Hp = self._pole.gradient_hessian(*self._pole_ab(x))
             H.data[self._pole_slots] += Hp.ravel()
@@ -526,7 +538,7 @@ class ShellPointLoad(Problem):
     def _op_force(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         """The force-control Hessian; the displacement-control one is its leading block (``LeadingBlock``)."""
         # the dead-load term is linear in the state: its Hessian is zero
-        return self._sub["force"](self._hessian(self.full_state(u, p)))
+        return self.free_hessian(self.full_state(u, p), "force")
 
     def reaction_force(self, x: np.ndarray) -> float:
         """``F = dE_el/dw = -dE_el/dz_pole`` of a full state (positive when pushing down)."""
