@@ -2,8 +2,9 @@
 
 A figure is drawn inside :func:`context` (the rcParams below: Times-like STIX text and symbols, 9-point labels, thin axes, ticks inside, a colour-blind-safe colour cycle) on a :func:`figure` (a
 matplotlib Figure with its own Agg canvas: no pyplot state, no GUI backend) and written by :func:`save`
-(``<stem>.png`` and ``<stem>.pdf`` side by side, atomically) or :func:`write` (one format into an
-open file).  A study, a process of its own, may instead call :func:`use` once to make the style the
+(``<stem>.png``, and ``<stem>.pdf`` beside it when asked, atomically) or :func:`write` (one format into
+an open file).  The command line writes PNG unless PDF is asked for (:data:`DEFAULT_FORMATS`); the
+studies write both (:data:`FORMATS`).  A study, a process of its own, may instead call :func:`use` once to make the style the
 process-wide default.
 
 The special points of a bifurcation diagram have one marker each (:data:`MARKERS`): shapes, sizes and
@@ -22,8 +23,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-__all__ = ["COLORS", "RED", "GREY", "MARKERS", "STABLE", "UNSTABLE", "UNKNOWN", "DPI", "FORMATS", "WIDTH",
-           "HEIGHT", "RC", "context", "use", "figure", "save", "write", "marker_style"]
+__all__ = ["COLORS", "RED", "GREY", "MARKERS", "STABLE", "UNSTABLE", "UNKNOWN", "DPI", "FORMATS", "DEFAULT_FORMATS",
+           "WIDTH", "HEIGHT", "RC", "context", "use", "figure", "save", "write", "marker_style"]
 
 #: Branch colours (Okabe and Ito's colour-blind-safe set; black is kept for the special points).
 COLORS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#332288", "#999933")
@@ -50,9 +51,13 @@ MARKERS: dict[str, dict[str, Any]] = {
     "bifurcation": {"marker": "*", "ms": 11.0, "mfc": RED, "mec": RED, "mew": 0.6, "zorder": 5.5},
 }
 
-#: Resolution of the PNG (the PDF is vector); both formats are written by :func:`save`.
+#: Resolution of the PNG (the PDF is vector).
 DPI = 200
+#: Every format a figure is written in: the studies write both.
 FORMATS = ("png", "pdf")
+#: What the command line writes unless PDF is asked for: a PDF costs as much again as the PNG (its fonts
+#: are embedded), and a picture to look at needs none.
+DEFAULT_FORMATS = ("png",)
 #: Size of a one-panel figure in inches, its legend beside the axes (a page's width; fonts are 9 pt at this size).
 WIDTH, HEIGHT = 6.0, 3.7
 
@@ -161,7 +166,7 @@ def write(fig: Any, fh: Any, fmt: str) -> None:
 def save(fig: Any, path: str | os.PathLike, formats: Sequence[str] = FORMATS) -> list[Path]:
     """Write ``fig`` as ``path`` with each suffix of ``formats`` (``x.png`` and ``x.pdf``), atomically.
 
-    ``path`` may carry a suffix or not (``out/diagram`` and ``out/diagram.png`` write the same two files).
+    ``path`` may carry a suffix or not (``out/diagram`` and ``out/diagram.png`` write the same files).
 
     Returns
     -------

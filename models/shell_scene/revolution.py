@@ -39,9 +39,9 @@ from contin.branch import Branch
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
-from .deformed import shapes_drawer, shell_shapes
+from .deformed import LoadSketch, observed, shapes_drawer, shell_shapes
 from .schema import STABILITY_COLUMNS, Scene, record_fields, record_instability
-from .labels import force_axes, scene_title
+from .labels import force_axes, length_symbol, scene_title
 from .shape import rise
 
 __all__ = ["run_revolution"]
@@ -115,13 +115,18 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
     if len(br):
         br.message = f"{br.message}; {snap}"
     # w of the loaded node and the total load F, in the shape's length L and the bending unit 2 pi D / L
-    axis_labels, scale = force_axes("w", length_unit(scene), problem.D, length_symbol="L")
-    plot_options = {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene),
-                    "special_kinds": ("fold", "bifurcation"), "control": control}
+    L = length_symbol(s)
+    options = force_axes("w", length_unit(scene), problem.D, length_symbol=L,
+                         scaled={"w_over_L": "w", "F_norm": "F", "w_over_h": "w"})
+    options["axis_labels"]["w_over_h"] = "$w/h$"
+    plot_options = {**options, "title": scene_title(scene), "special_kinds": ("fold", "bifurcation"), "control": control}
+    sketch = LoadSketch(load["kind"], node=problem.node if load["kind"] == "ring" else -1)
     shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref,
-                          path=scene["output"]["shapes"] == "path")
+                          path=scene["output"]["shapes"] == "path",
+                          fields={"F": observed("F")})
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br], STABILITY_COLUMNS), x="w", y="F",
                        parameter_name=problem.parameter_name, labels=["path"], plot_options=plot_options,
-                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options,
+                                                                 length_symbol=L, load=sketch))
