@@ -615,12 +615,12 @@ def legend_entries(branch_handles: Sequence[Any], drawn: set[str], point_handles
 LEGEND_LINE = 32
 
 
-def comma_parts(text: str) -> list[str]:
-    """``text`` cut after each comma that is not inside ``$...$`` (mathtext), the commas kept."""
+def comma_parts(text: str, at: str = ",") -> list[str]:
+    """``text`` cut after each ``at`` (a comma) that is not inside ``$...$`` (mathtext), the cuts kept."""
     parts, in_math, start = [], False, 0
     for i, ch in enumerate(text):
         in_math ^= ch == "$"
-        if ch == "," and not in_math:
+        if ch == at and not in_math:
             parts.append(text[start:i + 1])
             start = i + 1
     return parts + [text[start:]]
@@ -635,14 +635,17 @@ def _shown_length(text: str) -> int:
 
 
 def wrapped(text: str, width: int = LEGEND_LINE) -> str:
-    """``text`` broken after commas (:func:`comma_parts`) into lines of at most ``width`` shown characters
-    where it can be."""
+    """``text`` broken into lines of at most ``width`` shown characters where it can be: after commas
+    (:func:`comma_parts`), and a part longer than a line between words (never inside ``$...$``)."""
     lines = [""]
     for part in comma_parts(text):
-        if lines[-1] and _shown_length(lines[-1]) + _shown_length(part) > width:
-            lines.append(part.lstrip())
-        else:
-            lines[-1] += part
+        words = comma_parts(part, " ") if _shown_length(part) > width else [part]
+        for word in words:
+            if lines[-1] and _shown_length(lines[-1]) + _shown_length(word) > width:
+                lines[-1] = lines[-1].rstrip()
+                lines.append(word.lstrip())
+            else:
+                lines[-1] += word
     return "\n".join(lines)
 
 

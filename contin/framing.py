@@ -133,7 +133,8 @@ def frame(branches: Sequence[Branch], x: str, y: str,
 
 def combine(frames: Sequence[Frame]) -> Frame:
     """One frame for diagrams drawn on one axes (an overlay of runs): the hull of their regions and of
-    their wholes."""
+    their wholes, where the region of a diagram whose whole path shows its snaps well (no
+    :attr:`~Frame.layout` of its own) is its whole path: none of it may be cut off."""
     def hull(boxes: Sequence[Box]) -> Box:
         return ((min(b[0][0] for b in boxes), max(b[0][1] for b in boxes)),
                 (min(b[1][0] for b in boxes), max(b[1][1] for b in boxes)))
@@ -144,7 +145,7 @@ def combine(frames: Sequence[Frame]) -> Frame:
         points = [f.farthest[side] for f in frames if side in f.farthest]
         if points:
             farthest[side] = pick(points, key=lambda pt: pt[k])
-    return Frame(hull([f.region for f in frames]), hull([f.whole for f in frames]), farthest)
+    return Frame(hull([f.region if f.layout else f.whole for f in frames]), hull([f.whole for f in frames]), farthest)
 
 
 def show_detail(ax: Any, detail: Any, box: Box, title: str = "detail of the grey box",
@@ -183,13 +184,20 @@ def limit_to(ax: Any, fr: Frame) -> None:
             point = fr.farthest[side]
             value = point[k]
             at = (point[0], edge) if k == 1 else (edge, point[1])
-            ax.annotate(_exit_text(side, value, at, ax), xy=at, xytext=_EXIT_OFFSET[side], textcoords="offset points",
+            ax.annotate(_exit_text(side, value, at, ax), xy=at, xytext=_exit_offset(side, at, ax), textcoords="offset points",
                         ha=_exit_align(side, at, ax)[0], va=_exit_align(side, at, ax)[1], fontsize="small",
-                        color=style.GREY, annotation_clip=False)
+                        color=style.GREY, annotation_clip=False,
+                        bbox={"boxstyle": "square,pad=0.1", "fc": "w", "ec": "none", "alpha": 0.8})
 
 
 _ARROWS = {"right": r"$\rightarrow$", "left": r"$\leftarrow$", "top": r"$\uparrow$", "bottom": r"$\downarrow$"}
-_EXIT_OFFSET = {"right": (-3, 0), "left": (3, 0), "top": (0, -3), "bottom": (0, 3)}
+
+
+def _exit_offset(side: str, at: tuple[float, float], ax: Any) -> tuple[float, float]:
+    """Where the text sits from the path's exit point, in points: inside the axes, beside the path."""
+    if side in ("top", "bottom"):
+        return (-3.0 if _past_middle(at, ax) else 3.0), (-3.0 if side == "top" else 3.0)
+    return (-3.0 if side == "right" else 3.0), 0.0
 
 
 def _past_middle(at: tuple[float, float], ax: Any) -> bool:
@@ -198,8 +206,8 @@ def _past_middle(at: tuple[float, float], ax: Any) -> bool:
 
 
 def _exit_text(side: str, value: float, at: tuple[float, float], ax: Any) -> str:
-    """The arrow pointing off the axes and how far the path goes; at the top or bottom the arrow is at the
-    path's own abscissa, on the side of the text facing the axes' middle."""
+    """The arrow pointing off the axes and how far the path goes; at the top or bottom the arrow is beside
+    the path, on the side of the text that faces the path."""
     if side in ("top", "bottom") and _past_middle(at, ax):
         return f"to {value:.3g} {_ARROWS[side]}"
     return f"{_ARROWS[side]} to {value:.3g}"
