@@ -152,7 +152,7 @@ def _draw_overlay(ax: Any, runs: Sequence[Any], x: str, y: str, labels: Sequence
     ax.set_xlabel(axis_label(names[0], first.plot_options.get("axis_labels")))
     ax.set_ylabel(axis_label(names[1], first.plot_options.get("axis_labels")))
     ax.set_title(title)
-    controls = {run.plot_options.get("control") or run.stability for run in runs}
+    controls = {run.control for run in runs}
     heading = None
     if drawn & {"stable", "unstable"}:
         heading = f"{controls.pop()} control" if len(controls) == 1 and None not in controls else \

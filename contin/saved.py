@@ -72,6 +72,11 @@ class SavedRun:
     jumps: list[tuple[float, dict[str, float], dict[str, float]]] = field(default_factory=list)
     labels: list[str] = field(default_factory=list)
 
+    @property
+    def control(self) -> str | None:
+        """What the diagram's stability refers to: its ``control`` option, else its stability label."""
+        return self.plot_options.get("control") or self.stability
+
 
 def _number(text: str) -> float:
     return float(text) if text != "" else math.nan
@@ -192,10 +197,6 @@ def _flat_scene(summary: dict[str, Any]) -> dict[str, Any]:
             and section != "output" for key, value in keys.items()}
 
 
-def _control(run: SavedRun) -> str | None:
-    return run.plot_options.get("control") or run.stability
-
-
 def _labels_from_titles(runs: Sequence[SavedRun]) -> tuple[str, list[str]] | None:
     """Title and labels from the diagrams' titles (the scene in a few symbols, comma-separated parts): the
     parts all share make the title, the others tell the runs apart; None when that does not tell them apart."""
@@ -207,7 +208,7 @@ def _labels_from_titles(runs: Sequence[SavedRun]) -> tuple[str, list[str]] | Non
     parts = [[p.strip().rstrip(",").strip() for p in comma_parts(t)] for t in titles]
     common = [p for p in parts[0] if all(p in other for other in parts[1:])]
     labels = [", ".join(p for p in own if p not in common) for own in parts]
-    controls = [_control(run) for run in runs]
+    controls = [run.control for run in runs]
     if len(set(controls)) > 1:  # the titles may not say it: a dead load and a prescribed displacement
         labels = [label if f"{c} control" in label else ", ".join(t for t in (label, f"{c} control") if t)
                   for label, c in zip(labels, controls)]

@@ -550,3 +550,17 @@ def test_a_saved_run_whose_parameter_has_its_own_column_is_drawn_against_it(tmp_
     br = load_run(out).branches[0]
     np.testing.assert_array_equal(br.p, dV)
     assert br.special_points[0].p == 0.01
+
+
+def test_an_overlay_limited_to_one_runs_snaps_keeps_every_other_run_whole() -> None:
+    """Overlaid with a run whose last branch rises to 100 after its snaps, a run whose whole path shows its
+    snaps (the point load, down to F = -11) is not cut off by the limits chosen for the other."""
+    from contin.framing import Frame, combine
+
+    whole_run = Frame(region=((0.0, 0.4), (-6.0, 11.6)), whole=((0.0, 0.6), (-11.2, 12.3)), farthest={})
+    stiff_run = Frame(region=((0.0, 0.28), (0.0, 16.4)), whole=((0.0, 0.28), (0.0, 100.0)), farthest={})
+    assert whole_run.layout is None and stiff_run.layout == "limits"
+    both = combine([whole_run, stiff_run])
+    assert both.layout == "limits"
+    (x0, x1), (y0, y1) = both.detail
+    assert y0 < -11.2 and 16.4 < y1 < 100.0 and x0 < 0.0 and x1 > 0.6
