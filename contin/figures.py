@@ -72,13 +72,13 @@ def diagram_figure(draw: Callable[[Any], Any], fr: framing.Frame | None = None) 
     """
     layout = fr.layout if fr is not None else None
     if layout != "detail":
-        fig, ax = style.figure()
+        fig, ax = style.figure(layout=style.beside_layout())
         draw(ax)
         if layout == "limits":
             framing.limit_to(ax, fr)
         ax.set_title(_title(ax.get_title()))
         return fig, ax
-    fig, (ax, detail) = style.figure(style.WIDTH, style.HEIGHT + DETAIL_HEIGHT, nrows=2,
+    fig, (ax, detail) = style.figure(style.WIDTH, style.HEIGHT + DETAIL_HEIGHT, nrows=2, layout=style.beside_layout(),
                                      gridspec_kw={"height_ratios": [style.HEIGHT, DETAIL_HEIGHT]})
     draw(ax)
     draw(detail)
@@ -116,7 +116,14 @@ def shapes_figure(result: Any) -> Any:
         fig, _ = style.figure(style.WIDTH, style.HEIGHT, nrows=0)
         result.draw_shapes(fig)
         title = result.plot_options.get("title")
-        if title:
+        if style.in_one_column(fig):
+            fig.set_layout_engine(style.beside_layout())
+            if title:  # a figure text, which the layout keeps above the panels
+                import matplotlib
+
+                fig.text(0.5, 1.0 - style.PAD / 72.0 / fig.get_figheight(), _title(title), ha="center", va="top",
+                         fontsize=matplotlib.rcParams["figure.titlesize"])
+        elif title:
             fig.suptitle(_title(title))
     return fig
 

@@ -564,3 +564,40 @@ def test_an_overlay_limited_to_one_runs_snaps_keeps_every_other_run_whole() -> N
     assert both.layout == "limits"
     (x0, x1), (y0, y1) = both.detail
     assert y0 < -11.2 and 16.4 < y1 < 100.0 and x0 < 0.0 and x1 > 0.6
+
+
+@pytest.mark.parametrize("scene", [[], ["load.kind=ring", "shell.boundary=clamped"]])
+def test_the_written_figures_keep_every_text_inside_and_clear_of_the_panels(tmp_path: Path, capsys, monkeypatch,
+                                                                            scene) -> None:
+    """The diagram (one panel, or two with the snaps' detail) and the shapes figure, as written: titles, axis
+    labels, tick labels and legends lie on the figure, no legend or text of one panel lies on another panel,
+    and the panels keep most of the figure (their layout measures the texts once, as the constrained
+    layout did)."""
+    from contin import style
+    from tests.figure_check import CapturedFigures
+
+    captured = CapturedFigures().install(monkeypatch)
+    _trace(tmp_path, "run", *scene, capsys=capsys)
+    for fig in captured.figures:
+        fig.set_dpi(style.DPI)
+        with style.context():
+            fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        page = fig.bbox.padded(0.5)
+        panels = [ax for ax in fig.axes if ax.axison]
+        # (box, the panel it belongs to or None for the figure's own texts and the legends)
+        boxes = [(t.get_window_extent(renderer), None) for t in fig.texts if t.get_text()]
+        for ax in panels:
+            boxes += [(t.get_window_extent(renderer), ax) for t in (ax.title, ax.xaxis.label, ax.yaxis.label)
+                      if t.get_text()]
+            boxes += [(axis.get_tightbbox(renderer), ax) for axis in (ax.xaxis, ax.yaxis)]  # tick labels drawn
+            if ax.get_legend() is not None:
+                boxes.append((ax.get_legend().get_window_extent(renderer), None))
+        for box, _ in boxes:
+            assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 and box.y1 <= page.y1, box
+        for ax in panels:
+            inner = ax.get_window_extent(renderer).shrunk(0.98, 0.98)
+            for box, owner in boxes:
+                if owner is not ax:
+                    assert not inner.overlaps(box), (ax, box)
+        assert panels[0].get_position().width > 0.5
