@@ -242,11 +242,12 @@ class _LoadDrawer:
             pull = "special_F" in self.shapes and float(self.shapes["special_F"][k]) < 0.0
             self.pulled |= pull
             length = self.ARROW * self.r_max
-            for tip in sorted(tips):
-                head, tail = ((tip[0], tip[1] + length), tip) if pull else (tip, (tip[0], tip[1] + length))
-                self.ax.annotate("", xy=head, xytext=tail,
-                                 arrowprops=dict(arrowstyle="-|>", color=color, lw=1.0, mutation_scale=7,
-                                                 shrinkA=0, shrinkB=0), zorder=4)
+            # each arrow a shaft from the node up and a head at its end (down onto the node, or up for a pull)
+            xs = [v for x, _ in sorted(tips) for v in (x, x, np.nan)]
+            ys = [v for _, z0 in sorted(tips) for v in (z0, z0 + length, np.nan)]
+            self.ax.plot(xs, ys, color=color, lw=1.0, zorder=4)
+            self.ax.plot([x for x, _ in tips], [z0 + (length if pull else 0.0) for _, z0 in tips], ls="none",
+                         marker="^" if pull else "v", ms=4.5, color=color, zorder=4)
         elif self.kind in ("sphere", "plate"):
             c = float(self.shapes["special_indenter"][k]) / self.length
             if self.kind == "plate":
@@ -273,7 +274,7 @@ class _LoadDrawer:
                  "sphere": "rigid sphere, in each shape's colour", "plate": "rigid plate, in each shape's colour"}
         if self.kind in ("point", "ring"):
             name = names[self.kind] + (" (up: a pull, $F < 0$)" if self.pulled else "")
-            self.ax.plot([], [], ls="none", marker=r"$\downarrow$", ms=8, color=style.GREY, label=name)
+            self.ax.plot([], [], ls="none", marker="v", ms=5, color=style.GREY, label=name)
         else:
             self.ax.plot([], [], color=style.GREY, lw=0.8, ls=(0, (5.0, 1.5, 1.0, 1.5)), label=names[self.kind])
 
