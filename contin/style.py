@@ -4,7 +4,10 @@ A figure is drawn inside :func:`context` (the rcParams below: Times-like STIX te
 matplotlib Figure with its own Agg canvas: no pyplot state, no GUI backend) and written by :func:`save`
 (``<stem>.png``, and ``<stem>.pdf`` beside it when asked, atomically) or :func:`write` (one format into
 an open file).  The command line writes PNG unless PDF is asked for (:data:`DEFAULT_FORMATS`); the
-studies write both (:data:`FORMATS`).  A study, a process of its own, may instead call :func:`use` once to make the style the
+studies write both (:data:`FORMATS`).  A figure is laid out by matplotlib's constrained layout, or, for
+panels in one column with their legends beside them (the command line's diagrams and shapes), by
+:func:`beside_layout`, which places them alike in one pass; :func:`write` lays a figure out once, at the
+resolution it is written at.  A study, a process of its own, may instead call :func:`use` once to make the style the
 process-wide default.
 
 The special points of a bifurcation diagram have one marker each (:data:`MARKERS`): shapes, sizes and
