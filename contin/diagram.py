@@ -528,8 +528,8 @@ def draw_jumps(ax: Any, jumps: Iterable[tuple[Any, Mapping[str, float], Mapping[
                br: Branch, *, scale: Mapping[str, float] | None = None) -> int:
     """Draw each snap as a dotted arrow from the point it leaves to the point it lands on.
 
-    A snap whose ends coincide on the diagram (it changes the shape, not the quantities drawn: a shell
-    that leaves the indenter at zero force) gets no arrow: the fold it leaves is marked there already.
+    A snap whose ends coincide on the diagram (it changes the state, not the quantities drawn: a body
+    an indenter lets go at zero force) gets no arrow: the fold it leaves is marked there already.
 
     Parameters
     ----------

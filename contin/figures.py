@@ -3,7 +3,7 @@
 Each is drawn once in the project's style (:mod:`contin.style`) and written as PNG, and as PDF too when
 asked (:func:`figure_formats`).  The title is the model's (``plot_options["title"]``, e.g. the scene in a
 few symbols), else the model's registered name; a run that did not succeed says its status there too.
-Where the end of the path would bury its snaps (a shell stiffening after eversion), the diagram shows
+Where the end of the path would bury its snaps (a structure stiffening after them), the diagram shows
 the part with the snaps (:mod:`contin.framing`): a detail panel under the whole path, or axes limited
 to that part.  matplotlib is imported inside the functions only.
 """
