@@ -6,7 +6,7 @@ its path to a hundred times the snap loads, and axes that hold all of it leave t
 at the origin. :func:`frame` finds the part of a diagram a reader needs: the path from its start to
 its last snap under the diagram's own control (the last fold in a branch's parameter, the last
 landing of a jump), with every point on it. When the whole path reaches :data:`SPREAD` times farther
-in x or in y, :attr:`Frame.layout` says how to show that part: as a detail panel beside the whole
+in x or in y, :attr:`Frame.layout` says how to show that part: as a detail panel under the whole
 path (:func:`show_detail`, the panel's box marked grey on the whole path: the studies' detail panels
 use it too), or, when the part spans the whole path in one direction, by limiting the axes to it in
 the other (:func:`limit_to`, which says where the path goes off the axes).
