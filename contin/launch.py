@@ -37,7 +37,7 @@ from typing import Any
 __all__ = ["main", "COMMAND_GC_THRESHOLD"]
 
 #: The collector's thresholds while the command runs (:func:`gc.set_threshold`; Python's default is 700,
-#: 10, 10): cycles are still collected, after 200 000 allocations instead of 700 (a default trace makes fewer).
+#: 10, 10): cycles are still collected, after 200 000 net allocations instead of 700.
 COMMAND_GC_THRESHOLD = (200_000, 50, 100)
 
 
