@@ -441,9 +441,10 @@ _NAMES = {"branch_point": "branch point", "event": "event", "jump": "jump", "bif
 def _fold_marker(folds: str, x_name: str, symbols: Mapping[str, str], same_as: Mapping[str, str]) -> tuple[str, str]:
     """A fold in the quantity on the x axis (the path turns back in it) is an open circle; a fold in any
     other quantity (a limit point of that load under its own control) a filled triangle.  ``same_as``
-    names quantities that are another one in other units (``w_over_R`` is ``w``): a fold in ``w`` is a
-    fold in ``w_over_R``.  Returns the marker kind of :data:`contin.style.MARKERS` and the legend name."""
-    if folds in (x_name, same_as.get(x_name)):
+    names quantities that are another one in other units (``F_norm`` is ``F``), and a ratio ``q_over_u``
+    is ``q`` in units of ``u``: a fold in ``w`` is a fold in ``w_over_R``.  Returns the marker kind of
+    :data:`contin.style.MARKERS` and the legend name."""
+    if folds in (x_name, same_as.get(x_name), x_name.partition("_over_")[0]):
         return "fold", f"fold in {symbols.get(folds) or _math(folds)}"
     return "limit point", f"limit point in {symbols.get(folds) or _math(folds)}"
 
