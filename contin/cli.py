@@ -243,7 +243,8 @@ outputs (in DIR):
                  whether the path was completed, wall time, number of steps
   branch.csv     one row per converged point: parameter, observables, residual, stability
   diagram.png    the bifurcation diagram (stable solid, unstable dashed, special points marked);
-                 not written when the scene sets output.figure = false
+                 not written when the scene sets output.figure = false; with --pdf (or the scene
+                 key output.pdf = true) also diagram.pdf, and shapes.pdf beside shapes.png
   shapes.npz     where the model saves them: the shape at every special point and the located
                  modes (read with numpy.load; the model's help names the arrays), drawn in
                  shapes.png (a model may save more on request: its help says how)
@@ -318,6 +319,9 @@ def _add_trace_command(sub: argparse._SubParsersAction) -> None:
                     "then by each --set, in order. It is validated completely before anything runs.")
     _add_scene_arguments(trace, "trace")
     trace.add_argument("-o", "--out", metavar="DIR", default="out", help="output directory (default: ./out)")
+    trace.add_argument("--pdf", action="store_true",
+                       help="also write the figures as PDF (diagram.pdf, shapes.pdf; the scene key output.pdf "
+                            "where the model has one)")
     trace.add_argument("--from", dest="restart_from", metavar="OUT", default=None,
                        help="restart from a point saved by an earlier run in OUT (its states.npz), with its scene "
                             "updated by each --set (not SCENE.toml); needs --label")
@@ -376,8 +380,9 @@ def _add_plot_command(sub: argparse._SubParsersAction) -> None:
                     "draws them.")
     plot.add_argument("runs", nargs="+", metavar="OUT", help="output directory of a 'contin trace' run")
     plot.add_argument("-o", "--out", metavar="FILE", default=None,
-                      help="the figure to write (PNG or PDF by its suffix; default: OUT/diagram.png for one run, "
+                      help="the figure to write, PNG or PDF by its suffix (default: OUT/diagram.png for one run, "
                            "./overlay.png for several)")
+    plot.add_argument("--pdf", action="store_true", help="also write the figure as PDF beside the PNG")
     plot.add_argument("-x", metavar="NAME", default=None, help="quantity on the x axis (default: the run's own)")
     plot.add_argument("-y", metavar="NAME", default=None, help="quantity on the y axis (default: the run's own)")
 
@@ -418,7 +423,7 @@ Run 'contin COMMAND --help' for the options of a command.""")
 # ---------------------------------------------------------------------------------------------------
 def _cmd_plot(args: argparse.Namespace) -> int:
     """``contin plot``: saved runs drawn again (:mod:`contin.saved`), overlaid when there are several."""
-    from .saved import SavedRunError, load_run, overlay_labels
+    from .saved import SavedRunError, load_run
 
     try:
         runs = [load_run(path) for path in args.runs]
@@ -426,33 +431,28 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     first = runs[0]
     x, y = args.x or first.x, args.y or first.y
-    branches, colors, labels = [], [], []
-    from .style import COLORS as prop
-    title, run_labels = overlay_labels(runs)
-    for k, run in enumerate(runs):
+    for run in runs:
+        known = list(dict.fromkeys([run.summary.get("parameter", "p"),
+                                    *(run.branches[0].observables if run.branches else ())]))
         for axis in (x, y):
-            known = list(dict.fromkeys([run.summary.get("parameter", "p"),
-                                        *(run.branches[0].observables if run.branches else ())]))
             if axis is not None and axis not in ("p", *known):
                 raise CliError(f"contin plot: {str(run.path)!r} has no quantity {axis!r}; it has "
                                f"{', '.join(repr(n) for n in known)}")
-        for i, br in enumerate(run.branches):
-            branches.append(br)
-            colors.append(prop[k % len(prop)])
-            labels.append(run_labels[k] if i == 0 and len(runs) > 1 else None)
     target = Path(args.out) if args.out else (first.path / "diagram.png" if len(runs) == 1 else Path("overlay.png"))
-    if target.suffix.lower() not in (".png", ".pdf"):
+    from .style import FORMATS
+
+    fmt = target.suffix.lower().lstrip(".")
+    if fmt not in FORMATS:
         raise CliError(f"contin plot: --out {str(target)!r} must end in .png or .pdf")
     from .figures import figure_files, saved_runs_figure
 
-    # the figure in both formats: FILE as asked and the other format beside it
+    # FILE in the format its suffix names, and the PDF beside a PNG when --pdf asks for it
+    formats = [fmt] + (["pdf"] if args.pdf and fmt != "pdf" else [])
     try:
-        written = atomic_write(figure_files(target.with_suffix(""), lambda: saved_runs_figure(
-            runs, branches, x, y, colors, labels, title if len(runs) > 1 else None)))
+        written = atomic_write(figure_files(target.with_suffix(""), lambda: saved_runs_figure(runs, x, y), formats))
     except OSError as exc:
         raise CliError(f"cannot write {str(target)!r}: {exc.strerror or exc}") from None
-    target = ", ".join(str(path) for path in written)
-    print(f"wrote {target}")
+    print(f"wrote {', '.join(str(path) for path in written)}")
     return 0
 
 
@@ -580,7 +580,7 @@ def _cmd_trace(args: argparse.Namespace) -> int:
         message = _status_message(model, scene, result)
         if start is not None:
             message = f"{result.summary['restart']['note']}; {message}"
-        written = write_outputs(out, name, scene, result, wall, message=message)
+        written = write_outputs(out, name, scene, result, wall, message=message, pdf=args.pdf)
     say(f"wrote {', '.join(str(p) for p in written)} ({wall:.2f} s)")
 
     print(format_table(table, title=f"special points ({name}):", width=LINE_WIDTH,
@@ -984,10 +984,11 @@ def _write_npz(fh: io.BufferedIOBase, arrays: dict[str, np.ndarray]) -> None:
 
 
 def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, wall_time_s: float,
-                  message: str | None = None) -> list[Path]:
-    """Write ``summary.json``, ``branch.csv``, ``diagram.png`` and ``.pdf``, when the model saves shapes,
-    ``shapes.npz`` and ``shapes.png``/``.pdf``, and ``states.npz`` (:func:`contin.restart.restart_states`,
-    when a branch has states) into ``out``.
+                  message: str | None = None, pdf: bool = False) -> list[Path]:
+    """Write ``summary.json``, ``branch.csv``, ``diagram.png``, when the model saves shapes, ``shapes.npz`` and
+    ``shapes.png``, and ``states.npz`` (:func:`contin.restart.restart_states`, when a branch has states)
+    into ``out``; the figures also as PDF when ``pdf`` or the scene's ``output.pdf`` asks for it
+    (:func:`contin.figures.figure_formats`).
 
     All files are written at once (:func:`contin.io.atomic_write`): a failure or an interrupt never
     leaves a partial output or a mix of two runs.  A scene with ``output.figure = false``
@@ -1008,16 +1009,19 @@ def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, 
         (out / "summary.json", lambda fh: _write_json(fh, summary_document(model_name, scene, result, wall_time_s,
                                                                             message))),
         (out / "branch.csv", lambda fh: _write_csv(fh, result.csv_columns))]
-    from .figures import figure_files, shapes_figure, trace_figure  # matplotlib only when a figure is drawn
+    # matplotlib only when a figure is drawn
+    from .figures import figure_files, figure_formats, shapes_figure, trace_figure
+    from .style import FORMATS
 
-    figures = figure_files(out / "diagram", lambda: trace_figure(model_name, result))
+    formats = figure_formats(scene, pdf)
+    figures = figure_files(out / "diagram", lambda: trace_figure(model_name, result), formats)
     if wants_figure(scene):
         files += figures
     shapes = out / "shapes.npz"
     if result.shapes:
         files.append((shapes, lambda fh: _write_npz(fh, result.shapes), True))
     drawn_shapes = bool(result.shapes) and result.draw_shapes is not None and wants_figure(scene)
-    shape_figures = figure_files(out / "shapes", lambda: shapes_figure(result))
+    shape_figures = figure_files(out / "shapes", lambda: shapes_figure(result), formats)
     if drawn_shapes:
         files += shape_figures
     from .restart import STATES_FILE, restart_states
@@ -1025,11 +1029,12 @@ def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, 
     states_file, states = out / STATES_FILE, restart_states(result)
     if states:
         files.append((states_file, lambda fh: _write_npz(fh, states), True))
+    # a file left by an earlier run would show another run than the summary beside it
+    stale = [(out / f"{stem}.{fmt}", keep and fmt in formats) for stem, keep in
+             (("diagram", wants_figure(scene)), ("shapes", drawn_shapes)) for fmt in FORMATS]
     try:
         written = atomic_write(files)
-        # a file left by an earlier run would show another run than the summary beside it
-        for path, keep in ([(f[0], wants_figure(scene)) for f in figures] + [(shapes, bool(result.shapes))]
-                           + [(f[0], drawn_shapes) for f in shape_figures] + [(states_file, bool(states))]):
+        for path, keep in stale + [(shapes, bool(result.shapes)), (states_file, bool(states))]:
             if not keep and path.exists():
                 path.unlink()
     except OSError as exc:

@@ -23,7 +23,8 @@ if TYPE_CHECKING:  # networkx is imported lazily: it costs a noticeable part of 
     import networkx as nx
 
 __all__ = ["diagram", "plot_branches", "hysteresis_cycles", "save_diagram", "load_diagram", "smooth_path",
-           "stability_pieces"]
+           "stability_pieces", "draw_branch", "mark_special_points", "draw_jumps", "axis_label", "branch_handle",
+           "legend_entries", "add_legend", "wrapped", "comma_parts", "SPECIAL_KINDS"]
 
 
 class _NodeIndex:
@@ -351,19 +352,57 @@ def stability_pieces(x: np.ndarray, y: np.ndarray, dx: np.ndarray | None, dy: np
     return pieces
 
 
+# ---------------------------------------------------------------------------------------------------
+# drawing: a branch, its special points, its snaps, the axes and the legend; plot_branches puts them together
+# ---------------------------------------------------------------------------------------------------
+#: The kinds of special points marked unless the caller says otherwise.
+SPECIAL_KINDS = ("fold", "branch_point", "event", "bifurcation")
+#: Two marks closer than this fraction of the branch's extent (in both directions) are at the same place.
+_SAME_PLACE = 2e-3
+#: A snap shorter than this fraction of the diagram's extent (in both directions) is drawn as no arrow.
+_SHORTEST_ARROW = 5e-3
+
+
+def _factor(scale: Mapping[str, float] | None, axis: str, br: Branch) -> float:
+    """The factor the axis ``axis`` shows its quantity with (:func:`plot_branches`' ``scale``)."""
+    return (scale or {}).get(_axis_name(axis, br), 1.0)
+
+
 def _scaled_tangent(br: Branch, name: str, factor: float) -> np.ndarray | None:
     t = br.tangent(name)
     return None if t is None else t * factor
 
 
-def _plot_by_stability(ax, br: Branch, x: str, y: str, scale: Mapping[str, float], stable: np.ndarray | None,
-                       color: str, label: str | None, smooth: bool) -> set[str]:
-    """One branch: one line per run of equal stability, stable solid and unstable dashed (thin when
-    unknown), each drawn smooth from the stored tangents and changing style at the located special
-    points (:func:`stability_pieces`).  Returns the styles drawn."""
+def draw_branch(ax: Any, br: Branch, x: str, y: str, *, color: str, stability: str | None = None,
+                scale: Mapping[str, float] | None = None, smooth: bool = True) -> set[str]:
+    """Draw one branch on ``ax``: one line per run of equal stability, stable solid and unstable dashed (thin
+    when unknown), each drawn smooth from the stored tangents and changing style at the located special
+    points (:func:`stability_pieces`).
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    br : Branch
+    x, y : str
+        The quantities on the axes (``"p"`` or the parameter's name for the parameter).
+    color : str
+        The branch's colour.
+    stability : str, optional
+        The stability label to style by; default the branch's primary label.  A branch without that
+        label is drawn thin (stability unknown).
+    scale : mapping of str to float, optional
+        Factors by quantity name, as :func:`plot_branches` takes them.
+    smooth : bool
+        Cubic pieces between stored points where tangents are stored (else straight).
+
+    Returns
+    -------
+    set of str
+        The styles drawn: ``"stable"``, ``"unstable"``, ``"unknown"``.
+    """
     from . import style
 
-    fx, fy = scale.get(_axis_name(x, br), 1.0), scale.get(_axis_name(y, br), 1.0)
+    fx, fy = _factor(scale, x, br), _factor(scale, y, br)
     xs, ys = br.observable(x) * fx, br.observable(y) * fy
     dx = _scaled_tangent(br, x, fx) if smooth else None
     dy = _scaled_tangent(br, y, fy) if smooth else None
@@ -371,11 +410,11 @@ def _plot_by_stability(ax, br: Branch, x: str, y: str, scale: Mapping[str, float
     s = br.s if stored_s else np.arange(len(br), dtype=float)
     cuts = [spt.s for spt in br.special_points if spt.located] if stored_s else []
     drawn: set[str] = set()
-    for k, (px, py, st) in enumerate(stability_pieces(xs, ys, dx, dy, s, stable, cuts)):
+    for px, py, st in stability_pieces(xs, ys, dx, dy, s, _stability_of(br, stability), cuts):
         kind = "unknown" if st is None else ("stable" if st else "unstable")
         line = {"stable": style.STABLE, "unstable": style.UNSTABLE, "unknown": style.UNKNOWN}[kind]
-        ax.plot(px, py, color=color, label=label if k == 0 else None, solid_capstyle="round",
-                dash_capstyle="butt", zorder=2 if st is not False else 1.9, **line)
+        ax.plot(px, py, color=color, solid_capstyle="round", dash_capstyle="butt",
+                zorder=2 if st is not False else 1.9, **line)
         drawn.add(kind)
     return drawn
 
@@ -399,11 +438,13 @@ def _folds_in(spt: SpecialPoint, br: Branch) -> str | None:
 _NAMES = {"branch_point": "branch point", "event": "event", "jump": "jump", "bifurcation": "bifurcation into another mode"}
 
 
-def _fold_marker(folds: str, x_name: str, symbols: Mapping[str, str]) -> tuple[str, str]:
+def _fold_marker(folds: str, x_name: str, symbols: Mapping[str, str], same_as: Mapping[str, str]) -> tuple[str, str]:
     """A fold in the quantity on the x axis (the path turns back in it) is an open circle; a fold in any
-    other quantity (a limit point of that load under its own control) a filled triangle.
-    Returns the marker kind of :data:`contin.style.MARKERS` and the legend name."""
-    if folds == x_name:
+    other quantity (a limit point of that load under its own control) a filled triangle.  ``same_as``
+    names quantities that are another one in other units (``F_norm`` is ``F``), and a ratio ``q_over_u``
+    is ``q`` in units of ``u``: a fold in ``w`` is a fold in ``w_over_R``.  Returns the marker kind of
+    :data:`contin.style.MARKERS` and the legend name."""
+    if folds in (x_name, same_as.get(x_name), x_name.partition("_over_")[0]):
         return "fold", f"fold in {symbols.get(folds) or _math(folds)}"
     return "limit point", f"limit point in {symbols.get(folds) or _math(folds)}"
 
@@ -413,68 +454,230 @@ def _math(name: str) -> str:
     return f"${name}$" if name.isidentifier() and len(name.split("_")[0]) <= 2 else name
 
 
-def _mark_special_points(ax, br: Branch, x: str, y: str, scale: Mapping[str, float], kinds: Sequence[str],
-                         handles: dict[str, Any], symbols: Mapping[str, str]) -> None:
+def _extent(br: Branch, x: str, y: str, fx: float, fy: float) -> tuple[float, float]:
+    """The branch's extent on the axes (``ptp`` of its finite plotted values; 0 when it has none)."""
+    xs, ys = br.observable(x) * fx, br.observable(y) * fy
+    return tuple(float(np.ptp(v[np.isfinite(v)])) if np.isfinite(v).any() else 0.0 for v in (xs, ys))
+
+
+def mark_special_points(ax: Any, br: Branch, x: str, y: str, *, kinds: Sequence[str] = SPECIAL_KINDS,
+                        scale: Mapping[str, float] | None = None, symbols: Mapping[str, str] | None = None,
+                        same_as: Mapping[str, str] | None = None, handles: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Mark the special points of ``br`` of ``kinds`` on ``ax``, each with its marker of
+    :data:`contin.style.MARKERS`.
+
+    A fold is marked by the quantity that folds (:func:`_fold_marker`); an extremum that declares a fold is
+    marked as that fold; an unlocated point (a bracket's end) hollow.  An event at the place of a located
+    fold is not marked again: it only bracketed the fold.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    br : Branch
+    x, y : str
+        The quantities on the axes.
+    kinds : sequence of str
+        Which kinds to mark (``"fold"`` includes declared folds).
+    scale, symbols, same_as : mapping, optional
+        As :func:`plot_branches` takes them.
+    handles : dict, optional
+        Legend entries already made (name -> artist), e.g. by the branches before this one: a kind
+        already there gets no second entry.  Updated in place.
+
+    Returns
+    -------
+    dict of str to artist
+        ``handles``, with an entry for each kind of mark drawn.
+    """
     from . import style
 
+    handles = {} if handles is None else handles
+    symbols, same_as = dict(symbols or {}), dict(same_as or {})
     x_name = _axis_name(x, br)
-    fx, fy = scale.get(x_name, 1.0), scale.get(_axis_name(y, br), 1.0)
+    fx, fy = _factor(scale, x, br), _factor(scale, y, br)
+    marks = []
     for spt in br.special_points:
         folds = _folds_in(spt, br)
         kind = "fold" if folds is not None else spt.kind
-        if kind not in kinds or kind not in (*_NAMES, "fold"):
-            continue
         px, py = _coordinate(x, spt.p, spt.observables, br), _coordinate(y, spt.p, spt.observables, br)
-        if px is None or py is None:
+        if kind in kinds and kind in (*_NAMES, "fold") and px is not None and py is not None:
+            marks.append((spt, folds, kind, px * fx, py * fy))
+    wide, high = _extent(br, x, y, fx, fy)
+    folds_at = [(px, py) for spt, _, kind, px, py in marks if kind == "fold" and spt.located]
+    for spt, folds, kind, px, py in marks:
+        if kind == "event" and any(abs(px - qx) <= _SAME_PLACE * wide and abs(py - qy) <= _SAME_PLACE * high
+                                   for qx, qy in folds_at):
             continue
-        px, py = px * fx, py * fy
-        mk, name = _fold_marker(folds, x_name, symbols) if folds is not None else (kind, _NAMES[kind])
-        # an unlocated point (the bracket's end) is drawn hollow whatever its kind
-        look = style.marker_style(mk, located=spt.located)
+        mk, name = _fold_marker(folds, x_name, symbols, same_as) if folds is not None else (kind, _NAMES[kind])
         label = name
         if kind == "bifurcation" and name not in handles and spt.info.get("key") is not None:
             # the first one's mode in its legend entry: a text beside a marker lands on other markers
             # and curves in a crowded diagram
             label = f"{name} (first: ${spt.info.get('family', 'n')} = {spt.info['key']}$)"
-        line, = ax.plot([px], [py], ls="none", label=label if name not in handles else None, **look)
-        if name not in handles:
-            handles[name] = line
+        line, = ax.plot([px], [py], ls="none", label=label if name not in handles else None,
+                        **style.marker_style(mk, located=spt.located))
+        handles.setdefault(name, line)
+    return handles
 
 
-def _stability_handles(drawn: set[str]) -> list[Any]:
-    """Legend entries of the line styles on the plot: stable solid, unstable dashed (only those drawn)."""
+def _jump_parameter(jump: Any) -> float:
+    """The load a snap happens at: a :class:`JumpResult`'s ``p``, or the number itself."""
+    return float(getattr(jump, "p", jump))
+
+
+def draw_jumps(ax: Any, jumps: Iterable[tuple[Any, Mapping[str, float], Mapping[str, float]]], x: str, y: str,
+               br: Branch, *, scale: Mapping[str, float] | None = None) -> int:
+    """Draw each snap as a dotted arrow from the point it leaves to the point it lands on.
+
+    A snap whose ends coincide on the diagram (it changes the state, not the quantities drawn: a body
+    an indenter lets go at zero force) gets no arrow: the fold it leaves is marked there already.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        With the branches drawn (their extent sets what "coincide" means).
+    jumps : iterable of ``(jump, obs_from, obs_to)``
+        ``jump`` a :class:`JumpResult` (or its parameter), the observables at both ends.
+    x, y : str
+        The quantities on the axes.
+    br : Branch
+        A branch of the diagram: it names the parameter.
+    scale : mapping of str to float, optional
+        As :func:`plot_branches` takes it.
+
+    Returns
+    -------
+    int
+        The number of arrows drawn.
+    """
+    from . import style
+
+    fx, fy = _factor(scale, x, br), _factor(scale, y, br)
+    wide, high = ax.dataLim.width, ax.dataLim.height
+    drawn = 0
+    for jump, obs_from, obs_to in jumps:
+        p = _jump_parameter(jump)
+        a = (_coordinate(x, p, dict(obs_from), br), _coordinate(y, p, dict(obs_from), br))
+        b = (_coordinate(x, p, dict(obs_to), br), _coordinate(y, p, dict(obs_to), br))
+        if None in a or None in b:
+            continue
+        (ax0, ay0), (bx0, by0) = (a[0] * fx, a[1] * fy), (b[0] * fx, b[1] * fy)
+        if abs(bx0 - ax0) <= _SHORTEST_ARROW * wide and abs(by0 - ay0) <= _SHORTEST_ARROW * high:
+            continue
+        ax.annotate("", xy=(bx0, by0), xytext=(ax0, ay0),
+                    arrowprops=dict(arrowstyle="-|>", ls=(0, (1.0, 1.5)), lw=1.0, color=style.GREY,
+                                    mutation_scale=9, shrinkA=0, shrinkB=2), zorder=3)
+        drawn += 1
+    return drawn
+
+
+def axis_label(name: str, axis_labels: Mapping[str, str] | None = None) -> str:
+    r"""The label of an axis showing the quantity ``name``: its entry in ``axis_labels`` when that is
+    mathtext (``"$w/R$"``), the name with the entry in brackets when it is text (``"w (pole displacement)"``),
+    else the name, a ratio ``a_over_b`` written ``$a/b$``."""
+    what = (axis_labels or {}).get(name)
+    if what:
+        return what if "$" in what else f"{name} ({what})"
+    top, _, bottom = name.partition("_over_")
+    if bottom and top.isidentifier() and bottom.isidentifier():
+        return f"${top}/{bottom}$"
+    return name
+
+
+def branch_handle(color: str, label: str) -> Any:
+    """The legend entry of a branch (or a run): its colour, as a stable line."""
     from matplotlib.lines import Line2D
 
     from . import style
 
-    out = []
-    if "stable" in drawn:
-        out.append(Line2D([], [], color="0.15", label="stable", **style.STABLE))
-    if "unstable" in drawn:
-        out.append(Line2D([], [], color="0.15", label="unstable", **style.UNSTABLE))
-    return out
+    return Line2D([], [], color=color, lw=style.STABLE["lw"], label=label)
+
+
+def legend_entries(branch_handles: Sequence[Any], drawn: set[str], point_handles: Mapping[str, Any],
+                   snaps: bool) -> list[Any]:
+    """What the legend lists, nothing that is not on the plot: the branches (when more than one), the line
+    styles drawn (stable solid, unstable dashed), the kinds of points marked, the snaps' arrow."""
+    from matplotlib.lines import Line2D
+
+    from . import style
+
+    entries = list(branch_handles) if len(branch_handles) > 1 else []
+    for kind, look in (("stable", style.STABLE), ("unstable", style.UNSTABLE)):
+        if kind in drawn:
+            entries.append(Line2D([], [], color="0.15", label=kind, **look))
+    entries += list(point_handles.values())
+    if snaps:
+        entries.append(Line2D([], [], color=style.GREY, ls=(0, (1.0, 1.5)), lw=1.0, label="snap (jump)"))
+    return entries
+
+
+#: Legend texts longer than this many characters are broken into lines (after a comma): a long label
+#: would widen the legend beside the axes until the axes are a sliver.
+LEGEND_LINE = 32
+
+
+def comma_parts(text: str, at: str = ",") -> list[str]:
+    """``text`` cut after each ``at`` (a comma) that is not inside ``$...$`` (mathtext), the cuts kept."""
+    parts, in_math, start = [], False, 0
+    for i, ch in enumerate(text):
+        in_math ^= ch == "$"
+        if ch == at and not in_math:
+            parts.append(text[start:i + 1])
+            start = i + 1
+    return parts + [text[start:]]
+
+
+def _shown_length(text: str) -> int:
+    """About how many characters ``text`` shows: a mathtext command (``\\hat``) shows as one character at
+    most, ``$``, braces, ``_`` and ``^`` as none."""
+    import re
+
+    return len(re.sub(r"\\[A-Za-z]+|[${}_^]", "", text))
+
+
+def wrapped(text: str, width: int = LEGEND_LINE) -> str:
+    """``text`` broken into lines of at most ``width`` shown characters where it can be: after commas
+    (:func:`comma_parts`), and a part longer than a line between words (never inside ``$...$``)."""
+    lines = [""]
+    for part in comma_parts(text):
+        words = comma_parts(part, " ") if _shown_length(part) > width else [part]
+        for word in words:
+            if lines[-1] and _shown_length(lines[-1]) + _shown_length(word) > width:
+                lines[-1] = lines[-1].rstrip()
+                lines.append(word.lstrip())
+            else:
+                lines[-1] += word
+    return "\n".join(lines)
+
+
+def add_legend(ax: Any, entries: Sequence[Any], title: str | None = None) -> Any:
+    """The legend beside ``ax``, top aligned (a dense diagram leaves no corner free, and there it hides no
+    curve), its long texts broken into lines (:data:`LEGEND_LINE`); None when there is nothing to list."""
+    if not entries:
+        return None
+    for entry in entries:
+        entry.set_label(wrapped(entry.get_label()))
+    return ax.legend(handles=list(entries), loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
+                     title=title, alignment="left")
 
 
 def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | None = None, ax=None,
                   jumps: Iterable[tuple[JumpResult, dict[str, float], dict[str, float]]] = (),
                   colors: Sequence[str] | None = None, labels: Sequence[str] | None = None,
-                  special_kinds: Sequence[str] = ("fold", "branch_point", "event", "bifurcation"),
+                  special_kinds: Sequence[str] = SPECIAL_KINDS,
                   stability: str | None = None, axis_labels: Mapping[str, str] | None = None,
                   note: str = "", zero_line: bool = False, title: str = "",
                   scale: Mapping[str, float] | None = None, control: str | None = None, smooth: bool = True,
-                  symbols: Mapping[str, str] | None = None):
+                  symbols: Mapping[str, str] | None = None, same_as: Mapping[str, str] | None = None):
     r"""Plot branches: stable solid, unstable dashed, unknown stability thin; special points marked.
 
-    Each branch is drawn as one line per run of equal stability, each piece between two stored points
-    a cubic through both with the path's direction there (:func:`smooth_path`, from
-    :attr:`Branch.tangent_p` and :attr:`Branch.tangents`; straight where no tangent is stored).  A
-    fold is marked by the quantity that folds (:attr:`SpecialPoint.info` ``"folds"``, else the
-    branch's parameter): an open circle when it is the quantity on the x axis, a filled triangle (a
-    limit point) otherwise; an extremum event that declares a fold (``contin.extremum(..., folds=...)``)
-    is marked as that fold.  The markers are those of :data:`contin.style.MARKERS`.  The legend lists
-    the branches (when more than one is labelled), the line styles that occur (titled by the control
-    they refer to) and the kinds of points that occur, nothing that is not on the plot; it stands
-    beside the axes, where it hides no curve.
+    The pieces, each usable alone: :func:`draw_branch` (each branch as one line per run of equal
+    stability, drawn smooth from the stored tangents), :func:`mark_special_points` (a fold marked by
+    the quantity that folds: an open circle when it is the quantity on the x axis, a filled triangle
+    otherwise; the markers of :data:`contin.style.MARKERS`), :func:`draw_jumps` (the snaps as dotted
+    arrows), :func:`axis_label` and :func:`add_legend` (the branches when more than one is labelled,
+    the line styles that occur, titled by the control they refer to, and the kinds of points that
+    occur, beside the axes: nothing that is not on the plot).
 
     Parameters
     ----------
@@ -491,9 +694,8 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
         The stability label to style by (e.g. ``"displacement"``); default the primary label of
         each branch.  A branch without that label is drawn thin (stability unknown).
     axis_labels : mapping of str to str, optional
-        What an axis' quantity is, by name.  A text with ``$`` is the whole label (mathtext, e.g.
-        ``{"F": r"$F R / 2\pi D$"}``); other text is added to the name (``{"w": "pole displacement"}``
-        reads ``"w (pole displacement)"``).  Default: the name alone.
+        What an axis' quantity is, by name (:func:`axis_label`).  A text with ``$`` is the whole label
+        (mathtext, e.g. ``{"F": r"$F R / 2\pi D$"}``); other text is added to the name.
     note : str
         A line under the title (e.g. the classification).
     zero_line : bool
@@ -511,6 +713,9 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
     symbols : mapping of str to str, optional
         The quantities' symbols (mathtext) in the legend's names, by name: ``{"dV": r"$\Delta V$"}``
         reads "fold in ΔV" where the default is the name itself in math italics.
+    same_as : mapping of str to str, optional
+        Quantities that are another one in other units, by name: ``{"w_over_R": "w"}`` (a fold in ``w``
+        is a fold in ``w_over_R``, drawn as a fold when ``w_over_R`` is on the x axis).
 
     Returns
     -------
@@ -518,67 +723,32 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
     """
     from . import style
 
-    if isinstance(branches, Branch):
-        branches = [branches]
+    branches = [branches] if isinstance(branches, Branch) else list(branches)
     if ax is None:  # pyplot only for a figure of its own: the command line draws on an Agg canvas without it
         import matplotlib.pyplot as plt
 
         _, ax = plt.subplots(figsize=(style.WIDTH, style.HEIGHT))
-    if y is None:
-        y = next(iter(branches[0].observables), "p")
-    scale = dict(scale or {})
-    handles: dict[str, Any] = {}
+    y = y if y is not None else next(iter(branches[0].observables), "p")
     drawn: set[str] = set()
-    branch_handles: list[Any] = []
+    branch_handles = []
     for bi, br in enumerate(branches):
-        if not len(br):
-            continue
-        color = colors[bi] if colors else style.COLORS[bi % len(style.COLORS)]
-        label = labels[bi] if labels and bi < len(labels) else None
-        before = len(ax.lines)
-        drawn |= _plot_by_stability(ax, br, x, y, scale, _stability_of(br, stability), color, label, smooth)
-        if label:
-            from matplotlib.lines import Line2D
-
-            branch_handles.append(Line2D([], [], color=color, lw=style.STABLE["lw"], label=label))
-            for ln in ax.lines[before:]:
-                ln.set_label("_" + label)  # the legend shows the branch by its colour, not its first style
-    # after every branch: the legend lists the branches, then the line styles, then the kinds of points
-    for br in branches:
-        _mark_special_points(ax, br, x, y, scale, special_kinds, handles, dict(symbols or {}))
-    ref = branches[0]
-    fx, fy = scale.get(_axis_name(x, ref), 1.0), scale.get(_axis_name(y, ref), 1.0)
-    snapped = False
-    for jr, obs_a, obs_b in jumps:
-        pa = (_coordinate(x, jr.p, obs_a, ref), _coordinate(y, jr.p, obs_a, ref))
-        pb = (_coordinate(x, jr.p, obs_b, ref), _coordinate(y, jr.p, obs_b, ref))
-        if None in pa or None in pb:
-            continue
-        ax.annotate("", xy=(pb[0] * fx, pb[1] * fy), xytext=(pa[0] * fx, pa[1] * fy),
-                    arrowprops=dict(arrowstyle="-|>", ls=(0, (1.0, 1.5)), lw=1.0, color=style.GREY,
-                                    mutation_scale=9, shrinkA=0, shrinkB=2), zorder=3)
-        snapped = True
+        if len(br):
+            color = colors[bi] if colors else style.COLORS[bi % len(style.COLORS)]
+            drawn |= draw_branch(ax, br, x, y, color=color, stability=stability, scale=scale, smooth=smooth)
+            if labels and bi < len(labels) and labels[bi]:
+                branch_handles.append(branch_handle(color, labels[bi]))
+    points: dict[str, Any] = {}
+    for br in branches:  # after every branch: the marks lie above all lines
+        mark_special_points(ax, br, x, y, kinds=special_kinds, scale=scale, symbols=symbols, same_as=same_as,
+                            handles=points)
+    snaps = draw_jumps(ax, jumps, x, y, branches[0], scale=scale)
     if zero_line:
         ax.axhline(0.0, color="0.75", lw=0.6, zorder=0)
-    for axis, setter in ((x, ax.set_xlabel), (y, ax.set_ylabel)):
-        name = _axis_name(axis, ref)
-        what = (axis_labels or {}).get(name)
-        setter(what if what and "$" in what else (f"{name} ({what})" if what else name))
-    if control is None and stability is not None:
-        control = stability
-    head = "\n".join(t for t in (title, note) if t)
-    if head:
-        ax.set_title(head)
-    # one branch needs no entry of its own: its colour says nothing the axes do not
-    entries = (branch_handles if len(branch_handles) > 1 else []) + _stability_handles(drawn)
-    entries += list(handles.values())
-    if snapped:
-        from matplotlib.lines import Line2D
-
-        entries.append(Line2D([], [], color=style.GREY, ls=(0, (1.0, 1.5)), lw=1.0, label="snap (jump)"))
-    if entries:
-        # beside the axes, top aligned: a dense diagram leaves no corner free, and the legend hides nothing
-        ax.legend(handles=entries, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
-                  title=f"{control} control" if control and drawn & {"stable", "unstable"} else None,
-                  alignment="left")
+    ax.set_xlabel(axis_label(_axis_name(x, branches[0]), axis_labels))
+    ax.set_ylabel(axis_label(_axis_name(y, branches[0]), axis_labels))
+    if title or note:
+        ax.set_title("\n".join(t for t in (title, note) if t))
+    control = control if control is not None else stability
+    add_legend(ax, legend_entries(branch_handles, drawn, points, snaps > 0),
+               title=f"{control} control" if control and drawn & {"stable", "unstable"} else None)
     return ax

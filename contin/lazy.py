@@ -25,7 +25,7 @@ from collections.abc import Mapping
 from importlib import import_module
 from typing import Any
 
-__all__ = ["lazy_exports"]
+__all__ = ["lazy_exports", "lazy_module", "LazyModule"]
 
 
 class _LazyPackage(types.ModuleType):
@@ -68,3 +68,40 @@ def lazy_exports(package: str, exports: Mapping[str, str]) -> None:
 
     module.__dict__.update(_lazy_exports=exports, __getattr__=__getattr__, __dir__=__dir__)
     module.__class__ = _LazyPackage
+
+
+class LazyModule:
+    """A module imported when one of its attributes is first read (:func:`lazy_module`)."""
+
+    __slots__ = ("_name", "_module")
+
+    def __init__(self, name: str) -> None:
+        object.__setattr__(self, "_name", name)
+        object.__setattr__(self, "_module", None)
+
+    def _loaded(self) -> types.ModuleType:
+        if self._module is None:
+            object.__setattr__(self, "_module", import_module(self._name))
+        return self._module
+
+    def __getattr__(self, attr: str) -> Any:
+        return getattr(self._loaded(), attr)
+
+    def __setattr__(self, attr: str, value: Any) -> None:  # on the module itself, as on a plain import
+        setattr(self._loaded(), attr, value)
+
+    def __delattr__(self, attr: str) -> None:
+        delattr(self._loaded(), attr)
+
+    def __repr__(self) -> str:
+        return f"<module {self._name!r}, {'imported' if self._module is not None else 'imported on first use'}>"
+
+
+def lazy_module(name: str) -> LazyModule:
+    """The module ``name``, imported on the first read of one of its attributes.
+
+    For a module the engine needs only on some paths (``scipy.linalg`` for dense factorizations and
+    ARPACK, never on the default trace): ``sla = lazy_module("scipy.linalg")`` then ``sla.lu_factor(...)``
+    imports it there, and a run that never gets there never pays for the import.
+    """
+    return LazyModule(name)

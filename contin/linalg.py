@@ -28,9 +28,13 @@ from typing import Any
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.csgraph as csgraph
-import scipy.sparse.linalg as spla
 from scipy.linalg import lapack
+
+from .lazy import lazy_module
+
+# imported on first use: the sparse LU and the graph orderings are fallbacks the banded paths never reach
+csgraph = lazy_module("scipy.sparse.csgraph")
+spla = lazy_module("scipy.sparse.linalg")
 
 __all__ = [
     "Factorization",

@@ -33,12 +33,15 @@ from typing import Any
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
+from .lazy import lazy_module
 from .linalg import (BANDED_FRACTION, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
                      cholesky_band_solver, factorize, lower_band)
 
 __all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias"]
+
+# imported on first use: ARPACK is a fallback the banded inertia counts never reach
+spla = lazy_module("scipy.sparse.linalg")
 
 DENSE_LIMIT = 400
 #: Largest multiplier |L_ij| accepted in the pivot-free LDL^T before the inertia count is redone

@@ -418,9 +418,8 @@ def plot_shallow(limit: Sequence[dict[str, Any]]) -> Any:
     Above all depths; below the detail near ``h/R = 0``, where the thinnest cap (``h/R = 1e-4``) and the
     extrapolated limit lie a marker's width apart on the upper panel's scale.
     """
-    from matplotlib.patches import Rectangle
-
-    from contin.style import GREY, WIDTH
+    from contin.framing import show_detail
+    from contin.style import WIDTH
 
     plt = _plt()
     # a column: side by side at a page's width the detail would be 2.2 in wide
@@ -459,15 +458,11 @@ def plot_shallow(limit: Sequence[dict[str, Any]]) -> Any:
     for a in (ax, zoom):  # one above the other: each its own label
         a.set_ylabel(r"$p_\mathrm{snap}/p_\mathrm{Budiansky} - 1$  [%]")
     ax.set_xlim(-0.0005, 0.0105)
-    ax.add_patch(Rectangle((x_box[0], y_box[0]), x_box[1] - x_box[0], y_box[1] - y_box[0], fill=False,
-                           ec=GREY, lw=0.7, zorder=1.5))
     ax.set_title("finest mesh, $R/h$ = 100, 400, 1000, 10000 (filled);\n"
                  "open: shallow limit $h/R \\to 0$ of the lines $p_0 + c\\,h/R$ through $R/h$ = 1000, 10000",
                  fontsize="small", loc="left")
-    zoom.set_xlim(1e3 * x_box[0], 1e3 * x_box[1])
-    zoom.set_ylim(*y_box)
-    zoom.set_title("detail of the grey box" + (f" ($\\lambda = {', '.join(off_box)}$ below)" if off_box else ""),
-                   fontsize="small")
+    show_detail(ax, zoom, (x_box, y_box), scale=(1e3, 1.0),
+                title="detail of the grey box" + (f" ($\\lambda = {', '.join(off_box)}$ below)" if off_box else ""))
     ax.legend(ncol=2, loc="upper left")
     return fig
 

@@ -322,6 +322,7 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
 
     from contin import style
     from contin.diagram import stability_pieces
+    from contin.framing import show_detail
 
     c_pressure, c_volume = style.COLORS[4], style.COLORS[0]
     # a page's width (contin.style.WIDTH) split into one column per cap, printable as saved
@@ -342,9 +343,11 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
         paths = [(_curve(pr, V0, cap.p_c, True), pr.stable, _located(pr), c_pressure, 5.0, 2, "pressure"),
                  (_curve(vol, V0, cap.p_c, False), vol.stable_under(VOLUME_LABELS[0]), _located(vol), c_volume, None,
                   3, "volume")]
+        inside = vol.p / V0 <= zoom_x
+        snaps = ((0.0, zoom_x), (0.0, 1.12 * float(np.max(vol.observables["p"][inside])) / cap.p_c))
         for row, ax in enumerate(axes[:, col]):
-            if row == 1:
-                ax.set_xlim(0.0, zoom_x)
+            if row == 1:  # the snaps: the detail of a grey box on the whole path above
+                show_detail(axes[0, col], ax, snaps, title="the snaps (detail of the grey box)")
             entries = []
             for (x, y, dx, dy, s), stable, cuts, color, lw, z, control in paths:
                 kinds = set()
@@ -395,10 +398,6 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
                 ax.set_ylim(0.0, None)
                 # below the column's panels: inside, at a half page's width, it would cover the paths
                 below[col].legend(handles=entries, loc="upper center", borderaxespad=0.0)
-            else:
-                inside = vol.p / V0 <= zoom_x
-                ax.set_ylim(0.0, 1.12 * float(np.max(vol.observables["p"][inside])) / cap.p_c)
-                ax.set_title("the snaps (detail)", fontsize="small")
     return fig
 
 

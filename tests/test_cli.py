@@ -17,7 +17,7 @@ from contin import cli, registry
 from contin.scene import (Classification, SceneError, SceneModel, Schema, TraceResult, can_classify, integer,
                           load_scene, real)
 
-OUTPUTS = {"summary.json", "branch.csv", "diagram.png", "diagram.pdf", "states.npz"}
+OUTPUTS = {"summary.json", "branch.csv", "diagram.png", "states.npz"}
 
 
 def run_cli(capsys, *argv: str) -> tuple[int, str, str]:

@@ -87,13 +87,13 @@ def test_stored_tangents_make_the_branch_smooth_and_survive_saving(tmp_path: Pat
     np.testing.assert_array_equal(back.tangents["F"], br.tangents["F"])
 
 
-def test_trace_writes_png_and_pdf_and_plot_draws_them_smooth_again(tmp_path: Path, capsys) -> None:
+def test_trace_writes_png_and_plot_draws_it_smooth_again(tmp_path: Path, capsys) -> None:
     out = tmp_path / "run"
     code = cli.main(["trace", "-q", "--set", "shell.N=40", "--set", "shell.phi_hat=0.8", "--set",
                      "continuation.ds_max=0.05", "--out", str(out)])
     assert code == 0
     for stem in ("diagram", "shapes"):
-        assert (out / f"{stem}.png").read_bytes()[:8] == PNG and (out / f"{stem}.pdf").read_bytes()[:5] == PDF
+        assert (out / f"{stem}.png").read_bytes()[:8] == PNG
     header = (out / "branch.csv").read_text().splitlines()[0].split(",")
     assert {"tangent_p", "tangent_F", "tangent_w"} <= set(header)
     from contin.saved import load_run
@@ -104,7 +104,7 @@ def test_trace_writes_png_and_pdf_and_plot_draws_them_smooth_again(tmp_path: Pat
     assert "N = 40" in run.plot_options["title"]
     capsys.readouterr()
     assert cli.main(["plot", str(out), str(out), "--out", str(tmp_path / "both.pdf")]) == 0
-    assert (tmp_path / "both.pdf").read_bytes()[:5] == PDF and (tmp_path / "both.png").read_bytes()[:8] == PNG
+    assert (tmp_path / "both.pdf").read_bytes()[:5] == PDF and not (tmp_path / "both.png").exists()
 
 
 def test_the_style_saves_both_formats_and_leaves_the_global_rcparams_alone(tmp_path: Path) -> None:
@@ -180,7 +180,7 @@ def test_the_first_bifurcation_names_its_mode_in_the_legend_not_on_the_axes() ->
                                                      info={"family": "n", "key": 3 + k}))
     ax = Figure().subplots()
     contin.plot_branches(br, x="p", y="y", ax=ax, stability="stability")
-    names = [t.get_text() for t in ax.get_legend().get_texts()]
+    names = [" ".join(t.get_text().split("\n")) for t in ax.get_legend().get_texts()]  # long texts are broken
     assert "bifurcation into another mode (first: $n = 3$)" in names
     assert not ax.texts  # no label beside a marker
 
@@ -249,3 +249,357 @@ def test_stability_runs_leave_no_lone_point_and_unknown_is_one_run() -> None:
     # straight pieces (no tangents) are cut on the chord
     (X0, Y0, _), (X1, Y1, _) = stability_pieces(x, y, None, None, s, [True, True, False, False, False], [0.3])
     assert (X0[-1], Y0[-1]) == pytest.approx((0.3, 0.0625 + 0.2 * (0.25 - 0.0625)))
+
+
+# ---- issue 32: figures for every scene ---------------------------------------------------------------------
+def _trace(tmp_path: Path, name: str, *settings: str, capsys=None) -> Path:
+    """A small run of the shell (N = 40) into ``tmp_path/name``; ``settings``: ``key=value`` pairs."""
+    out = tmp_path / name
+    args = ["trace", "-q", "--set", "shell.N=40"] + [a for kv in settings for a in ("--set", kv)] + ["--out", str(out)]
+    assert cli.main(args) == 0
+    if capsys is not None:
+        capsys.readouterr()
+    return out
+
+
+def test_trace_writes_pdf_only_when_asked_by_flag_or_key(tmp_path: Path, capsys) -> None:
+    """PNG by default; ``--pdf`` or ``output.pdf = true`` add the PDFs; a rerun without them removes the PDFs
+    the earlier run left (they would show another run than the summary beside them)."""
+    out = _trace(tmp_path, "run", capsys=capsys)
+    assert {p.name for p in out.iterdir() if p.suffix in (".png", ".pdf")} == {"diagram.png", "shapes.png"}
+    assert cli.main(["trace", "-q", "--set", "shell.N=40", "--pdf", "--out", str(out)]) == 0
+    assert (out / "diagram.pdf").read_bytes()[:5] == PDF and (out / "shapes.pdf").read_bytes()[:5] == PDF
+    _trace(tmp_path, "run", capsys=capsys)
+    assert not (out / "diagram.pdf").exists() and not (out / "shapes.pdf").exists()
+    keyed = _trace(tmp_path, "keyed", "output.pdf=true", capsys=capsys)
+    assert (keyed / "diagram.pdf").read_bytes()[:5] == PDF and (keyed / "diagram.png").read_bytes()[:8] == PNG
+
+
+def test_plot_writes_the_format_its_file_names_and_pdf_on_request(tmp_path: Path, capsys) -> None:
+    out = _trace(tmp_path, "run", capsys=capsys)
+    assert cli.main(["plot", str(out), "-o", str(tmp_path / "x.png")]) == 0
+    assert (tmp_path / "x.png").read_bytes()[:8] == PNG and not (tmp_path / "x.pdf").exists()
+    assert cli.main(["plot", str(out), "-o", str(tmp_path / "y.png"), "--pdf"]) == 0
+    assert (tmp_path / "y.pdf").read_bytes()[:5] == PDF and (tmp_path / "y.png").read_bytes()[:8] == PNG
+    assert cli.main(["plot", str(out), "-o", str(tmp_path / "z.pdf")]) == 0
+    assert (tmp_path / "z.pdf").read_bytes()[:5] == PDF and not (tmp_path / "z.png").exists()
+
+
+@pytest.mark.parametrize("scene, folds_in", [
+    (["load.kind=ring", "shell.boundary=clamped"], "w"),  # eight folds in w under a stiffening that reaches 16000
+    (["load.kind=pressure", "shell.boundary=clamped"], "dV"),  # the snap at dV/V0 = 0.05 of a path to 2.1
+])
+def test_the_snaps_get_a_detail_when_the_stiffening_sets_the_axes(tmp_path: Path, capsys, monkeypatch, scene,
+                                                                   folds_in) -> None:
+    """The diagram of a scene whose path after eversion reaches far beyond its snaps has an Axes on which the
+    folds under its control lie inside the limits with margin and span a sizeable part of both ranges; the
+    whole path stays drawn (above, the detail's box marked on it)."""
+    from tests.figure_check import CapturedFigures, marker_points, inside_with_margin, span_fraction
+
+    captured = CapturedFigures().install(monkeypatch)
+    out = _trace(tmp_path, "run", *scene, capsys=capsys)
+    import json
+
+    summary = json.loads((out / "summary.json").read_text())
+    assert sum(r["kind"] == "fold" and r["parameter"] == folds_in for r in summary["special_points"]) >= 2
+    diagram = captured.figures[0]
+    best = max(diagram.axes, key=lambda ax: min(span_fraction(ax, marker_points(ax, "o"))))
+    circles = marker_points(best, "o")  # the folds in the quantity on the x axis
+    assert len(circles) >= 2 and inside_with_margin(best, circles, 0.03)
+    assert min(span_fraction(best, circles)) > 0.25
+    whole = max(diagram.axes, key=lambda ax: ax.get_ylim()[1])
+    top = max(float(np.nanmax(ln.get_ydata())) for ln in whole.lines if len(ln.get_ydata()) > 1)
+    assert whole.get_ylim()[1] >= top  # the path to its end is still shown
+
+
+def test_limits_around_the_snaps_say_where_the_path_goes_off_the_axes() -> None:
+    """A path whose last branch stiffens straight up to 100 after snaps at 12 and 16 (the plate under a dead
+    load): one panel, limited to the snaps (both arrows on it), with the value the path reaches written at
+    its edge."""
+    from types import SimpleNamespace
+
+    from contin.figures import trace_figure
+    from contin.scene import TraceResult
+    from tests.figure_check import arrows
+
+    def branch(w: np.ndarray, F: np.ndarray, folds: list[int]) -> contin.Branch:
+        n = w.size
+        spts = [contin.SpecialPoint("fold", float(F[i]), np.zeros(0), {"w": float(w[i]), "F": float(F[i])},
+                                    located=True, index=i, info={"folds": "F"}) for i in folds]
+        return contin.Branch(p=F, u=np.zeros((n, 0)), s=np.arange(n, dtype=float), observables={"w": w, "F": F},
+                             special_points=spts, meta={"parameter_name": "F"}, tangent_p=np.full(n, np.nan),
+                             residual=np.zeros(n), newton_iterations=np.zeros(n, dtype=int))
+
+    t = np.linspace(0.0, 1.0, 30)
+    branches = [branch(0.06 * t, 12.0 * t, [29]), branch(0.07 + 0.06 * t, 12.0 + 4.0 * np.sin(0.5 * np.pi * t), [29]),
+                branch(0.28 + 0.001 * t, 16.0 + 84.0 * t, [])]
+    result = TraceResult(branches=branches, jumps=[SimpleNamespace(p=12.0), SimpleNamespace(p=16.0)], x="w", y="F",
+                         parameter_name="F", labels=["loading", "after snap 1", "after snap 2"],
+                         jump_observables=[({"w": 0.06, "F": 12.0}, {"w": 0.07, "F": 12.0}),
+                                           ({"w": 0.13, "F": 16.0}, {"w": 0.28, "F": 16.0})])
+    fig = trace_figure("plate", result)
+    ax = fig.axes[0]
+    assert len(fig.axes) == 1 and 16.0 < ax.get_ylim()[1] < 25.0
+    assert len(arrows(ax)) == 2  # both snaps
+    assert any("100" in t.get_text() for t in ax.texts)
+
+
+def test_plot_of_other_quantities_names_them_and_marks_folds_in_w_as_folds(tmp_path: Path, capsys) -> None:
+    """The README's ``contin plot OUT -x w_over_R -y F_norm``: the axes read w/R and F R/2 pi D, and a fold in
+    w is a fold in w/R (an open circle), not a limit point beside the limit points in F."""
+    from contin.saved import load_run
+    from tests.figure_check import legend_texts
+
+    run = load_run(_trace(tmp_path, "run", capsys=capsys))
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    ax = Figure().subplots()
+    contin.plot_branches(run.branches, x="w_over_R", y="F_norm", ax=ax, stability=run.stability, **run.plot_options)
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("$w/R$", r"$F R / 2\pi D$")
+    names = legend_texts(ax)
+    assert "fold in $w$" in names and "limit point in $w$" not in names
+    assert len(names) == len(set(names))
+
+
+def _overlay_runs(tmp_path: Path, capsys) -> list[Path]:
+    """Three point-load runs of one model that differ in several keys, two of them in keys no title shows."""
+    return [_trace(tmp_path, "a", capsys=capsys),
+            _trace(tmp_path, "b", "load.control=force", "shell.h=0.015", "shell.phi_hat=0.7", capsys=capsys),
+            _trace(tmp_path, "c", "shell.nu=0.3", "continuation.ds_max=0.05", capsys=capsys)]
+
+
+def test_an_overlay_keeps_its_axes_wide_and_its_title_inside(tmp_path: Path, capsys, monkeypatch) -> None:
+    """Legend labels long enough to squeeze the axes to 40 % of the figure and push the title off its edge
+    are broken into lines: the axes keep more than half the width and every text stays on the figure."""
+    from tests.figure_check import CapturedFigures
+
+    runs = _overlay_runs(tmp_path, capsys)
+    captured = CapturedFigures().install(monkeypatch)
+    assert cli.main(["plot", *map(str, runs), "-o", str(tmp_path / "o.png")]) == 0
+    fig = captured.figures[0]
+    from contin import style
+
+    fig.set_dpi(style.DPI)  # measured as written
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    assert ax.get_position().width > 0.5
+    page = fig.bbox
+    for artist in (ax.title, ax.get_legend()):
+        box = artist.get_window_extent(fig.canvas.get_renderer())
+        assert page.x0 - 0.5 <= box.x0 and box.x1 <= page.x1 + 0.5, artist
+
+
+def test_a_force_and_a_displacement_run_overlaid_keep_their_controls_and_the_snap(tmp_path: Path, capsys,
+                                                                                  monkeypatch) -> None:
+    """Overlaid, the dead load's run keeps its snap arrow, and the legend does not call both runs
+    displacement-controlled."""
+    from tests.figure_check import CapturedFigures, arrows, legend_texts
+
+    runs = [_trace(tmp_path, "d", capsys=capsys), _trace(tmp_path, "f", "load.control=force", capsys=capsys)]
+    captured = CapturedFigures().install(monkeypatch)
+    assert cli.main(["plot", *map(str, runs), "-o", str(tmp_path / "o.png")]) == 0
+    ax = captured.figures[0].axes[0]
+    assert len(arrows(ax)) >= 1
+    assert ax.get_legend().get_title().get_text() != "displacement control"
+    assert {"displacement control", "force control"} <= set(legend_texts(ax))
+
+
+def test_overlay_labels_name_what_differs_in_the_scenes_titles() -> None:
+    """A plate's entry names no sphere radius (the plate has none); the runs are told apart by their titles."""
+    from contin.saved import SavedRun, overlay_labels
+    from contin_models.shell_scene import SHELL_SCENE
+    from contin_models.shell_scene.labels import scene_title
+    from contin.scene import load_scene
+
+    runs = []
+    for name, sets in (("pt", []), ("sph", ["load.kind=sphere", "load.radius=0.3"]), ("pl", ["load.kind=plate"])):
+        scene = load_scene(SHELL_SCENE.schema, None, sets)
+        runs.append(SavedRun(path=Path(name), summary={"model": "shell", "scene": scene}, branches=[],
+                             plot_options={"title": scene_title(scene)}, stability="displacement"))
+    title, labels = overlay_labels(runs)
+    assert labels == ["point load", "rigid sphere, $r_s/R = 0.3$", "rigid plate"]
+    assert not any("radius" in label for label in labels)
+    assert title.startswith("shell: ") and r"$h/R = 0.02$" in title
+
+
+@pytest.mark.parametrize("scene, label", [
+    (["load.kind=pressure", "shell.boundary=clamped", "load.control=force"], "$p/p_c$"),
+    (["load.kind=ring", "shell.boundary=clamped"], "$w/R$"),
+])
+def test_the_shapes_are_labelled_as_the_diagram_with_the_length_named_and_the_load_drawn(
+        tmp_path: Path, capsys, monkeypatch, scene, label) -> None:
+    """The shapes of a pressure run say p/p_c (the diagram's axis) where they said p = 219; the cross-sections
+    are in r/R, z/R (never an undefined L); a ring load is drawn as arrows on each shape."""
+    from tests.figure_check import CapturedFigures, legend_texts
+
+    captured = CapturedFigures().install(monkeypatch)
+    _trace(tmp_path, "run", *scene, capsys=capsys)
+    shapes = captured.figures[1]
+    ax = shapes.axes[0]
+    names = legend_texts(ax)
+    drawn = [n for n in names if n.startswith(("fold", "limit point"))]
+    assert drawn and all(f" at {label} = " in n for n in drawn)
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("$r / R$", "$z / R$")
+    if "load.kind=ring" in scene:  # an arrow's head at the ring's node on each side of the axis, on every shape
+        heads = [xy for ln in ax.lines if ln.get_marker() in ("v", "^") for xy in ln.get_xydata()]
+        assert len(heads) == 2 * len(drawn) and "ring load" in names
+        assert sorted(round(float(x), 9) for x, _ in heads) == sorted(round(-float(x), 9) for x, _ in heads)
+
+
+def test_the_shapes_draw_the_sphere_where_it_stands(tmp_path: Path, capsys, monkeypatch) -> None:
+    """Each cross-section of a sphere indentation shows the rigid sphere where it stands: its lowest point on
+    the pole at the release fold, where the sphere still touches it."""
+    from tests.figure_check import CapturedFigures, legend_texts
+
+    captured = CapturedFigures().install(monkeypatch)
+    out = _trace(tmp_path, "run", "load.kind=sphere", capsys=capsys)
+    ax = captured.figures[1].axes[0]
+    shapes = np.load(out / "shapes.npz")
+    folds = [k for k, kind in enumerate(shapes["special_kind"]) if kind == "fold"]
+    drawn = [n for n in legend_texts(ax) if n.startswith("fold")]
+    assert folds and len(drawn) == len(folds)
+    # the reference, each shape and, thin, the sphere of each shape
+    thin = [ln for ln in ax.lines if len(ln.get_xydata()) > 2 and ln.get_linewidth() < 0.9]
+    assert len(thin) == len(folds)
+    for line, k in zip(thin, folds):
+        assert float(np.nanmin(line.get_ydata())) == pytest.approx(shapes["special_z"][k][-1], abs=2e-3)
+
+
+def test_the_shapes_draw_the_plate_where_it_stands() -> None:
+    from contin import style
+    from contin_models.shell_scene.deformed import LoadSketch, draw_shapes
+
+    shapes = _flat_cap_shapes(False)
+    pole = shapes["special_z"][:, -1]
+    shapes["special_indenter"] = pole
+    with style.context():
+        fig, _ = style.figure(nrows=0)
+        draw_shapes(fig, shapes, 1.0, "w_b", "$w_b/R$", 1.0, load=LoadSketch("plate"))
+    ax = fig.axes[0]
+    plates = [ln for ln in ax.lines if len(ln.get_xydata()) == 2 and np.ptp(ln.get_ydata()) == 0.0]
+    assert sorted(float(ln.get_ydata()[0]) for ln in plates) == sorted(pole)
+    assert "rigid plate, in each shape's colour" in [t.get_text() for t in ax.get_legend().get_texts()]
+
+
+def test_plot_branches_is_put_together_from_short_reusable_pieces() -> None:
+    """Drawing a branch, its special points and the legend are functions of their own, each usable alone: with
+    them a diagram is drawn as plot_branches draws it; plot_branches itself is short."""
+    import inspect
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from contin.diagram import add_legend, draw_branch, draw_jumps, legend_entries, mark_special_points, plot_branches
+
+    br = _truss_branch()
+    ax = Figure().subplots()
+    contin.plot_branches(br, x="p", y="y", ax=ax, stability="stability")
+    by_pieces = Figure().subplots()
+    drawn = draw_branch(by_pieces, br, "p", "y", color="C0", stability="stability")
+    points = mark_special_points(by_pieces, br, "p", "y")
+    add_legend(by_pieces, legend_entries([], drawn, points, snaps=False), title="stability control")
+    for a, b in zip(ax.lines, by_pieces.lines):
+        np.testing.assert_array_equal(a.get_xydata(), b.get_xydata())
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == \
+        [t.get_text() for t in by_pieces.get_legend().get_texts()]
+    for piece in (plot_branches, draw_branch, mark_special_points, add_legend, legend_entries, draw_jumps):
+        source = inspect.getsource(piece)
+        body = source[source.index('"""', source.index('"""') + 3) + 3:]  # after the docstring
+        assert len([ln for ln in body.splitlines() if ln.strip()]) <= 45, piece.__name__
+
+
+def test_an_event_at_a_fold_and_a_snap_that_moves_nothing_on_the_axes_make_no_blob() -> None:
+    """Where a sphere releases the shell, the F -> 0 event, the release fold and the snap at zero force fall
+    on one point: the fold is marked once, with no diamond in it and no arrow of zero length."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from tests.figure_check import arrows
+
+    br = _truss_branch()
+    fold = next(s for s in br.special_points if s.kind == "fold")
+    br.special_points.append(contin.SpecialPoint("event", fold.p, fold.u.copy(), dict(fold.observables), located=True,
+                                                 label="F -> 0", index=fold.index))
+    at = dict(fold.observables)
+    ax = Figure().subplots()
+    from types import SimpleNamespace
+
+    contin.plot_branches(br, x="p", y="y", ax=ax, jumps=[(SimpleNamespace(p=fold.p), at, dict(at, y=at["y"] - 1e-9))])
+    assert not [ln for ln in ax.lines if ln.get_marker() == "d"]
+    assert len([ln for ln in ax.lines if ln.get_marker() == "o"]) == 1
+    assert not arrows(ax)
+
+
+def test_a_saved_run_whose_parameter_has_its_own_column_is_drawn_against_it(tmp_path: Path) -> None:
+    """A volume-controlled run saves the volume change dV as its parameter's column and the pressure as "p":
+    read back, the path's parameter is dV (``contin plot`` drew ΔV/V0 up to 10000 from the pressure)."""
+    from contin.saved import load_run
+    from tests.figure_check import write_saved_run
+
+    dV, pressure = np.array([0.0, 0.01, 0.02]), np.array([0.0, 400.0, 300.0])
+    summary = {"model": "shell", "parameter": "dV", "diagram": {"x": "dV", "y": "p_over_p_c"},
+               "special_points": [{"kind": "fold", "parameter": "dV", "branch": 0, "p": 400.0,
+                                   "observables": {"dV": 0.01, "p": 400.0, "p_over_p_c": 0.8}}]}
+    out = write_saved_run(tmp_path / "vol", summary, {"branch": [0, 0, 0], "p": pressure, "dV": dV,
+                                                       "p_over_p_c": pressure / 500.0, "s": [0.0, 1.0, 2.0]})
+    br = load_run(out).branches[0]
+    np.testing.assert_array_equal(br.p, dV)
+    assert br.special_points[0].p == 0.01
+
+
+def test_an_overlay_limited_to_one_runs_snaps_keeps_every_other_run_whole() -> None:
+    """Overlaid with a run whose last branch rises to 100 after its snaps, a run whose whole path shows its
+    snaps (the point load, down to F = -11) is not cut off by the limits chosen for the other."""
+    from contin.framing import Frame, combine
+
+    whole_run = Frame(region=((0.0, 0.4), (-6.0, 11.6)), whole=((0.0, 0.6), (-11.2, 12.3)), farthest={})
+    stiff_run = Frame(region=((0.0, 0.28), (0.0, 16.4)), whole=((0.0, 0.28), (0.0, 100.0)), farthest={})
+    assert whole_run.layout is None and stiff_run.layout == "limits"
+    both = combine([whole_run, stiff_run])
+    assert both.layout == "limits"
+    (x0, x1), (y0, y1) = both.detail
+    assert y0 < -11.2 and 16.4 < y1 < 100.0 and x0 < 0.0 and x1 > 0.6
+
+
+@pytest.mark.parametrize("scene", [[], ["load.kind=ring", "shell.boundary=clamped"]])
+def test_the_written_figures_keep_every_text_inside_and_clear_of_the_panels(tmp_path: Path, capsys, monkeypatch,
+                                                                            scene) -> None:
+    """The diagram (one panel, or two with the snaps' detail) and the shapes figure, as written: titles, axis
+    labels, tick labels and legends lie on the figure, no legend or text of one panel lies on another panel,
+    and the panels keep most of the figure (their layout measures the texts once, as the constrained
+    layout did)."""
+    from contin import style
+    from tests.figure_check import CapturedFigures
+
+    captured = CapturedFigures().install(monkeypatch)
+    _trace(tmp_path, "run", *scene, capsys=capsys)
+    for fig in captured.figures:
+        fig.set_dpi(style.DPI)
+        with style.context():
+            fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        page = fig.bbox.padded(0.5)
+        panels = [ax for ax in fig.axes if ax.axison]
+        # (box, the panel it belongs to or None for the figure's own texts and the legends)
+        boxes = [(t.get_window_extent(renderer), None) for t in fig.texts if t.get_text()]
+        for ax in panels:
+            boxes += [(t.get_window_extent(renderer), ax) for t in (ax.title, ax.xaxis.label, ax.yaxis.label)
+                      if t.get_text()]
+            boxes += [(axis.get_tightbbox(renderer), ax) for axis in (ax.xaxis, ax.yaxis)]  # tick labels drawn
+            if ax.get_legend() is not None:
+                boxes.append((ax.get_legend().get_window_extent(renderer), None))
+        for box, _ in boxes:
+            assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 and box.y1 <= page.y1, box
+        for ax in panels:
+            inner = ax.get_window_extent(renderer).shrunk(0.98, 0.98)
+            for box, owner in boxes:
+                if owner is not ax:
+                    assert not inner.overlaps(box), (ax, box)
+        assert panels[0].get_position().width > 0.5

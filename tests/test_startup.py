@@ -60,6 +60,22 @@ def test_help_and_refused_input_import_nothing_heavy(args: list[str], code: int,
         assert out
 
 
+def test_a_trace_with_its_figures_imports_no_scipy_it_does_not_use(tmp_path: Path) -> None:
+    """A default-control trace with its figures never factorizes sparse matrices by LU, never runs ARPACK and
+    needs no graph ordering: scipy.sparse.linalg and scipy.sparse.csgraph stay unimported (they were
+    imported by the engine's modules on load); and it writes its figures as PNG only."""
+    child = CHILD.replace('{"numpy", "scipy", "matplotlib", "networkx"}',
+                          '{"scipy.sparse.linalg", "scipy.sparse.csgraph", "matplotlib"}').replace(
+        "m.split(\".\")[0]", "\".\".join(m.split(\".\")[:3])")
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-c", child, "trace", "-q", "--set", "shell.N=40", "--out", str(out)],
+                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    result = json.loads(proc.stderr.strip().splitlines()[-1])
+    assert result["code"] == 0, proc.stderr
+    assert result["heavy"] == ["matplotlib"]  # the figures were drawn, with nothing else of the list
+    assert sorted(p.name for p in out.glob("*.p*g")) == ["diagram.png", "shapes.png"] and not list(out.glob("*.pdf"))
+
+
 def test_the_check_sees_a_heavy_import() -> None:
     # the test above can fail: a child that imports numpy is reported
     proc = subprocess.run([sys.executable, "-c", CHILD.replace("code = main", "import numpy; code = main"), "--help"],

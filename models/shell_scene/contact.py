@@ -53,7 +53,7 @@ from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import contact_problem, point_problem, pole_moved, rest_stiffness, watch_harmonics
-from .deformed import shapes_drawer, shell_shapes
+from .deformed import LoadSketch, shapes_drawer, shell_shapes
 from .labels import force_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene, instability_text, record_instability
 
@@ -77,9 +77,17 @@ _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
 MAX_SNAPS = 4
 #: What the diagram's axes show.
 def _plot_options(scene: Scene, D: float) -> dict[str, Any]:
-    """The diagram in the cap's reference units (indenter travel w_b/R, force F R/(2 pi D)), titled by the scene."""
-    axis_labels, scale = force_axes("w_b", scene["shell"]["R"], D, w_symbol="w_b")
-    return {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene), "zero_line": True}
+    """The diagram in the cap's reference units (indenter travel w_b/R, force F R/(2 pi D)), titled by the scene.
+
+    ``branch.csv`` repeats the travel as ``w`` and ``w_over_R`` (the point load's columns): labelled and
+    scaled as ``w_b``, and so are the shell's own lengths over ``R``.
+    """
+    R = scene["shell"]["R"]
+    options = force_axes("w_b", R, D, w_symbol="w_b", scaled={"w_b_over_R": "w_b", "w_over_R": "w_b", "F_norm": "F"})
+    options["axis_labels"].update(w=options["axis_labels"]["w_b"], Delta_H_over_R=r"$\Delta H/R$")
+    options["scale"]["w"] = 1.0 / R
+    options["same_as"]["w"] = "w_b"
+    return {**options, "title": scene_title(scene), "zero_line": True}
 _OBS = ("w_b", "F", "w_b_over_R", "F_norm", "w_s", "w_s_over_R", "Delta_H", "Delta_H_over_R", "kappa_p_R",
         "n_contact", "contact_first", "contact_last")
 
@@ -293,15 +301,17 @@ def _result(problem: ShellIndentation | ShellIndentationForce, scene: Scene,
         cols = {"w": cols["w_b"], "F": cols.get("F"), "w_over_R": cols["w_b_over_R"], "F_norm": cols.get("F_norm"),
                 **{k: v for k, v in cols.items() if k not in ("F", "F_norm")}}
     shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.elastic.cap.x,
-                          path=scene["output"]["shapes"] == "path")
+                          path=scene["output"]["shapes"] == "path",
+                          fields={"indenter": lambda spt: problem.c0 - spt.observables.get("w_b", math.nan)})
     plot_options = _plot_options(scene, problem.D)
     shown = (("w_over_R", "w_b/R", "w_b/R"), ("F_norm", "F R/(2 pi D)", r"F R/2\pi D"))
     instability = instability_text(summary, shown)
     if instability and branches and len(branches[0]):
         branches[0].message = f"{branches[0].message}; {instability}"
         plot_options["note"] = instability_text(summary, shown, tex=True)
+    sketch = LoadSketch(scene["load"]["kind"], radius=float(scene["load"]["radius"]))
     return TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                        table=generic.table, csv_columns=cols, x="w_b", y="F", parameter_name=problem.parameter_name,
                        labels=labels, jump_observables=generic.jump_observables, failure=failure,
                        stability=control, plot_options=plot_options,
-                       shapes=shapes, draw_shapes=shapes_drawer(shapes, R, problem.parameter_name, plot_options))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, R, problem.parameter_name, plot_options, load=sketch))

@@ -2,7 +2,9 @@
 
 The engine draws (:func:`contin.plot_branches`); the names of the loads and the shell's reference units
 are the model's, handed over in ``TraceResult.plot_options`` (``title``, ``axis_labels`` in mathtext,
-``scale``: the factor that turns a quantity into the one the axis shows).
+``scale``: the factor that turns a quantity into the one the axis shows, ``same_as``: the observables
+that are another quantity in those units already, ``w_over_R`` for ``w``).  The length the units refer
+to is named by its symbol (:func:`length_symbol`): ``R`` for the spherical cap, never an undefined ``L``.
 """
 
 from __future__ import annotations
@@ -10,12 +12,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
-__all__ = ["scene_title", "force_axes", "POINT_AXES", "PRESSURE_AXIS_LABELS"]
+from .shape import length_scale
 
-#: The pressure scene's axes are dimensionless already.
-PRESSURE_AXIS_LABELS = {"w_over_h": "$w/h$", "p_over_p_c": "$p/p_c$"}
-#: The point-loaded cap: pole displacement over the sphere radius, force in the bending unit 2 pi D / R.
-POINT_AXES = {"w": "$w/R$", "F": r"$F R / 2\pi D$"}
+__all__ = ["scene_title", "force_axes", "pressure_axes", "length_symbol"]
 
 
 def _number(v: float) -> str:
@@ -32,7 +31,8 @@ def scene_title(scene: dict[str, dict[str, Any]]) -> str:
     shell, load, imp = scene["shell"], scene["load"], scene.get("imperfection", {})
     kind = load["kind"]
     R = shell["R"]
-    parts = {"point": ["point load"], "ring": [f"ring load, $r_l/R = {_number(load['ring_radius'] / R)}$"],
+    L, unit = length_symbol(shell), length_scale(shell) if kind == "ring" else 1.0
+    parts = {"point": ["point load"], "ring": [f"ring load, $r_l/{L} = {_number(load['ring_radius'] / unit)}$"],
              "sphere": [f"rigid sphere, $r_s/R = {_number(load['radius'] / R)}$"], "plate": ["rigid plate"],
              "pressure": ["uniform pressure"]}.get(kind, [f"{kind} load"])
     if kind == "pressure" and load.get("control") == "displacement":
@@ -54,10 +54,44 @@ def scene_title(scene: dict[str, dict[str, Any]]) -> str:
     return ", ".join(parts)
 
 
-def force_axes(w: str, length: float, D: float, length_symbol: str = "R",
-               w_symbol: str = "w") -> tuple[dict[str, str], dict[str, float]]:
-    """Axis labels and scales of a force-displacement diagram in reference units: ``w / L`` and
-    ``F L / (2 pi D)`` (``L``: the shape's length, ``D`` the bending stiffness); ``w`` names the travel."""
+def length_symbol(shell: dict[str, Any]) -> str:
+    """The symbol (mathtext, without ``$``) of the shape's length scale
+    (:func:`contin_models.shell_scene.shape.length_scale`): ``R`` (sphere, torispherical head), ``a`` (cone,
+    plate), ``(a^2/b)`` (the spheroid's radius of curvature at its pole), ``r_{max}`` (a table's largest
+    radius)."""
+    return {"sphere": "R", "torus": "R", "cone": "a", "plate": "a", "ellipse": "(a^2/b)"}.get(
+        shell.get("geometry", "sphere"), "r_{max}")
+
+
+def force_axes(w: str, length: float, D: float, length_symbol: str = "R", w_symbol: str = "w",
+               scaled: dict[str, str] | None = None) -> dict[str, Any]:
+    """The plot options of a force-displacement diagram in reference units: ``w / L`` and ``F L / (2 pi D)``
+    (``L``: the shape's length, named ``length_symbol``; ``D`` the bending stiffness); ``w`` names the
+    travel.
+
+    Parameters
+    ----------
+    w, length, D, length_symbol, w_symbol
+        As above.
+    scaled : dict of str to str, optional
+        Observables that are ``w`` or ``F`` in these units already, by name (``{"w_over_R": "w",
+        "F_norm": "F"}``): labelled alike, and a fold in ``w`` is a fold in them (``same_as``).
+
+    Returns
+    -------
+    dict
+        ``axis_labels``, ``scale`` and ``same_as``.
+    """
     L = length_symbol
     labels = {w: f"${w_symbol}/{L}$", "F": rf"$F {L} / 2\pi D$"}
-    return labels, {w: 1.0 / length, "F": length / (2.0 * math.pi * D)}
+    scaled = dict(scaled or {})
+    labels.update({name: labels[of] for name, of in scaled.items()})
+    return {"axis_labels": labels, "scale": {w: 1.0 / length, "F": length / (2.0 * math.pi * D)}, "same_as": scaled}
+
+
+def pressure_axes(p_c: float) -> dict[str, Any]:
+    """The plot options of a pressure scene: the pole deflection over the thickness, ``w/h``, and the
+    pressure over the classical one, ``p/p_c`` (the observables ``w_over_h`` and ``p_over_p_c``, and ``p``
+    scaled to it: what the shapes' labels and ``contin plot -x p`` show)."""
+    return {"axis_labels": {"w_over_h": "$w/h$", "p_over_p_c": "$p/p_c$", "p": "$p/p_c$"}, "scale": {"p": 1.0 / p_c},
+            "same_as": {"p_over_p_c": "p", "w_over_h": "w"}}

@@ -66,7 +66,7 @@ from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
 from .build import end_of_path, force_snap_rules, point_problem, point_settings
-from .deformed import shapes_drawer, shell_shapes
+from .deformed import LoadSketch, observed, shapes_drawer, shell_shapes
 from .labels import force_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, instability_text, record_instability
 
@@ -389,12 +389,11 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
     # the diagram styles by the scene's control; an "F = 0" event is in the table, not on the figure
     cls = summary.get("classification")
     # the axes in the cap's reference units: w/R and F R/(2 pi D)
-    axis_labels, scale = force_axes("w", R, problem.D)
     note = "; ".join(t for t in (str(cls) if cls else "", instability_text(summary, _SHOWN, tex=True)) if t)
-    plot_options = {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene), "zero_line": True,
-                    "special_kinds": ("fold", "bifurcation"), "note": note}
+    plot_options = {**force_axes("w", R, problem.D, scaled={"w_over_R": "w", "F_norm": "F"}), "title": scene_title(scene),
+                    "zero_line": True, "special_kinds": ("fold", "bifurcation"), "note": note}
     shapes = shell_shapes(branches, problem.full_state, getattr(problem, "operator_families", ()), problem.cap.x,
-                          path=scene["output"]["shapes"] == "path")
+                          path=scene["output"]["shapes"] == "path", fields={"F": observed("F")})
     result = TraceResult(branches=generic.branches, jumps=generic.jumps, summary=summary, special_points=records,
                          table=special_point_table(records, branch_labels=labels if len(branches) > 1 else None,
                                                    columns=_TABLE_COLUMNS),
@@ -402,7 +401,8 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
                          parameter_name=generic.parameter_name, labels=labels,
                          jump_observables=generic.jump_observables, failure=failure,
                          stability=summary["control"], plot_options=plot_options,
-                         shapes=shapes, draw_shapes=shapes_drawer(shapes, problem.R, generic.parameter_name, plot_options))
+                         shapes=shapes, draw_shapes=shapes_drawer(shapes, problem.R, generic.parameter_name, plot_options,
+                                                                 load=LoadSketch("point")))
     if not scene["output"]["figure"]:
         result.plot = lambda ax: ax.text(0.5, 0.5, "figure disabled (output.figure = false)", ha="center",
                                          va="center", transform=ax.transAxes)

@@ -72,7 +72,7 @@ from contin_models.shell.structure import ShellOfRevolution
 
 from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
 from .deformed import shapes_drawer, shell_shapes
-from .labels import PRESSURE_AXIS_LABELS, scene_title
+from .labels import length_symbol, pressure_axes, scene_title
 from .schema import Scene, instability_text, record_fields, record_instability
 
 #: The load fields of ``summary.json``'s ``first_instability`` for a pressure.
@@ -180,7 +180,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
                                           f"{summary['w_at_p_snap_over_h']:.6g}" if snap is not None else
                                           "no fold in p on the path (no snap)")
         br.message += _plain_instability(summary, _SHOWN_PRESSURE)
-    plot_options = {"axis_labels": PRESSURE_AXIS_LABELS, "special_kinds": ("fold", "bifurcation"), "note": note,
+    plot_options = {**pressure_axes(problem.p_c), "special_kinds": ("fold", "bifurcation"), "note": note,
                     "title": scene_title(scene), "control": "pressure"}
     # output.figure = false is the command line's to honour (contin.scene.wants_figure)
     shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref,
@@ -189,7 +189,8 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br]), x="w_over_h", y="p_over_p_c",
                        parameter_name=problem.parameter_name, labels=labels, plot_options=plot_options,
-                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options,
+                                                                length_symbol=length_symbol(s)))
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -319,8 +320,11 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     # the branch's parameter is dV (an observable column too); the pressure scene's "p" is the pressure
     csv["p"] = br.observables["p"]
     # the volume pushed in as a fraction of the cap's enclosed volume V0
-    plot_options = {"axis_labels": {**PRESSURE_AXIS_LABELS, "dV": r"$\Delta V / V_0$"}, "symbols": {"dV": r"$\Delta V$"},
-                    "scale": {"dV": 1.0 / V0}, "special_kinds": ("fold", "bifurcation"), "note": note,
+    options = pressure_axes(pressure.p_c)
+    options["axis_labels"].update(dV=r"$\Delta V / V_0$", dV_over_V0=r"$\Delta V / V_0$")
+    options["scale"]["dV"] = 1.0 / V0
+    options["same_as"]["dV_over_V0"] = "dV"
+    plot_options = {**options, "symbols": {"dV": r"$\Delta V$"}, "special_kinds": ("fold", "bifurcation"), "note": note,
                     "title": scene_title(scene), "control": "volume"}
 
     def plot(ax: Any) -> Any:
@@ -332,4 +336,5 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
                        table=special_point_table(records, columns=_VOLUME_TABLE_COLUMNS),
                        csv_columns=csv, x="dV", y="p_over_p_c", parameter_name=problem.parameter_name,
                        labels=["path"], plot=plot, plot_options=plot_options,
-                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options,
+                                                                length_symbol=length_symbol(s)))

@@ -39,9 +39,9 @@ from contin.branch import Branch
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
-from .deformed import shapes_drawer, shell_shapes
+from .deformed import LoadSketch, observed, shapes_drawer, shell_shapes
 from .schema import STABILITY_COLUMNS, Scene, instability_text, record_fields, record_instability
-from .labels import force_axes, scene_title
+from .labels import force_axes, length_symbol, scene_title
 from .shape import rise
 
 __all__ = ["run_revolution"]
@@ -112,19 +112,24 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
         summary.update(ring_radius=load["ring_radius"], ring_node_radius=float(problem.x_ref[2 * node]))
     snap = (f"first limit load F = {summary['F_max']:.6g} at w = {summary['w_at_F_max']:.6g}"
             if F_max is not None else "no limit load")
-    shown = (("w_over_L", "w/L", "w/L"), ("F_norm", "F L/(2 pi D)", r"F L/2\pi D"))
+    L = length_symbol(s)  # the shape's length unit, named as the diagram's axes name it
+    shown = (("w_over_L", f"w/{L}", f"w/{L}"), ("F_norm", f"F {L}/(2 pi D)", rf"F {L}/2\pi D"))
     instability = instability_text(summary, shown)
     if len(br):
         br.message = f"{br.message}; {snap}" + (f"; {instability}" if instability else "")
     # w of the loaded node and the total load F, in the shape's length L and the bending unit 2 pi D / L
-    axis_labels, scale = force_axes("w", length_unit(scene), problem.D, length_symbol="L")
-    plot_options = {"axis_labels": axis_labels, "scale": scale, "title": scene_title(scene),
-                    "special_kinds": ("fold", "bifurcation"), "control": control,
+    options = force_axes("w", length_unit(scene), problem.D, length_symbol=L,
+                         scaled={"w_over_L": "w", "F_norm": "F", "w_over_h": "w"})
+    options["axis_labels"]["w_over_h"] = "$w/h$"
+    plot_options = {**options, "title": scene_title(scene), "special_kinds": ("fold", "bifurcation"), "control": control,
                     "note": instability_text(summary, shown, tex=True)}
+    sketch = LoadSketch(load["kind"], node=problem.node if load["kind"] == "ring" else -1)
     shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref,
-                          path=scene["output"]["shapes"] == "path")
+                          path=scene["output"]["shapes"] == "path",
+                          fields={"F": observed("F")})
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns([br], STABILITY_COLUMNS), x="w", y="F",
                        parameter_name=problem.parameter_name, labels=["path"], plot_options=plot_options,
-                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options))
+                       shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options,
+                                                                 length_symbol=L, load=sketch))

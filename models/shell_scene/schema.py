@@ -15,7 +15,7 @@ Scene keys (public contract, ``--set section.key=value``)::
                     (pressure, displacement control)
     [contact]       K_c, dhat (0: the paper's values scaled with E and R; sphere and plate only)
     [continuation]  ds, ds_max (units of R), tol, max_steps, overshoot
-    [output]        figure
+    [output]        figure, pdf, shapes
 """
 
 from __future__ import annotations
@@ -178,6 +178,8 @@ SHELL_SCHEMA = Schema(
         },
         "output": {
             "figure": boolean(True, help="draw the diagram and the shapes figure (false: no figure file is written)"),
+            "pdf": boolean(False, help="also write the figures as PDF (diagram.pdf, shapes.pdf) beside the PNGs "
+                                       "(as 'contin trace --pdf' does)"),
             "shapes": choice("special", ("special", "path"),
                              help="what shapes.npz holds: the deformed meridian at every special point (special), or "
                                   "also at every stored point of the path (path: its path_* arrays, one row per row "
