@@ -112,7 +112,7 @@ def leading_inertias(H, sizes) -> list[int] | None:
 def _arrow_inertias(H, sizes) -> list[int] | None:
     """:func:`leading_inertias` of an arrow matrix whose band block is positive definite, by blocks; else None.
 
-    ``H = [[A, B], [B^T, C]]`` with ``A`` banded (:func:`contin.linalg.arrow_structure`, e.g. a shell's
+    ``H = [[A, B], [B^T, C]]`` with ``A`` banded (:func:`contin.linalg.arrow_structure`, e.g. a structure's
     Hessian bordered by an indenter's travel): the pivot-free ``L D L^T`` of ``H`` is ``A``'s followed by
     that of the Schur complement ``S = C - B^T A^{-1} B``.  ``A``'s banded factorization
     (:meth:`contin.linalg.SymmetricBand.negative_pivots`, which leaves its Cholesky factor when ``A`` is
