@@ -140,15 +140,18 @@ def test_dofs_per_wave_number() -> None:
 @pytest.mark.parametrize("kappa11_length", ["current", "reference"])
 def test_fast_paths_equal_the_direct_ones(kappa11_length: str) -> None:
     """Generated bending kernels against the jets, the polynomial in n against the direct projection,
-    the reduction's scatter against T^T K T: closed sphere under pressure, clamped cap with contact."""
+    the reduction's scatter against T^T K T: closed sphere under pressure, clamped cap with contact,
+    a sliding cap with its rotating edge's element under pressure."""
     h = 0.02
     sph = ShellStructure(Sphere(1.0, 15, h), 1.0, 0.3, h, kappa11_length=kappa11_length)
     st, xc, contacts = indented_state(15)
     cl = ShellStructure(st.meridian, 1e6, 0.5, 0.02, boundary="clamped", kappa11_length=kappa11_length)
+    sl = ShellStructure(st.meridian, 1e6, 0.3, 0.02, boundary="sliding", kappa11_length=kappa11_length)
+    assert sl.edge_element is not None and sl.clamp is None
     rng = np.random.default_rng(4)
     xs = sph.meridian.x * 0.99 + 1e-3 * rng.standard_normal(30)
     xs[0] = xs[-2] = 0.0
-    for s_, x, p, contact in ((sph, xs, 1e-4, None), (cl, xc, 0.0, contacts[0])):
+    for s_, x, p, contact in ((sph, xs, 1e-4, None), (cl, xc, 0.0, contacts[0]), (sl, xc, 1e3, None)):
         fast, jets = HarmonicShell(s_), HarmonicShell(s_, method="jets")
         for n in (0, 1, 2, 5):
             A = fast.full_block(x, n, p, contact).toarray()

@@ -2351,6 +2351,226 @@ static PyObject *c_pole_south_ref_jet(PyObject *self, PyObject *const *args, Py_
     Py_RETURN_NONE;
 }
 
+static PyObject *c_free_edge_hessian(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    static const Py_ssize_t rows[1] = {144};
+    Input in[8];
+    Output outputs[1];
+    Py_ssize_t _m;
+    if (prepare("free_edge_hessian", args, nargs, in, 8, outputs, 1, rows, &_m) < 0) {
+        release(in, 8, outputs, 1);
+        return NULL;
+    }
+    double *out_h = outputs[0].data;
+    for (Py_ssize_t _i = 0; _i < _m; _i++) {
+        const double y0 = in[0].data[_i * in[0].stride];
+        const double y2 = in[1].data[_i * in[1].stride];
+        const double y4 = in[2].data[_i * in[2].stride];
+        const double y7 = in[3].data[_i * in[3].stride];
+        const double y9 = in[4].data[_i * in[4].stride];
+        const double K = in[5].data[_i * in[5].stride];
+        const double kbar = in[6].data[_i * in[6].stride];
+        const double nu = in[7].data[_i * in[7].stride];
+        double _c0 = (y0 * y0);
+        double _c1 = (y2 * y2);
+        double _c2 = (_c0 + _c1);
+        double _c3 = (1.0 / _c2);
+        double _c4 = (1.0 * _c3);
+        double _c5 = ((_c0 * _c4) + (_c1 * _c4));
+        double _c6 = (1.0 / sqrt(_c5));
+        double _c7 = (1.0 * _c6);
+        double _c8 = (_c7 * y9);
+        double _c9 = fabs(y7);
+        double _c10 = (1.0 / _c9);
+        double _c11 = (1.0 / pow(sqrt(_c2), 3.0));
+        double _c12 = (_c10 * _c11);
+        double _c13 = (_c12 * y7);
+        double _c14 = (y0 * y2);
+        double _c15 = (_c13 * _c14);
+        double _c16 = (1.0 / (_c2 * _c2));
+        double _c17 = (1.0 * _c16);
+        double _c18 = (_c1 * _c17);
+        double _c19 = (1.0 / sqrt(_c2));
+        double _c20 = (_c10 * _c19);
+        double _c21 = (2.0 * _c20);
+        double _c22 = ((-_c21) * y7);
+        double _c23 = (2.0 * _c12);
+        double _c24 = (_c0 * _c23);
+        double _c25 = (_c22 + (_c24 * y7));
+        double _c26 = (0.5 * _c25);
+        double _c27 = (_c20 * y7);
+        double _c28 = (_c27 * y0);
+        double _c29 = ((_c18 * y0) + (_c26 * _c28));
+        double _c30 = (1.0 / pow(sqrt(_c5), 3.0));
+        double _c31 = (_c30 * y9);
+        double _c32 = (1.0 * _c20);
+        double _c33 = (_c32 * y7);
+        double _c34 = (_c33 * y2);
+        double _c35 = ((_c15 * _c8) - ((_c29 * _c31) * _c34));
+        double _c36 = (1.0 / ((y7 * y7) * (y7 * y7)));
+        double _c37 = (2.0 * _c36);
+        double _c38 = (1.0 * y2);
+        double _c39 = (_c13 * _c38);
+        double _c40 = (_c0 * y2);
+        double _c41 = ((_c10 * y7) / pow(sqrt(_c2), 5.0));
+        double _c42 = (3.0 * _c41);
+        double _c43 = (3.0 * _c16);
+        double _c44 = (_c1 * y0);
+        double _c45 = (1.5 * _c28);
+        double _c46 = ((_c34 * y9) / pow(sqrt(_c5), 5.0));
+        double _c47 = (_c29 * _c46);
+        double _c48 = (1.0 * _c1);
+        double _c49 = ((_c0 * _c48) / ((_c2 * _c2) * _c2));
+        double _c50 = (6.0 * _c41);
+        double _c51 = (_c23 * y7);
+        double _c52 = ((_c40 * _c50) - (_c51 * y2));
+        double _c53 = (_c27 * y2);
+        double _c54 = (0.5 * _c53);
+        double _c55 = (-_c33);
+        double _c56 = (1.0 * _c13);
+        double _c57 = ((_c0 * _c56) + _c55);
+        double _c58 = ((1.0 / 2.0) * _c25);
+        double _c59 = (_c31 * _c34);
+        double _c60 = (1.0 / ((y7 * y7) * y7));
+        double _c61 = (_c19 * _c9);
+        double _c62 = ((_c60 * _c61) * y2);
+        double _c63 = (_c62 * _c8);
+        double _c64 = ((-_c63) - kbar);
+        double _c65 = (1.0 / (y7 * y7));
+        double _c66 = (2.0 * _c65);
+        double _c67 = (_c64 * _c66);
+        double _c68 = (0.159154943091895 * K);
+        double _c69 = (_c12 * _c48);
+        double _c70 = ((-_c55) - (_c69 * y7));
+        double _c71 = (_c7 * _c70);
+        double _c72 = (_c0 * _c17);
+        double _c73 = (_c1 * _c23);
+        double _c74 = ((-_c22) - (_c73 * y7));
+        double _c75 = (((-_c54) * _c74) + (_c72 * y2));
+        double _c76 = (((-_c59) * _c75) - (_c71 * y9));
+        double _c77 = (_c31 * _c70);
+        double _c78 = (1.0 * _c29);
+        double _c79 = (1.5 * _c53);
+        double _c80 = ((_c40 * _c43) - (_c74 * _c79));
+        double _c81 = ((_c44 * _c50) - (_c51 * y0));
+        double _c82 = (_c60 * _c64);
+        double _c83 = (4.0 * _c82);
+        double _c84 = (_c6 * y2);
+        double _c85 = (_c61 * _c84);
+        double _c86 = (2.0 * _c85);
+        double _c87 = (_c65 * _c9);
+        double _c88 = (_c19 * _c87);
+        double _c89 = (1.0 * _c88);
+        double _c90 = ((_c32 * y2) - (_c89 * y2));
+        double _c91 = (_c7 * _c90);
+        double _c92 = (((((2.0 * _c19) * _c65) * _c9) * y0) - (_c21 * y0));
+        double _c93 = (0.5 * _c28);
+        double _c94 = (2.0 * _c88);
+        double _c95 = ((_c21 * y2) - (_c94 * y2));
+        double _c96 = (((-_c54) * _c95) + (_c92 * _c93));
+        double _c97 = (((-_c59) * _c96) - (_c91 * y9));
+        double _c98 = (_c65 * _c97);
+        double _c99 = (((_c36 * _c86) * y9) + _c98);
+        double _c100 = (_c66 * _c99);
+        double _c101 = (_c31 * _c90);
+        double _c102 = ((_c45 * _c92) - (_c79 * _c95));
+        double _c103 = (_c39 * y0);
+        double _c104 = (((((((-2.0) * _c11) * _c65) * _c9) * y0) * y2) + (_c14 * _c23));
+        double _c105 = (((((1.0 * _c19) * _c65) * _c9) * y0) - (_c32 * y0));
+        double _c106 = ((-_c21) + _c94);
+        double _c107 = (1.0 / (((y7 * y7) * (y7 * y7)) * y7));
+        double _c108 = (_c107 * _c35);
+        double _c109 = (_c15 * _c7);
+        double _c110 = (_c30 * _c33);
+        double _c111 = (_c110 * _c29);
+        double _c112 = (_c61 * y0);
+        double _c113 = (_c112 * _c6);
+        double _c114 = (2.0 * _c113);
+        double _c115 = (0.318309886183791 * K);
+        double _c116 = (_c115 * _c64);
+        double _c117 = (_c116 * _c65);
+        double _c118 = ((y2 * y2) * y2);
+        double _c119 = (_c46 * _c75);
+        double _c120 = ((1.0 / 2.0) * _c74);
+        double _c121 = (_c107 * _c76);
+        double _c122 = (1.0 / _c5);
+        double _c123 = (_c1 * _c122);
+        double _c124 = (_c16 / (nu + 1.0));
+        double _c125 = (_c123 * _c124);
+        double _c126 = (0.636619772367581 * K);
+        double _c127 = (_c126 * _c65);
+        double _c128 = (_c122 * _c14);
+        double _c129 = (_c124 * _c128);
+        double _c130 = ((_c126 * _c60) * y4);
+        double _c131 = (_c129 * _c130);
+        double _c132 = (_c0 * _c122);
+        double _c133 = (_c124 * _c132);
+        double _c134 = (4.0 * _c36);
+        double _c135 = (_c134 * (y4 * y4));
+        double _c136 = ((_c107 * _c85) * y9);
+        double _c137 = (4.0 * _c136);
+        double _c138 = (-_c63);
+        double _c139 = (((1.0 * _c12) * _c31) / y7);
+        double _c140 = (_c117 * _c20);
+        double _c141 = (_c134 * _c85);
+        double _c142 = ((_c141 * y9) + (2.0 * _c98));
+        double _c143 = (_c142 * _c7);
+        double _c144 = (_c110 * _c96);
+        double _c145 = ((_c115 * _c3) * _c36);
+        out_h[0 * _m + _i] = (_c68 * (((_c35 * _c35) * _c37) + (_c67 * (((((((((((2.0 * _c10) * _c11) * _c29) * _c30) * y0) * y2) * y7) * y9) - (_c47 * ((_c25 * _c45) + (_c43 * _c44)))) - (_c59 * ((((((((0.5 * _c10) * _c19) * y0) * y7) * (((((6.0 * _c10) * _c11) * y0) * y7) - (_c50 * ((y0 * y0) * y0)))) - _c49) - (_c52 * _c54)) - (_c57 * _c58)))) - (_c8 * ((-_c39) + (_c40 * _c42)))))));
+        out_h[2 * _m + _i] = (_c68 * (((_c35 * _c37) * _c76) + (_c67 * ((((((((((((1.0 * _c10) * _c11) * _c30) * _c75) * y0) * y2) * y7) * y9) - (_c47 * _c80)) - (_c59 * (((((((((1.0 * _c10) * _c11) * _c70) * y0) * y2) * y7) - (((((0.5 * _c10) * _c19) * _c52) * y0) * y7)) - (_c15 * _c26)) - (_c54 * _c81)))) - (_c77 * _c78)) - (_c8 * ((_c42 * _c44) - (_c56 * y0)))))));
+        out_h[7 * _m + _i] = (_c68 * (((_c100 * _c35) - (_c35 * _c83)) + (_c67 * ((((((((((((1.0 * _c10) * _c11) * _c30) * _c96) * y0) * y2) * y7) * y9) - (_c101 * _c78)) - (_c102 * _c47)) - (_c59 * ((((_c103 * _c90) + (_c104 * _c54)) - (_c105 * _c58)) + (_c93 * ((((((-2.0) * _c0) * _c11) * _c87) + _c106) + _c24))))) - (_c8 * ((((((1.0 * _c11) * _c65) * _c9) * y0) * y2) - ((_c12 * _c38) * y0)))))));
+        out_h[9 * _m + _i] = (_c68 * (((-_c108) * _c86) + (((2.0 * _c64) * _c65) * (_c109 - (_c111 * y2)))));
+        out_h[11 * _m + _i] = (_c68 * ((_c108 * _c114) + (_c67 * ((_c111 * y0) - (_c57 * _c7)))));
+        out_h[13 * _m + _i] = (_c117 * (((((((1.0 * _c10) * _c11) * _c6) * y2) * y7) * y9) - (_c59 * (_c18 + _c72))));
+        out_h[18 * _m + _i] = ((((((-_c11) * _c116) * _c14) * _c31) * _c36) * _c9);
+        out_h[20 * _m + _i] = (_c117 * (((((1.0 * _c10) * _c19) * _c6) * y9) - (_c31 * _c69)));
+        out_h[26 * _m + _i] = (_c68 * ((_c37 * (_c76 * _c76)) + (_c67 * (((((-_c119) * _c80) - (_c59 * (((((((((-0.5) * _c10) * _c19) * _c81) * y0) * y7) - (_c120 * _c70)) - _c49) - (_c54 * ((_c118 * _c50) - ((6.0 * _c13) * y2)))))) - ((2.0 * _c75) * _c77)) - (_c8 * ((_c118 * _c42) - ((3.0 * _c13) * y2)))))));
+        out_h[31 * _m + _i] = (_c68 * (((_c100 * _c76) + (_c67 * (((((((-1.0) * _c101) * _c75) - (_c102 * _c119)) - (_c59 * ((((((((0.5 * _c10) * _c104) * _c19) * y0) * y7) - (_c103 * _c105)) - (_c120 * _c90)) - (_c54 * ((((((2.0 * _c1) * _c11) * _c65) * _c9) - _c106) - _c73))))) - ((1.0 * _c77) * _c96)) - (_c8 * (((((((1.0 * _c1) * _c11) * _c65) * _c9) + ((1.0 * _c10) * _c19)) - _c69) - _c89))))) - (_c76 * _c83)));
+        out_h[33 * _m + _i] = (_c68 * (((-_c121) * _c86) + (((2.0 * _c64) * _c65) * ((((-_c110) * _c75) * y2) - _c71))));
+        out_h[35 * _m + _i] = (_c68 * ((_c114 * _c121) + (_c67 * (((((((1.0 * _c10) * _c19) * _c30) * _c75) * y0) * y7) - _c109))));
+        out_h[39 * _m + _i] = (_c125 * _c127);
+        out_h[41 * _m + _i] = ((-_c127) * _c129);
+        out_h[42 * _m + _i] = ((-_c125) * _c130);
+        out_h[44 * _m + _i] = _c131;
+        out_h[65 * _m + _i] = (_c127 * _c133);
+        out_h[66 * _m + _i] = _c131;
+        out_h[68 * _m + _i] = ((-_c130) * _c133);
+        out_h[78 * _m + _i] = (_c68 * ((_c125 * _c135) + (_c64 * (_c137 + (_c66 * ((-_c138) - (_c139 * _c40)))))));
+        out_h[80 * _m + _i] = (_c68 * (((-_c129) * _c135) - (((_c23 * _c31) * _c44) * _c82)));
+        out_h[82 * _m + _i] = (_c140 * _c84);
+        out_h[91 * _m + _i] = (_c68 * ((_c142 * _c99) + (_c64 * ((((-12.0) * _c136) - ((8.0 * _c60) * _c97)) + ((2.0 * _c65) * (((((-2.0) * _c101) * _c96) - ((_c102 * _c46) * _c96)) - (_c59 * (((((-1.0) / 2.0) * _c105) * _c92) - (((1.0 / 2.0) * _c90) * _c95)))))))));
+        out_h[93 * _m + _i] = (_c68 * (((-_c143) * _c62) + (_c64 * (_c141 + (_c66 * (((-_c144) * y2) - _c91))))));
+        out_h[95 * _m + _i] = (_c68 * (((_c112 * _c143) * _c60) + (_c64 * (((-_c113) * _c134) + ((2.0 * _c65) * (((-_c105) * _c7) + (_c144 * y0)))))));
+        out_h[104 * _m + _i] = (_c68 * ((_c133 * _c135) + (_c64 * (_c137 + (_c66 * (((-_c118) * _c139) - _c138))))));
+        out_h[106 * _m + _i] = (((-_c140) * _c6) * y0);
+        out_h[117 * _m + _i] = (_c123 * _c145);
+        out_h[119 * _m + _i] = ((-_c128) * _c145);
+        out_h[143 * _m + _i] = (_c132 * _c145);
+        out_h[24 * _m + _i] = out_h[2 * _m + _i];
+        out_h[84 * _m + _i] = out_h[7 * _m + _i];
+        out_h[108 * _m + _i] = out_h[9 * _m + _i];
+        out_h[132 * _m + _i] = out_h[11 * _m + _i];
+        out_h[73 * _m + _i] = out_h[18 * _m + _i];
+        out_h[97 * _m + _i] = out_h[20 * _m + _i];
+        out_h[86 * _m + _i] = out_h[31 * _m + _i];
+        out_h[110 * _m + _i] = out_h[33 * _m + _i];
+        out_h[134 * _m + _i] = out_h[35 * _m + _i];
+        out_h[63 * _m + _i] = out_h[41 * _m + _i];
+        out_h[75 * _m + _i] = out_h[42 * _m + _i];
+        out_h[99 * _m + _i] = out_h[44 * _m + _i];
+        out_h[77 * _m + _i] = out_h[66 * _m + _i];
+        out_h[101 * _m + _i] = out_h[68 * _m + _i];
+        out_h[102 * _m + _i] = out_h[80 * _m + _i];
+        out_h[126 * _m + _i] = out_h[82 * _m + _i];
+        out_h[115 * _m + _i] = out_h[93 * _m + _i];
+        out_h[139 * _m + _i] = out_h[95 * _m + _i];
+        out_h[128 * _m + _i] = out_h[106 * _m + _i];
+        out_h[141 * _m + _i] = out_h[119 * _m + _i];
+    }
+    release(in, 8, outputs, 1);
+    Py_RETURN_NONE;
+}
+
 static PyMethodDef methods[] = {
     {"bend_cur_curvatures", (PyCFunction)(void (*)(void))c_bend_cur_curvatures, METH_FASTCALL, "bend_cur_curvatures(*inputs, *outputs)"},
     {"bend_ref_curvatures", (PyCFunction)(void (*)(void))c_bend_ref_curvatures, METH_FASTCALL, "bend_ref_curvatures(*inputs, *outputs)"},
@@ -2359,6 +2579,7 @@ static PyMethodDef methods[] = {
     {"pole_north_ref_jet", (PyCFunction)(void (*)(void))c_pole_north_ref_jet, METH_FASTCALL, "pole_north_ref_jet(*inputs, *outputs)"},
     {"pole_south_cur_jet", (PyCFunction)(void (*)(void))c_pole_south_cur_jet, METH_FASTCALL, "pole_south_cur_jet(*inputs, *outputs)"},
     {"pole_south_ref_jet", (PyCFunction)(void (*)(void))c_pole_south_ref_jet, METH_FASTCALL, "pole_south_ref_jet(*inputs, *outputs)"},
+    {"free_edge_hessian", (PyCFunction)(void (*)(void))c_free_edge_hessian, METH_FASTCALL, "free_edge_hessian(*inputs, *outputs)"},
     {NULL, NULL, 0, NULL}
 };
 
@@ -2366,7 +2587,7 @@ static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_harmonic_ckernel
 
 PyMODINIT_FUNC PyInit__harmonic_ckernels(void) {
     PyObject *module = PyModule_Create(&moduledef);
-    if (module != NULL && PyModule_AddStringConstant(module, "RETURNS", "{'bend_cur_curvatures': (True, [(), (15,), (15, 15), (), (15,), (15, 15), (15,)]), 'bend_ref_curvatures': (True, [(), (15,), (15, 15), (), (15,), (15, 15), (15,)]), 'stretch_hessian': (True, [(6, 6)]), 'pole_north_cur_jet': (False, [(), (15,), (15, 15)]), 'pole_north_ref_jet': (False, [(), (15,), (15, 15)]), 'pole_south_cur_jet': (False, [(), (15,), (15, 15)]), 'pole_south_ref_jet': (False, [(), (15,), (15, 15)])}") < 0) {
+    if (module != NULL && PyModule_AddStringConstant(module, "RETURNS", "{'bend_cur_curvatures': (True, [(), (15,), (15, 15), (), (15,), (15, 15), (15,)]), 'bend_ref_curvatures': (True, [(), (15,), (15, 15), (), (15,), (15, 15), (15,)]), 'stretch_hessian': (True, [(6, 6)]), 'pole_north_cur_jet': (False, [(), (15,), (15, 15)]), 'pole_north_ref_jet': (False, [(), (15,), (15, 15)]), 'pole_south_cur_jet': (False, [(), (15,), (15, 15)]), 'pole_south_ref_jet': (False, [(), (15,), (15, 15)]), 'free_edge_hessian': (False, [(12, 12)])}") < 0) {
         Py_DECREF(module);
         return NULL;
     }

@@ -93,8 +93,8 @@ i.e. :func:`harmonic_block` returns the exact second variation of the 2-D energy
 (``u^T K_n u = d^2 E``); its Rayleigh quotient against the field's L2 norm is ``u^T K u / (pi |u|^2)``
 for ``n >= 1`` and ``/ (2 pi |u|^2)`` for ``n = 0``.  The copy with ``cos`` and ``sin`` swapped has
 the same block.  The local Hessians ``H`` are computed once per state (all ``n`` share them): the
-bending density's from generated curvature jets by the chain rule, the stretching density's and the
-poles' curvature jets by generated code (:mod:`contin_models.shell.harmonic_codegen`, sympy, emitted
+bending density's from generated curvature jets by the chain rule, the stretching and rotating edge's
+densities' and the poles' curvature jets by generated code (:mod:`contin_models.shell.harmonic_codegen`, sympy, emitted
 to :mod:`contin_models.shell._harmonic_generated`), the rest (and all of them with
 ``method="jets"``, the reference) by exact second-order forward differentiation (:class:`Jet`),
 vectorised over the elements.  The mode maps are quadratic in ``n``, so the block of ``n >= 1`` is
@@ -203,6 +203,9 @@ is then True; the same numbers, see :mod:`contin.compiled`)."""
 #: The pole curvature's local variables that are not zero at an axisymmetric state (the generated jets'
 #: arguments, :mod:`contin_models.shell.harmonic_codegen`).
 _POLE_FREE = (0, 2, 4, 6, 8, 9, 11, 13)
+#: The same for a rotating edge's density (:func:`free_edge_density`): ``e = (y0, 0, y2)``, ``Dp = (0, y4, 0)``,
+#: ``Pp = (0, y7, 0)``, ``Ppp = (y9, 0, 0)``.
+_FREE_EDGE_FREE = (0, 2, 4, 7, 9)
 
 HARMONIC_HALF_BANDWIDTH = 8
 """Half-bandwidth of a full block in the interleaved ``[a, b, c]`` ordering (a bending element
@@ -555,10 +558,10 @@ class HarmonicShell:
         Height of the pressure's base plane (default: the reference height of node 0, as
         :meth:`contin_models.shell.volume.PressureTerm.from_reference`).
     method : {"generated", "jets"}
-        How the bending and stretching densities' local Hessians and the poles' curvature jets are
-        evaluated: the generated kernels (:mod:`contin_models.shell.harmonic_codegen`, the default)
-        or the jets (the reference; the clamp, free edge, volume and skirt always use the jets: they
-        are one element or needed only under pressure).
+        How the bending, stretching and rotating edge's local Hessians and the poles' curvature jets
+        are evaluated: the generated kernels (:mod:`contin_models.shell.harmonic_codegen`, the
+        default) or the jets (the reference; the volume and skirt always use the jets: they are
+        needed only under pressure).
 
     Notes
     -----
@@ -754,12 +757,16 @@ class HarmonicShell:
             fe = self.free_edge
             vals = ([V["P"][c][1:2] - V["P"][c][:1] for c in range(3)] + [V["Pp"][c][1:2] - V["Pp"][c][:1] for c in range(3)]
                     + [V["Pp"][c][:1] for c in range(3)] + [V["Ppp"][c][:1] for c in range(3)])
-            y = Jet.variables(vals)
-            e = free_edge_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), fe.K, fe.kappa_bar,
-                                  self.nu)
+            if self.method == "generated":
+                Hf = _hgen.free_edge_hessian(*(float(vals[i][0]) for i in _FREE_EDGE_FREE), float(fe.K),
+                                             float(fe.kappa_bar), self.nu)[:, :, None]
+            else:
+                y = Jet.variables(vals)
+                Hf = free_edge_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), fe.K,
+                                       fe.kappa_bar, self.nu).h
             layout = [([(1, 1.0), (0, -1.0)], "P"), ([(1, 1.0), (0, -1.0)], "Pp"), ([(0, 1.0)], "Pp"),
                       ([(0, 1.0)], "Ppp")]
-            res["free_edge"] = (np.array([[0, 1]]), layout, e.h)
+            res["free_edge"] = (np.array([[0, 1]]), layout, Hf)
         # poles: the curvature B(theta) as a jet (value, gradient, Hessian) in Pm, Pm', Pc, Pq, Pq'
         res["poles"] = []
         for k, nb, north, element in self.poles:
