@@ -665,33 +665,16 @@ class HarmonicShell:
 
     def _bend_hessian(self, vals: list, params: tuple, current: bool) -> np.ndarray:
         """``(15, 15, m)`` Hessians of the bending density at axisymmetric local variables ``vals``
-        (15 arrays): from the generated curvature jets (:mod:`contin_models.shell._harmonic_generated`) by
-        the chain rule, or the jets with ``method="jets"``; ``L`` is the current length when ``current``,
-        else the weight's ``lbar``.
-
-        The density is ``c (B11^2 + 2 nu B11 B22 + B22^2 + 2 (1 - nu) kappa12^2)``, ``c = rbar lbar kb / 2``,
-        ``B = kappa - kappabar``; with ``kappa12 = 0`` at axisymmetric states its Hessian is
-        ``2 c (g11 g11^T + nu (g11 g22^T + g22 g11^T) + g22 g22^T + 2 (1 - nu) g12 g12^T
-        + (B11 + nu B22) H11 + (B22 + nu B11) H22)`` (``g``, ``H`` the curvatures' gradients and Hessians).
+        (15 arrays) and ``params = (lbar, rbar, k11bar, k22bar, kb, nu)``: from the generated kernel
+        (:mod:`contin_models.shell._harmonic_generated`: the curvatures' jets and the chain rule), or the
+        jets with ``method="jets"``; ``L`` is the current length when ``current``, else the weight's
+        ``lbar``.
         """
         if self.method == "generated":
-            lbar, rbar, k11bar, k22bar, kb, nu = params
             m = np.size(vals[0])
-            f = _hgen.bend_cur_curvatures if current else _hgen.bend_ref_curvatures
-            k11, g11, h11, k22, g22, h22, g12 = f(*(np.broadcast_to(np.asarray(vals[k], float), (m,))
-                                                    for k in (0, 2, 3, 5, 7, 10)),
-                                                  np.broadcast_to(np.asarray(lbar, float), (m,)))
-            c2 = rbar * lbar * kb  # 2 c
-            B11, B22 = k11 - k11bar, k22 - k22bar
-            # 2 c folded into the small factors first, and the (15, 15, m) products accumulated in
-            # place: nine passes over the big arrays instead of eleven, with fewer of them allocating
-            # (0.83 -> 0.52 ms at m = 200)
-            H = h11 * ((B11 + nu * B22) * c2)
-            H += h22 * ((B22 + nu * B11) * c2)
-            for left, right in (((g11 + nu * g22) * c2, g11), ((nu * g11 + g22) * c2, g22),
-                                ((2.0 * (1.0 - nu)) * g12 * c2, g12)):
-                H += left[:, None, :] * right[None, :, :]
-            return H
+            f = _hgen.bend_cur_hessian if current else _hgen.bend_ref_hessian
+            return f(*(np.broadcast_to(np.asarray(vals[k], float), (m,)) for k in (0, 2, 3, 5, 7, 10)),
+                     *(np.broadcast_to(np.asarray(p, float), (m,)) for p in params[:5]), float(params[5]))
         y = Jet.variables(vals)
         e = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
                          *params, None if current else params[0])
