@@ -610,35 +610,36 @@ class HarmonicShell:
         self._cache: dict = {}  # state bytes -> local Hessians, oldest first
 
     # ---- local variables -------------------------------------------------------------------------
-    def _families(self, x: np.ndarray):
-        """Local vectors and layouts of every family at an axisymmetric state ``x``."""
-        r, z = x[0::2], x[1::2]
-        V = _axisym_vectors(r, z)
-        N = self.N
-        fams = []
-        # stretch: D = P_j - P_i, Mp = (P'_i + P'_j)/2
-        i = np.arange(N - 1)
-        nodes = np.stack([i, i + 1], axis=1)
-        layout = [([(1, 1.0), (0, -1.0)], "P"), ([(0, 0.5), (1, 0.5)], "Pp")]
-        fams.append(("stretch", nodes, layout))
-        # bend: e1, e2, Dp, Pp, Ppp
-        j = self.b_nodes
-        nodes = np.stack([j - 1, j, j + 1], axis=1)
-        layout = [([(1, 1.0), (0, -1.0)], "P"), ([(2, 1.0), (1, -1.0)], "P"), ([(2, 1.0), (0, -1.0)], "Pp"),
-                  ([(1, 1.0)], "Pp"), ([(1, 1.0)], "Ppp")]
-        fams.append(("bend", nodes, layout))
-        # volume strips: Pi, Pj, P'i, P'j
-        nodes = np.stack([i, i + 1], axis=1)
-        layout = [([(0, 1.0)], "P"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "Pp")]
-        fams.append(("volume", nodes, layout))
+    def _layouts(self) -> list:
+        """``(name, nodes, layout)`` of the stretch, bend and volume families (they do not depend on the state)."""
+        layouts = self.__dict__.get("_family_layouts")
+        if layouts is None:
+            i = np.arange(self.N - 1)
+            j = self.b_nodes
+            layouts = self._family_layouts = [
+                # stretch: D = P_j - P_i, Mp = (P'_i + P'_j)/2
+                ("stretch", np.stack([i, i + 1], axis=1), [([(1, 1.0), (0, -1.0)], "P"), ([(0, 0.5), (1, 0.5)], "Pp")]),
+                # bend: e1, e2, Dp, Pp, Ppp
+                ("bend", np.stack([j - 1, j, j + 1], axis=1),
+                 [([(1, 1.0), (0, -1.0)], "P"), ([(2, 1.0), (1, -1.0)], "P"), ([(2, 1.0), (0, -1.0)], "Pp"),
+                  ([(1, 1.0)], "Pp"), ([(1, 1.0)], "Ppp")]),
+                # volume strips: Pi, Pj, P'i, P'j
+                ("volume", np.stack([i, i + 1], axis=1),
+                 [([(0, 1.0)], "P"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "Pp")])]
+        return layouts
+
+    def _families(self, x: np.ndarray, names: tuple = ("stretch", "bend")) -> dict:
+        """Local vectors ``(nodes, layout, values)`` of the families ``names`` at an axisymmetric state ``x``."""
         out = {}
         maps = self.__dict__.setdefault("_local_maps", {})
-        for name, nodes, layout in fams:
+        for name, nodes, layout in self._layouts():
+            if name not in names:
+                continue
             if name not in maps:  # the local variables are fixed linear combinations of the state
                 maps[name] = self._local_map(nodes, layout)
             vals = list((maps[name] @ x).reshape(3 * len(layout), nodes.shape[0]))
             out[name] = (nodes, layout, vals)
-        return out, V
+        return out
 
     def _local_map(self, nodes: np.ndarray, layout: list) -> sp.csr_matrix:
         """The sparse map from the state ``[r_0, z_0, ...]`` to a family's local variables at axisymmetric
@@ -684,7 +685,7 @@ class HarmonicShell:
         """The volume strips' ``(nodes, layout, H)``, and the skirt's under ``loc["skirt"]`` when node 0 is off
         the axis (cached with the state's other Hessians)."""
         if "volume" not in loc:
-            nodes, layout, vals = loc["volume_family"]
+            nodes, layout, vals = self._families(x, ("volume",))["volume"]
             y = Jet.variables(vals)
             e = volume_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]))
             loc["volume"] = (nodes, layout, e.h)
@@ -704,7 +705,8 @@ class HarmonicShell:
         res = self._cache.get(key)
         if res is not None:
             return res
-        fams, V = self._families(x)
+        fams = self._families(x)
+        V = _axisym_vectors(x[0::2], x[1::2])
         res = {}
         # stretch
         nodes, layout, vals = fams["stretch"]
@@ -719,8 +721,7 @@ class HarmonicShell:
         if nodes.shape[0]:
             bp = (self.b_lbar, self.b_rbar, self.b_k11, self.b_k22, self.b_kb, self.nu)
             res["bend"] = (nodes, layout, self._bend_hessian(vals, bp, self.current))
-        # volume and skirt (their jets only when a pressure asks for them: _volume_hessians)
-        res["volume_family"] = fams["volume"]
+        # volume and skirt: their jets only when a pressure asks for them (_volume_hessians)
         res["skirt_vectors"] = V
         # clamp: bending density on (ghost, 0, 1), ghost fixed; slots: node 0, node 1 (ghost = -1)
         if self.clamp is not None:
@@ -838,14 +839,18 @@ class HarmonicShell:
         cache = self.__dict__.setdefault("_pole_maps", {})
         out = []
         for nodes, layout, B0, g, Hb, Akb in loc["poles"]:
-            for n in ns:
-                if n not in cache:
-                    cache[n] = self._ymaps(layout, nodes.shape[1], mode_maps(n))
-            Yc = np.stack([cache[n][0] for n in ns])
-            Ys = np.stack([cache[n][1] for n in ns])
-            Gc, Gs = Yc.transpose(0, 2, 1) @ g, Ys.transpose(0, 2, 1) @ g  # (G, 6)
+            stacked = tuple(ns)
+            if stacked not in cache:  # every pole shares its layout
+                for n in ns:
+                    if n not in cache:
+                        cache[n] = self._ymaps(layout, nodes.shape[1], mode_maps(n))
+                Yc = np.stack([cache[n][0] for n in ns])
+                Ys = np.stack([cache[n][1] for n in ns])
+                cache[stacked] = (Yc, Ys, Yc.transpose(0, 2, 1), Ys.transpose(0, 2, 1))
+            Yc, Ys, YcT, YsT = cache[stacked]
+            Gc, Gs = YcT @ g, YsT @ g  # (G, 6)
             K = Akb * (2.0 * (1.0 - nu) * (Gc[:, :, None] * Gc[:, None, :] + Gs[:, :, None] * Gs[:, None, :])
-                       + (1.0 + nu) * B0 * (Yc.transpose(0, 2, 1) @ Hb @ Yc + Ys.transpose(0, 2, 1) @ Hb @ Ys))
+                       + (1.0 + nu) * B0 * (YcT @ Hb @ Yc + YsT @ Hb @ Ys))
             out.append((nodes, K))
         return out
 
@@ -973,12 +978,21 @@ class HarmonicShell:
         key = ("coefficients", id(var), pressure)
         if key not in loc:
             R, names = self._group_map(loc, ("stretch", "bend", "clamp", "free_edge"), var)
-            C = R @ np.concatenate([loc[nm][2].ravel() for nm in names])
+            C = R @ self._stacked(loc, names)
             if pressure != 0.0:
                 self._volume_hessians(x, loc)
                 Rv, vnames = self._group_map(loc, ("volume", "skirt"), var)
-                C = C + pressure * (Rv @ np.concatenate([loc[nm][2].ravel() for nm in vnames]))
+                C = C + pressure * (Rv @ self._stacked(loc, vnames))
             loc[key] = C.reshape(var.rows, var.kd + 1, var.m)
+        return loc[key]
+
+    @staticmethod
+    def _stacked(loc: dict, names: list) -> np.ndarray:
+        """The local Hessians of the families ``names``, raveled and concatenated (the columns of their
+        group maps), kept with the state's other Hessians: every reduction maps the same vector."""
+        key = ("stacked", *names)
+        if key not in loc:
+            loc[key] = np.concatenate([loc[nm][2].ravel() for nm in names])
         return loc[key]
 
     def _small_terms(self, x: np.ndarray, loc: dict, n: int, contact: tuple | None) -> list:
