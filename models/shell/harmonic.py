@@ -192,7 +192,7 @@ from . import _harmonic_generated
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "harmonic_mode",
            "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
-           "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH",
+           "skirt_density", "free_edge_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH",
            "COMPILED"]
 
 _hgen, COMPILED = prefer_compiled(_harmonic_generated, "contin_models.shell._harmonic_ckernels")
@@ -949,21 +949,19 @@ class HarmonicShell:
                 D = 3 * nn
                 er, ec, ev = self._element_map(name, layout, nn, k)
                 deg, ij = np.divmod(er, D * D)
+                part = (deg == 5) if var.n0 else (deg < 5)  # the n = 0 block's own rows, or the polynomial's
+                deg, ij, ec, ev = deg[part], ij[part], ec[part], ev[part]
                 i, j = np.divmod(ij, D)
                 dof = 3 * nodes[:, :, None] + np.arange(3)[None, None, :]  # (m, nn, 3)
                 dof = dof.reshape(m, D)
-                r, c = dof[:, i], dof[:, j]  # (m, entries)
-                ri, ci, sg = var.reduced(r.ravel(), c.ravel())
-                deg = np.tile(deg, m)
-                keep = (ri >= 0) & (ci >= 0) & (ri <= ci) & ((deg == 5) if var.n0 else (deg < 5))
-                block = np.where(deg == 5, 0, deg)
-                e = np.repeat(np.arange(m)[:, None], er.size, 1).ravel()
-                col = offset + np.tile(ec, m) * m + e  # H raveled as (k, k, m)
-                val = np.tile(ev, m) * sg
-                pos = block * var.size + (var.kd + ri - ci) * var.m + ci
-                rows.append(pos[keep])
-                cols.append(col[keep])
-                vals.append(val[keep])
+                ri, ci, sg = var.reduced(dof[:, i].ravel(), dof[:, j].ravel())  # (m, entries), raveled
+                kept = np.flatnonzero((ri >= 0) & (ci >= 0) & (ri <= ci))
+                e, q = np.divmod(kept, ec.size)  # element and entry of the element map
+                ri, ci = ri[kept], ci[kept]
+                block = np.where(deg == 5, 0, deg)[q]
+                rows.append(block * var.size + (var.kd + ri - ci) * var.m + ci)
+                cols.append(offset + ec[q] * m + e)  # H raveled as (k, k, m)
+                vals.append(ev[q] * sg[kept])
                 offset += H.size
             R = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                               shape=(var.rows * var.size, offset))
