@@ -34,7 +34,9 @@ They evaluate the same expressions as the jets of :class:`contin_models.shell.ha
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 import sympy as sp
 
@@ -60,12 +62,8 @@ def _bend_kernel(variant: str) -> str:
     """The bending density's Hessian at axisymmetric states: the curvatures' jets, then the chain rule."""
     y = sp.symbols("y0:15", real=True)
     lbar = sp.Symbol("lbar", real=True)
-    H.SYMBOLIC_SQRT = sp.sqrt
-    try:
-        curv = H.bend_curvatures(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
-                                 None if variant == "bend_cur" else lbar)
-    finally:
-        H.SYMBOLIC_SQRT = None
+    curv = _symbolic(H.bend_curvatures, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
+                     None if variant == "bend_cur" else lbar)
     axisym = {y[k]: 0 for k in range(15) if k not in _FREE and k != 12}
     axisym[y[12]] = -y[10]
     exprs, targets = [], []
@@ -130,38 +128,50 @@ def _bend_kernel(variant: str) -> str:
     return "\n".join(lines)
 
 
-def _stretch_kernel() -> str:
-    y = sp.symbols("y0:6", real=True)
-    lbar, rbar, ks, nu = sp.symbols("lbar rbar ks nu", real=True)
+def _symbolic(function: Callable[..., Any], *args: Any) -> Any:
+    """``function(*args)`` on sympy symbols (the densities take their square roots by ``harmonic._sqrt``)."""
     H.SYMBOLIC_SQRT = sp.sqrt
     try:
-        E = H.stretch_density(tuple(y[0:3]), tuple(y[3:6]), lbar, rbar, ks, nu)
+        return function(*args)
     finally:
         H.SYMBOLIC_SQRT = None
-    axisym = {y[k]: 0 for k in range(6) if k not in _STRETCH_FREE}
-    exprs = {(i, j): sp.diff(E, y[i], y[j]).subs(axisym) for i in range(6) for j in range(i, 6)}
+
+
+def _hessian_kernel(name: str, doc: str, energy: Any, y: Sequence[Any], free: Sequence[int], params: Sequence[str],
+                    per_element: bool) -> str:
+    """A kernel returning the Hessian ``(k, k[, m])`` of ``energy`` in the ``k`` variables ``y`` at axisymmetric
+    states, where every variable but those numbered ``free`` (the kernel's first arguments, then ``params``)
+    is zero; ``per_element``: its inputs are arrays of ``m`` elements, else numbers."""
+    k = len(y)
+    axisym = {y[i]: 0 for i in range(k) if i not in free}
+    exprs = {(i, j): sp.diff(energy, y[i], y[j]).subs(axisym) for i in range(k) for j in range(i, k)}
     pairs = [p for p, e in exprs.items() if e != 0]
-    args = ", ".join([f"y{k}" for k in _STRETCH_FREE] + ["lbar", "rbar", "ks", "nu"])
-    lines = [f"def stretch_hessian({args}):",
-             '    """Hessian ``(6, 6, m)`` of the stretching density per radian at axisymmetric states."""',
-             "    _m = numpy.shape(y0)[0]",
-             "    _out = numpy.zeros((6, 6, _m))"]
+    args = ", ".join([f"y{i}" for i in free] + list(params))
+    lines = [f"def {name}({args}):", f'    """{doc}"""']
+    if per_element:
+        lines += ["    _m = numpy.shape(y0)[0]", f"    _out = numpy.zeros(({k}, {k}, _m))"]
+    else:
+        lines += [f"    _out = numpy.zeros(({k}, {k}))"]
     lines += cse_lines([exprs[p] for p in pairs], [f"_out[{i}, {j}]" for i, j in pairs], kernel_printer())
     lines += [f"    _out[{j}, {i}] = _out[{i}, {j}]" for i, j in pairs if i != j]
     lines.append("    return _out")
     return "\n".join(lines)
 
 
+def _stretch_kernel() -> str:
+    y = sp.symbols("y0:6", real=True)
+    lbar, rbar, ks, nu = sp.symbols("lbar rbar ks nu", real=True)
+    E = _symbolic(H.stretch_density, tuple(y[0:3]), tuple(y[3:6]), lbar, rbar, ks, nu)
+    return _hessian_kernel("stretch_hessian", "Hessian ``(6, 6, m)`` of the stretching density per radian at axisymmetric states.",
+                           E, y, _STRETCH_FREE, ("lbar", "rbar", "ks", "nu"), per_element=True)
+
+
 def _pole_kernel(variant: str) -> str:
     y = sp.symbols("y0:15", real=True)
     lbar = sp.Symbol("lbar", real=True)
     north = "_north_" in variant
-    H.SYMBOLIC_SQRT = sp.sqrt
-    try:
-        kap = H.pole_curvature(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]), north,
-                               None if variant.endswith("_cur") else lbar)
-    finally:
-        H.SYMBOLIC_SQRT = None
+    kap = _symbolic(H.pole_curvature, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
+                    north, None if variant.endswith("_cur") else lbar)
     axisym = {y[k]: 0 for k in range(15) if k not in _POLE_FREE}
     grads = [sp.diff(kap, y[i]) for i in range(15)]
     exprs = [kap.subs(axisym)] + [g.subs(axisym) for g in grads]
@@ -189,23 +199,9 @@ def _pole_kernel(variant: str) -> str:
 def _free_edge_kernel() -> str:
     y = sp.symbols("y0:12", real=True)
     K, kbar, nu = sp.symbols("K kbar nu", real=True)
-    H.SYMBOLIC_SQRT = sp.sqrt
-    try:
-        E = H.free_edge_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), K, kbar, nu)
-    finally:
-        H.SYMBOLIC_SQRT = None
-    axisym = {y[k]: 0 for k in range(12) if k not in _FREE_EDGE_FREE}
-    grads = [sp.diff(E, y[i]) for i in range(12)]
-    exprs = {(i, j): sp.diff(grads[i], y[j]).subs(axisym) for i in range(12) for j in range(i, 12)}
-    pairs = [p for p, e in exprs.items() if e != 0]
-    args = ", ".join([f"y{k}" for k in _FREE_EDGE_FREE] + ["K", "kbar", "nu"])
-    lines = [f"def free_edge_hessian({args}):",
-             '    """Hessian ``(12, 12)`` of the bending density per radian of a rotating edge at an axisymmetric state."""',
-             "    _h = numpy.zeros((12, 12))"]
-    lines += cse_lines([exprs[p] for p in pairs], [f"_h[{i}, {j}]" for i, j in pairs], kernel_printer())
-    lines += [f"    _h[{j}, {i}] = _h[{i}, {j}]" for i, j in pairs if i != j]
-    lines.append("    return _h")
-    return "\n".join(lines)
+    E = _symbolic(H.free_edge_density, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), K, kbar, nu)
+    return _hessian_kernel("free_edge_hessian", "Hessian ``(12, 12)`` of the bending density per radian of a rotating "
+                           "edge at an axisymmetric state.", E, y, _FREE_EDGE_FREE, ("K", "kbar", "nu"), per_element=False)
 
 
 _PREAMBLE = '''"""Generated by ``python -m contin_models.shell.harmonic_codegen``: do not edit.
