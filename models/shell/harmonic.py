@@ -163,14 +163,14 @@ Measured (``tests/test_harmonic.py``, ``python -m studies.harmonic_probe``)
   traced path's first fold (axisymmetric, at 0.980 / 0.9955 / 1.0014 ``p_c`` for ``N`` = 201 / 301 /
   401 nodes pole to pole); the ``n >= 1`` blocks' critical pressures (extrapolated from two stable
   states) form a cluster at 1.011 .. 1.018 ``p_c`` for ``n = 4 .. 18`` (``N = 401``).
-* Cost (default cap, ``N`` = 200 / 800 / 3200; ``python -m studies.harmonic_probe --cost``, medians
-  of four runs on 2026-11-28): per state (local Hessians and the band coefficients) 1.1 / 2.3 / 9.2
-  ms, per further block 0.03 / 0.06 / 0.14 ms, its count and eigenvalue estimate (a banded L D L^T
-  and three inverse-iteration steps, :func:`contin.modes.count_and_lowest`) 0.06 / 0.19 / 0.72 ms,
-  its two eigenvalues nearest zero (subspace inverse iteration, once per located bifurcation)
-  1.8 / 4.4 / 13 ms.  (The traced model's Hessian: 0.04 / 0.12 / 0.42 ms.)  Along the default trace
-  (``python -m studies.bench_harmonics``): 3.2 times the axisymmetric trace with ``n <= 13`` (2.5
-  before the axisymmetric trace itself became 2.7 times faster, issue 18).
+* Cost (default cap with its rotating edge's element, ``N`` = 200 / 800 / 3200; ``python -m
+  studies.harmonic_probe --cost``, five runs on 2026-11-28 on a shared machine): per state (local Hessians
+  and the band coefficients) 0.5-0.96 / 1.3-1.7 / 5.8-6.5 ms, per further block 0.04 / 0.07-0.09 /
+  0.34-0.47 ms, its count and eigenvalue estimate (a banded L D L^T and three inverse-iteration steps,
+  :func:`contin.modes.count_and_lowest`) 0.07 / 0.18-0.21 / 0.65-0.72 ms, its two eigenvalues nearest
+  zero (subspace inverse iteration, once per located bifurcation) 2.0-2.9 / 4.6-5.4 / 14-17 ms.  (The
+  traced model's Hessian: 0.05 / 0.13 / 0.5-0.7 ms.)  Along the default trace (``python -m
+  studies.bench_harmonics``): about 2.9 times the axisymmetric trace with ``n <= 13``.
 """
 
 from __future__ import annotations
