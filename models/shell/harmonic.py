@@ -1002,16 +1002,31 @@ class HarmonicShell:
                 terms.append(cb)
         return terms
 
-    def _variant(self, n: int, remove_rigid: bool = True, control_fixed=(), hold_pole: bool = False) -> "_BandVariant":
-        """The reduction of mode ``n``'s block to its admissible dofs, in LAPACK upper band storage (cached)."""
+    def _reduction_key(self, n: int, remove_rigid: bool, control_fixed, hold_pole: bool) -> tuple:
+        """What mode ``n``'s admissible dofs depend on (every ``n >= 2`` has the same)."""
         hold = bool(hold_pole) and int(n) == 1 and self.N - 1 in self.structure.poles
-        key = (min(int(n), 2), bool(remove_rigid), tuple(int(d) for d in control_fixed) if int(n) == 0 else (), hold)
-        cache = self.__dict__.setdefault("_variants", {})
+        return min(int(n), 2), bool(remove_rigid), tuple(int(d) for d in control_fixed) if int(n) == 0 else (), hold
+
+    def reduction(self, n: int, remove_rigid: bool = True, control_fixed=(), hold_pole: bool = False) -> sp.csc_matrix:
+        """The map ``T`` (``3N x m``) from mode ``n``'s admissible dofs to all its dofs (:func:`harmonic_dofs`;
+        ``hold_pole``: without the pole's lateral dof at ``n = 1``, :func:`harmonic_family`'s ``pole_held``),
+        cached."""
+        key = self._reduction_key(n, remove_rigid, control_fixed, hold_pole)
+        cache = self.__dict__.setdefault("_reductions", {})
         if key not in cache:
             d = harmonic_dofs(self.structure, n, remove_rigid, control_fixed)
             T = d.T.tocsc()
-            if hold:  # the load holds the pole laterally: drop the column of its lateral a (c is tied to it)
+            if key[3]:  # the load holds the pole laterally: drop the column of its lateral a (c is tied to it)
                 T = T[:, d.free != 3 * (self.N - 1)]
+            cache[key] = T
+        return cache[key]
+
+    def _variant(self, n: int, remove_rigid: bool = True, control_fixed=(), hold_pole: bool = False) -> "_BandVariant":
+        """The reduction of mode ``n``'s block to its admissible dofs, in LAPACK upper band storage (cached)."""
+        key = self._reduction_key(n, remove_rigid, control_fixed, hold_pole)
+        cache = self.__dict__.setdefault("_variants", {})
+        if key not in cache:
+            T = self.reduction(n, remove_rigid, control_fixed, hold_pole)
             cache[key] = _BandVariant(self.N, T.tocoo(), n0=int(n) == 0)
         return cache[key]
 
@@ -1368,10 +1383,7 @@ def harmonic_mode(structure: Any, n: int, mode: np.ndarray, hold_pole: bool = Fa
     """A mode of the block of wave number ``n >= 1`` (a vector on its admissible dofs, as
     :func:`harmonic_family`'s blocks have them) as per-node amplitudes ``(N, 3)``: the columns ``a``, ``b``,
     ``c`` of ``dR = a cos(n theta)``, ``dZ = b cos(n theta)``, ``dT = c sin(n theta)`` (module docstring)."""
-    d = harmonic_dofs(structure, n)
-    T = d.T.tocsc()
-    if bool(hold_pole) and int(n) == 1 and structure.N - 1 in structure.poles:
-        T = T[:, d.free != 3 * (structure.N - 1)]
+    T = _harmonic_shell(structure, None).reduction(n, hold_pole=hold_pole)
     mode = np.asarray(mode, dtype=float)
     if mode.shape != (T.shape[1],):
         raise ValueError(f"harmonic_mode: a mode of n = {n} has {T.shape[1]} entries, got shape {mode.shape}")
