@@ -331,7 +331,8 @@ def ordered_eigenvalue(H: Any, index: int) -> float:
 
 
 def eigenvalues_near_zero(H: Any, k: int = 2, vectors: bool = False, start: np.ndarray | None = None,
-                          solve: Callable[[np.ndarray], np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+                          solve: Callable[[np.ndarray], np.ndarray] | None = None
+                          ) -> tuple[np.ndarray, np.ndarray | None]:
     """The ``k`` eigenvalues of the symmetric ``H`` nearest zero, nearest first (with their vectors).
 
     A banded ``H``: subspace inverse iteration on its factorization (:func:`_subspace_near_zero`, from
@@ -369,7 +370,8 @@ SUBSPACE_TOL_OTHERS = 1e-4
 
 
 def _subspace_near_zero(H: Any, k: int, start: np.ndarray | None = None,
-                        solve: Callable[[np.ndarray], np.ndarray] | None = None) -> tuple[np.ndarray | None, np.ndarray | None]:
+                        solve: Callable[[np.ndarray], np.ndarray] | None = None
+                        ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """The ``k`` eigenpairs of the symmetric ``H`` nearest zero by subspace inverse iteration.
 
     ``k + SUBSPACE_EXTRA`` vectors (``start`` and random ones of a fixed seed: the result is

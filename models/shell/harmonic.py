@@ -94,8 +94,8 @@ i.e. :func:`harmonic_block` returns the exact second variation of the 2-D energy
 for ``n >= 1`` and ``/ (2 pi |u|^2)`` for ``n = 0``.  The copy with ``cos`` and ``sin`` swapped has
 the same block.  The local Hessians ``H`` are computed once per state (all ``n`` share them): the
 bending density's from generated curvature jets by the chain rule, the stretching and rotating edge's
-densities' and the poles' curvature jets by generated code (:mod:`contin_models.shell.harmonic_codegen`, sympy, emitted
-to :mod:`contin_models.shell._harmonic_generated`), the rest (and all of them with
+densities' and the poles' curvature jets by generated code (:mod:`contin_models.shell.harmonic_codegen`,
+sympy, emitted to :mod:`contin_models.shell._harmonic_generated`), the rest (and all of them with
 ``method="jets"``, the reference) by exact second-order forward differentiation (:class:`Jet`),
 vectorised over the elements.  The mode maps are quadratic in ``n``, so the block of ``n >= 1`` is
 ``pi sum_d n^d C_d`` (``d = 0..4``).  The maps are sparse (a dof moves few local variables) and at an
@@ -192,8 +192,8 @@ from . import _harmonic_generated
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "harmonic_mode",
            "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
-           "skirt_density", "free_edge_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH",
-           "COMPILED"]
+           "skirt_density", "free_edge_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy",
+           "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH", "COMPILED"]
 
 _hgen, COMPILED = prefer_compiled(_harmonic_generated, "contin_models.shell._harmonic_ckernels")
 """``_hgen``: the generated kernels of the harmonic blocks (:mod:`contin_models.shell._harmonic_generated`),
