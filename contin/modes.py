@@ -181,17 +181,30 @@ def _count(H: Any) -> int:
     return _factor_and_count(H)[0]
 
 
-def _scaled_near_zero(K: Any, vectors: bool, start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+def _scaled_near_zero(K: Any, vectors: bool, start: np.ndarray | None = None,
+                      solve: Callable[[np.ndarray], np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray | None]:
     """The two eigenvalues nearest zero of the Jacobi-scaled ``K`` (:func:`_jacobi_scaled`), nearest first, and
     with ``vectors`` the null vector of ``K`` itself they give (the scaled eigenvector mapped back, unit norm).
-    ``start``: a guess of ``K``'s null vector."""
+    ``start``: a guess of ``K``'s null vector; ``solve``: a solver with ``K`` already at hand (a banded
+    ``K``'s scaled operator is then solved through it instead of being factorized again)."""
     scale = _jacobi_scaling(K)
     guess = None if start is None else start / scale
-    w, V = eigenvalues_near_zero(_jacobi_scaled(K, scale), 2, vectors=vectors, start=guess)
+    w, V = eigenvalues_near_zero(_jacobi_scaled(K, scale), 2, vectors=vectors, start=guess,
+                                 solve=None if solve is None else _scaled_solver(solve, scale))
     if not vectors or V is None:
         return w, None
     mode = scale * V[:, 0]
     return w, mode / np.linalg.norm(mode)
+
+
+def _scaled_solver(solve: Callable[[np.ndarray], np.ndarray], scale: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """A solver with ``S K S`` (``S = diag(scale)``) from one with ``K``: ``(S K S)^-1 r = S^-1 K^-1 S^-1 r``."""
+    inverse = 1.0 / scale
+
+    def scaled(r: np.ndarray) -> np.ndarray:
+        factor = inverse if np.ndim(r) == 1 else inverse[:, None]
+        return factor * solve(factor * r)
+    return scaled
 
 
 def _jacobi_scaling(K: Any) -> np.ndarray:
@@ -249,24 +262,30 @@ def count_and_lowest(H: Any, start: np.ndarray | None = None) -> tuple[int, floa
     relative in a few points when the next eigenvalue is twice as large, ``tests/test_modes.py``);
     once another eigenvalue comes nearer zero the warm start follows the old one for a few points.
     """
+    return _count_lowest_solver(H, start)[:3]
+
+
+def _count_lowest_solver(H: Any, start: np.ndarray | None) -> tuple[int, float, np.ndarray,
+                                                                    Callable[[np.ndarray], np.ndarray] | None]:
+    """:func:`count_and_lowest` and the solver with ``H`` it factorized (None when ``H`` is exactly singular)."""
     n = H.shape[0]
     v = np.ones(n) if start is None or start.shape != (n,) else np.array(start, dtype=float)
     count, solve = _factor_and_count(H)
     if solve is None:
-        return count, 0.0, v / np.linalg.norm(v)
+        return count, 0.0, v / np.linalg.norm(v), None
     quotient = 0.0
     for _ in range(LOWEST_ITERATIONS):
         try:
             y = solve(v)
         except (SingularMatrixError, np.linalg.LinAlgError):
-            return count, 0.0, v / np.linalg.norm(v)
+            return count, 0.0, v / np.linalg.norm(v), solve
         norm = math.sqrt(float(y @ y))
         if not math.isfinite(norm) or norm == 0.0:
-            return count, 0.0, v / np.linalg.norm(v)
+            return count, 0.0, v / np.linalg.norm(v), solve
         # the Rayleigh quotient of y / |y| without a product with H: H y = v makes y^T H y = y^T v
         quotient = float(y @ v) / (norm * norm)
         v = y / norm
-    return count, quotient, v
+    return count, quotient, v, solve
 
 
 def ordered_eigenpairs(H: Any, lo: int, hi: int, vectors: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
@@ -311,12 +330,13 @@ def ordered_eigenvalue(H: Any, index: int) -> float:
     return float(np.sort(w)[index])
 
 
-def eigenvalues_near_zero(H: Any, k: int = 2, vectors: bool = False,
-                          start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+def eigenvalues_near_zero(H: Any, k: int = 2, vectors: bool = False, start: np.ndarray | None = None,
+                          solve: Callable[[np.ndarray], np.ndarray] | None = None
+                          ) -> tuple[np.ndarray, np.ndarray | None]:
     """The ``k`` eigenvalues of the symmetric ``H`` nearest zero, nearest first (with their vectors).
 
     A banded ``H``: subspace inverse iteration on its factorization (:func:`_subspace_near_zero`, from
-    ``start`` if given).
+    ``start`` if given; ``solve``: a solver with ``H`` already at hand instead of a new factorization).
     Otherwise shift-invert Lanczos about zero for a sparse matrix of more than a few dozen rows; dense
     ``eigh`` for the rest, or when either fails (an exactly singular matrix).
     """
@@ -324,7 +344,7 @@ def eigenvalues_near_zero(H: Any, k: int = 2, vectors: bool = False,
     k = min(k, n)
     w = V = None
     if _band(H) is not None:
-        w, V = _subspace_near_zero(_band(H), k, start)
+        w, V = _subspace_near_zero(_band(H), k, start, solve)
     elif sp.issparse(H) and n > BANDED_MIN and k < n - 1:
         from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, eigsh
 
@@ -349,11 +369,13 @@ SUBSPACE_TOL = 1e-10
 SUBSPACE_TOL_OTHERS = 1e-4
 
 
-def _subspace_near_zero(H: Any, k: int, start: np.ndarray | None = None) -> tuple[np.ndarray | None, np.ndarray | None]:
+def _subspace_near_zero(H: Any, k: int, start: np.ndarray | None = None,
+                        solve: Callable[[np.ndarray], np.ndarray] | None = None
+                        ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """The ``k`` eigenpairs of the symmetric ``H`` nearest zero by subspace inverse iteration.
 
     ``k + SUBSPACE_EXTRA`` vectors (``start`` and random ones of a fixed seed: the result is
-    reproducible) are multiplied by ``H^-1`` (one factorization, :func:`_factor_and_count`),
+    reproducible) are multiplied by ``H^-1`` (``solve``, or one factorization, :func:`_factor_and_count`),
     orthonormalized, and rotated to the Ritz vectors of ``H`` on their span, until each Ritz pair's
     residual ``|H x - theta x|`` (which bounds its eigenvalue's error) is below :data:`SUBSPACE_TOL`
     of ``|theta|`` for the nearest and :data:`SUBSPACE_TOL_OTHERS` for the next ``k - 1``, or below
@@ -364,7 +386,8 @@ def _subspace_near_zero(H: Any, k: int, start: np.ndarray | None = None) -> tupl
     """
     n = H.shape[0]
     m = min(n, k + SUBSPACE_EXTRA)
-    _, solve = _factor_and_count(H)
+    if solve is None:
+        solve = _factor_and_count(H)[1]
     if solve is None:
         return None, None
     X = np.random.default_rng(12345).standard_normal((n, m))
@@ -408,6 +431,8 @@ class ModeTest(TestFunction):
         self.name = f"bifurcation({family.name})"
         self._info: dict[str, Any] = {}
         self._vectors: dict[Any, np.ndarray] = {}  # each key's last eigenvector: the next estimate's start
+        # the operators and solvers of the last two points counted: a located bifurcation's bracket ends
+        self._factored: list[tuple[Point, dict[Any, tuple[Any, Callable[[np.ndarray], np.ndarray] | None]]]] = []
 
     @property
     def label(self) -> str:
@@ -418,12 +443,14 @@ class ModeTest(TestFunction):
             pt.modes = {}
         name = self.family.name
         if name not in pt.modes:
-            counts, lowest = [], []
+            counts, lowest, factored = [], [], {}
             for key, K in zip(self.family.keys, self.family.operators(pt.u, pt.p)):
-                c, lam, vec = count_and_lowest(K, self._vectors.get(key))
+                c, lam, vec, solve = _count_lowest_solver(K, self._vectors.get(key))
                 self._vectors[key] = vec
+                factored[key] = (K, solve)
                 counts.append(c)
                 lowest.append(lam)
+            self._factored = [*self._factored[-1:], (pt, factored)]
             pt.modes[name] = tuple(counts)
             pt.modes[f"{name}.lowest"] = tuple(lowest)  # the eigenvalue nearest zero per key, for the records
         return pt.modes[name]
@@ -456,13 +483,20 @@ class ModeTest(TestFunction):
         eigenvalue itself.
         """
         fam, tol = self.family, self.curve.settings.locate_tol
-        K_B = fam.operator(key, seg.B.u, seg.B.p)
+        ops: dict[float, Any] = {}
+        solvers: dict[float, Callable[[np.ndarray], np.ndarray] | None] = {}
+        for sigma, pt in ((0.0, seg.A), (seg.sigma_B, seg.B)):  # the ends' operators as value() factorized them
+            for counted, factored in self._factored:
+                if counted is pt and key in factored:
+                    ops[sigma], solvers[sigma] = factored[key]
+        K_B = ops.get(seg.sigma_B)
+        if K_B is None:
+            K_B = ops[seg.sigma_B] = fam.operator(key, seg.B.u, seg.B.p)
         border = self._vectors.get(key)
         if border is None or border.shape != (K_B.shape[0],):
             _, V = eigenvalues_near_zero(K_B, 1, vectors=True)
             border = V[:, 0]
         border = border / np.linalg.norm(border)
-        ops: dict[float, Any] = {seg.sigma_B: K_B}
 
         def operator(sigma: float) -> Any:
             if sigma not in ops:
@@ -473,7 +507,9 @@ class ModeTest(TestFunction):
             return ops[sigma]
 
         def g(sigma: float) -> float:
-            solve = _solver(operator(sigma))
+            if sigma not in solvers:
+                solvers[sigma] = _solver(operator(sigma))
+            solve = solvers[sigma]
             if solve is None:
                 return 0.0  # exactly singular: the root itself
             try:
@@ -486,7 +522,7 @@ class ModeTest(TestFunction):
         if not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
             return None
         sigma = seg.root(g, g_A, g_B, tol, ftol=BORDERED_NOISE)
-        w, mode = _scaled_near_zero(operator(sigma), fam.vectors, start=border)
+        w, mode = _scaled_near_zero(operator(sigma), fam.vectors, start=border, solve=solvers.get(sigma))
         if w.size > 1 and abs(w[0]) > SINGULAR_RATIO * abs(w[1]):
             return None
         return sigma, w, mode

@@ -54,8 +54,9 @@ def test_the_ci_build_has_the_compiled_kernels():
     assert linalg.banded_extension() is not None, "the package install did not build contin._banded"
 
 
-HARMONIC_PER_ELEMENT = ("bend_cur_curvatures", "bend_ref_curvatures", "stretch_hessian")
-HARMONIC_POLE = ("pole_north_cur_jet", "pole_north_ref_jet", "pole_south_cur_jet", "pole_south_ref_jet")
+HARMONIC_PER_ELEMENT = ("bend_cur_hessian", "bend_ref_hessian", "stretch_hessian")
+HARMONIC_POLE = ("pole_north_cur_jet", "pole_north_ref_jet", "pole_south_cur_jet", "pole_south_ref_jet",
+                 "free_edge_hessian")
 
 
 @pytest.mark.skipif(not harmonic.COMPILED, reason="the C extension contin_models.shell._harmonic_ckernels is not built")

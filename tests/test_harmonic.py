@@ -28,8 +28,8 @@ import scipy.sparse.linalg as spla
 import contin
 from contin_models.shell.geometry import spherical_cap
 from contin_models.shell.harmonic import (HarmonicShell, Jet, block_eigs, block_inertia, bend_density,
-                                          harmonic_block, harmonic_dofs, mode_maps, ring_mesh_block,
-                                          ring_mesh_energy, stretch_density, volume_density)
+                                          free_edge_density, harmonic_block, harmonic_dofs, mode_maps,
+                                          ring_mesh_block, ring_mesh_energy, stretch_density, volume_density)
 from contin_models.shell.meridian import complete_sphere_meridian
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure
 from contin_models.shell.volume import volume_hessian
@@ -94,6 +94,42 @@ def test_jet_matches_finite_differences() -> None:
     assert s.h.shape == (6, 6, 1) and np.allclose(s.h[:, :, 0], s.h[:, :, 0].T)
 
 
+@pytest.mark.parametrize("compiled", [False, True])
+def test_generated_hessian_kernels_are_the_densities_hessians(compiled: bool) -> None:
+    """The generated bending and rotating-edge kernels (numpy and, where built, C) against the jets of
+    :func:`bend_density` and :func:`free_edge_density` at axisymmetric local variables: the whole
+    ``(15, 15)`` and ``(12, 12)`` Hessians, zeros included."""
+    from contin_models.shell import _harmonic_generated, harmonic
+
+    if compiled and not harmonic.COMPILED:
+        pytest.skip("the C extension contin_models.shell._harmonic_ckernels is not built")
+    kernels = harmonic._hgen if compiled else _harmonic_generated
+    rng = np.random.default_rng(11)
+    m = 7
+    r0, r1, r2 = (rng.uniform(0.4, 0.9, m) for _ in range(3))
+    z0, z1, z2 = (rng.uniform(-0.2, 0.2, m) for _ in range(3))
+    lbar, rbar, k11bar, k22bar, kb = (rng.uniform(0.5, 1.5, m) for _ in range(5))
+    nu = 0.3
+    zero = np.zeros(m)
+    # e1, e2, Dp = P'_2 - P'_0, Pp = P'_1, Ppp = P''_1 of three rings at one theta (module docstring)
+    vals = [r1 - r0, zero, z1 - z0, r2 - r1, zero, z2 - z1, zero, r2 - r0, zero, zero, r1, zero, -r1, zero, zero]
+    for current, kernel in ((True, kernels.bend_cur_hessian), (False, kernels.bend_ref_hessian)):
+        y = Jet.variables(vals)
+        H = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
+                         lbar, rbar, k11bar, k22bar, kb, nu, None if current else lbar).h
+        G = kernel(vals[0], vals[2], vals[3], vals[5], vals[7], vals[10], lbar, rbar, k11bar, k22bar, kb, nu)
+        assert G.shape == (15, 15, m)
+        np.testing.assert_allclose(G, H, rtol=1e-11, atol=1e-11 * np.max(np.abs(H)))
+    # a rotating edge: e = P_1 - P_0, Dp = P'_1 - P'_0, Pp = P'_0, Ppp = P''_0
+    K, kbar = 0.7, 1.3
+    for i in range(m):
+        v = [r1[i] - r0[i], 0.0, z1[i] - z0[i], 0.0, r1[i] - r0[i], 0.0, 0.0, r0[i], 0.0, -r0[i], 0.0, 0.0]
+        y = Jet.variables([np.array([a]) for a in v])
+        H = free_edge_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), K, kbar, nu).h[:, :, 0]
+        G = kernels.free_edge_hessian(v[0], v[2], v[4], v[7], v[9], K, kbar, nu)
+        np.testing.assert_allclose(G, H, rtol=1e-11, atol=1e-11 * np.max(np.abs(H)))
+
+
 def test_mode_maps_are_the_fields_derivatives() -> None:
     """``dP'`` and ``dP''`` of the maps are the theta-derivatives of the mode's Cartesian field."""
     rng = np.random.default_rng(0)
@@ -140,15 +176,18 @@ def test_dofs_per_wave_number() -> None:
 @pytest.mark.parametrize("kappa11_length", ["current", "reference"])
 def test_fast_paths_equal_the_direct_ones(kappa11_length: str) -> None:
     """Generated bending kernels against the jets, the polynomial in n against the direct projection,
-    the reduction's scatter against T^T K T: closed sphere under pressure, clamped cap with contact."""
+    the reduction's scatter against T^T K T: closed sphere under pressure, clamped cap with contact,
+    a sliding cap with its rotating edge's element under pressure."""
     h = 0.02
     sph = ShellStructure(Sphere(1.0, 15, h), 1.0, 0.3, h, kappa11_length=kappa11_length)
     st, xc, contacts = indented_state(15)
     cl = ShellStructure(st.meridian, 1e6, 0.5, 0.02, boundary="clamped", kappa11_length=kappa11_length)
+    sl = ShellStructure(st.meridian, 1e6, 0.3, 0.02, boundary="sliding", kappa11_length=kappa11_length)
+    assert sl.edge_element is not None and sl.clamp is None
     rng = np.random.default_rng(4)
     xs = sph.meridian.x * 0.99 + 1e-3 * rng.standard_normal(30)
     xs[0] = xs[-2] = 0.0
-    for s_, x, p, contact in ((sph, xs, 1e-4, None), (cl, xc, 0.0, contacts[0])):
+    for s_, x, p, contact in ((sph, xs, 1e-4, None), (cl, xc, 0.0, contacts[0]), (sl, xc, 1e3, None)):
         fast, jets = HarmonicShell(s_), HarmonicShell(s_, method="jets")
         for n in (0, 1, 2, 5):
             A = fast.full_block(x, n, p, contact).toarray()

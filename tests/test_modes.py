@@ -127,3 +127,38 @@ def test_the_stored_mode_is_the_null_vector_of_the_operator_itself() -> None:
     mode = bif[0].info["mode"]
     assert np.linalg.norm(mode) == pytest.approx(1.0)
     assert np.linalg.norm(K @ mode) < 1e-9 * np.linalg.norm(K)
+
+
+def test_the_location_reuses_the_bracket_ends_operators_and_factorizations(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The root of the bordered function evaluates the key's operator only at new points on the curve: the
+    bracket ends' operators and factorizations are those the counts at those points made."""
+    from contin import modes
+
+    calls: list[tuple[int, float, bool]] = []
+    locating = [False]
+
+    def op(k, u, p):
+        calls.append((k, float(u[0]), locating[0]))
+        return np.diag([k * k - u[0], 2.0 * k * k - u[0]])
+
+    original = modes.ModeTest._bordered_root
+
+    def bordered_root(self, *args):
+        locating[0] = True
+        try:
+            return original(self, *args)
+        finally:
+            locating[0] = False
+
+    monkeypatch.setattr(modes.ModeTest, "_bordered_root", bordered_root)
+    family = contin.OperatorFamily("k", (1, 2), op, multiplicity=lambda k: 2)
+    prob = contin.Problem(residual=lambda u, p: np.array([u[0] - p]), jacobian=lambda u, p: np.eye(1),
+                          dresidual_dp=lambda u, p: np.array([-1.0]), symmetric=True, operator_families=[family],
+                          name="family")
+    br = contin.continuation(prob, np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=5.0, stability=True, max_steps=100)
+    bif = [s for s in br.special_points if s.kind == "bifurcation"]
+    assert [(round(s.p, 9), s.info["key"]) for s in bif] == [(1.0, 1), (2.0, 1), (4.0, 2)]
+    stored = set(float(p) for p in br.p)
+    in_location = [(k, u) for k, u, during in calls if during]
+    assert in_location, "the bordered roots evaluated no operator"
+    assert not [(k, u) for k, u in in_location if u in stored], "a bracket end's operator was evaluated again"

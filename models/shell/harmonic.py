@@ -93,9 +93,9 @@ i.e. :func:`harmonic_block` returns the exact second variation of the 2-D energy
 (``u^T K_n u = d^2 E``); its Rayleigh quotient against the field's L2 norm is ``u^T K u / (pi |u|^2)``
 for ``n >= 1`` and ``/ (2 pi |u|^2)`` for ``n = 0``.  The copy with ``cos`` and ``sin`` swapped has
 the same block.  The local Hessians ``H`` are computed once per state (all ``n`` share them): the
-bending density's from generated curvature jets by the chain rule, the stretching density's and the
-poles' curvature jets by generated code (:mod:`contin_models.shell.harmonic_codegen`, sympy, emitted
-to :mod:`contin_models.shell._harmonic_generated`), the rest (and all of them with
+bending density's from generated curvature jets by the chain rule, the stretching and rotating edge's
+densities' and the poles' curvature jets by generated code (:mod:`contin_models.shell.harmonic_codegen`,
+sympy, emitted to :mod:`contin_models.shell._harmonic_generated`), the rest (and all of them with
 ``method="jets"``, the reference) by exact second-order forward differentiation (:class:`Jet`),
 vectorised over the elements.  The mode maps are quadratic in ``n``, so the block of ``n >= 1`` is
 ``pi sum_d n^d C_d`` (``d = 0..4``).  The maps are sparse (a dof moves few local variables) and at an
@@ -163,14 +163,14 @@ Measured (``tests/test_harmonic.py``, ``python -m studies.harmonic_probe``)
   traced path's first fold (axisymmetric, at 0.980 / 0.9955 / 1.0014 ``p_c`` for ``N`` = 201 / 301 /
   401 nodes pole to pole); the ``n >= 1`` blocks' critical pressures (extrapolated from two stable
   states) form a cluster at 1.011 .. 1.018 ``p_c`` for ``n = 4 .. 18`` (``N = 401``).
-* Cost (default cap, ``N`` = 200 / 800 / 3200; ``python -m studies.harmonic_probe --cost``, medians
-  of four runs on 2026-11-28): per state (local Hessians and the band coefficients) 1.1 / 2.3 / 9.2
-  ms, per further block 0.03 / 0.06 / 0.14 ms, its count and eigenvalue estimate (a banded L D L^T
-  and three inverse-iteration steps, :func:`contin.modes.count_and_lowest`) 0.06 / 0.19 / 0.72 ms,
-  its two eigenvalues nearest zero (subspace inverse iteration, once per located bifurcation)
-  1.8 / 4.4 / 13 ms.  (The traced model's Hessian: 0.04 / 0.12 / 0.42 ms.)  Along the default trace
-  (``python -m studies.bench_harmonics``): 3.2 times the axisymmetric trace with ``n <= 13`` (2.5
-  before the axisymmetric trace itself became 2.7 times faster, issue 18).
+* Cost (default cap with its rotating edge's element, ``N`` = 200 / 800 / 3200; ``python -m
+  studies.harmonic_probe --cost``, five runs on 2026-11-28 on a shared machine): per state (local Hessians
+  and the band coefficients) 0.5-0.96 / 1.3-1.7 / 5.8-6.5 ms, per further block 0.04 / 0.07-0.09 /
+  0.34-0.47 ms, its count and eigenvalue estimate (a banded L D L^T and three inverse-iteration steps,
+  :func:`contin.modes.count_and_lowest`) 0.07 / 0.18-0.21 / 0.65-0.72 ms, its two eigenvalues nearest
+  zero (subspace inverse iteration, once per located bifurcation) 2.0-2.9 / 4.6-5.4 / 14-17 ms.  (The
+  traced model's Hessian: 0.05 / 0.13 / 0.5-0.7 ms.)  Along the default trace (``python -m
+  studies.bench_harmonics``): about 2.9 times the axisymmetric trace with ``n <= 13``.
 """
 
 from __future__ import annotations
@@ -192,8 +192,8 @@ from . import _harmonic_generated
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "harmonic_mode",
            "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
-           "skirt_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy", "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH",
-           "COMPILED"]
+           "skirt_density", "free_edge_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy",
+           "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH", "COMPILED"]
 
 _hgen, COMPILED = prefer_compiled(_harmonic_generated, "contin_models.shell._harmonic_ckernels")
 """``_hgen``: the generated kernels of the harmonic blocks (:mod:`contin_models.shell._harmonic_generated`),
@@ -203,6 +203,9 @@ is then True; the same numbers, see :mod:`contin.compiled`)."""
 #: The pole curvature's local variables that are not zero at an axisymmetric state (the generated jets'
 #: arguments, :mod:`contin_models.shell.harmonic_codegen`).
 _POLE_FREE = (0, 2, 4, 6, 8, 9, 11, 13)
+#: The same for a rotating edge's density (:func:`free_edge_density`): ``e = (y0, 0, y2)``, ``Dp = (0, y4, 0)``,
+#: ``Pp = (0, y7, 0)``, ``Ppp = (y9, 0, 0)``.
+_FREE_EDGE_FREE = (0, 2, 4, 7, 9)
 
 HARMONIC_HALF_BANDWIDTH = 8
 """Half-bandwidth of a full block in the interleaved ``[a, b, c]`` ordering (a bending element
@@ -555,10 +558,10 @@ class HarmonicShell:
         Height of the pressure's base plane (default: the reference height of node 0, as
         :meth:`contin_models.shell.volume.PressureTerm.from_reference`).
     method : {"generated", "jets"}
-        How the bending and stretching densities' local Hessians and the poles' curvature jets are
-        evaluated: the generated kernels (:mod:`contin_models.shell.harmonic_codegen`, the default)
-        or the jets (the reference; the clamp, free edge, volume and skirt always use the jets: they
-        are one element or needed only under pressure).
+        How the bending, stretching and rotating edge's local Hessians and the poles' curvature jets
+        are evaluated: the generated kernels (:mod:`contin_models.shell.harmonic_codegen`, the
+        default) or the jets (the reference; the volume and skirt always use the jets: they are
+        needed only under pressure).
 
     Notes
     -----
@@ -607,35 +610,36 @@ class HarmonicShell:
         self._cache: dict = {}  # state bytes -> local Hessians, oldest first
 
     # ---- local variables -------------------------------------------------------------------------
-    def _families(self, x: np.ndarray):
-        """Local vectors and layouts of every family at an axisymmetric state ``x``."""
-        r, z = x[0::2], x[1::2]
-        V = _axisym_vectors(r, z)
-        N = self.N
-        fams = []
-        # stretch: D = P_j - P_i, Mp = (P'_i + P'_j)/2
-        i = np.arange(N - 1)
-        nodes = np.stack([i, i + 1], axis=1)
-        layout = [([(1, 1.0), (0, -1.0)], "P"), ([(0, 0.5), (1, 0.5)], "Pp")]
-        fams.append(("stretch", nodes, layout))
-        # bend: e1, e2, Dp, Pp, Ppp
-        j = self.b_nodes
-        nodes = np.stack([j - 1, j, j + 1], axis=1)
-        layout = [([(1, 1.0), (0, -1.0)], "P"), ([(2, 1.0), (1, -1.0)], "P"), ([(2, 1.0), (0, -1.0)], "Pp"),
-                  ([(1, 1.0)], "Pp"), ([(1, 1.0)], "Ppp")]
-        fams.append(("bend", nodes, layout))
-        # volume strips: Pi, Pj, P'i, P'j
-        nodes = np.stack([i, i + 1], axis=1)
-        layout = [([(0, 1.0)], "P"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "Pp")]
-        fams.append(("volume", nodes, layout))
+    def _layouts(self) -> list:
+        """``(name, nodes, layout)`` of the stretch, bend and volume families (they do not depend on the state)."""
+        layouts = self.__dict__.get("_family_layouts")
+        if layouts is None:
+            i = np.arange(self.N - 1)
+            j = self.b_nodes
+            layouts = self._family_layouts = [
+                # stretch: D = P_j - P_i, Mp = (P'_i + P'_j)/2
+                ("stretch", np.stack([i, i + 1], axis=1), [([(1, 1.0), (0, -1.0)], "P"), ([(0, 0.5), (1, 0.5)], "Pp")]),
+                # bend: e1, e2, Dp, Pp, Ppp
+                ("bend", np.stack([j - 1, j, j + 1], axis=1),
+                 [([(1, 1.0), (0, -1.0)], "P"), ([(2, 1.0), (1, -1.0)], "P"), ([(2, 1.0), (0, -1.0)], "Pp"),
+                  ([(1, 1.0)], "Pp"), ([(1, 1.0)], "Ppp")]),
+                # volume strips: Pi, Pj, P'i, P'j
+                ("volume", np.stack([i, i + 1], axis=1),
+                 [([(0, 1.0)], "P"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "Pp")])]
+        return layouts
+
+    def _families(self, x: np.ndarray, names: tuple = ("stretch", "bend")) -> dict:
+        """Local vectors ``(nodes, layout, values)`` of the families ``names`` at an axisymmetric state ``x``."""
         out = {}
         maps = self.__dict__.setdefault("_local_maps", {})
-        for name, nodes, layout in fams:
+        for name, nodes, layout in self._layouts():
+            if name not in names:
+                continue
             if name not in maps:  # the local variables are fixed linear combinations of the state
                 maps[name] = self._local_map(nodes, layout)
             vals = list((maps[name] @ x).reshape(3 * len(layout), nodes.shape[0]))
             out[name] = (nodes, layout, vals)
-        return out, V
+        return out
 
     def _local_map(self, nodes: np.ndarray, layout: list) -> sp.csr_matrix:
         """The sparse map from the state ``[r_0, z_0, ...]`` to a family's local variables at axisymmetric
@@ -662,33 +666,16 @@ class HarmonicShell:
 
     def _bend_hessian(self, vals: list, params: tuple, current: bool) -> np.ndarray:
         """``(15, 15, m)`` Hessians of the bending density at axisymmetric local variables ``vals``
-        (15 arrays): from the generated curvature jets (:mod:`contin_models.shell._harmonic_generated`) by
-        the chain rule, or the jets with ``method="jets"``; ``L`` is the current length when ``current``,
-        else the weight's ``lbar``.
-
-        The density is ``c (B11^2 + 2 nu B11 B22 + B22^2 + 2 (1 - nu) kappa12^2)``, ``c = rbar lbar kb / 2``,
-        ``B = kappa - kappabar``; with ``kappa12 = 0`` at axisymmetric states its Hessian is
-        ``2 c (g11 g11^T + nu (g11 g22^T + g22 g11^T) + g22 g22^T + 2 (1 - nu) g12 g12^T
-        + (B11 + nu B22) H11 + (B22 + nu B11) H22)`` (``g``, ``H`` the curvatures' gradients and Hessians).
+        (15 arrays) and ``params = (lbar, rbar, k11bar, k22bar, kb, nu)``: from the generated kernel
+        (:mod:`contin_models.shell._harmonic_generated`: the curvatures' jets and the chain rule), or the
+        jets with ``method="jets"``; ``L`` is the current length when ``current``, else the weight's
+        ``lbar``.
         """
         if self.method == "generated":
-            lbar, rbar, k11bar, k22bar, kb, nu = params
             m = np.size(vals[0])
-            f = _hgen.bend_cur_curvatures if current else _hgen.bend_ref_curvatures
-            k11, g11, h11, k22, g22, h22, g12 = f(*(np.broadcast_to(np.asarray(vals[k], float), (m,))
-                                                    for k in (0, 2, 3, 5, 7, 10)),
-                                                  np.broadcast_to(np.asarray(lbar, float), (m,)))
-            c2 = rbar * lbar * kb  # 2 c
-            B11, B22 = k11 - k11bar, k22 - k22bar
-            # 2 c folded into the small factors first, and the (15, 15, m) products accumulated in
-            # place: nine passes over the big arrays instead of eleven, with fewer of them allocating
-            # (0.83 -> 0.52 ms at m = 200)
-            H = h11 * ((B11 + nu * B22) * c2)
-            H += h22 * ((B22 + nu * B11) * c2)
-            for left, right in (((g11 + nu * g22) * c2, g11), ((nu * g11 + g22) * c2, g22),
-                                ((2.0 * (1.0 - nu)) * g12 * c2, g12)):
-                H += left[:, None, :] * right[None, :, :]
-            return H
+            f = _hgen.bend_cur_hessian if current else _hgen.bend_ref_hessian
+            return f(*(np.broadcast_to(np.asarray(vals[k], float), (m,)) for k in (0, 2, 3, 5, 7, 10)),
+                     *(np.broadcast_to(np.asarray(p, float), (m,)) for p in params[:5]), float(params[5]))
         y = Jet.variables(vals)
         e = bend_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
                          *params, None if current else params[0])
@@ -698,7 +685,7 @@ class HarmonicShell:
         """The volume strips' ``(nodes, layout, H)``, and the skirt's under ``loc["skirt"]`` when node 0 is off
         the axis (cached with the state's other Hessians)."""
         if "volume" not in loc:
-            nodes, layout, vals = loc["volume_family"]
+            nodes, layout, vals = self._families(x, ("volume",))["volume"]
             y = Jet.variables(vals)
             e = volume_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]))
             loc["volume"] = (nodes, layout, e.h)
@@ -718,7 +705,8 @@ class HarmonicShell:
         res = self._cache.get(key)
         if res is not None:
             return res
-        fams, V = self._families(x)
+        fams = self._families(x)
+        V = _axisym_vectors(x[0::2], x[1::2])
         res = {}
         # stretch
         nodes, layout, vals = fams["stretch"]
@@ -733,8 +721,7 @@ class HarmonicShell:
         if nodes.shape[0]:
             bp = (self.b_lbar, self.b_rbar, self.b_k11, self.b_k22, self.b_kb, self.nu)
             res["bend"] = (nodes, layout, self._bend_hessian(vals, bp, self.current))
-        # volume and skirt (their jets only when a pressure asks for them: _volume_hessians)
-        res["volume_family"] = fams["volume"]
+        # volume and skirt: their jets only when a pressure asks for them (_volume_hessians)
         res["skirt_vectors"] = V
         # clamp: bending density on (ghost, 0, 1), ghost fixed; slots: node 0, node 1 (ghost = -1)
         if self.clamp is not None:
@@ -754,12 +741,16 @@ class HarmonicShell:
             fe = self.free_edge
             vals = ([V["P"][c][1:2] - V["P"][c][:1] for c in range(3)] + [V["Pp"][c][1:2] - V["Pp"][c][:1] for c in range(3)]
                     + [V["Pp"][c][:1] for c in range(3)] + [V["Ppp"][c][:1] for c in range(3)])
-            y = Jet.variables(vals)
-            e = free_edge_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), fe.K, fe.kappa_bar,
-                                  self.nu)
+            if self.method == "generated":
+                Hf = _hgen.free_edge_hessian(*(float(vals[i][0]) for i in _FREE_EDGE_FREE), float(fe.K),
+                                             float(fe.kappa_bar), self.nu)[:, :, None]
+            else:
+                y = Jet.variables(vals)
+                Hf = free_edge_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), fe.K,
+                                       fe.kappa_bar, self.nu).h
             layout = [([(1, 1.0), (0, -1.0)], "P"), ([(1, 1.0), (0, -1.0)], "Pp"), ([(0, 1.0)], "Pp"),
                       ([(0, 1.0)], "Ppp")]
-            res["free_edge"] = (np.array([[0, 1]]), layout, e.h)
+            res["free_edge"] = (np.array([[0, 1]]), layout, Hf)
         # poles: the curvature B(theta) as a jet (value, gradient, Hessian) in Pm, Pm', Pc, Pq, Pq'
         res["poles"] = []
         for k, nb, north, element in self.poles:
@@ -848,14 +839,18 @@ class HarmonicShell:
         cache = self.__dict__.setdefault("_pole_maps", {})
         out = []
         for nodes, layout, B0, g, Hb, Akb in loc["poles"]:
-            for n in ns:
-                if n not in cache:
-                    cache[n] = self._ymaps(layout, nodes.shape[1], mode_maps(n))
-            Yc = np.stack([cache[n][0] for n in ns])
-            Ys = np.stack([cache[n][1] for n in ns])
-            Gc, Gs = Yc.transpose(0, 2, 1) @ g, Ys.transpose(0, 2, 1) @ g  # (G, 6)
+            stacked = tuple(ns)
+            if stacked not in cache:  # every pole shares its layout
+                for n in ns:
+                    if n not in cache:
+                        cache[n] = self._ymaps(layout, nodes.shape[1], mode_maps(n))
+                Yc = np.stack([cache[n][0] for n in ns])
+                Ys = np.stack([cache[n][1] for n in ns])
+                cache[stacked] = (Yc, Ys, Yc.transpose(0, 2, 1), Ys.transpose(0, 2, 1))
+            Yc, Ys, YcT, YsT = cache[stacked]
+            Gc, Gs = YcT @ g, YsT @ g  # (G, 6)
             K = Akb * (2.0 * (1.0 - nu) * (Gc[:, :, None] * Gc[:, None, :] + Gs[:, :, None] * Gs[:, None, :])
-                       + (1.0 + nu) * B0 * (Yc.transpose(0, 2, 1) @ Hb @ Yc + Ys.transpose(0, 2, 1) @ Hb @ Ys))
+                       + (1.0 + nu) * B0 * (YcT @ Hb @ Yc + YsT @ Hb @ Ys))
             out.append((nodes, K))
         return out
 
@@ -954,21 +949,19 @@ class HarmonicShell:
                 D = 3 * nn
                 er, ec, ev = self._element_map(name, layout, nn, k)
                 deg, ij = np.divmod(er, D * D)
+                part = (deg == 5) if var.n0 else (deg < 5)  # the n = 0 block's own rows, or the polynomial's
+                deg, ij, ec, ev = deg[part], ij[part], ec[part], ev[part]
                 i, j = np.divmod(ij, D)
                 dof = 3 * nodes[:, :, None] + np.arange(3)[None, None, :]  # (m, nn, 3)
                 dof = dof.reshape(m, D)
-                r, c = dof[:, i], dof[:, j]  # (m, entries)
-                ri, ci, sg = var.reduced(r.ravel(), c.ravel())
-                deg = np.tile(deg, m)
-                keep = (ri >= 0) & (ci >= 0) & (ri <= ci) & ((deg == 5) if var.n0 else (deg < 5))
-                block = np.where(deg == 5, 0, deg)
-                e = np.repeat(np.arange(m)[:, None], er.size, 1).ravel()
-                col = offset + np.tile(ec, m) * m + e  # H raveled as (k, k, m)
-                val = np.tile(ev, m) * sg
-                pos = block * var.size + (var.kd + ri - ci) * var.m + ci
-                rows.append(pos[keep])
-                cols.append(col[keep])
-                vals.append(val[keep])
+                ri, ci, sg = var.reduced(dof[:, i].ravel(), dof[:, j].ravel())  # (m, entries), raveled
+                kept = np.flatnonzero((ri >= 0) & (ci >= 0) & (ri <= ci))
+                e, q = np.divmod(kept, ec.size)  # element and entry of the element map
+                ri, ci = ri[kept], ci[kept]
+                block = np.where(deg == 5, 0, deg)[q]
+                rows.append(block * var.size + (var.kd + ri - ci) * var.m + ci)
+                cols.append(offset + ec[q] * m + e)  # H raveled as (k, k, m)
+                vals.append(ev[q] * sg[kept])
                 offset += H.size
             R = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                               shape=(var.rows * var.size, offset))
@@ -983,12 +976,21 @@ class HarmonicShell:
         key = ("coefficients", id(var), pressure)
         if key not in loc:
             R, names = self._group_map(loc, ("stretch", "bend", "clamp", "free_edge"), var)
-            C = R @ np.concatenate([loc[nm][2].ravel() for nm in names])
+            C = R @ self._stacked(loc, names)
             if pressure != 0.0:
                 self._volume_hessians(x, loc)
                 Rv, vnames = self._group_map(loc, ("volume", "skirt"), var)
-                C = C + pressure * (Rv @ np.concatenate([loc[nm][2].ravel() for nm in vnames]))
+                C = C + pressure * (Rv @ self._stacked(loc, vnames))
             loc[key] = C.reshape(var.rows, var.kd + 1, var.m)
+        return loc[key]
+
+    @staticmethod
+    def _stacked(loc: dict, names: list) -> np.ndarray:
+        """The local Hessians of the families ``names``, raveled and concatenated (the columns of their
+        group maps), kept with the state's other Hessians: every reduction maps the same vector."""
+        key = ("stacked", *names)
+        if key not in loc:
+            loc[key] = np.concatenate([loc[nm][2].ravel() for nm in names])
         return loc[key]
 
     def _small_terms(self, x: np.ndarray, loc: dict, n: int, contact: tuple | None) -> list:
@@ -1000,16 +1002,31 @@ class HarmonicShell:
                 terms.append(cb)
         return terms
 
-    def _variant(self, n: int, remove_rigid: bool = True, control_fixed=(), hold_pole: bool = False) -> "_BandVariant":
-        """The reduction of mode ``n``'s block to its admissible dofs, in LAPACK upper band storage (cached)."""
+    def _reduction_key(self, n: int, remove_rigid: bool, control_fixed, hold_pole: bool) -> tuple:
+        """What mode ``n``'s admissible dofs depend on (every ``n >= 2`` has the same)."""
         hold = bool(hold_pole) and int(n) == 1 and self.N - 1 in self.structure.poles
-        key = (min(int(n), 2), bool(remove_rigid), tuple(int(d) for d in control_fixed) if int(n) == 0 else (), hold)
-        cache = self.__dict__.setdefault("_variants", {})
+        return min(int(n), 2), bool(remove_rigid), tuple(int(d) for d in control_fixed) if int(n) == 0 else (), hold
+
+    def reduction(self, n: int, remove_rigid: bool = True, control_fixed=(), hold_pole: bool = False) -> sp.csc_matrix:
+        """The map ``T`` (``3N x m``) from mode ``n``'s admissible dofs to all its dofs (:func:`harmonic_dofs`;
+        ``hold_pole``: without the pole's lateral dof at ``n = 1``, :func:`harmonic_family`'s ``pole_held``),
+        cached."""
+        key = self._reduction_key(n, remove_rigid, control_fixed, hold_pole)
+        cache = self.__dict__.setdefault("_reductions", {})
         if key not in cache:
             d = harmonic_dofs(self.structure, n, remove_rigid, control_fixed)
             T = d.T.tocsc()
-            if hold:  # the load holds the pole laterally: drop the column of its lateral a (c is tied to it)
+            if key[3]:  # the load holds the pole laterally: drop the column of its lateral a (c is tied to it)
                 T = T[:, d.free != 3 * (self.N - 1)]
+            cache[key] = T
+        return cache[key]
+
+    def _variant(self, n: int, remove_rigid: bool = True, control_fixed=(), hold_pole: bool = False) -> "_BandVariant":
+        """The reduction of mode ``n``'s block to its admissible dofs, in LAPACK upper band storage (cached)."""
+        key = self._reduction_key(n, remove_rigid, control_fixed, hold_pole)
+        cache = self.__dict__.setdefault("_variants", {})
+        if key not in cache:
+            T = self.reduction(n, remove_rigid, control_fixed, hold_pole)
             cache[key] = _BandVariant(self.N, T.tocoo(), n0=int(n) == 0)
         return cache[key]
 
@@ -1366,10 +1383,7 @@ def harmonic_mode(structure: Any, n: int, mode: np.ndarray, hold_pole: bool = Fa
     """A mode of the block of wave number ``n >= 1`` (a vector on its admissible dofs, as
     :func:`harmonic_family`'s blocks have them) as per-node amplitudes ``(N, 3)``: the columns ``a``, ``b``,
     ``c`` of ``dR = a cos(n theta)``, ``dZ = b cos(n theta)``, ``dT = c sin(n theta)`` (module docstring)."""
-    d = harmonic_dofs(structure, n)
-    T = d.T.tocsc()
-    if bool(hold_pole) and int(n) == 1 and structure.N - 1 in structure.poles:
-        T = T[:, d.free != 3 * (structure.N - 1)]
+    T = _harmonic_shell(structure, None).reduction(n, hold_pole=hold_pole)
     mode = np.asarray(mode, dtype=float)
     if mode.shape != (T.shape[1],):
         raise ValueError(f"harmonic_mode: a mode of n = {n} has {T.shape[1]} entries, got shape {mode.shape}")
