@@ -643,7 +643,19 @@ def _head(br: Any, keep: int, specials: list[Any]) -> Any:
                    eigenvalues=rows(br.eigenvalues),
                    stability_by={k: (np.asarray(a)[:keep], np.asarray(e)[:keep]) for k, (a, e) in br.stability_by.items()},
                    special_points=specials, tangents={k: v[:keep] for k, v in br.tangents.items()},
-                   meta=dict(br.meta, n_steps=max(keep - 1, 0)))
+                   meta=dict(br.meta, n_steps=max(keep - 1, 0), **_head_modes(br.meta, keep)))
+
+
+def _head_modes(meta: Mapping[str, Any], keep: int) -> dict[str, Any]:
+    """``meta["modes"]`` (the watched families' per-point counts, :mod:`contin.modes`) for the first ``keep`` points."""
+    if "modes" not in meta:
+        return {}
+    out = {}
+    for name, fam in meta["modes"].items():
+        width = len(fam.get("keys", [])) or 1
+        out[name] = {**fam, **{field: np.asarray(fam[field], dtype=float).reshape(-1, width)[:keep].tolist()
+                               for field in ("n_negative", "lowest") if field in fam}}
+    return {"modes": out}
 
 
 def join_branches(head: Any, tail: Any, *, repeated: bool = True, s0: float | None = None) -> Any:
@@ -694,6 +706,9 @@ def join_branches(head: Any, tail: Any, *, repeated: bool = True, s0: float | No
     observables = {k: cat(v, tail.observables[k]) for k, v in head.observables.items() if k in tail.observables}
     tangents = {k: cat(v, tail.tangents[k]) for k, v in head.tangents.items() if k in tail.tangents}
     steps = int(head.meta.get("n_steps", max(len(head) - 1, 0))) + int(tail.meta.get("n_steps", max(len(tail) - 1, 0)))
+    meta = dict(tail.meta, n_steps=steps)
+    if "modes" in tail.meta or "modes" in head.meta:
+        meta["modes"] = _joined_modes(head.meta.get("modes", {}), tail.meta.get("modes", {}), skip)
     return replace(tail, p=cat(head.p, tail.p), u=cat(head.u, tail.u),
                    s=np.concatenate([head.s, np.asarray(tail.s)[skip:] + start_s]),
                    tangent_p=cat(head.tangent_p, tail.tangent_p), residual=cat(head.residual, tail.residual),
@@ -701,7 +716,26 @@ def join_branches(head: Any, tail: Any, *, repeated: bool = True, s0: float | No
                    observables={k: v for k, v in observables.items() if v is not None},
                    n_negative=cat(head.n_negative, tail.n_negative), eigenvalues=cat(head.eigenvalues, tail.eigenvalues),
                    stability_by=stability, special_points=list(head.special_points) + moved,
-                   tangents={k: v for k, v in tangents.items() if v is not None}, meta=dict(tail.meta, n_steps=steps))
+                   tangents={k: v for k, v in tangents.items() if v is not None}, meta=meta)
+
+
+def _joined_modes(head: Mapping[str, Any], tail: Mapping[str, Any], skip: int) -> dict[str, Any]:
+    """The per-point counts of the watched operator families (:mod:`contin.modes`, ``Branch.meta["modes"]``) of
+    two joined branches: a family both watched with the same keys has its rows joined; any other is left out."""
+    out = {}
+    for name, fam in tail.items():
+        other = head.get(name)
+        if other is None or list(other.get("keys", [])) != list(fam.get("keys", [])):
+            continue
+        width = len(fam["keys"])
+        joined = dict(fam)
+        for field in ("n_negative", "lowest"):
+            if field in fam and field in other:
+                a = np.asarray(other[field], dtype=float).reshape(-1, width)
+                b = np.asarray(fam[field], dtype=float).reshape(-1, width)[skip:]
+                joined[field] = np.concatenate([a, b]).tolist()
+        out[name] = joined
+    return out
 
 
 def continue_saved(start: Start, branches: Sequence[Any], jumps: Sequence[Any] = ()) -> tuple[list[Any], list[Any]]:

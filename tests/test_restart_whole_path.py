@@ -131,3 +131,17 @@ def test_every_numbered_point_of_a_pressure_run_is_saved_and_its_refusal_names_t
     assert numbers and [p["number"] for p in index["points"] if p.get("number")] == numbers
     code, _, err = trace(capsys, tmp_path / "again", "--from", str(out), "--label", str(numbers[1]))
     assert code == 2 and "supported for the point load" in err and "load.kind = \"pressure\"" in err
+
+
+def test_a_joined_restart_keeps_the_per_mode_columns(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """With harmonic stability the joined branch keeps each stored point's counts per wave number n."""
+    full, after = tmp_path / "full", tmp_path / "after"
+    cli.main(["trace", "-q", "--out", str(full), *SHELL, "--set", "stability.harmonics=true"])
+    code, _, _ = trace(capsys, after, "--from", str(full), "--label", "10")
+    assert code == 0 and summary(after)["restart"]["joined"]
+    a = np.genfromtxt(full / "branch.csv", delimiter=",", names=True)
+    b = np.genfromtxt(after / "branch.csv", delimiter=",", names=True)
+    assert np.all(np.isfinite(b["n_negative_n"]))
+    head = int(summary(full)["special_points"][9]["index"]) + 1  # the saved rows before point 10
+    np.testing.assert_array_equal(a["n_negative_n"][:head], b["n_negative_n"][:head])
+    assert b["n_negative_n"].max() == a["n_negative_n"].max()
