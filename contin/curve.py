@@ -315,9 +315,10 @@ class Curve:
             if it == max_iter:
                 break
             J = self.problem.checked_jacobian(u, p)
-            du = -self.problem.factorize(J).solve(r)
+            factors = self.problem.factorize(J)
+            du = -factors.solve(r)
             du_norm = self.norm(du, 0.0)
-            lam, r_new, res_new = self._damped(u, p, du, res)
+            lam, r_new, res_new = self._damped(u, p, du, res, factors)
             if not np.isfinite(res_new):
                 break
             u, r, res = u + lam * du, r_new, res_new
@@ -329,15 +330,23 @@ class Curve:
                  f"residual {res:.3e} within tol {tol:.1e} but the update {du_norm:.3e} does not shrink below xtol")
         raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge ({state})" + (f": {why}" if why else ""))
 
-    def _damped(self, u: np.ndarray, p: float, du: np.ndarray, res: float) -> tuple[float, np.ndarray | None, float]:
-        """Fraction of the Newton update ``du`` to take: halved until the residual decreases.
+    def _damped(self, u: np.ndarray, p: float, du: np.ndarray, res: float,
+                factors: Any = None) -> tuple[float, np.ndarray | None, float]:
+        """Fraction of the Newton update ``du`` to take: halved until the iterate improves.
 
-        Never past the model's domain (:meth:`Problem.max_step_fraction`).  Returns the fraction,
-        the residual there and its max-norm (inf when no fraction is usable).
+        An iterate improves when its residual decreases, or when the simplified Newton update
+        there, ``J^{-1} f(u + lam du)`` with the Jacobian ``factors`` at ``u``, is shorter than
+        ``(1 - lam/4) |du|`` (the natural monotonicity test, which does not depend on how the
+        equations are scaled).  Near a soft mode the residual alone is a poor guide: a full step
+        that lands within the quadratic convergence region may raise the residual's max-norm
+        several orders while the update shrinks, and halving until the residual falls leaves the
+        iterate where it started.  Never past the model's domain (:meth:`Problem.max_step_fraction`).
+        Returns the fraction, the residual there and its max-norm (inf when no fraction is usable).
         """
         lam = min(1.0, self.problem.max_step_fraction(u, p, du, 0.0))
         if not lam > 1e-12:
             return lam, None, math.inf
+        du_norm = self.norm(du, 0.0) if factors is not None else 0.0
         while True:
             try:
                 r_new = self.residual(u + lam * du, p)
@@ -345,5 +354,8 @@ class Curve:
             except NonFiniteError:
                 r_new, res_new = None, math.inf
             if res_new < res or lam < 1e-4:
+                return lam, r_new, res_new
+            if factors is not None and r_new is not None and \
+                    self.norm(factors.solve(r_new), 0.0) <= (1.0 - 0.25 * lam) * du_norm:
                 return lam, r_new, res_new
             lam *= 0.5
