@@ -13,18 +13,23 @@ def test_draws_are_reproducible_and_inside_the_stated_ranges() -> None:
     a, b = fuzz.draw_scenes(30, seed=7), fuzz.draw_scenes(30, seed=7)
     assert a == b and a != fuzz.draw_scenes(30, seed=8)
     for s in a:
-        assert 20 <= s["shell.N"] <= 80 and 0.3 <= s["shell.phi_hat"] <= 1.5 and 0 <= s["shell.nu"] <= 0.5
+        assert 40 <= s["shell.N"] <= 200 and 0.3 <= s["shell.phi_hat"] <= 1.5 and -0.5 <= s["shell.nu"] <= 0.5
         assert 1e-3 <= s["shell.h"] / s["shell.R"] <= 0.12 + 1e-12
-        assert s["load.kind"] in ("point", "sphere", "plate") and ("load.radius" in s) == (s["load.kind"] == "sphere")
+        assert s["load.kind"] in ("point", "ring", "sphere", "plate", "pressure")
+        assert ("load.radius" in s) == (s["load.kind"] == "sphere")
+        assert ("load.ring_radius" in s) == (s["load.kind"] == "ring")
+    assert {s["load.kind"] for s in fuzz.draw_scenes(60, seed=7)} == set(fuzz.LOAD_KINDS)
+    assert min(s["shell.nu"] for s in fuzz.draw_scenes(60, seed=7)) < 0
 
 
 def test_a_failure_without_an_actionable_cause_misses_the_target() -> None:
     assert fuzz.cause_of("...; advice: the mesh has 3.1 nodes ...; try a finer mesh, shell.N = 94") == "refine the mesh"
     assert fuzz.cause_of("corrector diverging") == "unexplained"
     row = {"shell.N": 60, "outcome": "complete", "cause": ""}
-    ok = fuzz.summarize([row] * 19 + [{**row, "outcome": "failed", "cause": "refine the mesh"}])
-    assert ok["complete_rate_judged"] == 0.95 and ok["target_met"]
-    unexplained = fuzz.summarize([row] * 19 + [{**row, "outcome": "failed", "cause": "unexplained"}])
+    ok = fuzz.summarize([row] * 99 + [{**row, "outcome": "failed", "cause": "refine the mesh"}])
+    assert ok["complete_rate_judged"] == 0.99 and ok["target_met"]
+    assert not fuzz.summarize([row] * 98 + [{**row, "outcome": "failed", "cause": "refine the mesh"}] * 2)["target_met"]
+    unexplained = fuzz.summarize([row] * 99 + [{**row, "outcome": "failed", "cause": "unexplained"}])
     assert not unexplained["target_met"]
     # refused scenes and coarse meshes are reported, not judged
     judged = fuzz.summarize([row, {**row, "outcome": "refused"}, {**row, "shell.N": 30, "outcome": "failed"}])
@@ -65,3 +70,22 @@ def test_former_failures_run_to_the_end(tmp_path, name) -> None:
     code = main(argv)
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
     assert code == 0 and summary["status"] == "ok", summary["message"]
+
+
+def test_two_runs_are_compared_scene_by_scene(tmp_path) -> None:
+    def run(name: str, outcomes: dict[str, str], points: dict[str, list]) -> None:
+        folder = tmp_path / name
+        folder.mkdir()
+        rows = "\n".join(f"{k},{v}" for k, v in outcomes.items())
+        (folder / "fuzz.csv").write_text("index,outcome\n" + rows + "\n")
+        (folder / "points.json").write_text(json.dumps(points))
+
+    fold = {"kind": "fold", "label": "max(F)", "p": 0.3, "w_over_R": 0.3, "F_norm": 8.9}
+    run("a", {"0": "complete", "1": "complete", "2": "failed", "3": "complete"},
+        {"0": [fold], "1": [fold], "2": [], "3": [fold]})
+    run("b", {"0": "complete", "1": "failed", "2": "complete", "3": "complete"},
+        {"0": [{**fold, "F_norm": 8.9 + 3e-9}], "1": [], "2": [fold], "3": [fold, fold]})
+    diff = fuzz.compare_runs(tmp_path / "a", tmp_path / "b")
+    assert diff["lost"] == ["1"] and diff["gained"] == ["2"] and diff["mismatched"] == ["3"]
+    assert diff["n_complete_in_both"] == 2
+    assert diff["max_move"] == pytest.approx(3e-9, rel=1e-3) and diff["max_move_field"] == "F_norm"
