@@ -17,7 +17,7 @@ import pytest
 from scipy.optimize import brentq
 
 from contin import JumpError, Problem, QuasiStaticResult, diagram, hysteresis_cycles, quasistatic
-from contin.quasistatic import DEFAULT_JUMP_ATTEMPTS, SnapRules
+from contin.quasistatic import SnapRules
 from contin_models.benchmarks.truss import TrussDisplacementControl, VonMisesTruss
 
 A, B, K = 1.0, 0.5, 1.0
