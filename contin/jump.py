@@ -345,10 +345,46 @@ def _negative_curvature_step(problem: Problem, x: np.ndarray, p: float, g: np.nd
                 d = sign * size * ref * v
                 y = x + min(1.0, problem.max_step_fraction(x, p, d, 0.0)) * d
                 e = _safe_energy(problem, y, p)
+                bent = _relaxed_across(problem, y, p, v, e)
+                if bent is not None and bent[1] < e:
+                    y, e = bent
                 if e < E and (best is None or e < best[2]):
                     best = (1.0, y, e)
         if best is not None:
             return best
+    return None
+
+
+def _relaxed_across(problem: Problem, y: np.ndarray, p: float, v: np.ndarray,
+                    E_y: float) -> tuple[np.ndarray, float] | None:
+    """``y`` moved to lower energy across the direction ``v``, with its component along ``v`` kept: ``(y, E)``.
+
+    A straight step along the unstable eigenvector leaves the valley it points along when the valley
+    bends (a thin shell's soft mode turns into membrane stretching a short way off): there the energy
+    rises on the straight line while it falls along the bent valley.  One shifted-Newton step of the
+    energy restricted to the hyperplane ``v . dy = 0`` brings the step back into the valley.  None when
+    that step does not lower the energy or leaves the model's domain.
+    """
+    try:
+        g = problem.checked_residual(y, p)
+        H = problem.checked_jacobian(y, p)
+    except (NonFiniteError, FloatingPointError, ValueError):
+        return None
+    scale_H = float(np.max(np.abs(H.data if sp.issparse(H) else H), initial=1.0))
+    _, mu = _shifted_newton_direction(H, g, 0.0, scale_H)
+    solve = _shifted_cholesky_solver(H, mu)
+    if solve is None:
+        return None
+    a, b = solve(g), solve(v)
+    # (H + mu I) dy + lam v = -g with v . dy = 0
+    dy = -a + (float(v @ a) / float(v @ b)) * b
+    t = min(1.0, problem.max_step_fraction(y, p, dy, 0.0))
+    for _ in range(10):
+        z = y + t * dy
+        e = _safe_energy(problem, z, p)
+        if e < E_y:
+            return z, e
+        t *= 0.5
     return None
 
 
