@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from contin import SpecialPoint, quasistatic
+from contin import Problem, SpecialPoint, jump, quasistatic
 from contin.quasistatic import SnapRules, leave_fold
 from contin_models.benchmarks.truss import VonMisesTruss
 
@@ -71,3 +71,40 @@ def test_a_landing_on_the_folds_own_branch_is_refused() -> None:
     assert jr is None
     assert len(reasons) == 2 and all("landed back next to the fold" in r for r in reasons), reasons
     assert all("falls back towards the fold" in r for r in reasons), reasons
+
+
+# ---- a descent along a bent valley -------------------------------------------------------------------
+#: Stiffness across the valley y = x^2 (a thin shell's membrane) and the soft energy along it.
+VALLEY_STIFFNESS = 1e6
+
+
+def bent_valley() -> Problem:
+    """``E = (x^4/4 - x^2/2) + K/2 (y - x^2)^2 - p x``: a maximum of the soft part at the origin,
+    minima near ``x = +-1`` on the parabola ``y = x^2``, which a stiff ``K`` makes a narrow bent valley."""
+    K = VALLEY_STIFFNESS
+
+    def energy(u: np.ndarray, p: float) -> float:
+        x, y = u
+        return x ** 4 / 4 - x ** 2 / 2 + K / 2 * (y - x * x) ** 2 - p * x
+
+    def residual(u: np.ndarray, p: float) -> np.ndarray:
+        x, y = u
+        return np.array([x ** 3 - x - 2 * K * x * (y - x * x) - p, K * (y - x * x)])
+
+    def jacobian(u: np.ndarray, p: float) -> np.ndarray:
+        x, y = u
+        return np.array([[3 * x * x - 1 - 2 * K * y + 6 * K * x * x, -2 * K * x], [-2 * K * x, K]])
+
+    return Problem(residual=residual, jacobian=jacobian, dresidual_dp=lambda u, p: np.array([-1.0, 0.0]),
+                   energy=energy, symmetric=True, name="bent valley")
+
+
+def test_the_descent_follows_a_bent_valley() -> None:
+    # from the saddle at the origin the valley floor y = x^2 bends away from the straight unstable
+    # direction (the x axis): a straight kick of 1e-3 climbs K/2 (1e-3)^4 = 5e-7 up its wall, as much as
+    # the soft part gives, and larger ones climb more; the kick and the descent must follow the bend to
+    # the minimum at x = +-1 (p = 0: x^3 - x = 0 on the floor, which the stiff term leaves unchanged)
+    jr = jump(bent_valley(), [0.0, 0.0], 0.0, scale=1.0)
+    assert jr.success, jr.message
+    assert abs(jr.u_to[0]) == pytest.approx(1.0, rel=1e-8) and jr.u_to[1] == pytest.approx(1.0, rel=1e-8)
+    assert jr.n_negative == 0 and jr.energy_to == pytest.approx(-0.25, rel=1e-10)
