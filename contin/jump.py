@@ -328,8 +328,8 @@ SMALL_CURVATURE_STEPS = (1e-4, 1e-5, 1e-6)
 
 def _negative_curvature_step(problem: Problem, x: np.ndarray, p: float, g: np.ndarray, E: float,
                              ref: float) -> tuple[float, np.ndarray, float] | None:
-    """The best of :data:`CURVATURE_STEPS` (else of :data:`SMALL_CURVATURE_STEPS`) along the unstable
-    eigenvector, downhill: ``(1, x_new, E_new)``.
+    """The best of :data:`CURVATURE_STEPS` (else of the same relaxed by :func:`_relaxed_across`, else of
+    :data:`SMALL_CURVATURE_STEPS`) along the unstable eigenvector, downhill: ``(1, x_new, E_new)``.
 
     The sign makes the step a descent direction to first order (either sign when the gradient is
     orthogonal to it); None when the stability operator has no negative eigenvalue or no step
@@ -342,16 +342,17 @@ def _negative_curvature_step(problem: Problem, x: np.ndarray, p: float, g: np.nd
     v = v / np.max(np.abs(v))
     slope = float(g @ v)
     signs = (-1.0,) if slope > 0 else (1.0,) if slope < 0 else (1.0, -1.0)
-    for sizes in (CURVATURE_STEPS, SMALL_CURVATURE_STEPS):
+    # straight steps first; where they all climb, the same steps bent back into the valley, and only
+    # then the small straight ones (a valley that bends a short way off admits only those)
+    for sizes, relax in ((CURVATURE_STEPS, False), (CURVATURE_STEPS, True), (SMALL_CURVATURE_STEPS, False)):
         best = None
         for size in sizes:
             for sign in signs:
                 d = sign * size * ref * v
                 y = x + min(1.0, problem.max_step_fraction(x, p, d, 0.0)) * d
                 e = _safe_energy(problem, y, p)
-                bent = _relaxed_across(problem, y, p, v, e)
-                if bent is not None and bent[1] < e:
-                    y, e = bent
+                if relax:
+                    y, e = _relaxed_across(problem, y, p, v, e) or (y, e)
                 if e < E and (best is None or e < best[2]):
                     best = (1.0, y, e)
         if best is not None:
