@@ -253,12 +253,16 @@ def _start(problem: Problem, u0: np.ndarray, p: float, abs_tol: float, perturbat
     else:
         sizes = [perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref]
     for alpha in sizes:
-        trials = [_kick_inside(problem, u0, p, sign * alpha * v) for sign in (1.0, -1.0)]
-        energies = [_safe_energy(problem, u0 + kick, p) if kick is not None else math.inf for kick in trials]
-        best = int(np.argmin(energies))
-        if energies[best] < E0 - 1e-12 * abs(E0):
-            x = u0 + trials[best]
-            break
+        kicks = [_kick_inside(problem, u0, p, sign * alpha * v) for sign in (1.0, -1.0)]
+        trials = [(u0 + kick, _safe_energy(problem, u0 + kick, p)) for kick in kicks if kick is not None]
+        if trials and min(e for _, e in trials) >= E0 - 1e-12 * abs(E0):
+            # both straight kicks climb: the soft mode's valley may bend away from the straight line
+            trials = [bent for y, e in trials if (bent := _relaxed_across(problem, y, p, v, e)) is not None]
+        if trials:
+            y, e = min(trials, key=lambda trial: trial[1])
+            if e < E0 - 1e-12 * abs(E0):
+                x = y
+                break
     if x is None and float(np.max(np.abs(problem.checked_residual(u0, p)))) > abs_tol:
         # no kick along the soft mode lowers the energy measurably (a stiff, short-range barrier
         # leaves room only for kicks far below round-off of the energy), but the start is out of
@@ -324,8 +328,8 @@ SMALL_CURVATURE_STEPS = (1e-4, 1e-5, 1e-6)
 
 def _negative_curvature_step(problem: Problem, x: np.ndarray, p: float, g: np.ndarray, E: float,
                              ref: float) -> tuple[float, np.ndarray, float] | None:
-    """The best of :data:`CURVATURE_STEPS` (else of :data:`SMALL_CURVATURE_STEPS`) along the unstable
-    eigenvector, downhill: ``(1, x_new, E_new)``.
+    """The best of :data:`CURVATURE_STEPS` (else of the same relaxed by :func:`_relaxed_across`, else of
+    :data:`SMALL_CURVATURE_STEPS`) along the unstable eigenvector, downhill: ``(1, x_new, E_new)``.
 
     The sign makes the step a descent direction to first order (either sign when the gradient is
     orthogonal to it); None when the stability operator has no negative eigenvalue or no step
@@ -338,18 +342,66 @@ def _negative_curvature_step(problem: Problem, x: np.ndarray, p: float, g: np.nd
     v = v / np.max(np.abs(v))
     slope = float(g @ v)
     signs = (-1.0,) if slope > 0 else (1.0,) if slope < 0 else (1.0, -1.0)
-    for sizes in (CURVATURE_STEPS, SMALL_CURVATURE_STEPS):
+    # straight steps first; where they all climb, the same steps bent back into the valley, and only
+    # then the small straight ones (a valley that bends a short way off admits only those)
+    for sizes, relax in ((CURVATURE_STEPS, False), (CURVATURE_STEPS, True), (SMALL_CURVATURE_STEPS, False)):
         best = None
         for size in sizes:
             for sign in signs:
                 d = sign * size * ref * v
                 y = x + min(1.0, problem.max_step_fraction(x, p, d, 0.0)) * d
                 e = _safe_energy(problem, y, p)
+                if relax:
+                    y, e = _relaxed_across(problem, y, p, v, e) or (y, e)
                 if e < E and (best is None or e < best[2]):
                     best = (1.0, y, e)
         if best is not None:
             return best
     return None
+
+
+#: Shifted-Newton steps that bring a step along the unstable eigenvector back into a bent valley.
+RELAX_STEPS = 3
+
+
+def _relaxed_across(problem: Problem, y: np.ndarray, p: float, v: np.ndarray,
+                    E_y: float) -> tuple[np.ndarray, float] | None:
+    """``y`` moved to lower energy across the direction ``v``, with its component along ``v`` kept: ``(y, E)``.
+
+    A straight step along the unstable eigenvector leaves the valley it points along when the valley
+    bends (a thin shell's soft mode turns into membrane stretching a short way off): there the energy
+    rises on the straight line while it falls along the bent valley.  Up to :data:`RELAX_STEPS`
+    shifted-Newton steps of the energy restricted to the hyperplane ``v . dy = 0``, each with a
+    backtracking search, bring the step back into the valley.  None when the first of them does not
+    lower the energy.
+    """
+    relaxed = None
+    for _ in range(RELAX_STEPS):
+        try:
+            g = problem.checked_residual(y, p)
+            H = problem.checked_jacobian(y, p)
+        except (NonFiniteError, FloatingPointError, ValueError):
+            break
+        scale_H = float(np.max(np.abs(H.data if sp.issparse(H) else H), initial=1.0))
+        _, mu = _shifted_newton_direction(H, g, 0.0, scale_H)
+        solve = _shifted_cholesky_solver(H, mu)
+        if solve is None:
+            break
+        a, b = solve(g), solve(v)
+        # (H + mu I) dy + lam v = -g with v . dy = 0
+        dy = -a + (float(v @ a) / float(v @ b)) * b
+        t = min(1.0, problem.max_step_fraction(y, p, dy, 0.0))
+        while t > 1e-3:
+            z = y + t * dy
+            e = _safe_energy(problem, z, p)
+            if e < E_y:
+                break
+            t *= 0.5
+        else:
+            break
+        y, E_y = z, e
+        relaxed = (y, E_y)
+    return relaxed
 
 
 def _shifted_newton_direction(H: Any, g: np.ndarray, mu: float, scale_H: float) -> tuple[np.ndarray, float]:

@@ -225,8 +225,11 @@ class SnapRules:
         ``max|u_to - u_fold| / max|u_fold|``.  A model can measure it in the observable that
         tells two states apart (a pole displacement in units of the radius).
     min_separation : float
-        A landing with ``separation <= min_separation`` is the minimisation stalling next to the
-        fold, not a snap; the next attempt is tried.
+        A landing with ``separation > min_separation`` is a snap.  A closer one may be the
+        minimisation stalling next to the fold or a short snap to a distinct stable state (a thin
+        shell's pole moves by a fraction of its thickness); it counts as a snap only if, carried
+        back to the fold's parameter by Newton's method, it stays on a stable branch of its own
+        instead of falling back onto the fold.  Otherwise the next attempt is tried.
     restate : bool
         Carry each landing back to the fold's own parameter by Newton's method (see
         :func:`restate_jump`); False keeps the jump at the parameter it was minimised at.
@@ -309,9 +312,11 @@ class _Sweep:
                 continue
             sep = rules.landing_distance(u_fold, p_fold, jr.u_to, jr.p)
             if sep <= rules.min_separation:
-                reasons.append(f"{tag}: landed back next to the fold (separation {sep:.2e} <= "
-                               f"{rules.min_separation:g})")
-                continue
+                nearby = _nearby_landing_branch(problem, self.curve, jr, u_fold, p_fold)
+                if isinstance(nearby, str):
+                    reasons.append(f"{tag}: landed back next to the fold (separation {sep:.2e} <= "
+                                   f"{rules.min_separation:g}, and {nearby})")
+                    continue
             jr.info.update({"fold_p": p_fold, "p_minimised": p_jump, "overshoot": overshoot, "attempt": k + 1,
                             "separation": _distance(jr.u_to, u_fold)})
             if not rules.restate:
@@ -371,6 +376,50 @@ def restate_jump(problem: Problem, jr: JumpResult, u_fold: np.ndarray, p_fold: f
                             _distance(jr.u_to, u_fold))
 
 
+#: A landing carried back to the fold's parameter stays on its own branch when it moves by at most
+#: this fraction of its distance from the fold state.
+_SAME_BRANCH_MOVE = 0.1
+
+
+def _carry_to_fold_parameter(problem: Problem, curve: Curve, u_to: np.ndarray, p_fold: float,
+                             sep: float) -> tuple[np.ndarray, float, Any] | str:
+    """The landing's branch at the fold's parameter: Newton from ``u_to`` at ``p_fold``.
+
+    Returns ``(state, residual, stability)`` when Newton converges to a stable state that moved by at
+    most :data:`_SAME_BRANCH_MOVE` times ``sep`` (the landing's distance from the fold state), i.e.
+    the landing's branch is regular and stable across the overshoot; otherwise the reason, a phrase.
+    """
+    try:
+        u, res, _ = curve.newton_fixed_p(u_to, p_fold)
+        stab = stability_info(problem.stability_operator(u, p_fold), 1)
+    except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+        return str(exc)
+    moved = _distance(u, u_to)
+    if stab.n_negative > 0:
+        return f"the landing branch at the fold parameter is unstable (moved {moved:.2e})"
+    if moved > _SAME_BRANCH_MOVE * sep:
+        return (f"carried back to the fold parameter the landing moves by {moved:.2e}, more than "
+                f"{_SAME_BRANCH_MOVE:g} of its distance {sep:.2e} from the fold state: it falls back towards the fold")
+    return u, res, stab
+
+
+def _nearby_landing_branch(problem: Problem, curve: Curve, jr: JumpResult, u_fold: np.ndarray,
+                           p_fold: float) -> None | str:
+    """Whether a landing close to the fold state is a stable state of its own: None if it is, else why not.
+
+    Past the fold the fold's branch has no equilibrium nearby, so a landing close to the fold state is
+    either a stall of the descent on the fold's flat energy or a distinct stable state a short way off
+    (a thin shell's small snap moves by a fraction of its thickness).  Carried back to the fold's
+    parameter, a stall falls back onto the fold (it moves by its whole distance from it), while a
+    distinct state stays put on its own stable branch (:func:`_carry_to_fold_parameter`).  Minimised at
+    the fold's parameter itself, the two cannot be told apart this way: such a landing counts as a stall.
+    """
+    if jr.p == p_fold:
+        return "it was minimised at the fold's own parameter"
+    carried = _carry_to_fold_parameter(problem, curve, jr.u_to, p_fold, _distance(jr.u_to, u_fold))
+    return carried if isinstance(carried, str) else None
+
+
 def _restate_at_fold(problem: Problem, curve: Curve, jr: JumpResult, u_fold: np.ndarray, p_fold: float,
                      sep: float) -> JumpResult:
     """The snap at the fold's own parameter: Newton from the landing back to ``p_fold``.
@@ -384,17 +433,11 @@ def _restate_at_fold(problem: Problem, curve: Curve, jr: JumpResult, u_fold: np.
     if jr.p == p_fold:
         jr.info["restated"] = True
         return jr
-    try:
-        u_to, res, _ = curve.newton_fixed_p(jr.u_to, p_fold)
-        stab = stability_info(problem.stability_operator(u_to, p_fold), 1)
-    except (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
-        jr.info.update({"restated": False, "restate_error": str(exc)})
+    carried = _carry_to_fold_parameter(problem, curve, jr.u_to, p_fold, sep)
+    if isinstance(carried, str):
+        jr.info.update({"restated": False, "restate_error": carried})
         return jr
-    moved = _distance(u_to, jr.u_to)
-    if stab.n_negative > 0 or moved > 0.1 * sep:
-        jr.info.update({"restated": False, "restate_error": f"the landing branch at the fold parameter is "
-                        f"{'unstable' if stab.n_negative else 'too far from the landing'} (moved {moved:.2e})"})
-        return jr
+    u_to, res, stab = carried
     info = dict(jr.info, restated=True, separation=_distance(u_to, u_fold))
     return replace(jr, p=p_fold, u_to=u_to, energy_from=float(problem.energy(u_fold, p_fold)),
                    energy_to=float(problem.energy(u_to, p_fold)), residual=res, n_negative=stab.n_negative,

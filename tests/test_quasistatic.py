@@ -17,7 +17,7 @@ import pytest
 from scipy.optimize import brentq
 
 from contin import JumpError, Problem, QuasiStaticResult, diagram, hysteresis_cycles, quasistatic
-from contin.quasistatic import DEFAULT_JUMP_ATTEMPTS, SnapRules
+from contin.quasistatic import SnapRules
 from contin_models.benchmarks.truss import TrussDisplacementControl, VonMisesTruss
 
 A, B, K = 1.0, 0.5, 1.0
@@ -182,10 +182,14 @@ def test_a_failed_snap_says_why() -> None:
 
 
 def test_a_landing_next_to_the_fold_is_rejected() -> None:
-    # a separation threshold larger than the real snap (|dy| ~ 0.87, a few times max|u|) rejects every landing
-    res = quasistatic(VonMisesTruss(A, B, K), [0.0, B], 0.0, 1.5 * P_MAX, min_separation=100.0, **KW)
+    # a separation threshold larger than the real snap (|dy| ~ 0.87, a few times max|u|): minimised at the
+    # fold's own load, a landing cannot be told from a stall next to the fold, so every landing is rejected
+    # (a hair past the fold it could: tests/test_landing.py)
+    attempts = ((0.0, None), (0.0, 1e-4))
+    res = quasistatic(VonMisesTruss(A, B, K), [0.0, B], 0.0, 1.5 * P_MAX, min_separation=100.0,
+                      jump_attempts=attempts, **KW)
     assert res.status == "jump_failed" and "landed back next to the fold" in res.message
-    assert len(res.info["jump_attempts"][0]) == len(DEFAULT_JUMP_ATTEMPTS)  # every attempt was tried
+    assert len(res.info["jump_attempts"][0]) == len(attempts)  # every attempt was tried
 
 
 def test_unstable_start_is_refused() -> None:
