@@ -252,22 +252,29 @@ def _start(problem: Problem, u0: np.ndarray, p: float, abs_tol: float, perturbat
         sizes = []
     else:
         sizes = [perturbation] if perturbation is not None else [1e-3 * ref, 1e-2 * ref, 1e-1 * ref]
+    climbing: list[tuple[np.ndarray, float]] = []
     for alpha in sizes:
         kicks = [_kick_inside(problem, u0, p, sign * alpha * v) for sign in (1.0, -1.0)]
         trials = [(u0 + kick, _safe_energy(problem, u0 + kick, p)) for kick in kicks if kick is not None]
-        if trials and min(e for _, e in trials) >= E0 - 1e-12 * abs(E0):
-            # both straight kicks climb: the soft mode's valley may bend away from the straight line
-            trials = [bent for y, e in trials if (bent := _relaxed_across(problem, y, p, v, e)) is not None]
         if trials:
             y, e = min(trials, key=lambda trial: trial[1])
             if e < E0 - 1e-12 * abs(E0):
                 x = y
                 break
+            climbing += trials
     if x is None and float(np.max(np.abs(problem.checked_residual(u0, p)))) > abs_tol:
         # no kick along the soft mode lowers the energy measurably (a stiff, short-range barrier
         # leaves room only for kicks far below round-off of the energy), but the start is out of
         # equilibrium: the shifted-Newton descent leaves it without a kick
         x = u0.copy()
+    if x is None:
+        # every straight kick climbs and the start is in equilibrium: the soft mode's valley may bend
+        # away from the straight line, so the kicks are bent back into it, smallest first
+        for y, e in climbing:
+            bent = _relaxed_across(problem, y, p, v, e)
+            if bent is not None and bent[1] < E0 - 1e-12 * abs(E0):
+                x = bent[0]
+                break
     if x is None:
         raise JumpError("no perturbation along the unstable eigenvector lowers the energy")
     return _Start(x, E0, scale_H, ref)
