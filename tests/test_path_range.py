@@ -33,6 +33,8 @@ def test_a_path_coming_back_ends_at_the_unloaded_pole_height():
     assert path.p[-1] == pytest.approx(LOWEST_W, abs=1e-12) and path.p.min() >= LOWEST_W - 1e-12
     assert len(path.p) < 500  # it went straight down, no step budget spent
     assert any("came back to the unloaded pole's height" in w for w in result.summary["warnings"])
+    path.p[-1] = 3e-19  # where the whole scene's path located its bound: still back at w = 0, not at eversion
+    assert came_back(path) and not path_complete(path)
 
 
 @pytest.mark.slow

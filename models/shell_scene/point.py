@@ -174,12 +174,17 @@ _CAME_BACK = ("the path came back to the unloaded pole's height, w = 0, without 
 
 def path_complete(br: Branch) -> bool:
     """Whether a displacement-controlled path reached eversion (its ``p_max`` bound, not :data:`LOWEST_W`)."""
-    return br.status == "bound" and len(br) > 0 and float(br.p[-1]) > LOWEST_W
+    return br.status == "bound" and len(br) > 0 and not came_back(br)
 
 
 def came_back(br: Branch) -> bool:
-    """Whether a displacement-controlled path ended back at the unloaded pole's height (:data:`LOWEST_W`)."""
-    return br.status == "bound" and len(br) > 0 and float(br.p[-1]) <= LOWEST_W
+    """Whether a displacement-controlled path ended back at the unloaded pole's height (:data:`LOWEST_W`).
+
+    The bound is located to the corrector's precision, a round-off of the path's largest ``w`` either side of it.
+    """
+    if br.status != "bound" or not len(br):
+        return False
+    return abs(float(br.p[-1]) - LOWEST_W) <= 1e-9 * float(np.max(np.abs(br.p)))
 
 
 def _jump_fields(records: list[dict[str, Any]], branches: list[Branch]) -> None:
