@@ -154,7 +154,8 @@ class Branch:
     status : str
         Why the run ended: ``"bound"``, ``"event"``, ``"closed_loop"`` (a switched branch returned to
         the branch point it left), ``"reached_branch_point"`` (a switched branch met a branch point it
-        was told of) (successes), ``"max_steps"`` (the step budget ran out first), ``"min_step"``
+        was told of) (successes), ``"max_steps"`` (the step budget ran out first), ``"stalled"`` (no
+        progress over :attr:`contin.Settings.stall_steps` steps: the path is not heading for an end), ``"min_step"``
         (the step collapsed below ``ds_min``; the message gives the last corrector failure),
         ``"failed"`` (could not start, or the model check failed).  ``"completed"`` is what
         ``"max_steps"`` was called before (not a success either).

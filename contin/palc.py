@@ -120,6 +120,7 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
     previous: Point | None = None
     steps = 0
     crossed: list[tuple[np.ndarray, float]] = []  # folds crossed by _turn_at_fold (each once)
+    headway = Headway(tests, values)
 
     while steps < st.max_steps:
         try:
@@ -143,6 +144,9 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
         if stop is not None:
             return _end_on(recorder, curve, found, stop, current)
         _record(recorder, [spt for _, spt in found], new)
+        headway.update(steps, bool(found), values)
+        if st.stall_steps and headway.idle(steps) >= st.stall_steps:
+            return "stalled", headway.explain(steps, curve.problem.parameter_name, new.p)
         if st.progress and steps % st.progress_every == 0:
             _progress(steps, new, control.ds)
         control.accept(new.iterations, contraction, cos_turn)
@@ -150,6 +154,53 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
     # the step budget ran out before the path's end, a bound or a stopping event: not a success
     return "max_steps", (f"reached max_steps = {st.max_steps} at {curve.problem.parameter_name} = {current.p:.8g} "
                          "before any bound or stopping event")
+
+
+class Headway:
+    """When a path last made progress: a special point found, or a bound approached closer than ever.
+
+    The measure behind :attr:`contin.Settings.stall_steps`.  The parameter alone does not show
+    progress: a path winding through many folds on its way to its end goes back and forth in it
+    for thousands of steps, but it finds a fold every few dozen.  A path with no feature and no bound
+    coming nearer (running away from every end) has stopped progressing.
+
+    Parameters
+    ----------
+    tests : list of TestFunction
+        The run's test functions; those that are bounds (:func:`contin.testfunctions.bound_events`)
+        give the distance to each bound as the size of their value.
+    values : list of float
+        Their values at the first point.
+    """
+
+    def __init__(self, tests: Sequence[TestFunction], values: Sequence[float]) -> None:
+        self._bounds = [i for i, test in enumerate(tests) if getattr(test, "bound", False)]
+        self._names = [tests[i].label for i in self._bounds]
+        self._nearest = [abs(float(values[i])) for i in self._bounds]
+        self.last_step = 0
+        self.last_kind = "the start"
+
+    def update(self, step: int, found_special: bool, values: Sequence[float]) -> None:
+        """Take the accepted step ``step`` (whether it found a special point, and the test values at its end)."""
+        if found_special:
+            self.last_step, self.last_kind = step, "a special point"
+        for k, i in enumerate(self._bounds):
+            gap = abs(float(values[i]))
+            if gap < self._nearest[k]:
+                self._nearest[k] = gap
+                self.last_step, self.last_kind = step, f"a closest approach to {self._names[k]}"
+
+    def idle(self, step: int) -> int:
+        """Accepted steps since the last progress."""
+        return step - self.last_step
+
+    def explain(self, step: int, parameter: str, p: float) -> str:
+        """Why a run stalled: the message of status ``"stalled"``."""
+        nearest = ", ".join(f"{name} at {gap:.6g}" for name, gap in zip(self._names, self._nearest))
+        approach = f"; its bounds came no closer than {nearest}" if nearest else "; it has no bound"
+        return (f"stalled at {parameter} = {p:.8g}: {self.idle(step)} steps without progress (no fold, branch point "
+                f"or event found and no bound approached; the last progress was {self.last_kind} at step "
+                f"{self.last_step}){approach}: the path is not heading for an end")
 
 
 #: How far (in smallest steps ``ds_min`` of the run's metric) a fold may lie from the point whose step

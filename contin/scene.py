@@ -104,6 +104,9 @@ class Field:
         Human description of the allowed values, e.g. ``"a float > 0"``.
     help : str
         What the key means (shown by ``contin models``).
+    words : tuple of str
+        Strings accepted besides the values of ``type`` (e.g. ``"auto"`` for an integer the tool
+        chooses); the model reading the scene says what each means.
     """
 
     type: type
@@ -111,6 +114,7 @@ class Field:
     check: Callable[[Any], bool] | None = None
     allowed: str = ""
     help: str = ""
+    words: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.type not in _TYPE_NAMES:
@@ -119,7 +123,10 @@ class Field:
             object.__setattr__(self, "allowed", _TYPE_NAMES[self.type])
 
     def convert(self, value: Any) -> Any:
-        """Return ``value`` as the field's type, or raise ``TypeError`` with the expected type."""
+        """Return ``value`` as the field's type (or one of its :attr:`words`), or raise ``TypeError`` with the
+        expected type."""
+        if isinstance(value, str) and value in self.words:
+            return value
         t = self.type
         if t is bool:
             ok = isinstance(value, bool)
@@ -141,7 +148,9 @@ class Field:
         return value
 
     def valid(self, value: Any) -> bool:
-        """Whether the (converted) value passes the field's check."""
+        """Whether the (converted) value passes the field's check (one of its :attr:`words` always does)."""
+        if isinstance(value, str) and value in self.words:
+            return True
         return self.check is None or bool(self.check(value))
 
 
@@ -184,8 +193,9 @@ class Schema:
         return self.sections[section][key]
 
 
-def integer(default: int, low: int | None = None, high: int | None = None, help: str = "") -> Field:
-    """An integer field, optionally bounded (inclusive)."""
+def integer(default: int | str, low: int | None = None, high: int | None = None, help: str = "",
+            words: tuple[str, ...] = ()) -> Field:
+    """An integer field, optionally bounded (inclusive), that also takes the strings ``words``."""
     if low is not None and high is not None:
         allowed = f"an integer in [{low}, {high}]"
     elif low is not None:
@@ -194,7 +204,9 @@ def integer(default: int, low: int | None = None, high: int | None = None, help:
         allowed = f"an integer <= {high}"
     else:
         allowed = "an integer"
-    return Field(int, default, lambda v: (low is None or v >= low) and (high is None or v <= high), allowed, help)
+    allowed += "".join(f' or "{word}"' for word in words)
+    return Field(int, default, lambda v: (low is None or v >= low) and (high is None or v <= high), allowed, help,
+                 tuple(words))
 
 
 def real(default: float, *, gt: float | None = None, ge: float | None = None, lt: float | None = None,
@@ -370,7 +382,7 @@ def load_scene(schema: Schema, path: str | Path | None = None, overrides: Iterab
                 raise SceneError(f"scene field {name} = {_show(value)} {where} has the wrong type: expected "
                                  f"{exc.args[0]}, got {_type_name(value)}; allowed: {fld.allowed}", "type") from None
             # TOML integers are unbounded; numpy, array sizes and the models take 64-bit ones
-            fits = fld.type is not int or -_INT64_LIMIT <= converted < _INT64_LIMIT
+            fits = fld.type is not int or not isinstance(converted, int) or -_INT64_LIMIT <= converted < _INT64_LIMIT
             if not fits or not fld.valid(converted):
                 limit = "" if fits else f" (and within 64-bit integers, at most {_INT64_LIMIT - 1} in size)"
                 raise SceneError(f"scene field {name} = {_show(value)} {where} is out of range; allowed: "

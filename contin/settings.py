@@ -30,7 +30,14 @@ class Settings:
     ds, ds_min, ds_max : float
         Initial, minimum and maximum step in the weighted arclength norm.
     max_steps : int
-        Maximum number of accepted steps.
+        Maximum number of accepted steps; the run stops there with status ``"max_steps"``.
+    stall_steps : int
+        0 (the default): off.  Otherwise the run also stops, with status ``"stalled"``, once this
+        many accepted steps in a row brought no progress: no special point found (a fold, a branch
+        point, an event) and no bound (``p_min``, ``p_max``, ``bounds``) approached closer than
+        before.  A path that winds through many folds on its way to a bound keeps finding them; one
+        that runs away from every bound without a feature does not.  With it, ``max_steps`` is the
+        hard cap of a path that keeps progressing.
     direction : int
         +1 to start with increasing parameter, -1 decreasing.
     p_min, p_max : float
@@ -106,6 +113,7 @@ class Settings:
     ds_min: float = 1e-9
     ds_max: float = 0.2
     max_steps: int = 1000
+    stall_steps: int = 0
     direction: int = 1
     p_min: float = -math.inf
     p_max: float = math.inf
@@ -145,6 +153,7 @@ class Settings:
         need(self.ds_max >= self.ds_min, "ds_max", "must be >= ds_min")
         need(self.ds_min <= self.ds <= self.ds_max, "ds", "must lie in [ds_min, ds_max]")
         need(self.max_steps >= 1, "max_steps", "must be >= 1")
+        need(self.stall_steps >= 0, "stall_steps", "must be >= 0 (0: off)")
         need(self.direction in (-1, 1), "direction", "must be +1 or -1")
         need(self.p_min < self.p_max, "p_min", "must be < p_max")
         floor = f"must be >= {ROUNDOFF_FLOOR:g} (the roundoff floor of a relative tolerance) and < 1"

@@ -103,15 +103,22 @@ class TestFunction:
         raise NotImplementedError
 
     def find(self, seg: Segment, before: float, after: float, locate: bool = True) -> SpecialPoint:
-        """:meth:`locate`, or the bracket when ``locate`` is False or the location fails."""
-        if not locate:
-            return self.annotate(bracketed(self.kind, seg.A, seg.B, self.label))
-        try:
-            return self.annotate(self.locate(seg, before, after))
-        except LOCATE_FAILURES as exc:
-            spt = bracketed(self.kind, seg.A, seg.B, self.label)
-            spt.info["error"] = str(exc)
-            return self.annotate(spt)
+        """:meth:`locate`, or the bracket when ``locate`` is False or the location fails.
+
+        A bracket is reported at its end ``seg.B``, with the observables there: whoever reads a special
+        point's observables finds them whether or not it was located.
+        """
+        error = None
+        if locate:
+            try:
+                return self.annotate(self.locate(seg, before, after))
+            except LOCATE_FAILURES as exc:
+                error = str(exc)
+        spt = bracketed(self.kind, seg.A, seg.B, self.label)
+        spt.observables = self.curve.problem.evaluate_observables(spt.u, spt.p)
+        if error is not None:
+            spt.info["error"] = error
+        return self.annotate(spt)
 
     @property
     def label(self) -> str:

@@ -381,6 +381,8 @@ def _valid_scene(schema: Schema, scene: dict[str, dict[str, Any]]) -> bool:
     for section, keys in schema.sections.items():
         for key, fld in keys.items():
             value = scene[section][key]
+            if isinstance(value, str) and value in fld.words:  # a word the field takes besides its type ("auto")
+                continue
             if type(value) is not fld.type or (fld.type is float and not math.isfinite(value)):
                 return False
             if not _fits(fld, value):

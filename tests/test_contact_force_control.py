@@ -308,4 +308,4 @@ def test_a_thin_shallow_cap_under_a_forced_sphere_reaches_the_end_of_travel():
     result = SHELL_SCENE.run(scene, progress=False)
     assert result.status == "ok", result.message
     assert [b.status for b in result.branches] == ["event", "bound"]
-    assert sum(len(b.p) for b in result.branches) < scene["continuation"]["max_steps"]
+    assert sum(len(b.p) for b in result.branches) < 3000  # the scene's fixed step limit when this was measured

@@ -33,18 +33,30 @@ from contin_models.shell.meridian import ReferenceMeridian, with_mode
 from contin_models.shell.pressure import classical_pressure
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure, default_harmonics
 
-from .schema import Scene, eversion_displacement
+from .schema import AUTO_MAX_STEPS, STALL_STEPS, Scene, eversion_displacement
 from .shape import length_scale, reference_meridian, rise
 
 __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path", "point_problem",
            "point_settings", "pressure_problem", "pressure_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH",
            "FORCE_JUMP_ATTEMPTS", "is_papers_cap", "length_unit", "travel", "scene_meridian", "scene_structure",
            "revolution_problem", "revolution_settings", "rest_stiffness", "buckling_mode", "FLAT_TRAVEL_OVER_H", "harmonics_of",
-           "watch_harmonics"]
+           "watch_harmonics", "step_limits"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
 #: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
 MIN_STEPS_PER_PATH = 20
+
+
+def step_limits(scene: Scene) -> dict[str, int]:
+    """The :class:`contin.Settings` fields ``max_steps`` and ``stall_steps`` of the scene's ``continuation.max_steps``.
+
+    ``"auto"``: a branch goes on while it progresses (:data:`STALL_STEPS`), up to :data:`AUTO_MAX_STEPS`
+    steps; a number: exactly that many steps at most, whether or not the branch progresses.
+    """
+    chosen = scene["continuation"]["max_steps"]
+    if chosen == "auto":
+        return {"max_steps": AUTO_MAX_STEPS, "stall_steps": STALL_STEPS}
+    return {"max_steps": int(chosen), "stall_steps": 0}
 
 
 #: ``(overshoot, kick)`` attempts of a force-controlled snap: the load is raised by ``overshoot F``
@@ -278,7 +290,7 @@ def revolution_settings(scene: Scene, problem: ShellOfRevolution, progress: bool
     param_weight = 1.0 / L if problem.control == "displacement" else 1.0 / (rest_stiffness(problem, L) * L)
     bounds = {"w": (None, end_of_path(scene))}
     ends = {"p_max": end_of_path(scene)} if problem.control == "displacement" else {}
-    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], **step_limits(scene),
                            stability=True, n_eigs=0, state_weight=1.0 / L, param_weight=param_weight,
                            progress=progress, bounds=bounds, **ends)
 
@@ -323,7 +335,7 @@ def point_settings(scene: Scene, problem: ShellPointLoad, progress: bool = False
     # weights make ds dimensionless in units of R: positions and w are lengths; a force is measured by
     # the deflection it gives the unloaded cap (rest_stiffness), as on any shell of revolution
     param_weight = 1.0 / R if problem.control == "displacement" else 1.0 / (rest_stiffness(problem, R) * R)
-    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], **step_limits(scene),
                            stability=True, n_eigs=0, state_weight=1.0 / R, param_weight=param_weight, progress=progress)
 
 
@@ -351,7 +363,7 @@ def pressure_settings(scene: Scene, problem: ShellOfRevolution, progress: bool =
     # positions and w are lengths in units of L; a pressure change of p_c weighs as much as the pole
     # moving through the eversion depth, so both halves of the path (the pressure rising to the snap,
     # the pole travelling to eversion) are resolved by the same steps
-    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], **step_limits(scene),
                            stability=True, n_eigs=0, state_weight=1.0 / L,
                            param_weight=travel(scene) / (L * problem.p_c), progress=progress,
                            p_max=scene["load"]["p_end_over_p_c"] * problem.p_c, bounds={"w": (None, end_of_path(scene))})
@@ -376,7 +388,7 @@ def contact_settings(scene: Scene, progress: bool = False, stability: bool = Tru
     # (the barrier switches on), so the first step is a quarter of the scene's
     ds_max = _step_cap(scene)
     ds = 0.25 * min(c["ds"], ds_max)
-    st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+    st = contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], **step_limits(scene),
                          stability=stability, n_eigs=0, state_weight=1.0 / R, param_weight=1.0 / R, progress=progress)
     return st, end_of_path(scene)
 

@@ -75,7 +75,7 @@ _INSTABILITY_FIELDS = ("F", "F_norm", "w", "w_over_R")
 #: How the status line and the diagram name the first instability (:func:`instability_text`): in the diagram's units.
 _SHOWN = (("w_over_R", "w/R", "w/R"), ("F_norm", "F R/(2 pi D)", r"F R/2\pi D"))
 
-__all__ = ["classify", "path_complete", "run_point", "run_point_force", "resume_point", "MAX_SNAPS"]
+__all__ = ["classify", "path_complete", "came_back", "LOWEST_W", "run_point", "run_point_force", "resume_point", "MAX_SNAPS"]
 
 #: Observables of :class:`ShellPointLoad` reported at every special point.
 _OBS = ("w", "F", "w_over_R", "F_norm")
@@ -161,9 +161,30 @@ def classify(branch: Branch, records: list[dict[str, Any]], D: float, R: float) 
     return out
 
 
+#: The lowest pole displacement of the displacement-controlled path (its ``p_min``).  A path that comes back to
+#: the unloaded pole's height has left the scene: below it the pole is pulled up, and the cap stretches along
+#: a stable branch that has no end (the pulling force grows without bound) and no fold to find.
+LOWEST_W = 0.0
+
+#: What a path that came back to :data:`LOWEST_W` says (its message and ``summary.json``'s ``warnings``).
+_CAME_BACK = ("the path came back to the unloaded pole's height, w = 0, without reaching eversion (beyond it the pole "
+              "would be pulled up without end); thin deep caps under a point load do so on meshes too coarse for "
+              "their wrinkles: compare with a finer mesh (shell.N)")
+
+
 def path_complete(br: Branch) -> bool:
-    """Whether a displacement-controlled path reached eversion (its ``p_max`` bound)."""
-    return br.status == "bound" and len(br) > 0
+    """Whether a displacement-controlled path reached eversion (its ``p_max`` bound, not :data:`LOWEST_W`)."""
+    return br.status == "bound" and len(br) > 0 and not came_back(br)
+
+
+def came_back(br: Branch) -> bool:
+    """Whether a displacement-controlled path ended back at the unloaded pole's height (:data:`LOWEST_W`).
+
+    The bound is located to the corrector's precision, a round-off of the path's largest ``w`` either side of it.
+    """
+    if br.status != "bound" or not len(br):
+        return False
+    return abs(float(br.p[-1]) - LOWEST_W) <= 1e-9 * float(np.max(np.abs(br.p)))
 
 
 def _jump_fields(records: list[dict[str, Any]], branches: list[Branch]) -> None:
@@ -234,9 +255,12 @@ def run_point(scene: Scene, progress: bool = False, start: Start | None = None) 
     # F = 0 (falling): where a one-sided point indenter, which can only push, would lose the shell
     events = [_limit_load("max"), _limit_load("min"), contin.crossing("F", 0.0, direction=-1, name=_F_ZERO)]
     if start is None:
-        br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_max=w_end, events=events)
+        br = contin.continuation(problem, problem.reference_unknowns(), 0.0, st, p_min=LOWEST_W, p_max=w_end,
+                                 events=events)
     else:
-        (br,), _ = continue_saved(start, [resume(problem, start, st, p_max=w_end, events=events)])
+        (br,), _ = continue_saved(start, [resume(problem, start, st, p_min=LOWEST_W, p_max=w_end, events=events)])
+    if came_back(br):
+        br.message = f"{br.message}: back at the unloaded pole's height without reaching eversion"
     partial = start is not None and not start.continues_saved_path
     if path_complete(br) or not len(br) or partial:
         return _result([br], [], problem, scene, ["path"], "", partial=partial)
@@ -349,6 +373,8 @@ def _result(branches: list[Branch], jumps: list, problem: ShellPointLoad, scene:
     if peak is not None:
         summary.update(max_strain=peak.value, w_at_max_strain_over_R=peak.load / R, max_strain_at=peak.where)
     summary["warnings"] = [warning] if warning else []
+    if scene["load"]["control"] == "displacement" and branches and came_back(branches[0]):
+        summary["warnings"].append(_CAME_BACK)
     record_instability(summary, records, problem.parameter_name, _INSTABILITY_FIELDS, problem)
     if partial:  # the traced part's first loss of stability, not the path's from the unloaded cap
         summary["first_instability_on_traced_part"] = summary.pop("first_instability")

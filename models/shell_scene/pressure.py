@@ -70,7 +70,8 @@ from contin_models.contact.indentation import BorderedBandedLU
 from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.structure import ShellOfRevolution
 
-from .build import MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, travel
+from .build import (MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, step_limits,
+                    travel)
 from .deformed import shapes_drawer, shell_shapes
 from .labels import length_symbol, pressure_axes, scene_title
 from .schema import Scene, instability_text, record_fields, record_instability
@@ -251,7 +252,7 @@ def volume_settings(scene: Scene, problem: ConjugateControl, progress: bool = Fa
     # positions and w are lengths in units of L (the multiplier too, see volume_problem); the volume
     # change to eversion, 2 V0, weighs as much as the pole moving through the eversion depth
     V0 = float(problem.base.pressure.V0)
-    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], max_steps=c["max_steps"],
+    return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], **step_limits(scene),
                            stability=True, n_eigs=0, state_weight=1.0 / L,
                            param_weight=depth / (L * 2.0 * V0), progress=progress,
                            p_max=scene["load"]["dV_end_over_V0"] * V0, bounds={"w": (None, end_of_path(scene))})

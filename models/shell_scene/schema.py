@@ -30,7 +30,8 @@ from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
 __all__ = ["SHELL_SCHEMA", "shell_first_instability", "instability_text", "harmonic_summary", "record_fields",
            "record_instability", "MAX_NODES", "LARGE_MESH", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene",
-           "eversion_displacement", "minimum_nodes", "nodes_per_bending_length", "run_time_forecast"]
+           "eversion_displacement", "minimum_nodes", "nodes_per_bending_length", "run_time_forecast", "STALL_STEPS",
+           "AUTO_MAX_STEPS"]
 
 Scene = dict[str, dict[str, Any]]
 
@@ -53,6 +54,13 @@ _PATH_STEPS = 230
 def _nodes_ok(n: int) -> bool:
     return 10 <= n <= MAX_NODES
 
+
+#: ``continuation.max_steps = "auto"``: a branch stops once this many steps in a row made no progress (no
+#: fold, branch point or event found, and its end approached no closer): a thin deep cap winds through a
+#: fold every few dozen steps on its way to eversion, however many folds its path has.
+STALL_STEPS = 3000
+#: ``continuation.max_steps = "auto"``: the most steps a branch that keeps progressing may take.
+AUTO_MAX_STEPS = 200_000
 
 #: Nodes per bending length ``sqrt(R h)`` below which a scene is refused (``shell.N``).
 MIN_NODES_PER_BENDING_LENGTH = 4
@@ -168,7 +176,10 @@ SHELL_SCHEMA = Schema(
             # points with Newton stalled at round-off; 5e-12 and 1e-11 run every load kind and control
             "tol": real(1e-10, ge=1e-11, lt=1, help="relative residual tolerance (below 1e-11 round-off in the "
                                                      "shell's residual keeps Newton from converging)"),
-            "max_steps": integer(3000, low=1, high=1_000_000, help="maximum number of steps per branch"),
+            "max_steps": integer("auto", low=1, high=1_000_000, words=("auto",),
+                                 help=f"steps per branch: \"auto\" goes on while the branch progresses (a fold, branch "
+                                      f"point or event found, or its end approached, within the last {STALL_STEPS} "
+                                      f"steps) up to {AUTO_MAX_STEPS} steps; a number is obeyed exactly"),
             "overshoot": real(0.05, ge=0, le=1,
                               help="stop this fraction past eversion, w = 2 R (1 - sin phi_hat) (1 + overshoot)"),
         },

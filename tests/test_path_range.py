@@ -1,0 +1,46 @@
+"""The point scene's displacement path stays within the scene: from the unloaded pole's height, w = 0, to eversion.
+
+A thin deep cap on a coarse mesh (``shell.phi_hat=0.4193 shell.h=5.13e-3 shell.N=80``) winds for some
+36000 steps, turns back near a branch point it could not locate, retraces its own way to the unloaded cap
+and went on, with nothing to stop it, into the pole pulled upwards (w = -7473 after 200000 steps).
+``data/deep_cap_n80_way_back.npz`` is a state of that path on its way back (a maximum of F at w = 0.829,
+with the direction the path went through it), saved from that run.
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from contin import cli
+from contin.restart import Start
+from contin.scene import load_scene
+from contin_models.shell_scene import SHELL_SCHEMA
+from contin_models.shell_scene.point import LOWEST_W, came_back, path_complete, run_point
+
+SCENE = ["shell.phi_hat=0.4193", "shell.h=5.13e-3", "shell.N=80", "load.control=displacement"]
+WAY_BACK = Path(__file__).parent / "data" / "deep_cap_n80_way_back.npz"
+
+
+def test_a_path_coming_back_ends_at_the_unloaded_pole_height():
+    saved = np.load(WAY_BACK)
+    start = Start(u=saved["u"], p=float(saved["p"]), du=saved["du"], dp=float(saved["dp"]), name="way back",
+                  kind="fold", saved_scene={"load": {"control": "displacement"}})
+    result = run_point(load_scene(SHELL_SCHEMA, None, SCENE), start=start)
+    path = result.branches[0]
+    assert path.status == "bound" and came_back(path) and not path_complete(path)
+    assert path.p[-1] == pytest.approx(LOWEST_W, abs=1e-12) and path.p.min() >= LOWEST_W - 1e-12
+    assert len(path.p) < 500  # it went straight down, no step budget spent
+    assert any("came back to the unloaded pole's height" in w for w in result.summary["warnings"])
+    path.p[-1] = 3e-19  # where the whole scene's path located its bound: still back at w = 0, not at eversion
+    assert came_back(path) and not path_complete(path)
+
+
+@pytest.mark.slow
+def test_the_coarse_deep_cap_ends(tmp_path):
+    """The whole scene (some 72000 steps): it ends at w = 0 with the warning, exit status 0."""
+    code = cli.main(["trace", "-q", "--out", str(tmp_path), *[a for s in SCENE for a in ("--set", s)]])
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert code == 0 and summary["status"] == "ok"
+    assert any("came back to the unloaded pole's height" in w for w in summary["warnings"])

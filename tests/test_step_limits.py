@@ -1,0 +1,72 @@
+"""Step limits that follow the path: ``Settings.stall_steps`` and the shell scene's ``continuation.max_steps = "auto"``."""
+
+import numpy as np
+import pytest
+
+import contin
+from contin.scene import SceneError, load_scene
+from contin_models.shell_scene import SHELL_SCHEMA
+from contin_models.shell_scene.build import point_problem, point_settings
+
+
+def line() -> contin.Problem:
+    """u - p = 0: a straight path with no feature, unbounded both ways."""
+    return contin.Problem(residual=lambda u, p: u - p, jacobian=lambda u, p: np.eye(u.size),
+                          dresidual_dp=lambda u, p: -np.ones_like(u), name="line")
+
+
+def decaying_wave() -> contin.Problem:
+    """2 exp(-u/20) sin(u) + u/20 - p = 0: a path that folds every half period while its first crest,
+    p ~ 1.9, stays the largest p it reaches until u ~ 38 (many folds later)."""
+    def residual(u, p):
+        return 2.0 * np.exp(-u / 20.0) * np.sin(u) + u / 20.0 - p
+
+    def jacobian(u, p):
+        return np.diag(2.0 * np.exp(-u / 20.0) * (np.cos(u) - np.sin(u) / 20.0) + 1.0 / 20.0)
+
+    return contin.Problem(residual=residual, jacobian=jacobian, dresidual_dp=lambda u, p: -np.ones_like(u),
+                          name="decaying wave")
+
+
+KW = {"ds": 0.1, "ds_max": 0.1, "state_weight": 1.0, "param_weight": 1.0, "check_model": False}
+
+
+def test_a_path_running_away_from_its_only_bound_stalls():
+    """Going down from p = 0 with p_max = 1 the only bound: nothing is found and the bound recedes."""
+    br = contin.continuation(line(), [0.0], 0.0, p_max=1.0, direction=-1, max_steps=1000, stall_steps=40, **KW)
+    assert br.status == "stalled" and not br.success
+    assert len(br.p) == 41  # the start and the 40 steps without progress
+    assert "40 steps without progress" in br.message and "p_max" in br.message
+
+
+def test_the_same_path_with_an_explicit_limit_alone_obeys_it():
+    br = contin.continuation(line(), [0.0], 0.0, p_max=1.0, direction=-1, max_steps=60, **KW)
+    assert br.status == "max_steps" and len(br.p) == 61
+
+
+def test_a_winding_path_that_keeps_folding_is_not_stalled():
+    """The parameter's record stands for longer than ``stall_steps``, but the folds on the way count as progress."""
+    stall = 60
+    br = contin.continuation(decaying_wave(), [0.0], 0.0, p_max=2.5, max_steps=5000, stall_steps=stall, **KW)
+    assert br.status == "bound" and br.p[-1] == pytest.approx(2.5)
+    record = np.maximum.accumulate(br.p)
+    news = np.flatnonzero(np.diff(record) > 0) + 1
+    assert np.diff(news).max() > 3 * stall  # judged by the parameter alone, the path would have stalled
+    assert len(br.folds()) >= 10
+
+
+def test_stall_steps_is_validated():
+    with pytest.raises(contin.SettingsError, match="stall_steps"):
+        contin.Settings(stall_steps=-1).validate()
+
+
+def test_the_shell_scene_limit_is_automatic_unless_a_number_is_given():
+    auto = load_scene(SHELL_SCHEMA, None, [])
+    assert auto["continuation"]["max_steps"] == "auto"
+    st = point_settings(auto, point_problem(auto, "displacement"))
+    assert st.stall_steps > 0 and st.max_steps > 10 * st.stall_steps
+    fixed = load_scene(SHELL_SCHEMA, None, ["continuation.max_steps=5000"])
+    st = point_settings(fixed, point_problem(fixed, "displacement"))
+    assert (st.max_steps, st.stall_steps) == (5000, 0)
+    with pytest.raises(SceneError, match='an integer in \\[1, 1000000\\] or "auto"'):
+        load_scene(SHELL_SCHEMA, None, ["continuation.max_steps=many"])
