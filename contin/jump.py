@@ -376,7 +376,7 @@ def _relaxed_across(problem: Problem, y: np.ndarray, p: float, v: np.ndarray,
     """``y`` moved to lower energy across the direction ``v``, with its component along ``v`` kept: ``(y, E)``.
 
     A straight step along the unstable eigenvector leaves the valley it points along when the valley
-    bends (a thin shell's soft mode turns into membrane stretching a short way off): there the energy
+    bends (a thin structure's soft mode turns into stretching a short way off): there the energy
     rises on the straight line while it falls along the bent valley.  Up to :data:`RELAX_STEPS`
     shifted-Newton steps of the energy restricted to the hyperplane ``v . dy = 0``, each with a
     backtracking search, bring the step back into the valley.  None when the first of them does not

@@ -227,7 +227,7 @@ class SnapRules:
     min_separation : float
         A landing with ``separation > min_separation`` is a snap.  A closer one may be the
         minimisation stalling next to the fold or a short snap to a distinct stable state (a thin
-        shell's pole moves by a fraction of its thickness); it counts as a snap only if, carried
+        structure's snap may move it by a fraction of its thickness); it counts as a snap only if, carried
         back to the fold's parameter by Newton's method, it stays on a stable branch of its own
         instead of falling back onto the fold.  Otherwise the next attempt is tried.
     restate : bool
@@ -409,7 +409,7 @@ def _nearby_landing_branch(problem: Problem, curve: Curve, jr: JumpResult, u_fol
 
     Past the fold the fold's branch has no equilibrium nearby, so a landing close to the fold state is
     either a stall of the descent on the fold's flat energy or a distinct stable state a short way off
-    (a thin shell's small snap moves by a fraction of its thickness).  Carried back to the fold's
+    (a thin structure's small snap moves by a fraction of its thickness).  Carried back to the fold's
     parameter, a stall falls back onto the fold (it moves by its whole distance from it), while a
     distinct state stays put on its own stable branch (:func:`_carry_to_fold_parameter`).  Minimised at
     the fold's parameter itself, the two cannot be told apart this way: such a landing counts as a stall.
