@@ -218,12 +218,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = study_parser("fuzz", "random scenes over every declared range: how many complete", executor_options=True)
     parser.add_argument("--count", type=int, default=40, help="number of random scenes (default 40)")
     parser.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
+    parser.add_argument("--only", metavar="I,J,...", default=None,
+                        help="run only these scenes of the draw (comma-separated indices), e.g. the failures of a "
+                             "run")
     parser.add_argument("--against", metavar="DIR", default=None,
                         help="compare with an earlier run (same seed and count) in DIR, scene by scene: scenes "
                              "lost or gained, special points that changed (written to comparison.json)")
     args = parser.parse_args(argv)
     out = output_dir(args.out)
     scenes = draw_scenes(args.count, args.seed)
+    if args.only:
+        wanted = {int(i) for i in args.only.split(",")}
+        scenes = [s for s in scenes if s["index"] in wanted]
     rows: list[dict[str, Any]] = []
     with executor_from_args(args) as executor:
         for done, (_, row) in enumerate(executor.map_unordered(run_scene, scenes), start=1):

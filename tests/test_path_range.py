@@ -44,3 +44,28 @@ def test_the_coarse_deep_cap_ends(tmp_path):
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert code == 0 and summary["status"] == "ok"
     assert any("came back to the unloaded pole's height" in w for w in summary["warnings"])
+
+
+def test_a_ring_near_the_edge_of_a_deep_cap_is_sized_by_its_own_eversion(tmp_path) -> None:
+    """A ring's circle is everted at its mirror image in the edge's plane, far short of the pole's ``2 H``.
+
+    Sized by the pole's travel, the path of a ring at 0.82 of the edge's radius folded back at the
+    ring's eversion and ran on into the ring pulled up (``w`` = -1544 R after 3000 steps).  The
+    travel is now the closed form ``2 (sqrt(R^2 - r^2) - R sin phi_hat)`` of the ring node's radius
+    ``r``, and the path ends where it comes back to the unloaded height.
+    """
+    import json
+    import math
+
+    from contin.cli import main
+
+    phi_hat = 0.34514270096738314
+    code = main(["trace", "-q", "--set", "output.figure=false", "--out", str(tmp_path),
+                 "--set", f"shell.phi_hat={phi_hat}", "--set", "shell.h=0.012394", "--set", "shell.nu=-0.0576",
+                 "--set", "shell.N=62", "--set", "load.kind=ring", "--set", "load.ring_radius=0.77521"])
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    r = summary["ring_node_radius"]
+    assert summary["travel"] == pytest.approx(2.0 * (math.sqrt(1.0 - r * r) - math.sin(phi_hat)), rel=1e-12)
+    assert code == 0 and summary["status"] == "ok", summary["message"]
+    assert summary["n_steps"] < 3000
+    assert any("came back" in w for w in summary["warnings"])

@@ -40,6 +40,7 @@ __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path
            "point_settings", "pressure_problem", "pressure_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH",
            "FORCE_JUMP_ATTEMPTS", "is_papers_cap", "length_unit", "travel", "scene_meridian", "scene_structure",
            "revolution_problem", "revolution_settings", "rest_stiffness", "buckling_mode", "FLAT_TRAVEL_OVER_H", "harmonics_of",
+           "loaded_travel", "loaded_end", "LOWEST_W",
            "watch_harmonics", "step_limits"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
@@ -147,9 +148,33 @@ def travel(scene: Scene) -> float:
     return 2.0 * H if H > 0.0 else FLAT_TRAVEL_OVER_H * s["h"]
 
 
+#: The lowest deflection of a point or ring path: a path back at the loaded node's unloaded height has left
+#: the scene (below it the node is pulled up, along a stable branch that has no end and no fold to find).
+LOWEST_W = 0.0
+
+
 def end_of_path(scene: Scene) -> float:
     """Pole displacement (or indenter travel) that ends a loading path: eversion (:func:`travel`) plus the overshoot."""
     return travel(scene) * (1.0 + scene["continuation"]["overshoot"])
+
+
+def loaded_travel(scene: Scene, problem: ShellOfRevolution) -> float:
+    """The deflection the loaded node can make before its circle is everted: :func:`travel` for a point.
+
+    A ring's circle is everted when it reaches its mirror image in the edge's plane, ``2 (z_ring -
+    z_edge)`` below its reference, less than the pole's ``2 H``; pushed further it can only stretch
+    the shell, so a path sized by the pole's travel never ends (the path folds back at the ring's
+    eversion).  A ring on a flat shell is sized as the flat shell is (:data:`FLAT_TRAVEL_OVER_H` ``h``).
+    """
+    if scene["load"]["kind"] != "ring":
+        return travel(scene)
+    height = problem.z_ref_node - float(problem.x_ref[1])
+    return 2.0 * height if height > 0.0 else FLAT_TRAVEL_OVER_H * scene["shell"]["h"]
+
+
+def loaded_end(scene: Scene, problem: ShellOfRevolution) -> float:
+    """The deflection of the loaded node that ends a point or ring path: :func:`loaded_travel` plus the overshoot."""
+    return loaded_travel(scene, problem) * (1.0 + scene["continuation"]["overshoot"])
 
 
 def _step_cap(scene: Scene) -> float:
@@ -281,15 +306,19 @@ def revolution_settings(scene: Scene, problem: ShellOfRevolution, progress: bool
     Under force control the load is weighed by :func:`rest_stiffness` ``k``: a change ``k L`` of the
     force counts as much as one length unit ``L`` of the state, so that the force and the deflection
     weigh alike while the shell is linear, and a path winding through many folds takes about the
-    steps it takes under displacement control.  The path ends at the deflection :func:`end_of_path`.
+    steps it takes under displacement control.  The path ends at the deflection :func:`loaded_end`, or
+    where the loaded node comes back to its unloaded height (:data:`LOWEST_W`).
     """
     c = scene["continuation"]
     L = length_unit(scene)
     ds_max = _step_cap(scene)
     ds = min(c["ds"], ds_max)
     param_weight = 1.0 / L if problem.control == "displacement" else 1.0 / (rest_stiffness(problem, L) * L)
-    bounds = {"w": (None, end_of_path(scene))}
-    ends = {"p_max": end_of_path(scene)} if problem.control == "displacement" else {}
+    # the path has left the scene where the loaded node comes back to its unloaded height: below it the
+    # node is pulled up along a stable branch with no end
+    end = loaded_end(scene, problem)
+    bounds = {"w": (LOWEST_W, end)}
+    ends = {"p_max": end, "p_min": LOWEST_W} if problem.control == "displacement" else {}
     return contin.Settings(ds=ds, ds_max=ds_max, ds_min=1e-9 * ds, tol=c["tol"], **step_limits(scene),
                            stability=True, n_eigs=0, state_weight=1.0 / L, param_weight=param_weight,
                            progress=progress, bounds=bounds, **ends)

@@ -65,7 +65,7 @@ from contin.scene import SceneError, TraceResult, branch_columns, special_point_
 from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
-from .build import end_of_path, force_snap_rules, point_problem, point_settings
+from .build import LOWEST_W, end_of_path, force_snap_rules, point_problem, point_settings
 from .deformed import LoadSketch, observed, shapes_drawer, shell_shapes
 from .labels import force_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene, eversion_displacement, instability_text, record_instability
@@ -160,11 +160,6 @@ def classify(branch: Branch, records: list[dict[str, Any]], D: float, R: float) 
     out["F_negative_on_stable_path"] = negative_stable
     return out
 
-
-#: The lowest pole displacement of the displacement-controlled path (its ``p_min``).  A path that comes back to
-#: the unloaded pole's height has left the scene: below it the pole is pulled up, and the cap stretches along
-#: a stable branch that has no end (the pulling force grows without bound) and no fold to find.
-LOWEST_W = 0.0
 
 #: What a path that came back to :data:`LOWEST_W` says (its message and ``summary.json``'s ``warnings``).
 _CAME_BACK = ("the path came back to the unloaded pole's height, w = 0, without reaching eversion (beyond it the pole "

@@ -16,7 +16,8 @@ continuation through every fold, under the scene's control:
     as a fold under displacement control.
 
 The path ends at the deflection ``w = 2 H (1 + continuation.overshoot)``, ``H`` the shell's rise (a
-plate: ``10 h (1 + overshoot)``).  Every point is labelled under both controls (``"force"``: the
+plate: ``10 h (1 + overshoot)``); a ring's at its own circle's eversion, ``2 (z_ring - z_edge) (1 +
+overshoot)``; and a path that comes back to the unloaded height ``w = 0`` ends there (with a warning).  Every point is labelled under both controls (``"force"``: the
 Hessian on all unknowns; ``"displacement"``: without the loaded node's height).
 
 ``summary.json``: ``geometry``, ``boundary``, ``load`` (``"point"`` or ``"ring"``), ``ring_radius`` and
@@ -38,7 +39,7 @@ import contin
 from contin.branch import Branch
 from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
-from .build import end_of_path, length_unit, revolution_problem, revolution_settings, travel
+from .build import LOWEST_W, length_unit, loaded_end, loaded_travel, revolution_problem, revolution_settings
 from .deformed import LoadSketch, observed, shapes_drawer, shell_shapes
 from .schema import STABILITY_COLUMNS, Scene, instability_text, record_fields, record_instability
 from .labels import force_axes, length_symbol, scene_title
@@ -96,7 +97,7 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
     H = rise(s)
     summary: dict[str, Any] = {
         "geometry": s["geometry"], "boundary": s["boundary"], "load": load["kind"], "control": control,
-        "H": H, "eversion_w": 2.0 * H, "w_end": end_of_path(scene), "travel": travel(scene),
+        "H": H, "eversion_w": 2.0 * H, "w_end": loaded_end(scene, problem), "travel": loaded_travel(scene, problem),
         "length_unit": length_unit(scene), "D": problem.D, "F_unit": 2.0 * math.pi * problem.D / length_unit(scene),
         "imperfection": dict(scene["imperfection"]),
         "n_folds_in_w": sum(1 for r in records if is_w_fold(r)),
@@ -115,8 +116,16 @@ def run_revolution(scene: Scene, progress: bool = False) -> TraceResult:
     L = length_symbol(s)  # the shape's length unit, named as the diagram's axes name it
     shown = (("w_over_L", f"w/{L}", f"w/{L}"), ("F_norm", f"F {L}/(2 pi D)", rf"F {L}/2\pi D"))
     instability = instability_text(summary, shown)
+    # a bound reached far below the end of travel is the lower one
+    came_back = (len(br) > 1 and br.status == "bound"
+                 and float(problem.observables["w"](br.u[-1], br.p[-1])) < 0.5 * (LOWEST_W + summary["w_end"]))
+    if came_back:
+        summary["warnings"] = [f"the path came back to the loaded {'ring' if load['kind'] == 'ring' else 'pole'}'s "
+                               "unloaded height, w = 0, without reaching the end of its travel (below it the load "
+                               "would pull the shell up without end)"]
     if len(br):
-        br.message = f"{br.message}; {snap}" + (f"; {instability}" if instability else "")
+        br.message = (f"{br.message}" + (": back at the unloaded height" if came_back else "") + f"; {snap}"
+                      + (f"; {instability}" if instability else ""))
     # w of the loaded node and the total load F, in the shape's length L and the bending unit 2 pi D / L
     options = force_axes("w", length_unit(scene), problem.D, length_symbol=L,
                          scaled={"w_over_L": "w", "F_norm": "F", "w_over_h": "w"})
