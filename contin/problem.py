@@ -443,17 +443,29 @@ class Problem:
         return {name: float(fun(u, p)) for name, fun in self.observables.items()}
 
     def checked_residual(self, u: Array, p: float) -> Array:
-        """Residual, raising :class:`NonFiniteError` instead of returning NaN or inf."""
-        with np.errstate(all="ignore"):
-            r = self.residual(u, p)
+        """Residual, raising :class:`NonFiniteError` instead of returning NaN or inf.
+
+        Python's float arithmetic in a model's code raises ``OverflowError`` (``x ** 5`` past the
+        largest float) or ``ZeroDivisionError`` where numpy would return inf or NaN; those are the
+        same event, a state outside the range where the model is finite, and raise the same error.
+        """
+        try:
+            with np.errstate(all="ignore"):
+                r = self.residual(u, p)
+        except (OverflowError, ZeroDivisionError) as exc:
+            raise NonFiniteError(f"residual of {self.name!r} is not finite at p = {p!r} ({exc})") from exc
         if not np.isfinite(r).all():
             raise NonFiniteError(f"residual of {self.name!r} is not finite at p = {p!r}")
         return r
 
     def checked_jacobian(self, u: Array, p: float):
-        """Jacobian, raising :class:`NonFiniteError` on NaN or inf entries."""
-        with np.errstate(all="ignore"):
-            J = self.jacobian(u, p)
+        """Jacobian, raising :class:`NonFiniteError` on NaN or inf entries (or the errors of
+        :meth:`checked_residual`)."""
+        try:
+            with np.errstate(all="ignore"):
+                J = self.jacobian(u, p)
+        except (OverflowError, ZeroDivisionError) as exc:
+            raise NonFiniteError(f"Jacobian of {self.name!r} is not finite at p = {p!r} ({exc})") from exc
         data = J.data if sp.issparse(J) else np.asarray(J)
         if not np.isfinite(data).all():
             raise NonFiniteError(f"Jacobian of {self.name!r} is not finite at p = {p!r}")

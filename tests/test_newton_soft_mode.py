@@ -43,3 +43,16 @@ def test_a_start_that_is_not_an_equilibrium_is_still_refused() -> None:
                              dresidual_dp=lambda u, p: np.zeros(1), name="no root", residual_scale=1.0)
     with pytest.raises(CorrectorFailure):
         Curve(problem, contin.Settings(tol=1e-8)).newton_fixed_p(np.array([0.5]), 0.0)
+
+
+def test_a_model_whose_float_arithmetic_overflows_reports_a_non_finite_residual() -> None:
+    """``x ** 5`` of a Python float raises OverflowError where numpy gives inf: the same event."""
+    from contin.problem import NonFiniteError
+
+    problem = contin.Problem(residual=lambda u, p: np.array([float(u[0]) ** 5 - 1.0]),
+                             jacobian=lambda u, p: np.array([[5.0 * float(u[0]) ** 4]]),
+                             dresidual_dp=lambda u, p: np.zeros(1), name="quintic", residual_scale=1.0)
+    with pytest.raises(NonFiniteError, match="not finite"):
+        problem.checked_residual(np.array([1e100]), 0.0)
+    with pytest.raises(NonFiniteError, match="not finite"):
+        problem.checked_jacobian(np.array([1e100]), 0.0)
