@@ -40,7 +40,7 @@ __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path
            "point_settings", "pressure_problem", "pressure_settings", "force_snap_rules", "pole_moved", "MIN_STEPS_PER_PATH",
            "FORCE_JUMP_ATTEMPTS", "is_papers_cap", "length_unit", "travel", "scene_meridian", "scene_structure",
            "revolution_problem", "revolution_settings", "rest_stiffness", "buckling_mode", "FLAT_TRAVEL_OVER_H", "harmonics_of",
-           "loaded_travel", "loaded_end", "LOWEST_W",
+           "loaded_travel", "loaded_end", "LOWEST_W", "RING_EVERSION_FRACTION",
            "watch_harmonics", "step_limits"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
@@ -172,8 +172,21 @@ def loaded_travel(scene: Scene, problem: ShellOfRevolution) -> float:
     return 2.0 * height if height > 0.0 else FLAT_TRAVEL_OVER_H * scene["shell"]["h"]
 
 
+#: How far a ring's path goes towards its circle's mirror image (:func:`loaded_travel`).  The pole under a
+#: point force can pass its mirror image (the force pulls a spike), but a ring's circle reaches its mirror
+#: only in the limit, with the annulus between ring and edge stretched flat: the path folds back short of it
+#: (at 94.8 %, 98.2 % and 99.6 % of it on three thin caps of the random scenes, ``studies.fuzz``), so the
+#: ring counts as everted within this fraction of it.
+RING_EVERSION_FRACTION = 0.9
+
+
 def loaded_end(scene: Scene, problem: ShellOfRevolution) -> float:
-    """The deflection of the loaded node that ends a point or ring path: :func:`loaded_travel` plus the overshoot."""
+    """The deflection of the loaded node that ends a point or ring path.
+
+    A point's: :func:`loaded_travel` plus the overshoot; a ring's: :data:`RING_EVERSION_FRACTION` of it.
+    """
+    if scene["load"]["kind"] == "ring" and loaded_travel(scene, problem) != FLAT_TRAVEL_OVER_H * scene["shell"]["h"]:
+        return RING_EVERSION_FRACTION * loaded_travel(scene, problem)
     return loaded_travel(scene, problem) * (1.0 + scene["continuation"]["overshoot"])
 
 
