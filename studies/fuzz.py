@@ -207,7 +207,7 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     ax.set_ylabel(r"$h/R$")
     s = summarize(rows)
     ax.set_title(f"{s['n_complete']} of {s['n_scenes'] - s['n_refused']} accepted random scenes complete "
-                 f"({100 * s['complete_rate_judged']:.0f} % with $N \\geq {TARGET_MIN_NODES}$); marker size grows with $N$")
+                 f"({100 * s['complete_rate_judged']:.1f} %); marker size grows with $N$")
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     return fig
