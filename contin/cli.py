@@ -551,8 +551,9 @@ def _status_message(model: ModelRunner, scene: dict, result: TraceResult | Class
     """The result's message; for a run cut short by its step limit, which scene key raises it."""
     message = result.message
     if not result.complete:
-        keys = [f"{section}.{key} (now {scene[section][key]})" for section, fields in model.schema.sections.items()
-                for key in fields if key == "max_steps"]
+        keys = [f"{section}.{key} (now {scene[section][key]})" if scene[section][key] != "auto" else
+                f"{section}.{key} (now \"auto\": give a number of steps above the automatic limit)"
+                for section, fields in model.schema.sections.items() for key in fields if key == "max_steps"]
         if keys:
             message += f"; to reach the end, raise {' or '.join(keys)}"
     return message

@@ -70,3 +70,16 @@ def test_the_shell_scene_limit_is_automatic_unless_a_number_is_given():
     assert (st.max_steps, st.stall_steps) == (5000, 0)
     with pytest.raises(SceneError, match='an integer in \\[1, 1000000\\] or "auto"'):
         load_scene(SHELL_SCHEMA, None, ["continuation.max_steps=many"])
+
+
+def test_a_run_cut_short_by_the_automatic_limit_asks_for_a_number() -> None:
+    from types import SimpleNamespace
+
+    from contin.cli import _status_message
+
+    model = SimpleNamespace(schema=SimpleNamespace(sections={"continuation": {"max_steps": None}}))
+    result = SimpleNamespace(message="path: reached max_steps = 200000", complete=False)
+    auto = _status_message(model, {"continuation": {"max_steps": "auto"}}, result)
+    assert "give a number of steps above the automatic limit" in auto and "(now auto)" not in auto
+    fixed = _status_message(model, {"continuation": {"max_steps": 3000}}, result)
+    assert fixed.endswith("raise continuation.max_steps (now 3000)")
