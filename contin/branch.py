@@ -15,9 +15,12 @@ import numpy as np
 
 from .io import ResultFileError, read_bundle, write_bundle
 
-__all__ = ["SpecialPoint", "Branch", "SPECIAL_KINDS", "BranchFileError"]
+__all__ = ["SpecialPoint", "Branch", "SPECIAL_KINDS", "SUCCESSES", "BranchFileError"]
 
 SPECIAL_KINDS = ("fold", "branch_point", "event", "jump", "bifurcation")
+
+#: The statuses of a run that ended for a planned reason (:attr:`Branch.success`).
+SUCCESSES = ("bound", "event", "closed_loop", "reached_branch_point")
 
 
 class BranchFileError(ResultFileError):
@@ -157,6 +160,8 @@ class Branch:
         was told of) (successes), ``"max_steps"`` (the step budget ran out first), ``"stalled"`` (no
         progress over :attr:`contin.Settings.stall_steps` steps: the path is not heading for an end), ``"min_step"``
         (the step collapsed below ``ds_min``; the message gives the last corrector failure),
+        ``"unexplained"`` (the run reached its end, but the stability count changed somewhere that
+        no located point explains: the result is in doubt, the message says where),
         ``"failed"`` (could not start, or the model check failed).  ``"completed"`` is what
         ``"max_steps"`` was called before (not a success either).
     message : str
@@ -242,7 +247,7 @@ class Branch:
 
         Running out of steps (``"max_steps"``) is not a success: the target was not reached.
         """
-        return self.status in ("bound", "event", "closed_loop", "reached_branch_point")
+        return self.status in SUCCESSES
 
     def folds(self) -> list[SpecialPoint]:
         """Special points of kind ``"fold"``."""

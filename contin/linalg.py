@@ -606,6 +606,17 @@ class SymmetricBand:
         Only the upper triangle is read: the matrix is taken to be symmetric, not checked.
         """
         n = A.shape[0]
+        if sp.issparse(A) and A.format == "dia" and A.shape[1] == n:
+            # the diagonals are stored by column (A[j - k, j] = data[., j] for offset k): copied as they are
+            offsets = [int(k) for k in A.offsets]
+            if kd is None:
+                kd = max([k for k in offsets if k >= 0], default=0)
+            if len(set(offsets)) == len(offsets) and all(k <= kd for k in offsets):
+                ab = np.zeros((kd + 1, n))
+                for k, row in zip(offsets, A.data):
+                    if k >= 0:
+                        ab[kd - k, k:] = row[k:n]
+                return cls(ab)
         if sp.issparse(A) and A.format == "csr":
             rows = np.repeat(np.arange(n), np.diff(A.indptr))
             cols, data = A.indices, A.data

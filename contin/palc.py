@@ -21,17 +21,18 @@ import math
 import sys
 import time
 from collections.abc import Sequence
-from dataclasses import fields, replace
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
 
-from .branch import Branch, SpecialPoint
+from .branch import SUCCESSES, Branch, SpecialPoint
 from .corrector import Correction, check_curvature_consistency, correct, quadratic_predictor
 from .curve import CorrectorFailure, Curve, Point, max_abs, scales_from_sensitivity
 from .events import Event
 from .fold import locate_fold
 from .linalg import SingularMatrixError
+from .multiple import IndexWatch, primary_index
 from .problem import NonFiniteError, Problem
 from .recorder import Recorder, observed_rates
 from .segment import Segment
@@ -102,7 +103,16 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     if origin is not None:
         recorder.special(_landing(problem, origin, current))
     control = StepController(st)
-    status, message = _trace(curve, tests, recorder, control, current)
+    watch = IndexWatch()
+    status, message = _trace(curve, tests, recorder, control, current, watch)
+    late = watch.finish(curve)
+    for spt in late.points:
+        recorder.special_late(spt)
+    recorder.doubts += late.doubts
+    if recorder.doubts and status in SUCCESSES:
+        status = "unexplained"
+        message = f"{message}; but the stability count changed where no point could be located: " + "; ".join(
+            recorder.doubts)
     branch = recorder.finish(status, message, t_start)
     branch.meta["n_factorizations"] = curve.n_factorizations
     branch.meta["rejected_steps"] = control.rejections
@@ -110,7 +120,7 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
 
 
 def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control: StepController,
-           current: Point) -> tuple[str, str]:
+           current: Point, watch: IndexWatch) -> tuple[str, str]:
     """The continuation loop from the first point: predict and correct, watch, record, adapt the step.
 
     Returns the status and message the branch ends with.
@@ -121,6 +131,7 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
     steps = 0
     crossed: list[tuple[np.ndarray, float]] = []  # folds crossed by _turn_at_fold (each once)
     headway = Headway(tests, values)
+    index = _index(recorder, current)
 
     while steps < st.max_steps:
         try:
@@ -138,8 +149,15 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
             skipped = _skipped_folds(recorder, current, new) or _observable_jump(curve, current, new, cos_turn)
         if skipped and control.reject(skipped):
             continue
+        seg = Segment(curve, current, new)
+        found, new_values = _watch(tests, seg, values, st.locate)
+        explained = _explain_index(recorder, tests, seg, found, index, watch)
+        if explained.branch_jump and control.reject(explained.branch_jump):
+            continue
         steps += 1
-        found, values = _watch(tests, Segment(curve, current, new), values, st.locate)
+        values, index = new_values, explained.index
+        found = [f for f in found if not any(f[1] is r for r in explained.replaced)] + explained.found
+        recorder.doubts += explained.doubts
         stop = _first_stop(found)
         if stop is not None:
             return _end_on(recorder, curve, found, stop, current)
@@ -432,6 +450,47 @@ def _step(curve: Curve, previous: Point | None, current: Point, ds: float) -> tu
     if previous is not None:
         check_curvature_consistency(curve, previous, current, c.u, c.p, ds)
     return Point(c.u, c.p, t_u, t_p, c.residual, c.iterations, det_sign, current.s + ds), c.contraction, cos_turn
+
+
+@dataclass
+class _Explained:
+    """:func:`contin.multiple.explain_index_change` on a step, with its points paired with the test of their kind."""
+
+    index: int | None = None
+    found: list[Found] = field(default_factory=list)
+    replaced: list[SpecialPoint] = field(default_factory=list)
+    branch_jump: str = ""
+    doubts: list[str] = field(default_factory=list)
+
+
+def _index(recorder: Recorder, pt: Point) -> int | None:
+    """The primary Morse index at ``pt`` when the run watches it (a symmetric problem), else None.
+
+    With ``stability`` on it is the recorder's own count (computed once per point); otherwise the
+    index alone (a pivot-free factorization, no eigenvalues).
+    """
+    st, problem = recorder.st, recorder.problem
+    if not (st.watch_index and st.locate and problem.symmetric and st.detect_folds and st.detect_branch_points):
+        return None
+    if st.stability:
+        infos = recorder.stability_of(pt)
+        return None if not infos else int(next(iter(infos.values())).n_negative)
+    return primary_index(problem, pt.u, pt.p)
+
+
+def _explain_index(recorder: Recorder, tests: list[TestFunction], seg: Segment, found: list[Found],
+                   n_A: int | None, watch: IndexWatch) -> _Explained:
+    """Account for the step's change of the primary Morse index (from ``n_A``) by what was found on it
+    (see :mod:`contin.multiple`); the index at the step's end comes back with the explanation."""
+    if n_A is None:
+        return _Explained()
+    n_B = _index(recorder, seg.B)
+    if n_B is None:
+        return _Explained()
+    result = watch.step(seg.curve, seg, n_A, n_B, [spt for _, spt in found], len(recorder.p) - 1)
+    by_kind = {test.kind: test for test in tests}
+    pairs = [(by_kind[spt.kind], spt) for spt in result.points]
+    return _Explained(n_B, pairs, result.replaced, result.branch_jump, result.doubts)
 
 
 def _watch(tests: list[TestFunction], seg: Segment, values: list[float],

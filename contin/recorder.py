@@ -113,6 +113,8 @@ class Recorder:
         self.n_neg_by: dict[str, list[int]] = {}
         self.eigs_by: dict[str, list[np.ndarray]] = {}
         self.specials: list[SpecialPoint] = []
+        # changes of the stability count that no located point explains (the result is in doubt)
+        self.doubts: list[str] = []
         self.families = tuple(getattr(problem, "operator_families", ())) if st.stability else ()
         self.modes: dict[str, list[list[int]]] = {fam.name: [] for fam in self.families}
         self.lowest: dict[str, list[list[float]]] = {fam.name: [] for fam in self.families}
@@ -179,6 +181,11 @@ class Recorder:
         if spt.index < 0:
             spt.index = len(self.p) - 1
         self.specials.append(spt)
+
+    def special_late(self, spt: SpecialPoint) -> None:
+        """Store a special point found after later ones (its ``index`` set), in path order."""
+        at = next((k for k, other in enumerate(self.specials) if other.index > spt.index), len(self.specials))
+        self.specials.insert(at, spt)
 
     def finish(self, status: str, message: str, t_start: float) -> Branch:
         """The :class:`Branch` of everything recorded, ended for ``status`` / ``message``."""

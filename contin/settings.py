@@ -94,6 +94,13 @@ class Settings:
         Which test functions run, and whether special points are located (else only bracketed).
     stability : bool
         Compute the stability operator's inertia and smallest eigenvalues at every point.
+    watch_index : bool
+        For a symmetric problem, count the Morse index of its primary stability operator at every
+        accepted point (one pivot-free factorization, shared with ``stability``) and explain each change
+        by the folds and branch points found on the step; a change they do not explain is bisected and
+        located: a multiple branch point (reported with its multiplicity and kernel), a point the sign
+        tests missed, or a step that jumped to another branch (rejected).  Off, a double branch point
+        of a symmetric structure passes unseen.
     n_eigs : int
         Number of smallest eigenvalues stored per point.  0 stores only the Morse index, which for
         a sparse (banded) operator costs one pivot-free factorization per point, O(n), instead of
@@ -136,6 +143,7 @@ class Settings:
     detect_branch_points: bool = True
     locate: bool = True
     stability: bool = False
+    watch_index: bool = True
     n_eigs: int = 3
     locate_tol: float = 1e-10
     store_states: bool = True

@@ -176,7 +176,7 @@ def _narrow_band(H) -> SymmetricBand | None:
     kd = max(kl, ku)
     if kd + 1 > 0.1 * n:
         return None
-    return SymmetricBand.from_sparse(H.tocsr() if H.format != "csr" else H, kd)
+    return SymmetricBand.from_sparse(H if H.format in ("csr", "dia") else H.tocsr(), kd)
 
 
 def _csr_bandwidths(H: sp.csr_matrix) -> tuple[int, int]:

@@ -1,0 +1,54 @@
+"""Multiple branch points: a change of the Morse index by more than one is located and reported."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import contin
+
+
+class RadialModes(contin.Problem):
+    """``E = sum (k_i - p) u_i^2 / 2 + (sum u_i^2)^2 / 4``: the trivial branch ``u = 0`` has the Hessian
+    ``diag(k - p)``, so a branch point of multiplicity ``#{i: k_i = k}`` at each distinct ``p = k``."""
+
+    def __init__(self, k=(1.0, 1.0, 2.0, 3.0, 3.0, 3.0)) -> None:
+        super().__init__(symmetric=True, name="radial_modes", parameter_name="p")
+        self.k = np.array(k, dtype=float)
+
+    def residual(self, u, p):
+        return (self.k - p) * u + np.dot(u, u) * u
+
+    def jacobian(self, u, p):
+        return np.diag(self.k - p) + np.dot(u, u) * np.eye(u.size) + 2.0 * np.outer(u, u)
+
+    def dresidual_dp(self, u, p):
+        return -u
+
+
+@pytest.mark.parametrize("stability", [False, True])
+def test_every_branch_point_of_the_trivial_branch_with_its_multiplicity(stability):
+    model = RadialModes()
+    br = contin.continuation(model, np.zeros(6), 0.0, p_max=4.0, stability=stability)
+    assert br.success, br.message
+    bps = br.branch_points()
+    assert [round(b.p, 12) for b in bps] == [1.0, 2.0, 3.0]
+    assert [b.info.get("multiplicity", 1) for b in bps] == [2, 1, 3]
+    for bp, dims in zip(bps, ([0, 1], None, [3, 4, 5])):
+        assert bp.located
+        if dims is None:
+            continue
+        kernel = np.array(bp.info["kernel"])
+        assert kernel.shape == (len(dims), 6)
+        # the kernel spans the unit vectors of the equal stiffnesses (compare projectors)
+        expected = np.zeros((6, 6))
+        expected[dims, dims] = 1.0
+        assert np.allclose(kernel.T @ kernel, expected, atol=1e-10)
+
+
+def test_a_double_point_is_not_passed_when_the_step_is_large():
+    # one step from p = 0.5 to 1.5 crosses the double point: still located, not skipped
+    br = contin.continuation(RadialModes(k=(1.0, 1.0, 5.0)), np.zeros(3), 0.5, p_max=3.0, ds=1.0, ds_max=1.0)
+    (bp,) = br.branch_points()
+    assert bp.p == pytest.approx(1.0, abs=1e-12)
+    assert bp.info["multiplicity"] == 2
