@@ -1,6 +1,6 @@
 """Displacement control of any force-controlled conservative problem: its load as a Lagrange multiplier.
 
-The inverse of :class:`contin.deadload.DeadLoad`.  A force-controlled problem has an energy
+The inverse of :class:`contin.analyses.deadload.DeadLoad`.  A force-controlled problem has an energy
 ``E(u, p)`` whose parameter ``p`` is a load (a dead force, a pressure); ``c = dE/dp`` is what the
 load works on, with the sign of its potential: a load whose potential is ``-p q(u)`` has
 ``c = -q``, one whose potential is ``+p (V(u) - V0)`` has ``c = V - V0``.  Prescribing the work-
@@ -15,7 +15,7 @@ multiplier of the constraint ``-c(u, p) = q``::
 For a load that enters the energy linearly (``E = E_0(u) + p c(u)``) ``dc/dp = 0`` and the
 Jacobian is a KKT matrix.  The construction uses only the base's residual, Jacobian,
 ``dresidual_dp`` and ``conjugate_force`` (and ``conjugate_stiffness`` for a load that does not enter
-linearly: :class:`LoadConjugate`), so it lives in the engine beside :mod:`contin.deadload`.
+linearly: :class:`LoadConjugate`), so it lives in the engine beside :mod:`contin.analyses.deadload`.
 
 Why the sign ``q = -c``: the parameter then grows as the load does positive work, as the
 displacement of a dead load does; :class:`ConjugateControl` of a ``DeadLoad`` is the original
@@ -25,7 +25,7 @@ Stability.  Under the prescribed displacement the state is stable when the Hessi
 ``u`` is positive on the tangent space of the constraint ``c(u) = -q``: the bordered Jacobian's
 negative count minus one (:class:`contin.problem.Constrained`).  Under the load itself (force
 control) it is the count of ``J``, the leading block (:class:`contin.problem.LeadingBlock`); one
-factorization gives both (:func:`contin.stability.nested_inertias`).  Past a limit point of the
+factorization gives both (:func:`contin.numerics.stability.nested_inertias`).  Past a limit point of the
 load the load-controlled state is unstable (``J`` has a negative eigenvalue) while the
 displacement-controlled one can stay stable: that is why experiments that prescribe the
 displacement pass through the snap of the load-controlled problem.
@@ -44,9 +44,9 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
+from ..numerics.linalg import Factorization, factorize
+from ..problem import Constrained, LeadingBlock, Problem
 from .deadload import _last, _scaled_derivative, _scaled_observable, bordered_matrix
-from .linalg import Factorization, factorize
-from .problem import Constrained, LeadingBlock, Problem
 
 __all__ = ["ConjugateControl", "LoadConjugate"]
 
@@ -56,7 +56,7 @@ class LoadConjugate(Protocol):
     """What a force-controlled problem declares so that :class:`ConjugateControl` can prescribe its conjugate.
 
     A load that does not enter the energy linearly also declares ``conjugate_stiffness(u, p)``,
-    ``d2E/dp2`` at fixed ``u`` (as :class:`contin.deadload.ConjugateForce` does); it must be
+    ``d2E/dp2`` at fixed ``u`` (as :class:`contin.analyses.deadload.ConjugateForce` does); it must be
     ``<= 0`` (the multiplier a maximum of the energy, :class:`contin.problem.Constrained`).
     """
 

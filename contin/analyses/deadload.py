@@ -13,12 +13,12 @@ So the force-controlled problem is the displacement-controlled one bordered by o
 whatever the model: :class:`DeadLoad` builds it from the displacement problem's own residual,
 Jacobian, ``dresidual_dp`` and two further derivatives it declares (:class:`ConjugateForce`).  The
 construction is generic (the engine's :class:`~contin.Problem` interface and nothing of a model),
-so it lives beside the other problem constructions of the engine (:mod:`contin.twopar`).
+so it lives beside the other problem constructions of the engine (:mod:`contin.analyses.twopar`).
 
 Stability under the dead load is the inertia of the bordered Jacobian (the load is linear in ``p``,
 so the Jacobian is the Hessian); under the displacement control it is the inertia of the leading
 block, declared as such (:class:`contin.problem.LeadingBlock`), so the engine counts both from one
-factorization (:func:`contin.stability.nested_inertias`).
+factorization (:func:`contin.numerics.stability.nested_inertias`).
 """
 
 from __future__ import annotations
@@ -29,8 +29,8 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
-from .linalg import Factorization, FixedPattern, factorize
-from .problem import LeadingBlock, Problem
+from ..numerics.linalg import Factorization, FixedPattern, factorize
+from ..problem import LeadingBlock, Problem
 
 __all__ = ["ConjugateForce", "DeadLoad", "bordered_matrix"]
 
@@ -49,7 +49,7 @@ class ConjugateForce(Protocol):
 def bordered_matrix(A: Any, col: np.ndarray, d: float) -> sp.csr_matrix:
     """``[[A, col], [col^T, d]]`` as canonical CSR, built in O(nnz) (only the nonzeros of ``col`` are stored).
 
-    Where ``A`` is a matrix of a fixed pattern (:class:`contin.linalg.FixedPattern`: read-only index
+    Where ``A`` is a matrix of a fixed pattern (:class:`contin.numerics.linalg.FixedPattern`: read-only index
     arrays), the bordered pattern and the places of ``A``'s values in it are kept for the next call
     with the same pattern and the same nonzeros of ``col``: the matrix is then filled, not built.
     """

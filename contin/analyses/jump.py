@@ -17,11 +17,11 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .branch import BranchFileError, SpecialPoint, _jsonable
-from .io import read_bundle, write_bundle
-from .linalg import ArrowCholesky, ArrowParts, arrow_structure, bandwidths, lower_band
-from .problem import NonFiniteError, Problem
-from .stability import stability_info
+from ..numerics.linalg import ArrowCholesky, ArrowParts, arrow_structure, bandwidths, lower_band
+from ..numerics.stability import stability_info
+from ..problem import NonFiniteError, Problem
+from ..results.branch import BranchFileError, SpecialPoint
+from ..results.io import jsonable, read_bundle, write_bundle
 
 __all__ = ["state_scale", "JumpResult", "jump", "JumpError"]
 
@@ -84,7 +84,7 @@ class JumpResult:
         header = {"p": float(self.p), "energy_from": float(self.energy_from), "energy_to": float(self.energy_to),
                   "iterations": int(self.iterations), "residual": float(self.residual),
                   "n_negative": int(self.n_negative), "smallest_eigenvalue": float(self.smallest_eigenvalue),
-                  "success": bool(self.success), "message": self.message, "info": _jsonable(self.info)}
+                  "success": bool(self.success), "message": self.message, "info": jsonable(self.info)}
         return header, {prefix + "u_from": np.asarray(self.u_from), prefix + "u_to": np.asarray(self.u_to)}
 
     @classmethod

@@ -30,14 +30,14 @@ from typing import Any
 
 import numpy as np
 
-from .branch import Branch, BranchFileError, SpecialPoint, _jsonable
-from .io import read_bundle, write_bundle
-from .events import Event
+from ..numerics.linalg import SingularMatrixError
+from ..numerics.stability import stability_info
+from ..palc import CorrectorFailure, Curve, Settings, continuation, switch_branch
+from ..problem import NonFiniteError, Problem
+from ..results.branch import Branch, BranchFileError, SpecialPoint
+from ..results.io import jsonable, read_bundle, write_bundle
+from ..watch.events import Event
 from .jump import JumpError, JumpResult, jump, state_scale
-from .linalg import SingularMatrixError
-from .palc import CorrectorFailure, Curve, Settings, continuation, switch_branch
-from .problem import NonFiniteError, Problem
-from .stability import stability_info
 
 __all__ = ["quasistatic", "QuasiStaticResult", "SnapRules", "DEFAULT_JUMP_ATTEMPTS", "leave_fold", "restate_jump"]
 
@@ -142,7 +142,7 @@ class QuasiStaticResult:
             arrays[f"fold{k}.u"] = np.asarray(fold.u if fold.u is not None else np.zeros(0))
         header = {"p0": float(self.p0), "p_end": None if self.p_end is None else float(self.p_end),
                   "direction": int(self.direction), "status": self.status, "message": self.message,
-                  "p_final": float(self.p_final), "info": _jsonable(self.info),
+                  "p_final": float(self.p_final), "info": jsonable(self.info),
                   "branches": [h for h, _ in branches], "jumps": [h for h, _ in jumps],
                   "folds": [f.header() for f in self.folds]}
         return write_bundle(path, "contin-quasistatic", header, arrays)
@@ -218,7 +218,7 @@ class SnapRules:
         a fixed relative distance past the fold whatever the sweep's end.
     perturbation_unit : float, optional
         Unit of the kicks, the given ones and the engine's default ones (max-norm); default the
-        fold state's scale ``max|u_fold|`` (:func:`contin.jump.state_scale`).  A model whose state
+        fold state's scale ``max|u_fold|`` (:func:`contin.analyses.jump.state_scale`).  A model whose state
         has a natural length (e.g. a radius) passes it here.
     separation : callable ``(u_fold, p_fold, u_to, p_to) -> float``, optional
         Distance of a landing from the fold state, in the units of ``min_separation``; default

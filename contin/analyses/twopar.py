@@ -33,9 +33,9 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .branch import SpecialPoint
-from .fold import fold_borders, fold_function
-from .problem import Problem
+from ..problem import Problem
+from ..results.branch import SpecialPoint
+from ..watch.fold import fold_borders, fold_function
 
 __all__ = ["FoldCurveProblem", "FamilyProblem", "cusp_curve_problem"]
 

@@ -5,23 +5,23 @@ Commands
 ``contin trace [SCENE.toml] [--model NAME] [--set section.key=value ...] [--out DIR] [--quiet]``
     Trace the scene and write ``summary.json``, ``branch.csv``, ``diagram.png`` and ``states.npz`` into DIR.
 ``contin trace --from OUT --label K [--set section.key=value ...] [--out DIR]``
-    Restart from a point saved by an earlier run (:mod:`contin.restart`).
+    Restart from a point saved by an earlier run (:mod:`contin.app.restart`).
 ``contin classify [SCENE.toml] [--model NAME] [--set section.key=value ...] [--json] [--quiet]``
     Run what the model needs to classify the scene and print the class (``--json``: a JSON object).
 ``contin classify ... --sweep section.key=SPEC [--sweep ...] [--csv PATH] [--workers N | --scheduler ADDR] [--no-resume]``
     Classify every combination of the swept values (SPEC: ``0.6,0.8,1.0``, ``start:stop:count`` or
     ``log:start:stop:count``) in parallel worker processes (``--workers 1``: in this process;
-    ``--scheduler``: on a Dask cluster, see :mod:`contin.executors`), appending one row per finished
+    ``--scheduler``: on a Dask cluster, see :mod:`contin.app.executors`), appending one row per finished
     combination to PATH (default ``classify_sweep.csv``); a rerun reuses the rows already there (see
-    :mod:`contin.sweep`).  Prints a table of the combinations (``--json``: a JSON list).
+    :mod:`contin.app.sweep`).  Prints a table of the combinations (``--json``: a JSON list).
 ``contin models [NAME ...] [--toml]``
     List the registered models with every scene key, its default and its allowed range.
 
-Models are found only through :mod:`contin.registry` (the ``contin.models`` entry-point group; the
+Models are found only through :mod:`contin.app.registry` (the ``contin.models`` entry-point group; the
 engine never imports a model), and this module names none: the default model (the one whose runner
 says ``default = True``), the examples and the model-specific help come from the registered runners.
-An entry point resolves to a :class:`contin.scene.ModelRunner` (or a zero-argument factory returning
-one); a runner that also has the classification capability (:func:`contin.scene.can_classify`) can
+An entry point resolves to a :class:`contin.app.scene.ModelRunner` (or a zero-argument factory returning
+one); a runner that also has the classification capability (:func:`contin.app.scene.can_classify`) can
 be used by ``contin classify``, for the scenes its ``classify_requires`` admit.
 
 Exit status: 0 success, 1 the run failed (numerically, or it stopped at its step limit before the end
@@ -52,8 +52,9 @@ from typing import TYPE_CHECKING, Any
 # Only light modules here: 'contin --help', 'contin trace --help' and a refused scene import no numpy, scipy
 # or matplotlib (tests/test_startup.py).  The engine, the sweeps and the executors are imported by the
 # commands that use them.
-from . import __version__, registry
-from .io import LINE_WIDTH, FileWriter, OutputDirectory, OutputError, atomic_write, json_ready, status_text
+from .. import __version__
+from ..results.io import LINE_WIDTH, FileWriter, OutputDirectory, OutputError, atomic_write, json_ready, status_text
+from . import registry
 from .registry import ENTRY_POINT_GROUP, ModelNotFound, registered_models
 from .scene import (Classification, ModelRunner, SceneError, TraceResult, can_classify, engine_failures,
                     format_toml_value, load_scene, schema_as_toml, wants_figure)
@@ -84,10 +85,10 @@ class _ArgumentParser(argparse.ArgumentParser):
 
 
 # ---------------------------------------------------------------------------------------------------
-# models (through contin.registry)
+# models (through contin.app.registry)
 # ---------------------------------------------------------------------------------------------------
 def load_model(name: str) -> ModelRunner:
-    """Load the runner registered as ``name`` (:func:`contin.registry.load_model`).
+    """Load the runner registered as ``name`` (:func:`contin.app.registry.load_model`).
 
     Raises
     ------
@@ -422,7 +423,7 @@ Run 'contin COMMAND --help' for the options of a command.""")
 # commands
 # ---------------------------------------------------------------------------------------------------
 def _cmd_plot(args: argparse.Namespace) -> int:
-    """``contin plot``: saved runs drawn again (:mod:`contin.saved`), overlaid when there are several."""
+    """``contin plot``: saved runs drawn again (:mod:`contin.app.saved`), overlaid when there are several."""
     from .saved import SavedRunError, load_run
 
     try:
@@ -439,7 +440,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
                 raise CliError(f"contin plot: {str(run.path)!r} has no quantity {axis!r}; it has "
                                f"{', '.join(repr(n) for n in known)}")
     target = Path(args.out) if args.out else (first.path / "diagram.png" if len(runs) == 1 else Path("overlay.png"))
-    from .style import FORMATS
+    from ..plot.style import FORMATS
 
     fmt = target.suffix.lower().lstrip(".")
     if fmt not in FORMATS:
@@ -798,7 +799,7 @@ def _sweep_table(rows: Sequence[dict[str, Any]], axes: Sequence[str]) -> list[di
     Parameters
     ----------
     rows : sequence of dict
-        The rows of :func:`contin.sweep.run_sweep`.
+        The rows of :func:`contin.app.sweep.run_sweep`.
     axes : sequence of str
         The swept keys.
 
@@ -987,13 +988,13 @@ def _write_npz(fh: io.BufferedIOBase, arrays: dict[str, np.ndarray]) -> None:
 def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, wall_time_s: float,
                   message: str | None = None, pdf: bool = False) -> list[Path]:
     """Write ``summary.json``, ``branch.csv``, ``diagram.png``, when the model saves shapes, ``shapes.npz`` and
-    ``shapes.png``, and ``states.npz`` (:func:`contin.restart.restart_states`, when a branch has states)
+    ``shapes.png``, and ``states.npz`` (:func:`contin.app.restart.restart_states`, when a branch has states)
     into ``out``; the figures also as PDF when ``pdf`` or the scene's ``output.pdf`` asks for it
-    (:func:`contin.figures.figure_formats`).
+    (:func:`contin.app.figures.figure_formats`).
 
-    All files are written at once (:func:`contin.io.atomic_write`): a failure or an interrupt never
+    All files are written at once (:func:`contin.results.io.atomic_write`): a failure or an interrupt never
     leaves a partial output or a mix of two runs.  A scene with ``output.figure = false``
-    (:func:`contin.scene.wants_figure`) gets no figure, and a file of an earlier run that this run does
+    (:func:`contin.app.scene.wants_figure`) gets no figure, and a file of an earlier run that this run does
     not write is removed.
 
     Returns
@@ -1012,7 +1013,7 @@ def write_outputs(out: Path, model_name: str, scene: dict, result: TraceResult, 
         (out / "branch.csv", lambda fh: _write_csv(fh, result.csv_columns))]
     # matplotlib only when a figure is drawn
     from .figures import figure_files, figure_formats, shapes_figure, trace_figure
-    from .style import FORMATS
+    from ..plot.style import FORMATS
 
     formats = figure_formats(scene, pdf)
     figures = figure_files(out / "diagram", lambda: trace_figure(model_name, result), formats)
@@ -1068,7 +1069,7 @@ def format_table(rows: Sequence[dict[str, Any]], title: str = "", *, width: int 
     title : str
         A line above the table.
     width : int, optional
-        Fit the table in this many columns (``contin`` prints with :data:`contin.io.LINE_WIDTH`): the
+        Fit the table in this many columns (``contin`` prints with :data:`contin.results.io.LINE_WIDTH`): the
         ``optional`` columns are left out, in their order, until the lines fit; then the cells of the
         ``abbreviate`` column are cut (ending in ``...``).  A last line names what was left out or cut,
         and ``elsewhere`` says where the whole table is.  None: every column, however wide.

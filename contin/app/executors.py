@@ -40,7 +40,7 @@ from types import TracebackType
 from typing import Any
 
 # the BLAS and OpenMP thread counts of the worker processes, set to one: the parallelism is over tasks
-from .threads import THREAD_ENV
+from ..numerics.threads import THREAD_ENV
 
 __all__ = ["Executor", "SerialExecutor", "ProcessExecutor", "DaskExecutor", "WorkerDied", "ExecutorError",
            "make_executor", "default_workers", "DASK_EXTRA", "DEFAULT_CONNECT_TIMEOUT"]

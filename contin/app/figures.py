@@ -1,11 +1,11 @@
 """The command line's figures: a traced run's diagram and shapes, saved runs drawn again or overlaid.
 
-Each is drawn once in the project's style (:mod:`contin.style`) and written as PNG, and as PDF too when
+Each is drawn once in the project's style (:mod:`contin.plot.style`) and written as PNG, and as PDF too when
 asked (:func:`figure_formats`).  The title is the model's (``plot_options["title"]``, e.g. the scene in a
 few symbols), else the model's registered name; a run that did not succeed says its status there too.
 Where the end of the path would bury its snaps (a structure stiffening after them), the diagram shows
-the part with the snaps (:mod:`contin.framing`): a detail panel under the whole path, or axes limited
-to that part.  matplotlib is imported inside the functions only.
+the part with the snaps (:mod:`contin.plot.framing`): a detail panel under the whole path, or axes limited
+to that part.  matplotlib is not imported here (the engine imports it in :mod:`contin.plot` only).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from . import framing, style
+from ..plot import framing, style
 
 __all__ = ["trace_figure", "shapes_figure", "saved_runs_figure", "diagram_figure", "once", "figure_files",
            "figure_formats", "DETAIL_HEIGHT"]
@@ -45,7 +45,7 @@ def once(build: Callable[[], Any]) -> Callable[[], Any]:
 
 def figure_files(stem: Path, build: Callable[[], Any], formats: Sequence[str] = style.DEFAULT_FORMATS
                  ) -> list[tuple[Path, Callable[[Any], None], bool]]:
-    """Writers of :func:`contin.io.atomic_write` for ``<stem>.<format>`` of each of ``formats``, of one figure
+    """Writers of :func:`contin.results.io.atomic_write` for ``<stem>.<format>`` of each of ``formats``, of one figure
     drawn once."""
     get = once(build)
     return [(stem.with_name(f"{stem.name}.{fmt}"), (lambda fh, f=fmt: style.write(get(), fh, f)), True)
@@ -54,16 +54,16 @@ def figure_files(stem: Path, build: Callable[[], Any], formats: Sequence[str] = 
 
 def _title(text: str) -> str:
     """``text`` with each of its lines broken after commas to at most :data:`TITLE_LINE` characters."""
-    from .diagram import wrapped
+    from ..plot.branches import wrapped
 
     return "\n".join(wrapped(line, TITLE_LINE) for line in text.split("\n"))
 
 
 def diagram_figure(draw: Callable[[Any], Any], fr: framing.Frame | None = None) -> tuple[Any, Any]:
-    """A diagram drawn by ``draw(ax)``, framed by ``fr`` (:attr:`contin.framing.Frame.layout`): on one
+    """A diagram drawn by ``draw(ax)``, framed by ``fr`` (:attr:`contin.plot.framing.Frame.layout`): on one
     Axes; on one Axes limited to the part with the snaps; or on two, the whole path above with the
     part's box marked, the part below (``draw`` is called for each; the lower one keeps no legend).
-    Call inside :func:`contin.style.context`.
+    Call inside :func:`contin.plot.style.context`.
 
     Returns
     -------
@@ -90,7 +90,7 @@ def diagram_figure(draw: Callable[[Any], Any], fr: framing.Frame | None = None) 
 
 
 def _frame_of(result: Any) -> framing.Frame:
-    """The frame of a :class:`contin.scene.TraceResult`'s diagram."""
+    """The frame of a :class:`contin.app.scene.TraceResult`'s diagram."""
     y = result.y if result.y is not None else next(iter(result.branches[0].observables), "p") \
         if result.branches else "p"
     jumps = [(j, a, b) for j, (a, b) in zip(result.jumps, result.jump_observables)]
@@ -98,7 +98,7 @@ def _frame_of(result: Any) -> framing.Frame:
 
 
 def trace_figure(model_name: str, result: Any) -> Any:
-    """The diagram of a :class:`contin.scene.TraceResult` (its ``plot`` or :meth:`~TraceResult.draw`)."""
+    """The diagram of a :class:`contin.app.scene.TraceResult` (its ``plot`` or :meth:`~TraceResult.draw`)."""
     with style.context():
         fig, ax = diagram_figure(result.plot if result.plot is not None else result.draw, _frame_of(result))
         lines = [t for t in ax.get_title().split("\n") if t]
@@ -111,18 +111,16 @@ def trace_figure(model_name: str, result: Any) -> Any:
 
 
 def shapes_figure(result: Any) -> Any:
-    """The model's shapes figure (:attr:`contin.scene.TraceResult.draw_shapes`)."""
+    """The model's shapes figure (:attr:`contin.app.scene.TraceResult.draw_shapes`)."""
     with style.context():
         fig, _ = style.figure(style.WIDTH, style.HEIGHT, nrows=0)
         result.draw_shapes(fig)
         title = result.plot_options.get("title")
         if style.in_one_column(fig):
             fig.set_layout_engine(style.beside_layout())
-            if title:  # a figure text, which the layout keeps above the panels
-                import matplotlib
-
+            if title:  # a figure text, which the layout keeps above the panels; the title's size of the style
                 fig.text(0.5, 1.0 - style.PAD / 72.0 / fig.get_figheight(), _title(title), ha="center", va="top",
-                         fontsize=matplotlib.rcParams["figure.titlesize"])
+                         fontsize=style.RC["figure.titlesize"])
         elif title:
             fig.suptitle(_title(title))
     return fig
@@ -131,8 +129,8 @@ def shapes_figure(result: Any) -> Any:
 def _draw_overlay(ax: Any, runs: Sequence[Any], x: str, y: str, labels: Sequence[str], title: str) -> None:
     """Saved runs on one Axes, one colour each, each styled by its own control and in its own units
     (its ``scale``), its snaps as arrows; the legend names the runs, then what is drawn."""
-    from .diagram import (SPECIAL_KINDS, add_legend, axis_label, branch_handle, draw_branch, draw_jumps, legend_entries,
-                          mark_special_points)
+    from ..plot.branches import (SPECIAL_KINDS, add_legend, axis_label, branch_handle, draw_branch, draw_jumps,
+                                 legend_entries, mark_special_points)
 
     drawn: set[str] = set()
     handles, points, snaps = [], {}, 0
@@ -168,10 +166,10 @@ def _draw_overlay(ax: Any, runs: Sequence[Any], x: str, y: str, labels: Sequence
 
 
 def saved_runs_figure(runs: Sequence[Any], x: str, y: str | None = None) -> Any:
-    """Saved runs (:class:`contin.saved.SavedRun`) drawn again: one run as it was drawn (its branches, labels,
+    """Saved runs (:class:`contin.app.saved.SavedRun`) drawn again: one run as it was drawn (its branches, labels,
     snaps and options), several overlaid (:func:`_draw_overlay`), titled and labelled by
-    :func:`contin.saved.overlay_labels`."""
-    from .diagram import plot_branches
+    :func:`contin.app.saved.overlay_labels`."""
+    from ..plot.branches import plot_branches
     from .saved import overlay_labels
 
     first = runs[0]

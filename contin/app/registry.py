@@ -1,6 +1,6 @@
 """The model registry: scene runners found through the ``contin.models`` entry-point group.
 
-A package registers a model by naming a :class:`contin.scene.ModelRunner` (or a zero-argument factory
+A package registers a model by naming a :class:`contin.app.scene.ModelRunner` (or a zero-argument factory
 returning one) in its ``pyproject.toml``::
 
     [project.entry-points."contin.models"]

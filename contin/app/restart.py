@@ -207,7 +207,7 @@ class Start:
 
 def can_resume(model: Any) -> bool:
     """Whether a runner can restart from a saved point: a callable ``resume``, unless a false ``can_resume`` says
-    otherwise (as a :class:`contin.scene.SceneModel` without a ``resumer`` does)."""
+    otherwise (as a :class:`contin.app.scene.SceneModel` without a ``resumer`` does)."""
     flag = getattr(model, "can_resume", None)
     if flag is not None and not callable(flag):
         return bool(flag)
@@ -223,7 +223,7 @@ def _matched_points(branches: Sequence[Any], records: Sequence[Mapping[str, Any]
     A runner makes its records from the branches' special points in path order and may leave some out,
     rename a kind or restate ``p`` in another quantity (a pressure record under volume control); a record
     is matched to the next special point of its branch with its label and arclength ``s`` (which every
-    record of :func:`contin.scene.special_point_records` carries), else its parameter.  Jump records are
+    record of :func:`contin.app.scene.special_point_records` carries), else its parameter.  Jump records are
     not matched here.
     """
     from .scene import special_label
@@ -300,7 +300,7 @@ def _run_arrays(branches: Sequence[Any], jumps: Sequence[Any]) -> tuple[dict[str
 
 
 def restart_states(result: Any) -> dict[str, np.ndarray]:
-    """The arrays of :data:`STATES_FILE` for a :class:`contin.scene.TraceResult` (empty when nothing can be saved).
+    """The arrays of :data:`STATES_FILE` for a :class:`contin.app.scene.TraceResult` (empty when nothing can be saved).
 
     Arrays: ``index`` (a JSON text: the format, one entry per saved point: ``key``, ``kind``, ``label``,
     ``branch``, ``number``, ``p``, ``complete``, and ``run``: the headers of the saved branches and jumps),
@@ -457,8 +457,8 @@ def find_point(points: Sequence[Mapping[str, Any]], label: str) -> Mapping[str, 
 
 def _saved_trace(data: Any, index: Mapping[str, Any], where: str) -> SavedTrace | None:
     """The saved run's branches and jumps, or None for a file that holds the points alone."""
-    from .branch import Branch
-    from .jump import JumpResult
+    from ..results.branch import Branch
+    from ..analyses.jump import JumpResult
 
     run = index.get("run")
     if not run:
@@ -525,7 +525,8 @@ def _as_overrides(scene: Mapping[str, Mapping[str, Any]]) -> list[str]:
 
 
 def saved_scene(model: Any, summary: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
-    """The saved run's scene, resolved against ``model``'s schema (:class:`contin.scene.SceneError` if it no longer fits)."""
+    """The saved run's scene, resolved against ``model``'s schema (:class:`contin.app.scene.SceneError` if it
+    no longer fits)."""
     from .scene import load_scene
 
     return load_scene(model.schema, None, _as_overrides(summary["scene"]))
@@ -538,7 +539,7 @@ def restart_scene(model: Any, summary: Mapping[str, Any], overrides: Iterable[st
     ------
     RestartError
         A ``--set`` changes a key the model lists in ``restart_fixed`` (the structure of its unknowns).
-    contin.scene.SceneError
+    contin.app.scene.SceneError
         The saved scene no longer fits the schema, or a ``--set`` is invalid.
     """
     from .scene import load_scene, parse_override
@@ -647,7 +648,8 @@ def _head(br: Any, keep: int, specials: list[Any]) -> Any:
 
 
 def _head_modes(meta: Mapping[str, Any], keep: int) -> dict[str, Any]:
-    """``meta["modes"]`` (the watched families' per-point counts, :mod:`contin.modes`) for the first ``keep`` points."""
+    """``meta["modes"]`` (the watched families' per-point counts, :mod:`contin.watch.modes`) for the first
+    ``keep`` points."""
     if "modes" not in meta:
         return {}
     out = {}
@@ -720,7 +722,7 @@ def join_branches(head: Any, tail: Any, *, repeated: bool = True, s0: float | No
 
 
 def _joined_modes(head: Mapping[str, Any], tail: Mapping[str, Any], skip: int) -> dict[str, Any]:
-    """The per-point counts of the watched operator families (:mod:`contin.modes`, ``Branch.meta["modes"]``) of
+    """The per-point counts of the watched operator families (:mod:`contin.watch.modes`, ``Branch.meta["modes"]``) of
     two joined branches: a family both watched with the same keys has its rows joined; any other is left out."""
     out = {}
     for name, fam in tail.items():
@@ -861,9 +863,9 @@ def resume(problem: Any, start: Start, settings: Any = None, *, switch: bool = F
     the saved run started, and at a saved fold or branch point the Jacobian is nearly singular along the
     tangent, where the check's finite differences measure curvature rather than slope.
     """
-    from .branch import SpecialPoint
-    from .palc import continuation, switch_branch
-    from .settings import resolve_settings
+    from ..results.branch import SpecialPoint
+    from ..palc import continuation, switch_branch
+    from ..settings import resolve_settings
 
     st = resolve_settings(settings, {**overrides, "check_model": False})
     if keep_step and start.ds is not None and start.ds > 0 and "ds" not in overrides:

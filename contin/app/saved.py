@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from .branch import Branch, SpecialPoint
+from ..results.branch import Branch, SpecialPoint
 
 __all__ = ["SavedRun", "SavedRunError", "load_run", "overlay_labels"]
 
@@ -200,7 +200,7 @@ def _flat_scene(summary: dict[str, Any]) -> dict[str, Any]:
 def _labels_from_titles(runs: Sequence[SavedRun]) -> tuple[str, list[str]] | None:
     """Title and labels from the diagrams' titles (the scene in a few symbols, comma-separated parts): the
     parts all share make the title, the others tell the runs apart; None when that does not tell them apart."""
-    from .diagram import comma_parts
+    from ..plot.branches import comma_parts
 
     titles = [run.plot_options.get("title") for run in runs]
     if not all(titles):

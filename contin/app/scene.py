@@ -24,9 +24,9 @@ returning a :class:`Classification` (see :class:`Classifier`; a :class:`SceneMod
 :func:`check_classifiable` before anything runs).  Models without one are traced but not classified.
 A model may also restart from a point saved by an earlier run (``contin trace --from OUT --label K``): it
 then provides a ``resume`` callable (see :class:`Resumer`; a :class:`SceneModel` takes it as ``resumer``)
-and lists in ``restart_fixed`` the scene keys a restart must keep (:mod:`contin.restart`).
+and lists in ``restart_fixed`` the scene keys a restart must keep (:mod:`contin.app.restart`).
 A :class:`SceneModel` may also say that it is the default model and give the command line its
-examples and help (``default``, ``examples``, ``help``; see :mod:`contin.registry`).
+examples and help (``default``, ``examples``, ``help``; see :mod:`contin.app.registry`).
 
 A run is complete when every branch reached the end its runner planned for it: a branch that stopped
 because its step budget ran out (:data:`BUDGET_STATUSES`) makes :attr:`TraceResult.complete` false,
@@ -49,8 +49,8 @@ from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 if TYPE_CHECKING:  # the engine's results, named in annotations only: reading a scene imports no numpy
     import numpy as np
 
-    from .branch import Branch, SpecialPoint
-    from .jump import JumpResult
+    from ..results.branch import Branch, SpecialPoint
+    from ..analyses.jump import JumpResult
 
 __all__ = [
     "SceneError", "Field", "Constraint", "Schema", "load_scene", "parse_override", "defaults",
@@ -440,10 +440,10 @@ def engine_failures() -> tuple[type[BaseException], ...]:
     """
     import numpy as np
 
-    from .jump import JumpError
-    from .linalg import SingularMatrixError
-    from .palc import CorrectorFailure
-    from .problem import NonFiniteError
+    from ..analyses.jump import JumpError
+    from ..numerics.linalg import SingularMatrixError
+    from ..palc import CorrectorFailure
+    from ..problem import NonFiniteError
 
     return (CorrectorFailure, NonFiniteError, JumpError, SingularMatrixError, np.linalg.LinAlgError)
 
@@ -632,7 +632,7 @@ class TraceResult:
         -------
         matplotlib Axes
         """
-        from .diagram import plot_branches
+        from ..plot.branches import plot_branches
 
         if not any(len(br) for br in self.branches):
             ax.text(0.5, 0.5, "no branch traced", ha="center", va="center", transform=ax.transAxes)
@@ -776,7 +776,7 @@ def _stability_fields(spt: SpecialPoint) -> dict[str, bool]:
 
 def special_label(spt: SpecialPoint) -> str:
     """The label a special point's record and table row carry: its own, but for a bifurcation into another
-    mode the mode it goes into (``n = 3``: the family's name and the key, :mod:`contin.modes`)."""
+    mode the mode it goes into (``n = 3``: the family's name and the key, :mod:`contin.watch.modes`)."""
     if spt.kind == "bifurcation" and spt.info.get("key") is not None:
         return f"{spt.info.get('family', 'key')} = {spt.info['key']}"
     return spt.label
@@ -805,7 +805,7 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
         ``s`` (its arclength along the branch), ``bracket_p`` and ``error`` where known, and ``stable_before`` /
         ``stable_after`` under the point's stability label.  An extremum event that declares a limit
         point (``contin.extremum(..., folds=...)``) is recorded as ``kind = "fold"`` with the quantity
-        that folds as ``parameter``.  A bifurcation into another mode (:mod:`contin.modes`) carries
+        that folds as ``parameter``.  A bifurcation into another mode (:mod:`contin.watch.modes`) carries
         its key under its family's name (e.g. ``"n": 3``), ``also``, ``eigenvalue`` and
         ``next_eigenvalue``.
     """
@@ -848,7 +848,7 @@ def special_point_records(branches: Sequence[Branch], jumps: Sequence[JumpResult
 def first_instability(records: Sequence[Mapping[str, Any]], parameter: str, fields: Sequence[str] = (),
                       branch: int = 0) -> dict[str, Any] | None:
     """Where a path first loses stability under its control: its first fold in ``parameter`` or its first
-    bifurcation into another mode (:mod:`contin.modes`), whichever comes first along the branch.
+    bifurcation into another mode (:mod:`contin.watch.modes`), whichever comes first along the branch.
 
     Parameters
     ----------
@@ -1012,7 +1012,7 @@ def branch_columns(branches: Sequence[Branch],
 
 
 def _mode_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
-    """Per watched operator family (:mod:`contin.modes`): ``n_negative_<name>``, the Morse index of all its
+    """Per watched operator family (:mod:`contin.watch.modes`): ``n_negative_<name>``, the Morse index of all its
     operators (each counted with its multiplicity); ``critical_<name>``, the smallest key with a negative
     eigenvalue, or where there is none the key whose eigenvalue nearest zero is smallest; and
     ``lowest_<name>``, that key's eigenvalue nearest zero (NaN on a branch that did not watch the family)."""
@@ -1069,14 +1069,14 @@ class ModelRunner(Protocol):
 
 @runtime_checkable
 class Resumer(Protocol):
-    """The optional restart capability of a runner (``contin trace --from OUT --label K``, :mod:`contin.restart`).
+    """The optional restart capability of a runner (``contin trace --from OUT --label K``, :mod:`contin.app.restart`).
 
     A runner that has it may also list, as ``restart_fixed``, the ``section.key`` names of the scene keys
     that fix the structure of its unknowns (a restart refuses a ``--set`` that changes one).
     """
 
     def resume(self, scene: dict[str, dict[str, Any]], start: Any, progress: bool) -> TraceResult:
-        """Continue from ``start`` (a :class:`contin.restart.Start`: the saved state, parameter and direction) with
+        """Continue from ``start`` (a :class:`contin.app.restart.Start`: the saved state, parameter and direction) with
         the resolved ``scene`` (the saved one updated by ``--set``); progress to stderr only when ``progress``."""
         ...
 
@@ -1119,7 +1119,7 @@ class SceneModel:
         What a scene must satisfy to be classified (:func:`check_classifiable`); each constraint's
         ``reason`` says why and what to run instead.  :meth:`classify` refuses other scenes.
     default : bool
-        This is the model the command line uses when none is named (:func:`contin.registry.default_model`;
+        This is the model the command line uses when none is named (:func:`contin.app.registry.default_model`;
         exactly one registered model should say so).
     examples : mapping
         Command (``"trace"``, ``"classify"``, ``"models"``) to pairs of (arguments after the command,

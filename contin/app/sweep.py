@@ -10,21 +10,21 @@ A *sweep axis* is a scene key with a list of values, written ``section.key=SPEC`
 :func:`parse_sweep` reads one axis, :func:`sweep_scenes` resolves and validates the scene of every
 combination (the cartesian product, first axis slowest) exactly as ``contin classify --set`` would,
 and :func:`run_sweep` classifies them with the model's ``classify`` through an executor
-(:mod:`contin.executors`: local worker processes by default, this process, or a Dask cluster),
+(:mod:`contin.app.executors`: local worker processes by default, this process, or a Dask cluster),
 appending one CSV row per finished combination.  Rerun with the same CSV and the rows already there are
 reused: an interrupted sweep loses only the combinations that were running.
 
 The CSV has one row per combination.  Its columns are the swept keys (``section.key``), ``label``
-(the class; empty when undecided), ``status`` (the classification's :attr:`~contin.scene.Classification.status`:
+(the class; empty when undecided), ``status`` (the classification's :attr:`~contin.app.scene.Classification.status`:
 ``ok``, ``incomplete`` when the path stopped before its end, whether or not it proved a class on the way,
-or why it failed), the scalar values of the model's :class:`~contin.scene.Classification` (numbers,
+or why it failed), the scalar values of the model's :class:`~contin.app.scene.Classification` (numbers,
 booleans; empty when absent), ``wall_time_s``, ``failure`` (empty when the combination was classified
 on its whole path; else why not) and ``scene`` (the resolved scene as compact JSON, so that every row
 says exactly what it was computed for).  A CSV written before rows had a ``status`` is read and
 resumed as it is.
 
 Nothing here knows about any particular model: models are found through the registry
-(:func:`contin.registry.load_model`) or passed as runner objects.
+(:func:`contin.app.registry.load_model`) or passed as runner objects.
 """
 
 from __future__ import annotations
@@ -46,9 +46,9 @@ from contextlib import closing
 from pathlib import Path
 from typing import Any
 
+from ..results.io import atomic_write, status_text
 from . import registry
 from .executors import Executor, ProcessExecutor, SerialExecutor, WorkerDied, default_workers, make_executor
-from .io import atomic_write, status_text
 from .scene import (Classification, Field, ModelRunner, SceneError, Schema, can_classify, check_classifiable,
                     engine_failures, format_toml_value, load_scene, parse_override)
 
@@ -76,7 +76,7 @@ Combination = tuple[dict[str, Any], Scene]
 class SweepError(SceneError):
     """Bad sweep input: a malformed axis, a combination out of range, or a CSV that belongs to another sweep.
 
-    A :class:`~contin.scene.SceneError`, so the command line reports it as bad input (exit status 2).
+    A :class:`~contin.app.scene.SceneError`, so the command line reports it as bad input (exit status 2).
     ``kind`` is ``"syntax"`` (the axis), ``"unknown"`` (the key), ``"type"``, ``"range"``,
     ``"constraint"`` (a combination's scene) or ``"file"`` (the CSV).
     """
@@ -701,7 +701,7 @@ def check_sweep_classifiable(runner: Any, scenes: Sequence[Combination]) -> None
     Raises
     ------
     SweepError
-        Kind ``"constraint"``: the refusal of :func:`contin.scene.check_classifiable`, naming the
+        Kind ``"constraint"``: the refusal of :func:`contin.app.scene.check_classifiable`, naming the
         combination (when a key is swept).
     """
     for values, scene in scenes:
@@ -810,7 +810,8 @@ def _checked_runner(model: str | ModelRunner, scenes: Sequence[Combination], wor
 
 
 def _printer(progress: bool) -> Callable[[str], None]:
-    """The progress printer of :func:`run_sweep`: ``contin: MSG`` on stderr (:func:`contin.io.status_text`), or nothing."""
+    """The progress printer of :func:`run_sweep`: ``contin: MSG`` on stderr (:func:`contin.results.io.status_text`),
+    or nothing."""
     if not progress:
         return lambda msg: None
     return lambda msg: print(status_text(f"contin: {msg}"), file=sys.stderr, flush=True)
@@ -1018,8 +1019,8 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
     scheduler : str, optional
         Run on the Dask cluster of this scheduler (``tcp://HOST:8786``; needs the ``dask`` extra).
     executor : Executor, optional
-        Run on this executor (:mod:`contin.executors`; it is not closed here) instead of one made
-        from ``workers`` and ``scheduler``.  A :class:`~contin.executors.ProcessExecutor` with one
+        Run on this executor (:mod:`contin.app.executors`; it is not closed here) instead of one made
+        from ``workers`` and ``scheduler``.  A :class:`~contin.app.executors.ProcessExecutor` with one
         combination to compute classifies it in this process.
     runner : ModelRunner, optional
         With ``model`` a registered name: its runner, already loaded by the caller.  It classifies
@@ -1038,7 +1039,7 @@ def run_sweep(model: str | ModelRunner, scenes: Sequence[Combination], csv_path:
     SweepError
         When ``csv_path`` belongs to another sweep (other keys, or another scene for the keys not
         swept), cannot be read or written, or when the model cannot classify.
-    contin.executors.ExecutorError
+    contin.app.executors.ExecutorError
         Bad ``workers``, or a Dask scheduler that cannot be used (not installed, not reached); raised
         before the CSV is touched.
     KeyboardInterrupt

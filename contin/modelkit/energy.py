@@ -3,11 +3,11 @@
 Writing a conservative model by hand means deriving its gradient, Hessian, sparse assembly, ``df/dp``
 and the second derivatives fold location uses.  Here the user writes only element energies:
 
-1. declare each element type in sympy (:class:`contin.codegen.Element`: local dofs, per-element
+1. declare each element type in sympy (:class:`contin.modelkit.codegen.Element`: local dofs, per-element
    parameters, optionally the continuation parameter ``p``);
-2. turn them into numpy kernels: :func:`contin.codegen.generate_kernels` writes a module to commit
-   (check it in a test with :func:`contin.codegen.check_generated`), or
-   :func:`contin.codegen.compile_kernels` builds it in process for quick work;
+2. turn them into numpy kernels: :func:`contin.modelkit.codegen.generate_kernels` writes a module to commit
+   (check it in a test with :func:`contin.modelkit.codegen.check_generated`), or
+   :func:`contin.modelkit.codegen.compile_kernels` builds it in process for quick work;
 3. assemble: :class:`EnergyProblem` takes the kernels and, per element type, the connectivity (local
    dof -> global dof) and the parameter values, and gives the exact energy, residual (gradient),
    sparse symmetric Hessian, ``df/dp``, ``d/dp J`` and directional derivative ``d/dt J(u + t v)``.
@@ -16,7 +16,7 @@ and the second derivatives fold location uses.  Here the user writes only elemen
 
     import numpy as np, sympy as sp
     import contin
-    from contin.codegen import Element
+    from contin.modelkit.codegen import Element
 
     x1, y1, x2, y2, EA, L0, y, p = sp.symbols("x1 y1 x2 y2 EA L0 y p", real=True)
     L = sp.sqrt((x2 - x1) ** 2 + (y2 - y1) ** 2)
@@ -46,8 +46,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .linalg import BANDED_FRACTION, DENSE_LIMIT, BandedLU, Factorization, FixedPattern, factorize
-from .problem import Problem
+from ..numerics.linalg import BANDED_FRACTION, DENSE_LIMIT, BandedLU, Factorization, FixedPattern, factorize
+from ..problem import Problem
 
 __all__ = ["EnergyProblem", "GradientProblem", "column_groups", "detect_pattern"]
 
@@ -115,8 +115,8 @@ class EnergyProblem(Problem):
 
     Parameters
     ----------
-    kernels : module or sequence of :class:`contin.codegen.Element`
-        A generated kernel module (imported committed file, or :func:`contin.codegen.compile_kernels`),
+    kernels : module or sequence of :class:`contin.modelkit.codegen.Element`
+        A generated kernel module (imported committed file, or :func:`contin.modelkit.codegen.compile_kernels`),
         or the elements themselves, then generated in process at construction (needs sympy).
     elements : mapping of element name to ``conn`` or ``(conn, params)``
         Per element type: ``conn`` an integer array ``(m, n_local)`` of global dof numbers, and
@@ -137,8 +137,8 @@ class EnergyProblem(Problem):
     The CSR pattern of the Hessian (diagonal included) and the index arrays that scatter the packed
     element Hessians into it are built once; an assembly is one kernel call per element type and one
     ``bincount``.  When the numbering gives a narrow band the Jacobian is factorized by
-    :class:`contin.linalg.BandedLU` with the band known from the pattern (the rule of
-    :func:`contin.linalg.factorize`, without rescanning the matrix).
+    :class:`contin.numerics.linalg.BandedLU` with the band known from the pattern (the rule of
+    :func:`contin.numerics.linalg.factorize`, without rescanning the matrix).
     """
 
     def __init__(self, kernels: Any, elements: Mapping[str, Any], n_dofs: int,
@@ -245,7 +245,7 @@ class EnergyProblem(Problem):
         return self._matrix("hessian_directional", u, p, v)
 
     def factorize(self, J: Any) -> Factorization:
-        """Banded LU with the band of the pattern when it is narrow, else :func:`contin.linalg.factorize`."""
+        """Banded LU with the band of the pattern when it is narrow, else :func:`contin.numerics.linalg.factorize`."""
         if self._banded and sp.issparse(J) and J.shape == (self.n, self.n):
             return BandedLU(J, self.bandwidth, self.bandwidth)
         return factorize(J)

@@ -1,10 +1,10 @@
-/* Banded factorizations in C for contin.linalg (built by setup.py as contin._banded; optional:
-   contin.linalg uses LAPACK and numpy where it is not built).
+/* Banded factorizations in C for contin.numerics.linalg (built by setup.py as contin.numerics._banded; optional:
+   contin.numerics.linalg uses LAPACK and numpy where it is not built).
 
    factor, solve: LU with partial pivoting of a tridiagonal matrix and its solves
-   (contin.linalg.TridiagonalLU).  The factorization is LAPACK's gttrf (the same pivoting, the same factors: A = P L U with U
-   upper triangular with two superdiagonals).  The solves run LAPACK's gtts2 algorithm with one
-   change: they multiply by the pivots' reciprocals, stored by the factorization, instead of dividing
+   (contin.numerics.linalg.TridiagonalLU).  The factorization is LAPACK's gttrf (the same pivoting, the
+   same factors: A = P L U with U upper triangular with two superdiagonals).  The solves run LAPACK's
+   gtts2 algorithm with one change: they multiply by the pivots' reciprocals, stored by the factorization, instead of dividing
    by the pivots.  A back substitution is a chain of dependent operations, and a division's latency
    is several times a multiplication's: at n = 2000 a solve takes 10 us against scipy's dgttrs 27 us.
    The results differ from LAPACK's by rounding only.
@@ -14,7 +14,7 @@
    an array's largest modulus (the same test's sizes).
 
    ldlt_negative: the pivot-free L D L^T of a symmetric band matrix, counting its negative pivots
-   (contin.linalg.SymmetricBand.negative_pivots), in one pass where the Python version alternates
+   (contin.numerics.linalg.SymmetricBand.negative_pivots), in one pass where the Python version alternates
    LAPACK's banded Cholesky with eliminations of the negative pivots by hand; cholesky_solve: a solve
    with the Cholesky factor it leaves when the matrix is positive definite (LAPACK's pbtrs). */
 #define PY_SSIZE_T_CLEAN

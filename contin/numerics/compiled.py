@@ -1,7 +1,7 @@
 """Generated kernels in C where the C extension was built, in numpy elsewhere: :func:`prefer_compiled`.
 
-A model generates numpy kernels (:mod:`contin.codegen`) and, from them, the C source of an extension
-module (:func:`contin.codegen.c_extension_text`) that the package's install compiles when a C compiler
+A model generates numpy kernels (:mod:`contin.modelkit.codegen`) and, from them, the C source of an extension
+module (:func:`contin.modelkit.codegen.c_extension_text`) that the package's install compiles when a C compiler
 is there (``setup.py``, ``optional=True``).  :func:`prefer_compiled` gives the model one namespace of
 kernels to call either way: the compiled function under each name the extension has, the numpy
 function under every other name.  The two give the same numbers (the C code runs the numpy code's
@@ -88,7 +88,7 @@ def prefer_compiled(kernels: types.ModuleType, extension: str,
     rows : mapping of str to int or None
         Name -> output rows of each kernel the extension carries that fills an ``out`` argument (called
         ``name(*inputs, out)``).  The kernels that return their outputs are those of the extension's
-        ``RETURNS`` (see :func:`contin.codegen.c_extension_text`).
+        ``RETURNS`` (see :func:`contin.modelkit.codegen.c_extension_text`).
 
     Returns
     -------

@@ -30,7 +30,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 from scipy.linalg import lapack
 
-from .lazy import lazy_module
+from ..lazy import lazy_module
 
 # imported on first use: the sparse LU and the graph orderings are fallbacks the banded paths never reach
 csgraph = lazy_module("scipy.sparse.csgraph")
@@ -338,7 +338,7 @@ class TridiagonalLU(Factorization):
     """LU with partial pivoting of a tridiagonal matrix (LAPACK's gttrf): O(n), no band bookkeeping.
 
     What :class:`BandedLU` computes for ``kl = ku = 1``, faster: with the C extension
-    ``contin._banded`` (built by the install where a compiler is found) the factorization is
+    ``contin.numerics._banded`` (built by the install where a compiler is found) the factorization is
     gttrf's and the solves are gttrs's algorithm multiplying by the pivots' reciprocals instead of
     dividing (at n = 2000, :meth:`solve` 13 against 30 us, of which the C call 10 and dgttrs 27); elsewhere
     scipy's LAPACK dgttrf/dgttrs (``CONTIN_COMPILED=0`` keeps them).
@@ -421,13 +421,13 @@ _BANDED: list = []
 
 
 def banded_extension() -> Any:
-    """The C extension module ``contin._banded`` (the tridiagonal LU's and the band L D L^T's C code),
+    """The C extension module ``contin.numerics._banded`` (the tridiagonal LU's and the band L D L^T's C code),
     or None when it is not built or ``CONTIN_COMPILED=0``: for tests and for instrumenting its calls
     (``studies.bench_floor``)."""
     if not _BANDED:
         from .compiled import optional_extension
 
-        _BANDED.append(optional_extension("contin._banded"))
+        _BANDED.append(optional_extension("contin.numerics._banded"))
     return _BANDED[0]
 
 
@@ -435,7 +435,7 @@ def cholesky_band_solver(u: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
     """Solves with ``U^T U`` for the upper band Cholesky factor ``u`` (LAPACK's storage, as ``pbtrf`` and
     :meth:`SymmetricBand.negative_pivots` leave it): ``solve(r)`` for ``r`` of one or several columns.
 
-    One right-hand side runs in C (``contin._banded.cholesky_solve``) where it is built: scipy's
+    One right-hand side runs in C (``contin.numerics._banded.cholesky_solve``) where it is built: scipy's
     ``dpbtrs`` wrapper costs more per call than the solve itself on a narrow band.
     """
     from scipy.linalg import lapack
@@ -552,7 +552,7 @@ class SymmetricBand:
     ``ab[kd + i - j, j] = A[i, j]`` for ``j - kd <= i <= j`` (``kd`` the half-bandwidth): the form
     LAPACK's symmetric band routines (``pbtrf``, ``sbmv``, ``sbevx``) take without a copy into another
     layout.  An operator that is assembled straight into this storage skips the sparse formats
-    altogether; :mod:`contin.modes` and :func:`factorize` accept it, and :meth:`tocsr` gives the rest
+    altogether; :mod:`contin.watch.modes` and :func:`factorize` accept it, and :meth:`tocsr` gives the rest
     of the toolkit a sparse matrix.
 
     Parameters
@@ -636,7 +636,7 @@ class SymmetricBand:
     def negative_pivots(self, growth_limit: float = 1e8, max_negative: int = 32) -> tuple[list[int], object] | None:
         """Columns of the negative pivots of the pivot-free ``L D L^T``, run as banded Cholesky factorizations.
 
-        With the C extension ``contin._banded`` the same factorization runs column by column in one
+        With the C extension ``contin.numerics._banded`` the same factorization runs column by column in one
         pass (the same pivots to rounding, the same checks and Cholesky factor); what follows
         describes the LAPACK version that runs without it.
 

@@ -13,7 +13,7 @@ the band's factorization and the border's Schur complement, without a general sp
 The eigenvalues themselves come from dense ``eigh`` for small matrices, LAPACK's banded symmetric
 eigensolver with index selection for banded ones (its reduction to tridiagonal form
 costs O(n^2 b), so it is asked for only when ``k > 0``), Lanczos in shift-invert mode just below the
-spectrum for an *arrow* matrix (a band with a few dense border rows, :func:`contin.linalg.arrow_structure`:
+spectrum for an *arrow* matrix (a band with a few dense border rows, :func:`contin.numerics.linalg.arrow_structure`:
 an indenter's travel under a dead load couples to every node in contact), and ARPACK for the rest.
 
 Nested operators (an operator and its leading block, e.g. a structure's Hessian under a dead load and
@@ -34,7 +34,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .lazy import lazy_module
+from ..lazy import lazy_module
 from .linalg import (BANDED_FRACTION, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
                      cholesky_band_solver, factorize, lower_band)
 
@@ -112,10 +112,10 @@ def leading_inertias(H, sizes) -> list[int] | None:
 def _arrow_inertias(H, sizes) -> list[int] | None:
     """:func:`leading_inertias` of an arrow matrix whose band block is positive definite, by blocks; else None.
 
-    ``H = [[A, B], [B^T, C]]`` with ``A`` banded (:func:`contin.linalg.arrow_structure`, e.g. a structure's
+    ``H = [[A, B], [B^T, C]]`` with ``A`` banded (:func:`contin.numerics.linalg.arrow_structure`, e.g. a structure's
     Hessian bordered by an indenter's travel): the pivot-free ``L D L^T`` of ``H`` is ``A``'s followed by
     that of the Schur complement ``S = C - B^T A^{-1} B``.  ``A``'s banded factorization
-    (:meth:`contin.linalg.SymmetricBand.negative_pivots`, which leaves its Cholesky factor when ``A`` is
+    (:meth:`contin.numerics.linalg.SymmetricBand.negative_pivots`, which leaves its Cholesky factor when ``A`` is
     positive definite) and ``S``'s, a few rows, give every count for a fraction of the general sparse
     factorization's cost.  None when ``H`` is no arrow, ``A`` is not positive definite (the general
     factorization then counts) or a pivot cannot be trusted.
@@ -338,10 +338,10 @@ ARROW_MAX_RESTARTS = 20
 
 
 def _arrow_info(H, b: int, m: int, k: int, vectors: bool) -> StabilityInfo | None:
-    """The ``k`` smallest eigenvalues of an arrow matrix (:func:`contin.linalg.arrow_structure`), or None.
+    """The ``k`` smallest eigenvalues of an arrow matrix (:func:`contin.numerics.linalg.arrow_structure`), or None.
 
     The Morse index from the pivot-free ``L D L^T`` (:func:`inertia`); the eigenvalues by Lanczos on
-    ``(H - sigma I)^-1`` (ARPACK in shift-invert mode, :class:`contin.linalg.ArrowCholesky` for the
+    ``(H - sigma I)^-1`` (ARPACK in shift-invert mode, :class:`contin.numerics.linalg.ArrowCholesky` for the
     solves) with ``sigma`` just below the spectrum.  Cauchy's interlacing places the smallest
     eigenvalue of ``H`` below the band block's smallest, ``lambda_1(A)``, and the ``(m + 1)``-th above
     it; ``sigma = lambda_1(A) - delta``, ``delta`` doubled from ``1e-8 |H|`` until ``H - sigma I`` is

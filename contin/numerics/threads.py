@@ -6,7 +6,7 @@ more than about ten thousand entries, and each call then waits for the other thr
 hundred microseconds where one thread takes two, thousands of times a step, and worse when the other
 cores are busy.  One thread per process is the engine's setting: the
 ``contin`` command defaults to it (:func:`default_to_one_thread`, before numpy is loaded), the local
-worker processes of :mod:`contin.executors` get it, and the studies and the tests set it.  A
+worker processes of :mod:`contin.app.executors` get it, and the studies and the tests set it.  A
 variable the user has set is left as it is.
 
 This module imports nothing but :mod:`os`: the command's launcher uses it before anything else.

@@ -7,7 +7,7 @@ The corrector then runs Newton on the bordered system
     [ J      f_p    ] [du]     [ f                      ]
     [ w t_u  w_p t_p] [dp] = - [ <t, X - X0>_W - ds     ]
 
-solved by block elimination on the model's factorization of ``J`` (see :mod:`contin.linalg`), and
+solved by block elimination on the model's factorization of ``J`` (see :mod:`contin.numerics.linalg`), and
 returns a :class:`Correction`: the converged point, the iterations, the contraction rate and the last
 linearization.  Guards against jumping to a neighbouring branch (too long a correction, a slowly
 contracting Newton, an end point that disagrees with the curvature) raise :class:`CorrectorFailure`.
@@ -21,9 +21,9 @@ from typing import Any
 
 import numpy as np
 
+from ..numerics.linalg import SingularMatrixError
+from ..problem import NonFiniteError
 from .curve import CorrectorFailure, Curve, Linearization, Point, max_abs, roundoff_floor, stagnation_message
-from .linalg import SingularMatrixError
-from .problem import NonFiniteError
 
 __all__ = ["Correction", "correct", "quadratic_predictor", "check_curvature_consistency"]
 
@@ -195,7 +195,7 @@ def correct(curve: Curve, origin: Point, ds: float, max_iter: int | None = None,
 
 
 def _stalled(curve: Curve, history: list[float], lin: Linearization | None, u: np.ndarray, p: float) -> str | None:
-    """The roundoff-floor diagnosis of a failed correction (see :func:`contin.curve.stagnation_message`)."""
+    """The roundoff-floor diagnosis of a failed correction (see :func:`contin.path.curve.stagnation_message`)."""
     if lin is None:
         return None
     J, fp, _ = lin

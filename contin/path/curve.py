@@ -19,9 +19,9 @@ from typing import Any
 
 import numpy as np
 
-from .linalg import BorderedSolver, SingularMatrixError
-from .problem import NonFiniteError, Problem
-from .settings import Settings
+from ..numerics.linalg import BorderedSolver, SingularMatrixError
+from ..problem import NonFiniteError, Problem
+from ..settings import Settings
 
 __all__ = ["Curve", "Point", "CorrectorFailure", "Linearization", "roundoff_floor", "scales_from_sensitivity", "stagnation_message",
            "start_scales"]
@@ -139,7 +139,7 @@ class Point:
     stability : the problem's stability by label at the point, once computed (the step guard
         computes it before the point is accepted; the recorder stores it without recomputing).
     modes : the Morse indices of the problem's operator families by family name, once computed
-        (:mod:`contin.modes`).
+        (:mod:`contin.watch.modes`).
     observed : ``(value, d/ds, d/du, d/dp)`` of each observable with a declared derivative, once
         evaluated (:func:`contin.recorder.observed_rates`: the step guard and the recorder share it).
     """

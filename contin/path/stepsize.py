@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 import re
 
-from .settings import Settings
+from ..settings import Settings
 
 __all__ = ["StepController"]
 

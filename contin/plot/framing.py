@@ -24,8 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from .branch import Branch
-from .diagram import _axis_name, _coordinate, _folds_in, _jump_parameter
+from ..results.branch import Branch
+from .branches import _axis_name, _coordinate, _folds_in, _jump_parameter
 
 __all__ = ["Box", "Frame", "frame", "combine", "show_detail", "limit_to", "SPREAD", "MARGIN", "COVER"]
 

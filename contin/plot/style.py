@@ -292,7 +292,7 @@ def save(fig: Any, path: str | os.PathLike, formats: Sequence[str] = FORMATS) ->
     list of Path
         The files written.
     """
-    from .io import atomic_write
+    from ..results.io import atomic_write
 
     stem = Path(path)
     if stem.suffix.lower().lstrip(".") in ("png", "pdf", "svg", "eps"):

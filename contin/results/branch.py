@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .io import ResultFileError, read_bundle, write_bundle
+from .io import ResultFileError, jsonable, read_bundle, write_bundle
 
 __all__ = ["SpecialPoint", "Branch", "SPECIAL_KINDS", "BranchFileError"]
 
@@ -89,7 +89,7 @@ class SpecialPoint:
         return {
             "kind": self.kind, "p": float(self.p), "observables": {k: float(v) for k, v in self.observables.items()},
             "residual": float(self.residual), "located": bool(self.located), "s": float(self.s),
-            "index": int(self.index), "label": self.label, "info": _jsonable(self.info),
+            "index": int(self.index), "label": self.label, "info": jsonable(self.info),
         }
 
     @classmethod
@@ -103,22 +103,6 @@ class SpecialPoint:
         loc = "located" if self.located else "bracketed"
         lab = f" {self.label}" if self.label else ""
         return f"SpecialPoint({self.kind}{lab}, p={self.p:.10g}, {loc}, residual={self.residual:.2e})"
-
-
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, (np.floating,)):
-        return float(obj)
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (np.bool_,)):
-        return bool(obj)
-    return obj
 
 
 @dataclass
@@ -312,7 +296,7 @@ class Branch:
         header = {
             "version": 1, "observables": obs_names, "stability_labels": stab_labels, "tangents": tangent_names,
             "special_points": [spt.header() for spt in self.special_points],
-            "status": self.status, "message": self.message, "meta": _jsonable(self.meta),
+            "status": self.status, "message": self.message, "meta": jsonable(self.meta),
         }
         return header, {prefix + k: v for k, v in arrays.items()}
 

@@ -7,7 +7,8 @@ Everything the toolkit writes goes through here:
   the group is complete.  An interrupt or an error leaves the previous files as they were and no
   temporary file behind.
 - :func:`json_ready` turns numpy values into plain Python and NaN or infinity into None (JSON has
-  neither), for ``summary.json``, ``contin classify --json`` and the studies' summaries.
+  neither), for ``summary.json``, ``contin classify --json`` and the studies' summaries;
+  :func:`jsonable` makes them plain and keeps NaN, for the headers of bundles.
 - :func:`write_bundle` and :func:`read_bundle` store a result as one ``.npz`` file: its arrays plus
   a JSON header naming the format (branches, jumps, quasi-static sweeps and diagrams all use it).
 - :func:`output_directory` creates an output directory, checks that it can be written, and removes
@@ -34,8 +35,8 @@ from typing import IO, TYPE_CHECKING, Any
 if TYPE_CHECKING:
     import numpy as np
 
-__all__ = ["OutputError", "ResultFileError", "FileWriter", "atomic_write", "json_ready", "output_directory",
-           "OutputDirectory", "write_bundle", "read_bundle", "LINE_WIDTH", "status_text"]
+__all__ = ["OutputError", "ResultFileError", "FileWriter", "atomic_write", "json_ready", "jsonable",
+           "output_directory", "OutputDirectory", "write_bundle", "read_bundle", "LINE_WIDTH", "status_text"]
 
 #: Columns of the terminal that status and progress lines and the printed tables fit in (issue 18).
 LINE_WIDTH = 100
@@ -140,6 +141,29 @@ def json_ready(obj: Any) -> Any:
         return int(obj)
     if isinstance(obj, (float, np.floating)):
         return float(obj) if math.isfinite(obj) else None
+    return obj
+
+
+def jsonable(obj: Any) -> Any:
+    """``obj`` with numpy scalars and arrays made plain Python, NaN and infinity kept: a bundle's header
+    (:func:`write_bundle`), which Python's ``json`` writes and reads back with them.
+
+    Dict keys become strings, tuples become lists; anything else is returned as it is.
+    """
+    import numpy as np
+
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.floating,)):
+        return float(obj)
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (np.bool_,)):
+        return bool(obj)
     return obj
 
 

@@ -5,7 +5,7 @@ The fold system is ``f(u, p) = 0``, ``g(u, p) = 0`` where ``g`` is defined by th
 vectors of ``J`` at the starting point: ``g`` vanishes exactly where ``J`` is singular.  Its
 derivatives ``g_u = -w^T J_u v`` and ``g_p = -w^T J_p v`` use the model's second derivatives along
 ``v`` (finite differences of the Jacobian by default; they only set the convergence rate, not the
-located point).  :mod:`contin.twopar` continues the same system in a second parameter.
+located point).  :mod:`contin.analyses.twopar` continues the same system in a second parameter.
 """
 
 from __future__ import annotations
@@ -15,10 +15,10 @@ from typing import Any
 
 import numpy as np
 
-from .branch import SpecialPoint
-from .curve import max_abs
-from .linalg import BorderedSolver, SingularMatrixError
-from .problem import Problem
+from ..numerics.linalg import BorderedSolver, SingularMatrixError
+from ..path.curve import max_abs
+from ..problem import Problem
+from ..results.branch import SpecialPoint
 
 __all__ = ["locate_fold", "safe_factorize", "inverse_iteration", "fold_test_function", "fold_function",
            "fold_borders"]

@@ -5,12 +5,12 @@ whose Hessian at a symmetric state splits by wave number) traces one invariant s
 stability depends on every other one too.  An :class:`OperatorFamily` declares those operators, one per
 key (e.g. a wave number ``n``): ``operator(key, u, p)``, symmetric, of any size.  A problem lists its
 families in ``operator_families``; :func:`contin.continuation` then watches each like a fold
-(:class:`ModeTest`, a test function of :mod:`contin.testfunctions`):
+(:class:`ModeTest`, a test function of :mod:`contin.watch.testfunctions`):
 
 * at every accepted point the Morse index of every key's operator is counted (a banded operator --
-  a :class:`~contin.linalg.SymmetricBand`, or a sparse matrix of narrow band -- by its pivot-free
-  ``L D L^T`` run as banded Cholesky factorizations, :meth:`contin.linalg.SymmetricBand.inertia`;
-  others by :func:`contin.stability.stability_info`), and its eigenvalue nearest zero estimated;
+  a :class:`~contin.numerics.linalg.SymmetricBand`, or a sparse matrix of narrow band -- by its pivot-free
+  ``L D L^T`` run as banded Cholesky factorizations, :meth:`contin.numerics.linalg.SymmetricBand.inertia`;
+  others by :func:`contin.numerics.stability.stability_info`), and its eigenvalue nearest zero estimated;
 * a change of a key's count between two points is a bifurcation into that mode;
 * it is located on the curve between them as the root of the bordered function
   ``g = 1 / (b^T K^-1 b)`` (``b`` the key's eigenvector estimate), which vanishes exactly where the
@@ -49,11 +49,11 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .branch import SpecialPoint
-from .curve import Curve, Point
-from .segment import Segment
-from .linalg import BandedLU, SingularMatrixError, SymmetricBand, bandwidths, cholesky_band_solver, factorize
-from .stability import BANDED_MIN, LDL_GROWTH_LIMIT, pivot_free_ldlt, stability_info
+from ..numerics.linalg import BandedLU, SingularMatrixError, SymmetricBand, bandwidths, cholesky_band_solver, factorize
+from ..numerics.stability import BANDED_MIN, LDL_GROWTH_LIMIT, pivot_free_ldlt, stability_info
+from ..path.curve import Curve, Point
+from ..path.segment import Segment
+from ..results.branch import SpecialPoint
 from .testfunctions import TestFunction
 
 __all__ = ["OperatorFamily", "ModeTest", "family_counts", "count_and_lowest", "eigenvalues_near_zero", "ordered_eigenvalue",
@@ -72,7 +72,7 @@ class OperatorFamily:
         The keys watched, in order.
     operator : callable ``(key, u, p) -> matrix``
         The symmetric operator of a key at a state (sparse, dense or a
-        :class:`~contin.linalg.SymmetricBand`).
+        :class:`~contin.numerics.linalg.SymmetricBand`).
     multiplicity : callable ``key -> int``, optional
         How many copies of the key's operator the whole Hessian holds (e.g. 2 for a wave number
         ``n >= 1``: its ``cos`` and ``sin`` modes); the total Morse index weighs counts with it.
@@ -107,7 +107,7 @@ class OperatorFamily:
 
 
 def _band(H: Any) -> SymmetricBand | None:
-    """``H`` as a :class:`~contin.linalg.SymmetricBand` when it is one, or a sparse matrix narrow enough
+    """``H`` as a :class:`~contin.numerics.linalg.SymmetricBand` when it is one, or a sparse matrix narrow enough
     for LAPACK's band routines; None otherwise."""
     if isinstance(H, SymmetricBand):
         return H
@@ -129,11 +129,11 @@ def _factor_and_count(H: Any) -> tuple[int, Callable[[np.ndarray], np.ndarray] |
     """The Morse index of the symmetric ``H`` and a solver with ``H`` (None when it is exactly singular).
 
     A banded ``H`` is counted by its pivot-free ``L D L^T`` run as banded Cholesky factorizations
-    (:meth:`contin.linalg.SymmetricBand.inertia`, O(n b^2)): most operators of a family are positive
+    (:meth:`contin.numerics.linalg.SymmetricBand.inertia`, O(n b^2)): most operators of a family are positive
     definite at most points, and one Cholesky factorization then counts (0) and solves; an indefinite
     one is solved with a banded LU.  When that cannot be trusted, the general pivot-free ``L D L^T``
-    (:func:`contin.stability.pivot_free_ldlt`); for other matrices :func:`contin.stability.stability_info`
-    counts and a general LU solves.
+    (:func:`contin.numerics.stability.pivot_free_ldlt`); for other matrices
+    :func:`contin.numerics.stability.stability_info` counts and a general LU solves.
     """
     B = _band(H)
     if B is not None:
@@ -417,7 +417,7 @@ def _subspace_near_zero(H: Any, k: int, start: np.ndarray | None = None,
 
 
 class ModeTest(TestFunction):
-    """Watches an :class:`OperatorFamily` along a branch (a test function of :mod:`contin.testfunctions`).
+    """Watches an :class:`OperatorFamily` along a branch (a test function of :mod:`contin.watch.testfunctions`).
 
     Its value at a point is the tuple of the keys' Morse indices (also kept on the point, for the
     recorder); a change is a bifurcation, located on the key whose eigenvalue crosses zero first.

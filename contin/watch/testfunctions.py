@@ -9,7 +9,7 @@ A :class:`TestFunction` has
 Four kinds implement it:
 
 * :class:`FoldTest`: the parameter component of the unit tangent; a sign change is a fold, located
-  by Newton on the minimally augmented system (:func:`contin.fold.locate_fold`), with the root of the
+  by Newton on the minimally augmented system (:func:`contin.watch.fold.locate_fold`), with the root of the
   tangent component on the segment as the fallback;
 * :class:`BranchPointTest`: the sign of the determinant of the bordered Jacobian (from the
   factorization, so nothing overflows); located as a root of a continuous bordered test function.
@@ -17,7 +17,7 @@ Four kinds implement it:
   so the located point does not depend on the arclength weights, and the branch directions come from
   the algebraic bifurcation equation (:func:`bifurcation_directions`), stored without any weight;
   :class:`KnownBranchPoints` makes a run end where it meets a branch point it was told of;
-* :class:`EventTest`: a user event (:mod:`contin.events`): an observable minus a value, or the
+* :class:`EventTest`: a user event (:mod:`contin.watch.events`): an observable minus a value, or the
   derivative of an observable along the unit tangent (extremum);
 * bounds of the parameter and of observables are :class:`EventTest` s of terminal crossings
   (``bound=True``): the run ends exactly on them and they are not recorded as special points.
@@ -29,24 +29,24 @@ unlocated special point with the reason) when location is off or fails.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
-from .branch import SpecialPoint
-from .curve import CorrectorFailure, Curve, Point, max_abs
+from ..numerics.linalg import BorderedSolver, SingularMatrixError
+from ..path.curve import CorrectorFailure, Curve, Point, max_abs
+from ..path.segment import Segment
+from ..problem import NonFiniteError, Problem
+from ..results.branch import SpecialPoint
+from ..settings import Settings
 from .events import Event
 from .fold import fold_function, inverse_iteration, locate_fold, safe_factorize
-from .linalg import BorderedSolver, SingularMatrixError
-from .problem import NonFiniteError, Problem
-from .segment import Segment
-from .settings import Settings
 
-__all__ = ["TestFunction", "FoldTest", "BranchPointTest", "EventTest", "test_functions", "event_value",
-           "observable_function", "bracketed", "KnownBranchPoints", "smallest_eigenvector", "second_derivative",
+__all__ = ["TestFunction", "FoldTest", "BranchPointTest", "EventTest", "event_value", "observable_function",
+           "bracketed", "KnownBranchPoints", "bound_events", "smallest_eigenvector", "second_derivative",
            "bifurcation_directions"]
 
 #: failures of a location that leave the special point bracketed instead of ending the run
@@ -361,7 +361,7 @@ class _HessianBranchTest:
 
     ``J`` (the Hessian) is bordered by one of its eigenvectors ``b`` of small |eigenvalue| at the
     segment's midpoint: the fold function ``g`` of ``[[J, b], [b^T, 0]] [v; g] = [0; 1]``
-    (:func:`contin.fold.fold_function`) is ``-1 / (b^T J^{-1} b)``, which changes sign exactly where
+    (:func:`contin.watch.fold.fold_function`) is ``-1 / (b^T J^{-1} b)``, which changes sign exactly where
     that eigenvalue crosses zero.  Only ``J`` and ``df/dp`` enter, never the arclength weights.
 
     Of the eigenvectors whose test function changes sign on the segment, ``b`` is the one most
@@ -689,7 +689,7 @@ EXTREMUM_NOISE = 100.0
 
 
 class EventTest(TestFunction):
-    """A user event or a bound (:class:`contin.events.Event`)."""
+    """A user event or a bound (:class:`contin.watch.events.Event`)."""
 
     kind = "event"
 
@@ -788,27 +788,6 @@ def bound_events(st: Settings) -> list[Event]:
     return evs
 
 
-def test_functions(curve: Curve, events: Sequence[Event | KnownBranchPoints] = ()) -> list[TestFunction]:
-    """Everything a branch watches, in the order special points found on one step are reported."""
-    st = curve.settings
-    tests: list[TestFunction] = []
-    if st.detect_folds:
-        tests.append(FoldTest(curve))
-    known = [ev for ev in events if isinstance(ev, KnownBranchPoints)]
-    events = [ev for ev in events if not isinstance(ev, KnownBranchPoints)]
-    if st.detect_branch_points:
-        tests.append(BranchPointTest(curve, known[0] if known else None))
-    tests += [EventTest(curve, ev) for ev in events]
-    tests += [EventTest(curve, ev, bound=True) for ev in bound_events(st)]
-    families = getattr(curve.problem, "operator_families", ())
-    if families and st.stability:
-        from .modes import ModeTest  # imported here: modes imports this module
-
-        tests += [ModeTest(curve, family) for family in families]
-    return tests
-
-
 # pytest would otherwise collect the names starting with "Test" when a test module imports them
 for _cls in (TestFunction, FoldTest, BranchPointTest, EventTest):
     _cls.__test__ = False
-test_functions.__test__ = False
