@@ -1,4 +1,4 @@
-"""The one atomic-write helper and the output directory of :mod:`contin.io` (issue 14, A5 and B4)."""
+"""The one atomic-write helper and the output directory of :mod:`contin.results.io` (issue 14, A5 and B4)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.io import OutputDirectory, OutputError, atomic_write, json_ready, output_directory
+from contin.results.io import OutputDirectory, OutputError, atomic_write, json_ready, output_directory
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -53,7 +53,7 @@ def test_a_branch_saves_through_the_helper(tmp_path: Path) -> None:
 
 
 def test_one_atomic_write_in_the_tree() -> None:
-    # mkstemp + os.replace is the atomic write: it lives in contin/io.py only
+    # mkstemp + os.replace is the atomic write: it lives in contin/results/io.py only
     found = []
     for folder in ("contin", "models", "studies"):
         for path in sorted((ROOT / folder).rglob("*.py")):
@@ -62,7 +62,7 @@ def test_one_atomic_write_in_the_tree() -> None:
                      if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)}
             if {"mkstemp", "replace"} <= calls:
                 found.append(str(path.relative_to(ROOT)))
-    assert found == ["contin/io.py"]
+    assert found == ["contin/results/io.py"]
 
 
 def test_json_ready() -> None:
