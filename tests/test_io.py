@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import math
 import os
 import stat
 from pathlib import Path
@@ -68,6 +69,13 @@ def test_one_atomic_write_in_the_tree() -> None:
 def test_json_ready() -> None:
     doc = {"a": np.float32(1.5), "b": [np.int64(2), np.bool_(True)], "c": (np.inf, -np.nan), 4: np.zeros(2)}
     assert json_ready(doc) == {"a": 1.5, "b": [2, True], "c": [None, None], "4": [0.0, 0.0]}
+
+
+def test_json_ready_keeps_nan_and_infinity_for_a_bundle_header() -> None:
+    kept = json_ready({"c": (np.inf, np.float64("nan")), "a": np.array([1.0, -np.inf]), "n": np.int32(3)},
+                      keep_nonfinite=True)
+    assert kept["c"][0] == math.inf and math.isnan(kept["c"][1]) and kept["a"] == [1.0, -math.inf]
+    assert [type(v) for v in (*kept["c"], *kept["a"], kept["n"])] == [float] * 4 + [int]
 
 
 def test_an_output_directory_removes_only_what_it_made(tmp_path: Path) -> None:

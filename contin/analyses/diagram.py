@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..results.branch import Branch, BranchFileError
-from ..results.io import jsonable, read_bundle, write_bundle
+from ..results.io import json_ready, read_bundle, write_bundle
 from .jump import JumpResult
 
 if TYPE_CHECKING:  # networkx is imported lazily: it costs a noticeable part of import time
@@ -93,9 +93,12 @@ def save_diagram(G: "nx.MultiDiGraph", path: Any) -> Any:
 
     Nodes and edges keep every attribute; :func:`load_diagram` reads the same graph back.
     """
-    graph = {"attributes": jsonable(dict(G.graph)),
-             "nodes": [{"id": n, "attributes": jsonable(dict(a))} for n, a in G.nodes(data=True)],
-             "edges": [{"source": u, "target": v, "key": k, "attributes": jsonable(dict(a))}
+    def plain(attributes: dict) -> dict:
+        return json_ready(dict(attributes), keep_nonfinite=True)
+
+    graph = {"attributes": plain(G.graph),
+             "nodes": [{"id": n, "attributes": plain(a)} for n, a in G.nodes(data=True)],
+             "edges": [{"source": u, "target": v, "key": k, "attributes": plain(a)}
                        for u, v, k, a in G.edges(keys=True, data=True)]}
     return write_bundle(path, "contin-diagram", {"graph": graph}, {})
 

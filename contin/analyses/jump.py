@@ -21,7 +21,7 @@ from ..numerics.linalg import ArrowCholesky, ArrowParts, arrow_structure, bandwi
 from ..numerics.stability import stability_info
 from ..problem import NonFiniteError, Problem
 from ..results.branch import BranchFileError, SpecialPoint
-from ..results.io import jsonable, read_bundle, write_bundle
+from ..results.io import json_ready, read_bundle, write_bundle
 
 __all__ = ["state_scale", "JumpResult", "jump", "JumpError"]
 
@@ -84,7 +84,8 @@ class JumpResult:
         header = {"p": float(self.p), "energy_from": float(self.energy_from), "energy_to": float(self.energy_to),
                   "iterations": int(self.iterations), "residual": float(self.residual),
                   "n_negative": int(self.n_negative), "smallest_eigenvalue": float(self.smallest_eigenvalue),
-                  "success": bool(self.success), "message": self.message, "info": jsonable(self.info)}
+                  "success": bool(self.success), "message": self.message,
+                  "info": json_ready(self.info, keep_nonfinite=True)}
         return header, {prefix + "u_from": np.asarray(self.u_from), prefix + "u_to": np.asarray(self.u_to)}
 
     @classmethod

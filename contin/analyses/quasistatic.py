@@ -35,7 +35,7 @@ from ..numerics.stability import stability_info
 from ..palc import CorrectorFailure, Curve, Settings, continuation, switch_branch
 from ..problem import NonFiniteError, Problem
 from ..results.branch import Branch, BranchFileError, SpecialPoint
-from ..results.io import jsonable, read_bundle, write_bundle
+from ..results.io import json_ready, read_bundle, write_bundle
 from ..watch.events import Event
 from .jump import JumpError, JumpResult, jump, state_scale
 
@@ -142,7 +142,7 @@ class QuasiStaticResult:
             arrays[f"fold{k}.u"] = np.asarray(fold.u if fold.u is not None else np.zeros(0))
         header = {"p0": float(self.p0), "p_end": None if self.p_end is None else float(self.p_end),
                   "direction": int(self.direction), "status": self.status, "message": self.message,
-                  "p_final": float(self.p_final), "info": jsonable(self.info),
+                  "p_final": float(self.p_final), "info": json_ready(self.info, keep_nonfinite=True),
                   "branches": [h for h, _ in branches], "jumps": [h for h, _ in jumps],
                   "folds": [f.header() for f in self.folds]}
         return write_bundle(path, "contin-quasistatic", header, arrays)

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .io import ResultFileError, jsonable, read_bundle, write_bundle
+from .io import ResultFileError, json_ready, read_bundle, write_bundle
 
 __all__ = ["SpecialPoint", "Branch", "SPECIAL_KINDS", "BranchFileError"]
 
@@ -89,7 +89,7 @@ class SpecialPoint:
         return {
             "kind": self.kind, "p": float(self.p), "observables": {k: float(v) for k, v in self.observables.items()},
             "residual": float(self.residual), "located": bool(self.located), "s": float(self.s),
-            "index": int(self.index), "label": self.label, "info": jsonable(self.info),
+            "index": int(self.index), "label": self.label, "info": json_ready(self.info, keep_nonfinite=True),
         }
 
     @classmethod
@@ -296,7 +296,7 @@ class Branch:
         header = {
             "version": 1, "observables": obs_names, "stability_labels": stab_labels, "tangents": tangent_names,
             "special_points": [spt.header() for spt in self.special_points],
-            "status": self.status, "message": self.message, "meta": jsonable(self.meta),
+            "status": self.status, "message": self.message, "meta": json_ready(self.meta, keep_nonfinite=True),
         }
         return header, {prefix + k: v for k, v in arrays.items()}
 

@@ -7,8 +7,8 @@ Everything the toolkit writes goes through here:
   the group is complete.  An interrupt or an error leaves the previous files as they were and no
   temporary file behind.
 - :func:`json_ready` turns numpy values into plain Python and NaN or infinity into None (JSON has
-  neither), for ``summary.json``, ``contin classify --json`` and the studies' summaries;
-  :func:`jsonable` makes them plain and keeps NaN, for the headers of bundles.
+  neither), for ``summary.json``, ``contin classify --json`` and the studies' summaries; the headers of
+  bundles keep NaN and infinity (``keep_nonfinite``), which Python's ``json`` reads back.
 - :func:`write_bundle` and :func:`read_bundle` store a result as one ``.npz`` file: its arrays plus
   a JSON header naming the format (branches, jumps, quasi-static sweeps and diagrams all use it).
 - :func:`output_directory` creates an output directory, checks that it can be written, and removes
@@ -35,8 +35,8 @@ from typing import IO, TYPE_CHECKING, Any
 if TYPE_CHECKING:
     import numpy as np
 
-__all__ = ["OutputError", "ResultFileError", "FileWriter", "atomic_write", "json_ready", "jsonable",
-           "output_directory", "OutputDirectory", "write_bundle", "read_bundle", "LINE_WIDTH", "status_text"]
+__all__ = ["OutputError", "ResultFileError", "FileWriter", "atomic_write", "json_ready", "output_directory",
+           "OutputDirectory", "write_bundle", "read_bundle", "LINE_WIDTH", "status_text"]
 
 #: Columns of the terminal that status and progress lines and the printed tables fit in (issue 18).
 LINE_WIDTH = 100
@@ -122,48 +122,27 @@ def atomic_write(files: Sequence[FileWriter], *, binary: bool = False, keep_mode
     return [path for path, _ in temps]
 
 
-def json_ready(obj: Any) -> Any:
-    """``obj`` with numpy scalars and arrays made plain and NaN or infinity made None.
+def json_ready(obj: Any, keep_nonfinite: bool = False) -> Any:
+    """``obj`` with numpy scalars and arrays made plain Python, as ``json`` writes them.
 
-    Dict keys become strings, tuples become lists; anything else is returned as it is.
+    Dict keys become strings, tuples become lists; anything else is returned as it is.  NaN and infinity
+    become None (JSON has neither: ``summary.json``, ``contin classify --json``), or stay as they are with
+    ``keep_nonfinite`` (a bundle's header, :func:`write_bundle`: Python's ``json`` writes and reads them).
     """
     import numpy as np  # here, not at the top: an output directory or a refused scene needs no numpy
 
     if isinstance(obj, dict):
-        return {str(k): json_ready(v) for k, v in obj.items()}
+        return {str(k): json_ready(v, keep_nonfinite) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [json_ready(v) for v in obj]
+        return [json_ready(v, keep_nonfinite) for v in obj]
     if isinstance(obj, np.ndarray):
-        return json_ready(obj.tolist())
+        return json_ready(obj.tolist(), keep_nonfinite)
     if isinstance(obj, (bool, np.bool_)):
         return bool(obj)
     if isinstance(obj, (int, np.integer)):
         return int(obj)
     if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    return obj
-
-
-def jsonable(obj: Any) -> Any:
-    """``obj`` with numpy scalars and arrays made plain Python, NaN and infinity kept: a bundle's header
-    (:func:`write_bundle`), which Python's ``json`` writes and reads back with them.
-
-    Dict keys become strings, tuples become lists; anything else is returned as it is.
-    """
-    import numpy as np
-
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, (np.floating,)):
-        return float(obj)
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (np.bool_,)):
-        return bool(obj)
+        return float(obj) if keep_nonfinite or math.isfinite(obj) else None
     return obj
 
 
