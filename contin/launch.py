@@ -1,9 +1,9 @@
 """Entry point of the ``contin`` command: a Ctrl-C while the command starts is an interrupt, not a traceback.
 
-``contin.cli`` and the models' scenes load in a few hundredths of a second (no numpy: the help and a
+``contin.app.cli`` and the models' scenes load in a few hundredths of a second (no numpy: the help and a
 refused scene need none), and a run then imports numpy, scipy and the engine, which takes longer; a
 Ctrl-C during an import would print Python's traceback of it and kill the process by the signal.
-This module imports nothing but :mod:`gc`, :mod:`sys`, :mod:`signal` and :mod:`contin.threads` (which imports
+This module imports nothing but :mod:`gc`, :mod:`sys`, :mod:`signal` and :mod:`contin.numerics.threads` (which imports
 :mod:`os`), and importing the ``contin`` package
 around it costs nothing either: ``contin/__init__.py`` imports the engine's names on first use.  :func:`main`
 imports and runs the command line and turns an interrupt at any point before the command handles
@@ -27,7 +27,7 @@ skipped and the exit status is the command's.  Called with ``argv`` (in-process,
 collector is left alone.
 
 Run as the command, it also gives the BLAS library one thread unless the user chose otherwise
-(:mod:`contin.threads`): numpy is loaded after that.
+(:mod:`contin.numerics.threads`): numpy is loaded after that.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from contin.threads import default_to_one_thread
+from contin.numerics.threads import default_to_one_thread
 
 __all__ = ["main", "COMMAND_GC_THRESHOLD"]
 
@@ -48,7 +48,7 @@ COMMAND_GC_THRESHOLD = (200_000, 50, 100)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run ``contin``: :func:`contin.cli.main` with ``argv``; an interrupt during start-up exits quietly with 130.
+    """Run ``contin``: :func:`contin.app.cli.main` with ``argv``; an interrupt during start-up exits quietly with 130.
 
     Parameters
     ----------
@@ -60,10 +60,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        The exit status of :func:`contin.cli.main`, or 130 when interrupted before it took over.
+        The exit status of :func:`contin.app.cli.main`, or 130 when interrupted before it took over.
     """
     if argv is None:
-        default_to_one_thread()  # before numpy is loaded (contin.threads: why one BLAS thread)
+        default_to_one_thread()  # before numpy is loaded (contin.numerics.threads: why one BLAS thread)
         gc.set_threshold(*COMMAND_GC_THRESHOLD)
     status = _run(argv)
     if argv is None:
@@ -96,12 +96,12 @@ def _run(argv: Sequence[str] | None) -> int:
         previous = None
     try:
         try:
-            from contin.cli import main as cli_main
+            from contin.app.cli import main as cli_main
         finally:
             if previous is not None:
                 signal.signal(signal.SIGINT, previous)
         return cli_main(argv)
-    except KeyboardInterrupt:  # while importing, or building the parser (contin.cli handles it after that)
+    except KeyboardInterrupt:  # while importing, or building the parser (contin.app.cli handles it after that)
         return _interrupted()
     except ImportError:
         if interrupted:

@@ -3,18 +3,21 @@
 A package lists its public names with the module that defines each and calls :func:`lazy_exports` at the
 end of its ``__init__.py``::
 
-    _EXPORTS = {"Branch": "branch", "continuation": "palc"}
+    _EXPORTS = {"Branch": "results.branch", "continuation": "palc"}
     __all__ = list(_EXPORTS)
     lazy_exports(__name__, _EXPORTS)
 
 ``import package`` then costs nothing until a name is touched, and a light submodule (a scene's schema)
 can be imported without the heavy ones beside it: ``contin --help`` and a refused scene load every
 registered model's schema, and none of them imports numpy, scipy or matplotlib (``tests/test_startup.py``).
-A submodule is also reachable as an attribute (``package.submodule`` after ``import package``).
+A submodule is also reachable as an attribute (``package.submodule`` after ``import package``); a
+subpackage that calls ``lazy_exports(__name__, {})`` has that alone (``contin.app.scene`` after ``import
+contin``).
 
-A public function may share its module's name (``contin.jump`` the function, in ``contin/jump.py``).
-Importing that module binds it to the package under that name, which would hide the function; the
-package's binding then takes the function instead, as an eager ``from .jump import jump`` would have.
+A public function may share its module's name (``contin_models.shell_scene.build`` the function, in
+``models/shell_scene/build.py``).  Importing that module binds it to the package under that name, which
+would hide the function; the package's binding then takes the function instead, as an eager ``from .build
+import build`` would have.
 """
 
 from __future__ import annotations
@@ -56,7 +59,7 @@ def lazy_exports(package: str, exports: Mapping[str, str]) -> None:
             value = getattr(import_module(f".{exports[name]}", package), name)
             module.__dict__[name] = value  # later look-ups skip this function
             return value
-        try:  # a submodule used as an attribute (``contin.scene.load_scene`` after ``import contin``)
+        try:  # a submodule used as an attribute (``contin.app.scene.load_scene`` after ``import contin``)
             return import_module(f".{name}", package)
         except ModuleNotFoundError as exc:
             if exc.name != f"{package}.{name}":

@@ -3,15 +3,15 @@
 The core traces the solution curve of ``f(u, p) = 0`` in the augmented space ``X = (u, p)``.  One
 step is a short sequence of named parts, each in its own module:
 
-* predictor and corrector (:mod:`contin.corrector`): predict along the tangent (quadratic with the
+* predictor and corrector (:mod:`contin.path.corrector`): predict along the tangent (quadratic with the
   curvature seen over the last step), correct by Newton on the bordered PALC system; the corrector
-  returns a :class:`~contin.corrector.Correction`;
-* step control (:mod:`contin.stepsize`): Newton effort, contraction rate, turning angle, rejections;
-* test functions (:mod:`contin.testfunctions`): folds, branch points, user events and bounds share
+  returns a :class:`~contin.path.corrector.Correction`;
+* step control (:mod:`contin.path.stepsize`): Newton effort, contraction rate, turning angle, rejections;
+* test functions (:mod:`contin.watch.testfunctions`): folds, branch points, user events and bounds share
   one protocol (value at a point, detect between two points, locate on the segment);
 * record (:mod:`contin.recorder`): accepted points, their stability, the special points.
 
-The curve itself (arclength metric, linearization, tangent) is :class:`contin.curve.Curve`; the
+The curve itself (arclength metric, linearization, tangent) is :class:`contin.path.curve.Curve`; the
 options are :class:`contin.settings.Settings`.
 """
 
@@ -26,19 +26,20 @@ from typing import Any
 
 import numpy as np
 
-from .branch import SUCCESSES, Branch, SpecialPoint
-from .corrector import Correction, check_curvature_consistency, correct, quadratic_predictor
-from .curve import CorrectorFailure, Curve, Point, max_abs, scales_from_sensitivity
-from .events import Event
-from .fold import locate_fold
-from .linalg import SingularMatrixError
-from .multiple import IndexWatch, primary_index
+from .numerics.linalg import SingularMatrixError
+from .path.corrector import Correction, check_curvature_consistency, correct, quadratic_predictor
+from .path.curve import CorrectorFailure, Curve, Point, max_abs, scales_from_sensitivity
+from .path.segment import Segment
+from .path.stepsize import StepController
 from .problem import NonFiniteError, Problem
 from .recorder import Recorder, observed_rates
-from .segment import Segment
+from .results.branch import SUCCESSES, Branch, SpecialPoint
 from .settings import Settings, resolve_settings
-from .stepsize import StepController
-from .testfunctions import KnownBranchPoints, TestFunction, test_functions
+from .watch.events import Event
+from .watch.fold import locate_fold
+from .watch.multiple import IndexWatch, primary_index
+from .watch.testfunctions import KnownBranchPoints, TestFunction
+from .watch.watchlist import test_functions
 
 __all__ = ["Settings", "continuation", "locate_fold", "switch_branch", "CorrectorFailure", "Curve", "Point",
            "Correction"]
@@ -185,7 +186,7 @@ class Headway:
     Parameters
     ----------
     tests : list of TestFunction
-        The run's test functions; those that are bounds (:func:`contin.testfunctions.bound_events`)
+        The run's test functions; those that are bounds (:func:`contin.watch.testfunctions.bound_events`)
         give the distance to each bound as the size of their value.
     values : list of float
         Their values at the first point.
@@ -395,9 +396,9 @@ def _first_point(curve: Curve, u0: np.ndarray, p0: float, tangent: tuple[np.ndar
 
 
 def _check_start(problem: Problem, start: Point, lin: tuple) -> str:
-    """The model check of :mod:`contin.check` at the first point: "" when it passes, else why the run stops."""
-    from .check import quick_check  # imported here: only runs that check need it
-    from .curve import start_scales
+    """The model check of :mod:`contin.modelkit.check` at the first point: "" when it passes, else why the run stops."""
+    from .modelkit.check import quick_check  # imported here: only runs that check need it
+    from .path.curve import start_scales
 
     J, fp, F = lin
     U, P = start_scales(start.u, start.p, fp, F, getattr(problem, "reference_scales", None))
@@ -454,7 +455,7 @@ def _step(curve: Curve, previous: Point | None, current: Point, ds: float) -> tu
 
 @dataclass
 class _Explained:
-    """:func:`contin.multiple.explain_index_change` on a step, with its points paired with the test of their kind."""
+    """:func:`contin.watch.multiple.explain_index_change` on a step, with its points paired with the test of their kind."""
 
     index: int | None = None
     found: list[Found] = field(default_factory=list)
@@ -481,7 +482,7 @@ def _index(recorder: Recorder, pt: Point) -> int | None:
 def _explain_index(recorder: Recorder, tests: list[TestFunction], seg: Segment, found: list[Found],
                    n_A: int | None, watch: IndexWatch) -> _Explained:
     """Account for the step's change of the primary Morse index (from ``n_A``) by what was found on it
-    (see :mod:`contin.multiple`); the index at the step's end comes back with the explanation."""
+    (see :mod:`contin.watch.multiple`); the index at the step's end comes back with the explanation."""
     if n_A is None:
         return _Explained()
     n_B = _index(recorder, seg.B)
@@ -550,7 +551,7 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
 
     The location stored the bifurcating direction ``d`` without any arclength weight
     (``info["bifurcation_direction"]``; for symmetric problems from the algebraic bifurcation
-    equation, see :func:`contin.testfunctions.bifurcation_directions`), so any settings may be used
+    equation, see :func:`contin.watch.testfunctions.bifurcation_directions`), so any settings may be used
     here.  ``d`` is normalised in this run's norm; the first point is found by the corrector on the
     hyperplane through ``X* + ds d`` whose normal is ``d`` made orthogonal (in this run's metric) to
     the traced branch's tangent ``info["branch_tangent"]``, which the traced branch therefore does
@@ -621,12 +622,12 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
 
 def branch_point_scales(u: np.ndarray, p: float, *directions: Any,
                         reference: tuple[float, float] | None = None) -> tuple[float, float]:
-    """State and parameter scales ``(U, P)`` at a branch point, as :func:`contin.curve.start_scales` at a start.
+    """State and parameter scales ``(U, P)`` at a branch point, as :func:`contin.path.curve.start_scales` at a start.
 
     The Jacobian is singular there, so the sensitivity ``S = rms(x_u) / |x_p|`` comes from the
     branches' own directions ``x = (x_u, x_p)`` (the traced branch's tangent and the bifurcating
     direction; None and those with ``x_p = 0`` say nothing), the largest of them; the rest is
-    :func:`contin.curve.start_scales` (``reference``: the problem's scales from an earlier run).
+    :func:`contin.path.curve.start_scales` (``reference``: the problem's scales from an earlier run).
     """
     n = u.size
     sens = 0.0

@@ -12,7 +12,7 @@ that is the leading block of another one (e.g. the Hessian of a displacement-con
 inside that of the force-controlled one) is declared as ``LeadingBlock(of=label, size=m)`` and then
 shares that operator's factorization, so both Morse indices cost one pivot-free ``L D L^T`` (and,
 where that cannot be trusted, the block's own count plus the sign of its Schur complement:
-:func:`contin.stability.nested_inertias`).  A negative size counts from the end: ``size=-1`` is the
+:func:`contin.numerics.stability.nested_inertias`).  A negative size counts from the end: ``size=-1`` is the
 operator without its last row and column (a border whose size the model does not fix).
 An operator that is a Hessian bordered by ``k`` equality constraints (a KKT matrix, e.g. a load
 turned into a Lagrange multiplier by prescribing its conjugate displacement) is declared as
@@ -39,8 +39,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .linalg import Factorization, factorize
-from .stability import StabilityInfo, leading_inertias, nested_inertias, stability_info
+from .numerics.linalg import Factorization, factorize
+from .numerics.stability import StabilityInfo, leading_inertias, nested_inertias, stability_info
 
 __all__ = ["Problem", "NonFiniteError", "LeadingBlock", "Constrained"]
 
@@ -57,7 +57,7 @@ class LeadingBlock:
 
     Declared as a value of ``Problem(stability_operators=...)``.  Sylvester's law of inertia then
     counts both Morse indices from one factorization of the larger operator
-    (:func:`contin.stability.nested_inertias`).  A negative ``size`` counts from the end, as a slice
+    (:func:`contin.numerics.stability.nested_inertias`).  A negative ``size`` counts from the end, as a slice
     does: ``LeadingBlock("force", -1)`` is the force operator without its last row and column.
     """
 
@@ -163,10 +163,10 @@ class Problem:
         leading block of another label's, counted from the same factorization; a :class:`Constrained`
         value one whose operator is bordered by constraints (its count is the bordered matrix's minus
         their number).
-    operator_families : sequence of :class:`contin.modes.OperatorFamily`, optional
+    operator_families : sequence of :class:`contin.watch.modes.OperatorFamily`, optional
         Further symmetric operators, one per key (e.g. a wave number), whose definiteness the branch
         watches besides the problem's own: a change of a key's Morse index is a bifurcation into that
-        mode, located and recorded (:mod:`contin.modes`).  Also settable as the attribute
+        mode, located and recorded (:mod:`contin.watch.modes`).  Also settable as the attribute
         ``operator_families``.
     name, parameter_name : str
         Labels used in output.
@@ -175,7 +175,7 @@ class Problem:
         ``max|f| <= tol * residual_scale``, so the tolerance is relative to the model's own units
         and stays above the roundoff floor when a discretization makes the terms large.  When not
         given, the first continuation run calibrates it from its start point
-        (``||df/dp|| P``, see :meth:`contin.curve.Curve.calibrate`) and keeps it; until then it
+        (``||df/dp|| P``, see :meth:`contin.path.curve.Curve.calibrate`) and keeps it; until then it
         reads 1.  Every run (not only the first) sets the arclength weights its settings leave
         open from its own start.  Giving it declares the model's units its own: the weights the
         settings leave open are then 1.
@@ -202,7 +202,7 @@ class Problem:
                             "differentiate energies numerically (O(n^2) energy calls per Jacobian, half the digits "
                             "lost per difference).  Declare element energies and use contin.EnergyProblem (exact "
                             "generated derivatives), or pass the exact gradient to contin.GradientProblem (sparse "
-                            "finite-difference Hessian); see contin.energy.")
+                            "finite-difference Hessian); see contin.modelkit.energy.")
         self.operator_families = tuple(operator_families)
         self._residual = residual
         self._jacobian = jacobian
@@ -257,7 +257,7 @@ class Problem:
         """State and parameter scales ``(U, P)`` the first calibrated run measured at its start (None before).
 
         Later runs from points where a scale cannot be measured (a branch point, ``u = 0`` or
-        ``p = 0``) fall back on them (:func:`contin.curve.start_scales`).
+        ``p = 0``) fall back on them (:func:`contin.path.curve.start_scales`).
         """
         return getattr(self, "_reference_scales", None)
 
@@ -367,7 +367,7 @@ class Problem:
         """Morse indices of operators declared as leading blocks of one other operator, with that operator's.
 
         One pivot-free ``L D L^T`` of the enclosing operator counts every block.  When it cannot be
-        trusted and there is one block, :func:`contin.stability.nested_inertias` counts the block on
+        trusted and there is one block, :func:`contin.numerics.stability.nested_inertias` counts the block on
         its own and adds the sign of its Schur complement; with several blocks None (each operator is
         then counted on its own).  None as well when the operators are not one operator and its blocks.
         """

@@ -13,10 +13,11 @@ from typing import Any
 
 import numpy as np
 
-from .branch import Branch, SpecialPoint
-from .curve import Curve, Point
+from .path.curve import Curve, Point
 from .problem import Problem
+from .results.branch import Branch, SpecialPoint
 from .settings import Settings
+from .watch.modes import family_counts
 
 __all__ = ["Recorder", "stability_around"]
 
@@ -34,7 +35,7 @@ def stability_around(spt: SpecialPoint, n_negative_by: dict[str, np.ndarray], pr
 
     The flat keys are given under ``info["stability_label"]``: the primary (first) label for folds
     and branch points (the control of the traced problem), the label an extremum event declares
-    (:class:`contin.events.Event`; none without one).  ``*_after`` is absent for a point that ends
+    (:class:`contin.watch.events.Event`; none without one).  ``*_after`` is absent for a point that ends
     the branch.
     """
     ends = bool(spt.info.get("ends_branch"))
@@ -139,8 +140,6 @@ class Recorder:
             self.tangents[name].append(observed[name][1] if name in observed else math.nan)
         extra = 0
         if self.families:
-            from .modes import family_counts  # imported here: modes imports the test functions
-
             for fam in self.families:
                 counts = (pt.modes or {}).get(fam.name)
                 counts = list(counts if counts is not None else family_counts(fam, pt.u, pt.p))

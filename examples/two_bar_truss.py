@@ -23,7 +23,7 @@ KERNELS = Path(__file__).with_name("two_bar_truss_kernels.py")
 
 
 def elements() -> list:
-    """The bar and the dead load as :class:`contin.codegen.Element` (needs sympy)."""
+    """The bar and the dead load as :class:`contin.modelkit.codegen.Element` (needs sympy)."""
     import sympy as sp
 
     x1, y1, x2, y2, EA, L0, y, P = sp.symbols("x1 y1 x2 y2 EA L0 y P", real=True)
@@ -57,7 +57,7 @@ def limit_load(span: float, rise: float, EA: float) -> float:
 
 def main(argv: list[str]) -> None:
     if "--write" in argv:
-        contin.codegen.write_generated(generate_source, KERNELS)
+        contin.modelkit.codegen.write_generated(generate_source, KERNELS)
         return
     span, rise, EA = 1.0, 0.1, 1.0
     problem = truss(elements(), span, rise, EA)  # kernels generated in process

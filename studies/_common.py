@@ -3,13 +3,13 @@
 A study is run as ``python -m studies.<name> [--out DIR] [--full]``: fast by default (under a minute
 on a laptop-class core), faithful to the paper with ``--full``.  It writes its figures as PNG and PDF,
 its data as CSV and a ``summary.json``, and prints a short table.  Every file is written to a temporary
-name in the output directory and moved into place when complete (:func:`contin.io.atomic_write`), so an
+name in the output directory and moved into place when complete (:func:`contin.results.io.atomic_write`), so an
 interrupted study never leaves a half-written file behind.  Run through :func:`run_study` (its
 ``__main__`` block), a study behaves like the ``contin`` command: Ctrl-C exits with 130 and one line,
 an output directory that cannot be written with 2 and one paragraph, never a traceback, and no empty
 output directory is left behind.
 
-A study whose cases are independent runs them through an executor (:mod:`contin.executors`):
+A study whose cases are independent runs them through an executor (:mod:`contin.app.executors`):
 ``--workers N`` local processes (1: in the study's process) or ``--scheduler ADDRESS``, a Dask
 cluster (:func:`study_parser` with ``executor_options=True``, then :func:`executor_from_args`); its
 results do not depend on which.
@@ -29,9 +29,9 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from contin.executors import Executor, ExecutorError, make_executor
-from contin.io import OutputDirectory, OutputError, atomic_write, json_ready
-from contin.scene import SceneError
+from contin.app.executors import Executor, ExecutorError, make_executor
+from contin.app.scene import SceneError
+from contin.results.io import OutputDirectory, OutputError, atomic_write, json_ready
 from contin_models.shell.boundaries import depth_parameter
 
 __all__ = ["study_parser", "executor_from_args", "output_dir", "run_study", "save_figure", "save_figures", "write_csv",
@@ -99,7 +99,7 @@ def executor_from_args(args: argparse.Namespace, default_workers: int | None = N
 
     Returns
     -------
-    contin.executors.Executor
+    contin.app.executors.Executor
         Serial for one worker, a local process pool for more, a Dask executor for ``--scheduler``.
 
     Raises
@@ -151,7 +151,7 @@ def output_dir(path: str | os.PathLike) -> Path:
 def run_study(main: Callable[..., int | None], argv: Sequence[str] | None = None) -> int:
     """Run a study's ``main`` as the ``contin`` command runs: the exit status, and no traceback for the user.
 
-    The study's figures are drawn in the project's style (:func:`contin.style.use`).
+    The study's figures are drawn in the project's style (:func:`contin.plot.style.use`).
 
     Parameters
     ----------
@@ -174,9 +174,9 @@ def run_study(main: Callable[..., int | None], argv: Sequence[str] | None = None
     else:
         prog = os.path.basename(sys.argv[0]) if main.__module__ == "__main__" else main.__module__
         prog = prog if prog and not prog.startswith("-") else "study"  # python -c gives argv[0] = "-c"
-    from contin import style
+    from contin.plot import style
 
-    style.use()  # every figure of the study in the project's look (contin/style.py)
+    style.use()  # every figure of the study in the project's look (contin/plot/style.py)
     try:
         status = main() if argv is None else main(argv)
         return int(status or 0)
@@ -221,12 +221,12 @@ def write_csv(path: str | os.PathLike, rows: Sequence[dict[str, Any]], columns: 
 def save_figure(fig: Any, out: str | os.PathLike, stem: str) -> list[Path]:
     """Save a matplotlib figure as ``<stem>.png`` and ``<stem>.pdf`` in ``out`` (atomically) and close it.
 
-    In the project's style (:mod:`contin.style`, made the process' default by :func:`run_study`): the
+    In the project's style (:mod:`contin.plot.style`, made the process' default by :func:`run_study`): the
     command line's resolution, no creation date in the PDF, cropped to the drawing.
     """
     import matplotlib.pyplot as plt
 
-    from contin import style
+    from contin.plot import style
 
     def draw(ext: str) -> Callable[[Any], None]:
         meta = {"CreationDate": None} if ext == "pdf" else {"Software": None}

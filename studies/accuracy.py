@@ -74,7 +74,7 @@ import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
 from contin.palc import Curve, Settings  # noqa: E402
-from contin.style import WIDTH  # noqa: E402
+from contin.plot.style import WIDTH  # noqa: E402
 from contin_models.shell import ShellPointLoad  # noqa: E402
 from contin_models.shell.boundaries import BoundaryCurve, bistable_boundary, monotonous_boundary  # noqa: E402
 from studies._common import (clearest_offset, output_dir, print_table, save_figure, say, study_parser,  # noqa: E402
@@ -909,7 +909,7 @@ def plot(res: dict[str, Any], out: Any) -> None:
     import matplotlib.pyplot as plt
 
     rows, S = res["rows"], res["summary"]
-    # a page wide (contin.style.WIDTH): the three panels one above the other, on one time axis (the panels
+    # a page wide (contin.plot.style.WIDTH): the three panels one above the other, on one time axis (the panels
     # keep the width of their time axis, where the runs crowd), the legend under them
     fig, axes = plt.subplots(3, 1, figsize=(WIDTH, 8.4), sharex=True, layout="constrained")
     all_rows = lambda r: True  # noqa: E731

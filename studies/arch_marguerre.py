@@ -160,7 +160,7 @@ def plot(rows: Sequence[dict[str, Any]], krows: Sequence[dict[str, Any]], paths:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin.style import WIDTH
+    from contin.plot.style import WIDTH
 
     # a column of three at a page's width; a row each, so that (b)'s legend beside it narrows no other panel
     fig = plt.figure(figsize=(WIDTH, 8.4), layout="constrained")

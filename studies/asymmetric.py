@@ -7,7 +7,7 @@ For each ``lambda = 2 (3 (1 - nu^2))^(1/4) sqrt(H/h)`` (exact rise ``H = R (1 - 
 :func:`studies.classical.clamped_cap`) a clamped cap of ``R/h = 100``, ``nu = 1/3`` (the published
 table's cap) is traced under pressure control from ``p = 0`` with the harmonic blocks ``n = 1 ..
 n_max`` watched (:class:`contin_models.shell.ShellOfRevolution` with ``harmonics = default_harmonics``,
-engine :mod:`contin.modes`), stopping at the first of an axisymmetric fold or a bifurcation:
+engine :mod:`contin.watch.modes`), stopping at the first of an axisymmetric fold or a bifurcation:
 
 - **first instability**: its kind, ``p_cr / p_c`` and the wave number ``n``, against Huang (1964) and
   Teng & Rotter (1989b, Table 3) (the ``HUANG_1964`` and ``TENG_ROTTER_1989B`` tables below);
@@ -59,7 +59,7 @@ import numpy as np  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 
 import contin  # noqa: E402
-from contin.stability import stability_info  # noqa: E402
+from contin.numerics.stability import stability_info  # noqa: E402
 from contin_models.shell.pressure import cap_lambda  # noqa: E402
 from contin_models.shell.structure import ShellOfRevolution, default_harmonics  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
@@ -193,7 +193,7 @@ def bisect_block(pr: ShellOfRevolution, n: int, pA: float, uA: np.ndarray, pB: f
     """The pressure in ``(pA, pB)`` where block ``n`` loses positive definiteness, by bisection on its inertia.
 
     Equilibria at fixed ``p`` by Newton from the linear interpolation of the bracketing states (valid while the
-    path is monotonic in ``p``, i.e. before its first fold).  Independent of :mod:`contin.modes`' location
+    path is monotonic in ``p``, i.e. before its first fold).  Independent of :mod:`contin.watch.modes`' location
     (no eigenvalue, no arclength segment): only the residual, the Jacobian and the block's ``L D L^T`` inertia.
     """
     n_A, n_B = _negative(pr, n, uA, pA), _negative(pr, n, uB, pB)
@@ -321,11 +321,11 @@ def plot_lambda(rows: Sequence[dict[str, Any]], snaps: dict[float, float | None]
     """Three panels against lambda: (a) ``p/p_c`` of the axisymmetric snap and of the first bifurcation (its
     ``n`` annotated) with the published values; (b) the difference to them in per cent, at R/h = 100 and near
     the shallow limit; (c) the critical ``n``."""
-    from contin import style
+    from contin.plot import style
 
     plt = _plt()
     blue, orange, green = style.COLORS[0], style.COLORS[1], style.COLORS[2]
-    # a page's width (contin.style.WIDTH): printable as saved, its texts at the style's sizes
+    # a page's width (contin.plot.style.WIDTH): printable as saved, its texts at the style's sizes
     fig, (ax, axd, axn) = plt.subplots(3, 1, figsize=(style.WIDTH, 8.3), sharex=True,
                                        gridspec_kw={"height_ratios": [2.2, 1.25, 1.2]})
     sel = sorted((r for r in rows if r["N"] == N and r["R_over_h"] == R_OVER_H and r["nu"] == NU),

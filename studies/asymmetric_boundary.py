@@ -10,7 +10,7 @@ bisects for a few points).  Here the boundary is traced as a curve in the paper'
 
 * the **boundary function** of a cap is ``B = (w_n - w_Fmax) / R``: ``w_n`` the pole deflection at which
   the block of wave number ``n`` first becomes singular along the displacement-controlled path (located
-  by the engine, :mod:`contin.modes`, watching that block only), ``w_Fmax`` where the force is largest
+  by the engine, :mod:`contin.watch.modes`, watching that block only), ``w_Fmax`` where the force is largest
   (a located extremum).  Both are smooth functions of the cap's parameters, so the boundary ``B = 0`` is
   a smooth curve;
 * it is **continued** by the engine itself: :func:`contin.continuation` on the scalar problem
@@ -42,7 +42,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin.scene import load_scene  # noqa: E402
+from contin.app.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCHEMA  # noqa: E402
 from contin_models.shell_scene.build import end_of_path, point_problem, point_settings  # noqa: E402
 from studies._common import output_dir, print_table, run_study, save_figure, say, study_parser, write_csv, write_json  # noqa: E402
@@ -171,7 +171,7 @@ def plot(curve: Sequence[dict[str, Any]], mesh: Sequence[dict[str, Any]], n: int
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin import style as look
+    from contin.plot import style as look
 
     fig, ax = plt.subplots(figsize=(look.WIDTH, 4.8))  # a page's width: printable as saved
     ff = np.linspace(0.45, 1.5, 200)

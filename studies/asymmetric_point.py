@@ -37,7 +37,7 @@ from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from contin.scene import load_scene  # noqa: E402
+from contin.app.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCHEMA  # noqa: E402
 from contin_models.shell_scene.scene import classify_scene  # noqa: E402
 from contin_models.shell_scene.schema import minimum_nodes  # noqa: E402
@@ -99,11 +99,11 @@ def plot(rows: Sequence[dict[str, Any]], boundary: Sequence[dict[str, Any]] = ()
 
     from matplotlib.ticker import FixedFormatter, FixedLocator, NullLocator
 
-    from contin import style
+    from contin.plot import style
 
     before_f, before_w, none = style.RED, style.COLORS[4], style.COLORS[0]
 
-    # a page's width (contin.style.WIDTH), two panels of about 2.8 in: printable as saved
+    # a page's width (contin.plot.style.WIDTH), two panels of about 2.8 in: printable as saved
     fig, axes = plt.subplots(1, 2, figsize=(style.WIDTH, 3.7), sharey=True, layout="constrained")
     markers = {"monotonous": "o", "monostable": "s", "bistable": "D", None: "x"}
     h_values = sorted({r["h_over_R"] for r in rows})

@@ -43,7 +43,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from contin.linalg import SingularMatrixError
+from contin.numerics.linalg import SingularMatrixError
 from contin.problem import NonFiniteError, Problem
 
 __all__ = ["NewtonFailure", "SolveCounts", "newton", "LimitResult", "natural_parameter_limit",

@@ -30,9 +30,9 @@ from concurrent.futures import ProcessPoolExecutor  # noqa: E402
 from typing import Any  # noqa: E402
 
 import contin  # noqa: E402
-from contin.scene import load_scene  # noqa: E402
+from contin.app.scene import load_scene  # noqa: E402
 from contin_models.contact.indentation import ShellIndentation  # noqa: E402
-from contin.quasistatic import leave_fold  # noqa: E402
+from contin.analyses.quasistatic import leave_fold  # noqa: E402
 from contin_models.shell_scene import SHELL_SCHEMA, contact_problem, contact_settings  # noqa: E402
 from contin_models.shell_scene.contact import MAX_SNAPS, contact_mode, snap_event, snap_point, snap_rules  # noqa: E402
 

@@ -6,9 +6,10 @@ The default scene is traced in-process with warm imports (one untimed run first)
 runs every call of the shell's generated element kernels (:mod:`contin_models.shell._generated`) and of
 the LAPACK routines the trace uses (``dgbtrf``, ``dgbtrs``, ``dpbtrf``, ``dgttrf``, ``dgttrs``) is
 counted and timed by a wrapper, and so is every call of the engine's C banded factorizations
-(``contin._banded``: the stability counts' pivot-free ``L D L^T``, the tridiagonal LU) where built.  Their sum is the time the trace would take if everything around
-them cost nothing: the floor for this work with these kernels.  The table gives, per routine, the
-calls and the time of the median run, and the trace's wall time beside the floor.
+(``contin.numerics._banded``: the stability counts' pivot-free ``L D L^T``, the tridiagonal LU) where
+built.  Their sum is the time the trace would take if everything around them cost nothing: the floor for
+this work with these kernels.  The table gives, per routine, the calls and the time of the median run,
+and the trace's wall time beside the floor.
 """
 
 from __future__ import annotations
@@ -50,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
 
     from scipy.linalg import lapack
 
-    from contin.scene import load_scene
+    from contin.app.scene import load_scene
     from contin_models import shell_scene
     from contin_models.shell.energy import kernels as gen
 
@@ -61,7 +62,7 @@ def main(argv: list[str] | None = None) -> int:
         setattr(gen, name, _timed(getattr(gen, name), name, calls, seconds))
     for name in LAPACK:
         setattr(lapack, name, _timed(getattr(lapack, name), name, calls, seconds))
-    from contin.linalg import banded_extension
+    from contin.numerics.linalg import banded_extension
 
     banded = banded_extension()
     if banded is not None:  # looked up on the module at each call, like the LAPACK routines

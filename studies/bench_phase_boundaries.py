@@ -39,7 +39,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from contin.sweep import run_sweep, sweep_scenes  # noqa: E402
+from contin.app.sweep import run_sweep, sweep_scenes  # noqa: E402
 from contin_models.shell_scene import SHELL_SCHEMA  # noqa: E402
 from studies.bench_side_by_side import ROOT, _import_path  # noqa: E402
 from studies.phase_diagram import PHI_RANGE  # noqa: E402

@@ -27,7 +27,7 @@ import json  # noqa: E402
 import statistics  # noqa: E402
 from typing import Any  # noqa: E402
 
-from contin.scene import load_scene  # noqa: E402
+from contin.app.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE  # noqa: E402
 from studies._common import alternate_timings, write_text  # noqa: E402
 

@@ -7,7 +7,7 @@ What is measured (wall time, BLAS single-threaded, medians of ``--repeat`` runs)
 * ``trace``: the model runner alone, in-process with warm imports: the whole connected path from
   w = 0 to eversion, every fold in w and every extremum of F located, the Morse index under both
   controls at every stored point, the classification.  This is the cost the issue's target refers to.
-* ``trace + outputs``: :func:`contin.cli.main` in-process (adds ``summary.json``, ``branch.csv`` and
+* ``trace + outputs``: :func:`contin.app.cli.main` in-process (adds ``summary.json``, ``branch.csv`` and
   the figure; matplotlib already imported).
 * ``start-up``: a fresh ``contin --help`` process (interpreter, imports, argument parsing), and one
   cold ``contin trace`` process for the default scene, reported separately.
@@ -36,8 +36,8 @@ import tempfile  # noqa: E402
 import time  # noqa: E402
 from typing import Any  # noqa: E402
 
-from contin.cli import main as cli_main  # noqa: E402
-from contin.scene import load_scene  # noqa: E402
+from contin.app.cli import main as cli_main  # noqa: E402
+from contin.app.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE  # noqa: E402
 from studies._common import write_text  # noqa: E402
 
@@ -80,7 +80,7 @@ def bench_size(N: int, repeat: int) -> dict[str, Any]:
 def bench_startup(repeat: int) -> dict[str, Any]:
     """Fresh-process costs: ``contin --help`` and one cold ``contin trace`` of the default scene."""
     exe = shutil.which("contin")
-    cmd = [exe] if exe else [sys.executable, "-m", "contin.cli"]
+    cmd = [exe] if exe else [sys.executable, "-m", "contin.app.cli"]
     t_help, runs, _ = _median_time(lambda: subprocess.run(cmd + ["--help"], capture_output=True, check=True), repeat)
     out_dir = tempfile.mkdtemp(prefix="bench_shell_cold_")
     try:
@@ -100,7 +100,7 @@ def render(data: dict[str, Any]) -> str:
         f"Produced by `python -m studies.bench_shell_trace --repeat {data['repeat']}` ({data['machine']}; "
         "medians; BLAS single-threaded).  *trace*: the model runner in-process with warm imports (the whole "
         "connected path to eversion, every fold in w and extremum of F located, the Morse index under both "
-        "controls at every stored point, the classification).  *trace + outputs*: `contin.cli.main` "
+        "controls at every stored point, the classification).  *trace + outputs*: `contin.app.cli.main` "
         "in-process, adding summary.json, branch.csv and the figure.",
         "",
         "| N | trace (median) | trace + outputs | steps | rejected | factorizations | special points | F_max | class |",

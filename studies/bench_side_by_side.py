@@ -42,7 +42,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: the tree uses (before issue 14 the package was ``models`` and the scene ``contin_models.shell.scene``).
 CHILD = r"""
 import importlib, json, time
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 for name in ("models.shell.scene", "contin_models.shell_scene"):  # the baseline tree first: its own copy
     try:
         module = importlib.import_module(name)

@@ -104,8 +104,8 @@ def plot(curves: dict[str, dict[str, Any]]) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin.diagram import smooth_path
-    from contin.style import COLORS, WIDTH
+    from contin.plot.branches import smooth_path
+    from contin.plot.style import COLORS, WIDTH
 
     colors = {"point": COLORS[0], "ring": COLORS[1]}
     fig, ax = plt.subplots(figsize=(WIDTH, 4.0), layout="constrained")

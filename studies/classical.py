@@ -76,7 +76,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin.diagram import smooth_path  # noqa: E402
+from contin.plot.branches import smooth_path  # noqa: E402
 from contin_models.shell.pressure import ShellPressure, cap_lambda, phi_hat_for_lambda  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
                              write_csv, write_json)
@@ -352,7 +352,7 @@ def _plt() -> Any:
 
 def plot_snap(rows: Sequence[dict[str, Any]], finest: int, fine: Sequence[dict[str, Any]]) -> Any:
     """``p_snap / p_c`` against ``lambda`` at each R/h (finest mesh), the fine scan and the published values."""
-    from contin.style import COLORS, GREY, WIDTH
+    from contin.plot.style import COLORS, GREY, WIDTH
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(WIDTH, 4.4), layout="constrained")
@@ -418,8 +418,8 @@ def plot_shallow(limit: Sequence[dict[str, Any]]) -> Any:
     Above all depths; below the detail near ``h/R = 0``, where the thinnest cap (``h/R = 1e-4``) and the
     extrapolated limit lie a marker's width apart on the upper panel's scale.
     """
-    from contin.framing import show_detail
-    from contin.style import WIDTH
+    from contin.plot.framing import show_detail
+    from contin.plot.style import WIDTH
 
     plt = _plt()
     # a column: side by side at a page's width the detail would be 2.2 in wide
@@ -474,7 +474,7 @@ def _smooth(c: dict[str, Any], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
 
 def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) -> Any:
     """``p/p_c`` against pole and average deflection, and the deflected shape at the first fold."""
-    from contin.style import WIDTH
+    from contin.plot.style import WIDTH
 
     plt = _plt()
     # the two load-deflection panels side by side (one ordinate), the shapes at the snap below them
@@ -515,7 +515,7 @@ def plot_curves(curves: dict[float, dict[str, Any]], shapes: Sequence[float]) ->
 
 def plot_bathe(curve: dict[str, Any]) -> Any:
     """The Bathe cap: our load-deflection curve against the two published ones."""
-    from contin.style import COLORS, RED, WIDTH
+    from contin.plot.style import COLORS, RED, WIDTH
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(WIDTH, 4.2), layout="constrained")

@@ -43,7 +43,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin.stability import stability_info  # noqa: E402
+from contin.numerics.stability import stability_info  # noqa: E402
 from contin_models.shell.geometry import POLE_RATIO  # noqa: E402
 from contin_models.shell.meridian import complete_sphere_meridian  # noqa: E402
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure  # noqa: E402
@@ -169,7 +169,7 @@ def plot(membrane: Sequence[dict[str, Any]], bifurcation: Sequence[dict[str, Any
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FixedFormatter, FixedLocator, NullFormatter, NullLocator
 
-    from contin.style import COLORS, GREY, WIDTH, marker_style
+    from contin.plot.style import COLORS, GREY, WIDTH, marker_style
 
     # one above the other at a page's width, each legend right of its panel
     fig, (a, b) = plt.subplots(2, 1, figsize=(WIDTH, 6.2), layout="constrained")

@@ -59,9 +59,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin import style  # noqa: E402
-from contin.diagram import smooth_path, stability_pieces  # noqa: E402
-from contin.scene import TraceResult, load_scene  # noqa: E402
+from contin.app.scene import TraceResult, load_scene  # noqa: E402
+from contin.plot import style  # noqa: E402
+from contin.plot.branches import smooth_path, stability_pieces  # noqa: E402
 from contin_models.shell.problem import ShellPointLoad  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA, eversion_displacement, point_problem, point_settings  # noqa: E402
 from studies._common import (clearest_offset, output_dir, print_table, save_figure, say, shell_lambda,  # noqa: E402
@@ -103,7 +103,7 @@ def case_overrides(phi_hat: float, h_over_R: float, N: int, steps: int = STEPS_F
     Returns
     -------
     list of str
-        ``section.key=value`` strings for :func:`contin.scene.load_scene`.
+        ``section.key=value`` strings for :func:`contin.app.scene.load_scene`.
     """
     ds = eversion_displacement(1.0, phi_hat) / steps
     return [f"shell.phi_hat={phi_hat!r}", f"shell.h={h_over_R!r}", f"shell.N={N}", "shell.R=1.0",
@@ -117,7 +117,7 @@ def case_scene(phi_hat: float, h_over_R: float, N: int, steps: int = STEPS_FULL)
 
 def _stability_pieces(br: contin.Branch) -> list[tuple[np.ndarray, np.ndarray, bool | None]]:
     """``w/R`` and ``F_norm`` of a path drawn smooth, in runs of equal displacement stability that change at
-    the located special points (:func:`contin.diagram.stability_pieces`)."""
+    the located special points (:func:`contin.plot.branches.stability_pieces`)."""
     return stability_pieces(br.observables["w_over_R"], br.observables["F_norm"], br.tangent("w_over_R"),
                             br.tangent("F_norm"), br.s, br.stable_under("displacement"),
                             [sp.s for sp in br.special_points if sp.located])

@@ -10,7 +10,7 @@ scenes at random (seeded, so a run is reproducible) over the ranges a user may s
   [0.1, 0.9] of the edge's radius, sphere radius log-uniform in [0.2, 3] R), ``load.control``
   displacement or force, each equally likely (for a pressure: volume or pressure control).
 
-Each scene runs as ``contin trace`` does (in-process, through :func:`contin.cli.main`), with the
+Each scene runs as ``contin trace`` does (in-process, through :func:`contin.app.cli.main`), with the
 figure off.  A scene *completes* when the command exits 0; it is *refused* when the scene lies
 outside the declared ranges (exit 2: e.g. a mesh too coarse for the cap's bending length, the rule
 ``shell.N >= 4 (pi/2 - phi_hat) / sqrt(h/R)``), and a refused scene is not judged; otherwise it
@@ -111,7 +111,7 @@ def cause_of(message: str) -> str:
 
 def run_scene(scene: dict[str, Any]) -> dict[str, Any]:
     """Trace one drawn scene as ``contin trace`` does and return its row."""
-    from contin.cli import main as contin_main
+    from contin.app.cli import main as contin_main
 
     argv = ["trace", "-q", "--set", "output.figure=false"]
     for key, value in scene.items():
@@ -191,7 +191,7 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin import style
+    from contin.plot import style
 
     fig, ax = plt.subplots(figsize=(style.WIDTH, 3.7))  # a page's width: printable as saved
     markers = {"point": "o", "ring": "D", "sphere": "s", "plate": "^", "pressure": "P"}

@@ -67,7 +67,7 @@ import numpy as np  # noqa: E402
 from scipy.interpolate import CubicSpline  # noqa: E402
 from scipy.optimize import brentq  # noqa: E402
 
-from contin.style import WIDTH  # noqa: E402
+from contin.plot.style import WIDTH  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figures, say, study_parser,  # noqa: E402
                              write_csv, write_json)
 from studies.indenter_size import GAP_TOL_FACTOR, free_snap_state, locate_transition, resting_sphere  # noqa: E402
@@ -480,7 +480,7 @@ def _fig9(res: dict[str, Any]) -> Any:
     base, S = res["base"], res["summary"]
     m = base["model"]
     nc = m["curves"]
-    # a page wide (contin.style.WIDTH), (a) above (b): side by side, (a) would be too narrow for its note
+    # a page wide (contin.plot.style.WIDTH), (a) above (b): side by side, (a) would be too narrow for its note
     fig, (a, b) = plt.subplots(2, 1, figsize=(WIDTH, 8.0), layout="constrained",
                                gridspec_kw={"height_ratios": (1.0, 1.45)})
     keep = nc["s"] < 0.98 * nc["s_crest"]
@@ -561,7 +561,7 @@ def _fig10(res: dict[str, Any]) -> Any:
 
     cases = [c for c in res["h_cases"] if c["bistable"]]
     fits = res["summary"]["fits"]
-    # a page wide (contin.style.WIDTH), (a) above (b): side by side, the legends would cover the curves
+    # a page wide (contin.plot.style.WIDTH), (a) above (b): side by side, the legends would cover the curves
     fig, (a, b) = plt.subplots(2, 1, figsize=(WIDTH, 6.6), layout="constrained")
     for k, c in enumerate(cases):
         col = plt.cm.viridis(k / max(len(cases) - 1, 1))
@@ -591,7 +591,7 @@ def _fig11(res: dict[str, Any]) -> Any:
 
     cases = [c for c in res["phi_cases"] if c["bistable"]]
     S = res["summary"]
-    # a page wide (contin.style.WIDTH): the shapes in the left column, the critical sizes in the right one,
+    # a page wide (contin.plot.style.WIDTH): the shapes in the left column, the critical sizes in the right one,
     # each column's legend (the same for both its panels) under it, where it hides no curve
     fig, axes = plt.subplots(2, 2, figsize=(WIDTH, 7.9), layout="constrained")
     (a, b), (c_, d) = axes

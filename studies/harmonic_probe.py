@@ -16,8 +16,8 @@ Run ``python -m studies.harmonic_probe [--checks] [--cost] [--ring] [--sphere] [
     ``phi_hat = 0.8``, sliding) for each ``N``: the first block at a new state (local Hessians and the
     band coefficients of their polynomial in ``n``, shared by every ``n``), a further block
     (``n = 5``, state cached), its count and eigenvalue estimate as along a branch
-    (:func:`contin.modes.count_and_lowest`) and its two eigenvalues nearest zero as at a located
-    bifurcation (:func:`contin.modes.eigenvalues_near_zero`), beside the traced model's Hessian.
+    (:func:`contin.watch.modes.count_and_lowest`) and its two eigenvalues nearest zero as at a located
+    bifurcation (:func:`contin.watch.modes.eigenvalues_near_zero`), beside the traced model's Hessian.
 ``--ring``
     The ring mesh of ``M`` sectors (:func:`ring_mesh_block`) against the blocks, clamped cap
     ``N = 10`` under pressure at a perturbed axisymmetric state: max relative difference per
@@ -132,7 +132,7 @@ def checks() -> None:
 
 
 def cost(Ns) -> None:
-    from contin.modes import count_and_lowest, eigenvalues_near_zero
+    from contin.watch.modes import count_and_lowest, eigenvalues_near_zero
 
     print("cost (ms), default cap, sliding: per state (local Hessians and the band coefficients of the polynomial")
     print("in n, shared by every n), per further block (n = 5, state cached), its count and eigenvalue estimate")
@@ -225,8 +225,8 @@ def sphere(Ns=(201, 301, 401), n_max: int = 30) -> None:
 
 def weyl(every: int = 3, keys: tuple[int, ...] = (1, 2, 5, 9, 13)) -> None:
     """``--weyl``: the blocks' change between consecutive points against their eigenvalue nearest zero."""
-    from contin import modes
-    from contin.scene import load_scene
+    from contin.watch import modes
+    from contin.app.scene import load_scene
     from contin_models.shell_scene import SHELL_SCENE
 
     per_point: list[list[Any]] = []

@@ -72,7 +72,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin.stability import stability_info  # noqa: E402
+from contin.numerics.stability import stability_info  # noqa: E402
 from contin_models.shell.meridian import (complete_sphere_meridian, dimple_width, spherical_cap_meridian,  # noqa: E402
                                           with_dimple, with_mode)
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure  # noqa: E402
@@ -316,7 +316,7 @@ def plot(rows: Sequence[dict[str, Any]]) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin.style import COLORS, RED, WIDTH
+    from contin.plot.style import COLORS, RED, WIDTH
 
     # side by side at a page's width (one ordinate), the legend under both panels
     fig, axes = plt.subplots(1, 2, figsize=(WIDTH, 4.3), sharey=True, layout="constrained")

@@ -42,7 +42,7 @@ paths), ``bisection.csv`` (every run of the bisections) and ``summary.json`` (``
 and the checks).  The default run takes about 15 s on one core; ``--full`` about a minute on two.
 
 The contact runs (the radii, then each round of a bisection) go through an executor
-(:mod:`contin.executors`): ``--workers K`` local processes (default 1, 2 with ``--full``) or a Dask
+(:mod:`contin.app.executors`): ``--workers K`` local processes (default 1, 2 with ``--full``) or a Dask
 cluster (``--scheduler ADDRESS``).  How many radii a bisection round runs is fixed by the mode
 (:data:`PER_ROUND_FAST`, :data:`PER_ROUND_FULL`), not by the executor, so the outputs (but the wall
 times) are the same whatever runs them.
@@ -67,9 +67,9 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin.executors import Executor, make_executor  # noqa: E402
-from contin.scene import load_scene  # noqa: E402
-from contin.style import WIDTH  # noqa: E402
+from contin.app.executors import Executor, make_executor  # noqa: E402
+from contin.app.scene import load_scene  # noqa: E402
+from contin.plot.style import WIDTH  # noqa: E402
 from contin_models.contact.barrier import ContactCells  # noqa: E402
 from contin_models.shell_scene.contact import contact_mode  # noqa: E402
 from contin_models.shell.problem import ShellPointLoad  # noqa: E402
@@ -266,7 +266,7 @@ def snap_case(r: float, N: int = 200, extra: Sequence[str] = (), keep_path: bool
     if keep_path:
         rec["path"] = {name: np.append(br.observable(name), obs[name]) for name in _PATH_OBS}
         # d/ds along the path where the branch stores them (NaN at the appended snap): the figures draw
-        # the path smooth between stored points with them (contin.diagram.smooth_path)
+        # the path smooth between stored points with them (contin.plot.branches.smooth_path)
         d_F = br.tangent("F_norm")
         rec["path_tangents"] = {
             "s": np.append(br.s, sp.s), "w_b_over_R": np.append(br.tangent_p / R, np.nan),
@@ -320,7 +320,7 @@ def locate_transition(lo: float, hi: float, *, N: int = 200, extra: Sequence[str
         Gap tolerance of the default predicate in units of ``dhat``.
     predicate : callable, optional
         Replaces the default predicate.
-    executor : contin.executors.Executor, optional
+    executor : contin.app.executors.Executor, optional
         Where the runs go (default: this process).
     workers : int
         Radii per round.
@@ -403,7 +403,7 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200,
         No progress lines on stderr.
     N : int
         Nodes on the meridian.
-    executor : contin.executors.Executor, optional
+    executor : contin.app.executors.Executor, optional
         Where the contact runs go (not closed here); the results do not depend on it.
 
     Returns
@@ -533,8 +533,8 @@ def run(full: bool = False, workers: int = 1, quiet: bool = True, N: int = 200,
 # ---------------------------------------------------------------------------------------------------
 def _smooth_path_of(d: dict[str, Any], y: str) -> tuple[np.ndarray, np.ndarray]:
     """A case's loading path ``(w_b/R, y)``, each piece between stored points a cubic through both with the
-    path's stored direction (:func:`contin.diagram.smooth_path`); straight where no tangent is stored."""
-    from contin.diagram import smooth_path
+    path's stored direction (:func:`contin.plot.branches.smooth_path`); straight where no tangent is stored."""
+    from contin.plot.branches import smooth_path
 
     p, t = d["path"], d.get("path_tangents")
     if t is None or y not in t:
@@ -546,7 +546,7 @@ def _fig6(res: dict[str, Any]) -> Any:
     import matplotlib.pyplot as plt
 
     cases, free, S = res["cases"], res["free"], res["summary"]
-    # a page wide (contin.style.WIDTH), the panels one above the other: side by side, each would be too
+    # a page wide (contin.plot.style.WIDTH), the panels one above the other: side by side, each would be too
     # narrow for its colour bar or its second axis (tight_layout: the colour bar takes its room from (a)
     # alone, next to it, where the constrained layout would align it with the second axis of (b))
     fig, (a, b) = plt.subplots(2, 1, figsize=(WIDTH, 7.4))
@@ -604,7 +604,7 @@ def _fig7(res: dict[str, Any]) -> Any:
     middle = ((min(above, key=lambda c: c["r_over_R"]), ", the first sample above $r_c/R$") if above
               else (nearest(S["r_c_over_R"]), ", the sample nearest $r_c/R$"))
     picks = [(nearest(0.5), ""), middle, (nearest(1.1), "")]
-    # a page wide (contin.style.WIDTH): three panels side by side would be too narrow, so a 2 x 2 grid,
+    # a page wide (contin.plot.style.WIDTH): three panels side by side would be too narrow, so a 2 x 2 grid,
     # the legend in the fourth cell
     fig, grid = plt.subplots(2, 2, figsize=(WIDTH, 4.6), sharey=True, layout="constrained",
                              gridspec_kw={"wspace": 0.06})
@@ -641,7 +641,7 @@ def _fig8(res: dict[str, Any]) -> Any:
 
     cases, free = res["cases"], res["free"]
     sel = [d for d in cases if any(abs(d["r_over_R"] - r) < 1e-9 for r in FIG8_RADII)]
-    # a page wide (contin.style.WIDTH): each row shares its y axis (the same quantity and range), so the
+    # a page wide (contin.plot.style.WIDTH): each row shares its y axis (the same quantity and range), so the
     # panels keep their width, and the legends go under the panels, where they hide no curve
     fig, axes = plt.subplots(2, 2, figsize=(WIDTH, 6.6), sharex="col", sharey="row", layout="constrained")
     fp = free["path"]

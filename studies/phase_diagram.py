@@ -4,7 +4,7 @@ Run ``python -m studies.phase_diagram [--out DIR] [--full] [--workers N]``.
 
 Route (a), the grid (the paper's way): every ``(phi_hat, h/R)`` cell of a grid is classified
 automatically, monotonous / monostable / bistable, from its displacement-controlled path
-(``contin classify`` over a sweep, :mod:`contin.sweep`, in parallel, resumable through ``grid.csv``).
+(``contin classify`` over a sweep, :mod:`contin.app.sweep`, in parallel, resumable through ``grid.csv``).
 
 Route (b), the boundaries (new): the force-control folds are continued in a second parameter
 (:mod:`contin_models.shell.boundaries`).  The bistable/monostable boundary is the fold of the unloaded cap
@@ -47,7 +47,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin.sweep import run_sweep, sweep_scenes  # noqa: E402
+from contin.app.sweep import run_sweep, sweep_scenes  # noqa: E402
 from contin_models.shell.boundaries import BoundaryCurve, bistable_boundary, depth_parameter, monotonous_boundary  # noqa: E402
 from contin_models.shell_scene import SHELL_SCHEMA  # noqa: E402
 from studies._common import output_dir, print_table, save_figure, say, study_parser, write_csv, write_json  # noqa: E402
@@ -205,7 +205,7 @@ def plot(curves: dict[str, BoundaryCurve], rows: list[dict[str, Any]], fits: dic
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin import style
+    from contin.plot import style
 
     colours = {"bistable": style.COLORS[1], "monostable": style.COLORS[0], "monotonous": style.COLORS[2]}
     # a page wide: (a) above (b), on one phi_hat axis

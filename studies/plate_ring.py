@@ -29,7 +29,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin.scene import load_scene  # noqa: E402
+from contin.app.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE, contact_problem  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
                              write_csv, write_json)
@@ -72,7 +72,7 @@ def plot(rows: Sequence[dict[str, Any]], w_b: np.ndarray, F: np.ndarray, F_unit:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin.style import WIDTH
+    from contin.plot.style import WIDTH
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(WIDTH, 3.0), layout="constrained")
     a.plot(w_b, F / F_unit, "-", lw=1.2, color="tab:blue")

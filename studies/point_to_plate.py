@@ -55,7 +55,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from contin.scene import load_scene  # noqa: E402
+from contin.app.scene import load_scene  # noqa: E402
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figure, say, shell_lambda, study_parser,  # noqa: E402
                              write_csv, write_json)
@@ -204,7 +204,7 @@ def _times_ten(v: float) -> str:
 
 def plot_fig12(point: dict[str, Any], plate: dict[str, Any], spheres: list[dict[str, Any]], N: int) -> Any:
     """Figure 12c: the three snap quantities against r/R with the point and plate limits (a column of three)."""
-    from contin import style
+    from contin.plot import style
 
     # a page wide: the three panels one above the other, on one r/R axis
     fig, axes = plt.subplots(3, 1, figsize=(style.WIDTH, 7.2), sharex=True, layout="constrained")

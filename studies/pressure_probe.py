@@ -95,7 +95,7 @@ def plot(curves: Sequence[dict[str, Any]], folds: Sequence[float]) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin import style
+    from contin.plot import style
 
     fig, ax = plt.subplots(figsize=(style.WIDTH, 3.8))  # a page's width: printable as saved
     # straight between stored points: the fold curve's branch stores no tangent of F (FoldCurveProblem

@@ -49,8 +49,8 @@ from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from contin.branch import Branch  # noqa: E402
-from contin.scene import TraceResult, load_scene  # noqa: E402
+from contin.app.scene import TraceResult, load_scene  # noqa: E402
+from contin.results.branch import Branch  # noqa: E402
 from contin_models.shell.strain import STRAIN_LIMIT  # noqa: E402
 from contin_models.shell_scene import contact_problem, point_problem  # noqa: E402
 from studies._common import (executor_from_args, output_dir, print_table, say, study_parser,  # noqa: E402
@@ -218,7 +218,7 @@ def _key_result(result: TraceResult, scene: dict[str, dict[str, Any]]) -> dict[s
 
 
 def _trace(overrides: Sequence[str]) -> tuple[dict[str, dict[str, Any]], TraceResult, float]:
-    from contin.registry import load_model
+    from contin.app.registry import load_model
 
     model = load_model("shell")
     scene = load_scene(model.schema, None, [*overrides, "output.figure=false", "load.control=displacement"])

@@ -54,7 +54,7 @@ import numpy as np  # noqa: E402
 from scipy.optimize import least_squares  # noqa: E402
 
 from contin import continuation, extremum  # noqa: E402
-from contin.linalg import BandedLU  # noqa: E402
+from contin.numerics.linalg import BandedLU  # noqa: E402
 from contin_models.shell import HALF_BANDWIDTH, PoleMirror, ShellPointLoad  # noqa: E402
 from contin_models.shell.geometry import POLE_RATIO  # noqa: E402
 
@@ -362,7 +362,7 @@ def section_reissner() -> None:
 
 def _special_points(sets: Sequence[str], out: Path) -> list[dict]:
     """Special points of ``contin trace --model shell`` at N = 40 with extra ``--set`` options."""
-    from contin.cli import main as cli_main
+    from contin.app.cli import main as cli_main
 
     args = ["trace", "--model", "shell", "-q", "--out", str(out), "--set", "shell.N=40", "--set", "output.figure=false"]
     for s in sets:

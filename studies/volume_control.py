@@ -8,7 +8,7 @@ A clamped shallow cap (``R/h = 400``, ``nu = 0.3``; ``lambda = 7`` and, for cont
 * under **pressure control** (the pressure ``p`` prescribed, :func:`contin.continuation` on the cap),
   past its first limit point in ``p`` (until the pole has moved ``W_PAST`` thicknesses);
 * under **volume control** (the volume change ``dV = V0 - V`` prescribed and ``p`` its Lagrange
-  multiplier: :class:`contin.conjugate.ConjugateControl` through
+  multiplier: :class:`contin.analyses.conjugate.ConjugateControl` through
   :func:`contin_models.shell_scene.pressure.volume_problem`, the construction ``contin trace`` uses for
   ``load.kind = pressure``) until the cap is everted (``dV = 2 V0``) or the pole has moved past eversion.
 
@@ -56,7 +56,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 import contin  # noqa: E402
-from contin.branch import Branch  # noqa: E402
+from contin.results.branch import Branch  # noqa: E402
 from contin_models.shell.pressure import ShellPressure, phi_hat_for_lambda  # noqa: E402
 from contin_models.shell_scene.pressure import VOLUME_LABELS, volume_problem  # noqa: E402
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
@@ -105,7 +105,7 @@ def trace_pressure(cap: ShellPressure) -> Branch:
 
 
 def trace_volume(cap: ShellPressure, crossings: dict[int, float] | None = None
-                 ) -> tuple[contin.conjugate.ConjugateControl, Branch]:
+                 ) -> tuple[contin.analyses.conjugate.ConjugateControl, Branch]:
     """Volume control from ``dV = 0`` to ``DV_END_OVER_V0 V0`` (or the pole past eversion).
 
     Extrema of the multiplier are located as limit points in ``p``; ``crossings`` are volume changes
@@ -312,7 +312,7 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
     light underneath the volume-controlled one
     (they are the same equilibria up to where the pressure trace stops); dotted arrows are the jump of
     each control at its first snap.  Both paths are drawn smooth between their stored points from the
-    stored tangents (:func:`contin.diagram.smooth_path`).
+    stored tangents (:func:`contin.plot.branches.smooth_path`).
     """
     import matplotlib
 
@@ -320,12 +320,12 @@ def plot(runs: Sequence[dict[str, Any]]) -> Any:
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
 
-    from contin import style
-    from contin.diagram import stability_pieces
-    from contin.framing import show_detail
+    from contin.plot import style
+    from contin.plot.branches import stability_pieces
+    from contin.plot.framing import show_detail
 
     c_pressure, c_volume = style.COLORS[4], style.COLORS[0]
-    # a page's width (contin.style.WIDTH) split into one column per cap, printable as saved
+    # a page's width (contin.plot.style.WIDTH) split into one column per cap, printable as saved
     fig, grid = plt.subplots(3, len(runs), figsize=(style.WIDTH, 7.6), squeeze=False, layout="constrained",
                              gridspec_kw={"height_ratios": [1.0, 1.0, 0.26]})
     axes, below = grid[:2], grid[2]  # the bottom row holds the legends: the panels of both columns aligned
@@ -409,7 +409,7 @@ def every_mode(lam: float, N: int) -> list[dict[str, Any]]:
     field changes neither the pressure's work nor the volume to first order, so both controls share
     those blocks and must meet the same bifurcation at the same state.
     """
-    from contin.scene import load_scene
+    from contin.app.scene import load_scene
     from contin_models.shell.pressure import phi_hat_for_lambda
     from contin_models.shell_scene import SHELL_SCENE
 

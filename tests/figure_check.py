@@ -41,8 +41,8 @@ class CapturedFigures:
         self.formats: list[list[str]] = []
 
     def install(self, monkeypatch: Any) -> "CapturedFigures":
-        """Record every figure :func:`contin.style.write` writes."""
-        from contin import style
+        """Record every figure :func:`contin.plot.style.write` writes."""
+        from contin.plot import style
 
         original = style.write
 
@@ -89,7 +89,7 @@ def span_fraction(ax: Any, points: Sequence[tuple[float, float]]) -> tuple[float
 
 
 def write_saved_run(out: Path, summary: dict[str, Any], columns: dict[str, Sequence[float]]) -> Path:
-    """A directory that :func:`contin.saved.load_run` reads as a saved run: ``summary.json`` and ``branch.csv``
+    """A directory that :func:`contin.app.saved.load_run` reads as a saved run: ``summary.json`` and ``branch.csv``
     (``columns``: name -> values, one row per point)."""
     import csv
     import json

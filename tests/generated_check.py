@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from contin.codegen import check_generated
+from contin.modelkit.codegen import check_generated
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -24,7 +24,7 @@ def assert_reproduced(model: str, tmp_path: Path) -> None:
 
     Raises
     ------
-    contin.codegen.GeneratedFileOutOfDate
+    contin.modelkit.codegen.GeneratedFileOutOfDate
         The committed file differs (an AssertionError); the message gives the first differing line
         and names the command that regenerates it.
     """

@@ -35,9 +35,9 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from contin import cli
-from contin.scene import Classification, Field, SceneModel, Schema, TraceResult, can_classify, format_toml_value
-from contin.sweep import SweepError, read_sweep_csv
+from contin.app import cli
+from contin.app.scene import Classification, Field, SceneModel, Schema, TraceResult, can_classify, format_toml_value
+from contin.app.sweep import SweepError, read_sweep_csv
 
 MODELS = ("shell", "bratu", "truss")
 _REAL_LOAD = cli.load_model
@@ -768,7 +768,7 @@ def test_a_rejected_scene_leaves_the_sweep_csv_alone(tmp_path):
 
 # ---- the process ------------------------------------------------------------------------------------------
 def test_bad_input_exits_2_without_a_traceback_as_a_process(tmp_path):
-    """A handful of rejections through ``python -m contin.cli``, run side by side."""
+    """A handful of rejections through ``python -m contin.app.cli``, run side by side."""
     binary = tmp_path / "binary.toml"
     binary.write_bytes(bytes(range(256)))
     garbage = tmp_path / "garbage.csv"
@@ -788,7 +788,7 @@ def test_bad_input_exits_2_without_a_traceback_as_a_process(tmp_path):
     }
     env = {k: v for k, v in os.environ.items() if k != "CONTIN_TRACEBACK"}
     env["MPLBACKEND"] = "Agg"
-    procs = {name: subprocess.Popen([sys.executable, "-m", "contin.cli", *argv], stdout=subprocess.PIPE,
+    procs = {name: subprocess.Popen([sys.executable, "-m", "contin.app.cli", *argv], stdout=subprocess.PIPE,
                                     stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path)
              for name, (argv, _) in cases.items()}
     for name, proc in procs.items():
@@ -811,20 +811,20 @@ def _launcher() -> Any:
 
 
 class _InterruptedImport:
-    """A meta-path finder that raises KeyboardInterrupt on importing ``contin.cli``, as a Ctrl-C there would."""
+    """A meta-path finder that raises KeyboardInterrupt on importing ``contin.app.cli``, as a Ctrl-C there would."""
 
     def find_spec(self, name: str, path: Any = None, target: Any = None) -> None:
-        if name == "contin.cli":
+        if name == "contin.app.cli":
             raise KeyboardInterrupt
         return None
 
 
 def test_ctrl_c_while_the_modules_load_is_an_interrupt_not_a_traceback(capsys):
-    """An interrupt while ``contin.cli`` is imported: 'contin: interrupted' and status 130."""
+    """An interrupt while ``contin.app.cli`` is imported: 'contin: interrupted' and status 130."""
     launcher = _launcher()
     finder = _InterruptedImport()
     with mock.patch.dict(sys.modules):
-        sys.modules.pop("contin.cli", None)
+        sys.modules.pop("contin.app.cli", None)
         sys.meta_path.insert(0, finder)
         try:
             code = launcher.main(["models"])
@@ -836,22 +836,22 @@ def test_ctrl_c_while_the_modules_load_is_an_interrupt_not_a_traceback(capsys):
 
 def test_ctrl_c_at_start_up_as_a_process():
     """SIGINT while the command line's modules load: no traceback; 130 and the interrupt message."""
-    # The signal must land inside the import of contin.cli.  A fixed delay after start-up misses it on a
+    # The signal must land inside the import of contin.app.cli.  A fixed delay after start-up misses it on a
     # busy machine (the import ends first and the command exits 0), so the child announces the moment
-    # its import of contin.scene (which contin.cli imports; numpy no longer loads for 'contin models')
+    # its import of contin.app.scene (which contin.app.cli imports; numpy no longer loads for 'contin models')
     # begins and waits there, inside the real import statement, for the signal.
     stall = ("import sys, time\n"
              "class Stall:\n"
              "    def find_spec(self, name, path=None, target=None):\n"
-             "        if name == 'contin.scene':\n"
+             "        if name == 'contin.app.scene':\n"
              "            sys.meta_path.remove(self)\n"
-             "            print('importing contin.scene', flush=True)\n"
+             "            print('importing contin.app.scene', flush=True)\n"
              "            time.sleep(60)\n"
              "        return None\n"
              "sys.meta_path.insert(0, Stall())\n")
     proc = subprocess.Popen([sys.executable, "-c", stall + LAUNCH, "models"], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, cwd=ROOT)
-    assert proc.stdout.readline() == "importing contin.scene\n"  # inside main(), in the import of contin.cli
+    assert proc.stdout.readline() == "importing contin.app.scene\n"  # inside main(), in the import of contin.app.cli
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert "Traceback" not in err

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import contin
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 from contin_models.benchmarks.bratu import Bratu
 from contin_models.benchmarks.scenes import BRATU_SCHEMA, TRUSS_SCHEMA, build_bratu, build_truss
 from contin_models.benchmarks.truss import VonMisesTruss

@@ -131,10 +131,10 @@ def test_a_tolerance_at_the_roundoff_floor_is_named():
 
 
 def test_a_step_over_which_the_morse_index_jumps_by_two_is_flagged():
-    from contin.curve import Curve, Point
+    from contin.path.curve import Curve, Point
     from contin.palc import _skipped_folds
     from contin.recorder import Recorder
-    from contin.stability import StabilityInfo
+    from contin.numerics.stability import StabilityInfo
 
     truss = VonMisesTruss()
     st = contin.Settings(stability=True)

@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 
 import contin
-from contin import cli
-from contin.scene import Classification, Field, SceneError, SceneModel, Schema, TraceResult, load_scene
-from contin.sweep import WORKER_DIED, SweepError, parse_sweep, read_sweep_csv, run_sweep, sweep_scenes
+from contin.app import cli
+from contin.app.scene import Classification, Field, SceneError, SceneModel, Schema, TraceResult, load_scene
+from contin.app.sweep import WORKER_DIED, SweepError, parse_sweep, read_sweep_csv, run_sweep, sweep_scenes
 
 SHELL_BASE = ["shell.N=30"]
 PHIS = [1.0, 1.2, 1.3]

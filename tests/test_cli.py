@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import contin
-from contin import cli, registry
-from contin.scene import (Classification, SceneError, SceneModel, Schema, TraceResult, can_classify, integer,
+from contin.app import cli, registry
+from contin.app.scene import (Classification, SceneError, SceneModel, Schema, TraceResult, can_classify, integer,
                           load_scene, real)
 
 OUTPUTS = {"summary.json", "branch.csv", "diagram.png", "states.npz"}
@@ -347,8 +347,8 @@ def test_scene_error_is_one_paragraph(tmp_path):
 
 
 def test_scene_error_raised_inside_a_runner_is_bad_input(monkeypatch, capsys, tmp_path):
-    from contin import cli
-    from contin.scene import SceneError
+    from contin.app import cli
+    from contin.app.scene import SceneError
 
     import dataclasses
 
@@ -445,7 +445,7 @@ def test_tables_print_no_negative_zero():
 def test_plot_redraws_and_overlays_saved_runs(tmp_path, capsys):
     """Two saved runs of the bratu model: one re-drawn (PNG, and PDF by the suffix), both overlaid; the branches
     read back are those of branch.csv, with the special points of summary.json."""
-    from contin.saved import load_run
+    from contin.app.saved import load_run
 
     runs = []
     for n in (20, 40):
@@ -484,7 +484,7 @@ def test_plot_refuses_what_it_cannot_draw(tmp_path, capsys, case, needles):
 
 
 def test_an_overlay_names_its_runs_by_the_scene_keys_that_differ(tmp_path):
-    from contin.saved import SavedRun, overlay_labels
+    from contin.app.saved import SavedRun, overlay_labels
 
     def run(name, model, phi, N=200, figure=True):
         scene = {"shell": {"phi_hat": phi, "N": N}, "output": {"figure": figure}}

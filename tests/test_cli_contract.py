@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import contin
-from contin import cli, registry
-from contin.scene import SceneModel, Schema, TraceResult, integer, load_scene
+from contin.app import cli, registry
+from contin.app.scene import SceneModel, Schema, TraceResult, integer, load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -49,7 +49,7 @@ def test_classify_sweep_with_an_indenter_is_refused_before_any_work(tmp_path: Pa
 
 
 def test_run_sweep_refuses_an_indenter(tmp_path: Path) -> None:
-    from contin.sweep import SweepError, run_sweep, sweep_scenes
+    from contin.app.sweep import SweepError, run_sweep, sweep_scenes
 
     model = registry.load_model("shell")
     combos = sweep_scenes(model.schema, [("load.kind", ["plate"])], None, ["shell.N=40"])
@@ -61,11 +61,11 @@ def test_run_sweep_refuses_an_indenter(tmp_path: Path) -> None:
 def test_the_shell_runner_refuses_an_indenter_to_any_caller() -> None:
     model = registry.load_model("shell")
     scene = load_scene(model.schema, None, ["load.kind=sphere", "shell.N=40"])
-    with pytest.raises(contin.scene.SceneError, match="cannot be classified"):
+    with pytest.raises(contin.app.scene.SceneError, match="cannot be classified"):
         model.classify(scene, False)
     from contin_models.shell_scene import classify_scene
 
-    with pytest.raises(contin.scene.SceneError, match="cannot be classified"):
+    with pytest.raises(contin.app.scene.SceneError, match="cannot be classified"):
         classify_scene(scene)
 
 
@@ -195,7 +195,7 @@ def test_help_names_the_default_model_from_the_registry(capsys: pytest.CaptureFi
 
 
 def test_studies_use_the_public_json_conversion() -> None:
-    from contin.io import json_ready
+    from contin.results.io import json_ready
     from studies import _common
 
     assert _common.json_ready is json_ready

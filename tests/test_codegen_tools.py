@@ -1,4 +1,4 @@
-"""The generators' shared toolbox in :mod:`contin.codegen` (issue 15, item 1): packed pair order and the
+"""The generators' shared toolbox in :mod:`contin.modelkit.codegen` (issue 15, item 1): packed pair order and the
 emitted helpers, the stepwise kernel body, row emission and the generator command line."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import pytest
 
 sympy = pytest.importorskip("sympy")
 
-from contin.codegen import (KernelBody, count_operations, emitted_helpers, function_header,  # noqa: E402
+from contin.modelkit.codegen import (KernelBody, count_operations, emitted_helpers, function_header,  # noqa: E402
                             generator_main, kernel_printer, upper_pairs)
 
 

@@ -1,6 +1,6 @@
 """The shell's kernels in C (contin_models.shell._ckernels) against the same kernels in numpy.
 
-The C source is generated from the committed numpy module (contin.codegen.c_extension_text); the
+The C source is generated from the committed numpy module (contin.modelkit.codegen.c_extension_text); the
 extension is built by the package install where a C compiler is found, and the shell falls back on
 numpy elsewhere.  The numbers must not depend on which ran.
 """
@@ -14,7 +14,7 @@ import sys
 import numpy as np
 import pytest
 
-from contin.codegen import c_extension_text
+from contin.modelkit.codegen import c_extension_text
 from contin_models.shell import _generated, _harmonic_generated, harmonic
 from contin_models.shell.energy import COMPILED, compiled_rows, kernels
 
@@ -49,9 +49,9 @@ def test_the_ci_build_has_the_compiled_kernels():
         pytest.skip("only CI, whose machine has a C compiler, must have built the extensions")
     assert COMPILED, "the package install did not build contin_models.shell._ckernels"
     assert harmonic.COMPILED, "the package install did not build contin_models.shell._harmonic_ckernels"
-    from contin import linalg
+    from contin.numerics import linalg
 
-    assert linalg.banded_extension() is not None, "the package install did not build contin._banded"
+    assert linalg.banded_extension() is not None, "the package install did not build contin.numerics._banded"
 
 
 HARMONIC_PER_ELEMENT = ("bend_cur_hessian", "bend_ref_hessian", "stretch_hessian")

@@ -1,4 +1,4 @@
-"""contin.conjugate.ConjugateControl: the load's conjugate displacement prescribed, the load a Lagrange multiplier.
+"""contin.ConjugateControl: the load's conjugate displacement prescribed, the load a Lagrange multiplier.
 
 Small problems with answers derived by hand, then the pressure-loaded cap against its own pressure control.
 
@@ -21,8 +21,8 @@ import scipy.sparse as sp
 
 import contin
 from contin import Problem, continuation
-from contin.conjugate import ConjugateControl, LoadConjugate
-from contin.deadload import DeadLoad
+from contin.analyses.conjugate import ConjugateControl, LoadConjugate
+from contin.analyses.deadload import DeadLoad
 from contin.problem import Constrained, LeadingBlock
 from tests.test_deadload import TiedTruss
 
@@ -254,7 +254,7 @@ def test_constrained_count_survives_a_singular_leading_block() -> None:
     d = np.linspace(0.0, 3.0, n)  # one exactly zero eigenvalue
     H = sp.diags(d).tocsr()
     a = np.ones(n)
-    K = contin.deadload.bordered_matrix(H, a, 0.0)
+    K = contin.analyses.deadload.bordered_matrix(H, a, 0.0)
     P = Problem(residual=lambda u, p: u, symmetric=True,
                 stability_operators={"c": Constrained(lambda u, p: K), "f": LeadingBlock("c", -1)})
     counts = {k: v.n_negative for k, v in P.stability(np.zeros(n + 1), 0.0).items()}

@@ -20,7 +20,7 @@ import pytest
 import scipy.sparse as sp
 
 import contin
-from contin.linalg import SingularMatrixError
+from contin.numerics.linalg import SingularMatrixError
 from contin_models.contact import Sphere
 from contin_models.contact.indentation import BorderedBandedLU, ShellIndentation, ShellIndentationForce
 
@@ -298,7 +298,7 @@ def test_step_filter_includes_the_indenter_travel():
 def test_a_thin_shallow_cap_under_a_forced_sphere_reaches_the_end_of_travel():
     """The fuzz study's scene 11 (docs/robustness.md): with the load weighed by the cap's depth, the
     loading of the everted shell pressed on the sphere ran out of the scene's 3000 steps."""
-    from contin.scene import load_scene
+    from contin.app.scene import load_scene
     from contin_models.shell_scene import SHELL_SCENE
 
     scene = load_scene(SHELL_SCENE.schema, None, [

@@ -25,7 +25,7 @@ import pytest
 import scipy.linalg as sl
 
 import contin
-from contin.cli import main as cli_main
+from contin.app.cli import main as cli_main
 from contin_models.contact import Plate, Sphere
 from contin_models.contact.indentation import ShellIndentation
 from contin_models.contact.release import ReleaseFoldError, locate_release_fold

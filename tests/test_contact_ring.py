@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.cli import main as cli_main
+from contin.app.cli import main as cli_main
 from contin_models.contact import Plate
 from contin_models.contact.indentation import ShellIndentation
 
@@ -87,10 +87,10 @@ def test_stability_counts_at_the_dimple_fold_of_a_fine_mesh(monkeypatch):
     """At the located dimple fold of N = 400 the bordered matrix has a vanishing pivot.  The
     pivot-free L D L^T of the bordered matrix either counts it or declines (its growth check; with the
     contact at the nodes it declined here); the engine then counts the banded leading block and adds
-    the sign of the Schur complement (:func:`contin.stability.nested_inertias`), which is what the
+    the sign of the Schur complement (:func:`contin.numerics.stability.nested_inertias`), which is what the
     declared ``LeadingBlock`` gives anywhere else.  Both ways must give the same counts."""
-    import contin.stability
-    from contin.stability import leading_inertias
+    import contin.numerics.stability
+    from contin.numerics.stability import leading_inertias
 
     P = ShellIndentation(N=400, indenter=Plate())
     assert isinstance(P._stability_operators["displacement"], contin.LeadingBlock)
@@ -106,6 +106,6 @@ def test_stability_counts_at_the_dimple_fold_of_a_fine_mesh(monkeypatch):
     # away from the fold both ways count the same (stable under both controls on the way up)
     k = len(br.p) // 2
     expected = leading_inertias(P._op_force(br.u[k], br.p[k]), (n, n + 1))
-    monkeypatch.setattr(contin.stability, "leading_inertias", lambda H, sizes: None)
+    monkeypatch.setattr(contin.numerics.stability, "leading_inertias", lambda H, sizes: None)
     by_schur = {label: info.n_negative for label, info in P.stability(br.u[k], br.p[k]).items()}
     assert by_schur == {"displacement": expected[0], "force": expected[1]}

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import contin
-from contin.cli import main
+from contin.app.cli import main
 from contin_models.contact import Sphere
 from contin_models.contact.indentation import ShellIndentation
 from contin_models.shell_scene.contact import SNAP_FORCE_NORM

@@ -8,12 +8,13 @@ import numpy as np
 import pytest
 
 import contin
-from contin.corrector import Correction, correct
-from contin.curve import CorrectorFailure, Curve, Point
-from contin.segment import Segment
+from contin.path.corrector import Correction, correct
+from contin.path.curve import CorrectorFailure, Curve, Point
+from contin.path.segment import Segment
+from contin.path.stepsize import StepController
 from contin.settings import Settings
-from contin.stepsize import StepController
-from contin.testfunctions import BranchPointTest, EventTest, FoldTest, test_functions
+from contin.watch.testfunctions import BranchPointTest, EventTest, FoldTest
+from contin.watch.watchlist import test_functions
 
 
 def _parabola() -> contin.Problem:

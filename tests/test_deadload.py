@@ -1,4 +1,4 @@
-"""contin.deadload.DeadLoad on a small displacement-controlled model, checked against the closed form.
+"""contin.analyses.deadload.DeadLoad on a small displacement-controlled model, checked against the closed form.
 
 The model: the von Mises truss apex ``y`` (two bars of stiffness k from ``(-a, 0)``, ``(a, 0)``) tied by
 a spring ``k_s`` to a point whose height ``p`` is prescribed.  ``E(y, p) = k (L - L0)^2 + k_s (y - p)^2 / 2``
@@ -16,7 +16,7 @@ import pytest
 import scipy.sparse as sp
 
 from contin import Problem, continuation
-from contin.deadload import DeadLoad, bordered_matrix
+from contin.analyses.deadload import DeadLoad, bordered_matrix
 
 A, B, K, KS = 1.0, 0.5, 1.0, 50.0
 L0 = math.hypot(A, B)
@@ -94,7 +94,7 @@ def test_bordered_matrix_matches_the_dense_border() -> None:
 def test_bordered_matrices_of_a_fixed_pattern_are_right_call_after_call() -> None:
     """The bordered layout of a fixed pattern is kept for the next call: each matrix still has its own
     values, and a border with other nonzeros gets its own layout."""
-    from contin.linalg import FixedPattern
+    from contin.numerics.linalg import FixedPattern
 
     rng = np.random.default_rng(2)
     off = rng.standard_normal(39)

@@ -18,8 +18,8 @@ import pytest
 import scipy.sparse as sp
 
 import contin
-from contin.codegen import GeneratedFileOutOfDate, check_generated
-from contin.linalg import BandedLU
+from contin.modelkit.codegen import GeneratedFileOutOfDate, check_generated
+from contin.numerics.linalg import BandedLU
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "two_bar_truss.py"
@@ -143,8 +143,8 @@ def test_committed_kernels_are_reproduced_byte_for_byte(tmp_path: Path) -> None:
 
 
 def test_neither_the_engine_nor_the_committed_kernels_import_sympy() -> None:
-    code = (f"import sys, runpy, contin, contin.energy, contin.codegen; runpy.run_path({str(example.KERNELS)!r}); "
-            "assert 'sympy' not in sys.modules")
+    code = (f"import sys, runpy, contin, contin.modelkit.energy, contin.modelkit.codegen; "
+            f"runpy.run_path({str(example.KERNELS)!r}); assert 'sympy' not in sys.modules")
     subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT)
 
 
@@ -180,7 +180,7 @@ def test_coloured_fd_hessian_matches_the_exact_one_with_few_gradient_calls(given
 
 def test_column_groups_are_structurally_orthogonal() -> None:
     P = chain(N=30).pattern
-    groups = contin.energy.column_groups(P)
+    groups = contin.modelkit.energy.column_groups(P)
     seen = np.zeros(P.shape[1], dtype=int)
     for g in groups:
         seen[g] += 1

@@ -8,9 +8,9 @@ import pytest
 import scipy.sparse as sp
 
 from contin import continuation
-from contin.linalg import SymmetricBand
-from contin.segment import bracketed_root
-from contin.stability import leading_inertias
+from contin.numerics.linalg import SymmetricBand
+from contin.numerics.stability import leading_inertias
+from contin.path.segment import bracketed_root
 from contin_models.benchmarks.bratu import Bratu
 
 

@@ -1,4 +1,4 @@
-"""Executors (:mod:`contin.executors`): serial, local processes and Dask give the same results.
+"""Executors (:mod:`contin.app.executors`): serial, local processes and Dask give the same results.
 
 The serial and process executors are checked on a toy function (numerics, an initializer, an exception,
 a worker that dies) and on a small shell sweep through ``contin classify``; the Dask executor the same
@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contin import cli, executors
-from contin.executors import (DaskExecutor, ExecutorError, ProcessExecutor, SerialExecutor, WorkerDied,
+from contin.app import cli, executors
+from contin.app.executors import (DaskExecutor, ExecutorError, ProcessExecutor, SerialExecutor, WorkerDied,
                               make_executor)
 
 SWEEP = ["classify", "--set", "shell.N=40", "--sweep", "shell.phi_hat=0.8,1.0,1.2,1.3"]

@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contin.cli import load_model
-from contin.scene import load_scene
+from contin.app.cli import load_model
+from contin.app.scene import load_scene
 
 
 def _scene(*overrides: str) -> dict:

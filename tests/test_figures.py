@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import contin
-from contin import cli
-from contin.diagram import hermite_piece, smooth_path, stability_pieces
+from contin.app import cli
+from contin.plot.branches import hermite_piece, smooth_path, stability_pieces
 
 PNG, PDF = b"\x89PNG\r\n\x1a\n", b"%PDF-"
 
@@ -96,7 +96,7 @@ def test_trace_writes_png_and_plot_draws_it_smooth_again(tmp_path: Path, capsys)
         assert (out / f"{stem}.png").read_bytes()[:8] == PNG
     header = (out / "branch.csv").read_text().splitlines()[0].split(",")
     assert {"tangent_p", "tangent_F", "tangent_w"} <= set(header)
-    from contin.saved import load_run
+    from contin.app.saved import load_run
 
     run = load_run(out)
     assert "tangent_F" not in run.branches[0].observables
@@ -110,7 +110,7 @@ def test_trace_writes_png_and_plot_draws_it_smooth_again(tmp_path: Path, capsys)
 def test_the_style_saves_both_formats_and_leaves_the_global_rcparams_alone(tmp_path: Path) -> None:
     import matplotlib
 
-    from contin import style
+    from contin.plot import style
 
     before = dict(matplotlib.rcParams)
     with style.context():
@@ -145,7 +145,7 @@ def test_the_shapes_figure_keeps_its_texts_inside_and_apart(with_mode: bool) -> 
     """Every title, axis label and legend of the shapes figure lies inside the figure, and no legend lies
     on an axis label or title (a long panel title once ran off the figure, and a legend anchored under
     a flat cross-section sat on its r/L)."""
-    from contin import style
+    from contin.plot import style
     from contin_models.shell_scene.deformed import draw_shapes
 
     with style.context():
@@ -199,7 +199,7 @@ def test_legend_symbols_name_the_quantity_that_folds() -> None:
 def test_the_shapes_are_labelled_in_the_diagram_units_and_extrema_as_limit_points() -> None:
     """A path in ``w`` drawn as ``w/R`` (scale 1/2 here): the shapes' labels give ``w/R``, and ``max(p)``,
     an extremum of the pressure, is a limit point of ``p`` whatever the model calls its load."""
-    from contin import style
+    from contin.plot import style
     from contin_models.shell_scene.deformed import shapes_drawer
 
     shapes = _flat_cap_shapes(False)
@@ -318,8 +318,8 @@ def test_limits_around_the_snaps_say_where_the_path_goes_off_the_axes() -> None:
     its edge."""
     from types import SimpleNamespace
 
-    from contin.figures import trace_figure
-    from contin.scene import TraceResult
+    from contin.app.figures import trace_figure
+    from contin.app.scene import TraceResult
     from tests.figure_check import arrows
 
     def branch(w: np.ndarray, F: np.ndarray, folds: list[int]) -> contin.Branch:
@@ -347,7 +347,7 @@ def test_limits_around_the_snaps_say_where_the_path_goes_off_the_axes() -> None:
 def test_plot_of_other_quantities_names_them_and_marks_folds_in_w_as_folds(tmp_path: Path, capsys) -> None:
     """The README's ``contin plot OUT -x w_over_R -y F_norm``: the axes read w/R and F R/2 pi D, and a fold in
     w is a fold in w/R (an open circle), not a limit point beside the limit points in F."""
-    from contin.saved import load_run
+    from contin.app.saved import load_run
     from tests.figure_check import legend_texts
 
     run = load_run(_trace(tmp_path, "run", capsys=capsys))
@@ -380,7 +380,7 @@ def test_an_overlay_keeps_its_axes_wide_and_its_title_inside(tmp_path: Path, cap
     captured = CapturedFigures().install(monkeypatch)
     assert cli.main(["plot", *map(str, runs), "-o", str(tmp_path / "o.png")]) == 0
     fig = captured.figures[0]
-    from contin import style
+    from contin.plot import style
 
     fig.set_dpi(style.DPI)  # measured as written
     fig.canvas.draw()
@@ -409,10 +409,10 @@ def test_a_force_and_a_displacement_run_overlaid_keep_their_controls_and_the_sna
 
 def test_overlay_labels_name_what_differs_in_the_scenes_titles() -> None:
     """A plate's entry names no sphere radius (the plate has none); the runs are told apart by their titles."""
-    from contin.saved import SavedRun, overlay_labels
+    from contin.app.saved import SavedRun, overlay_labels
     from contin_models.shell_scene import SHELL_SCENE
     from contin_models.shell_scene.labels import scene_title
-    from contin.scene import load_scene
+    from contin.app.scene import load_scene
 
     runs = []
     for name, sets in (("pt", []), ("sph", ["load.kind=sphere", "load.radius=0.3"]), ("pl", ["load.kind=plate"])):
@@ -469,7 +469,7 @@ def test_the_shapes_draw_the_sphere_where_it_stands(tmp_path: Path, capsys, monk
 
 
 def test_the_shapes_draw_the_plate_where_it_stands() -> None:
-    from contin import style
+    from contin.plot import style
     from contin_models.shell_scene.deformed import LoadSketch, draw_shapes
 
     shapes = _flat_cap_shapes(False)
@@ -494,7 +494,8 @@ def test_plot_branches_is_put_together_from_short_reusable_pieces() -> None:
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
-    from contin.diagram import add_legend, draw_branch, draw_jumps, legend_entries, mark_special_points, plot_branches
+    from contin.plot.branches import (add_legend, draw_branch, draw_jumps, legend_entries, mark_special_points,
+                                      plot_branches)
 
     br = _truss_branch()
     ax = Figure().subplots()
@@ -540,7 +541,7 @@ def test_an_event_at_a_fold_and_a_snap_that_moves_nothing_on_the_axes_make_no_bl
 def test_a_saved_run_whose_parameter_has_its_own_column_is_drawn_against_it(tmp_path: Path) -> None:
     """A volume-controlled run saves the volume change dV as its parameter's column and the pressure as "p":
     read back, the path's parameter is dV (``contin plot`` drew ΔV/V0 up to 10000 from the pressure)."""
-    from contin.saved import load_run
+    from contin.app.saved import load_run
     from tests.figure_check import write_saved_run
 
     dV, pressure = np.array([0.0, 0.01, 0.02]), np.array([0.0, 400.0, 300.0])
@@ -557,7 +558,7 @@ def test_a_saved_run_whose_parameter_has_its_own_column_is_drawn_against_it(tmp_
 def test_an_overlay_limited_to_one_runs_snaps_keeps_every_other_run_whole() -> None:
     """Overlaid with a run whose last branch rises to 100 after its snaps, a run whose whole path shows its
     snaps (the point load, down to F = -11) is not cut off by the limits chosen for the other."""
-    from contin.framing import Frame, combine
+    from contin.plot.framing import Frame, combine
 
     whole_run = Frame(region=((0.0, 0.4), (-6.0, 11.6)), whole=((0.0, 0.6), (-11.2, 12.3)), farthest={})
     stiff_run = Frame(region=((0.0, 0.28), (0.0, 16.4)), whole=((0.0, 0.28), (0.0, 100.0)), farthest={})
@@ -575,7 +576,7 @@ def test_the_written_figures_keep_every_text_inside_and_clear_of_the_panels(tmp_
     labels, tick labels and legends lie on the figure, no legend or text of one panel lies on another panel,
     and the panels keep most of the figure (their layout measures the texts once, as the constrained
     layout did)."""
-    from contin import style
+    from contin.plot import style
     from tests.figure_check import CapturedFigures
 
     captured = CapturedFigures().install(monkeypatch)

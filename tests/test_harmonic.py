@@ -203,7 +203,7 @@ def test_generated_module_is_up_to_date() -> None:
     """Regenerating ``_harmonic_generated.py`` (about a minute of sympy) reproduces the committed file."""
     from pathlib import Path
 
-    from contin.codegen import check_generated
+    from contin.modelkit.codegen import check_generated
     from contin_models.shell import harmonic_codegen
 
     path = Path(__file__).resolve().parents[1] / "models" / "shell" / "_harmonic_generated.py"
@@ -481,7 +481,7 @@ def test_sphere_first_instability_along_the_traced_path() -> None:
 @pytest.mark.parametrize("lam, asymmetric", [(5.0, False), (7.0, True)])
 def test_clamped_cap_under_pressure_bifurcates_asymmetrically_only_when_deep(lam: float, asymmetric: bool) -> None:
     """Along the traced path, with the harmonic blocks watched (``ShellOfRevolution(harmonics=...)``, engine's
-    ``contin.modes``): a clamped cap with lambda = 5 reaches its axisymmetric snap first, one with lambda = 7
+    ``contin.watch.modes``): a clamped cap with lambda = 5 reaches its axisymmetric snap first, one with lambda = 7
     bifurcates into a low wave number before it (Huang 1964: asymmetric buckling from lambda ~ 5.5 on).
     Measured (R/h = 400, N = 120): lambda = 5 fold at 0.618 p_c; lambda = 7 bifurcation into n = 3 at
     0.753 p_c, before the fold at 1.053."""

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from contin import cli
+from contin.app import cli
 
 
 def run_cli(capsys: pytest.CaptureFixture, *argv: str) -> tuple[int, str, str]:
@@ -58,7 +58,7 @@ def test_pressure_scene_reports_its_first_instability(capsys: pytest.CaptureFixt
     from contin_models.shell.harmonic import HarmonicShell, harmonic_dofs
     from contin_models.shell_scene import SHELL_SCHEMA
     from contin_models.shell_scene.build import pressure_problem
-    from contin.scene import load_scene
+    from contin.app.scene import load_scene
 
     shapes = np.load(tmp_path / "shapes.npz")
     assert [str(k) for k in shapes["special_kind"]] == [r["kind"] for r in summary["special_points"]][:len(shapes["special_kind"])]

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from contin import cli
+from contin.app import cli
 
 HARMONICS = ["--set", "stability.harmonics=true", "--set", "shell.N=60"]
 

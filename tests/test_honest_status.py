@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from contin import cli
-from contin.sweep import read_sweep_csv
+from contin.app import cli
+from contin.app.sweep import read_sweep_csv
 
 CUT = ["--set", "shell.N=60", "--set", "continuation.max_steps=5"]
 

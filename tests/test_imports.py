@@ -2,7 +2,8 @@
 
 A *package* here is the unit that owns its private names:
 
-* ``contin`` (the engine is one package: ``contin.palc`` may use ``contin.linalg``'s private helpers);
+* each subpackage of ``contin`` (``contin.path``, ``contin.watch``, ...: the engine's layers), and each
+  module directly in ``contin/`` on its own (``contin.palc``);
 * each top-level subpackage of ``models`` (``contin_models.shell``, ``contin_models.contact``, ``contin_models.benchmarks``,
   ...), and each module directly in ``models/`` on its own (``contin_models.NAME``);
 * ``studies`` (one package: the studies share ``studies._common``).
@@ -38,7 +39,7 @@ def _module_name(path: Path) -> str:
 def owner(module: str) -> str:
     """The package that owns ``module``'s private names (see the module docstring)."""
     parts = module.split(".")
-    if parts[0] == "contin_models" and len(parts) > 1:
+    if parts[0] in ("contin", "contin_models") and len(parts) > 1:
         return ".".join(parts[:2])
     return parts[0]
 
@@ -89,21 +90,26 @@ def test_the_scan_sees_every_package() -> None:
 
 
 def test_the_scan_flags_what_it_should() -> None:
-    assert owner("contin_models.shell.scene") == "contin_models.shell" and owner("contin.cli") == "contin"
+    assert owner("contin_models.shell.scene") == "contin_models.shell" and owner("contin.app.cli") == "contin.app"
+    assert owner("contin.palc") == "contin.palc" and owner("contin") == "contin"
     assert owner("studies._common") == "studies" and owner("contin_models.tools") == "contin_models.tools"
     assert _private("_problem") and not _private("__version__") and not _private("problem")
     bad = ("from contin_models.shell.scene import _problem\n"
            "def f():\n    import contin_models.contact._generated\n"
            "from ..shell import _generated\n"
-           "from contin.cli import _json_ready as j\n")
+           "from contin.app.cli import _json_ready as j\n")
     found = cross_package_private_imports(bad, "contin_models.contact.runner")
     # contin_models.contact._generated is the importer's own package
     assert [f.split(": ")[1] for f in found] == ["contin_models.shell.scene._problem", "contin_models.shell._generated",
-                                                 "contin.cli._json_ready"]
+                                                 "contin.app.cli._json_ready"]
     # the same package's private names are its own; relative imports resolve to the importer's package
     assert cross_package_private_imports("from . import _generated\nfrom ._generated import k\n",
                                          "contin_models.contact.barrier") == []
     assert cross_package_private_imports("from studies._common import x\n", "studies.peers") == []
+    # the engine's layers own their private names: a subpackage's are not another's
+    assert cross_package_private_imports("from ..results.branch import _helper\n", "contin.analyses.diagram") == \
+        ["contin.analyses.diagram (line 1): contin.results.branch._helper"]
+    assert cross_package_private_imports("from .deadload import _last\n", "contin.analyses.conjugate") == []
 
 
 @pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(ROOT)))

@@ -1,8 +1,9 @@
-"""The one atomic-write helper and the output directory of :mod:`contin.io` (issue 14, A5 and B4)."""
+"""The one atomic-write helper and the output directory of :mod:`contin.results.io` (issue 14, A5 and B4)."""
 
 from __future__ import annotations
 
 import ast
+import math
 import os
 import stat
 from pathlib import Path
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.io import OutputDirectory, OutputError, atomic_write, json_ready, output_directory
+from contin.results.io import OutputDirectory, OutputError, atomic_write, json_ready, output_directory
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -53,7 +54,7 @@ def test_a_branch_saves_through_the_helper(tmp_path: Path) -> None:
 
 
 def test_one_atomic_write_in_the_tree() -> None:
-    # mkstemp + os.replace is the atomic write: it lives in contin/io.py only
+    # mkstemp + os.replace is the atomic write: it lives in contin/results/io.py only
     found = []
     for folder in ("contin", "models", "studies"):
         for path in sorted((ROOT / folder).rglob("*.py")):
@@ -62,12 +63,19 @@ def test_one_atomic_write_in_the_tree() -> None:
                      if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)}
             if {"mkstemp", "replace"} <= calls:
                 found.append(str(path.relative_to(ROOT)))
-    assert found == ["contin/io.py"]
+    assert found == ["contin/results/io.py"]
 
 
 def test_json_ready() -> None:
     doc = {"a": np.float32(1.5), "b": [np.int64(2), np.bool_(True)], "c": (np.inf, -np.nan), 4: np.zeros(2)}
     assert json_ready(doc) == {"a": 1.5, "b": [2, True], "c": [None, None], "4": [0.0, 0.0]}
+
+
+def test_json_ready_keeps_nan_and_infinity_for_a_bundle_header() -> None:
+    kept = json_ready({"c": (np.inf, np.float64("nan")), "a": np.array([1.0, -np.inf]), "n": np.int32(3)},
+                      keep_nonfinite=True)
+    assert kept["c"][0] == math.inf and math.isnan(kept["c"][1]) and kept["a"] == [1.0, -math.inf]
+    assert [type(v) for v in (*kept["c"], *kept["a"], kept["n"])] == [float] * 4 + [int]
 
 
 def test_an_output_directory_removes_only_what_it_made(tmp_path: Path) -> None:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.koiter import koiter_coefficients
+from contin import koiter_coefficients
 from contin_models.benchmarks.elastica import EulerColumn
 from contin_models.benchmarks.pitchfork import Pitchfork
 from contin_models.benchmarks.truss import VonMisesTruss

@@ -15,7 +15,7 @@ import pytest
 from scipy.optimize import brentq
 
 from contin import Problem, SpecialPoint, jump, quasistatic
-from contin.quasistatic import SnapRules, leave_fold
+from contin.analyses.quasistatic import SnapRules, leave_fold
 from contin_models.benchmarks.truss import VonMisesTruss
 
 A, B, K = 1.0, 0.5, 1.0

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from contin.linalg import BandedLU, BorderedSolver, DenseLU, SparseLU, factorize
+from contin.numerics.linalg import BandedLU, BorderedSolver, DenseLU, SparseLU, factorize
 
 
 def _random_banded(n, rng, kl=1, ku=2):
@@ -104,7 +104,7 @@ def test_bordered_solve_deflates_a_large_singular_main_block():
 @pytest.mark.parametrize("shift", [0.0, 0.7, 1.9, 3.5])
 def test_inertia_by_pivot_free_ldlt_matches_eigenvalues(shift):
     # banded symmetric indefinite matrices: Sylvester's law against a dense eigen-decomposition
-    from contin.stability import inertia, stability_info
+    from contin.numerics.stability import inertia, stability_info
 
     n = 300
     rng = np.random.default_rng(11)
@@ -120,7 +120,7 @@ def test_inertia_by_pivot_free_ldlt_matches_eigenvalues(shift):
 
 def test_inertia_refuses_a_factorization_it_cannot_trust():
     # a zero leading pivot needs a row exchange: the pivot-free count is not available
-    from contin.stability import inertia, stability_info
+    from contin.numerics.stability import inertia, stability_info
 
     n = 100
     A = sp.diags([np.ones(n - 1), np.r_[0.0, np.full(n - 1, 3.0)], np.ones(n - 1)], [-1, 0, 1], format="csr")
@@ -135,7 +135,7 @@ def test_stability_falls_back_to_dense_when_arpack_does_not_converge(monkeypatch
     the count and the eigenvalues then come from a dense solve, not from an internal error."""
     import scipy.sparse.linalg as spla
 
-    import contin.stability as stability
+    import contin.numerics.stability as stability
 
     rng = np.random.default_rng(3)
     A = sp.random(500, 500, density=0.01, random_state=rng)
@@ -166,7 +166,7 @@ def _random_band(rng: np.random.Generator, n: int, kd: int, shift: float) -> tup
 
 
 def test_symmetric_band_agrees_with_its_dense_matrix() -> None:
-    from contin.linalg import SymmetricBand
+    from contin.numerics.linalg import SymmetricBand
 
     rng = np.random.default_rng(3)
     A, ab = _random_band(rng, 40, 3, 2.0)
@@ -183,7 +183,7 @@ def test_symmetric_band_agrees_with_its_dense_matrix() -> None:
 @pytest.mark.parametrize("shift", [-1.5, 0.0, 1.0, 4.0])
 def test_band_inertia_by_restarted_cholesky_matches_eigenvalues(shift: float, banded_path) -> None:
     """The pivot-free L D L^T run as banded Cholesky pieces counts like the eigenvalues (or declines)."""
-    from contin.linalg import SymmetricBand
+    from contin.numerics.linalg import SymmetricBand
 
     rng = np.random.default_rng(int(10 * shift) + 50)
     counted = 0
@@ -201,7 +201,7 @@ def test_band_inertia_by_restarted_cholesky_matches_eigenvalues(shift: float, ba
 
 
 def test_band_inertia_declines_a_zero_pivot(banded_path) -> None:
-    from contin.linalg import SymmetricBand
+    from contin.numerics.linalg import SymmetricBand
 
     ab = np.array([[0.0, 1.0, 0.5], [1.0, 1.0, 2.0]])  # [[1, 1, 0], [1, 1, .5], [0, .5, 2]]: pivot 2 is 0
     assert SymmetricBand(ab).inertia() is None
@@ -215,12 +215,12 @@ def test_compiled_band_ldlt_is_the_lapack_pieces_factorization(monkeypatch) -> N
     Cholesky factor that LAPACK's pieces give (to rounding), which dpbtrs then solves with."""
     from scipy.linalg import lapack
 
-    from contin import linalg
-    from contin.linalg import SymmetricBand
+    from contin.numerics import linalg
+    from contin.numerics.linalg import SymmetricBand
 
     extension = linalg.banded_extension()
     if extension is None:
-        pytest.skip("the C extension contin._banded is not built")
+        pytest.skip("the C extension contin.numerics._banded is not built")
     rng = np.random.default_rng(12)
     compared = definite = 0
     for shift in (-1.0, 0.5, 2.0, 5.0):
@@ -248,7 +248,7 @@ def test_compiled_band_ldlt_is_the_lapack_pieces_factorization(monkeypatch) -> N
 
 
 def test_fixed_pattern_matrices_equal_scipy_ones_and_keep_their_pattern():
-    from contin.linalg import FixedPattern
+    from contin.numerics.linalg import FixedPattern
 
     rng = np.random.default_rng(5)
     A = sp.random(30, 30, density=0.2, format="csr", random_state=5)
@@ -277,7 +277,7 @@ def test_fixed_pattern_matrices_equal_scipy_ones_and_keep_their_pattern():
 
 def test_to_banded_of_fixed_pattern_matrices_uses_the_right_positions():
     """The band positions cached for a fixed pattern give the band of each new matrix, not an old one."""
-    from contin.linalg import FixedPattern, to_banded
+    from contin.numerics.linalg import FixedPattern, to_banded
 
     n = 40
     A = sp.diags([np.ones(n - 2), np.ones(n - 1), np.ones(n), np.ones(n - 1)], [-2, -1, 0, 1], format="csr")
@@ -292,12 +292,12 @@ def test_to_banded_of_fixed_pattern_matrices_uses_the_right_positions():
 
 @pytest.fixture(params=["compiled", "lapack"])
 def banded_path(request, monkeypatch):
-    """Runs a test with the C extension contin._banded and again with scipy's LAPACK (and numpy)."""
-    from contin import linalg
+    """Runs a test with the C extension contin.numerics._banded and again with scipy's LAPACK (and numpy)."""
+    from contin.numerics import linalg
 
     extension = linalg.banded_extension()
     if request.param == "compiled" and extension is None:
-        pytest.skip("the C extension contin._banded is not built")
+        pytest.skip("the C extension contin.numerics._banded is not built")
     monkeypatch.setattr(linalg, "_BANDED", [extension if request.param == "compiled" else None])
     return request.param
 
@@ -305,7 +305,7 @@ def banded_path(request, monkeypatch):
 @pytest.mark.parametrize("n", [3, 5, 70, 300])
 def test_tridiagonal_lu_solves_and_determinant_sign(n, banded_path):
     """gttrf/gttrs against a dense solve and numpy's slogdet (the sign decides fold detection)."""
-    from contin.linalg import TridiagonalLU
+    from contin.numerics.linalg import TridiagonalLU
 
     rng = np.random.default_rng(n)
     for _ in range(10):
@@ -322,7 +322,7 @@ def test_tridiagonal_lu_solves_and_determinant_sign(n, banded_path):
 
 
 def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity(banded_path):
-    from contin.linalg import TridiagonalLU
+    from contin.numerics.linalg import TridiagonalLU
 
     n = 200
     A = sp.diags([np.ones(n - 1), -2.0 * np.ones(n), np.ones(n - 1)], [-1, 0, 1], format="csr")
@@ -336,7 +336,7 @@ def test_factorize_picks_the_tridiagonal_lu_and_flags_exact_singularity(banded_p
 
 def test_tridiagonal_lu_with_no_right_hand_side(banded_path):
     """A bordered system with no border solves for zero columns (gttrs must not be called on them)."""
-    from contin.linalg import TridiagonalLU
+    from contin.numerics.linalg import TridiagonalLU
 
     n = 80
     F = TridiagonalLU(sp.diags([np.ones(n - 1), 3.0 * np.ones(n), np.ones(n - 1)], [-1, 0, 1], format="csr"))
@@ -349,11 +349,11 @@ def test_tridiagonal_lu_with_no_right_hand_side(banded_path):
 
 def test_compiled_tridiagonal_lu_is_lapacks_factorization(monkeypatch):
     """The C factorization is gttrf's (the same factors and pivots); the solves agree to rounding."""
-    from contin import linalg
+    from contin.numerics import linalg
 
     extension = linalg.banded_extension()
     if extension is None:
-        pytest.skip("the C extension contin._banded is not built")
+        pytest.skip("the C extension contin.numerics._banded is not built")
     rng = np.random.default_rng(11)
     for n in (3, 4, 9, 200):
         # off-diagonals as large as the diagonal: rows are interchanged at about half the columns
@@ -381,7 +381,7 @@ def test_compiled_tridiagonal_lu_is_lapacks_factorization(monkeypatch):
 def test_tridiagonal_lu_residual_and_norm_are_the_matrix_own(fmt, banded_path):
     """The residual f - A x a factorization gives, and the norm the bordered solver takes from it, are
     A's, on both paths; a matrix other than the factored one, or several columns, get the product."""
-    from contin import linalg
+    from contin.numerics import linalg
 
     rng = np.random.default_rng(5)
     n = 60
@@ -414,7 +414,7 @@ def test_cholesky_band_solver_solves(kd, banded_path):
     dense solve, for the factor LAPACK's pbtrf and the band L D L^T leave."""
     from scipy.linalg import lapack
 
-    from contin.linalg import SymmetricBand, cholesky_band_solver
+    from contin.numerics.linalg import SymmetricBand, cholesky_band_solver
 
     rng = np.random.default_rng(kd)
     n = 40
@@ -438,10 +438,10 @@ def test_cholesky_band_solver_solves(kd, banded_path):
 
 def test_compiled_max_abs_is_numpys(monkeypatch):
     """The largest modulus over arrays, with and without the C pass: the same value, NaN kept."""
-    from contin import linalg
+    from contin.numerics import linalg
 
     if linalg.banded_extension() is None:
-        pytest.skip("the C extension contin._banded is not built")
+        pytest.skip("the C extension contin.numerics._banded is not built")
     rng = np.random.default_rng(3)
     arrays = [rng.standard_normal(50), rng.standard_normal((7, 3)), np.arange(5), rng.standard_normal(40)[::2],
               np.zeros(0), np.array([-4.5])]
@@ -456,7 +456,7 @@ def test_compiled_max_abs_is_numpys(monkeypatch):
 
 
 def test_symmetric_column_with_and_without_duplicate_entries():
-    from contin.linalg import symmetric_column
+    from contin.numerics.linalg import symmetric_column
 
     rng = np.random.default_rng(2)
     M = rng.standard_normal((12, 12))
@@ -490,7 +490,7 @@ def _arrow(n: int, m: int, negative: int, stiffness: float, seed: int = 0) -> sp
 
 
 def test_arrow_structure_finds_the_border() -> None:
-    from contin.linalg import arrow_structure
+    from contin.numerics.linalg import arrow_structure
 
     assert arrow_structure(_arrow(300, 1, 0, 1e3)) == (2, 1)
     assert arrow_structure(_arrow(300, 2, 0, 1e3)) == (2, 2)
@@ -502,7 +502,7 @@ def test_arrow_structure_finds_the_border() -> None:
 
 @pytest.mark.parametrize("m", [1, 2])
 def test_arrow_cholesky_solves_and_refuses_an_indefinite_shift(m: int) -> None:
-    from contin.linalg import ArrowCholesky, ArrowParts, arrow_structure
+    from contin.numerics.linalg import ArrowCholesky, ArrowParts, arrow_structure
 
     H = _arrow(300, m, 2, 1e3)
     dense = H.toarray()
@@ -523,8 +523,8 @@ def test_arrow_cholesky_solves_and_refuses_an_indefinite_shift(m: int) -> None:
 
 @pytest.mark.parametrize("m, negative, stiffness", [(1, 0, 1e4), (1, 1, 1e4), (2, 2, 1e6), (1, 3, 1e2), (2, 0, 1.0)])
 def test_arrow_eigenpairs_agree_with_dense(m: int, negative: int, stiffness: float) -> None:
-    from contin.linalg import arrow_structure
-    from contin.stability import _arrow_info, stability_info
+    from contin.numerics.linalg import arrow_structure
+    from contin.numerics.stability import _arrow_info, stability_info
 
     H = _arrow(401, m, negative, stiffness, seed=m + negative)
     w, V = np.linalg.eigh(H.toarray())
@@ -546,7 +546,7 @@ def test_inertias_of_an_arrow_matrix_come_from_its_band_and_schur_complement(m: 
     """An arrow matrix with a positive definite band (a shell under an indenter's dead load before its
     limit load) is counted from the band's factorization and the border's Schur complement, not by the
     general sparse factorization; a soft corner makes the complement, and the whole matrix, indefinite."""
-    from contin import stability
+    from contin.numerics import stability
 
     H = _arrow(401, m, 0, 1e3, seed=m).toarray()
     if corner == "soft":
@@ -563,7 +563,7 @@ def test_inertias_of_an_arrow_matrix_come_from_its_band_and_schur_complement(m: 
 
 
 def test_inertias_of_an_arrow_matrix_with_an_indefinite_band_are_counted_as_before() -> None:
-    from contin.stability import leading_inertias
+    from contin.numerics.stability import leading_inertias
 
     H = _arrow(401, 1, 2, 1e3, seed=4).toarray()
     sizes = (200, 400, 401)
@@ -572,7 +572,7 @@ def test_inertias_of_an_arrow_matrix_with_an_indefinite_band_are_counted_as_befo
 
 
 def test_inf_norm_of_every_storage_is_the_largest_absolute_row_sum() -> None:
-    from contin.linalg import inf_norm
+    from contin.numerics.linalg import inf_norm
 
     rng = np.random.default_rng(5)
     dense = rng.standard_normal((30, 30)) * (rng.random((30, 30)) < 0.2)

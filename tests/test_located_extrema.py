@@ -18,10 +18,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contin.linalg import BandedLU
+from contin.numerics.linalg import BandedLU
 from contin_models.shell import HALF_BANDWIDTH
 from contin_models.shell_scene.build import point_problem
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 from contin_models import shell_scene
 
 

@@ -1,4 +1,4 @@
-"""Operator families watched along a branch (:mod:`contin.modes`): bifurcations into other modes.
+"""Operator families watched along a branch (:mod:`contin.watch.modes`): bifurcations into other modes.
 
 A problem with the trivial path ``u = p`` and, per key ``k``, the operator ``diag(k^2 - u, 2 k^2 - u)``:
 key ``k`` gains a negative eigenvalue at ``p = k^2`` and another at ``p = 2 k^2``, known exactly.
@@ -70,10 +70,10 @@ def test_without_stability_nothing_is_watched() -> None:
 
 
 def test_banded_operators_are_counted_estimated_and_located_like_dense_ones() -> None:
-    """A family whose operators are :class:`contin.linalg.SymmetricBand` (tridiagonal, 80 rows, one
+    """A family whose operators are :class:`contin.numerics.linalg.SymmetricBand` (tridiagonal, 80 rows, one
     eigenvalue k^2 - u below the rest): the same crossings, located as sharply."""
-    from contin.linalg import SymmetricBand
-    from contin.modes import count_and_lowest, eigenvalues_near_zero
+    from contin.numerics.linalg import SymmetricBand
+    from contin.watch.modes import count_and_lowest, eigenvalues_near_zero
 
     n = 80
     base = np.linspace(30.0, 60.0, n)
@@ -132,7 +132,7 @@ def test_the_stored_mode_is_the_null_vector_of_the_operator_itself() -> None:
 def test_the_location_reuses_the_bracket_ends_operators_and_factorizations(monkeypatch: pytest.MonkeyPatch) -> None:
     """The root of the bordered function evaluates the key's operator only at new points on the curve: the
     bracket ends' operators and factorizations are those the counts at those points made."""
-    from contin import modes
+    from contin.watch import modes
 
     calls: list[tuple[int, float, bool]] = []
     locating = [False]

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.curve import CorrectorFailure, Curve
+from contin.path.curve import CorrectorFailure, Curve
 
 EPS = 1e-6  # stiffness of the soft equation
 Y0 = 1e-2  # the start's offset along the soft mode: its residual EPS * Y0 is within tol

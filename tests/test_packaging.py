@@ -10,6 +10,8 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
 
@@ -19,11 +21,12 @@ def test_every_installed_package_is_named_for_the_project() -> None:
     assert tops == {"contin", "contin_models"}
 
 
-def test_every_package_folder_under_models_is_installed() -> None:
-    # a subpackage added under models/ but not listed would be missing from the install
-    folders = {p.parent for p in (ROOT / "models").rglob("__init__.py")}
-    listed = {ROOT / CONFIG["package-dir"][name.split(".")[0]] / Path(*name.split(".")[1:])
-              for name in CONFIG["packages"] if name.startswith("contin_models")}
+@pytest.mark.parametrize("top", ["contin", "contin_models"])
+def test_every_package_folder_is_installed(top: str) -> None:
+    # a subpackage added under contin/ or models/ but not listed would be missing from the install
+    folders = {p.parent for p in (ROOT / CONFIG["package-dir"][top]).rglob("__init__.py")}
+    listed = {ROOT / CONFIG["package-dir"][top] / Path(*name.split(".")[1:])
+              for name in CONFIG["packages"] if name.split(".")[0] == top}
     assert folders == listed
 
 

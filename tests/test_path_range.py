@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contin import cli
-from contin.restart import Start
-from contin.scene import load_scene
+from contin.app import cli
+from contin.app.restart import Start
+from contin.app.scene import load_scene
 from contin_models.shell_scene import SHELL_SCHEMA
 from contin_models.shell_scene.point import LOWEST_W, came_back, path_complete, run_point
 
@@ -59,7 +59,7 @@ def test_a_ring_near_the_edge_of_a_deep_cap_is_sized_by_its_own_eversion(tmp_pat
     import json
     import math
 
-    from contin.cli import main
+    from contin.app.cli import main
 
     phi_hat = 0.34514270096738314
     code = main(["trace", "-q", "--set", "output.figure=false", "--out", str(tmp_path),

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 from contin_models.shell import boundaries as B
 from contin_models.shell_scene import SHELL_SCHEMA, classify_scene
 from studies import phase_diagram

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contin import cli
+from contin.app import cli
 from contin_models.shell.pressure import cap_lambda, classical_pressure, phi_hat_for_lambda
 
 R_OVER_H, NU, LAMBDA = 400.0, 0.3, 7.0

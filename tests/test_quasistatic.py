@@ -17,7 +17,7 @@ import pytest
 from scipy.optimize import brentq
 
 from contin import JumpError, Problem, QuasiStaticResult, diagram, hysteresis_cycles, quasistatic
-from contin.quasistatic import SnapRules
+from contin.analyses.quasistatic import SnapRules
 from contin_models.benchmarks.truss import TrussDisplacementControl, VonMisesTruss
 
 A, B, K = 1.0, 0.5, 1.0
@@ -285,7 +285,7 @@ def test_failed_tells_the_loop_s_failures_from_a_stopped_run() -> None:
 
 
 def test_leave_fold_is_one_snap_of_the_loop(loading: QuasiStaticResult) -> None:
-    from contin.quasistatic import leave_fold
+    from contin.analyses.quasistatic import leave_fold
 
     fold = loading.folds[0]
     jr, reasons = leave_fold(VonMisesTruss(A, B, K), fold, +1, u_fold=loading.branches[0].u[-1], p0=0.0,

@@ -1,4 +1,4 @@
-"""Issue 18: ``contin trace --from OUT --label K`` restarts from a saved point (``states.npz``, :mod:`contin.restart`).
+"""Issue 18: ``contin trace --from OUT --label K`` restarts from a saved point (``states.npz``, :mod:`contin.app.restart`).
 
 A path cut short by its step limit and resumed from its end, and a path restarted from a special point, find
 the same special points as the uncut run (to 1e-8 relative, module notes below); the point load's state
@@ -8,7 +8,7 @@ resume follows the other branch at a branch point; bad input is one line and exi
 Precision: folds in the continuation parameter, crossings and the values at every special point agree to
 1e-8.  The *location* of an extremum of an observable (the point load's ``max(F)`` / ``min(F)``, folds in F
 along the displacement path) is found as a root of a derivative along the curve whose noise floor is the
-corrector tolerance (contin.testfunctions, EventTest.locate): it moves by up to ~1e-6 relative with the
+corrector tolerance (contin.watch.testfunctions, EventTest.locate): it moves by up to ~1e-6 relative with the
 steps that bracket it, in an uncut run too (another first step moves it by 7e-7 at N = 60), so it is compared
 to 2e-6 - the engine's own repeatability, not the restart's.
 """
@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contin import cli
-from contin.restart import RestartError, find_point, read_start, restart_states, resume
+from contin.app import cli
+from contin.app.restart import RestartError, find_point, read_start, restart_states, resume
 
 RTOL = 1e-8
 #: Relative agreement of an extremum's location (module docstring).
@@ -149,7 +149,7 @@ def test_labels_name_numbers_ends_and_unique_labels() -> None:
 # ---- the engine's resume at a branch point: the other branch ---------------------------------------------------
 def test_resume_follows_the_other_branch_at_a_branch_point(tmp_path: Path) -> None:
     from contin import continuation
-    from contin.scene import TraceResult
+    from contin.app.scene import TraceResult
     from contin_models.benchmarks.pitchfork import Pitchfork
 
     pf = Pitchfork()

@@ -3,7 +3,7 @@
 ``contin trace --from OUT --label K`` used to summarise only the part it traced as if it were the whole
 run: from the default cap's third special point it called ``F_max`` the first maximum after that point
 (58.95 instead of the cap's snap load 49.86), and a run resumed after its step limit did the same.
-Now a restart that continues the saved path is joined to it (``contin.restart.continue_saved``): its
+Now a restart that continues the saved path is joined to it (``contin.app.restart.continue_saved``): its
 summary, table, classification and status line are those of the whole path.  A restart on another
 path (another control, another shell) reports no class and no snap load, and says it describes only
 the part it traced.  A point at or past the end of the scene's path is refused, whatever keys are set;
@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contin import cli
+from contin.app import cli
 
 SHELL = ["--set", "shell.N=60", "--set", "output.figure=false"]
 #: Relative agreement of the located extrema of F between runs stepped differently (tests/test_restart.py).

@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contin import cli
-from contin.scene import load_scene
+from contin.app import cli
+from contin.app.scene import load_scene
 from contin_models.shell_scene import SHELL_SCHEMA
 from contin_models.shell_scene.build import scene_meridian
 

@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.cli import main
+from contin.app.cli import main
 from contin_models.shell.problem import ShellPointLoad
 
 

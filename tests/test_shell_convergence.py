@@ -28,8 +28,8 @@ import numpy as np
 import pytest
 
 from contin import continuation, extremum
-from contin.cli import main as cli_main
-from contin.linalg import BandedLU
+from contin.app.cli import main as cli_main
+from contin.numerics.linalg import BandedLU
 from contin_models.shell import HALF_BANDWIDTH, ShellPointLoad
 
 NS = (50, 100, 200, 400, 800)

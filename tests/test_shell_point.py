@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 
 from contin import continuation
-from contin.linalg import bandwidths
+from contin.numerics.linalg import bandwidths
 from contin_models.shell import HALF_BANDWIDTH, ShellPointLoad
 
 VARIANTS = [(kl, pole) for kl in ("reference", "current") for pole in ("mirror", "skip")]

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from contin.branch import SPECIAL_KINDS
-from contin.cli import main
-from contin.scene import defaults
+from contin.app.cli import main
+from contin.app.scene import defaults
+from contin.results.branch import SPECIAL_KINDS
 from contin_models.shell_scene import SHELL_SCHEMA
 
 FIELDS = ("kind", "parameter", "w", "F", "w_over_R", "F_norm", "residual")
@@ -254,7 +254,7 @@ def test_the_shapes_at_the_special_points_are_saved_and_drawn(runs: dict, tmp_pa
 def test_mesh_advice_fits_the_mesh(N: int, control: str, expected: str) -> None:
     """A finer mesh is the advice on a coarse mesh only: at N = 800 the default cap has 147 nodes over
     its bending length, where a failure is the solver's, not the mesh's."""
-    from contin.scene import load_scene
+    from contin.app.scene import load_scene
     from contin_models.shell_scene.scene import mesh_advice
 
     scene = load_scene(SHELL_SCHEMA, None, [f"shell.N={N}", f"load.control={control}"])

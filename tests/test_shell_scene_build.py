@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 from contin_models.contact import Plate, Sphere
 from contin_models.contact.indentation import ShellIndentation
 from contin_models.shell import ShellPointLoad

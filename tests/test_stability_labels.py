@@ -136,7 +136,7 @@ def test_plot_branches_styles_by_the_label(branch: Branch) -> None:
 def test_the_shell_declares_its_nested_operators() -> None:
     """The point-loaded shell declares its displacement Hessian as the leading block of its force Hessian
     (and overrides nothing): the engine's one-factorization counts equal each operator's own."""
-    from contin.stability import stability_info
+    from contin.numerics.stability import stability_info
     from contin_models.shell import ShellPointLoad
 
     P = ShellPointLoad(N=40, phi_hat=0.8, control="displacement")
@@ -155,7 +155,7 @@ def test_the_shell_declares_its_nested_operators() -> None:
 def test_records_read_the_engine_stability(branch: Branch) -> None:
     """``special_point_records`` records a declared extremum as a limit point of what folds there, with
     its stability under the declared label, and adds a model's own fields."""
-    from contin.scene import special_point_records
+    from contin.app.scene import special_point_records
 
     records = special_point_records([branch], parameter_name="y", fields=lambda spt: {"index": spt.index})
     by_label = {rec["label"]: rec for rec in records}
@@ -170,7 +170,7 @@ def test_special_point_table_columns_from_the_record_fields(branch: Branch) -> N
     """``special_point_table(columns=...)`` shows chosen record fields (which quantity folds, a model's own
     fields) in place of the parameter and observables; a limit point's stability carries its control,
     a jump's row its landing's ``stable``."""
-    from contin.scene import special_point_records, special_point_table
+    from contin.app.scene import special_point_records, special_point_table
 
     records = special_point_records([branch], parameter_name="y",
                                     fields=lambda spt: {"stability_control": spt.info.get("stability_label")})
@@ -225,7 +225,7 @@ def test_trace_result_draws_by_its_stability_label(branch: Branch) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from contin.scene import TraceResult
+    from contin.app.scene import TraceResult
 
     def draw(label: str | None) -> tuple[list[str], list[str]]:
         res = TraceResult.from_branches([branch], x="y", y="P", labels=["path"])
@@ -244,7 +244,7 @@ def test_trace_result_draws_by_its_stability_label(branch: Branch) -> None:
 
 
 def test_branch_columns_take_the_named_stability_columns(branch: Branch) -> None:
-    from contin.scene import branch_columns
+    from contin.app.scene import branch_columns
 
     plain = branch_columns([branch, branch])
     assert list(plain)[-2:] == ["stable", "n_negative"]
@@ -272,11 +272,11 @@ def _negative(A: np.ndarray) -> int:
 
 @pytest.mark.parametrize("shift", [0.0, 1.5, 2.5])
 def test_nested_inertias_by_ldlt_and_by_schur_complement(monkeypatch, shift: float) -> None:
-    """Both ways of :func:`contin.stability.nested_inertias` count like eigenvalues: one ``L D L^T``, and,
+    """Both ways of :func:`contin.numerics.stability.nested_inertias` count like eigenvalues: one ``L D L^T``, and,
     when that cannot be trusted, the leading block's count plus the Schur complement's (Sylvester)."""
     import scipy.sparse as sp
 
-    import contin.stability as stability
+    import contin.numerics.stability as stability
 
     H = _banded_saddle(120, shift)
     m = H.shape[0] - 1
@@ -291,7 +291,7 @@ def test_nested_inertias_by_ldlt_and_by_schur_complement(monkeypatch, shift: flo
 def test_leading_block_counted_from_the_end_and_by_schur_when_ldlt_fails(monkeypatch) -> None:
     """``LeadingBlock(of, -1)``: the operator without its last row and column; the engine counts it with
     its enclosing operator, by the Schur complement when the pivot-free factorization is refused."""
-    import contin.stability as stability
+    import contin.numerics.stability as stability
 
     H = _banded_saddle(80, 2.5)
     P = Problem(residual=lambda u, p: u, stability_operators={"inner": LeadingBlock("outer", -1),

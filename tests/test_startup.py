@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from contin import cli
-from contin.io import LINE_WIDTH, status_text
+from contin.app import cli
+from contin.results.io import LINE_WIDTH, status_text
 
 ROOT = Path(__file__).resolve().parents[1]
 

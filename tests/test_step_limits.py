@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.scene import SceneError, load_scene
+from contin.app.scene import SceneError, load_scene
 from contin_models.shell_scene import SHELL_SCHEMA
 from contin_models.shell_scene.build import point_problem, point_settings
 
@@ -75,7 +75,7 @@ def test_the_shell_scene_limit_is_automatic_unless_a_number_is_given():
 def test_a_run_cut_short_by_the_automatic_limit_asks_for_a_number() -> None:
     from types import SimpleNamespace
 
-    from contin.cli import _status_message
+    from contin.app.cli import _status_message
 
     model = SimpleNamespace(schema=SimpleNamespace(sections={"continuation": {"max_steps": None}}))
     result = SimpleNamespace(message="path: reached max_steps = 200000", complete=False)

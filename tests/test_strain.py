@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import contin
-from contin.branch import Branch
-from contin.scene import load_scene
+from contin.app.scene import load_scene
+from contin.results.branch import Branch
 from contin_models.shell.problem import ShellPointLoad
 from contin_models.shell_scene import SHELL_SCENE, eversion_displacement
 from contin_models.shell.strain import STRAIN_LIMIT, StrainPeak, strain_peak, strain_warning

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 from contin_models.shell_scene import SHELL_SCHEMA, classify_scene
 from studies import force_displacement as study
 from tests.figure_check import assert_figure

@@ -62,7 +62,7 @@ FORMER_FAILURES = {
 @pytest.mark.slow
 @pytest.mark.parametrize("name", list(FORMER_FAILURES))
 def test_former_failures_run_to_the_end(tmp_path, name) -> None:
-    from contin.cli import main
+    from contin.app.cli import main
 
     argv = ["trace", "-q", "--set", "output.figure=false", "--out", str(tmp_path / "run")]
     for item in FORMER_FAILURES[name]:

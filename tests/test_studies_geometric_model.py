@@ -19,7 +19,7 @@ import math
 import numpy as np
 import pytest
 
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 from contin_models.shell_scene import SHELL_SCHEMA, classify_scene
 from studies import geometric_model as gm
 from studies.bench_contact import run_to_snap, snap_settings

@@ -22,7 +22,7 @@ import math
 import numpy as np
 import pytest
 
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 from contin_models.shell.problem import ShellPointLoad
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
 from studies import indenter_size

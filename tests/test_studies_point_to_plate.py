@@ -23,7 +23,7 @@ from typing import Any
 import pytest
 
 import contin
-from contin.scene import load_scene
+from contin.app.scene import load_scene
 from contin_models.shell.problem import ShellPointLoad
 from contin_models.shell_scene import SHELL_SCENE, SHELL_SCHEMA
 from studies import point_to_plate as study

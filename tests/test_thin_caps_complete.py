@@ -41,7 +41,7 @@ def argv_of(keys: dict) -> list[str]:
 @pytest.mark.slow
 @pytest.mark.parametrize("name", list(SCENES))
 def test_the_scene_runs_to_its_end(tmp_path, name: str) -> None:
-    from contin.cli import main
+    from contin.app.cli import main
 
     code = main(argv_of(SCENES[name]) + ["--out", str(tmp_path)])
     summary = json.loads((tmp_path / "summary.json").read_text())

@@ -144,7 +144,7 @@ def test_a_step_along_a_tiny_negative_curvature_is_found_at_a_small_size(monkeyp
 
     import contin
 
-    jump_module = importlib.import_module("contin.jump")
+    jump_module = importlib.import_module("contin.analyses.jump")
     eps, K = 1e-6, 1e3
 
     def energy(u, p):

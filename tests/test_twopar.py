@@ -1,4 +1,4 @@
-"""Fold curves in a second parameter (:class:`contin.twopar.FoldCurveProblem`), against closed forms.
+"""Fold curves in a second parameter (:class:`contin.analyses.twopar.FoldCurveProblem`), against closed forms.
 
 * Cusp normal form ``f = u^3 - q u - p``: folds at ``u = +-sqrt(q/3)``, ``p = -+2 (q/3)^(3/2)``, meeting
   at the cusp ``q = 0``; the gap between the two fold loads is ``4 (q/3)^(3/2)`` (the 3/2 law).
@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import contin
-from contin.twopar import FoldCurveProblem
+from contin.analyses.twopar import FoldCurveProblem
 from contin_models.benchmarks.truss import VonMisesTruss
 from contin_models.shell import ShellPointLoad
 from tests.cusp_check import assert_three_halves_law

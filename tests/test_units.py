@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from contin.cli import main
+from contin.app.cli import main
 
 
 def _special_points(tmp_path, R: float) -> list[tuple[float, float]]:

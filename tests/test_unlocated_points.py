@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import contin
-from contin.scene import load_scene
-from contin.testfunctions import EventTest
+from contin.app.scene import load_scene
+from contin.watch.testfunctions import EventTest
 from contin_models.benchmarks.bratu import Bratu
 from contin_models.shell_scene import SHELL_SCHEMA
 from contin_models.shell_scene.point import run_point

@@ -1,6 +1,6 @@
 """Command-line scenes of the benchmark models (``contin trace --model bratu|truss``).
 
-Each scene is a :class:`contin.scene.SceneModel` registered in the ``contin.models`` entry-point
+Each scene is a :class:`contin.app.scene.SceneModel` registered in the ``contin.models`` entry-point
 group (see ``pyproject.toml``); the engine finds it only through that registry.  Importing this module
 loads the schemas only (no numpy): the command line loads every registered model to print its help or
 to refuse a scene; the models themselves are imported by the builders.
@@ -11,12 +11,12 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import contin
-from contin.scene import Constraint, Field, SceneError, SceneModel, Schema, TraceResult, boolean, integer, real
+from contin.app.scene import Constraint, Field, SceneError, SceneModel, Schema, TraceResult, boolean, integer, real
 
 if TYPE_CHECKING:
     import numpy as np
 
-    from contin.restart import Start as SavedPoint
+    from contin.app.restart import Start as SavedPoint
 
     from .bratu import Bratu
     from .truss import VonMisesTruss
@@ -99,7 +99,7 @@ def _run_bratu(scene: Scene, progress: bool) -> TraceResult:
 
 def _resume_bratu(scene: Scene, start: SavedPoint, progress: bool) -> TraceResult:
     """The branch on from a saved point (``contin trace --from OUT --label K``), along its saved direction."""
-    from contin.restart import continue_saved, resume
+    from contin.app.restart import continue_saved, resume
 
     problem, st, _, _ = build_bratu(scene, progress)
     (br,), _ = continue_saved(start, [resume(problem, start, st)])
@@ -212,7 +212,7 @@ def _resume_truss(scene: Scene, start: SavedPoint, progress: bool) -> TraceResul
         raise SceneError("load.cycle = true cannot be restarted from a saved point: the loop's three sweeps start "
                          "from the unloaded truss; restart the S-curve (load.cycle = false) or trace the loop anew",
                          "constraint")
-    from contin.restart import continue_saved, resume
+    from contin.app.restart import continue_saved, resume
 
     problem, st, _, _ = build_truss(scene, progress)
     (_, p_max), _ = problem.limit_points()

@@ -1,5 +1,5 @@
 /* Contact barrier kernels (contin_models.contact._ckernels).
-   Generated from the numpy kernels by contin.codegen.c_extension_text: do not edit. */
+   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>

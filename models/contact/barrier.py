@@ -160,13 +160,13 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
-from contin.compiled import optional_extension, prefer_compiled
-from contin.linalg import same_values
+from contin.numerics.compiled import optional_extension, prefer_compiled
+from contin.numerics.linalg import same_values
 
 from . import _generated
 
 #: The generated point kernels, in C where the install built ``contin_models.contact._ckernels``
-#: (:func:`contin.compiled.prefer_compiled`; ``COMPILED`` tells whether it did; the same numbers).
+#: (:func:`contin.numerics.compiled.prefer_compiled`; ``COMPILED`` tells whether it did; the same numbers).
 kernels, COMPILED = prefer_compiled(_generated, "contin_models.contact._ckernels")
 
 __all__ = ["Sphere", "Plate", "ContactBarrier", "ContactState", "ContactCells", "IntegrationPoints", "default_barrier",

@@ -79,9 +79,9 @@ digits; the energy follows through ``d``).
 The same kernels in C
 ---------------------
 The kernels (not ``cell_basis``) are also written as the C extension ``contin_models.contact._ckernels``
-(:data:`C_OUTPUT`, :func:`generate_c_source`, by :func:`contin.codegen.c_extension_text` from the
+(:data:`C_OUTPUT`, :func:`generate_c_source`, by :func:`contin.modelkit.codegen.c_extension_text` from the
 committed numpy module), which the package install compiles where it finds a C compiler; the barrier
-calls them through :func:`contin.compiled.prefer_compiled`.
+calls them through :func:`contin.numerics.compiled.prefer_compiled`.
 """
 
 from __future__ import annotations
@@ -93,8 +93,8 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin.codegen import (c_extension_text, cse_lines, function_header, generator_main, kernel_printer, module_text,
-                            row_targets, upper_pairs)
+from contin.modelkit.codegen import (c_extension_text, cse_lines, function_header, generator_main, kernel_printer,
+                                     module_text, row_targets, upper_pairs)
 
 __all__ = ["Indenter", "build_indenters", "barrier_definition", "cell_basis", "check_cell_chain_rule",
            "generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT", "C_OUTPUT", "PAIRS"]
@@ -458,7 +458,7 @@ def generate_c_source(python_source: str | None = None) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``.
+    """The generator's command line (:func:`contin.modelkit.codegen.generator_main`): ``--output PATH``, ``--check``.
 
     Without ``--output`` the C extension's source :data:`C_OUTPUT` is written (or checked) too.
     """

@@ -26,10 +26,10 @@ and ``"force"`` (a dead load on the indenter: the same Hessian bordered by the i
 The first is declared as the leading block of the second (:class:`contin.problem.LeadingBlock`), so
 the engine counts both from one pivot-free factorization of the bordered matrix, or, at a fold in
 ``w_b`` where that cannot be trusted, from the banded leading block and the sign of the Schur
-complement (:func:`contin.stability.nested_inertias`).
+complement (:func:`contin.numerics.stability.nested_inertias`).
 
 Force control of the indenter: :class:`ShellIndentationForce`, the generic dead load
-(:class:`contin.deadload.DeadLoad`) on the indenter travel (``w_b`` an unknown, a dead load ``F`` on
+(:class:`contin.analyses.deadload.DeadLoad`) on the indenter travel (``w_b`` an unknown, a dead load ``F`` on
 the indenter the parameter; its Jacobian is the displacement-control Hessian bordered by one row and
 column, solved by block elimination on the band with :class:`BorderedBandedLU`).
 """
@@ -42,9 +42,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import lapack
 
-from contin.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU, inf_norm, same_values
-from contin.linalg import factorize as generic_factorize
-from contin.deadload import DeadLoad, bordered_matrix
+from contin.analyses.deadload import DeadLoad, bordered_matrix
+from contin.numerics.linalg import BandedLU, Factorization, SingularMatrixError, SparseLU, inf_norm, same_values
+from contin.numerics.linalg import factorize as generic_factorize
 from contin.problem import LeadingBlock, NonFiniteError, Problem
 from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.geometry import POLE_RATIO
@@ -280,7 +280,7 @@ class BorderedBandedLU(Factorization):
     for good to a sparse LU of the whole ``J`` (``path = "sparse"``).  An exactly singular ``A``
     (zero pivot) switches at once.  An exactly zero Schur complement means ``J`` itself is singular
     to working precision: ``exactly_singular`` is set and solves raise
-    :class:`contin.linalg.SingularMatrixError`, as a singular :class:`contin.linalg.BandedLU` does, so
+    :class:`contin.numerics.linalg.SingularMatrixError`, as a singular :class:`contin.numerics.linalg.BandedLU` does, so
     the engine's bordered solver deflates or factorizes its full matrix instead.
 
     Parameters
@@ -443,7 +443,7 @@ class BorderedBandedLU(Factorization):
 class ShellIndentationForce(DeadLoad):
     """Spherical cap under a rigid sphere or plate carrying a dead load ``F``: force control of the indenter.
 
-    The generic dead load (:class:`contin.deadload.DeadLoad`) on :class:`ShellIndentation`'s indenter
+    The generic dead load (:class:`contin.analyses.deadload.DeadLoad`) on :class:`ShellIndentation`'s indenter
     travel.  Unknowns ``U = [u, w_b]``: the shell unknowns ``u`` of :class:`ShellIndentation` (same
     order) followed by the indenter travel ``w_b`` (the indenter position is ``c = c_0 - w_b`` as
     there).  Parameter: the dead load ``F`` on the indenter (positive pushing down).  Energy::

@@ -31,7 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import brentq
 
-from contin.linalg import SingularMatrixError
+from contin.numerics.linalg import SingularMatrixError
 from contin.problem import NonFiniteError
 from contin_models.shell.energy import HALF_BANDWIDTH
 

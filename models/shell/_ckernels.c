@@ -1,5 +1,5 @@
 /* Fast element kernels of the discrete axisymmetric shell (contin_models.shell._ckernels).
-   Generated from the numpy kernels by contin.codegen.c_extension_text: do not edit. */
+   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>

@@ -1,5 +1,5 @@
 /* Local Hessian kernels of the harmonic blocks (contin_models.shell._harmonic_ckernels).
-   Generated from the numpy kernels by contin.codegen.c_extension_text: do not edit. */
+   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>

@@ -35,8 +35,8 @@ from typing import Any
 import numpy as np
 
 import contin
+from contin.numerics.stability import StabilityInfo
 from contin.problem import Problem
-from contin.stability import StabilityInfo
 
 from .geometry import POLE_RATIO
 from .problem import ShellPointLoad

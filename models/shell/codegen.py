@@ -67,7 +67,7 @@ hundred elements that cost is nearly independent of the array length):
 Each step is the exact chain rule ``g' = A^T g``, ``H' = A^T H A + sum_k g_k hess(v_k)``; the
 entries of every intermediate gradient and Hessian get names, common subexpressions are
 eliminated within and across steps (also up to sign) and dead assignments dropped
-(:class:`contin.codegen.KernelBody`, the engine's kernel body).
+(:class:`contin.modelkit.codegen.KernelBody`, the engine's kernel body).
 ``tests/test_shell_energy.py`` compares the kernels with a direct sympy differentiation of the
 Cartesian definitions evaluated in 30-digit arithmetic (:meth:`Element.cartesian_gradient`,
 :meth:`Element.cartesian_hessian_upper`) and with finite differences.
@@ -100,7 +100,7 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from contin.codegen import (KernelBody, c_extension_text, count_operations, emitted_helpers, function_header,
+from contin.modelkit.codegen import (KernelBody, c_extension_text, count_operations, emitted_helpers, function_header,
                             generator_main, kernel_printer, module_text, upper_pairs)
 
 __all__ = ["Element", "Layer", "build_elements", "generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT",
@@ -108,7 +108,7 @@ __all__ = ["Element", "Layer", "build_elements", "generate_source", "generate_c_
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_generated.py")
 #: The same fast kernels as a C extension (``contin_models.shell._ckernels``), generated from the
-#: committed numpy module by :func:`contin.codegen.c_extension_text` and built when the package installs
+#: committed numpy module by :func:`contin.modelkit.codegen.c_extension_text` and built when the package installs
 C_OUTPUT = Path(__file__).with_name("_ckernels.c")
 
 
@@ -833,7 +833,7 @@ def generate_c_source(python_source: str | None = None) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``.
+    """The generator's command line (:func:`contin.modelkit.codegen.generator_main`): ``--output PATH``, ``--check``.
 
     Without ``--output`` the C extension's source :data:`C_OUTPUT` is written (or checked) too, from
     the committed numpy module.

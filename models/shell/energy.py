@@ -56,8 +56,8 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
-from contin.compiled import prefer_compiled
-from contin.linalg import FixedPattern, same_values
+from contin.numerics.compiled import prefer_compiled
+from contin.numerics.linalg import FixedPattern, same_values
 
 from . import _generated
 from .geometry import ReferenceCap
@@ -88,7 +88,7 @@ kernels, COMPILED = prefer_compiled(_generated, "contin_models.shell._ckernels",
 """``kernels``: the element kernels this energy calls: those of :mod:`contin_models.shell._generated`, with
 the gradient and Hessian kernels of the C extension ``contin_models.shell._ckernels`` in their place
 where it was built (``COMPILED`` is then True; same numbers, about ten times faster at N = 200; see
-:mod:`contin.compiled`).  Public for direct use and for instrumenting them (``studies.bench_floor``
+:mod:`contin.numerics.compiled`).  Public for direct use and for instrumenting them (``studies.bench_floor``
 times every call); an energy looks its kernels up here when it is built."""
 gen = kernels  # the module's own short name for them
 

@@ -102,7 +102,7 @@ vectorised over the elements.  The mode maps are quadratic in ``n``, so the bloc
 axisymmetric state ``H`` couples no variable moved by the ``cos`` part with one moved by the ``sin``
 part, so each ``C_d`` entry is a short sum of ``H`` entries: a sparse matrix, built once per
 reduction to admissible dofs, maps the stacked local Hessians straight to the coefficients in
-LAPACK's upper band storage (:meth:`HarmonicShell.band_block`, a :class:`contin.linalg.SymmetricBand`).
+LAPACK's upper band storage (:meth:`HarmonicShell.band_block`, a :class:`contin.numerics.linalg.SymmetricBand`).
 A block is then one combination of five band arrays plus the poles' and the contact's few elements.
 Cost O(N) per state and per block.
 
@@ -167,7 +167,7 @@ Measured (``tests/test_harmonic.py``, ``python -m studies.harmonic_probe``)
   studies.harmonic_probe --cost``, five runs on 2026-11-28 on a shared machine): per state (local Hessians
   and the band coefficients) 0.5-0.96 / 1.3-1.7 / 5.8-6.5 ms, per further block 0.04 / 0.07-0.09 /
   0.34-0.47 ms, its count and eigenvalue estimate (a banded L D L^T and three inverse-iteration steps,
-  :func:`contin.modes.count_and_lowest`) 0.07 / 0.18-0.21 / 0.65-0.72 ms, its two eigenvalues nearest
+  :func:`contin.watch.modes.count_and_lowest`) 0.07 / 0.18-0.21 / 0.65-0.72 ms, its two eigenvalues nearest
   zero (subspace inverse iteration, once per located bifurcation) 2.0-2.9 / 4.6-5.4 / 14-17 ms.  (The
   traced model's Hessian: 0.05 / 0.13 / 0.5-0.7 ms.)  Along the default trace (``python -m
   studies.bench_harmonics``): about 2.9 times the axisymmetric trace with ``n <= 13``.
@@ -183,9 +183,9 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from contin.compiled import prefer_compiled
-from contin.linalg import SymmetricBand
-from contin.stability import stability_info
+from contin.numerics.compiled import prefer_compiled
+from contin.numerics.linalg import SymmetricBand
+from contin.numerics.stability import stability_info
 
 from . import _harmonic_generated
 
@@ -198,7 +198,7 @@ __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_d
 _hgen, COMPILED = prefer_compiled(_harmonic_generated, "contin_models.shell._harmonic_ckernels")
 """``_hgen``: the generated kernels of the harmonic blocks (:mod:`contin_models.shell._harmonic_generated`),
 computed by the C extension ``contin_models.shell._harmonic_ckernels`` where it was built (``COMPILED``
-is then True; the same numbers, see :mod:`contin.compiled`)."""
+is then True; the same numbers, see :mod:`contin.numerics.compiled`)."""
 
 #: The pole curvature's local variables that are not zero at an axisymmetric state (the generated jets'
 #: arguments, :mod:`contin_models.shell.harmonic_codegen`).
@@ -1355,7 +1355,7 @@ def harmonic_family(structure: Any, state: Any, n_max: int, pressure: Any = None
     indenter's travel to first order, so every control shares these blocks; each appears twice in
     the whole Hessian (its ``cos`` and ``sin`` modes): ``multiplicity`` 2.
     """
-    from contin.modes import OperatorFamily
+    from contin.watch.modes import OperatorFamily
 
     hs = _harmonic_shell(structure, z_ref)
     if int(n_max) < 1:
@@ -1392,13 +1392,13 @@ def harmonic_mode(structure: Any, n: int, mode: np.ndarray, hold_pole: bool = Fa
 
 def block_eigs(K: sp.spmatrix, k: int = 1) -> np.ndarray:
     """The ``k`` smallest eigenvalues of a symmetric block, ascending (LAPACK's banded solver on the
-    band, through :func:`contin.stability.stability_info`)."""
+    band, through :func:`contin.numerics.stability.stability_info`)."""
     return np.asarray(stability_info(sp.csr_matrix(K), k).eigenvalues)
 
 
 def block_inertia(K: sp.spmatrix) -> int:
     """Number of negative eigenvalues of a symmetric block: a pivot-free ``L D L^T`` (O(N)), or an
-    eigensolver when it cannot be trusted (:func:`contin.stability.stability_info`)."""
+    eigensolver when it cannot be trusted (:func:`contin.numerics.stability.stability_info`)."""
     return int(stability_info(sp.csr_matrix(K), 0).n_negative)
 
 

@@ -40,7 +40,7 @@ from typing import Any
 
 import sympy as sp
 
-from contin.codegen import c_extension_text, cse_lines, generator_main, kernel_printer, module_text
+from contin.modelkit.codegen import c_extension_text, cse_lines, generator_main, kernel_printer, module_text
 
 from . import harmonic as H
 
@@ -48,7 +48,7 @@ __all__ = ["generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT", "C_
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_harmonic_generated.py")
 #: The same kernels as a C extension (``contin_models.shell._harmonic_ckernels``), generated from the
-#: committed numpy module by :func:`contin.codegen.c_extension_text` and built when the package installs
+#: committed numpy module by :func:`contin.modelkit.codegen.c_extension_text` and built when the package installs
 C_OUTPUT = Path(__file__).with_name("_harmonic_ckernels.c")
 VARIANTS = ("bend_cur", "bend_ref")
 _FREE = (0, 2, 3, 5, 7, 10)
@@ -245,7 +245,7 @@ def generate_c_source(python_source: str | None = None) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """The generator's command line (:func:`contin.codegen.generator_main`): ``--output PATH``, ``--check``.
+    """The generator's command line (:func:`contin.modelkit.codegen.generator_main`): ``--output PATH``, ``--check``.
 
     Without ``--output`` the C extension's source :data:`C_OUTPUT` is written (or checked) too.
     """

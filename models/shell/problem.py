@@ -51,7 +51,7 @@ z_pole``, bilateral).  Unknowns: every dof except ``z_0``, ``r_{N-1}``, ``z_{N-1
 interleaved order ``[r_0, r_1, z_1, ..., r_{N-2}, z_{N-2}]`` (``2N - 3`` values).
 
 ``control="force"``: parameter ``F`` (dead load pushing the pole down), built once for every model
-by :class:`contin.deadload.DeadLoad` on the displacement-controlled shell.  The unknowns are the
+by :class:`contin.analyses.deadload.DeadLoad` on the displacement-controlled shell.  The unknowns are the
 displacement-control ones followed by the pole displacement ``w`` (``2N - 2`` values); the energy
 is ``E_el(x) - F w``.
 
@@ -72,8 +72,8 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
-from contin.deadload import DeadLoad
-from contin.linalg import BandedLU, Factorization, FixedPattern, inf_norm, same_values, symmetric_column
+from contin.analyses.deadload import DeadLoad
+from contin.numerics.linalg import BandedLU, Factorization, FixedPattern, inf_norm, same_values, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
@@ -331,7 +331,7 @@ class ShellPointLoad(Problem):
         return shell_residual_scale(self.E, self.h, self.R, H)
 
     def _load_by_force(self, twin: "ShellPointLoad") -> None:
-        """Become the dead load ``F`` at the pole: :class:`contin.deadload.DeadLoad` of ``twin``.
+        """Become the dead load ``F`` at the pole: :class:`contin.analyses.deadload.DeadLoad` of ``twin``.
 
         The unknowns are the displacement-control ones followed by the pole displacement ``w``; the
         energy is ``E_el(x) - F w``.  ``twin`` (the displacement-controlled shell of the same scene)
@@ -490,7 +490,7 @@ class ShellPointLoad(Problem):
         return H
 
     # ---- the Problem interface -------------------------------------------------------------------
-    # Under force control every method is the dead load's (contin.deadload.DeadLoad of the twin);
+    # Under force control every method is the dead load's (contin.analyses.deadload.DeadLoad of the twin);
     # what follows is the displacement control.
     def energy(self, u: np.ndarray, p: float) -> float:
         if self.control == "force":

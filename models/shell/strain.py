@@ -19,7 +19,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from contin.branch import Branch
+from contin.results.branch import Branch
 
 __all__ = ["STRAIN_LIMIT", "StrainPeak", "strain_peak", "strain_warning"]
 

@@ -47,7 +47,7 @@ from typing import Any, Literal
 import numpy as np
 import scipy.sparse as sp
 
-from contin.linalg import BandedLU, Factorization, same_values, symmetric_column
+from contin.numerics.linalg import BandedLU, Factorization, same_values, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
 from . import _generated as gen

@@ -3,7 +3,7 @@
 The command line (:data:`contin_models.shell_scene.SHELL_SCENE`), the studies, the tests and users build
 the shell's problems here, so that a scene means the same thing everywhere::
 
-    from contin.scene import load_scene
+    from contin.app.scene import load_scene
     from contin_models.shell_scene import SHELL_SCHEMA, build
 
     scene = load_scene(SHELL_SCHEMA, None, ["shell.phi_hat=1.2"])
@@ -26,8 +26,8 @@ import contin
 from contin.problem import Problem
 from contin_models.contact import Plate, Sphere
 from contin_models.contact.indentation import ShellIndentation, ShellIndentationForce
-from contin.quasistatic import SnapRules
-from contin.scene import SceneError
+from contin.analyses.quasistatic import SnapRules
+from contin.app.scene import SceneError
 from contin_models.shell import ShellPointLoad
 from contin_models.shell.meridian import ReferenceMeridian, with_mode
 from contin_models.shell.pressure import classical_pressure
@@ -212,7 +212,7 @@ def scene_meridian(scene: Scene, perfect: bool = False) -> ReferenceMeridian:
 
     Raises
     ------
-    contin.scene.SceneError
+    contin.app.scene.SceneError
         When the shape cannot be built (the message says why).
     """
     s, load = scene["shell"], scene["load"]
@@ -347,10 +347,10 @@ def buckling_mode(scene: Scene) -> np.ndarray:
     branch point of its path with the load as the parameter (the first limit load or bifurcation under
     force or pressure control, whatever ``load.control`` says), as a full state, zero on the fixed dofs.
 
-    Raises :class:`contin.scene.SceneError` when the path has no located fold or branch point up to
+    Raises :class:`contin.app.scene.SceneError` when the path has no located fold or branch point up to
     its end.
     """
-    from contin.stability import stability_info
+    from contin.numerics.stability import stability_info
 
     load = scene["load"]
     problem = revolution_problem(scene, control="force", perfect=True)

@@ -44,10 +44,10 @@ from typing import Any
 import numpy as np
 
 import contin
-from contin.branch import Branch, SpecialPoint
-from contin.scene import TraceResult, branch_columns, special_point_records
+from contin.app.scene import TraceResult, branch_columns, special_point_records
+from contin.results.branch import Branch, SpecialPoint
 
-from contin.quasistatic import QuasiStaticResult, SnapRules
+from contin.analyses.quasistatic import QuasiStaticResult, SnapRules
 from contin_models.contact.indentation import ShellIndentation, ShellIndentationForce
 from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning

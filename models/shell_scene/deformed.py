@@ -1,7 +1,7 @@
 """What a shell run saves beside its diagram: the shapes at its special points and its located modes.
 
 :func:`shell_shapes` collects the arrays (``shapes.npz``, written by the command line from
-:attr:`contin.scene.TraceResult.shapes`) and :func:`draw_shapes` draws them (``shapes.png``): the
+:attr:`contin.app.scene.TraceResult.shapes`) and :func:`draw_shapes` draws them (``shapes.png``): the
 deformed meridians at the path's first instability and its folds, mirrored about the axis, with the
 load on each (:class:`LoadSketch`: the point force or the ring load as arrows, the rigid sphere or plate
 where it stands), and the first located bifurcation's mode as the ring it bends into, seen from above.
@@ -125,7 +125,7 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
                 parameter_label: str | None = None, parameter_scale: float = 1.0, *, length_symbol: str = "R",
                 load: LoadSketch | None = None) -> None:
     """Draw ``shapes`` (:func:`shell_shapes`) on the empty matplotlib Figure ``fig`` (project style,
-    :mod:`contin.style`; the figure is resized to fit).
+    :mod:`contin.plot.style`; the figure is resized to fit).
 
     Left: the reference meridian and the deformed ones at the first bifurcation (if any) and the folds
     along the path (at most :data:`MAX_DRAWN`), as cross-sections through the axis, in units of
@@ -136,7 +136,7 @@ def draw_shapes(fig: Any, shapes: dict[str, np.ndarray], length: float, paramete
     ``parameter_scale`` times it under ``parameter_label`` (mathtext) when given, as the diagram's
     axis does (``$w/R$``, ``$\\Delta V / V_0$``), else the parameter itself by its symbol.
     """
-    from contin import style
+    from contin.plot import style
 
     kinds = [str(k) for k in shapes["special_kind"]]
     symbol = parameter_label or _symbol(parameter)
@@ -268,7 +268,7 @@ class _LoadDrawer:
         """One legend entry for the load, in grey (each cross-section's load is drawn in its colour)."""
         if not self.drawn:
             return
-        from contin import style
+        from contin.plot import style
 
         names = {"point": "point force at the pole", "ring": "ring load",
                  "sphere": "rigid sphere, in each shape's colour", "plate": "rigid plate, in each shape's colour"}
@@ -292,7 +292,7 @@ def _legend_below(cell: Any, ax: Any) -> None:
 def shapes_drawer(shapes: dict[str, np.ndarray], length: float, parameter: str,
                   plot_options: dict[str, Any] | None = None, *, length_symbol: str = "R",
                   load: LoadSketch | None = None) -> Callable[[Any], None] | None:
-    """:attr:`contin.scene.TraceResult.draw_shapes` of a shell run: :func:`draw_shapes` bound to its arrays
+    """:attr:`contin.app.scene.TraceResult.draw_shapes` of a shell run: :func:`draw_shapes` bound to its arrays
     (None when there is nothing to draw).  ``plot_options``: the run's diagram options; the parameter's
     axis label and scale there (``axis_labels``, ``scale``) label the shapes as the diagram's axis reads.
     ``length_symbol`` names ``length`` on the axes, ``load`` is drawn on each shape."""

@@ -59,9 +59,9 @@ from typing import Any
 import numpy as np
 
 import contin
-from contin.branch import Branch, SpecialPoint
-from contin.restart import RestartError, Start, beyond_end, continue_saved, resume
-from contin.scene import SceneError, TraceResult, branch_columns, special_point_records, special_point_table
+from contin.app.restart import RestartError, Start, beyond_end, continue_saved, resume
+from contin.app.scene import SceneError, TraceResult, branch_columns, special_point_records, special_point_table
+from contin.results.branch import Branch, SpecialPoint
 from contin_models.shell import ShellPointLoad
 from contin_models.shell.strain import strain_peak, strain_warning
 
@@ -94,7 +94,7 @@ def _flat(observables: dict[str, float]) -> dict[str, float]:
 
 
 def _point_fields(spt: SpecialPoint) -> dict[str, Any]:
-    """The shell's own fields of a special point's record (:func:`contin.scene.special_point_records`).
+    """The shell's own fields of a special point's record (:func:`contin.app.scene.special_point_records`).
 
     A limit point (a fold in ``w``, or an extremum of ``F`` declared as a fold in ``F``) carries
     the Morse index on either side and, as ``stability_control``, the control under which it is

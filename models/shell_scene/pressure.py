@@ -8,7 +8,7 @@ pseudo-arclength continuation from the unloaded shell, under one of two controls
 
 ``"displacement"`` (the default, as for every load): volume control
     The volume change ``dV = V0 - V`` is prescribed and ``p`` is its Lagrange multiplier
-    (:class:`contin.conjugate.ConjugateControl`, :func:`volume_problem`), as in experiments that pump
+    (:class:`contin.analyses.conjugate.ConjugateControl`, :func:`volume_problem`), as in experiments that pump
     fluid out of (or a piston into) the space the cap closes.  ``V`` is the volume between the cap
     and its base plane, ``V0`` the unloaded cap's; ``dV`` is positive as the pressure pushes the
     cap in (the volume it displaces, the work-conjugate of ``p``: ``p dV`` is the work the pressure
@@ -61,11 +61,11 @@ import math
 from typing import Any
 
 import contin
-from contin.modes import OperatorFamily
-from contin.branch import Branch
-from contin.conjugate import ConjugateControl
-from contin.linalg import Factorization
-from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
+from contin.analyses.conjugate import ConjugateControl
+from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
+from contin.numerics.linalg import Factorization
+from contin.results.branch import Branch
+from contin.watch.modes import OperatorFamily
 from contin_models.contact.indentation import BorderedBandedLU
 from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.structure import ShellOfRevolution
@@ -183,7 +183,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
         br.message += _plain_instability(summary, _SHOWN_PRESSURE)
     plot_options = {**pressure_axes(problem.p_c), "special_kinds": ("fold", "bifurcation"), "note": note,
                     "title": scene_title(scene), "control": "pressure"}
-    # output.figure = false is the command line's to honour (contin.scene.wants_figure)
+    # output.figure = false is the command line's to honour (contin.app.scene.wants_figure)
     shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref,
                           path=scene["output"]["shapes"] == "path")
     return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
@@ -200,7 +200,7 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
 def volume_problem(pressure: ShellOfRevolution, depth: float | None = None) -> ConjugateControl:
     """The cap ``pressure`` with its volume change ``dV = V0 - V`` prescribed and ``p`` its multiplier.
 
-    :class:`contin.conjugate.ConjugateControl` of the pressure-controlled cap: the pressure enters
+    :class:`contin.analyses.conjugate.ConjugateControl` of the pressure-controlled cap: the pressure enters
     the energy linearly (``p (V - V0)``), so ``dV = -dE/dp`` and the Jacobian is the cap's Hessian
     bordered by ``dV/dx`` (dense: every node moves the volume).  The bordered matrix is factorized
     by block elimination on the banded LU of the Hessian (:class:`BorderedBandedLU`, as the force-

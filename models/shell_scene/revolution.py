@@ -36,8 +36,8 @@ import math
 from typing import Any
 
 import contin
-from contin.branch import Branch
-from contin.scene import TraceResult, branch_columns, special_point_records, special_point_table
+from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
+from contin.results.branch import Branch
 
 from .build import LOWEST_W, length_unit, loaded_end, loaded_travel, revolution_problem, revolution_settings
 from .deformed import LoadSketch, observed, shapes_drawer, shell_shapes

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from contin.scene import Classification, Constraint, SceneError, SceneModel, TraceResult, check_classifiable
+from contin.app.scene import Classification, Constraint, SceneError, SceneModel, TraceResult, check_classifiable
 
 # the runners (and with them the shell, numpy and the engine) are imported when a scene runs: loading
 # SHELL_SCENE, as the command line does for its help and to check a scene, reads the schema only
@@ -53,7 +53,7 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
 
 
 def resume_scene(scene: Scene, start: Any, progress: bool = False) -> TraceResult:
-    """Restart a shell scene from a saved point (``contin trace --from OUT --label K``, :mod:`contin.restart`).
+    """Restart a shell scene from a saved point (``contin trace --from OUT --label K``, :mod:`contin.app.restart`).
 
     Supported: the point load on the paper's cap (:func:`contin_models.shell_scene.point.resume_point`), under
     either control whatever control saved the point (the state is carried over, so a point of the
@@ -115,7 +115,7 @@ def mesh_advice(scene: Scene) -> str:
             f"or a smaller continuation.ds_max")
 
 
-#: Fields of :func:`classify` copied into a :class:`~contin.scene.Classification` (``contin classify --json``).
+#: Fields of :func:`classify` copied into a :class:`~contin.app.scene.Classification` (``contin classify --json``).
 _CLASSIFY_FIELDS = ("F_max", "w_at_F_max", "F_min", "w_at_F_min", "F_max_norm", "w_at_F_max_over_R", "F_min_norm",
                     "w_at_F_min_over_R", "n_folds_in_w", "n_limit_points_in_F", "F_negative_on_stable_path",
                     "classification_on_partial_path", "max_strain", "w_at_max_strain_over_R")
@@ -146,7 +146,7 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
 
     Raises
     ------
-    contin.scene.SceneError
+    contin.app.scene.SceneError
         For a sphere or plate indenter: the class is defined on the point-load path.
     """
     from .point import path_complete

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from contin.scene import Constraint, Field, Schema, boolean, choice, integer, real, text
+from contin.app.scene import Constraint, Field, Schema, boolean, choice, integer, real, text
 from contin_models.shell.supports import SUPPORTS
 
 from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
@@ -331,9 +331,9 @@ def run_time_forecast(scene: Scene) -> str | None:
 
 def shell_first_instability(records: list[dict[str, Any]], parameter: str, fields: tuple[str, ...]) -> dict[str, Any] | None:
     """``summary.json``'s ``first_instability``: the first fold in the control's ``parameter`` or the first
-    bifurcation into a wave number ``n`` along the path (:func:`contin.scene.first_instability`), with
+    bifurcation into a wave number ``n`` along the path (:func:`contin.app.scene.first_instability`), with
     ``kind``, ``n`` (None for a fold) and the load ``fields``; None when the path has neither."""
-    from contin.scene import first_instability
+    from contin.app.scene import first_instability
 
     out = first_instability(records, parameter, fields)
     if out is not None:
@@ -390,7 +390,7 @@ def record_instability(summary: dict[str, Any], records: list[dict[str, Any]], p
 
 
 def record_fields(names: tuple[str, ...]) -> Any:
-    """The scene's own fields of a special point's record (for :func:`contin.scene.special_point_records`):
+    """The scene's own fields of a special point's record (for :func:`contin.app.scene.special_point_records`):
     the observables ``names`` it has, its ``index`` and, when it declares one, the control it folds under
     (``stability_control``)."""
     def fields(spt: Any) -> dict[str, Any]:

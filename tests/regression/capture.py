@@ -52,7 +52,7 @@ SUMMARY_FIELDS = ("classification", "w_b_c", "F_at_snap", "Delta_H_at_snap", "w_
 
 def trace_summary(overrides: list[str]) -> dict:
     """Run ``contin trace`` in-process with the overrides and return its summary.json."""
-    from contin.cli import main
+    from contin.app.cli import main
 
     with tempfile.TemporaryDirectory() as tmp:
         argv = ["trace", "--out", tmp, "-q", "--set", "output.figure=false"]
