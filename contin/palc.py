@@ -550,11 +550,11 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     """Continue the branch that bifurcates at a located simple branch point.
 
     The location stored the bifurcating direction ``d`` without any arclength weight
-    (``info["bifurcation_direction"]``; for symmetric problems from the algebraic bifurcation
+    (``branch_point.bifurcation.directions[0]``; for symmetric problems from the algebraic bifurcation
     equation, see :func:`contin.watch.testfunctions.bifurcation_directions`), so any settings may be used
     here.  ``d`` is normalised in this run's norm; the first point is found by the corrector on the
     hyperplane through ``X* + ds d`` whose normal is ``d`` made orthogonal (in this run's metric) to
-    the traced branch's tangent ``info["branch_tangent"]``, which the traced branch therefore does
+    the traced branch's tangent ``branch_point.bifurcation.traced``, which the traced branch therefore does
     not cross near ``X*``.  From there ordinary continuation proceeds.
 
     The run ends where the new branch meets a branch point again: the one it started from (status
@@ -581,8 +581,10 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     Branch
         The bifurcating branch; its first special point is the branch point it came from.
     """
-    if branch_point.kind != "branch_point" or "bifurcation_direction" not in branch_point.info:
-        raise ValueError("switch_branch needs a located branch point (kind 'branch_point' with a bifurcation direction)")
+    bif = branch_point.bifurcation
+    if branch_point.kind != "branch_point" or bif is None or not len(bif.directions):
+        raise ValueError("switch_branch needs a located branch point (kind 'branch_point' whose bifurcation record "
+                         "has a direction to switch to)")
     if direction not in (-1, 1):
         raise ValueError(f"switch_branch: direction must be +1 or -1, got {direction!r}")
     names = {f.name for f in fields(Settings)}
@@ -596,14 +598,13 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     if Curve(problem, st).needs_calibration():
         # open weights from the branch point's own scales, for the step off and the whole new branch
         # (calibrating at the first point instead would measure a nearly singular Jacobian)
-        U, P = branch_point_scales(u_bp, float(branch_point.p), branch_point.info.get("branch_tangent"),
-                                   branch_point.info["bifurcation_direction"],
+        U, P = branch_point_scales(u_bp, float(branch_point.p), bif.traced, bif.directions[0],
                                    reference=getattr(problem, "reference_scales", None))
         st = replace(st, state_weight=1.0 / U if st.state_weight is None else st.state_weight,
                      param_weight=1.0 / P if st.param_weight is None else st.param_weight)
     curve = Curve(problem, st)
-    d = _unit(curve, direction * np.asarray(branch_point.info["bifurcation_direction"], dtype=float), n)
-    normal = _off_branch_normal(curve, d, branch_point.info.get("branch_tangent"), n)
+    d = _unit(curve, direction * bif.directions[0], n)
+    normal = _off_branch_normal(curve, d, bif.traced, n)
     step = st.ds if ds is None else float(ds)
     first = _step_off(curve, u_bp, branch_point.p, d, normal, step)
     watch = KnownBranchPoints(tuple([("origin", u_bp, float(branch_point.p))] + [

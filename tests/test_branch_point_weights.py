@@ -49,7 +49,7 @@ def test_column_branch_point_matches_closed_form_with_any_weights(n, weights):
     assert bp.located
     P1 = col.buckling_load_closed_form()
     assert abs(bp.p - P1) <= 1e-10 * P1
-    assert bp.info["bifurcation_type"] == "pitchfork"
+    assert bp.bifurcation.kind == "pitchfork"
     lam = np.linalg.eigvalsh(col.jacobian(bp.u, bp.p).toarray())
     assert np.min(np.abs(lam)) <= 1e-12 * np.max(np.abs(lam))
 
@@ -84,8 +84,8 @@ def test_transcritical_second_branch_from_the_bifurcation_equation(weights):
     br = continuation(prob, [0.0], -1.0, p_max=1.0, **scaled(weights, 0.1, 0.2))
     (bp,) = br.branch_points()
     assert bp.located and abs(bp.p) < 1e-12
-    assert bp.info["bifurcation_type"] == "transcritical"
-    d = np.asarray(bp.info["bifurcation_direction"])
+    assert bp.bifurcation.kind == "transcritical"
+    d = bp.bifurcation.directions[0]
     assert abs(abs(d[0] / d[1]) - 1.0) < 1e-6  # the branch u = p
     for direction in (1, -1):
         nb = switch_branch(prob, bp, direction=direction, ds=0.05, p_min=-1.0, p_max=1.0, param_weight=3.0)
@@ -133,7 +133,7 @@ def test_arch_four_branch_points_located_with_unit_weights(arch_unit):
     assert len(bps) == 4 and all(bp.located for bp in bps)
     for bp in bps:
         check_branch_point(arch, bp)
-        assert bp.info["bifurcation_type"] == "pitchfork"
+        assert bp.bifurcation.kind == "pitchfork"
 
 
 #: the arch traced in metrics scaled by 10^-3 and 10^3 (steps scaled with the largest weight); the
@@ -246,9 +246,9 @@ def test_transcritical_crossing_in_many_unknowns(weights):
     assert br.status == "bound", br.message
     (bp,) = br.branch_points()
     assert bp.located and abs(bp.p - p_star) <= 1e-10 * p_star
-    assert bp.info["bifurcation_type"] == "transcritical"
+    assert bp.bifurcation.kind == "transcritical"
     # the crossing branch's direction, in the stored (weight-free) form: du/dp = p* K^-1 a / c
-    d = np.asarray(bp.info["bifurcation_direction"])
+    d = bp.bifurcation.directions[0]
     np.testing.assert_allclose(d[:n] / d[n], p_star * Kia / c, rtol=1e-6, atol=1e-9 * np.max(np.abs(Kia)))
     for direction in (1, -1):
         nb = switch_branch(prob, bp, direction=direction, ds=0.02, p_min=0.2 * p_star, p_max=1.8 * p_star,

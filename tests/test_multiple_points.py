@@ -33,12 +33,12 @@ def test_every_branch_point_of_the_trivial_branch_with_its_multiplicity(stabilit
     assert br.success, br.message
     bps = br.branch_points()
     assert [round(b.p, 12) for b in bps] == [1.0, 2.0, 3.0]
-    assert [b.info.get("multiplicity", 1) for b in bps] == [2, 1, 3]
+    assert [b.bifurcation.multiplicity for b in bps] == [2, 1, 3]
     for bp, dims in zip(bps, ([0, 1], None, [3, 4, 5])):
         assert bp.located
         if dims is None:
             continue
-        kernel = np.array(bp.info["kernel"])
+        kernel = bp.bifurcation.kernel
         assert kernel.shape == (len(dims), 6)
         # the kernel spans the unit vectors of the equal stiffnesses (compare projectors)
         expected = np.zeros((6, 6))
@@ -51,4 +51,20 @@ def test_a_double_point_is_not_passed_when_the_step_is_large():
     br = contin.continuation(RadialModes(k=(1.0, 1.0, 5.0)), np.zeros(3), 0.5, p_max=3.0, ds=1.0, ds_max=1.0)
     (bp,) = br.branch_points()
     assert bp.p == pytest.approx(1.0, abs=1e-12)
-    assert bp.info["multiplicity"] == 2
+    assert bp.bifurcation.multiplicity == 2
+
+
+def test_a_branch_saved_before_records_still_switches():
+    # written by contin 17f51ba, whose branch points kept their directions as keys of ``info``
+    from pathlib import Path
+
+    from contin_models.benchmarks.pitchfork import Pitchfork
+
+    saved = contin.Branch.load(Path(__file__).parent / "data" / "pitchfork_branch_saved_before_records.npz")
+    (bp,) = saved.branch_points()
+    assert bp.bifurcation is not None and bp.bifurcation.kind == "pitchfork"
+    # unit weights: the automatic ones are degenerate at this point (u = 0, p = 0)
+    new = contin.switch_branch(Pitchfork(), bp, p_max=0.25, ds=0.05, state_weight=1.0, param_weight=1.0)
+    assert new.success
+    # the supercritical branch u1^2 = p
+    assert np.allclose(np.asarray(new.u)[1:, 0] ** 2, np.asarray(new.p)[1:], atol=1e-8)

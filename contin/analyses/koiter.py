@@ -93,7 +93,7 @@ def koiter_coefficients(problem: Problem, u: np.ndarray, p: float, null_vector: 
     u, p : array, float
         The located branch point (for example a ``"branch_point"`` of :func:`contin.continuation`).
     null_vector : array, optional
-        A start for the Hessian's null vector (the branch point's ``info["null_vector"]``); found by
+        A start for the Hessian's null vector (the branch point's ``bifurcation.null_vector``); found by
         inverse iteration without it.
     path_tangent : (array, float), optional
         The traced branch's tangent ``(du, dp)`` at the point.  By default the traced branch is the

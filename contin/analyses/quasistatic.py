@@ -656,7 +656,7 @@ class _SweepLoop:
         A branch point that is only bracketed, or whose bifurcating branch cannot be stepped onto,
         is treated as a snap point too; the snap's own checks then decide.
         """
-        if not bp.located or "bifurcation_direction" not in bp.info:
+        if not bp.located or bp.bifurcation is None or not len(bp.bifurcation.directions):
             return False
         st = self.sweep.curve.settings
         for side in (1, -1):

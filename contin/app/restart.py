@@ -333,8 +333,10 @@ def restart_states(result: Any) -> dict[str, np.ndarray]:
     for k, (b, j) in sorted(_matched_points(branches, records).items()):
         rec, spt = records[k], branches[b].special_points[j]
         du, dp, ds = _secant(branches[b], int(spt.index))
-        extra = {name: spt.info[name] for name in ("bifurcation_direction", "branch_tangent")
-                 if spt.kind == "branch_point" and spt.info.get(name) is not None}
+        bif = spt.bifurcation if spt.kind == "branch_point" else None
+        extra = {} if bif is None or not len(bif.directions) else {"bifurcation_direction": bif.directions[0]}
+        if bif is not None and bif.traced is not None:
+            extra["branch_tangent"] = bif.traced
         put(str(k + 1), spt.u, spt.p, du, dp, ds,
             {"kind": str(rec.get("kind", spt.kind)), "engine_kind": spt.kind, "label": str(rec.get("label", "")),
              "branch": b, "special": j, "number": k + 1}, extra)
@@ -863,8 +865,8 @@ def resume(problem: Any, start: Start, settings: Any = None, *, switch: bool = F
     the saved run started, and at a saved fold or branch point the Jacobian is nearly singular along the
     tangent, where the check's finite differences measure curvature rather than slope.
     """
-    from ..results.branch import SpecialPoint
     from ..palc import continuation, switch_branch
+    from ..results.branch import Bifurcation, SpecialPoint
     from ..settings import resolve_settings
 
     st = resolve_settings(settings, {**overrides, "check_model": False})
@@ -875,9 +877,11 @@ def resume(problem: Any, start: Start, settings: Any = None, *, switch: bool = F
         if start.kind != "branch_point" or direction is None:
             raise RestartError(f"{start.describe()} is not a located branch point with a bifurcating direction: "
                                f"there is no other branch to follow from it")
+        d = np.asarray(direction, dtype=float)
+        record = Bifurcation(multiplicity=1, kernel=d[None, :-1] / max(float(np.linalg.norm(d[:-1])), 1e-300),
+                             directions=d[None, :], traced=start.extra.get("branch_tangent"))
         bp = SpecialPoint("branch_point", start.p, start.u, dict(start.record.get("observables") or {}), located=True,
-                          label=start.label, info={"bifurcation_direction": direction,
-                                                   "branch_tangent": start.extra.get("branch_tangent")})
+                          label=start.label, bifurcation=record)
         return switch_branch(problem, bp, st, events=events)
     past = beyond_end(problem, start, st.p_min, st.p_max, st.bounds)
     if past:

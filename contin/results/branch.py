@@ -15,7 +15,7 @@ import numpy as np
 
 from .io import ResultFileError, json_ready, read_bundle, write_bundle
 
-__all__ = ["SpecialPoint", "Branch", "SPECIAL_KINDS", "SUCCESSES", "BranchFileError"]
+__all__ = ["Bifurcation", "SpecialPoint", "Branch", "SPECIAL_KINDS", "SUCCESSES", "BranchFileError"]
 
 SPECIAL_KINDS = ("fold", "branch_point", "event", "jump", "bifurcation")
 
@@ -25,6 +25,89 @@ SUCCESSES = ("bound", "event", "closed_loop", "reached_branch_point")
 
 class BranchFileError(ResultFileError):
     """A saved branch file is unreadable, truncated or inconsistent."""
+
+
+@dataclass
+class Bifurcation:
+    """What a located branch point knows about the branches through it: the record every switch reads.
+
+    Attributes
+    ----------
+    multiplicity : int
+        Dimension of the Jacobian's kernel (1 at a simple branch point).
+    kernel : ndarray, shape (multiplicity, n)
+        An orthonormal basis of that kernel (rows); for a mode of an operator family, the mode in
+        that operator's own variables.
+    directions : ndarray, shape (k, n + 1)
+        Directions ``(du, dp)`` of the branches that emanate (not the traced one), in the order a
+        switch tries them; empty where they are not resolved.  At a simple point of a symmetric
+        problem they come from the algebraic bifurcation equation and carry no arclength weight.
+    traced : ndarray, shape (n + 1,), or None
+        The traced branch's tangent at the point.
+    equation : dict of str to float
+        Coefficients of the reduced bifurcation equation: ``a``, ``b``, ``c`` of the algebraic
+        bifurcation equation ``a alpha^2 + 2 b alpha beta + c beta^2 = 0`` at a simple point.
+    kind : str
+        ``"pitchfork"``, ``"transcritical"``, ``"multiple"`` (not yet resolved) or ``"unresolved"``.
+    key : str
+        What identifies it among the branch's points of the same place (a mode's key, or "").
+    koiter : dict of str to float
+        Koiter's ``a`` and ``b`` (``p / p_c = 1 + a xi + b xi^2``) where computed
+        (:func:`contin.koiter_coefficients`).
+    eigenvalues : ndarray
+        The Jacobian's eigenvalues on the kernel at the located point (roundoff-small).
+    """
+
+    multiplicity: int
+    kernel: np.ndarray
+    directions: np.ndarray
+    traced: np.ndarray | None = None
+    equation: dict[str, float] = field(default_factory=dict)
+    kind: str = "unresolved"
+    key: str = ""
+    koiter: dict[str, float] = field(default_factory=dict)
+    eigenvalues: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __post_init__(self) -> None:
+        self.kernel = np.atleast_2d(np.asarray(self.kernel, dtype=float))
+        self.directions = np.asarray(self.directions, dtype=float).reshape(-1, self.kernel.shape[1] + 1) \
+            if np.size(self.directions) else np.zeros((0, self.kernel.shape[1] + 1))
+        self.traced = None if self.traced is None else np.asarray(self.traced, dtype=float)
+        self.eigenvalues = np.asarray(self.eigenvalues, dtype=float)
+
+    @property
+    def null_vector(self) -> np.ndarray:
+        """The first kernel vector (the null vector at a simple point)."""
+        return self.kernel[0]
+
+    def header(self) -> dict[str, Any]:
+        """JSON-serialisable form (arrays as lists)."""
+        return {"multiplicity": int(self.multiplicity), "kernel": self.kernel.tolist(),
+                "directions": self.directions.tolist(), "traced": None if self.traced is None else self.traced.tolist(),
+                "equation": {k: float(v) for k, v in self.equation.items()}, "kind": self.kind, "key": self.key,
+                "koiter": {k: float(v) for k, v in self.koiter.items()}, "eigenvalues": self.eigenvalues.tolist()}
+
+    @classmethod
+    def from_header(cls, h: dict[str, Any]) -> "Bifurcation":
+        """The record described by :meth:`header`."""
+        return cls(multiplicity=int(h["multiplicity"]), kernel=np.array(h["kernel"], dtype=float),
+                   directions=np.array(h["directions"], dtype=float),
+                   traced=None if h.get("traced") is None else np.array(h["traced"], dtype=float),
+                   equation=dict(h.get("equation", {})), kind=h.get("kind", "unresolved"), key=h.get("key", ""),
+                   koiter=dict(h.get("koiter", {})), eigenvalues=np.array(h.get("eigenvalues", []), dtype=float))
+
+
+def _legacy_record(info: dict[str, Any], n: int) -> Bifurcation | None:
+    """The record of a branch point saved before records existed (its directions were keys of ``info``)."""
+    direction = info.get("bifurcation_direction")
+    if direction is None or np.size(direction) != n + 1:
+        return None
+    d = np.asarray(direction, dtype=float)
+    kernel = np.asarray(info.get("null_vector", d[:n]), dtype=float)
+    abe = info.get("abe") or {}
+    return Bifurcation(multiplicity=1, kernel=kernel[None, :] / max(float(np.linalg.norm(kernel)), 1e-300),
+                       directions=d[None, :], traced=info.get("branch_tangent"), equation=dict(abe),
+                       kind=info.get("bifurcation_type", "unresolved"))
 
 
 @dataclass
@@ -52,6 +135,9 @@ class SpecialPoint:
         The point lies between stored points ``index`` and ``index + 1``.
     label : str
         Event name, ``"start"``/``"end"`` of a jump, etc.
+    bifurcation : Bifurcation or None
+        At a located branch point: its kernel, the directions of the branches through it and the
+        coefficients of its reduced equation (:class:`Bifurcation`).
     info : dict
         Extra data: the bracket (``bracket_p``), the jump's source, ...  Folds, branch points and
         extremum events of a branch traced with stability carry ``info["stability"]``:
@@ -73,6 +159,7 @@ class SpecialPoint:
     index: int = -1
     label: str = ""
     info: dict[str, Any] = field(default_factory=dict)
+    bifurcation: Bifurcation | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in SPECIAL_KINDS:
@@ -93,14 +180,19 @@ class SpecialPoint:
             "kind": self.kind, "p": float(self.p), "observables": {k: float(v) for k, v in self.observables.items()},
             "residual": float(self.residual), "located": bool(self.located), "s": float(self.s),
             "index": int(self.index), "label": self.label, "info": json_ready(self.info, keep_nonfinite=True),
+            "bifurcation": None if self.bifurcation is None else json_ready(self.bifurcation.header(),
+                                                                           keep_nonfinite=True),
         }
 
     @classmethod
     def from_header(cls, header: dict[str, Any], u: np.ndarray) -> "SpecialPoint":
         """The special point described by :meth:`header`, with its state ``u``."""
         h = header
+        bif = h.get("bifurcation")
+        record = Bifurcation.from_header(bif) if bif is not None else _legacy_record(h["info"], np.asarray(u).size)
         return cls(kind=h["kind"], p=h["p"], u=u, observables=h["observables"], residual=h["residual"],
-                   located=h["located"], s=h["s"], index=h["index"], label=h["label"], info=h["info"])
+                   located=h["located"], s=h["s"], index=h["index"], label=h["label"], info=h["info"],
+                   bifurcation=record)
 
     def __repr__(self) -> str:
         loc = "located" if self.located else "bracketed"

@@ -30,7 +30,7 @@ import numpy as np
 from ..path.curve import CorrectorFailure, Curve, max_abs
 from ..path.segment import Segment, bracketed_root
 from ..problem import NonFiniteError, Problem
-from ..results.branch import SpecialPoint
+from ..results.branch import Bifurcation, SpecialPoint
 from .testfunctions import FOLD_COSINE, smallest_eigenvectors
 
 __all__ = ["IndexExplanation", "IndexWatch", "explain_index_change", "primary_index", "kernel_at"]
@@ -74,7 +74,8 @@ class IndexExplanation:
 
 
 def _accounted(found: Sequence[SpecialPoint]) -> int:
-    return sum(int(s.info.get("multiplicity", 1)) for s in found if s.kind in ("fold", "branch_point"))
+    return sum(s.bifurcation.multiplicity if s.bifurcation is not None else 1
+               for s in found if s.kind in ("fold", "branch_point"))
 
 
 class IndexWatch:
@@ -279,9 +280,8 @@ def _locate_jump(curve: Curve, seg: Segment, lo: float, hi: float, m: int
         sigma = _root(trace, lo, hi, t_lo, t_hi)
     u, p, res = seg.point(sigma)
     values, vectors, gap = kernel_at(problem, u, p, m)
-    info: dict[str, Any] = {"multiplicity": m, "bracket_p": [seg.point(lo)[1], seg.point(hi)[1]],
-                            "kernel_eigenvalues": values[:m].tolist(), "next_eigenvalue": float(values[m]) if
-                            values.size > m else math.nan,
+    info: dict[str, Any] = {"bracket_p": [seg.point(lo)[1], seg.point(hi)[1]],
+                            "next_eigenvalue": float(values[m]) if values.size > m else math.nan,
                             "method": "bisection of the Morse index, then the root of the trace of the Hessian "
                                       "on the crossing eigenvectors"}
     kind = "branch_point"
@@ -289,10 +289,13 @@ def _locate_jump(curve: Curve, seg: Segment, lo: float, hi: float, m: int
         f_p = problem.dresidual_dp(u, p)
         cosine = abs(float(vectors[:, 0] @ f_p)) / max(float(np.linalg.norm(f_p)), 1e-300)
         kind = "fold" if cosine > FOLD_COSINE else "branch_point"
-    if m > 1:
-        info["kernel"] = vectors[:, :m].T.tolist()
+    record = None
+    if kind == "branch_point":
+        # the directions of the branches are resolved later (by the symmetry or the reduced equation)
+        record = Bifurcation(multiplicity=m, kernel=vectors[:, :m].T, directions=np.zeros((0, u.size + 1)),
+                             kind="multiple" if m > 1 else "unresolved", eigenvalues=values[:m])
     spt = SpecialPoint(kind, float(p), np.array(u, dtype=float), problem.evaluate_observables(u, p),
-                       residual=max_abs(curve.residual(u, p)), located=True, info=info)
+                       residual=max_abs(curve.residual(u, p)), located=True, info=info, bifurcation=record)
     spt.s = seg.A.s + curve.norm(spt.u - seg.A.u, spt.p - seg.A.p)
     return spt, (vectors[:, :m] if gap <= KERNEL_GAP else None)
 

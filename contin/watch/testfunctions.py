@@ -40,7 +40,7 @@ from ..numerics.linalg import BorderedSolver, SingularMatrixError
 from ..path.curve import CorrectorFailure, Curve, Point, max_abs
 from ..path.segment import Segment
 from ..problem import NonFiniteError, Problem
-from ..results.branch import SpecialPoint
+from ..results.branch import Bifurcation, SpecialPoint
 from ..settings import Settings
 from .events import Event
 from .fold import fold_function, inverse_iteration, locate_fold, safe_factorize
@@ -244,7 +244,7 @@ class BranchPointTest(TestFunction):
                 info["test_function"] = fold_function(curve.problem, u, p, hess.b, hess.b)[0]
                 info["method"] = "root of the Hessian's bordered test function"
                 bp = SpecialPoint("branch_point", p, u, {}, residual=res, located=True, info=info)
-                bp.info.update(hess.directions(u, p))
+                bp.bifurcation = hess.directions(u, p)
                 _reject_a_fold(curve.problem, bp)
         else:
             psi = _BorderedBranchTest(seg)
@@ -257,7 +257,7 @@ class BranchPointTest(TestFunction):
                 info["test_function"] = val = psi(sigma)
                 bp = SpecialPoint("branch_point", p, u.copy(), {}, residual=max(res, abs(val)), located=True,
                                   info=info)
-                bp.info.update(psi.directions(u, p))
+                bp.bifurcation = psi.directions(u, p)
         bp.observables = curve.problem.evaluate_observables(bp.u, bp.p)
         bp.s = A.s + curve.norm(bp.u - A.u, bp.p - A.p)
         return bp
@@ -343,9 +343,9 @@ def _reject_a_fold(problem: Any, bp: SpecialPoint) -> None:
     step that ends on the fold itself, where that sign is decided by roundoff, can trigger it, and
     the Hessian's eigenvalue does cross zero there.
     """
-    phi = bp.info.get("null_vector")
-    if phi is None:
+    if bp.bifurcation is None:
         return
+    phi = bp.bifurcation.null_vector
     fp = np.asarray(problem.dresidual_dp(bp.u, bp.p), dtype=float)
     norm = float(np.linalg.norm(fp)) * float(np.linalg.norm(phi))
     cosine = abs(float(np.dot(fp, phi))) / norm if norm > 0 else 0.0
@@ -560,11 +560,10 @@ def bifurcation_directions(problem: Problem, u: np.ndarray, p: float, sec_u: np.
 
     Returns
     -------
-    dict
-        ``null_vector`` (``phi``, unit 2-norm), ``particular_tangent`` (``T``), ``abe``
-        (``{"a", "b", "c"}``), ``branch_tangent`` and ``bifurcation_direction`` (each
-        ``alpha (phi, 0) + beta T`` with ``alpha^2 + beta^2 = 1``), ``bifurcation_type``
-        (``"pitchfork"`` or ``"transcritical"``) and ``eigenvalue`` (``phi^T J phi``).
+    Bifurcation
+        ``kernel`` ``[phi]`` (unit 2-norm), ``equation`` ``{"a", "b", "c"}``, ``traced`` and the one
+        entry of ``directions`` (each ``alpha (phi, 0) + beta T`` with ``alpha^2 + beta^2 = 1``),
+        ``kind`` (``"pitchfork"`` or ``"transcritical"``) and ``eigenvalues`` ``[phi^T J phi]``.
     """
     n = u.size
     phi = smallest_eigenvector(problem, u, p, start=start)
@@ -597,12 +596,11 @@ def bifurcation_directions(problem: Problem, u: np.ndarray, p: float, sec_u: np.
     if other[0] < 0:
         other = -other  # orientation: positive along phi (direction=+1 of switch_branch)
 
-    def along(ab: np.ndarray) -> list[float]:
-        return np.concatenate([ab[0] * phi + ab[1] * v, [ab[1] * t_p]]).tolist()
-    return {"null_vector": phi.tolist(), "particular_tangent": np.concatenate([v, [t_p]]).tolist(),
-            "abe": {"a": a, "b": b, "c": c}, "branch_tangent": along(traced),
-            "bifurcation_direction": along(other), "eigenvalue": lam,
-            "bifurcation_type": "pitchfork" if pitchfork else "transcritical"}
+    def along(ab: np.ndarray) -> np.ndarray:
+        return np.concatenate([ab[0] * phi + ab[1] * v, [ab[1] * t_p]])
+    return Bifurcation(multiplicity=1, kernel=phi[None, :], directions=along(other)[None, :], traced=along(traced),
+                       equation={"a": a, "b": b, "c": c}, kind="pitchfork" if pitchfork else "transcritical",
+                       eigenvalues=np.array([lam]))
 
 
 def _abe_roots(a: float, b: float, c: float) -> list[np.ndarray]:
@@ -650,15 +648,21 @@ class _BorderedBranchTest:
         _, z = self.solver(u, p).solve(np.zeros(u.size), np.array([0.0, 1.0]))
         return float(z[1])
 
-    def directions(self, u: np.ndarray, p: float) -> dict[str, list[float]]:
-        """The bifurcating direction (W-orthogonal to the branch) and the traced branch's direction."""
+    def directions(self, u: np.ndarray, p: float) -> Bifurcation:
+        """The bifurcating direction (W-orthogonal to the branch) and the traced branch's direction.
+
+        Without symmetry the Jacobian's kernel is not computed: ``kernel`` holds the bifurcating
+        direction's state part (unit 2-norm) and ``kind`` is ``"unresolved"``.
+        """
         n, curve, A, B = u.size, self.curve, self.A, self.seg.B
         x, z = self.solver(u, p).solve(np.zeros(n), np.array([0.0, 1.0]))
         phi = np.concatenate([x, z[:1]])
         # the tangent is not unique at a branch point: record the direction of the traced branch
         sec_u, sec_p = B.u - A.u, B.p - A.p
-        return {"bifurcation_direction": (phi / curve.norm(phi[:n], phi[n])).tolist(),
-                "branch_tangent": (np.concatenate([sec_u, [sec_p]]) / curve.norm(sec_u, sec_p)).tolist()}
+        state = phi[:n] / max(float(np.linalg.norm(phi[:n])), 1e-300)
+        return Bifurcation(multiplicity=1, kernel=state[None, :],
+                           directions=(phi / curve.norm(phi[:n], phi[n]))[None, :],
+                           traced=np.concatenate([sec_u, [sec_p]]) / curve.norm(sec_u, sec_p))
 
 
 def _augmented_null_vectors(curve: Curve, u: np.ndarray, p: float, t_u: np.ndarray,
