@@ -56,13 +56,13 @@ package and its command start without loading the engine.  Where each part lives
 ``watch.events``          user events (:func:`crossing`, :func:`extremum`)
 ``watch.watchlist``       the test functions of one run
 ``watch.multiple``        changes of the Morse index the test functions miss: multiple points, branch jumps
+``watch.koiter``          Koiter's coefficients at a simple branch point (:func:`koiter_coefficients`)
 ``analyses.jump``         snaps to a stable state at fixed load
 ``analyses.quasistatic``  load to a fold, snap, resume
 ``analyses.twopar``       fold curves in a second parameter
 ``analyses.deadload``     force control of a displacement-controlled problem (one bordered row)
 ``analyses.conjugate``    displacement control of a force-controlled problem (the load a Lagrange multiplier)
 ``analyses.diagram``      bifurcation diagrams as ``networkx`` graphs
-``analyses.koiter``       Koiter's coefficients at a simple branch point (:func:`koiter_coefficients`)
 ``plot.branches``         plots of branches, their special points and snaps (:func:`plot_branches`)
 ``plot.framing``          the part of a diagram with its snaps, as a detail panel or limited axes
 ``plot.style``            the project's figure style
@@ -101,7 +101,7 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("OperatorFamily", "family_counts"), "watch.modes"),
     **dict.fromkeys(("Settings", "SettingsError"), "settings"),
     **dict.fromkeys(("QuasiStaticResult", "quasistatic", "restate_jump"), "analyses.quasistatic"),
-    **dict.fromkeys(("KoiterCoefficients", "koiter_coefficients"), "analyses.koiter"),
+    **dict.fromkeys(("KoiterCoefficients", "koiter_coefficients"), "watch.koiter"),
     **dict.fromkeys(("StabilityInfo", "stability_info"), "numerics.stability"),
     **dict.fromkeys(("FamilyProblem", "FoldCurveProblem", "cusp_curve_problem"), "analyses.twopar"),
 }

@@ -37,6 +37,7 @@ from .results.branch import SUCCESSES, Branch, SpecialPoint
 from .settings import Settings, resolve_settings
 from .watch.events import Event
 from .watch.fold import locate_fold
+from .watch.koiter import attach_koiter
 from .watch.multiple import IndexWatch, primary_index
 from .watch.testfunctions import KnownBranchPoints, TestFunction
 from .watch.watchlist import test_functions
@@ -158,6 +159,8 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
         steps += 1
         values, index = new_values, explained.index
         found = [f for f in found if not any(f[1] is r for r in explained.replaced)] + explained.found
+        for _, spt in found:
+            attach_koiter(curve.problem, spt)
         recorder.doubts += explained.doubts
         stop = _first_stop(found)
         if stop is not None:

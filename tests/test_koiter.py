@@ -44,6 +44,9 @@ def test_euler_column_against_the_traced_branch():
     st = contin.Settings(ds=0.05 * Pc, ds_max=0.1 * Pc)
     bp = contin.continuation(col, np.zeros(50), 0.0, st, p_max=1.5 * Pc).branch_points()[0]
     k = koiter_coefficients(col, bp.u, bp.p, bp.bifurcation.null_vector)
+    # the located point carries the same coefficients in its record
+    assert bp.bifurcation.koiter["b"] == pytest.approx(k.b, rel=1e-9)
+    assert bp.bifurcation.koiter["a"] == 0.0
     post = contin.switch_branch(col, bp, contin.Settings(ds=0.004, ds_max=0.004), p_max=1.02 * Pc)
     xi = np.asarray(post.u) @ k.null_vector
     ratio = (np.asarray(post.p) / bp.p - 1.0) / np.where(xi == 0, np.nan, xi) ** 2

@@ -7,7 +7,6 @@
 ``deadload``     force control of a displacement-controlled problem (one bordered row)
 ``conjugate``    displacement control of a force-controlled problem (the load a Lagrange multiplier)
 ``diagram``      bifurcation diagrams as ``networkx`` graphs of branches and jumps
-``koiter``       initial post-buckling at a simple branch point (Koiter's ``a`` and ``b``)
 ===============  ==========================================================================================
 """
 

@@ -7,6 +7,7 @@
 ``events``         user events (:func:`crossing`, :func:`extremum`)
 ``watchlist``      the test functions of one run, from its settings, events and problem
 ``multiple``       changes of the Morse index the test functions do not explain: multiple points, jumps
+``koiter``         initial post-buckling at a simple branch point (Koiter's ``a`` and ``b``)
 =================  ========================================================================================
 """
 

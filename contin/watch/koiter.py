@@ -31,12 +31,14 @@ from typing import Any
 
 import numpy as np
 
-from ..numerics.linalg import BorderedSolver
-from ..problem import Problem
-from ..watch.fold import safe_factorize
-from ..watch.testfunctions import FOLD_COSINE, smallest_eigenvector
+from ..numerics.linalg import BorderedSolver, SingularMatrixError
+from ..path.curve import CorrectorFailure
+from ..problem import NonFiniteError, Problem
+from ..results.branch import SpecialPoint
+from .fold import safe_factorize
+from .testfunctions import FOLD_COSINE, smallest_eigenvector
 
-__all__ = ["KoiterCoefficients", "koiter_coefficients"]
+__all__ = ["KoiterCoefficients", "koiter_coefficients", "attach_koiter"]
 
 #: ``|C2|`` below this fraction of ``|C3| + |C1|`` counts as zero (a symmetric bifurcation): the
 #: second derivative along ``phi`` is then roundoff and truncation of the differences.
@@ -174,3 +176,23 @@ def koiter_coefficients(problem: Problem, u: np.ndarray, p: float, null_vector: 
     norm = p if p != 0.0 else math.nan
     return KoiterCoefficients(p_c=p, a=a_abs / norm, b=b_abs / norm, a_abs=a_abs, b_abs=b_abs, symmetric=symmetric,
                               null_vector=phi, C1=C1, C2=C2, C3=C3)
+
+
+def attach_koiter(problem: Problem, spt: SpecialPoint) -> None:
+    """Put Koiter's coefficients into the record of a located simple branch point of a symmetric problem.
+
+    ``spt.bifurcation.koiter`` gets ``a`` and ``b`` (normalised by ``p_c``; NaN where ``p_c = 0``) and
+    ``a_abs``, ``b_abs`` (``p - p_c = a_abs xi + b_abs xi^2``); where they cannot be computed the reason
+    is ``spt.info["koiter_error"]``.  Other points are left as they are.
+    """
+    bif = spt.bifurcation
+    if (spt.kind != "branch_point" or not spt.located or bif is None or bif.multiplicity != 1
+            or bif.kind not in ("pitchfork", "transcritical") or not problem.symmetric):
+        return
+    traced = None if bif.traced is None or bif.traced[-1] == 0.0 else (bif.traced[:-1], float(bif.traced[-1]))
+    try:
+        k = koiter_coefficients(problem, spt.u, spt.p, null_vector=bif.null_vector, path_tangent=traced)
+    except (ValueError, CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError) as exc:
+        spt.info["koiter_error"] = str(exc)
+        return
+    bif.koiter = {"a": k.a, "b": k.b, "a_abs": k.a_abs, "b_abs": k.b_abs}
