@@ -10,8 +10,9 @@ units of ``K L^2`` and with ``lambda = P / (K L)``, ``beta = L / a``::
     V(q, lambda) = 1/4 sum_i (|A_i - q| - 1/beta)^2 - lambda (1 - sqrt(1 - |q|^2)),
     A_i = (1/beta) d_i + epsilon e,   d_i = +-e_x, +-e_y.
 
-Two models (Augusti 1964 studied the strut with two springs in perpendicular planes; Thompson &
-Hunt, *A General Theory of Elastic Stability*, Wiley 1973, treat such compound branching):
+Rigid struts held by springs in two perpendicular planes go back to Augusti (1964) as models of
+compound branching (Thompson & Hunt, *A General Theory of Elastic Stability*, Wiley 1973); here the
+springs are translational springs at the top, and their geometry sets the symmetry.  Two models:
 
 - ``spring_length=None`` (``beta -> 0``): springs that stay parallel to their axes,
   ``V = 1/2 |q - epsilon e|^2 - lambda (1 - sqrt(1 - |q|^2))``, invariant under every rotation and

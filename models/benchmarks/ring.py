@@ -16,10 +16,11 @@ potential ``p A``.  That is the load behaviour for which the ring's classical bu
 
     p_n = (n^2 - 1) EI / R^3,   n = 2, 3, ...      (3 EI / R^3 for the oval mode n = 2)
 
-(Timoshenko & Gere, *Theory of Elastic Stability*, 2nd ed., McGraw-Hill 1961, sec. 7.4; Brush &
-Almroth, *Buckling of Bars, Plates, and Shells*, McGraw-Hill 1975, ch. 4, which also give the other
-load behaviours: a pressure of fixed direction or one directed to the ring's centre has higher
-critical loads, ``4.5 EI / R^3`` for the centrally directed load at ``n = 2``).
+(Levy 1884; Timoshenko & Gere, *Theory of Elastic Stability*, 2nd ed., McGraw-Hill 1961, ch. 7;
+Brush & Almroth, *Buckling of Bars, Plates, and Shells*, McGraw-Hill 1975).  A load of fixed
+direction, or one directed to the ring's centre, has other critical loads; Gaibotti, Bigoni, Cutolo,
+Fraldi & Piccolroaz (arXiv:2407.02897, 2024) compare the three and the constraints the latter two
+need.
 ``E_anchor = (k_a N / 2) (|c|^2 + m^2)`` fixes the rigid-body motions, which leave the rest of the
 energy unchanged: ``c = (1/N) sum (w_i e_r + v_i e_theta)`` is the centroid's displacement and
 ``m = (1/N) sum v_i`` the mean rotation.  Every equilibrium has ``c = 0`` and ``m = 0`` (the rest of
@@ -342,5 +343,5 @@ class PressurisedRing(Problem):
         return num / den
 
     def classical_buckling_load(self, n: int) -> float:
-        """``(n^2 - 1) EI / R^3`` (Timoshenko & Gere 1961, sec. 7.4)."""
+        """``(n^2 - 1) EI / R^3`` (Timoshenko & Gere 1961, ch. 7)."""
         return (n * n - 1) * self.EI / self.R ** 3

@@ -15,7 +15,7 @@ Closed forms
 ``J = h^2 (A - p I)``.  The eigenvectors of ``A`` are ``phi_jk(x_i, y_l) = 2 sin(j pi x_i) sin(k pi y_l)``
 (``1 <= j, k <= n``) with eigenvalues ``lambda_jk = (4/h^2) (sin^2(j pi h/2) + sin^2(k pi h/2))``
 (the product of two one-dimensional Dirichlet problems, e.g. LeVeque, *Finite Difference Methods for
-Ordinary and Partial Differential Equations*, SIAM 2007, sec. 3.4), so ``J`` has the eigenvalues
+Ordinary and Partial Differential Equations*, SIAM 2007, ch. 3), so ``J`` has the eigenvalues
 ``h^2 (lambda_jk - p)`` and the trivial branch has a branch point at every ``p = lambda_jk``: simple
 for ``j = k``, double for ``j != k`` (``lambda_jk = lambda_kj``).  The factor 2 normalises
 ``||phi||_h^2 = h^2 sum phi^2 = 1``: ``sum_{i=1}^{n} sin^2(j pi i h) = (n + 1)/2``.
@@ -41,8 +41,8 @@ reduced energy on its circle (``3 beta > alpha``) and the mixed ones saddles, so
 the pure branches have Morse index 1 (the mode (1,1)) and the mixed ones 2; the trivial branch has 3.
 Of the pure and mixed branches the square's symmetry maps every pure one to every other and every
 mixed one to every other (Golubitsky, Stewart & Schaeffer, *Singularities and Groups in Bifurcation
-Theory* II, Springer 1988, ch. XIII: ``D4`` acts on the kernel by its two-dimensional irreducible
-representation; the reflections across the axes fix the pure directions and those across the
+Theory* II, Springer 1988, the equivariant branching lemma: ``D4`` acts on the kernel by its
+two-dimensional irreducible representation; the reflections across the axes fix the pure directions and those across the
 diagonals the mixed ones).  The simple points ``j = k`` are supercritical pitchforks with
 ``||u||_h^2 = (p - lambda_jj) / alpha_jj`` (``alpha_jj = 9/4`` as well).
 
