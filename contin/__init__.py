@@ -86,7 +86,7 @@ __version__ = "0.1.0"
 #: nothing until an engine function is touched: ``contin --help`` and a refused scene need neither numpy
 #: nor the engine.
 _EXPORTS: dict[str, str] = {
-    **dict.fromkeys(("Branch", "BranchFileError", "SpecialPoint"), "results.branch"),
+    **dict.fromkeys(("Bifurcation", "Branch", "BranchFileError", "SpecialPoint"), "results.branch"),
     **dict.fromkeys(("CheckReport", "ModelCheckError", "check_problem"), "modelkit.check"),
     **dict.fromkeys(("Event", "crossing", "extremum"), "watch.events"),
     **dict.fromkeys(("Element", "check_generated", "compile_kernels", "generate_kernels"), "modelkit.codegen"),

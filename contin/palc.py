@@ -111,9 +111,10 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
     for spt in late.points:
         recorder.special_late(spt)
     recorder.doubts += late.doubts
-    if recorder.doubts and status in SUCCESSES:
-        status = "unexplained"
-        message = f"{message}; but the stability count changed where no point could be located: " + "; ".join(
+    if recorder.doubts:
+        # the run's own end is kept when it failed; a success becomes a doubt
+        status = "unexplained" if status in SUCCESSES else status
+        message = f"{message}; the stability count changed where no point could be located: " + "; ".join(
             recorder.doubts)
     branch = recorder.finish(status, message, t_start)
     branch.meta["n_factorizations"] = curve.n_factorizations

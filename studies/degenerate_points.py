@@ -104,7 +104,7 @@ def unexplained_index_changes(branch: contin.Branch) -> list[dict[str, Any]]:
     for s in _reported(branch):
         # a point that ends the branch is stored as its last point and lies between the two before it
         at = s.index - 1 if s.index == len(branch) - 1 and s.p == branch.p[-1] else s.index
-        counts[at] = counts.get(at, 0) + 1
+        counts[at] = counts.get(at, 0) + _multiplicity(s)
     rows = []
     for i, change in enumerate(np.diff(branch.n_negative)):
         reported = counts.get(i, 0)
@@ -112,6 +112,11 @@ def unexplained_index_changes(branch: contin.Branch) -> list[dict[str, Any]]:
             rows.append({"p_from": float(branch.p[i]), "p_to": float(branch.p[i + 1]), "index_from": int(branch.n_negative[i]),
                          "index_to": int(branch.n_negative[i + 1]), "reported_points": reported})
     return rows
+
+
+def _multiplicity(s: contin.SpecialPoint) -> int:
+    """The multiplicity a reported point claims (1 without a bifurcation record)."""
+    return 1 if s.bifurcation is None else int(s.bifurcation.multiplicity)
 
 
 def judge(branch: contin.Branch, expected: Expected) -> dict[str, Any]:
@@ -127,15 +132,18 @@ def judge(branch: contin.Branch, expected: Expected) -> dict[str, Any]:
         return row
     s = min(near, key=lambda x: abs(x.p - expected.p))
     err = abs(s.p - expected.p) / max(1.0, abs(expected.p))
-    row.update({"engine": s.kind + (f" ({s.info['bifurcation_type']})" if s.info.get("bifurcation_type") else ""),
-                "p_engine": float(s.p), "rel_error": err, "located": bool(s.located),
+    record = s.bifurcation
+    kind = "" if record is None else f" ({record.kind}, multiplicity {record.multiplicity})"
+    row.update({"engine": s.kind + kind, "p_engine": float(s.p), "rel_error": err, "located": bool(s.located),
                 "engine_error": s.info.get("error", "")})
     if s.kind != expected.kind or s.info.get("error"):
         row["verdict"] = "misread"
     elif not s.located:
         row["verdict"] = "bracketed"
-    elif expected.multiplicity > 1:
+    elif expected.multiplicity > 1 and _multiplicity(s) == 1:
         row["verdict"] = "as simple"
+    elif _multiplicity(s) != expected.multiplicity:
+        row["verdict"] = f"multiplicity {_multiplicity(s)}"
     else:
         row["verdict"] = "ok" if err <= LOCATE_TOL else "imprecise"
     return row

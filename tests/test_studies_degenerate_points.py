@@ -31,14 +31,23 @@ def test_a_jump_by_two_with_nothing_reported_is_silent_and_unexplained() -> None
 
 
 def test_a_simple_point_reported_for_a_double_one_accounts_for_one_change() -> None:
-    point = contin.SpecialPoint("branch_point", 1.5, np.zeros(2), located=True, index=1,
-                                info={"bifurcation_type": "pitchfork"})
+    record = contin.Bifurcation(multiplicity=1, kernel=np.array([[1.0, 0.0]]), directions=np.zeros((0, 3)),
+                                kind="pitchfork")
+    point = contin.SpecialPoint("branch_point", 1.5, np.zeros(2), located=True, index=1, bifurcation=record)
     br = hand_made_branch([0, 0, 2, 2], [point])
     row = judge(br, Expected("branch_point", 1.5, 2, "double"))
-    assert row["verdict"] == "as simple" and row["engine"] == "branch_point (pitchfork)"
+    assert row["verdict"] == "as simple" and row["engine"] == "branch_point (pitchfork, multiplicity 1)"
     assert len(unexplained_index_changes(br)) == 1
     assert judge(br, Expected("branch_point", 1.5, 1, "simple"))["verdict"] == "ok"
     assert judge(br, Expected("fold", 1.5, 1, "a fold"))["verdict"] == "misread"
+
+
+def test_a_double_point_reported_as_double_accounts_for_both_changes() -> None:
+    record = contin.Bifurcation(multiplicity=2, kernel=np.eye(2), directions=np.zeros((0, 3)), kind="multiple")
+    point = contin.SpecialPoint("branch_point", 1.5, np.zeros(2), located=True, index=1, bifurcation=record)
+    br = hand_made_branch([0, 0, 2, 2], [point])
+    assert judge(br, Expected("branch_point", 1.5, 2, "double"))["verdict"] == "ok"
+    assert unexplained_index_changes(br) == []
 
 
 def test_the_pitchfork_normal_form_is_ok() -> None:

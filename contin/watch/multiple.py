@@ -28,10 +28,10 @@ from typing import Any
 import numpy as np
 
 from ..path.curve import CorrectorFailure, Curve, max_abs
-from ..path.segment import Segment, bracketed_root
+from ..path.segment import Segment
 from ..problem import NonFiniteError, Problem
 from ..results.branch import Bifurcation, SpecialPoint
-from .testfunctions import FOLD_COSINE, smallest_eigenvectors
+from .testfunctions import FOLD_COSINE, root_near_singular, smallest_eigenvectors
 
 __all__ = ["IndexExplanation", "IndexWatch", "explain_index_change", "primary_index", "kernel_at"]
 
@@ -237,11 +237,26 @@ def _index_jumps(index_of: Callable[[float], int], sigma_B: float, n_A: int, n_B
         if abs(hi - lo) <= width:
             out.append((lo, hi, n_lo, n_hi))
             continue
-        mid = 0.5 * (lo + hi)
-        n_mid = index_of(mid)
+        mid, n_mid = _index_near(index_of, lo, hi)
+        if n_mid is None:
+            # no point converges inside (the corrector's system is singular next to the point itself):
+            # the bracket is as narrow as the curve allows; the location takes it from here
+            out.append((lo, hi, n_lo, n_hi))
+            continue
         stack.append((mid, hi, n_mid, n_hi))
         stack.append((lo, mid, n_lo, n_mid))
     return sorted(out, key=lambda j: abs(j[0]))
+
+
+def _index_near(index_of: Callable[[float], int], lo: float, hi: float) -> tuple[float, int | None]:
+    """The index at the middle of ``[lo, hi]``, or at a point nudged from it when the middle does not converge."""
+    for shift in (0.0, 0.1, -0.1, 0.3, -0.3):
+        mid = 0.5 * (lo + hi) + shift * 0.5 * (hi - lo)
+        try:
+            return mid, index_of(mid)
+        except CorrectorFailure:
+            continue
+    return 0.5 * (lo + hi), None
 
 
 def kernel_at(problem: Problem, u: np.ndarray, p: float, m: int) -> tuple[np.ndarray, np.ndarray, float]:
@@ -264,21 +279,26 @@ def _locate_jump(curve: Curve, seg: Segment, lo: float, hi: float, m: int
                  ) -> tuple[SpecialPoint, np.ndarray | None]:
     """The point in ``[lo, hi]`` where ``m`` eigenvalues cross zero, and its kernel (None if it has none)."""
     problem = curve.problem
-    mid = 0.5 * (lo + hi)
-    um, pm, _ = seg.point(mid)
+    # the crossing eigenvectors at an end of the bracket (its ends converged when the index was taken)
+    um, pm, _ = seg.point(lo)
     _, V, _ = kernel_at(problem, um, pm, m)
     V = V[:, :m]
 
-    def trace(sigma: float) -> float:
-        u, p, _ = seg.point(sigma)
+    def trace(u: np.ndarray, p: float) -> float:
         return float(np.trace(V.T @ (problem.checked_jacobian(u, p) @ V)))
 
-    t_lo, t_hi = trace(lo), trace(hi)
-    if t_lo * t_hi > 0:
-        sigma = mid
-    else:
-        sigma = _root(trace, lo, hi, t_lo, t_hi)
-    u, p, res = seg.point(sigma)
+    u_lo, p_lo, _ = seg.point(lo)
+    u_hi, p_hi, _ = seg.point(hi)
+    t_lo, t_hi = trace(u_lo, p_lo), trace(u_hi, p_hi)
+    try:
+        # a step that ends next to the point is short, and its inside is all within the singular zone:
+        # the nodes may spread to a few steps' length around it
+        u, p = root_near_singular(seg, trace, lo, hi, t_lo, BISECT_WIDTH * abs(seg.sigma_B), attempts=16)
+    except CorrectorFailure:
+        # no converged point near it: the secant between the bracket's converged ends (its error is
+        # the curve's deviation from a chord of the bracket; the residual below says how good it is)
+        t = t_lo / (t_lo - t_hi) if t_lo != t_hi else 0.5
+        u, p = u_lo + t * (u_hi - u_lo), p_lo + t * (p_hi - p_lo)
     values, vectors, gap = kernel_at(problem, u, p, m)
     info: dict[str, Any] = {"bracket_p": [seg.point(lo)[1], seg.point(hi)[1]],
                             "next_eigenvalue": float(values[m]) if values.size > m else math.nan,
@@ -294,11 +314,9 @@ def _locate_jump(curve: Curve, seg: Segment, lo: float, hi: float, m: int
         # the directions of the branches are resolved later (by the symmetry or the reduced equation)
         record = Bifurcation(multiplicity=m, kernel=vectors[:, :m].T, directions=np.zeros((0, u.size + 1)),
                              kind="multiple" if m > 1 else "unresolved", eigenvalues=values[:m])
+    res = max_abs(curve.residual(u, p))
     spt = SpecialPoint(kind, float(p), np.array(u, dtype=float), problem.evaluate_observables(u, p),
-                       residual=max_abs(curve.residual(u, p)), located=True, info=info, bifurcation=record)
+                       residual=res, located=bool(res <= curve.tol), info=info, bifurcation=record)
     spt.s = seg.A.s + curve.norm(spt.u - seg.A.u, spt.p - seg.A.p)
     return spt, (vectors[:, :m] if gap <= KERNEL_GAP else None)
 
-
-def _root(fun: Callable[[float], float], a: float, b: float, f_a: float, f_b: float) -> float:
-    return bracketed_root(fun, a, b, f_a, f_b, xtol=1e-12 * max(abs(a), abs(b), 1e-300))

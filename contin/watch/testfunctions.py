@@ -402,57 +402,64 @@ class _HessianBranchTest:
         return fold_function(self.curve.problem, u, p, b, b)[0]
 
     def root(self, width: float = 1e-4, attempts: int = 6) -> tuple[np.ndarray, float]:
-        """The branch point ``(u, p)``: where the test function vanishes on the curve.
-
-        The corrector's bordered system is itself singular at the branch point (two branches cross
-        the hyperplane there), so points closer to it than roundoff allows do not converge.  Hence
-        bisection down to a bracket of ``width * sigma_B``, then the root of the cubic through the
-        test function at four points ``w / 2`` to ``2 w`` from the bracket's centre, and the state by
-        the same cubic (Lagrange) interpolation of those four converged points: its error is
-        ``O(w^4)``, far below the corrector's tolerance.  ``w`` doubles when a point fails to converge.
-        """
+        """The branch point ``(u, p)``: where the test function vanishes on the curve (:func:`root_near_singular`)."""
         seg = self.seg
-        lo, hi, g_lo = 0.0, seg.sigma_B, self.ends[0]
-        w = width * abs(seg.sigma_B)
-        while abs(hi - lo) > w:
-            mid = 0.5 * (lo + hi)
-            g_mid = self._robust(mid, 0.25 * abs(hi - lo))
-            if g_mid * g_lo > 0:
-                lo, g_lo = mid, g_mid
-            else:
-                hi = mid
-        centre = 0.5 * (lo + hi)
-        last: Exception | None = None
-        for _ in range(attempts):
-            nodes = centre + np.sign(seg.sigma_B) * w * np.array([-2.0, -1.0, 1.0, 2.0])
-            try:
-                pts = [seg.point(float(s)) for s in nodes]
-            except CorrectorFailure as exc:
-                last, w = exc, 2 * w
-                continue
-            g = np.array([fold_function(self.curve.problem, u, p, self.b, self.b)[0] for u, p, _ in pts])
-            x = (nodes - centre) / w
-            coef = np.polyfit(x, g, 3)
-            t = _cubic_root(coef, x[1], x[2], g[1], g[2])
-            weights = _lagrange_weights(x, t)
-            u = sum(wi * pt[0] for wi, pt in zip(weights, pts))
-            p = float(sum(wi * pt[1] for wi, pt in zip(weights, pts)))
-            return np.asarray(u, dtype=float), p
-        raise CorrectorFailure(f"no converged points around the branch point: {last}")
+        return root_near_singular(seg, lambda u, p: fold_function(self.curve.problem, u, p, self.b, self.b)[0],
+                                  0.0, seg.sigma_B, self.ends[0], width * abs(seg.sigma_B), attempts)
 
-    def _robust(self, sigma: float, room: float) -> float:
-        """Test function at ``sigma``, or at a point nudged by up to ``room`` when the corrector fails there."""
-        for shift in (0.0, 0.1, -0.1, 0.3, -0.3):
-            try:
-                return self._g(self.b, sigma + shift * room)
-            except CorrectorFailure:
-                continue
-        return self._g(self.b, sigma)
-
-    def directions(self, u: np.ndarray, p: float) -> dict[str, Any]:
+    def directions(self, u: np.ndarray, p: float) -> Bifurcation:
         """Null vector, the branch's tangents and the bifurcation equation at the located point."""
         A, B = self.seg.A, self.seg.B
         return bifurcation_directions(self.curve.problem, u, p, B.u - A.u, B.p - A.p, start=self.b)
+
+
+def root_near_singular(seg: Segment, g_at: Callable[[np.ndarray, float], float], lo: float, hi: float, g_lo: float,
+                       width: float, attempts: int = 6) -> tuple[np.ndarray, float]:
+    """The point ``(u, p)`` of ``seg`` in ``[lo, hi]`` where ``g_at`` changes sign, next to a singular point.
+
+    At a branch point the corrector's bordered system is itself singular (two branches cross the
+    hyperplane there), so points closer to it than roundoff allows do not converge.  Hence bisection
+    down to a bracket of ``width`` (a point that fails is nudged along the segment), then the root of
+    the cubic through ``g`` at four points ``w / 2`` to ``2 w`` from the bracket's centre, and the
+    state by the same cubic (Lagrange) interpolation of those four converged points: its error is
+    ``O(w^4)``, far below the corrector's tolerance.  ``w`` doubles when a point fails to converge.
+    """
+    def value(sigma: float, room: float) -> float:
+        for shift in (0.0, 0.1, -0.1, 0.3, -0.3):
+            try:
+                u, p, _ = seg.point(sigma + shift * room)
+                return g_at(u, p)
+            except CorrectorFailure:
+                continue
+        u, p, _ = seg.point(sigma)
+        return g_at(u, p)
+
+    while abs(hi - lo) > width:
+        mid = 0.5 * (lo + hi)
+        g_mid = value(mid, 0.25 * abs(hi - lo))
+        if g_mid * g_lo > 0:
+            lo, g_lo = mid, g_mid
+        else:
+            hi = mid
+    centre = 0.5 * (lo + hi)
+    w = width
+    last: Exception | None = None
+    for _ in range(attempts):
+        nodes = centre + np.sign(seg.sigma_B) * w * np.array([-2.0, -1.0, 1.0, 2.0])
+        try:
+            pts = [seg.point(float(s)) for s in nodes]
+        except CorrectorFailure as exc:
+            last, w = exc, 2 * w
+            continue
+        g = np.array([g_at(u, p) for u, p, _ in pts])
+        x = (nodes - centre) / w
+        coef = np.polyfit(x, g, 3)
+        t = _cubic_root(coef, x[1], x[2], g[1], g[2])
+        weights = _lagrange_weights(x, t)
+        u = sum(wi * pt[0] for wi, pt in zip(weights, pts))
+        p = float(sum(wi * pt[1] for wi, pt in zip(weights, pts)))
+        return np.asarray(u, dtype=float), p
+    raise CorrectorFailure(f"no converged points around the singular point: {last}")
 
 
 def _cubic_root(coef: np.ndarray, x0: float, x1: float, g0: float, g1: float) -> float:

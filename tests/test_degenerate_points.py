@@ -1,0 +1,58 @@
+"""Multiple branch points of symmetric models with closed forms, with default settings.
+
+Each of these passed unreported before the Morse index was watched: the determinant's sign does not
+change where two eigenvalues cross zero together.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import contin
+from contin_models.benchmarks.augusti import AugustiStrut
+from contin_models.benchmarks.ring import PressurisedRing
+from contin_models.benchmarks.spring_chain import BistableChain
+from contin_models.benchmarks.square import D4Square
+
+
+def _near(branch: contin.Branch, p: float, rtol: float) -> contin.SpecialPoint:
+    near = [s for s in branch.branch_points() if abs(s.p - p) <= rtol * max(1.0, abs(p))]
+    assert len(near) == 1, (p, [(s.p, s.bifurcation and s.bifurcation.multiplicity) for s in branch.special_points])
+    return near[0]
+
+
+def test_the_square_reports_its_double_point_as_double():
+    square = D4Square(30)
+    br = contin.continuation(square, np.zeros(square.n ** 2), 0.0, p_max=55.0)
+    assert br.success, br.message
+    for p, multiplicity, _ in square.branch_points(55.0):  # (1,1) simple, (1,2)/(2,1) double
+        bp = _near(br, p, 1e-8)
+        assert bp.located and bp.bifurcation.multiplicity == multiplicity
+
+
+@pytest.mark.parametrize("spring_length", [None, 2.0])
+def test_the_augusti_struts_double_point(spring_length):
+    strut = AugustiStrut(spring_length=spring_length)
+    br = contin.continuation(strut, np.zeros(2), 0.0, p_max=1.5)
+    assert br.success, br.message
+    bp = _near(br, 1.0, 1e-10)
+    assert bp.bifurcation.multiplicity == 2
+    assert np.allclose(bp.bifurcation.kernel @ bp.bifurcation.kernel.T, np.eye(2), atol=1e-12)
+
+
+def test_three_identical_springs_branch_points_have_multiplicity_two():
+    chain = BistableChain(3, coordinates="modes")
+    br = contin.continuation(chain, chain.state(np.zeros(3)), 0.0, p_max=4.5)
+    assert br.success, br.message
+    for Delta, _, multiplicity in chain.homogeneous_branch_points():
+        assert _near(br, Delta, 1e-8).bifurcation.multiplicity == multiplicity == 2
+
+
+def test_the_rings_first_double_points():
+    ring = PressurisedRing(N=64)
+    br = contin.continuation(ring, np.zeros(2 * ring.N), 0.0, p_max=20.0)
+    assert br.success, br.message
+    for n in (2, 3, 4):
+        bp = _near(br, ring.buckling_load(n), 1e-8)
+        assert bp.bifurcation.multiplicity == 2
