@@ -62,8 +62,8 @@ from ..settings import Settings, SettingsError, resolve_settings
 from ..watch.events import Event
 from ..watch.testfunctions import smallest_eigenvectors
 
-__all__ = ["DeflationSettings", "DeflationOperator", "DeflationAttempt", "DeflationResult", "DeflatedBranches", "deflate",
-           "deflated_branches", "deflation_curve", "branch_states_at"]
+__all__ = ["DeflationSettings", "DeflationOperator", "DeflationAttempt", "DeflationResult", "DeflatedBranches",
+           "deflate", "deflated_branches", "deflation_curve", "default_starts", "branch_states_at"]
 
 #: What makes a linearization or an evaluation unusable: the attempt ends as diverged, never raises.
 EVALUATION_FAILURES = (NonFiniteError, SingularMatrixError, np.linalg.LinAlgError, CorrectorFailure)
@@ -276,14 +276,19 @@ def deflate(problem: Problem, p: float, known_states: Sequence[Any], *, starts: 
     dst = deflation or DeflationSettings()
     dst.validate()
     p = float(p)
-    known = _states(problem, known_states, "known_states")
-    given = None if starts is None else _states(problem, starts, "starts", size=_size(known))
+    known = _states(problem, known_states, "deflate", "known_states")
+    given = None if starts is None else _states(problem, starts, "deflate", "starts", size=_size(known))
     reference = known[0] if known else (given[0] if given else None)
     if reference is None:
         raise ValueError("deflate: nothing to start from: give known_states (the default starts leave them) "
                          "or starts")
-    curve = deflation_curve(problem, p, reference, st)
-    start_list = given if given is not None else default_starts(curve, p, known, dst)
+    return _deflate(deflation_curve(problem, p, reference, st), p, known, given, dst)
+
+
+def _deflate(curve: Curve, p: float, known: list[np.ndarray], starts: list[np.ndarray] | None,
+             dst: DeflationSettings) -> DeflationResult:
+    """:func:`deflate` on a curve already calibrated (its metric and tolerance are the ones used)."""
+    start_list = starts if starts is not None else default_starts(curve, p, known, dst)
     if not start_list:
         raise ValueError("deflate: the known states give no default start (df/dp = 0 there and the problem is "
                          "not symmetric, or modes = 0): give starts")
@@ -305,16 +310,17 @@ def _size(known: list[np.ndarray]) -> int | None:
     return known[0].size if known else None
 
 
-def _states(problem: Problem, states: Sequence[Any], name: str, size: int | None = None) -> list[np.ndarray]:
-    """The states as float vectors of one size, each finite (ValueError naming ``name`` otherwise)."""
+def _states(problem: Problem, states: Sequence[Any], caller: str, name: str,
+            size: int | None = None) -> list[np.ndarray]:
+    """The states as float vectors of one size, each finite (ValueError naming ``caller`` and ``name`` otherwise)."""
     out = [np.array(u, dtype=float).ravel() for u in states]
     for k, u in enumerate(out):
         expected = size if size is not None else out[0].size
         if u.size != expected:
-            raise ValueError(f"deflate: {name}[{k}] has {u.size} entries, the states of {problem.name!r} here "
+            raise ValueError(f"{caller}: {name}[{k}] has {u.size} entries, the states of {problem.name!r} here "
                              f"have {expected}")
         if not np.isfinite(u).all():
-            raise ValueError(f"deflate: {name}[{k}] is not finite")
+            raise ValueError(f"{caller}: {name}[{k}] is not finite")
     return out
 
 
@@ -520,8 +526,6 @@ def branch_states_at(curve: Curve, branch: Branch, p: float) -> list[np.ndarray]
             continue
         if not any(curve.norm(u - v, 0.0) <= curve.settings.xtol * (1.0 + curve.norm(v, 0.0)) for v in states):
             states.append(u)
-    if len(branch) and P[-1] == p:
-        states.append(np.array(branch.u[-1], dtype=float))
     return states
 
 
@@ -536,9 +540,9 @@ class DeflatedBranches:
         The deflated Newton attempts; its ``known`` are the given states and those of the given
         branches at ``p``.
     branches : list of Branch
-        The new branches: from each traced solution the run with increasing parameter first
-        (``direction`` +1 of its tangent) and the one back, or the one run alone when it closed on
-        itself (status ``"closed_loop"``).  ``meta["deflation"]`` names the solution each started from.
+        The new branches: from each traced solution the run along its tangent (oriented like
+        ``J t_u = -df/dp t_p`` with ``t_p > 0``), then the run the other way, or the first run alone
+        when it closed on itself (status ``"closed_loop"``).  ``meta["deflation"]`` names the solution each started from.
     traced : list of int
         The indices (in ``deflation.solutions``) of the solutions traced.
     same_as : dict of int to int
@@ -590,10 +594,12 @@ def deflated_branches(problem: Problem, p: float, branches: Sequence[Branch] = (
     dst = deflation or DeflationSettings()
     dst.validate()
     p = float(p)
-    given = _states(problem, known_states, "known_states")
+    given = _states(problem, known_states, "deflated_branches", "known_states")
+    trial = None if starts is None else _states(problem, starts, "deflated_branches", "starts",
+                                                size=_size(given))
     reference = given[0] if given else _nearest_stored(branches, p)
-    if reference is None and starts is not None and len(starts):
-        reference = np.array(starts[0], dtype=float).ravel()
+    if reference is None and trial:
+        reference = trial[0]
     if reference is None:
         raise ValueError("deflated_branches: nothing to start from: give branches that store states, "
                          "known_states or starts")
@@ -602,8 +608,10 @@ def deflated_branches(problem: Problem, p: float, branches: Sequence[Branch] = (
     for u in given + [v for br in branches for v in branch_states_at(curve, br, p)]:
         if all(curve.norm(u - v, 0.0) > dst.rtol for v in known):  # a state two branches share, once
             known.append(u)
-    found = deflate(problem, p, known, starts=starts, settings=st, deflation=dst)
-    result = DeflatedBranches(p, found)
+    if known:  # measured where deflate would measure it: the first known state
+        curve = deflation_curve(problem, p, known[0], st)
+    result = DeflatedBranches(p, _deflate(curve, p, known, trial, dst))
+    found = result.deflation
     for k, u in enumerate(found.solutions):
         owner = _owner(curve, result, p, u, dst.rtol)
         if owner is not None:
