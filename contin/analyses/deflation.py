@@ -109,7 +109,7 @@ class DeflationSettings:
 
     power: float = 2.0
     shift: float = 1.0
-    max_iter: int = 50
+    max_iter: int = 100
     min_damping: float = 1e-4
     rtol: float = 1e-6
     push: float = 0.1
