@@ -278,3 +278,6 @@ def test_bad_settings_and_states_are_refused():
         contin.deflate(Pitchfork(), 0.25, [np.array([np.nan, 0.0])])
     with pytest.raises(ValueError, match="nothing to start from"):
         contin.deflate(Pitchfork(), 0.25, [])
+    away = contin.continuation(Pitchfork(), np.zeros(2), -1.0, p_max=-0.5)  # never reaches p = 0.25
+    with pytest.raises(ValueError, match="no known state at this parameter"):
+        contin.deflated_branches(Pitchfork(), 0.25, [away])

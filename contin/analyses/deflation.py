@@ -289,6 +289,8 @@ def _deflate(curve: Curve, p: float, known: list[np.ndarray], starts: list[np.nd
              dst: DeflationSettings) -> DeflationResult:
     """:func:`deflate` on a curve already calibrated (its metric and tolerance are the ones used)."""
     start_list = starts if starts is not None else default_starts(curve, p, known, dst)
+    if not start_list and not known:
+        raise ValueError("deflate: no known state at this parameter to push the default starts off: give starts")
     if not start_list:
         raise ValueError("deflate: the known states give no default start (df/dp = 0 there and the problem is "
                          "not symmetric, or modes = 0): give starts")
