@@ -63,6 +63,7 @@ package and its command start without loading the engine.  Where each part lives
 ``analyses.deadload``     force control of a displacement-controlled problem (one bordered row)
 ``analyses.conjugate``    displacement control of a force-controlled problem (the load a Lagrange multiplier)
 ``analyses.diagram``      bifurcation diagrams as ``networkx`` graphs
+``analyses.deflation``    solutions no traced branch reaches (:func:`deflate`), and the branches through them
 ``plot.branches``         plots of branches, their special points and snaps (:func:`plot_branches`)
 ``plot.framing``          the part of a diagram with its snaps, as a detail panel or limited axes
 ``plot.style``            the project's figure style
@@ -102,6 +103,8 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("Settings", "SettingsError"), "settings"),
     **dict.fromkeys(("QuasiStaticResult", "quasistatic", "restate_jump"), "analyses.quasistatic"),
     **dict.fromkeys(("KoiterCoefficients", "koiter_coefficients"), "watch.koiter"),
+    **dict.fromkeys(("DeflatedBranches", "DeflationAttempt", "DeflationResult", "DeflationSettings", "deflate",
+                     "deflated_branches"), "analyses.deflation"),
     **dict.fromkeys(("StabilityInfo", "stability_info"), "numerics.stability"),
     **dict.fromkeys(("FamilyProblem", "FoldCurveProblem", "cusp_curve_problem"), "analyses.twopar"),
 }

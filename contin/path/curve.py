@@ -310,7 +310,7 @@ class Curve:
         du_norm = math.inf
         J = None
         for it in range(max_iter + 1):
-            if res <= tol and (du_norm <= self.settings.xtol * (1.0 + self.norm(u, 0.0)) or res <= 1e-6 * tol):
+            if self.converged_at_fixed_p(u, res, du_norm):
                 return u, res, it
             if it == max_iter:
                 break
@@ -329,6 +329,22 @@ class Curve:
         state = (f"residual {res:.3e} > tol {tol:.1e}" if res > tol else
                  f"residual {res:.3e} within tol {tol:.1e} but the update {du_norm:.3e} does not shrink below xtol")
         raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge ({state})" + (f": {why}" if why else ""))
+
+    def converged_at_fixed_p(self, u: np.ndarray, res: float, du_norm: float) -> bool:
+        """Whether Newton at a fixed parameter has converged at ``u``.
+
+        The residual's max-norm ``res`` must be within :attr:`tol` and the last update taken,
+        ``du_norm`` in the state metric, within ``xtol (1 + ||u||)``, unless the residual is a
+        millionth of the tolerance already (a start that was converged to begin with takes no update).
+
+        Parameters
+        ----------
+        u : the iterate.
+        res : max-norm of ``f(u, p)``.
+        du_norm : size of the update that led to ``u`` (inf before the first one).
+        """
+        return res <= self.tol and (du_norm <= self.settings.xtol * (1.0 + self.norm(u, 0.0))
+                                    or res <= 1e-6 * self.tol)
 
     def _damped(self, u: np.ndarray, p: float, du: np.ndarray, res: float,
                 factors: Any = None) -> tuple[float, np.ndarray | None, float]:
