@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from .numerics.linalg import SingularMatrixError
+from .numerics.stability import inertia
 from .path.corrector import Correction, check_curvature_consistency, correct, quadratic_predictor
 from .path.curve import CorrectorFailure, Curve, Point, max_abs, scales_from_sensitivity
 from .path.segment import Segment
@@ -454,7 +455,17 @@ def _step(curve: Curve, previous: Point | None, current: Point, ds: float) -> tu
         raise CorrectorFailure(f"tangent turned too sharply (cos = {cos_turn:.3f}); possible branch jump")
     if previous is not None:
         check_curvature_consistency(curve, previous, current, c.u, c.p, ds)
-    return Point(c.u, c.p, t_u, t_p, c.residual, c.iterations, det_sign, current.s + ds), c.contraction, cos_turn
+    new = Point(c.u, c.p, t_u, t_p, c.residual, c.iterations, det_sign, current.s + ds)
+    st = curve.settings
+    if curve.problem.symmetric and st.watch_index and not st.stability and c.linearization is not None:
+        # the Morse index of the Jacobian the corrector last factorized (one converged update from the
+        # point): from its pivots where they give it exactly (no interchanges), else one pivot-free
+        # L D L^T of that same matrix; the model's Jacobian is not evaluated again
+        J, _, F = c.linearization
+        new.inertia = F.symmetric_inertia() if F is not None else None
+        if new.inertia is None:
+            new.inertia = inertia(J)
+    return new, c.contraction, cos_turn
 
 
 @dataclass
@@ -472,7 +483,8 @@ def _index(recorder: Recorder, pt: Point) -> int | None:
     """The primary Morse index at ``pt`` when the run watches it (a symmetric problem), else None.
 
     With ``stability`` on it is the recorder's own count (computed once per point); otherwise the
-    index alone (a pivot-free factorization, no eigenvalues).
+    count the corrector's factorization gives for free (:attr:`Point.inertia`), or the index alone (a
+    pivot-free factorization, no eigenvalues).
     """
     st, problem = recorder.st, recorder.problem
     if not (st.watch_index and st.locate and problem.symmetric and st.detect_folds and st.detect_branch_points):
@@ -480,6 +492,8 @@ def _index(recorder: Recorder, pt: Point) -> int | None:
     if st.stability:
         infos = recorder.stability_of(pt)
         return None if not infos else int(next(iter(infos.values())).n_negative)
+    if pt.inertia is not None:
+        return pt.inertia
     return primary_index(problem, pt.u, pt.p)
 
 

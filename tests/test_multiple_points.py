@@ -68,3 +68,20 @@ def test_a_branch_saved_before_records_still_switches():
     assert new.success
     # the supercritical branch u1^2 = p
     assert np.allclose(np.asarray(new.u)[1:, 0] ** 2, np.asarray(new.p)[1:], atol=1e-8)
+
+
+@pytest.mark.parametrize("n", [3, 50, 400])
+def test_the_inertia_read_off_a_factorization_is_the_eigenvalue_count(n):
+    import scipy.sparse as sp
+
+    from contin.numerics.linalg import BandedLU, DenseLU, TridiagonalLU, banded_extension
+
+    rng = np.random.default_rng(n)
+    d, e = rng.normal(1.0, 2.0, n), rng.normal(0.0, 0.5, n - 1)
+    A = sp.diags([e, d, e], [-1, 0, 1], format="dia")
+    negative = int(np.count_nonzero(np.linalg.eigvalsh(A.toarray()) < 0))
+    for F in (TridiagonalLU(A), BandedLU(A, 1, 1), DenseLU(A)):
+        counted = F.symmetric_inertia()
+        # None only where the factors cannot tell (row interchanges, and no compiled count on the diagonals)
+        exact = isinstance(F, TridiagonalLU) and banded_extension() is not None
+        assert counted == negative or (counted is None and not exact)

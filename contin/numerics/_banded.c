@@ -395,6 +395,51 @@ static PyObject *ldlt_negative(PyObject *self, PyObject *const *args, Py_ssize_t
     return columns;
 }
 
+/* sturm_count(d, e, growth_limit, zero_tol) -> int: the negative pivots of the pivot-free L D L^T of
+   the symmetric tridiagonal matrix with diagonal d (n) and off-diagonal e (n - 1), read-only; -1 when
+   that factorization cannot be trusted (the checks of ldlt_negative: a pivot that is not a number,
+   zero, or negative with |pivot| <= zero_tol, or a multiplier |e_j| / |pivot| above growth_limit).
+   What ldlt_negative counts for a band of width one, without the Cholesky factor it also leaves. */
+static PyObject *sturm_count(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "sturm_count(d, e, growth_limit, zero_tol)");
+        return NULL;
+    }
+    Py_ssize_t n = PyObject_Length(args[0]);
+    if (n < 1) {
+        if (!PyErr_Occurred()) PyErr_SetString(PyExc_TypeError, "sturm_count: n must be at least 1");
+        return NULL;
+    }
+    double growth_limit = PyFloat_AsDouble(args[2]);
+    double zero_tol = PyFloat_AsDouble(args[3]);
+    if (PyErr_Occurred()) return NULL;
+    static const int writable[2] = {0, 0};
+    static const char *const formats[2] = {"d", "d"};
+    static const char *const names[2] = {"sturm_count: d", "sturm_count: e"};
+    const Py_ssize_t sizes[2] = {n, n - 1};
+    Py_buffer v[2];
+    if (get_all(args, 2, writable, formats, sizes, names, v) < 0) return NULL;
+    const double *d = v[0].buf, *e = v[1].buf;
+    long negative = 0;
+    double pivot = d[0];
+    for (Py_ssize_t j = 0; j < n; j++) {
+        if (!(pivot > 0.0) && !(pivot < 0.0 && fabs(pivot) > zero_tol)) {
+            negative = -1;
+            break;
+        }
+        if (pivot < 0.0) negative++;
+        if (j + 1 < n) {
+            if (!(fabs(e[j]) / fabs(pivot) <= growth_limit)) {
+                negative = -1;
+                break;
+            }
+            pivot = d[j + 1] - e[j] * (e[j] / pivot);
+        }
+    }
+    release_all(v, 2);
+    return PyLong_FromLong(negative);
+}
+
 /* cholesky_solve(u, rdiag, x) -> None: x (n, C-contiguous) overwritten by the solution of U^T U x = x,
    with U the upper band Cholesky factor that ldlt_negative (or LAPACK's pbtrf) leaves in u ((kd + 1, n),
    Fortran-ordered, U[i, j] at u[kd + i - j, j]) and rdiag (n) the reciprocals of its diagonal.  LAPACK's
@@ -456,6 +501,8 @@ static PyMethodDef methods[] = {
     {"max_abs", (PyCFunction)max_abs, METH_O, "max_abs(a) -> float"},
     {"solve", (PyCFunction)(void (*)(void))solve, METH_FASTCALL, "solve(dl, rd, du, du2, piv, x, trans) -> None"},
     {"cholesky_solve", (PyCFunction)(void (*)(void))cholesky_solve, METH_FASTCALL, "cholesky_solve(u, rdiag, x) -> None"},
+    {"sturm_count", (PyCFunction)(void (*)(void))sturm_count, METH_FASTCALL,
+     "sturm_count(d, e, growth_limit, zero_tol) -> int (-1: not trusted)"},
     {"ldlt_negative", (PyCFunction)(void (*)(void))ldlt_negative, METH_FASTCALL,
      "ldlt_negative(work, growth_limit, max_negative, zero_tol) -> columns or None"},
     {NULL, NULL, 0, NULL}

@@ -99,6 +99,11 @@ def _sign_log_from_diagonal(diag: np.ndarray, parity: int) -> tuple[float, float
     return sign, float(np.sum(np.log(np.abs(diag))))
 
 
+#: Largest multiplier ``|a_jk| / |d_j|`` a pivot-free ``L D L^T`` may meet before its count of negative
+#: pivots is no longer trusted (element growth makes the later pivots' signs unreliable).
+PIVOT_FREE_GROWTH_LIMIT = 1e8
+
+
 class Factorization:
     """A factorized square matrix: solves and the sign / log-modulus of the determinant."""
 
@@ -115,6 +120,25 @@ class Factorization:
     def det_sign(self) -> float:
         """The sign of the determinant alone (0 for an exactly singular matrix), without its logarithm."""
         return self.det_sign_log()[0]
+
+    def symmetric_inertia(self) -> int | None:
+        """Negative eigenvalues of the factorized matrix, read off the factors when that is exact, else None.
+
+        For a *symmetric* matrix factorized without row interchanges, ``U``'s diagonal is the ``D`` of
+        its ``L D L^T`` and Sylvester's law of inertia counts the negative eigenvalues as the negative
+        pivots.  The caller vouches for the symmetry; any interchange (or a zero pivot) gives None.
+        """
+        piv, diag = self._row_interchanges(), None
+        if piv is None:
+            return None
+        diag = self.pivots()
+        if np.count_nonzero(piv != np.arange(piv.size)) or not diag.all():
+            return None
+        return int(np.count_nonzero(diag < 0.0))
+
+    def _row_interchanges(self) -> np.ndarray | None:
+        """The 0-based row interchanges of an LU factorization (None for other factorizations)."""
+        return None
 
     def residual(self, A, f: np.ndarray, x: np.ndarray, trans: bool = False) -> np.ndarray:
         """``f - A x`` (``f - A^T x`` if ``trans``) for the matrix ``A`` this factorizes.
@@ -147,6 +171,9 @@ class DenseLU(Factorization):
             return np.asarray(b, dtype=float).copy()
         x, info = lapack.dgetrs(self._lu, self._piv, b, trans=1 if trans else 0)
         return self._check(x)
+
+    def _row_interchanges(self) -> np.ndarray:
+        return self._piv
 
     def pivots(self) -> np.ndarray:
         """Diagonal of the U factor."""
@@ -323,6 +350,9 @@ class BandedLU(Factorization):
         x, info = lapack.dgbtrs(self._lu, self.kl, self.ku, b, self._piv, trans=1 if trans else 0)
         return self._check(x)
 
+    def _row_interchanges(self) -> np.ndarray:
+        return self._piv
+
     def pivots(self) -> np.ndarray:
         """Diagonal of the U factor."""
         return self._lu[self.kl + self.ku, :]
@@ -388,6 +418,21 @@ class TridiagonalLU(Factorization):
         self._compiled.residual(*self._matrix, np.ascontiguousarray(x, dtype=float),
                                 np.ascontiguousarray(f, dtype=float), out, bool(trans))
         return out
+
+    def symmetric_inertia(self) -> int | None:
+        """As :meth:`Factorization.symmetric_inertia`; after row interchanges, the pivot-free count on the
+        matrix's own diagonals (kept beside the factors), without building the matrix again."""
+        counted = super().symmetric_inertia()
+        if counted is not None or self._compiled is None:
+            return counted
+        _, d, du = self._matrix
+        # the same checks as SymmetricBand.negative_pivots, on the diagonals as they are
+        scale = self._compiled.max_abs(d)
+        counted = self._compiled.sturm_count(d, du, PIVOT_FREE_GROWTH_LIMIT, 1e-14 * scale)
+        return None if counted < 0 else counted
+
+    def _row_interchanges(self) -> np.ndarray:
+        return self._piv
 
     def pivots(self) -> np.ndarray:
         """Diagonal of the U factor."""
@@ -634,17 +679,19 @@ class SymmetricBand:
             np.add.at(ab, (kd + rows - cols, cols), data)
         return cls(ab)
 
-    def inertia(self, growth_limit: float = 1e8, max_negative: int = 32) -> tuple[int, object] | None:
+    def inertia(self, growth_limit: float = PIVOT_FREE_GROWTH_LIMIT, max_negative: int = 32,
+                overwrite: bool = False) -> tuple[int, object] | None:
         """Negative eigenvalues from the pivot-free ``L D L^T``, run as banded Cholesky factorizations.
 
         Returns ``(count, cholesky)`` -- ``cholesky`` the factor for ``pbtrs`` when the matrix is
         positive definite, else None -- or None when the pivot-free factorization cannot be trusted
-        (see :meth:`negative_pivots`).
+        (see :meth:`negative_pivots`).  ``overwrite`` lets the factorization use the band's own storage.
         """
-        out = self.negative_pivots(growth_limit, max_negative)
+        out = self.negative_pivots(growth_limit, max_negative, overwrite)
         return None if out is None else (len(out[0]), out[1])
 
-    def negative_pivots(self, growth_limit: float = 1e8, max_negative: int = 32) -> tuple[list[int], object] | None:
+    def negative_pivots(self, growth_limit: float = PIVOT_FREE_GROWTH_LIMIT, max_negative: int = 32,
+                        overwrite: bool = False) -> tuple[list[int], object] | None:
         """Columns of the negative pivots of the pivot-free ``L D L^T``, run as banded Cholesky factorizations.
 
         With the C extension ``contin.numerics._banded`` the same factorization runs column by column in one
@@ -665,12 +712,13 @@ class SymmetricBand:
         from scipy.linalg import lapack
 
         kd, n = self.kd, self.shape[0]
-        work = np.array(self.ab, dtype=float, order="F")  # factorized in place, piece by piece
+        diagonal_scale = float(np.max(np.abs(self.ab[kd]), initial=0.0))
+        # factorized in place, piece by piece (``overwrite``: in the band itself, when it is Fortran-ordered)
+        work = self.ab if overwrite and self.ab.flags.f_contiguous else np.array(self.ab, dtype=float, order="F")
         compiled = banded_extension()
         if compiled is not None:
             # the same factorization in one pass of C (the same pivots up to rounding, the same checks)
-            scale = float(np.max(np.abs(self.ab[kd]), initial=0.0))
-            columns = compiled.ldlt_negative(work, float(growth_limit), int(max_negative), 1e-14 * scale)
+            columns = compiled.ldlt_negative(work, float(growth_limit), int(max_negative), 1e-14 * diagonal_scale)
             return None if columns is None else (columns, work if not columns else None)
         columns: list[int] = []
         start = 0
@@ -687,7 +735,7 @@ class SymmetricBand:
             j = info - 1  # column of the non-positive pivot within the piece
             d = piece[kd, j]
             if scale is None:
-                scale = float(np.max(np.abs(self.ab[kd]), initial=0.0))
+                scale = diagonal_scale
             if not np.isfinite(d) or d >= 0.0 or abs(d) <= 1e-14 * scale:
                 return None  # a zero pivot: singular to working precision, or not a number
             k = min(kd, piece.shape[1] - 1 - j)

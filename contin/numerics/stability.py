@@ -35,7 +35,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..lazy import lazy_module
-from .linalg import (BANDED_FRACTION, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
+from .linalg import (BANDED_FRACTION, PIVOT_FREE_GROWTH_LIMIT, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
                      cholesky_band_solver, factorize, lower_band)
 
 __all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias"]
@@ -46,7 +46,7 @@ spla = lazy_module("scipy.sparse.linalg")
 DENSE_LIMIT = 400
 #: Largest multiplier |L_ij| accepted in the pivot-free LDL^T before the inertia count is redone
 #: with an eigensolver (growth makes the signs of the pivots untrustworthy).
-LDL_GROWTH_LIMIT = 1e8
+LDL_GROWTH_LIMIT = PIVOT_FREE_GROWTH_LIMIT
 #: Banded matrices above this size use the banded eigensolver (4x faster than dense eigh at n = 400).
 BANDED_MIN = 64
 

@@ -142,6 +142,9 @@ class Point:
         (:mod:`contin.watch.modes`).
     observed : ``(value, d/ds, d/du, d/dp)`` of each observable with a declared derivative, once
         evaluated (:func:`contin.recorder.observed_rates`: the step guard and the recorder share it).
+    inertia : the Jacobian's Morse index read off the corrector's last factorization (one small
+        update from the point) where its pivots give it exactly, else None
+        (:meth:`contin.numerics.linalg.Factorization.symmetric_inertia`).
     """
 
     u: np.ndarray
@@ -155,6 +158,7 @@ class Point:
     stability: dict[str, Any] | None = None
     modes: dict[str, tuple[int, ...]] | None = None
     observed: dict[str, tuple[float, float, Any, float]] | None = None
+    inertia: int | None = None
 
 
 class Curve:
