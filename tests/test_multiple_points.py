@@ -85,3 +85,35 @@ def test_the_inertia_read_off_a_factorization_is_the_eigenvalue_count(n):
         # None only where the factors cannot tell (row interchanges, and no compiled count on the diagonals)
         exact = isinstance(F, TridiagonalLU) and banded_extension() is not None
         assert counted == negative or (counted is None and not exact)
+
+
+class ImperfectPitchfork(contin.Problem):
+    """``f = (-p u1 + u1^3 - eps, u2)``: its primary branch ``u1 > 0`` is stable and has no singular
+    point; the other branches (``u1 < 0``, with a fold at ``p = 3 (eps / 2)^(2/3)``) lie close to it."""
+
+    def __init__(self, eps: float) -> None:
+        super().__init__(symmetric=True, name="imperfect_pitchfork", parameter_name="p")
+        self.eps = eps
+
+    def residual(self, u, p):
+        return np.array([-p * u[0] + u[0] ** 3 - self.eps, u[1]])
+
+    def jacobian(self, u, p):
+        return np.array([[-p + 3.0 * u[0] ** 2, 0.0], [0.0, 1.0]])
+
+    def dresidual_dp(self, u, p):
+        return np.array([-u[0], 0.0])
+
+
+@pytest.mark.parametrize("stability", [False, True])
+def test_a_step_onto_another_branch_is_rejected_not_accepted(stability):
+    # one step of 1 from p = -0.5 lands on the unstable middle root at p = 0.5 (u1 = -2e-4, index 1):
+    # the index changes with no singular point between, so the step is retried smaller
+    model = ImperfectPitchfork(1e-4)
+    u0 = np.array([2e-4 / (1.0 + 3.2e-7), 0.0])
+    br = contin.continuation(model, u0, -0.5, p_max=0.5, ds=1.0, ds_max=1.0, state_weight=1.0, param_weight=1.0,
+                             stability=stability)
+    assert br.success, br.message
+    u1 = np.asarray(br.u)[:, 0]
+    assert np.all(u1 > 0) and u1[-1] == pytest.approx(np.sqrt(0.5), rel=1e-3)
+    assert [s.kind for s in br.special_points if s.kind in ("fold", "branch_point")] == []

@@ -39,6 +39,10 @@ __all__ = ["IndexExplanation", "IndexWatch", "explain_index_change", "primary_in
 BISECT_WIDTH = 1e-4
 #: Largest ratio of the kernel's eigenvalues to the next one for the kernel to be taken as exact.
 KERNEL_GAP = 1e-3
+#: Largest residual, in corrector tolerances, of a point taken on the secant of its bracket (where no
+#: point next to it converges) for its kernel to count: the chord of a short bracket on one branch
+#: stays that close to the curve; a chord between two branches does not.
+SECANT_RESIDUAL = 1e3
 #: Failures of a corrected point on the segment that leave a jump unlocated.
 _FAILURES = (CorrectorFailure, NonFiniteError, ValueError, RuntimeError, np.linalg.LinAlgError)
 
@@ -74,8 +78,15 @@ class IndexExplanation:
 
 
 def _accounted(found: Sequence[SpecialPoint]) -> int:
+    """The index changes the found points explain: located folds and branch points by their multiplicity,
+    and folds that are only bracketed (the tangent's sign change shows them); a branch point that could
+    not be located explains nothing (a step onto another branch flips the determinant's sign too)."""
     return sum(s.bifurcation.multiplicity if s.bifurcation is not None else 1
-               for s in found if s.kind in ("fold", "branch_point"))
+               for s in found if s.kind == "fold" or (s.kind == "branch_point" and s.located))
+
+
+def _unlocated_branch_points(found: Sequence[SpecialPoint]) -> bool:
+    return any(s.kind == "branch_point" and not s.located for s in found)
 
 
 class IndexWatch:
@@ -86,7 +97,8 @@ class IndexWatch:
     before (or after) the fold is found.  A discrepancy of one is therefore held for up to
     :data:`LAG` steps and dropped when a later step's surplus cancels it; one that stays is located
     on its own step.  A discrepancy of two or more (a multiple point, or a jump to another branch) is
-    explained on the step at once, so that a jump can still be rejected.
+    explained on the step at once, so that a jump can still be rejected; so is one on a step whose
+    branch point could not be located.
     """
 
     #: Steps a discrepancy of one waits for its fold or branch point.
@@ -99,7 +111,7 @@ class IndexWatch:
              index: int) -> IndexExplanation:
         """Reconcile an accepted step (``index``: the stored point its start is) and return what was located."""
         excess = abs(n_B - n_A) - _accounted(found)
-        if excess >= 2:
+        if excess >= 2 or (excess >= 1 and _unlocated_branch_points(found)):
             out = explain_index_change(curve, seg, n_A, n_B, found)
         else:
             out = IndexExplanation()
@@ -178,7 +190,7 @@ def explain_index_change(curve: Curve, seg: Segment, n_A: int, n_B: int, found: 
         out.doubts.append(f"the index changed from {n_A} to {n_B} between {problem.parameter_name} = "
                           f"{seg.A.p:.10g} and {seg.B.p:.10g} and could not be followed along the step: {exc}")
         return out
-    known = [s for s in found if s.kind in ("fold", "branch_point")]
+    known = [s for s in found if s.kind == "fold" or (s.kind == "branch_point" and s.located)]
     for lo, hi, m_lo, m_hi in jumps:
         m = abs(m_hi - m_lo)
         if m == 1 and _claim(known, seg, lo, hi):
@@ -197,10 +209,10 @@ def explain_index_change(curve: Curve, seg: Segment, n_A: int, n_B: int, found: 
         if m > 1:
             p_lo, p_hi = sorted(spt.info["bracket_p"])
             slack = 1e-9 * (1.0 + abs(spt.p))
-            same = [s for s in known if s.kind == "branch_point" and (not s.located or p_lo - slack <= s.p <= p_hi + slack)]
+            same = [s for s in found if s.kind == "branch_point" and not any(s is r for r in out.replaced)
+                    and (not s.located or p_lo - slack <= s.p <= p_hi + slack)]
             out.replaced += same
-            for s in same:
-                known.remove(s)
+            known[:] = [s for s in known if not any(s is r for r in same)]
     return out
 
 
@@ -318,5 +330,8 @@ def _locate_jump(curve: Curve, seg: Segment, lo: float, hi: float, m: int
     spt = SpecialPoint(kind, float(p), np.array(u, dtype=float), problem.evaluate_observables(u, p),
                        residual=res, located=bool(res <= curve.tol), info=info, bifurcation=record)
     spt.s = seg.A.s + curve.norm(spt.u - seg.A.u, spt.p - seg.A.p)
-    return spt, (vectors[:, :m] if gap <= KERNEL_GAP else None)
+    # a kernel is only a kernel on the curve: a bracket whose ends lie on two branches gives a point
+    # between them, off every branch, whatever its eigenvalues
+    on_curve = res <= SECANT_RESIDUAL * curve.tol
+    return spt, (vectors[:, :m] if gap <= KERNEL_GAP and on_curve else None)
 
