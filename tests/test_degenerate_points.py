@@ -56,3 +56,34 @@ def test_the_rings_first_double_points():
     for n in (2, 3, 4):
         bp = _near(br, ring.buckling_load(n), 1e-8)
         assert bp.bifurcation.multiplicity == 2
+
+
+def test_two_springs_at_their_peak_are_a_pitchfork_not_a_fold():
+    # prescribed total elongation, one unknown node: df/dp = -f'(e) vanishes where the springs peak, so
+    # the null vector's direction against df/dp (1 in one dimension) says nothing there
+    chain = BistableChain(2, coordinates="nodes")
+    br = contin.continuation(chain, chain.state(np.zeros(2)), 0.0, p_max=3.0)
+    assert br.success, br.message
+    for Delta, _, multiplicity in chain.homogeneous_branch_points():
+        bp = _near(br, Delta, 1e-9)
+        assert bp.located and bp.bifurcation.kind == "pitchfork" and multiplicity == 1
+
+
+def test_six_springs_fold_together_at_a_point_of_multiplicity_five():
+    chain = BistableChain(6, coordinates="nodes")
+    br = contin.continuation(chain, chain.state(np.zeros(6)), 0.0, p_max=9.0)
+    assert br.success, br.message
+    for Delta, _, multiplicity in chain.homogeneous_branch_points():
+        assert _near(br, Delta, 1e-8).bifurcation.multiplicity == multiplicity == 5
+
+
+@pytest.mark.parametrize("k", [2, 3])
+@pytest.mark.parametrize("coordinates", ["nodes", "modes"])
+def test_the_chain_snaps_tooth_by_tooth(k, coordinates):
+    chain = BistableChain(k, coordinates=coordinates)
+    sweep = contin.quasistatic(chain, chain.state(np.zeros(k)), 0.0, 1.5 * k)
+    assert sweep.status == "completed", sweep.message
+    teeth = chain.sawtooth()
+    assert len(sweep.jumps) == len(teeth)
+    for jump, tooth in zip(sweep.jumps, teeth):
+        assert jump.p == pytest.approx(tooth.delta, rel=1e-7)

@@ -245,7 +245,7 @@ class BranchPointTest(TestFunction):
                 info["method"] = "root of the Hessian's bordered test function"
                 bp = SpecialPoint("branch_point", p, u, {}, residual=res, located=True, info=info)
                 bp.bifurcation = hess.directions(u, p)
-                _reject_a_fold(curve.problem, bp)
+                _reject_a_fold(curve.problem, bp, seg)
         else:
             psi = _BorderedBranchTest(seg)
             psi_A, psi_B = psi(0.0), psi(seg.sigma_B)
@@ -336,18 +336,26 @@ class KnownBranchPoints:
 FOLD_COSINE = 1e-6
 
 
-def _reject_a_fold(problem: Any, bp: SpecialPoint) -> None:
+def _reject_a_fold(problem: Any, bp: SpecialPoint, seg: Segment) -> None:
     """Mark ``bp`` unlocated when its null vector is not orthogonal to ``df/dp`` (it is a fold).
 
     The detection (the determinant sign of the bordered Jacobian) does not change at a fold, but a
     step that ends on the fold itself, where that sign is decided by roundoff, can trigger it, and
     the Hessian's eigenvalue does cross zero there.
+
+    ``phi^T df/dp`` is compared with the size ``df/dp`` has on the step (the larger of its norms at
+    the step's ends and at the point), not with its size at the point alone: at a fold ``df/dp`` is
+    what it is on either side, while where ``df/dp`` itself vanishes (two identical springs in series
+    under a prescribed elongation, at the peak of their force) it is roundoff at the point, its
+    direction says nothing, and the point is a branch point.
     """
     if bp.bifurcation is None:
         return
     phi = bp.bifurcation.null_vector
     fp = np.asarray(problem.dresidual_dp(bp.u, bp.p), dtype=float)
-    norm = float(np.linalg.norm(fp)) * float(np.linalg.norm(phi))
+    size = max(float(np.linalg.norm(fp)), *(float(np.linalg.norm(problem.dresidual_dp(pt.u, pt.p)))
+                                            for pt in (seg.A, seg.B)))
+    norm = size * float(np.linalg.norm(phi))
     cosine = abs(float(np.dot(fp, phi))) / norm if norm > 0 else 0.0
     bp.info["null_vector_cosine_to_dfdp"] = cosine
     if cosine > FOLD_COSINE:
