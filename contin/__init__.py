@@ -57,6 +57,7 @@ package and its command start without loading the engine.  Where each part lives
 ``watch.watchlist``       the test functions of one run
 ``watch.multiple``        changes of the Morse index the test functions miss: multiple points, branch jumps
 ``watch.koiter``          Koiter's coefficients at a simple branch point (:func:`koiter_coefficients`)
+``watch.branching``       the branches through a multiple point: the equivariant branching lemma, the reduced equation
 ``analyses.jump``         snaps to a stable state at fixed load
 ``analyses.quasistatic``  load to a fold, snap, resume
 ``analyses.twopar``       fold curves in a second parameter

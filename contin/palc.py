@@ -563,7 +563,7 @@ def _point_from_special(curve: Curve, spt: SpecialPoint, previous: Point) -> Poi
 
 
 def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settings | None = None, *,
-                  direction: int = 1, ds: float | None = None, events: Sequence[Event] = (),
+                  direction: int = 1, branch: int = 0, ds: float | None = None, events: Sequence[Event] = (),
                   known: Sequence[SpecialPoint] = (), **overrides: Any) -> Branch:
     """Continue the branch that bifurcates at a located simple branch point.
 
@@ -586,6 +586,9 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
         A located ``"branch_point"`` from :func:`continuation`.
     direction : int
         +1 or -1: which half of the bifurcating branch.
+    branch : int
+        Which of the record's directions (``branch_point.bifurcation.directions``): at a multiple
+        point one per branch the symmetry or the reduced equation resolved (``labels`` says which).
     ds : float, optional
         First step (defaults to ``settings.ds``).
     events : sequence of Event
@@ -605,6 +608,9 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
                          "has a direction to switch to)")
     if direction not in (-1, 1):
         raise ValueError(f"switch_branch: direction must be +1 or -1, got {direction!r}")
+    if not 0 <= int(branch) < len(bif.directions):
+        raise ValueError(f"switch_branch: branch must be 0 .. {len(bif.directions) - 1} (the point's resolved "
+                         f"directions), got {branch!r}")
     names = {f.name for f in fields(Settings)}
     st = resolve_settings(settings, {k: v for k, v in overrides.items() if k in names})
     # the model was checked where the branch that bifurcates here was traced; next to a branch point
@@ -616,12 +622,12 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     if Curve(problem, st).needs_calibration():
         # open weights from the branch point's own scales, for the step off and the whole new branch
         # (calibrating at the first point instead would measure a nearly singular Jacobian)
-        U, P = branch_point_scales(u_bp, float(branch_point.p), bif.traced, bif.directions[0],
+        U, P = branch_point_scales(u_bp, float(branch_point.p), bif.traced, bif.directions[branch],
                                    reference=getattr(problem, "reference_scales", None))
         st = replace(st, state_weight=1.0 / U if st.state_weight is None else st.state_weight,
                      param_weight=1.0 / P if st.param_weight is None else st.param_weight)
     curve = Curve(problem, st)
-    d = _unit(curve, direction * bif.directions[0], n)
+    d = _unit(curve, direction * bif.directions[branch], n)
     normal = _off_branch_normal(curve, d, bif.traced, n)
     step = st.ds if ds is None else float(ds)
     first = _step_off(curve, u_bp, branch_point.p, d, normal, step)

@@ -168,6 +168,12 @@ class Problem:
         watches besides the problem's own: a change of a key's Morse index is a bifurcation into that
         mode, located and recorded (:mod:`contin.watch.modes`).  Also settable as the attribute
         ``operator_families``.
+    symmetry_generators : sequence of matrices, optional
+        Generators of the model's symmetry group: orthogonal ``n x n`` matrices ``g`` (sparse or dense)
+        acting linearly on the state with ``E(g u, p) = E(u, p)``, so that ``g`` maps equilibria to
+        equilibria.  At a multiple branch point the engine resolves the branches by it (the
+        equivariant branching lemma, :mod:`contin.watch.branching`).  Also settable as the attribute
+        ``symmetry_generators``.
     name, parameter_name : str
         Labels used in output.
     residual_scale : float, optional
@@ -196,6 +202,7 @@ class Problem:
         parameter_name: str = "p",
         residual_scale: float | None = None,
         operator_families: Sequence[Any] = (),
+        symmetry_generators: Sequence[Any] = (),
     ) -> None:
         if residual is None and energy is not None and type(self).residual is Problem.residual:
             raise TypeError("Problem(energy=...) needs the residual (the energy's gradient): the engine does not "
@@ -204,6 +211,7 @@ class Problem:
                             "generated derivatives), or pass the exact gradient to contin.GradientProblem (sparse "
                             "finite-difference Hessian); see contin.modelkit.energy.")
         self.operator_families = tuple(operator_families)
+        self.symmetry_generators = tuple(symmetry_generators)
         self._residual = residual
         self._jacobian = jacobian
         self._dresidual_dp = dresidual_dp

@@ -87,3 +87,55 @@ def test_the_chain_snaps_tooth_by_tooth(k, coordinates):
     assert len(sweep.jumps) == len(teeth)
     for jump, tooth in zip(sweep.jumps, teeth):
         assert jump.p == pytest.approx(tooth.delta, rel=1e-7)
+
+
+@pytest.fixture(scope="module")
+def square_trace():
+    square = D4Square(30)
+    return square, contin.continuation(square, np.zeros(square.n ** 2), 0.0, p_max=55.0, stability=True, n_eigs=0)
+
+
+def _mode_share(square, u):
+    """The state's components on the discrete modes (1,2) and (2,1) (grid inner product)."""
+    h2 = square.h ** 2
+    return h2 * u @ square.mode(1, 2), h2 * u @ square.mode(2, 1)
+
+
+def test_the_squares_double_point_resolved_by_its_symmetry(square_trace):
+    # D4 on the kernel of (1,2)/(2,1): two classes of axial lines, the pure modes and the mixed ones,
+    # two lines each; one branch per class is traced, against the cubic bifurcation equation
+    square, br = square_trace
+    bp = _near(br, square.eigenvalue(1, 2), 1e-8)
+    record = bp.bifurcation
+    assert record.kind == "symmetric" and len(record.directions) == 2
+    assert all("2 copies" in label for label in record.labels)
+    kinds, indices = [], []
+    for k in range(2):
+        post = contin.switch_branch(square, bp, branch=k, p_max=bp.p + 0.05, stability=True, n_eigs=0)
+        assert post.success, post.message
+        u, p = np.asarray(post.u[-1]), float(post.p[-1])
+        a, b = _mode_share(square, u)
+        kind = "pure" if min(abs(a), abs(b)) < 1e-6 * max(abs(a), abs(b)) else "mixed"
+        assert kind == "pure" or abs(abs(a) - abs(b)) < 1e-8 * abs(a)
+        # ||u||_h^2 = (p - lambda) / c to leading order: c = 9/4 (pure), 21/8 (mixed)
+        expected = square.branch_amplitude(p, kind) ** 2
+        assert square.h ** 2 * u @ u == pytest.approx(expected, rel=2e-3)
+        kinds.append(kind)
+        indices.append(int(post.n_negative[-1]))
+    assert sorted(kinds) == ["mixed", "pure"]
+    # above the double point the trivial branch has index 3; the pure branches 1 and the mixed ones 2
+    assert dict(zip(kinds, indices)) == {"pure": 1, "mixed": 2}
+
+
+def test_the_squares_double_point_resolved_by_its_reduced_equation(square_trace):
+    # the same model without its symmetry: the four critical lines of the quartic form, 45 degrees apart
+    square, _ = square_trace
+    plain = D4Square(30)
+    plain.symmetry_generators = ()
+    br = contin.continuation(plain, np.zeros(plain.n ** 2), 0.0, p_max=55.0)
+    record = _near(br, square.eigenvalue(1, 2), 1e-8).bifurcation
+    assert record.kind == "reduced" and len(record.directions) == 4
+    shares = [_mode_share(square, d[:-1]) for d in record.directions]
+    pure = [s for s in shares if min(abs(s[0]), abs(s[1])) < 1e-6]
+    mixed = [s for s in shares if abs(abs(s[0]) - abs(s[1])) < 1e-6]
+    assert len(pure) == 2 and len(mixed) == 2

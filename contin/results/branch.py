@@ -48,7 +48,9 @@ class Bifurcation:
         Coefficients of the reduced bifurcation equation: ``a``, ``b``, ``c`` of the algebraic
         bifurcation equation ``a alpha^2 + 2 b alpha beta + c beta^2 = 0`` at a simple point.
     kind : str
-        ``"pitchfork"``, ``"transcritical"``, ``"multiple"`` (not yet resolved) or ``"unresolved"``.
+        ``"pitchfork"``, ``"transcritical"``, ``"symmetric"`` (a multiple point whose directions come
+        from the model's symmetry), ``"reduced"`` (from its reduced equation), ``"multiple"`` (a
+        multiple point not resolved) or ``"unresolved"``.
     key : str
         What identifies it among the branch's points of the same place (a mode's key, or "").
     koiter : dict of str to float
@@ -56,6 +58,9 @@ class Bifurcation:
         (:func:`contin.koiter_coefficients`).
     eigenvalues : ndarray
         The Jacobian's eigenvalues on the kernel at the located point (roundoff-small).
+    labels : list of str
+        What each entry of ``directions`` is (at a multiple point: its isotropy, and how many
+        copies of the branch the symmetry makes).
     """
 
     multiplicity: int
@@ -67,6 +72,7 @@ class Bifurcation:
     key: str = ""
     koiter: dict[str, float] = field(default_factory=dict)
     eigenvalues: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    labels: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.kernel = np.atleast_2d(np.asarray(self.kernel, dtype=float))
@@ -85,7 +91,8 @@ class Bifurcation:
         return {"multiplicity": int(self.multiplicity), "kernel": self.kernel.tolist(),
                 "directions": self.directions.tolist(), "traced": None if self.traced is None else self.traced.tolist(),
                 "equation": {k: float(v) for k, v in self.equation.items()}, "kind": self.kind, "key": self.key,
-                "koiter": {k: float(v) for k, v in self.koiter.items()}, "eigenvalues": self.eigenvalues.tolist()}
+                "koiter": {k: float(v) for k, v in self.koiter.items()}, "eigenvalues": self.eigenvalues.tolist(),
+                "labels": list(self.labels)}
 
     @classmethod
     def from_header(cls, h: dict[str, Any]) -> "Bifurcation":
@@ -94,7 +101,8 @@ class Bifurcation:
                    directions=np.array(h["directions"], dtype=float),
                    traced=None if h.get("traced") is None else np.array(h["traced"], dtype=float),
                    equation=dict(h.get("equation", {})), kind=h.get("kind", "unresolved"), key=h.get("key", ""),
-                   koiter=dict(h.get("koiter", {})), eigenvalues=np.array(h.get("eigenvalues", []), dtype=float))
+                   koiter=dict(h.get("koiter", {})), eigenvalues=np.array(h.get("eigenvalues", []), dtype=float),
+                   labels=list(h.get("labels", [])))
 
 
 def _legacy_record(info: dict[str, Any], n: int) -> Bifurcation | None:

@@ -8,6 +8,7 @@
 ``watchlist``      the test functions of one run, from its settings, events and problem
 ``multiple``       changes of the Morse index the test functions do not explain: multiple points, jumps
 ``koiter``         initial post-buckling at a simple branch point (Koiter's ``a`` and ``b``)
+``branching``      the branches through a multiple point: by the declared symmetry, or the reduced equation
 =================  ========================================================================================
 """
 

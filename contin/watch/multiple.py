@@ -31,6 +31,7 @@ from ..path.curve import CorrectorFailure, Curve, max_abs
 from ..path.segment import Segment
 from ..problem import NonFiniteError, Problem
 from ..results.branch import Bifurcation, SpecialPoint
+from .branching import reduced_directions, symmetric_directions
 from .testfunctions import FOLD_COSINE, root_near_singular, smallest_eigenvectors
 
 __all__ = ["IndexExplanation", "IndexWatch", "explain_index_change", "primary_index", "kernel_at"]
@@ -260,6 +261,32 @@ def _index_jumps(index_of: Callable[[float], int], sigma_B: float, n_A: int, n_B
     return sorted(out, key=lambda j: abs(j[0]))
 
 
+def _resolve(problem: Problem, u: np.ndarray, p: float, V: np.ndarray, record: Bifurcation,
+             info: dict[str, Any]) -> None:
+    """The directions of the branches through a multiple point, into its record (one per orbit of copies).
+
+    By the declared symmetry (:func:`contin.watch.branching.symmetric_directions`), else by the
+    reduced equation (:func:`contin.watch.branching.reduced_directions`); what could not be resolved
+    is ``info["unresolved"]``.  A half-line whose opposite is not a copy of it under the symmetry is
+    a branch of its own and gets its own entry.
+    """
+    found = symmetric_directions(problem, u, V)
+    if found is None:
+        found = reduced_directions(problem, u, p, V)
+    if found.note:
+        info["unresolved"] = found.note
+    if not found.directions:
+        return
+    rows, labels = [], []
+    for c, label, copies in zip(found.directions, found.labels, found.copies):
+        d = np.concatenate([V @ c, [0.0]])
+        rows.append(d)
+        labels.append(f"{label}; {copies} copies")
+    record.directions = np.array(rows)
+    record.labels = labels
+    record.kind = "symmetric" if found.method == "symmetry" else "reduced"
+
+
 def _index_near(index_of: Callable[[float], int], lo: float, hi: float) -> tuple[float, int | None]:
     """The index at the middle of ``[lo, hi]``, or at a point nudged from it when the middle does not converge."""
     for shift in (0.0, 0.1, -0.1, 0.3, -0.3):
@@ -323,9 +350,12 @@ def _locate_jump(curve: Curve, seg: Segment, lo: float, hi: float, m: int
         kind = "fold" if cosine > FOLD_COSINE else "branch_point"
     record = None
     if kind == "branch_point":
-        # the directions of the branches are resolved later (by the symmetry or the reduced equation)
+        secant = np.concatenate([seg.B.u - seg.A.u, [seg.B.p - seg.A.p]])
         record = Bifurcation(multiplicity=m, kernel=vectors[:, :m].T, directions=np.zeros((0, u.size + 1)),
+                             traced=secant / max(float(np.linalg.norm(secant)), 1e-300),
                              kind="multiple" if m > 1 else "unresolved", eigenvalues=values[:m])
+        if m > 1 and gap <= KERNEL_GAP:
+            _resolve(problem, u, p, vectors[:, :m], record, info)
     res = max_abs(curve.residual(u, p))
     spt = SpecialPoint(kind, float(p), np.array(u, dtype=float), problem.evaluate_observables(u, p),
                        residual=res, located=bool(res <= curve.tol), info=info, bifurcation=record)

@@ -1,0 +1,258 @@
+"""The branches through a multiple branch point: by the model's symmetry, or by its reduced equation.
+
+At a branch point of multiplicity ``m > 1`` on a branch of symmetric states, the kernel ``K`` of the
+Hessian (orthonormal basis ``V``, ``m`` columns) carries a representation of the states' symmetry:
+each element ``g`` of the isotropy group of the point acts on kernel coordinates as the orthogonal
+``m x m`` matrix ``V^T g V``.  The equivariant branching lemma (Vanderbauwhede; Cicogna; see
+Golubitsky, Stewart & Schaeffer, *Singularities and Groups in Bifurcation Theory* II, ch. XIII) says
+that for every isotropy subgroup ``H`` whose fixed-point space in ``K`` is a line, a branch of states
+with symmetry ``H`` leaves the point tangent to that line.  Lines related by an element of the group
+carry copies of one branch (the same branch turned or reflected), so one per orbit is traced.
+
+:func:`symmetric_directions` finds those lines from the generators a model declares
+(``Problem.symmetry_generators``: orthogonal matrices ``g`` with ``E(g u, p) = E(u, p)``): the group
+is closed from its generators, the elements that fix the point's state are kept, each line is the
+fixed space of the subgroup of elements that fix it, and the lines are sorted into orbits.
+
+Without a declared symmetry, :func:`reduced_directions` solves the reduced bifurcation equation on
+a two-dimensional kernel: at a point whose quadratic terms vanish (the branch is a symmetric
+pitchfork in every direction), the branches leave along the critical directions of the quartic
+form ``Q(c) = (V c)^T [d^2/de^2 J(u + e V c)] (V c)`` on the unit circle (the reduced energy's
+gradient is parallel to ``c`` there).  ``Q`` is a trigonometric polynomial of degree four in the
+angle, fitted from nine samples, and its critical angles are the roots of its derivative.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..problem import Problem
+
+__all__ = ["BranchDirections", "symmetric_directions", "reduced_directions", "group_elements"]
+
+#: Largest group closed from the generators (elements); a larger one is not used.
+MAX_GROUP_ORDER = 5000
+#: Two kernel directions are the same line when ``1 - |c1 . c2|`` is below this.
+SAME_LINE = 1e-8
+
+
+@dataclass
+class BranchDirections:
+    """The directions of the branches through a multiple point, one per orbit of copies.
+
+    Attributes
+    ----------
+    directions : list of ndarray
+        Unit kernel coordinates ``c`` (the state direction is ``V c``), one per branch traced.
+    labels : list of str
+        What each is (its isotropy: ``"fixed by k of the N elements"``, or ``"critical direction"``).
+    copies : list of int
+        How many lines of the kernel carry a copy of each branch (the orbit's size).
+    method : str
+        ``"symmetry"`` or ``"reduced equation"``.
+    note : str
+        What could not be resolved, if anything.
+    """
+
+    directions: list[np.ndarray] = field(default_factory=list)
+    labels: list[str] = field(default_factory=list)
+    copies: list[int] = field(default_factory=list)
+    method: str = ""
+    note: str = ""
+
+
+def _dense(g: Any) -> np.ndarray:
+    return g.toarray() if sp.issparse(g) else np.asarray(g, dtype=float)
+
+
+def group_elements(generators: Sequence[Any], n: int, limit: int = MAX_GROUP_ORDER) -> list[Any] | None:
+    """Every element of the group the generators generate (sparse matrices), or None above ``limit``.
+
+    Elements are told apart by their action on one random vector (two distinct orthogonal maps
+    agree on a random vector with probability zero).
+    """
+    rng = np.random.default_rng(20261129)
+    probe = rng.standard_normal(n)
+    gens = [sp.csr_matrix(g) for g in generators]
+    identity = sp.identity(n, format="csr")
+    key = lambda g: tuple(np.round(g @ probe, 9))  # noqa: E731
+    seen = {key(identity): identity}
+    frontier = [identity]
+    while frontier:
+        nxt = []
+        for h in frontier:
+            for g in gens:
+                e = (g @ h).tocsr()
+                k = key(e)
+                if k not in seen:
+                    seen[k] = e
+                    nxt.append(e)
+                    if len(seen) > limit:
+                        return None
+        frontier = nxt
+    return list(seen.values())
+
+
+def _fixed_space(mats: Sequence[np.ndarray], m: int) -> np.ndarray:
+    """Orthonormal basis (columns) of the common fixed space of the ``m x m`` matrices."""
+    if not mats:
+        return np.eye(m)
+    A = np.vstack([M - np.eye(m) for M in mats])
+    _, s, Vt = np.linalg.svd(A)
+    rank = int(np.count_nonzero(s > 1e-8 * max(1.0, float(s[0]) if s.size else 1.0)))
+    return Vt[rank:].T
+
+
+def symmetric_directions(problem: Problem, u: np.ndarray, V: np.ndarray) -> BranchDirections | None:
+    """The axial branch directions of the kernel ``V`` (columns) at the state ``u``, by the declared symmetry.
+
+    None when the problem declares no symmetry, or its group is larger than :data:`MAX_GROUP_ORDER`.
+    """
+    generators = tuple(getattr(problem, "symmetry_generators", ()) or ())
+    if not generators:
+        return None
+    n, m = V.shape
+    elements = group_elements(generators, n)
+    if elements is None:
+        return BranchDirections(method="symmetry", note=f"the declared group has more than {MAX_GROUP_ORDER} "
+                                                       "elements: not used")
+    scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
+    isotropy = [g for g in elements if float(np.max(np.abs(g @ u - u), initial=0.0)) <= 1e-8 * scale]
+    reps = []
+    for g in isotropy:
+        M = V.T @ (g @ V)
+        if not np.allclose(M @ M.T, np.eye(m), atol=1e-6):
+            return BranchDirections(method="symmetry", note="the kernel is not invariant under the point's "
+                                                           "symmetry (the declared generators do not fit the model)")
+        if not any(np.allclose(M, R, atol=1e-8) for R in reps):
+            reps.append(M)
+    lines = _axial_lines(reps, m)
+    out = BranchDirections(method="symmetry")
+    done: list[np.ndarray] = []
+    for c in lines:
+        if any(_same_line(c, d) for d in done):
+            continue
+        orbit = [M @ c for M in reps]
+        unique: list[np.ndarray] = []
+        for d in orbit:
+            if not any(_same_line(d, e) for e in unique):
+                unique.append(d)
+        done += unique
+        stabiliser = sum(1 for M in reps if np.allclose(M @ c, c, atol=1e-8))
+        out.directions.append(c)
+        out.labels.append(f"fixed by {stabiliser} of the {len(reps)} symmetries acting on the kernel")
+        out.copies.append(len(unique))
+    if not out.directions:
+        out.note = "no isotropy subgroup has a one-dimensional fixed space in the kernel"
+    return out
+
+
+def _same_line(a: np.ndarray, b: np.ndarray) -> bool:
+    return 1.0 - abs(float(a @ b)) <= SAME_LINE
+
+
+def _axial_lines(reps: list[np.ndarray], m: int) -> list[np.ndarray]:
+    """Lines of the kernel that are the whole fixed space of their own isotropy subgroup.
+
+    Candidates are the one-dimensional fixed spaces of single elements and of intersections of the
+    fixed spaces of elements, built up greedily (enough for the dihedral and symmetric groups'
+    representations met in structures); each is kept when the elements fixing it fix nothing more.
+    """
+    fixed = []
+    for M in reps:
+        F = _fixed_space([M], m)
+        if 0 < F.shape[1] < m:
+            fixed.append((F, [M]))
+    candidates: list[np.ndarray] = []
+    frontier = fixed
+    for _ in range(max(1, m - 1)):
+        nxt = []
+        for F, mats in frontier:
+            if F.shape[1] == 1:
+                candidates.append(F[:, 0])
+                continue
+            for G, more in fixed:
+                both = _fixed_space(mats + more, m)
+                if 0 < both.shape[1] < F.shape[1]:
+                    nxt.append((both, mats + more))
+        frontier = nxt[:2000]
+    lines: list[np.ndarray] = []
+    for c in candidates:
+        c = c / np.linalg.norm(c)
+        c = c if c[int(np.argmax(np.abs(c)))] > 0 else -c
+        if any(_same_line(c, d) for d in lines):
+            continue
+        stab = [M for M in reps if np.allclose(M @ c, c, atol=1e-8)]
+        if _fixed_space(stab, m).shape[1] == 1:
+            lines.append(c)
+    return lines
+
+
+def quartic_form(problem: Problem, u: np.ndarray, p: float, w: np.ndarray, step: float = 1e-2) -> float:
+    """``w^T [d^2/de^2 J(u + e w, p)] w`` (the fourth derivative of the energy along ``w``), by differences."""
+    h = step * (1.0 + float(np.max(np.abs(u), initial=0.0))) / max(float(np.max(np.abs(w))), 1e-300)
+
+    def central(hh: float) -> float:
+        Jw = problem.checked_jacobian(u, p) @ w
+        return float(w @ (problem.checked_jacobian(u + hh * w, p) @ w - 2.0 * Jw
+                          + problem.checked_jacobian(u - hh * w, p) @ w)) / hh ** 2
+    return (4.0 * central(0.5 * h) - central(h)) / 3.0
+
+
+def reduced_directions(problem: Problem, u: np.ndarray, p: float, V: np.ndarray) -> BranchDirections:
+    """Branch directions of a two-dimensional kernel from the reduced equation's quartic form (no symmetry needed).
+
+    Only where the quadratic terms vanish on the kernel (checked): a point with quadratic terms, or a
+    kernel of three or more dimensions, is reported unresolved in ``note``.
+    """
+    n, m = V.shape
+    out = BranchDirections(method="reduced equation")
+    if m != 2:
+        out.note = f"a {m}-dimensional kernel without a declared symmetry is not resolved"
+        return out
+    # quadratic terms: phi_i^T f_uu[V c, V c] for a few c; they must vanish for the quartic to rule
+    h = 1e-4 * (1.0 + float(np.max(np.abs(u), initial=0.0)))
+    J0 = problem.checked_jacobian(u, p)
+    size = float(np.max(np.abs(J0.data if hasattr(J0, "data") else J0), initial=0.0)) or 1.0
+    for c in (np.array([1.0, 0.0]), np.array([0.0, 1.0]), np.array([1.0, 1.0]) / math.sqrt(2.0)):
+        w = V @ c
+        q = V.T @ ((problem.checked_jacobian(u + h * w, p) - problem.checked_jacobian(u - h * w, p)) @ w) / (2 * h)
+        if float(np.max(np.abs(q))) > 1e-6 * size:
+            out.note = "the reduced equation has quadratic terms on this kernel: not resolved"
+            return out
+    angles = np.pi * np.arange(9) / 9.0
+    values = np.array([quartic_form(problem, u, p, V @ np.array([math.cos(t), math.sin(t)])) for t in angles])
+    # Q(t) = a0 + a2 cos 2t + b2 sin 2t + a4 cos 4t + b4 sin 4t
+    basis = np.column_stack([np.ones_like(angles), np.cos(2 * angles), np.sin(2 * angles), np.cos(4 * angles),
+                             np.sin(4 * angles)])
+    a0, a2, b2, a4, b4 = np.linalg.lstsq(basis, values, rcond=None)[0]
+    fine = np.linspace(0.0, np.pi, 721)
+    dQ = -2 * a2 * np.sin(2 * fine) + 2 * b2 * np.cos(2 * fine) - 4 * a4 * np.sin(4 * fine) + 4 * b4 * np.cos(4 * fine)
+    scale = abs(a2) + abs(b2) + abs(a4) + abs(b4)
+    if scale <= 1e-9 * max(abs(a0), 1e-300):
+        out.note = "the quartic form is the same in every direction (an O(2)-like kernel): no direction is singled out"
+        return out
+    for k in range(fine.size - 1):
+        if dQ[k] == 0.0 or dQ[k] * dQ[k + 1] < 0:
+            lo, hi = fine[k], fine[k + 1]
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                d_mid = (-2 * a2 * math.sin(2 * mid) + 2 * b2 * math.cos(2 * mid) - 4 * a4 * math.sin(4 * mid)
+                         + 4 * b4 * math.cos(4 * mid))
+                d_lo = (-2 * a2 * math.sin(2 * lo) + 2 * b2 * math.cos(2 * lo) - 4 * a4 * math.sin(4 * lo)
+                        + 4 * b4 * math.cos(4 * lo))
+                if d_lo * d_mid <= 0:
+                    hi = mid
+                else:
+                    lo = mid
+            t = 0.5 * (lo + hi)
+            out.directions.append(np.array([math.cos(t), math.sin(t)]))
+            out.labels.append(f"critical direction of the quartic form at {math.degrees(t):.6g} degrees")
+            out.copies.append(1)
+    return out
