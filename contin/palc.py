@@ -34,10 +34,11 @@ from .path.segment import Segment
 from .path.stepsize import StepController
 from .problem import NonFiniteError, Problem
 from .recorder import Recorder, observed_rates
-from .results.branch import SUCCESSES, Branch, SpecialPoint
+from .results.branch import SUCCESSES, Bifurcation, Branch, SpecialPoint
 from .settings import Settings, resolve_settings
 from .watch.events import Event
 from .watch.fold import locate_fold
+from .watch.branching import FixedSpaceProblem, isotropy_basis
 from .watch.koiter import attach_koiter
 from .watch.multiple import IndexWatch, primary_index
 from .watch.testfunctions import KnownBranchPoints, TestFunction
@@ -611,6 +612,13 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     if not 0 <= int(branch) < len(bif.directions):
         raise ValueError(f"switch_branch: branch must be 0 .. {len(bif.directions) - 1} (the point's resolved "
                          f"directions), got {branch!r}")
+    if bif.multiplicity > 1 and bif.kind == "symmetric":
+        restricted = _in_fixed_space(problem, branch_point, branch, known)
+        if restricted is not None:
+            sub, bp_z, known_z = restricted
+            br = switch_branch(sub, bp_z, settings, direction=direction, branch=0, ds=ds, events=events, known=known_z,
+                               **overrides)
+            return _to_full_space(problem, sub, br, settings, overrides)
     names = {f.name for f in fields(Settings)}
     st = resolve_settings(settings, {k: v for k, v in overrides.items() if k in names})
     # the model was checked where the branch that bifurcates here was traced; next to a branch point
@@ -642,6 +650,66 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
                           label="origin", info={"bracket_p": branch_point.info.get("bracket_p")})
     br.special_points.insert(0, origin)
     br.meta["origin"] = {"kind": "branch_point", "p": float(branch_point.p)}
+    return br
+
+
+def _in_fixed_space(problem: Problem, bp: SpecialPoint, branch: int,
+                    known: Sequence[SpecialPoint]) -> tuple[FixedSpaceProblem, SpecialPoint, list[SpecialPoint]] | None:
+    """The branch point and the problem restricted to the fixed-point space of the chosen branch's symmetry.
+
+    At a multiple point the other branches (and, for a nearly continuous symmetry such as a ring's,
+    the turned copies of this one) lie next to the chosen branch in every hyperplane that crosses
+    it, and the corrector drifts along them; in the fixed-point space of the branch's isotropy
+    group the point is simple (:func:`contin.watch.branching.isotropy_basis`).  None when the
+    problem declares no symmetry that fixes the branch.
+    """
+    bif = bp.bifurcation
+    u = np.asarray(bp.u, dtype=float)
+    d = np.asarray(bif.directions[branch], dtype=float)
+    found = isotropy_basis(problem, u, d[:-1])
+    if found is None:
+        return None
+    B, order = found
+    sub = FixedSpaceProblem(problem, B)
+    d_z = np.concatenate([B.T @ d[:-1], d[-1:]])
+    traced = None if bif.traced is None else np.concatenate([B.T @ bif.traced[:-1], bif.traced[-1:]])
+    kernel = (B.T @ d[:-1]) / max(float(np.linalg.norm(B.T @ d[:-1])), 1e-300)
+    record = Bifurcation(multiplicity=1, kernel=kernel[None, :], directions=d_z[None, :], traced=traced,
+                         kind="pitchfork", labels=[f"{bif.labels[branch] if bif.labels else ''}; traced in the "
+                                                  f"fixed space of {order} symmetries ({B.shape[1]} unknowns)"])
+    bp_z = SpecialPoint("branch_point", bp.p, B.T @ u, dict(bp.observables), residual=bp.residual, located=True,
+                        info={"bracket_p": bp.info.get("bracket_p")}, bifurcation=record)
+    known_z = [SpecialPoint("branch_point", k.p, B.T @ np.asarray(k.u, dtype=float), located=True)
+               for k in known if k.kind == "branch_point"]
+    return sub, bp_z, known_z
+
+
+def _to_full_space(problem: Problem, sub: FixedSpaceProblem, br: Branch, settings: Settings | None,
+                   overrides: dict[str, Any]) -> Branch:
+    """A branch traced in a fixed-point space, in the full problem's unknowns (and stability, when asked)."""
+    B = sub.B
+    br.u = np.asarray(br.u) @ B.T if len(br.u) else np.zeros((0, B.shape[0]))
+    for spt in br.special_points:
+        spt.u = B @ np.asarray(spt.u, dtype=float)
+        if spt.bifurcation is not None:
+            rec = spt.bifurcation
+            rec.kernel = rec.kernel @ B.T
+            rec.directions = np.column_stack([rec.directions[:, :-1] @ B.T, rec.directions[:, -1]]) \
+                if len(rec.directions) else np.zeros((0, B.shape[0] + 1))
+            if rec.traced is not None:
+                rec.traced = np.concatenate([B @ rec.traced[:-1], rec.traced[-1:]])
+    names = {f.name for f in fields(Settings)}
+    st = resolve_settings(settings, {k: v for k, v in overrides.items() if k in names})
+    if st.stability and len(br.p):
+        # the stability the structure has: against every mode, not only those of the branch's symmetry
+        infos = [problem.stability(u, float(p), st.n_eigs) for u, p in zip(br.u, br.p)]
+        labels = list(infos[0])
+        br.stability_by = {label: (np.array([i[label].n_negative for i in infos], dtype=int),
+                                   np.array([np.pad(i[label].eigenvalues[:st.n_eigs], (0, max(0, st.n_eigs - i[label].eigenvalues[:st.n_eigs].size)),
+                                                    constant_values=np.nan) for i in infos]))
+                           for label in labels}
+        br.n_negative, br.eigenvalues = br.stability_by[labels[0]]
+    br.meta["fixed_space"] = {"unknowns": int(B.shape[1]), "of": int(B.shape[0]), "problem": sub.name}
     return br
 
 

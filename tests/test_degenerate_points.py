@@ -139,3 +139,30 @@ def test_the_squares_double_point_resolved_by_its_reduced_equation(square_trace)
     pure = [s for s in shares if min(abs(s[0]), abs(s[1])) < 1e-6]
     mixed = [s for s in shares if abs(abs(s[0]) - abs(s[1])) < 1e-6]
     assert len(pure) == 2 and len(mixed) == 2
+
+
+def test_the_rings_oval_branch_traced_in_its_fixed_space():
+    # EA R^2 / EI = 1e4: at the default 1e6 the corrector's tolerance meets the membrane terms' roundoff
+    # once the ring deflects by a tenth of its radius
+    from contin.watch.branching import FixedSpaceProblem, isotropy_basis
+
+    ring = PressurisedRing(N=32, membrane_ratio=1e4)
+    br = contin.continuation(ring, np.zeros(2 * ring.N), 0.0, p_max=3.5)
+    bp = _near(br, ring.buckling_load(2), 1e-8)
+    record = bp.bifurcation
+    assert record.kind == "symmetric" and record.multiplicity == 2 and len(record.directions) == 2
+    for k in range(2):
+        d = record.directions[k][:-1]
+        B, order = isotropy_basis(ring, bp.u, d)
+        assert order == 4 and B.shape == (64, 16)  # fixed by the mirror and the half turn, and their product
+        koiter = contin.koiter_coefficients(FixedSpaceProblem(ring, B), B.T @ bp.u, bp.p, null_vector=B.T @ d)
+        post = contin.switch_branch(ring, bp, branch=k, p_max=1.02 * bp.p, ds=0.01, known=br.branch_points())
+        assert post.success and post.meta["fixed_space"]["unknowns"] == 16, post.message
+        U, P = np.asarray(post.u), np.asarray(post.p)
+        assert np.allclose(U @ B @ B.T, U, atol=1e-12)  # every state keeps the branch's symmetry
+        phi = B @ koiter.null_vector
+        xi = np.array([phi @ (u - ring.trivial_state(p)) for u, p in zip(U, P)])
+        on = np.abs(xi) > 1e-3
+        # p / p_c - 1 = b xi^2 + O(xi^4): the intercept of the ratio against xi^2 is Koiter's b
+        fit = np.polyfit(xi[on] ** 2, (P[on] / bp.p - 1.0) / xi[on] ** 2, 1)
+        assert fit[1] == pytest.approx(koiter.b, rel=1e-3) and koiter.b > 0

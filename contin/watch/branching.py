@@ -34,7 +34,8 @@ import scipy.sparse as sp
 
 from ..problem import Problem
 
-__all__ = ["BranchDirections", "symmetric_directions", "reduced_directions", "group_elements"]
+__all__ = ["BranchDirections", "symmetric_directions", "reduced_directions", "group_elements", "isotropy_basis",
+           "FixedSpaceProblem"]
 
 #: Largest group closed from the generators (elements); a larger one is not used.
 MAX_GROUP_ORDER = 5000
@@ -256,3 +257,66 @@ def reduced_directions(problem: Problem, u: np.ndarray, p: float, V: np.ndarray)
             out.labels.append(f"critical direction of the quartic form at {math.degrees(t):.6g} degrees")
             out.copies.append(1)
     return out
+
+
+def isotropy_basis(problem: Problem, u: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, int] | None:
+    """Orthonormal basis (columns) of the fixed-point space of the symmetries that fix ``u`` and ``direction``.
+
+    That space holds every state with the symmetry of the branch leaving ``u`` along ``direction``;
+    within it the branch point is simple.  Returns ``(B, order of the isotropy group)``, or None without
+    a declared symmetry (or with a group above :data:`MAX_GROUP_ORDER`), or when the isotropy group is
+    trivial (the space is the whole space).
+    """
+    generators = tuple(getattr(problem, "symmetry_generators", ()) or ())
+    if not generators:
+        return None
+    n = u.size
+    elements = group_elements(generators, n)
+    if elements is None:
+        return None
+    scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
+    size = float(np.max(np.abs(direction), initial=0.0)) or 1.0
+    fixing = [g for g in elements if float(np.max(np.abs(g @ u - u), initial=0.0)) <= 1e-8 * scale
+              and float(np.max(np.abs(g @ direction - direction), initial=0.0)) <= 1e-8 * size]
+    if len(fixing) <= 1:
+        return None
+    projector = sum((_dense(g) for g in fixing), np.zeros((n, n))) / len(fixing)
+    w, vectors = np.linalg.eigh(0.5 * (projector + projector.T))
+    return vectors[:, w > 0.5], len(fixing)
+
+
+class FixedSpaceProblem(Problem):
+    """A symmetric problem restricted to a fixed-point space: unknowns ``z`` with ``u = B z``.
+
+    ``B`` (``n x k``, orthonormal columns) spans the states of one symmetry; the residual is
+    ``B^T f(B z, p)`` and the Jacobian ``B^T J B``, the gradient and Hessian of ``E(B z, p)``.  By the
+    symmetry, an equilibrium of the restricted problem is one of the full problem, and a multiple
+    branch point of the full problem whose symmetric branches are axial is a simple one here.
+    Observables are the full problem's at ``B z``.  Stability here is within the space only.
+    """
+
+    def __init__(self, problem: Problem, basis: np.ndarray) -> None:
+        self.full, self.B = problem, np.asarray(basis, dtype=float)
+        observables = {name: (lambda fun: (lambda z, p: fun(self.B @ z, p)))(fun)
+                       for name, fun in problem.observables.items()}
+        super().__init__(observables=observables, symmetric=problem.symmetric,
+                         name=f"{problem.name} (fixed space, {self.B.shape[1]} of {self.B.shape[0]} unknowns)",
+                         parameter_name=problem.parameter_name,
+                         residual_scale=problem.residual_scale)
+        if problem.reference_scales is not None:
+            self.adopt_reference_scales(*problem.reference_scales)
+
+    def residual(self, z, p):
+        return self.B.T @ self.full.residual(self.B @ z, p)
+
+    def jacobian(self, z, p):
+        return self.B.T @ (self.full.jacobian(self.B @ z, p) @ self.B)
+
+    def dresidual_dp(self, z, p):
+        return self.B.T @ self.full.dresidual_dp(self.B @ z, p)
+
+    def energy(self, z, p):
+        return self.full.energy(self.B @ z, p)
+
+    def max_step_fraction(self, z, p, dz, dp):
+        return self.full.max_step_fraction(self.B @ z, p, self.B @ dz, dp)
