@@ -166,3 +166,16 @@ def test_the_rings_oval_branch_traced_in_its_fixed_space():
         # p / p_c - 1 = b xi^2 + O(xi^4): the intercept of the ratio against xi^2 is Koiter's b
         fit = np.polyfit(xi[on] ** 2, (P[on] / bp.p - 1.0) / xi[on] ** 2, 1)
         assert fit[1] == pytest.approx(koiter.b, rel=1e-3) and koiter.b > 0
+
+
+def test_a_snap_at_a_five_fold_point_lands_on_the_first_tooth():
+    # at a point of multiplicity five any kernel vector is an eigenvector, and along the one the
+    # eigensolver picks no kick lowered the energy; the resolved branch directions are kicked too.
+    # The homogeneous state is u = 0 in mode coordinates: kicks are sized by the problem's own scale
+    chain = BistableChain(6, coordinates="modes")
+    sweep = contin.quasistatic(chain, chain.state(np.zeros(6)), 0.0, 9.0)
+    first = chain.sawtooth()[0]
+    assert len(sweep.jumps) >= 1, sweep.message
+    jump = sweep.jumps[0]
+    assert jump.p == pytest.approx(first.delta, rel=1e-7)
+    assert chain.observables["force"](jump.u_to, jump.p) == pytest.approx(first.force_after, rel=1e-6)

@@ -112,13 +112,18 @@ class JumpResult:
         return a, b
 
 
-def state_scale(u: np.ndarray) -> float:
+def state_scale(u: np.ndarray, reference: tuple[float, float] | None = None) -> float:
     """The size of a state, ``max|u|`` (1 for a zero state): the unit of kicks and landing distances.
 
     No absolute floor: a model in millimetres and the same model in metres get the same kicks in
-    their own units.
+    their own units.  A state at roundoff next to the problem's own state scale (``reference``, its
+    :attr:`contin.Problem.reference_scales`: a symmetric state whose unknowns measure departures
+    from symmetry, such as the homogeneous state of a chain in mode coordinates) has that scale.
     """
-    return float(np.max(np.abs(np.asarray(u, dtype=float)), initial=0.0)) or 1.0
+    size = float(np.max(np.abs(np.asarray(u, dtype=float)), initial=0.0))
+    if reference is not None and math.isfinite(reference[0]) and size < 1e-8 * reference[0]:
+        return float(reference[0])
+    return size or 1.0
 
 
 def _shifted_cholesky_solver(H, mu: float):
@@ -241,7 +246,7 @@ def _start(problem: Problem, u0: np.ndarray, p: float, abs_tol: float, perturbat
     scale_H = float(np.max(np.abs(H0.data if sp.issparse(H0) else H0), initial=1.0))
     lam0 = float(info0.eigenvalues[0])
     E0 = _safe_energy(problem, u0, p)
-    ref = state_scale(u0) if scale is None else float(scale)
+    ref = state_scale(u0, problem.reference_scales) if scale is None else float(scale)
     x = None
     if info0.n_negative == 0 and lam0 > eig_tol * scale_H:
         if float(np.max(np.abs(problem.checked_residual(u0, p)))) <= abs_tol:

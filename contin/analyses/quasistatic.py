@@ -259,11 +259,13 @@ class SnapRules:
         if self.overshoot_unit not in ("sweep", "fold"):
             raise ValueError(f"quasistatic: overshoot_unit must be 'sweep' or 'fold', got {self.overshoot_unit!r}")
 
-    def landing_distance(self, u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float) -> float:
-        """How far a landing is from the fold state (see ``separation``)."""
+    def landing_distance(self, u_fold: np.ndarray, p_fold: float, u_to: np.ndarray, p_to: float,
+                         reference: tuple[float, float] | None = None) -> float:
+        """How far a landing is from the fold state (see ``separation``), in the state's scale
+        (:func:`contin.analyses.jump.state_scale`, with the problem's ``reference`` scales)."""
         if self.separation is not None:
             return float(self.separation(u_fold, p_fold, u_to, p_to))
-        return _distance(u_to, u_fold) / state_scale(u_fold)
+        return _distance(u_to, u_fold) / state_scale(u_fold, reference)
 
 
 @dataclass
@@ -293,15 +295,17 @@ class _Sweep:
         rules, problem = self.rules, self.problem
         p_fold = float(fold.p)
         reasons: list[str] = []
-        kick_unit = rules.perturbation_unit or state_scale(u_fold)
+        kick_unit = rules.perturbation_unit or state_scale(u_fold, problem.reference_scales)
         tol = self.curve.settings.tol if rules.tol is None else float(rules.tol)
-        for k, (overshoot, kick) in enumerate(rules.attempts):
+        trials = [(overshoot, kick, d) for overshoot, kick in rules.attempts for d in _kick_directions(fold)]
+        for k, (overshoot, kick, d) in enumerate(trials):
             p_jump = self.jump_parameter(p_fold, overshoot)
             tag = (f"attempt {k + 1} (overshoot {overshoot:g}, perturbation "
-                   f"{'default' if kick is None else f'{kick:g}'})")
+                   f"{'default' if kick is None else f'{kick:g}'}"
+                   f"{'' if d is None else ', along a resolved branch direction'})")
             try:
                 jr = jump(problem, u_fold, p_jump, tol=tol, max_iter=rules.max_iter,
-                          perturbation=None if kick is None else kick * kick_unit, scale=kick_unit)
+                          perturbation=None if kick is None else kick * kick_unit, scale=kick_unit, direction=d)
             except _ATTEMPT_ERRORS as exc:
                 reasons.append(f"{tag}: {exc}")
                 if isinstance(exc, rules.give_up_on):
@@ -310,7 +314,7 @@ class _Sweep:
             if not jr.success:
                 reasons.append(f"{tag}: {jr.message or 'did not land on a stable state'}")
                 continue
-            sep = rules.landing_distance(u_fold, p_fold, jr.u_to, jr.p)
+            sep = rules.landing_distance(u_fold, p_fold, jr.u_to, jr.p, problem.reference_scales)
             if sep <= rules.min_separation:
                 nearby = _nearby_landing_branch(problem, self.curve, jr, u_fold, p_fold)
                 if isinstance(nearby, str):
@@ -324,6 +328,17 @@ class _Sweep:
                 return jr, reasons
             return _restate_at_fold(problem, self.curve, jr, u_fold, p_fold, jr.info["separation"]), reasons
         return None, reasons
+
+def _kick_directions(point: SpecialPoint) -> list[np.ndarray | None]:
+    """The kicks a snap tries: the unstable eigenvector (None), and at a multiple branch point each
+    resolved branch direction both ways (any vector of the kernel is an eigenvector there, and the
+    energy may fall along some of them only)."""
+    record = point.bifurcation
+    if record is None or record.multiplicity < 2:
+        return [None]
+    rows = record.directions[:, :-1] if len(record.directions) else record.kernel
+    return [None] + [sign * np.asarray(row, dtype=float) for row in rows for sign in (1.0, -1.0)]
+
 
 def leave_fold(problem: Problem, fold: SpecialPoint, direction: int, settings: Settings | None = None,
                rules: SnapRules | None = None, *, u_fold: np.ndarray | None = None,
