@@ -10,7 +10,7 @@ With ``merge=True`` the graph is one of curves rather than of runs: a node of on
 inside another (between two of its stored points, on the curve through them) splits that branch
 there, and a segment that runs along a segment already in the graph (either way) is merged into it
 instead of added again.  Whether a point lies on a branch is decided by :func:`position_on`: the
-branch between stored points is the cubic through four neighbouring ones, parametrised by arclength.
+branch between stored points is the cubic through four neighbouring ones.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ __all__ = ["diagram", "hysteresis_cycles", "save_diagram", "load_diagram", "posi
 #: Default tolerance of :func:`position_on` (scaled like node matching: relative to ``max(1, |x|)``).
 CURVE_TOL = 1e-4
 #: Samples per stored step where the cubic through the neighbouring points is searched.
-_SAMPLES = 129
+_SAMPLES = 33
 
 
 class NodeIndex:
@@ -175,9 +175,13 @@ def _stops(G: "nx.MultiDiGraph", index: NodeIndex, br: Branch) -> list[tuple[flo
     The position is ``i + t``: the node lies between stored points ``i`` and ``i + 1``, the fraction
     ``t`` of the arclength between them on.
     """
-    stops = [(0.0, index.find_or_add(G, "start", br.p[0], br.u[0], observables=_obs_at(br, 0)), False)]
+    specials = sorted(br.special_points, key=lambda s: (s.index, s.s))
+    # a switched branch starts at the branch point it left (its first stored point is a step off it)
+    switched = bool(specials) and specials[0].label == "origin" and specials[0].index == 0
+    stops = [] if switched else \
+        [(0.0, index.find_or_add(G, "start", br.p[0], br.u[0], observables=_obs_at(br, 0)), False)]
     last = len(br) - 1
-    for spt in sorted(br.special_points, key=lambda s: (s.index, s.s)):
+    for spt in specials:
         if spt.kind == "jump":
             continue
         idx = min(max(spt.index, 0), last)
@@ -213,35 +217,40 @@ def _scaled_points(br: Branch, extra: Sequence[tuple[np.ndarray, float]] = ()) -
     return X, w
 
 
-def _cubic(br: Branch, X: np.ndarray, i: int, t: np.ndarray) -> np.ndarray:
-    """Points of the cubic (in arclength) through up to four stored points around step ``i``, at fractions ``t``."""
-    lo = max(0, min(i - 1, len(br) - 4))
-    idx = np.arange(lo, min(lo + 4, len(br)))
-    s_nodes = np.asarray(br.s, dtype=float)[idx]
-    s = br.s[i] + t * (br.s[i + 1] - br.s[i])
-    if np.unique(s_nodes).size < idx.size or br.s[i + 1] == br.s[i]:  # no arclength to go by: the chord
+def _cubic(X: np.ndarray, w: np.ndarray, i: int, t: np.ndarray) -> np.ndarray:
+    """Points of the cubic through up to four stored points around step ``i``, at fractions ``t`` of the step.
+
+    The parameter is the length of the scaled chords between the stored points (the run's own
+    arclength is measured in its weighted norm, which may follow the curve less closely).
+    """
+    m = X.shape[0]
+    lo = max(0, min(i - 1, m - 4))
+    idx = np.arange(lo, min(lo + 4, m))
+    chords = np.linalg.norm(np.diff(X[idx] * w, axis=0), axis=1)
+    knots = np.concatenate([[0.0], np.cumsum(chords)])
+    if np.any(chords == 0.0):  # repeated points: the chord between the two
         return (1.0 - t)[:, None] * X[i] + t[:, None] * X[i + 1]
+    s = knots[i - lo] + t * (knots[i - lo + 1] - knots[i - lo])
     L = np.ones((t.size, idx.size))
     for a in range(idx.size):
         for b in range(idx.size):
             if a != b:
-                L[:, a] *= (s - s_nodes[b]) / (s_nodes[a] - s_nodes[b])
+                L[:, a] *= (s - knots[b]) / (knots[a] - knots[b])
     return L @ X[idx]
 
 
 def point_at(br: Branch, position: float) -> tuple[np.ndarray, float]:
     """The point ``(u, p)`` of the branch at ``position`` (``i + t``, as :func:`position_on` gives it)."""
-    X, _ = _scaled_points(br)
+    X, w = _scaled_points(br)
     i = int(min(max(np.floor(position), 0), len(br) - 2))
-    x = _cubic(br, X, i, np.array([position - i]))[0]
+    x = _cubic(X, w, i, np.array([position - i]))[0]
     return x[:-1], float(x[-1])
 
 
 def position_on(br: Branch, u: np.ndarray, p: float, tol: float = CURVE_TOL) -> float | None:
     """Where the point ``(u, p)`` lies on the branch: ``i + t`` (between stored points ``i`` and ``i + 1``), or None.
 
-    The branch between two stored points is the cubic, in arclength, through four neighbouring
-    ones; the point lies on it when its distance (largest component, the state relative to
+    The branch between two stored points is the cubic through four neighbouring ones; the point lies on it when its distance (largest component, the state relative to
     ``max(1, |u|)`` and the parameter to ``max(1, |p|)`` over the branch and the point) is at most ``tol``.
     A branch that kept no states (``store_states=False``) has no position for any point.
     """
@@ -259,10 +268,18 @@ def position_on(br: Branch, u: np.ndarray, p: float, tol: float = CURVE_TOL) -> 
     best: tuple[float, float] | None = None
     samples = np.linspace(0.0, 1.0, _SAMPLES)
     for i in np.flatnonzero(chord <= reach)[np.argsort(chord[chord <= reach])]:
-        dist = np.max(np.abs(_cubic(br, X, int(i), samples) * w - y), axis=1)
-        k = int(np.argmin(dist))
-        if dist[k] <= tol and (best is None or dist[k] < best[1]):
-            best = (int(i) + float(samples[k]), float(dist[k]))
+        def gap(t: np.ndarray) -> np.ndarray:
+            return np.linalg.norm(_cubic(X, w, int(i), t) * w - y, axis=1)
+        k = int(np.argmin(gap(samples)))
+        lo, hi = samples[max(k - 1, 0)], samples[min(k + 1, samples.size - 1)]
+        for _ in range(40):  # the nearest point between the samples either side (golden-section search)
+            a, b = hi - 0.618 * (hi - lo), lo + 0.618 * (hi - lo)
+            ga, gb = gap(np.array([a, b]))
+            lo, hi = (lo, b) if ga <= gb else (a, hi)
+        t = 0.5 * (lo + hi)
+        dist = float(np.max(np.abs(_cubic(X, w, int(i), np.array([t]))[0] * w - y)))
+        if dist <= tol and (best is None or dist < best[1]):
+            best = (int(i) + t, dist)
     return None if best is None else best[0]
 
 
