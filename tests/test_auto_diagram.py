@@ -7,8 +7,8 @@
   recognised as a copy, not traced.
 * The pitchfork normal form: both halves of the bifurcating branch are one curve meeting at the branch
   point; with ``u1 -> -u1`` declared, the second half is a copy of the first.
-* A circle ``u1^2 + p^2 = 1`` joining two branch points of the trivial branch: reached from its other
-  end it is recognised, not traced again, and it is a cycle of the graph.
+* A parabola ``u1 = 1 - p^2`` crossing the trivial branch at p = -1, 1: its arc between them, reached
+  from its other end, is recognised, not traced again, and the arc and the trivial branch are a cycle.
 * The isola (contin_models.benchmarks.isola) found by deflation: a cycle of its own.
 * ``contin.diagram(..., merge=True)``: a branch given twice is one set of edges; a branch point of one
   branch inside another (which did not locate it) splits that one.
@@ -130,39 +130,38 @@ def test_the_second_half_of_a_symmetric_pitchfork_is_a_copy():
     assert copy.half == -1 and copy.branch == result.curves[1][0]
 
 
-class Circle(Problem):
-    """``f = (u1 (u1^2 + p^2 - 1), u2)``: the trivial branch, and a circle joining its branch points at p = -1, 1."""
+class Arch(Problem):
+    """``f = (u1 (u1 - (1 - p^2)), u2)``: the trivial branch, and the parabola ``u1 = 1 - p^2`` crossing it at p = -1, 1."""
 
     def __init__(self) -> None:
-        super().__init__(symmetric=False, name="circle", parameter_name="p")
+        super().__init__(symmetric=False, name="arch", parameter_name="p")
 
     def residual(self, u, p):
-        return np.array([u[0] * (u[0] ** 2 + p ** 2 - 1.0), u[1]])
+        return np.array([u[0] * (u[0] - 1.0 + p ** 2), u[1]])
 
     def jacobian(self, u, p):
-        return np.array([[3 * u[0] ** 2 + p ** 2 - 1.0, 0.0], [0.0, 1.0]])
+        return np.array([[2 * u[0] - 1.0 + p ** 2, 0.0], [0.0, 1.0]])
 
     def dresidual_dp(self, u, p):
         return np.array([2 * p * u[0], 0.0])
 
 
 def test_a_branch_reached_from_its_other_end_is_not_traced_again():
-    result = contin.auto_diagram(Circle(), np.zeros(2), -2.0, depth=2, p_max=2.0, ds=0.05, ds_max=0.1,
+    result = contin.auto_diagram(Arch(), np.zeros(2), -2.0, depth=2, p_max=2.0, p_min=-2.0, ds=0.05, ds_max=0.1,
                                  state_weight=1.0, param_weight=1.0)
     assert result.success, [a.message for a in result.failures]
-    assert [len(c) for c in result.curves] == [1, 2]  # the trivial branch; the circle's two halves
-    statuses = {(round(a.p), a.half): a.status for a in result.attempts}
-    assert statuses == {(-1, 1): "traced", (-1, -1): "traced", (1, 1): "same", (1, -1): "same"}
-    for bi in result.curves[1]:
-        br = result.branches[bi]
-        assert br.status == "reached_branch_point"
-        assert np.max(np.abs(br.u[:, 0] ** 2 + br.p ** 2 - 1.0)) <= 1e-9
+    (same,) = [a for a in result.attempts if a.status == "same"]
+    assert same.p == pytest.approx(1.0, abs=1e-9)
+    arc = result.branches[same.branch]  # the half from p = -1 that reached p = 1 along the parabola
+    assert arc.status == "reached_branch_point" and arc.p[-1] == pytest.approx(1.0, abs=1e-9)
+    assert np.max(np.abs(arc.u[:, 0] - (1.0 - arc.p ** 2))) <= 1e-7  # the corrector's tolerance
+    assert [a.status for a in result.attempts].count("traced") == 3  # the arc, and the parabola outside each end
     G = result.graph
-    circle = nx.Graph([(a, b) for a, b, d in G.edges(data=True) if d["curve"] == 1])
-    (cycle,) = nx.cycle_basis(circle)  # the circle alone is a loop: two branch points, two folds
-    assert sorted(G.nodes[n]["kind"] for n in cycle) == ["branch_point", "branch_point", "fold", "fold"]
-    assert sorted(G.nodes[n]["p"] for n in cycle) == pytest.approx([-1.0, 0.0, 0.0, 1.0], abs=1e-9)
-    assert len([d for *_, d in G.edges(data=True) if d["curve"] == 1]) == 4  # each quarter once
+    bps = [n for n, d in G.nodes(data=True) if "branch_point" in d["kinds"]]
+    between = [d for a, b, d in G.edges(data=True) if {a, b} == set(bps)]
+    assert sorted(d["curve"] for d in between) == [0, 1]  # the trivial branch and the arc, once each
+    (cycle,) = nx.cycle_basis(nx.Graph(G))  # the arc and the trivial branch between the two points
+    assert sorted(cycle) == sorted(bps)
 
 
 def test_the_isola_found_by_deflation_is_a_cycle():

@@ -33,8 +33,10 @@ if TYPE_CHECKING:
 
 __all__ = ["AutoDiagram", "SwitchAttempt", "auto_diagram"]
 
-#: Accepted steps of the probe that decides whether a half is new (the step off the point, then these).
-PROBE_STEPS = 3
+#: Accepted steps of the probes that decide whether a half is new, tried in turn until one is off the point.
+PROBE_STEPS = (3, 12, 48)
+#: How far (in multiples of the curve tolerance) a probe's point must be from the branch point to be compared.
+PROBE_REACH = 100.0
 
 
 @dataclass
@@ -205,17 +207,26 @@ class _Builder:
         attempt = SwitchAttempt(parent, float(spt.p), k, half, depth, "failed")
         self.attempts.append(attempt)
         known = self.known_points()
-        try:
-            probe = switch_branch(self.problem, spt, self.settings, direction=half, branch=k, known=known,
-                                  **{**self.kwargs, "max_steps": PROBE_STEPS})
-        except (ValueError, RuntimeError, ArithmeticError) as exc:
-            attempt.message = f"the switch raised {type(exc).__name__}: {exc}"
-            return None
-        if len(probe) < 2:
-            attempt.message, attempt.run = f"the probe stored no point off the branch point ({probe.status}: " \
-                                           f"{probe.message})", probe
-            return None
-        owner = self.owner(np.asarray(probe.u[-1]), float(probe.p[-1]))
+        u_bp = np.asarray(spt.u, dtype=float)
+        scale = max(1.0, float(np.max(np.abs(u_bp), initial=0.0)))
+        away = None
+        for steps in PROBE_STEPS:  # until the probe is clearly off the branch point (first steps may be tiny)
+            try:
+                probe = switch_branch(self.problem, spt, self.settings, direction=half, branch=k, known=known,
+                                      **{**self.kwargs, "max_steps": steps})
+            except (ValueError, RuntimeError, ArithmeticError) as exc:
+                attempt.message = f"the switch raised {type(exc).__name__}: {exc}"
+                return None
+            if len(probe) == 0:
+                break
+            gaps = np.maximum(np.max(np.abs(np.asarray(probe.u) - u_bp), axis=1) / scale,
+                              np.abs(np.asarray(probe.p) - spt.p) / max(1.0, abs(spt.p)))
+            if gaps.max() >= PROBE_REACH * self.curve_tol:
+                away = int(np.argmax(gaps))
+                break
+            if probe.status != "max_steps":
+                break
+        owner = None if away is None else self.owner(np.asarray(probe.u[away]), float(probe.p[away]))
         if owner is not None:
             attempt.branch, attempt.element = owner
             attempt.status = "same" if owner[1] is None else "copy"
