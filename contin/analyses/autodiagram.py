@@ -26,7 +26,7 @@ from ..results.branch import Branch, SpecialPoint
 from ..settings import Settings
 from ..watch.branching import group_elements
 from .deflation import DeflatedBranches, deflated_branches
-from .diagram import CURVE_TOL, build_diagram, position_on
+from .diagram import CURVE_TOL, NodeIndex, build_diagram, position_on
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -137,7 +137,7 @@ class _Builder:
         self.curves: list[list[int]] = []
         self.level: list[int] = []
         self.attempts: list[SwitchAttempt] = []
-        self.visited: list[tuple[float, np.ndarray]] = []
+        self.visited = NodeIndex(rtol)
         self.copy_points: list[tuple[SpecialPoint, dict[str, int]]] = []
         generators = tuple(getattr(problem, "symmetry_generators", ()) or ())
         self.elements = group_elements(generators, size) if generators else None
@@ -169,12 +169,9 @@ class _Builder:
     def seen(self, spt: SpecialPoint) -> bool:
         """Whether the point was already switched at (it lies on two traced branches, or was met twice)."""
         u = np.asarray(spt.u, dtype=float)
-        for q, v in self.visited:
-            scale = max(1.0, float(np.max(np.abs(v), initial=0.0)))
-            if abs(q - spt.p) <= self.rtol * max(1.0, abs(q)) and \
-                    float(np.max(np.abs(u - v), initial=0.0)) <= self.rtol * scale:
-                return True
-        self.visited.append((float(spt.p), u))
+        if self.visited.find(float(spt.p), u) is not None:
+            return True
+        self.visited.nodes.append((f"visited{len(self.visited.nodes)}", float(spt.p), u))
         return False
 
     def explore(self, roots: list[int], depth: int) -> None:
