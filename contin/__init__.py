@@ -64,6 +64,7 @@ package and its command start without loading the engine.  Where each part lives
 ``analyses.deadload``     force control of a displacement-controlled problem (one bordered row)
 ``analyses.conjugate``    displacement control of a force-controlled problem (the load a Lagrange multiplier)
 ``analyses.diagram``      bifurcation diagrams as ``networkx`` graphs
+``analyses.autodiagram``  automatic diagrams: switching at every branch point to a depth, repeats and copies merged
 ``analyses.deflation``    solutions no traced branch reaches (:func:`deflate`), and the branches through them
 ``plot.branches``         plots of branches, their special points and snaps (:func:`plot_branches`)
 ``plot.framing``          the part of a diagram with its snaps, as a detail panel or limited axes
@@ -95,6 +96,7 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("EnergyProblem", "GradientProblem"), "modelkit.energy"),
     **dict.fromkeys(("BorderedSolver", "factorize"), "numerics.linalg"),
     **dict.fromkeys(("diagram", "hysteresis_cycles", "load_diagram"), "analyses.diagram"),
+    **dict.fromkeys(("AutoDiagram", "SwitchAttempt", "auto_diagram"), "analyses.autodiagram"),
     "plot_branches": "plot.branches", "save_diagram": "analyses.diagram",
     **dict.fromkeys(("JumpError", "JumpResult", "jump"), "analyses.jump"),
     **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch"), "palc"),
