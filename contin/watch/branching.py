@@ -125,27 +125,23 @@ def symmetric_directions(problem: Problem, u: np.ndarray, V: np.ndarray) -> Bran
                                                        "elements: not used")
     scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
     isotropy = [g for g in elements if float(np.max(np.abs(g @ u - u), initial=0.0)) <= 1e-8 * scale]
-    reps = []
+    distinct: dict[bytes, np.ndarray] = {}
     for g in isotropy:
         M = V.T @ (g @ V)
         if not np.allclose(M @ M.T, np.eye(m), atol=1e-6):
             return BranchDirections(method="symmetry", note="the kernel is not invariant under the point's "
                                                            "symmetry (the declared generators do not fit the model)")
-        if not any(np.allclose(M, R, atol=1e-8) for R in reps):
-            reps.append(M)
+        distinct.setdefault(np.round(M, 7).tobytes(), M)
+    reps = np.array(list(distinct.values()))  # (group order on the kernel, m, m)
     lines = _axial_lines(reps, m)
     out = BranchDirections(method="symmetry")
     done: list[np.ndarray] = []
     for c in lines:
         if any(_same_line(c, d) for d in done):
             continue
-        orbit = [M @ c for M in reps]
-        unique: list[np.ndarray] = []
-        for d in orbit:
-            if not any(_same_line(d, e) for e in unique):
-                unique.append(d)
+        unique = _distinct_lines(reps @ c)
         done += unique
-        stabiliser = sum(1 for M in reps if np.allclose(M @ c, c, atol=1e-8))
+        stabiliser = int(np.count_nonzero(np.max(np.abs(reps @ c - c), axis=1) <= 1e-8))
         out.directions.append(c)
         out.labels.append(f"fixed by {stabiliser} of the {len(reps)} symmetries acting on the kernel")
         out.copies.append(len(unique))
@@ -158,39 +154,54 @@ def _same_line(a: np.ndarray, b: np.ndarray) -> bool:
     return 1.0 - abs(float(a @ b)) <= SAME_LINE
 
 
-def _axial_lines(reps: list[np.ndarray], m: int) -> list[np.ndarray]:
+def _distinct_lines(vectors: np.ndarray) -> list[np.ndarray]:
+    """The distinct lines among unit ``vectors`` (rows), one vector each."""
+    kept: list[np.ndarray] = []
+    for v in vectors:
+        if not kept or float(np.max(np.abs(np.array(kept) @ v))) < 1.0 - SAME_LINE:
+            kept.append(v)
+    return kept
+
+
+def _axial_lines(reps: np.ndarray, m: int) -> list[np.ndarray]:
     """Lines of the kernel that are the whole fixed space of their own isotropy subgroup.
 
-    Candidates are the one-dimensional fixed spaces of single elements and of intersections of the
-    fixed spaces of elements, built up greedily (enough for the dihedral and symmetric groups'
-    representations met in structures); each is kept when the elements fixing it fix nothing more.
+    Candidates are the one-dimensional fixed spaces of single elements and the intersections of
+    fixed spaces with mirrors, built up one mirror at a time (enough for the dihedral and symmetric
+    groups' representations met in structures); each is kept when the elements fixing it fix
+    nothing more.
     """
-    fixed = []
+    def key(F: np.ndarray) -> bytes:
+        return np.round(F @ F.T, 8).tobytes()  # the subspace, whatever its basis
+
+    fixed: dict[bytes, np.ndarray] = {}
     for M in reps:
         F = _fixed_space([M], m)
         if 0 < F.shape[1] < m:
-            fixed.append((F, [M]))
+            fixed.setdefault(key(F), F)
+    # intersections with the mirrors (fixed spaces of one dimension less than the kernel) reach the
+    # fixed spaces of the subgroups that reflections generate (S_m x S_(k-m) of identical cells, the
+    # dihedral groups' lines); an element's own line (a rotation's axis) is a candidate as it is
+    walls = [F for F in fixed.values() if F.shape[1] == m - 1]
     candidates: list[np.ndarray] = []
-    frontier = fixed
+    frontier = dict(fixed)
     for _ in range(max(1, m - 1)):
-        nxt = []
-        for F, mats in frontier:
+        nxt: dict[bytes, np.ndarray] = {}
+        for F in frontier.values():
             if F.shape[1] == 1:
                 candidates.append(F[:, 0])
                 continue
-            for G, more in fixed:
-                both = _fixed_space(mats + more, m)
+            for G in walls:
+                # the intersection of two subspaces: the common null space of their complements' projectors
+                both = _fixed_space([F @ F.T, G @ G.T], m)
                 if 0 < both.shape[1] < F.shape[1]:
-                    nxt.append((both, mats + more))
-        frontier = nxt[:2000]
+                    nxt.setdefault(key(both), both)
+        frontier = nxt
     lines: list[np.ndarray] = []
-    for c in candidates:
-        c = c / np.linalg.norm(c)
-        c = c if c[int(np.argmax(np.abs(c)))] > 0 else -c
-        if any(_same_line(c, d) for d in lines):
-            continue
-        stab = [M for M in reps if np.allclose(M @ c, c, atol=1e-8)]
-        if _fixed_space(stab, m).shape[1] == 1:
+    unit = [c / np.linalg.norm(c) for c in candidates]
+    for c in (_distinct_lines(np.array(unit)) if unit else []):
+        stab = reps[np.max(np.abs(reps @ c - c), axis=1) <= 1e-8]
+        if _fixed_space(list(stab), m).shape[1] == 1:
             lines.append(c)
     return lines
 
