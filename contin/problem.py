@@ -424,15 +424,15 @@ class Problem:
         if vnorm == 0.0:
             return sp.csr_matrix((u.size, u.size))
         eps = 1e-7 * scale / vnorm
-        J0 = self.jacobian(u, p)  # first: a model that caches its last Jacobian has this one
-        Jp = self.jacobian(u + eps * v, p)
+        J0 = self.checked_jacobian(u, p)  # first: a model that caches its last Jacobian has this one
+        Jp = self.checked_jacobian(u + eps * v, p)
         return (Jp - J0) / eps
 
     def jacobian_dp(self, u: Array, p: float) -> Any:
         """``d/dp J(u, p)`` by forward differences (see :meth:`jacobian_directional_derivative`)."""
         eps = 1e-7 * (1.0 + abs(p))
-        J0 = self.jacobian(u, p)
-        return (self.jacobian(u, p + eps) - J0) / eps
+        J0 = self.checked_jacobian(u, p)
+        return (self.checked_jacobian(u, p + eps) - J0) / eps
 
     # ---- helpers used by the engine --------------------------------------------------------------
     def _fd_jacobian(self, u: Array, p: float):
@@ -454,13 +454,14 @@ class Problem:
         """Residual, raising :class:`NonFiniteError` instead of returning NaN or inf.
 
         Python's float arithmetic in a model's code raises ``OverflowError`` (``x ** 5`` past the
-        largest float) or ``ZeroDivisionError`` where numpy would return inf or NaN; those are the
-        same event, a state outside the range where the model is finite, and raise the same error.
+        largest float), ``ZeroDivisionError`` or ``ValueError`` (``math.sqrt`` of a negative number)
+        where numpy would return inf or NaN; those are the same event, a state outside the range where
+        the model is finite, and raise the same error.
         """
         try:
             with np.errstate(all="ignore"):
                 r = self.residual(u, p)
-        except (OverflowError, ZeroDivisionError) as exc:
+        except (OverflowError, ZeroDivisionError, ValueError) as exc:
             raise NonFiniteError(f"residual of {self.name!r} is not finite at p = {p!r} ({exc})") from exc
         if not np.isfinite(r).all():
             raise NonFiniteError(f"residual of {self.name!r} is not finite at p = {p!r}")
@@ -472,7 +473,7 @@ class Problem:
         try:
             with np.errstate(all="ignore"):
                 J = self.jacobian(u, p)
-        except (OverflowError, ZeroDivisionError) as exc:
+        except (OverflowError, ZeroDivisionError, ValueError) as exc:
             raise NonFiniteError(f"Jacobian of {self.name!r} is not finite at p = {p!r} ({exc})") from exc
         data = J.data if sp.issparse(J) else np.asarray(J)
         if not np.isfinite(data).all():

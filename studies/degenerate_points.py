@@ -184,21 +184,23 @@ class Study:
 def _switch_where_located(study: Study, case: str, problem: contin.Problem, branch: contin.Branch,
                           expected: Expected, **bounds: Any) -> None:
     """Switch at the reported branch point nearest ``expected`` (if one is located) and record the new branch."""
-    near = [s for s in branch.branch_points() if s.located and "bifurcation_direction" in s.info
-            and abs(s.p - expected.p) <= MATCH_WINDOW * max(1.0, abs(expected.p))]
+    near = [s for s in branch.branch_points() if s.located and s.bifurcation is not None
+            and len(s.bifurcation.directions) and abs(s.p - expected.p) <= MATCH_WINDOW * max(1.0, abs(expected.p))]
     if not near:
         study.runs.append({"case": case, "run": f"switch_branch at {expected.label}", "status": "not run",
                            "success": None, "message": "no located branch point to switch at"})
         return
     bp = min(near, key=lambda s: abs(s.p - expected.p))
-    try:
-        switched, seconds = study.timed(f"{case}: switch_branch at {expected.label}",
-                                        lambda: contin.switch_branch(problem, bp, stability=True, **bounds))
-    except contin.CorrectorFailure as exc:
-        study.runs.append({"case": case, "run": f"switch_branch at {expected.label}", "status": "raised",
-                           "success": False, "message": str(exc)})
-        return
-    study.record(case, f"switch_branch at {expected.label}", switched, seconds)
+    # one run per resolved direction: at a multiple point one per class of branches (copies left out)
+    for k in range(len(bp.bifurcation.directions)):
+        run = f"switch_branch at {expected.label}" + (f", direction {k}" if len(bp.bifurcation.directions) > 1 else "")
+        try:
+            switched, seconds = study.timed(f"{case}: {run}", lambda: contin.switch_branch(
+                problem, bp, branch=k, stability=True, known=branch.branch_points(), **bounds))
+        except contin.CorrectorFailure as exc:
+            study.runs.append({"case": case, "run": run, "status": "raised", "success": False, "message": str(exc)})
+            continue
+        study.record(case, run, switched, seconds)
 
 
 # ---- the cases --------------------------------------------------------------------------------------

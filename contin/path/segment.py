@@ -52,6 +52,8 @@ class Segment:
         A = self.A
         if sigma == 0.0:
             out = (A.u, A.p, A.residual)
+        elif sigma == self.sigma_B:
+            out = (self.B.u, self.B.p, self.B.residual)  # the step's own end, converged already
         else:
             try:
                 # correct() refuses a start outside the model's domain; the linear predictor is the fallback

@@ -194,9 +194,9 @@ def explain_index_change(curve: Curve, seg: Segment, n_A: int, n_B: int, found: 
     known = [s for s in found if s.kind == "fold" or (s.kind == "branch_point" and s.located)]
     for lo, hi, m_lo, m_hi in jumps:
         m = abs(m_hi - m_lo)
-        if m == 1 and _claim(known, seg, lo, hi):
-            continue
         try:
+            if m == 1 and _claim(known, seg, lo, hi):
+                continue
             spt, kernel = _locate_jump(curve, seg, lo, hi, m)
         except _FAILURES as exc:
             out.doubts.append(f"the index changed from {m_lo} to {m_hi} near {problem.parameter_name} = "
