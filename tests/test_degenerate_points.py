@@ -41,9 +41,13 @@ def test_the_augusti_struts_double_point(spring_length):
     assert np.allclose(bp.bifurcation.kernel @ bp.bifurcation.kernel.T, np.eye(2), atol=1e-12)
 
 
-def test_three_identical_springs_branch_points_have_multiplicity_two():
-    chain = BistableChain(3, coordinates="modes")
-    br = contin.continuation(chain, chain.state(np.zeros(3)), 0.0, p_max=4.5)
+@pytest.mark.parametrize("coordinates", ["modes", "nodes"])
+@pytest.mark.parametrize("stability", [False, True])
+def test_three_identical_springs_branch_points_have_multiplicity_two(coordinates, stability):
+    # in node coordinates with stability, the bisection of the index told the two eigenvalues apart by
+    # 1.5e-11 in the elongation, and each half was taken for a fold
+    chain = BistableChain(3, coordinates=coordinates)
+    br = contin.continuation(chain, chain.state(np.zeros(3)), 0.0, p_max=4.5, stability=stability)
     assert br.success, br.message
     for Delta, _, multiplicity in chain.homogeneous_branch_points():
         assert _near(br, Delta, 1e-8).bifurcation.multiplicity == multiplicity == 2

@@ -38,6 +38,8 @@ __all__ = ["IndexExplanation", "IndexWatch", "explain_index_change", "primary_in
 
 #: Bracket width (relative to the step) to which the index is bisected before the root is located.
 BISECT_WIDTH = 1e-4
+#: Brackets of index changes the same way closer than this (relative to the step) are one point.
+MERGE_WIDTH = 1e-2
 #: Largest ratio of the kernel's eigenvalues to the next one for the kernel to be taken as exact.
 KERNEL_GAP = 1e-3
 #: Largest residual, in corrector tolerances, of a point taken on the secant of its bracket (where no
@@ -191,6 +193,7 @@ def explain_index_change(curve: Curve, seg: Segment, n_A: int, n_B: int, found: 
         out.doubts.append(f"the index changed from {n_A} to {n_B} between {problem.parameter_name} = "
                           f"{seg.A.p:.10g} and {seg.B.p:.10g} and could not be followed along the step: {exc}")
         return out
+    jumps = _merged(jumps, MERGE_WIDTH * abs(seg.sigma_B))
     known = [s for s in found if s.kind == "fold" or (s.kind == "branch_point" and s.located)]
     for lo, hi, m_lo, m_hi in jumps:
         m = abs(m_hi - m_lo)
@@ -285,6 +288,24 @@ def _resolve(problem: Problem, u: np.ndarray, p: float, V: np.ndarray, record: B
     record.directions = np.array(rows)
     record.labels = labels
     record.kind = "symmetric" if found.method == "symmetry" else "reduced"
+
+
+def _merged(jumps: list[tuple[float, float, int, int]], width: float) -> list[tuple[float, float, int, int]]:
+    """Neighbouring brackets whose index changes the same way, closer than ``width``: one jump of their sum.
+
+    Eigenvalues that cross zero together (a double point) are told apart by the bisection down to
+    the roundoff of the corrected points; the crossing is one point of the step's resolution.
+    """
+    out: list[tuple[float, float, int, int]] = []
+    for lo, hi, n_lo, n_hi in jumps:
+        if out:
+            lo0, hi0, n_lo0, n_hi0 = out[-1]
+            same_way = (n_hi0 - n_lo0) * (n_hi - n_lo) > 0 and n_hi0 == n_lo
+            if same_way and abs(lo - hi0) <= width:
+                out[-1] = (lo0, hi, n_lo0, n_hi)
+                continue
+        out.append((lo, hi, n_lo, n_hi))
+    return out
 
 
 def _index_near(index_of: Callable[[float], int], lo: float, hi: float) -> tuple[float, int | None]:
