@@ -105,7 +105,8 @@ def stiffness_scales(U: float, P: float, p: float, critical: CriticalMode) -> tu
 
     ``P`` is at most the distance to the critical load (but never below the start's own ``|p|``),
     and then ``U`` at least the amplitude at which the state leaving the critical load along its mode
-    has moved the load by ``P`` (:meth:`CriticalMode.amplitude_for`); the module docstring says why.
+    has moved the load by ``P`` (:meth:`CriticalMode.amplitude_for`), both to three significant
+    digits; the module docstring says why.
 
     Parameters
     ----------
@@ -113,8 +114,18 @@ def stiffness_scales(U: float, P: float, p: float, critical: CriticalMode) -> tu
     p : the start's parameter.
     critical : the start's :func:`critical_mode`.
     """
-    P = max(abs(float(p)), min(P, critical.distance))
-    return max(U, critical.amplitude_for(P, U)), P
+    P = max(abs(float(p)), min(P, _significant(critical.distance)))
+    return max(U, _significant(critical.amplitude_for(P, U))), P
+
+
+def _significant(x: float, digits: int = 3) -> float:
+    """``x`` to a few significant digits.
+
+    The stiffness estimates carry the roundoff of a difference of Jacobians in their last digits
+    (1e-9 of a stiff ring's load scale differs between BLAS thread counts); a scale is an order of
+    magnitude, and rounded it gives the same steps on every machine.
+    """
+    return float(f"{x:.{digits}g}") if math.isfinite(x) and x != 0 else x
 
 
 def emanating_load_change(koiter: Mapping[str, float], U: float, n: int) -> float:
@@ -261,7 +272,7 @@ def _largest_eigenpair(J: Any, F: Any, rate: Any, n: int) -> tuple[complex, np.n
     operator = LinearOperator((n, n), matvec=lambda x: F.solve(np.asarray(rate @ np.real(x), dtype=float)), dtype=float)
     start = np.random.default_rng(0).standard_normal(n)  # a fixed start: the same scales every run
     try:
-        w, V = eigs(operator, k=1, which="LM", v0=start, ncv=min(n - 1, 20), tol=1e-3, maxiter=50 * n)
+        w, V = eigs(operator, k=1, which="LM", v0=start, ncv=min(n - 1, 20), tol=1e-6, maxiter=50 * n)
     except ArpackNoConvergence as exc:
         w, V = exc.eigenvalues, exc.eigenvectors
     except ArpackError:
