@@ -272,7 +272,7 @@ def _largest_eigenpair(J: Any, F: Any, rate: Any, n: int) -> tuple[complex, np.n
     operator = LinearOperator((n, n), matvec=lambda x: F.solve(np.asarray(rate @ np.real(x), dtype=float)), dtype=float)
     start = np.random.default_rng(0).standard_normal(n)  # a fixed start: the same scales every run
     try:
-        w, V = eigs(operator, k=1, which="LM", v0=start, ncv=min(n - 1, 20), tol=1e-6, maxiter=50 * n)
+        w, V = eigs(operator, k=1, which="LM", v0=start, ncv=min(n - 1, 20), tol=1e-6, maxiter=100)
     except ArpackNoConvergence as exc:
         w, V = exc.eigenvalues, exc.eigenvectors
     except ArpackError:
