@@ -44,6 +44,7 @@ package and its command start without loading the engine.  Where each part lives
 ``results.branch``        results as data (:class:`Branch`, :class:`SpecialPoint`), saved and loaded
 ``results.io``            atomic writes of output files, JSON conversion, bundles
 ``path.curve``            the curve ``f = 0``: metric, linearization, tangent, :class:`~contin.path.curve.Point`
+``path.scales``           the state and load scales a run measures at its start, from its sizes and its stiffness
 ``path.corrector``        predictors and the PALC corrector (:class:`~contin.path.corrector.Correction`)
 ``path.stepsize``         the step-size controller
 ``path.segment``          the curve between two accepted points, where special points are located

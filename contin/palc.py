@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -29,7 +29,8 @@ import numpy as np
 from .numerics.linalg import SingularMatrixError
 from .numerics.stability import inertia
 from .path.corrector import Correction, check_curvature_consistency, correct, quadratic_predictor
-from .path.curve import CorrectorFailure, Curve, Point, max_abs, scales_from_sensitivity
+from .path.curve import CorrectorFailure, Curve, Point, max_abs
+from .path.scales import ZERO_SCALE, emanating_load_change, scales_from_sensitivity
 from .path.segment import Segment
 from .path.stepsize import StepController
 from .problem import NonFiniteError, Problem
@@ -404,7 +405,7 @@ def _first_point(curve: Curve, u0: np.ndarray, p0: float, tangent: tuple[np.ndar
 def _check_start(problem: Problem, start: Point, lin: tuple) -> str:
     """The model check of :mod:`contin.modelkit.check` at the first point: "" when it passes, else why the run stops."""
     from .modelkit.check import quick_check  # imported here: only runs that check need it
-    from .path.curve import start_scales
+    from .path.scales import start_scales
 
     J, fp, F = lin
     U, P = start_scales(start.u, start.p, fp, F, getattr(problem, "reference_scales", None))
@@ -631,7 +632,8 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
         # open weights from the branch point's own scales, for the step off and the whole new branch
         # (calibrating at the first point instead would measure a nearly singular Jacobian)
         U, P = branch_point_scales(u_bp, float(branch_point.p), bif.traced, bif.directions[branch],
-                                   reference=getattr(problem, "reference_scales", None))
+                                   reference=getattr(problem, "reference_scales", None), koiter=bif.koiter,
+                                   bracket=branch_point.info.get("bracket_p"))
         st = replace(st, state_weight=1.0 / U if st.state_weight is None else st.state_weight,
                      param_weight=1.0 / P if st.param_weight is None else st.param_weight)
     curve = Curve(problem, st)
@@ -714,13 +716,21 @@ def _to_full_space(problem: Problem, sub: FixedSpaceProblem, br: Branch, setting
 
 
 def branch_point_scales(u: np.ndarray, p: float, *directions: Any,
-                        reference: tuple[float, float] | None = None) -> tuple[float, float]:
-    """State and parameter scales ``(U, P)`` at a branch point, as :func:`contin.path.curve.start_scales` at a start.
+                        reference: tuple[float, float] | None = None,
+                        koiter: Mapping[str, float] | None = None,
+                        bracket: Sequence[float] | None = None) -> tuple[float, float]:
+    """State and parameter scales ``(U, P)`` at a branch point, as :func:`contin.path.scales.start_scales` at a start.
 
     The Jacobian is singular there, so the sensitivity ``S = rms(x_u) / |x_p|`` comes from the
     branches' own directions ``x = (x_u, x_p)`` (the traced branch's tangent and the bifurcating
     direction; None and those with ``x_p = 0`` say nothing), the largest of them; the rest is
-    :func:`contin.path.curve.start_scales` (``reference``: the problem's scales from an earlier run).
+    :func:`contin.path.scales.start_scales` (``reference``: the problem's scales from an earlier run).
+    Without a reference, a load below ``1e-8`` of the ``bracket`` (the loads of the step that found
+    the point) is zero, as it is below ``1e-8`` of a reference.  A pitchfork's branch leaves with
+    ``x_p = 0`` and changes the load only at second order: with the point's ``koiter`` coefficients
+    (:attr:`contin.Bifurcation.koiter`) ``P`` is at least the load change of the emanating branch
+    over the state scale ``U`` (:func:`contin.path.scales.emanating_load_change`).  Either keeps a
+    point located at a roundoff-small load from making every step of the new branch as small.
     """
     n = u.size
     sens = 0.0
@@ -730,7 +740,10 @@ def branch_point_scales(u: np.ndarray, p: float, *directions: Any,
         x = np.asarray(x, dtype=float)
         if x.size == n + 1 and np.isfinite(x).all() and x[n] != 0.0:
             sens = max(sens, float(np.sqrt(np.mean(x[:n] ** 2))) / abs(float(x[n])))
-    return scales_from_sensitivity(u, p, sens, reference)
+    if reference is None and bracket is not None and abs(p) <= ZERO_SCALE * abs(float(bracket[1]) - float(bracket[0])):
+        p = 0.0
+    U, P = scales_from_sensitivity(u, p, sens, reference)
+    return U, max(P, emanating_load_change(koiter or {}, U, n))
 
 
 def _unit(curve: Curve, x: np.ndarray, n: int) -> np.ndarray:

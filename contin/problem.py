@@ -265,7 +265,7 @@ class Problem:
         """State and parameter scales ``(U, P)`` the first calibrated run measured at its start (None before).
 
         Later runs from points where a scale cannot be measured (a branch point, ``u = 0`` or
-        ``p = 0``) fall back on them (:func:`contin.path.curve.start_scales`).
+        ``p = 0``) fall back on them (:func:`contin.path.scales.start_scales`).
         """
         return getattr(self, "_reference_scales", None)
 

@@ -66,7 +66,7 @@ class Settings:
     state_weight, param_weight : float or None
         Weights of the state (RMS) and parameter parts of the arclength norm.  None (the default)
         chooses them from the start point as ``1 / U`` and ``1 / P``, the state and parameter scales
-        of :func:`contin.path.curve.start_scales`: the steps are then fractions of the problem's own
+        of :func:`contin.path.scales.start_scales`: the steps are then fractions of the problem's own
         sizes, and the same model in other units takes the same steps.  A problem that gives its
         own ``residual_scale`` is taken to be in its own units: open weights are then 1.
     check_model : bool

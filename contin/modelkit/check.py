@@ -14,7 +14,7 @@ differences of the function it is the derivative of:
 * symmetry of the Jacobian when ``problem.symmetric``;
 * ``jacobian_directional_derivative`` when the model overrides it.
 
-Directions are measured in the start point's own scales (:func:`contin.path.curve.start_scales`), so the
+Directions are measured in the start point's own scales (:func:`contin.path.scales.start_scales`), so the
 finite-difference steps are relative to ``|u|`` and ``|p|`` and the checks pass for a correct model in
 any units.  Each comparison is tried with two step sizes and keeps the better one: a correct
 derivative agrees at one of them (truncation error at the larger, rounding at the smaller), a wrong
@@ -34,7 +34,8 @@ from typing import Any
 import numpy as np
 
 from ..numerics.linalg import SingularMatrixError
-from ..path.curve import roundoff_floor, start_scales
+from ..path.curve import roundoff_floor
+from ..path.scales import start_scales
 from ..problem import NonFiniteError, Problem
 
 __all__ = ["CheckResult", "CheckReport", "ModelCheckError", "check_problem", "quick_check", "FD_TOL"]
@@ -378,7 +379,7 @@ def check_problem(problem: Problem, u, p: float, *, n_directions: int = 3, seed:
         Raise :class:`ModelCheckError` when a check fails.
     scales : (float, float), optional
         The sizes ``(U, P)`` of the state and the parameter the probes are measured in (default:
-        :func:`contin.path.curve.start_scales` of the point).
+        :func:`contin.path.scales.start_scales` of the point).
 
     Returns
     -------

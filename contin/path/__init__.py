@@ -2,6 +2,7 @@
 
 =============  ============================================================================================
 ``curve``      the curve's metric, linearization, tangent and :class:`~contin.path.curve.Point`
+``scales``     the state and load scales of the metric, measured at a start from its sizes and stiffness
 ``corrector``  predictors and the pseudo-arclength corrector
 ``stepsize``   the step-size controller
 ``segment``    the curve between two accepted points, where special points are located

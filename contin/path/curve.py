@@ -7,8 +7,9 @@ point with its tangent is a :class:`Point`.
 The arclength norm is ``||X||_W^2 = w_u^2 |u|^2 / n + w_p^2 p^2``: the state enters through its
 root-mean-square, so the number of steps does not grow with the number of unknowns.  Weights the
 settings leave open (None) are ``1 / U`` and ``1 / P``, the start point's own scales
-(:func:`start_scales`), and a problem without a residual scale gets ``||J|| U + ||df/dp|| P``
-(:meth:`Curve.calibrate`): a model traced in other units takes the same steps.
+(:func:`contin.path.scales.start_scales`), and a problem without a residual scale gets
+``||df/dp|| P`` (``||J|| U`` where ``df/dp = 0``, :meth:`Curve.calibrate`): a model traced in other
+units takes the same steps.
 """
 
 from __future__ import annotations
@@ -22,9 +23,9 @@ import numpy as np
 from ..numerics.linalg import BorderedSolver, SingularMatrixError
 from ..problem import NonFiniteError, Problem
 from ..settings import Settings
+from .scales import critical_mode, start_scales, stiffness_scales
 
-__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization", "roundoff_floor", "scales_from_sensitivity", "stagnation_message",
-           "start_scales"]
+__all__ = ["Curve", "Point", "CorrectorFailure", "Linearization", "roundoff_floor", "stagnation_message"]
 
 #: ``(J, df/dp, factorization of J or None)`` at one point
 Linearization = tuple[Any, np.ndarray, Any]
@@ -44,59 +45,6 @@ def _matrix_max_row_sum(J: Any) -> float:
     if hasattr(J, "tocsr"):
         return float(np.max(np.asarray(abs(J).sum(axis=1)), initial=0.0))
     return float(np.max(np.sum(np.abs(np.asarray(J)), axis=1), initial=0.0))
-
-
-def _rms(x: np.ndarray) -> float:
-    return float(np.linalg.norm(x) / math.sqrt(max(x.size, 1)))
-
-
-def start_scales(u: np.ndarray, p: float, fp: np.ndarray, F: Any,
-                 reference: tuple[float, float] | None = None) -> tuple[float, float]:
-    """State and parameter scales ``(U, P)`` of a start point, in the model's units.
-
-    ``U`` is the RMS size of the state and ``P`` the size of the parameter, each at least what the
-    other implies through the sensitivity ``S = rms(du/dp) = rms(J^{-1} df/dp)``:
-    ``U = max(rms(u), S |p|)`` and ``P = max(|p|, rms(u) / S)`` (so a start at ``p = 0`` gets the
-    load that would move the state by its own size, and a start at ``u = 0`` the state change the
-    load causes).  Both scale with the units of ``u`` and ``p``.  A scale with no size to measure
-    (``u = 0``, ``p = 0``) is taken from ``reference`` (the scales an earlier run of the same
-    problem measured, see :attr:`contin.Problem.reference_scales`), else 1: the user's units are
-    then all there is.  With a reference, a size below ``1e-8`` of it is zero (a branch point
-    located at ``p = 1e-21`` is at ``p = 0``, not at a scale of ``1e-21``).
-
-    Parameters
-    ----------
-    u, p : the start point.
-    fp : ``df/dp`` there.
-    F : the factorization of the Jacobian there, or None when it is singular.
-    reference : (U, P), optional
-    """
-    sens = math.nan
-    if F is not None:
-        try:
-            sens = _rms(np.asarray(F.solve(fp), dtype=float))
-        except (SingularMatrixError, np.linalg.LinAlgError, ValueError):
-            pass
-    return scales_from_sensitivity(u, p, sens, reference)
-
-
-def scales_from_sensitivity(u: np.ndarray, p: float, sens: float,
-                            reference: tuple[float, float] | None = None) -> tuple[float, float]:
-    """``(U, P)`` of :func:`start_scales` from the point and a sensitivity ``S`` found otherwise (NaN or 0: none)."""
-    ref_U, ref_P = reference if reference is not None else (1.0, 1.0)
-    u_size, p_size = _rms(u), abs(float(p))
-    if reference is not None:
-        u_size = u_size if u_size > ZERO_SCALE * ref_U else 0.0
-        p_size = p_size if p_size > ZERO_SCALE * ref_P else 0.0
-    if math.isfinite(sens) and sens > 0:
-        U, P = max(u_size, sens * p_size), max(p_size, u_size / sens)
-    else:
-        U, P = u_size, p_size
-    return (U if U > 0 else ref_U), (P if P > 0 else ref_P)
-
-
-#: Below this fraction of a reference scale a size is zero up to roundoff (see :func:`start_scales`).
-ZERO_SCALE = 1e-8
 
 
 def roundoff_floor(J: Any, fp: np.ndarray, u: np.ndarray, p: float) -> float:
@@ -203,17 +151,30 @@ class Curve:
     def calibrate(self, u: np.ndarray, p: float) -> tuple[float, float]:
         """Set the open weights and residual scale from the start point's scales; return ``(U, P)``.
 
-        Costs one linearization.  The residual scale is the size of the terms that cancel in the
-        residual as the path moves: ``||df/dp||_inf P``, the load of the parameter's own scale, which
-        the change of the internal terms along the tangent balances (``J du/dp = -df/dp``); when
-        the parameter does not act at the start (``df/dp = 0``) it is ``||J||_inf U``.  The norm of
-        the whole Jacobian would overstate it wherever stiff directions take no part in the motion
-        (a shallow frame of bars, whose axial stiffness is a million times its snap stiffness).  The scale is kept
-        on the problem (:meth:`Problem.calibrate_residual_scale`) so that fold location and jumps
-        use the same one.
+        The scales are the start's sizes (:func:`contin.path.scales.start_scales`) corrected by its
+        stiffness (:func:`contin.path.scales.stiffness_scales`: a load scale no larger than the
+        distance to the first critical load, a state scale no smaller than the amplitude the state
+        reaches leaving it).  Costs two linearizations, a linearized buckling eigenvalue and a few
+        residuals.  The residual scale is the size of the terms that cancel in the residual as the
+        path moves: ``||df/dp||_inf P``, with ``P`` the load that moves the state by its own size
+        (before the stiffness caps it: the internal terms of that state change are what the load
+        terms balance, ``J du/dp = -df/dp``, and what rounding acts on); when the parameter does not
+        act at the start (``df/dp = 0``) it is ``||J||_inf U``.  The norm of the whole Jacobian would
+        overstate it wherever stiff directions take no part in the motion (a shallow frame of bars,
+        whose axial stiffness is a million times its snap stiffness).  The scale is kept on the
+        problem (:meth:`Problem.calibrate_residual_scale`) so that fold location and jumps use the
+        same one.
         """
         J, fp, F = self.linearize(u, p)
         U, P = start_scales(u, p, fp, F, getattr(self.problem, "reference_scales", None))
+        calibrate = getattr(self.problem, "calibrate_residual_scale", None)
+        if calibrate is not None:
+            scale = max_abs(fp) * P or _matrix_max_row_sum(J) * U
+            if math.isfinite(scale) and scale > 0:
+                calibrate(scale)
+        critical = critical_mode(self.problem, u, p, J, fp, F, P)
+        if critical is not None:
+            U, P = stiffness_scales(U, P, p, critical)
         adopt = getattr(self.problem, "adopt_reference_scales", None)
         if adopt is not None:
             adopt(U, P)
@@ -222,11 +183,6 @@ class Curve:
             self.state_weight = 1.0 / U
         if st.param_weight is None:
             self.param_weight = 1.0 / P
-        calibrate = getattr(self.problem, "calibrate_residual_scale", None)
-        if calibrate is not None:
-            scale = max_abs(fp) * P or _matrix_max_row_sum(J) * U
-            if math.isfinite(scale) and scale > 0:
-                calibrate(scale)
         self.tol = st.tol * getattr(self.problem, "residual_scale", 1.0)
         return U, P
 
