@@ -48,6 +48,7 @@ def square_diagram():
     return square, contin.auto_diagram(square, np.zeros(square.n ** 2), 0.0, depth=2, p_max=55.0)
 
 
+@pytest.mark.slow
 def test_the_squares_diagram_has_every_branch_once(square_diagram):
     square, result = square_diagram
     assert result.success, [a.message for a in result.failures]
@@ -72,6 +73,7 @@ def test_the_squares_diagram_has_every_branch_once(square_diagram):
             assert contin.analyses.diagram.position_on(bi, bj.u[mid], bj.p[mid]) is None
 
 
+@pytest.mark.slow
 def test_the_squares_copies_are_recognised_not_traced(square_diagram):
     square, result = square_diagram
     copies = result.copies
@@ -89,6 +91,7 @@ def test_the_squares_copies_are_recognised_not_traced(square_diagram):
     assert sorted(c["copy_of"] for c in result.graph.nodes[node]["copies"]) == sorted(a.branch for a in copies)
 
 
+@pytest.mark.slow
 def test_the_squares_graph_has_each_branch_once(square_diagram):
     square, result = square_diagram
     G = result.graph

@@ -31,7 +31,7 @@ LOCATE_TOL = 1e-8
 RING_P_MAX = 30.0
 
 
-@pytest.mark.parametrize("N", [64, 128])
+@pytest.mark.parametrize("N", [64, pytest.param(128, marks=pytest.mark.slow)])
 def test_the_ring_in_positions_steps_through_each_buckling_load_and_locates_it_as_double(N: int) -> None:
     m = PressurisedRing(N, coordinates="positions")
     loads = [m.buckling_load(n) for n in (2, 3, 4, 5)]
