@@ -183,3 +183,15 @@ def test_a_snap_at_a_five_fold_point_lands_on_the_first_tooth():
     jump = sweep.jumps[0]
     assert jump.p == pytest.approx(first.delta, rel=1e-7)
     assert chain.observables["force"](jump.u_to, jump.p) == pytest.approx(first.force_after, rel=1e-6)
+
+
+def test_six_springs_in_mode_coordinates_load_on_after_their_first_snap():
+    # the homogeneous state is u = 0 here, and df/dp there is roundoff (1e-33): the residual scale was
+    # taken from it and the tolerance (3e-43) lay below the roundoff floor, so the loading after the
+    # first snap stopped at once; it now reaches the second tooth
+    chain = BistableChain(6, coordinates="modes")
+    teeth = chain.sawtooth()
+    sweep = contin.quasistatic(chain, chain.state(np.zeros(6)), 0.0, teeth[1].delta + 0.05)
+    assert len(sweep.jumps) >= 1 and sweep.jumps[0].p == pytest.approx(teeth[0].delta, rel=1e-7)
+    assert max(float(np.max(br.p)) for br in sweep.branches) == pytest.approx(teeth[1].delta, rel=1e-8)
+    assert "roundoff floor" not in sweep.message

@@ -109,6 +109,11 @@ class Point:
     inertia: int | None = None
 
 
+#: A start's load terms below this fraction of its internal terms are roundoff: its residual scale is
+#: then the internal terms' (:meth:`Curve.calibrate`).
+ROUNDOFF_LOAD = 1e-12
+
+
 class Curve:
     """The equilibrium curve of a problem, with the operations PALC needs.
 
@@ -159,7 +164,8 @@ class Curve:
         path moves: ``||df/dp||_inf P``, with ``P`` the load that moves the state by its own size
         (before the stiffness caps it: the internal terms of that state change are what the load
         terms balance, ``J du/dp = -df/dp``, and what rounding acts on); when the parameter does not
-        act at the start (``df/dp = 0``) it is ``||J||_inf U``.  The norm of the whole Jacobian would
+        act at the start (``df/dp = 0``, or at roundoff of the internal terms: :data:`ROUNDOFF_LOAD`) it is
+        ``||J||_inf U``.  The norm of the whole Jacobian would
         overstate it wherever stiff directions take no part in the motion (a shallow frame of bars,
         whose axial stiffness is a million times its snap stiffness).  The scale is kept on the
         problem (:meth:`Problem.calibrate_residual_scale`) so that fold location and jumps use the
@@ -169,7 +175,10 @@ class Curve:
         U, P = start_scales(u, p, fp, F, getattr(self.problem, "reference_scales", None))
         calibrate = getattr(self.problem, "calibrate_residual_scale", None)
         if calibrate is not None:
-            scale = max_abs(fp) * P or _matrix_max_row_sum(J) * U
+            load, internal = max_abs(fp) * P, _matrix_max_row_sum(J) * U
+            # a load term at roundoff of the internal ones (df/dp of a symmetric state that should be
+            # zero, 1e-33 next to 1) is df/dp = 0
+            scale = load if load > ROUNDOFF_LOAD * internal else internal
             if math.isfinite(scale) and scale > 0:
                 calibrate(scale)
         critical = critical_mode(self.problem, u, p, J, fp, F, P)
