@@ -32,7 +32,7 @@ from ..path.segment import Segment
 from ..problem import NonFiniteError, Problem
 from ..results.branch import Bifurcation, SpecialPoint
 from .branching import reduced_directions, symmetric_directions
-from .testfunctions import FOLD_COSINE, root_near_singular, smallest_eigenvectors
+from .testfunctions import FOLD_COSINE, nudged, root_near_singular, smallest_eigenvectors
 
 __all__ = ["IndexExplanation", "IndexWatch", "explain_index_change", "primary_index", "kernel_at"]
 
@@ -310,13 +310,10 @@ def _merged(jumps: list[tuple[float, float, int, int]], width: float) -> list[tu
 
 def _index_near(index_of: Callable[[float], int], lo: float, hi: float) -> tuple[float, int | None]:
     """The index at the middle of ``[lo, hi]``, or at a point nudged from it when the middle does not converge."""
-    for shift in (0.0, 0.1, -0.1, 0.3, -0.3):
-        mid = 0.5 * (lo + hi) + shift * 0.5 * (hi - lo)
-        try:
-            return mid, index_of(mid)
-        except CorrectorFailure:
-            continue
-    return 0.5 * (lo + hi), None
+    try:
+        return nudged(index_of, 0.5 * (lo + hi), 0.5 * (hi - lo))
+    except CorrectorFailure:
+        return 0.5 * (lo + hi), None
 
 
 def kernel_at(problem: Problem, u: np.ndarray, p: float, m: int) -> tuple[np.ndarray, np.ndarray, float]:

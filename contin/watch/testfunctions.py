@@ -47,7 +47,7 @@ from .fold import fold_function, inverse_iteration, locate_fold, safe_factorize
 
 __all__ = ["TestFunction", "FoldTest", "BranchPointTest", "EventTest", "event_value", "observable_function",
            "bracketed", "KnownBranchPoints", "bound_events", "smallest_eigenvector", "second_derivative",
-           "bifurcation_directions"]
+           "bifurcation_directions", "nudged", "root_near_singular"]
 
 #: failures of a location that leave the special point bracketed instead of ending the run
 LOCATE_FAILURES = (CorrectorFailure, ValueError, RuntimeError, SingularMatrixError)
@@ -421,6 +421,24 @@ class _HessianBranchTest:
         return bifurcation_directions(self.curve.problem, u, p, B.u - A.u, B.p - A.p, start=self.b)
 
 
+#: Where :func:`nudged` tries a function, in fractions of its room: the point first, then either side.
+NUDGES = (0.0, 0.1, -0.1, 0.3, -0.3)
+
+
+def nudged(fun: Callable[[float], Any], sigma: float, room: float) -> tuple[float, Any]:
+    """``(s, fun(s))`` at ``s = sigma``, or nudged along the segment by up to ``room`` where the corrector
+    fails at it (next to a singular point a few points do not converge); raises the last failure."""
+    last: CorrectorFailure | None = None
+    for shift in NUDGES:
+        s = sigma + shift * room
+        try:
+            return s, fun(s)
+        except CorrectorFailure as exc:
+            last = exc
+    assert last is not None
+    raise last
+
+
 def root_near_singular(seg: Segment, g_at: Callable[[np.ndarray, float], float], lo: float, hi: float, g_lo: float,
                        width: float, attempts: int = 6) -> tuple[np.ndarray, float]:
     """The point ``(u, p)`` of ``seg`` in ``[lo, hi]`` where ``g_at`` changes sign, next to a singular point.
@@ -432,19 +450,13 @@ def root_near_singular(seg: Segment, g_at: Callable[[np.ndarray, float], float],
     state by the same cubic (Lagrange) interpolation of those four converged points: its error is
     ``O(w^4)``, far below the corrector's tolerance.  ``w`` doubles when a point fails to converge.
     """
-    def value(sigma: float, room: float) -> float:
-        for shift in (0.0, 0.1, -0.1, 0.3, -0.3):
-            try:
-                u, p, _ = seg.point(sigma + shift * room)
-                return g_at(u, p)
-            except CorrectorFailure:
-                continue
+    def value(sigma: float) -> float:
         u, p, _ = seg.point(sigma)
         return g_at(u, p)
 
     while abs(hi - lo) > width:
         mid = 0.5 * (lo + hi)
-        g_mid = value(mid, 0.25 * abs(hi - lo))
+        g_mid = nudged(value, mid, 0.25 * abs(hi - lo))[1]
         if g_mid * g_lo > 0:
             lo, g_lo = mid, g_mid
         else:
