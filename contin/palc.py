@@ -152,7 +152,8 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
             control.ds = max(control.ds, curve.norm(new.u - current.u, new.p - current.p))
         skipped = ""
         if control.retries < MAX_SKIP_RETRIES:
-            skipped = _skipped_folds(recorder, current, new) or _observable_jump(curve, current, new, cos_turn)
+            skipped = ("" if index is not None else _skipped_folds(recorder, current, new)) \
+                or _observable_jump(curve, current, new, cos_turn)
         if skipped and control.reject(skipped):
             continue
         seg = Segment(curve, current, new)

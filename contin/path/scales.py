@@ -97,6 +97,11 @@ def scales_from_sensitivity(u: np.ndarray, p: float, sens: float,
         U, P = max(u_size, sens * p_size), max(p_size, u_size / sens)
     else:
         U, P = u_size, p_size
+    if reference is not None:
+        # a size that only a roundoff sensitivity implies (df/dp of a symmetric state, 1e-33 where it
+        # should be zero, times the load) is no size either
+        U = U if U > ZERO_SCALE * ref_U else 0.0
+        P = P if P > ZERO_SCALE * ref_P else 0.0
     return (U if U > 0 else ref_U), (P if P > 0 else ref_P)
 
 
