@@ -39,7 +39,7 @@ from .results.branch import SUCCESSES, Bifurcation, Branch, SpecialPoint
 from .settings import Settings, resolve_settings
 from .watch.events import Event
 from .watch.fold import locate_fold
-from .watch.branching import FixedSpaceProblem, isotropy_basis
+from .watch.branching import FixedSpaceProblem, full_space_stability, isotropy_basis
 from .watch.koiter import attach_koiter
 from .watch.multiple import IndexWatch, primary_index
 from .watch.testfunctions import KnownBranchPoints, TestFunction
@@ -119,7 +119,13 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
         status = "unexplained" if status in SUCCESSES else status
         message = f"{message}; the stability count changed where no point could be located: " + "; ".join(
             recorder.doubts)
+    if curve.tol_raised:
+        p_at, before, after = curve.tol_raised[0]
+        message = (f"{message}; residuals at the roundoff floor: the tolerance was raised from {before:.1e} to "
+                   f"{curve.tol:.1e} from {problem.parameter_name} = {p_at:.8g} on (points converged to rounding)")
     branch = recorder.finish(status, message, t_start)
+    if curve.tol_raised:
+        branch.meta["tol_raised"] = [{"p": p_at, "from": before, "to": after} for p_at, before, after in curve.tol_raised]
     branch.meta["n_factorizations"] = curve.n_factorizations
     branch.meta["rejected_steps"] = control.rejections
     return branch
@@ -705,15 +711,40 @@ def _to_full_space(problem: Problem, sub: FixedSpaceProblem, br: Branch, setting
     st = resolve_settings(settings, {k: v for k, v in overrides.items() if k in names})
     if st.stability and len(br.p):
         # the stability the structure has: against every mode, not only those of the branch's symmetry
-        infos = [problem.stability(u, float(p), st.n_eigs) for u, p in zip(br.u, br.p)]
-        labels = list(infos[0])
-        br.stability_by = {label: (np.array([i[label].n_negative for i in infos], dtype=int),
-                                   np.array([np.pad(i[label].eigenvalues[:st.n_eigs], (0, max(0, st.n_eigs - i[label].eigenvalues[:st.n_eigs].size)),
-                                                    constant_values=np.nan) for i in infos]))
-                           for label in labels}
-        br.n_negative, br.eigenvalues = br.stability_by[labels[0]]
+        full = full_space_stability(problem, br.u, br.p, st.n_eigs)
+        br.stability_by = full.by_label
+        br.n_negative, br.eigenvalues = next(iter(full.by_label.values()))
+        if full.neutral.any():
+            br.meta["neutral_modes"] = int(full.neutral.max())
+        _report_symmetry_breaking(br, problem)
     br.meta["fixed_space"] = {"unknowns": int(B.shape[1]), "of": int(B.shape[0]), "problem": sub.name}
     return br
+
+
+def _report_symmetry_breaking(br: Branch, problem: Problem) -> None:
+    """Bracket every change of the full space's Morse index that no point found in the fixed space explains.
+
+    In its fixed-point space a branch cannot see the bifurcations that break its own symmetry; they
+    change the index against the other modes.  Each such change is reported as an unlocated branch
+    point between the two stored points (``info["breaks_symmetry"]``), never passed in silence.
+    """
+    n = np.asarray(br.n_negative)
+    explained = {spt.index for spt in br.special_points if spt.kind in ("fold", "branch_point")}
+    added = []
+    for i in np.nonzero(np.diff(n))[0]:
+        if int(i) in explained:
+            continue
+        added.append(SpecialPoint(
+            "branch_point", float(br.p[i + 1]), np.asarray(br.u[i + 1], dtype=float).copy(),
+            {name: float(values[i + 1]) for name, values in br.observables.items()}, located=False,
+            s=float(br.s[i + 1]), index=int(i), label="breaks the branch's symmetry",
+            info={"bracket_p": [float(br.p[i]), float(br.p[i + 1])], "breaks_symmetry": True,
+                  "n_negative_before": int(n[i]), "n_negative_after": int(n[i + 1])}))
+    if added:
+        br.special_points = sorted([*br.special_points, *added], key=lambda spt: (spt.index, spt.s))
+        where = ", ".join(f"{problem.parameter_name} = {spt.info['bracket_p'][0]:.8g} .. {spt.p:.8g}" for spt in added)
+        br.message = (f"{br.message}; the index against modes outside the branch's symmetry changes at {where} "
+                      "(bifurcations that break its symmetry, bracketed, not located)")
 
 
 def branch_point_scales(u: np.ndarray, p: float, *directions: Any,

@@ -177,6 +177,37 @@ def test_the_rings_oval_branch_traced_in_its_fixed_space():
         assert fit[1] == pytest.approx(koiter.b, rel=1e-3) and koiter.b > 0
 
 
+def _radius_spread(ring, u):
+    """max - min of the nodes' distances from the centre: the oval's amplitude in either coordinates."""
+    X = ring.positions(u)
+    return float(np.ptp(np.hypot(X[:, 0], X[:, 1])))
+
+
+def test_the_rings_oval_branch_at_the_stiff_membrane_in_both_coordinates():
+    # EA R^2 / EI = 1e6 in displacements: the membrane forces come from differences of lengths, their
+    # rounding (about 2e-11 here) lies above the tolerance asked for (1e-11), and the corrector stopped
+    # at the first points off the double point ("tolerance below the roundoff floor").  Converged
+    # states at residuals that stagnate inside the roundoff floor now raise the run's tolerance to
+    # the noise, and say so
+    branches = {}
+    for coordinates in ("displacements", "positions"):
+        ring = PressurisedRing(N=64, coordinates=coordinates)
+        br = contin.continuation(ring, ring.trivial_state(0.0), 0.0, p_max=3.5)
+        bp = _near(br, ring.buckling_load(2), 1e-8)
+        post = contin.switch_branch(ring, bp, p_min=0.0, p_max=2 * bp.p, known=br.branch_points())
+        assert post.status == "bound" and post.p[-1] == pytest.approx(2 * bp.p), post.message
+        branches[coordinates] = (np.asarray(post.p), np.array([_radius_spread(ring, u) for u in post.u]))
+        if coordinates == "displacements":
+            raised = post.meta["tol_raised"]
+            assert raised and "tolerance was raised" in post.message
+            assert raised[-1]["to"] <= 1e3 * raised[0]["from"]
+    # the same branch in the other unknowns (its amplitude grows to the radius itself)
+    assert all(np.all(np.diff(p) > 0) for p, _ in branches.values())
+    for p in (4.0, 5.0):
+        amplitudes = [np.interp(p, *branches[c]) for c in branches]
+        assert amplitudes[0] == pytest.approx(amplitudes[1], rel=1e-5) and amplitudes[0] > 0.5
+
+
 def test_a_snap_at_a_five_fold_point_lands_on_the_first_tooth():
     # at a point of multiplicity five any kernel vector is an eigenvector, and along the one the
     # eigensolver picks no kick lowered the energy; the resolved branch directions are kicked too.
@@ -188,3 +219,44 @@ def test_a_snap_at_a_five_fold_point_lands_on_the_first_tooth():
     jump = sweep.jumps[0]
     assert jump.p == pytest.approx(first.delta, rel=1e-7)
     assert chain.observables["force"](jump.u_to, jump.p) == pytest.approx(first.force_after, rel=1e-6)
+
+
+def test_a_branch_traced_in_its_fixed_space_counts_the_neutral_tilt_of_the_o2_strut_as_zero():
+    # the O(2) strut's tilted branch is a circle of equilibria: the eigenvalue along the circle is
+    # zero, its computed sign (+-2e-16) flipped from point to point, and the index flickered between
+    # 1 and 2 with no point reported
+    strut = AugustiStrut()
+    br = contin.continuation(strut, np.zeros(2), 0.0, p_max=1.5, stability=True)
+    bp = _near(br, 1.0, 1e-12)
+    post = contin.switch_branch(strut, bp, stability=True, p_min=0.5, p_max=1.5, known=br.branch_points())
+    assert post.status == "bound" and post.meta["fixed_space"]["unknowns"] == 1, post.message
+    assert set(post.n_negative[1:].tolist()) == {1} and post.meta["neutral_modes"] == 1
+    assert not [spt for spt in post.special_points if spt.info.get("breaks_symmetry")]
+
+
+@pytest.mark.parametrize("branch, springs_at_spinodal", [(0, [(5, "valley")]), (1, [(3, "valley"), (3, "peak")]),
+                                                         (2, [(2, "valley"), (4, "peak")])])
+def test_six_springs_branches_report_the_points_that_break_their_symmetry(branch, springs_at_spinodal):
+    # traced in the fixed space of their symmetry, the branches from the five-fold point could not see
+    # where m of their identical springs reach a spinodal together (a point of multiplicity m - 1
+    # that breaks the branch's symmetry): the index against the other modes changed by m - 1 with
+    # nothing reported
+    chain = BistableChain(6, coordinates="modes")
+    br = contin.continuation(chain, chain.state(np.zeros(6)), 0.0, p_max=9.0, stability=True)
+    bp, end = br.branch_points()[0], br.branch_points()[1].p
+    post = contin.switch_branch(chain, bp, branch=branch, stability=True, known=br.branch_points(),
+                                p_min=0.0, p_max=9.0)
+    assert post.meta["fixed_space"]["unknowns"] == 1
+    breaking = [spt for spt in post.special_points if spt.info.get("breaks_symmetry")]
+    assert breaking and "break its symmetry" in post.message
+    F_min, F_max = chain.force_range
+    for m, where in springs_at_spinodal:
+        # the other 6 - m springs on the branch of the spring law with the same force
+        F = F_min if where == "valley" else F_max
+        Delta = chain.family_elongation(F, m, 0) if where == "valley" else chain.family_elongation(F, 6 - m, 0)
+        (spt,) = [s for s in breaking if min(s.info["bracket_p"]) <= Delta <= max(s.info["bracket_p"])]
+        assert abs(spt.info["n_negative_after"] - spt.info["n_negative_before"]) == m - 1
+    # any other bracket is the step onto the homogeneous branch's second five-fold point, where the run ends
+    spinodal = [chain.family_elongation(F, m, 0) for F in (F_min, F_max) for m in range(7)]
+    others = [s for s in breaking if not any(min(s.info["bracket_p"]) <= D <= max(s.info["bracket_p"]) for D in spinodal)]
+    assert all(min(abs(b - end) for b in s.info["bracket_p"]) <= 1e-6 * end for s in others)

@@ -183,6 +183,8 @@ def correct(curve: Curve, origin: Point, ds: float, max_iter: int | None = None,
         history.append(res)
         if res <= curve.tol and error_estimate <= x_tol:
             return Correction(u, p, res, it, contraction.rate, lin if fresh else None)
+        if it >= 2 and error_estimate <= x_tol and lin is not None and curve.converged_to_roundoff(history, lin, u, p):
+            return Correction(u, p, res, it, contraction.rate, lin if fresh else None)
         if not fresh and res > history[-2] and res > curve.tol:
             # a chord update that raised the residual says nothing about Newton: Newton from here on
             chord_allowed = False

@@ -109,6 +109,10 @@ class Point:
     inertia: int | None = None
 
 
+#: How far the run's tolerance may be raised to the roundoff floor (:meth:`Curve.converged_to_roundoff`):
+#: beyond this the floor estimate, not the arithmetic, is in doubt (a barrier's Jacobian blowing up)
+ROUNDOFF_RAISE_LIMIT = 1e3
+
 #: A start's load terms below this fraction of its internal terms are roundoff: its residual scale is
 #: then the internal terms' (:meth:`Curve.calibrate`).
 ROUNDOFF_LOAD = 1e-12
@@ -139,6 +143,9 @@ class Curve:
         self.state_weight = 1.0 if settings.state_weight is None else float(settings.state_weight)
         self.param_weight = 1.0 if settings.param_weight is None else float(settings.param_weight)
         self.tol = settings.tol * getattr(problem, "residual_scale", 1.0)
+        self.start_tol = self.tol
+        # (p, tolerance before, after) each time the run's tolerance was raised to the roundoff floor
+        self.tol_raised: list[tuple[float, float, float]] = []
 
     def needs_calibration(self) -> bool:
         """Whether the weights and the problem's residual scale are left to the start point.
@@ -192,7 +199,7 @@ class Curve:
             self.state_weight = 1.0 / U
         if st.param_weight is None:
             self.param_weight = 1.0 / P
-        self.tol = st.tol * getattr(self.problem, "residual_scale", 1.0)
+        self.tol = self.start_tol = st.tol * getattr(self.problem, "residual_scale", 1.0)
         return U, P
 
     # ---- norms -----------------------------------------------------------------------------------
@@ -298,6 +305,37 @@ class Curve:
         state = (f"residual {res:.3e} > tol {tol:.1e}" if res > tol else
                  f"residual {res:.3e} within tol {tol:.1e} but the update {du_norm:.3e} does not shrink below xtol")
         raise CorrectorFailure(f"Newton at fixed p = {p:.6g} did not converge ({state})" + (f": {why}" if why else ""))
+
+    def converged_to_roundoff(self, history: list[float], lin: Linearization, u: np.ndarray, p: float) -> bool:
+        """Whether a corrector whose updates have converged stands at residuals that are rounding noise.
+
+        The state is converged (the caller checked the error estimate against ``xtol``) but the
+        residual is above :attr:`tol`.  When the last three residuals stagnate (within a factor 10 of
+        each other) inside the roundoff floor at the point (:func:`roundoff_floor`), the tolerance
+        asks for digits the arithmetic does not have (a stiff penalty, ``EA R^2 / EI = 1e6``, computes
+        its forces from differences of lengths).  The run's tolerance is then raised to ten times the
+        stagnation level (at most the floor, and at most :data:`ROUNDOFF_RAISE_LIMIT` times the
+        tolerance the run started with) for the rest of the run, so that every later test (storing,
+        locating) uses the same one; the raise is recorded in :attr:`tol_raised` (the branch's
+        ``meta["tol_raised"]`` and its message say so).
+
+        Parameters
+        ----------
+        history : the corrector's residual max-norms so far.
+        lin : the corrector's last linearization ``(J, df/dp, F)``.
+        u, p : the converged iterate.
+        """
+        last = history[-3:]
+        if len(last) < 3 or max(last) > 10.0 * min(last):
+            return False
+        J, fp, _ = lin
+        floor = roundoff_floor(J, fp, u, p)
+        raised = min(floor, 10.0 * max(last))
+        if not (max(last) <= floor and self.tol < raised <= ROUNDOFF_RAISE_LIMIT * self.start_tol):
+            return False
+        self.tol_raised.append((float(p), self.tol, raised))
+        self.tol = raised
+        return True
 
     def converged_at_fixed_p(self, u: np.ndarray, res: float, du_norm: float) -> bool:
         """Whether Newton at a fixed parameter has converged at ``u``.

@@ -35,7 +35,7 @@ import scipy.sparse as sp
 from ..problem import Problem
 
 __all__ = ["BranchDirections", "symmetric_directions", "reduced_directions", "group_elements", "isotropy_basis",
-           "FixedSpaceProblem"]
+           "FixedSpaceProblem", "FullSpaceStability", "full_space_stability", "NEUTRAL_ROUNDOFF"]
 
 #: Largest group closed from the generators (elements); a larger one is not used.
 MAX_GROUP_ORDER = 5000
@@ -331,3 +331,79 @@ class FixedSpaceProblem(Problem):
 
     def max_step_fraction(self, z, p, dz, dp):
         return self.full.max_step_fraction(self.B @ z, p, self.B @ dz, dp)
+
+
+#: An eigenvalue within this many units of roundoff of its operator's size (``eps ||H||_inf``) is zero:
+#: the sign of a neutral mode (the rotation of a ring's oval, or of an O(2)-symmetric strut's tilt,
+#: which the branch's symmetry does not fix) is rounding, not stability.
+NEUTRAL_ROUNDOFF = 1e3
+
+
+@dataclass
+class FullSpaceStability:
+    """The stability of states traced in a fixed-point space, against every mode of the full problem.
+
+    Attributes
+    ----------
+    by_label : dict
+        ``{label: (n_negative, eigenvalues)}`` per stored point, the counts leaving out the neutral
+        eigenvalues (``|lambda| <= NEUTRAL_ROUNDOFF eps ||H||_inf``), the eigenvalues padded with NaN
+        to ``n_eigs``.
+    neutral : ndarray of int
+        The number of neutral eigenvalues of the primary operator at each point.
+    """
+
+    by_label: dict[str, tuple[np.ndarray, np.ndarray]]
+    neutral: np.ndarray
+
+
+def _max_row_sum(H: Any) -> float:
+    if sp.issparse(H):
+        return float(np.max(np.asarray(abs(H).sum(axis=1)), initial=0.0))
+    return float(np.max(np.sum(np.abs(np.asarray(H, dtype=float)), axis=1), initial=0.0))
+
+
+def full_space_stability(problem: Problem, states: Sequence[np.ndarray], params: Sequence[float],
+                         n_eigs: int) -> FullSpaceStability:
+    """Morse indices and smallest eigenvalues of ``problem`` at the given states, neutral modes apart.
+
+    A branch traced in a fixed-point space knows its stability only against the modes of its own
+    symmetry; against the others it is counted here, point by point.  A branch that breaks a
+    continuous (or, on a fine mesh, nearly continuous) symmetry has a zero eigenvalue along the
+    group's orbit, whose computed sign flips from point to point: such neutral eigenvalues are not
+    counted as negative, and their number is returned.
+
+    Parameters
+    ----------
+    problem : the full problem.
+    states, params : the stored points, in the full problem's unknowns.
+    n_eigs : the eigenvalues kept per point (at least three are computed to find the neutral ones).
+    """
+    eps = float(np.finfo(float).eps)
+    labels: list[str] = []
+    counts: dict[str, list[int]] = {}
+    eigs: dict[str, list[np.ndarray]] = {}
+    neutral: list[int] = []
+    for u, p in zip(states, params):
+        sizes = {label: _max_row_sum(op) for label, op in problem.stability_operators(u, float(p)).items()}
+        k = max(n_eigs, 3)
+        infos = problem.stability(u, float(p), k)
+        if any(info.n_negative >= info.eigenvalues.size > 0 for info in infos.values()):
+            # every eigenvalue computed is negative: the ones next to zero may lie beyond them
+            k = max(info.n_negative for info in infos.values()) + 3
+            infos = problem.stability(u, float(p), k)
+        if not labels:
+            labels = list(infos)
+            counts, eigs = {label: [] for label in labels}, {label: [] for label in labels}
+        for j, label in enumerate(labels):
+            info = infos[label]
+            w = np.asarray(info.eigenvalues, dtype=float)
+            zero = NEUTRAL_ROUNDOFF * eps * sizes.get(label, 0.0)
+            counts[label].append(int(info.n_negative) - int(np.sum((w < 0.0) & (w >= -zero))))
+            if j == 0:
+                neutral.append(int(np.sum(np.abs(w) <= zero)))
+            kept = w[:n_eigs]
+            eigs[label].append(np.pad(kept, (0, max(0, n_eigs - kept.size)), constant_values=np.nan))
+    by_label = {label: (np.array(counts[label], dtype=int), np.array(eigs[label]).reshape(len(counts[label]), n_eigs))
+                for label in labels}
+    return FullSpaceStability(by_label, np.array(neutral, dtype=int))
