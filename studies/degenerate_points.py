@@ -115,7 +115,12 @@ def unexplained_index_changes(branch: contin.Branch) -> list[dict[str, Any]]:
 
 
 def _multiplicity(s: contin.SpecialPoint) -> int:
-    """The multiplicity a reported point claims (1 without a bifurcation record)."""
+    """The multiplicity a reported point claims (1 without a bifurcation record).
+
+    A bracketed point that breaks a fixed-space branch's symmetry claims the index change it brackets.
+    """
+    if s.info.get("breaks_symmetry"):
+        return abs(int(s.info["n_negative_after"]) - int(s.info["n_negative_before"]))
     return 1 if s.bifurcation is None else int(s.bifurcation.multiplicity)
 
 
