@@ -648,12 +648,21 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     normal = _off_branch_normal(curve, d, bif.traced, n)
     step = st.ds if ds is None else float(ds)
     first = _step_off(curve, u_bp, branch_point.p, d, normal, step)
+    if curve.tol_raised:
+        # the step off converged to rounding: the new branch starts with the tolerance it was raised to
+        st = replace(st, tol=max(st.tol, curve.tol / getattr(problem, "residual_scale", 1.0)))
     watch = KnownBranchPoints(tuple([("origin", u_bp, float(branch_point.p))] + [
         (f"branch point {k} ({problem.parameter_name} = {kp.p:.10g})", np.asarray(kp.u, dtype=float), float(kp.p))
         for k, kp in enumerate(known) if kp.kind == "branch_point"]))
     br = continuation(problem, first.u, first.p, st, events=[*events, watch], tangent=(d[:n], float(d[n])),
                       correct_start=False, **{k: v for k, v in overrides.items() if k not in names})
     _name_the_meeting(br, problem)
+    if curve.tol_raised:
+        p_at, before, after = curve.tol_raised[0]
+        br.meta["tol_raised"] = [{"p": p, "from": a, "to": b} for p, a, b in curve.tol_raised] + br.meta.get("tol_raised", [])
+        if "tolerance was raised" not in br.message:
+            br.message = (f"{br.message}; residuals at the roundoff floor: the tolerance was raised from {before:.1e} to "
+                          f"{after:.1e} at the step off the branch point (points converged to rounding)")
     origin = SpecialPoint("branch_point", branch_point.p, u_bp, dict(branch_point.observables),
                           residual=branch_point.residual, located=branch_point.located, s=0.0, index=0,
                           label="origin", info={"bracket_p": branch_point.info.get("bracket_p")})

@@ -200,7 +200,7 @@ def test_the_rings_oval_branch_at_the_stiff_membrane_in_both_coordinates():
         if coordinates == "displacements":
             raised = post.meta["tol_raised"]
             assert raised and "tolerance was raised" in post.message
-            assert raised[-1]["to"] <= 1e3 * raised[0]["from"]
+            assert raised[-1]["to"] <= 1e4 * raised[0]["from"]
     # the same branch in the other unknowns (its amplitude grows to the radius itself)
     assert all(np.all(np.diff(p) > 0) for p, _ in branches.values())
     for p in (4.0, 5.0):

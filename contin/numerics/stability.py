@@ -38,10 +38,20 @@ from ..lazy import lazy_module
 from .linalg import (BANDED_FRACTION, PIVOT_FREE_GROWTH_LIMIT, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
                      cholesky_band_solver, factorize, lower_band)
 
-__all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias"]
+__all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias", "lanczos_start"]
 
 # imported on first use: ARPACK is a fallback the banded inertia counts never reach
 spla = lazy_module("scipy.sparse.linalg")
+
+
+def lanczos_start(n: int) -> np.ndarray:
+    """A fixed start vector for ARPACK's Lanczos (``eigsh(..., v0=lanczos_start(n))``).
+
+    Without one ARPACK draws its start from a generator whose state runs on from call to call in
+    the process, so the same matrix gives eigenvectors (and everything located with them) that
+    depend on what the process computed before.
+    """
+    return np.random.default_rng(12345).standard_normal(n)
 
 DENSE_LIMIT = 400
 #: Largest multiplier |L_ij| accepted in the pivot-free LDL^T before the inertia count is redone
@@ -372,8 +382,7 @@ def _arrow_info(H, b: int, m: int, k: int, vectors: bool) -> StabilityInfo | Non
         return None
     sigma = lowest_lead - delta
     inverse = spla.LinearOperator((n, n), matvec=shifted.solve, dtype=float)
-    # a fixed start vector: the same matrix gives the same eigenvectors, run after run
-    start = np.random.default_rng(12345).standard_normal(n)
+    start = lanczos_start(n)
     try:
         # few restarts: the wanted eigenvalues are well apart from the rest unless several are wanted
         # and lie in a cluster, where the dense route is the faster one
@@ -414,7 +423,7 @@ def _arpack_info(H, k: int, vectors: bool) -> StabilityInfo:
     n = H.shape[0]
     m = k
     while True:
-        w, V = spla.eigsh(sp.csr_matrix(H), k=min(m, n - 1), which="SA")
+        w, V = spla.eigsh(sp.csr_matrix(H), k=min(m, n - 1), which="SA", v0=lanczos_start(n))
         order = np.argsort(w)
         w, V = w[order], V[:, order]
         if w[-1] >= 0 or m >= n - 1:

@@ -111,7 +111,7 @@ class Point:
 
 #: How far the run's tolerance may be raised to the roundoff floor (:meth:`Curve.converged_to_roundoff`):
 #: beyond this the floor estimate, not the arithmetic, is in doubt (a barrier's Jacobian blowing up)
-ROUNDOFF_RAISE_LIMIT = 1e3
+ROUNDOFF_RAISE_LIMIT = 1e4
 
 #: A start's load terms below this fraction of its internal terms are roundoff: its residual scale is
 #: then the internal terms' (:meth:`Curve.calibrate`).

@@ -50,7 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..numerics.linalg import BandedLU, SingularMatrixError, SymmetricBand, bandwidths, cholesky_band_solver, factorize
-from ..numerics.stability import BANDED_MIN, LDL_GROWTH_LIMIT, pivot_free_ldlt, stability_info
+from ..numerics.stability import BANDED_MIN, LDL_GROWTH_LIMIT, lanczos_start, pivot_free_ldlt, stability_info
 from ..path.curve import Curve, Point
 from ..path.segment import Segment
 from ..results.branch import SpecialPoint
@@ -326,7 +326,7 @@ def ordered_eigenvalue(H: Any, index: int) -> float:
         return float(ordered_eigenpairs(H, index, index)[0][0])
     from scipy.sparse.linalg import eigsh
 
-    w = eigsh(sp.csc_matrix(H), k=index + 1, which="SA", return_eigenvectors=False)
+    w = eigsh(sp.csc_matrix(H), k=index + 1, which="SA", return_eigenvectors=False, v0=lanczos_start(n))
     return float(np.sort(w)[index])
 
 
@@ -349,7 +349,7 @@ def eigenvalues_near_zero(H: Any, k: int = 2, vectors: bool = False, start: np.n
         from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, eigsh
 
         try:
-            w, V = eigsh(sp.csc_matrix(H), k=k, sigma=0.0, which="LM")
+            w, V = eigsh(sp.csc_matrix(H), k=k, sigma=0.0, which="LM", v0=lanczos_start(n))
         except (ArpackError, ArpackNoConvergence, RuntimeError):
             w = None
     if w is None:

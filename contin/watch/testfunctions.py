@@ -37,6 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..numerics.linalg import BorderedSolver, SingularMatrixError
+from ..numerics.stability import lanczos_start
 from ..path.curve import CorrectorFailure, Curve, Point, max_abs
 from ..path.segment import Segment
 from ..problem import NonFiniteError, Problem
@@ -520,7 +521,7 @@ def smallest_eigenvectors(problem: Problem, u: np.ndarray, p: float, k: int = 1)
         shift = 1e-12 * _max_abs_entry(J)
         F = problem.factorize(J - shift * sp.identity(n, format="csr"))
     op = LinearOperator((n, n), matvec=lambda x: F.solve(np.ravel(x)), dtype=float)
-    w, V = eigsh(J, k=k, sigma=0.0, OPinv=op, which="LM")
+    w, V = eigsh(J, k=k, sigma=0.0, OPinv=op, which="LM", v0=lanczos_start(n))
     order = np.argsort(np.abs(w))
     return [V[:, i] for i in order]
 
