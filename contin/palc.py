@@ -53,6 +53,9 @@ STEP_FAILURES = (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linal
 
 Found = tuple[TestFunction, SpecialPoint]
 
+#: how a branch's message says that its tolerance was raised to the roundoff floor
+ROUNDOFF_CLAUSE = "; residuals at the roundoff floor:"
+
 #: smaller steps tried when the Morse index jumps by two or more in one step (see :func:`_skipped_folds`)
 MAX_SKIP_RETRIES = 4
 
@@ -119,16 +122,24 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
         status = "unexplained" if status in SUCCESSES else status
         message = f"{message}; the stability count changed where no point could be located: " + "; ".join(
             recorder.doubts)
-    if curve.tol_raised:
-        p_at, before, after = curve.tol_raised[0]
-        message = (f"{message}; residuals at the roundoff floor: the tolerance was raised from {before:.1e} to "
-                   f"{curve.tol:.1e} from {problem.parameter_name} = {p_at:.8g} on (points converged to rounding)")
     branch = recorder.finish(status, message, t_start)
-    if curve.tol_raised:
-        branch.meta["tol_raised"] = [{"p": p_at, "from": before, "to": after} for p_at, before, after in curve.tol_raised]
+    _note_raised_tolerance(branch, curve, problem.parameter_name)
     branch.meta["n_factorizations"] = curve.n_factorizations
     branch.meta["rejected_steps"] = control.rejections
     return branch
+
+
+def _note_raised_tolerance(branch: Branch, curve: Curve, parameter_name: str) -> None:
+    """Record on ``branch`` (message and ``meta["tol_raised"]``) where ``curve`` raised its tolerance to the roundoff floor."""
+    if not curve.tol_raised:
+        return
+    earlier = branch.meta.get("tol_raised", [])
+    branch.meta["tol_raised"] = [{"p": p, "from": a, "to": b} for p, a, b in curve.tol_raised] + earlier
+    raised = branch.meta["tol_raised"]
+    # one clause for the whole branch: the step off a branch point may have raised it before the run did
+    kept = branch.message.split(ROUNDOFF_CLAUSE)[0]
+    branch.message = (f"{kept}{ROUNDOFF_CLAUSE} the tolerance was raised from {raised[0]['from']:.1e} to "
+                      f"{raised[-1]['to']:.1e} from {parameter_name} = {raised[0]['p']:.8g} on (points converged to rounding)")
 
 
 def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control: StepController,
@@ -657,12 +668,7 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     br = continuation(problem, first.u, first.p, st, events=[*events, watch], tangent=(d[:n], float(d[n])),
                       correct_start=False, **{k: v for k, v in overrides.items() if k not in names})
     _name_the_meeting(br, problem)
-    if curve.tol_raised:
-        p_at, before, after = curve.tol_raised[0]
-        br.meta["tol_raised"] = [{"p": p, "from": a, "to": b} for p, a, b in curve.tol_raised] + br.meta.get("tol_raised", [])
-        if "tolerance was raised" not in br.message:
-            br.message = (f"{br.message}; residuals at the roundoff floor: the tolerance was raised from {before:.1e} to "
-                          f"{after:.1e} at the step off the branch point (points converged to rounding)")
+    _note_raised_tolerance(br, curve, problem.parameter_name)
     origin = SpecialPoint("branch_point", branch_point.p, u_bp, dict(branch_point.observables),
                           residual=branch_point.residual, located=branch_point.located, s=0.0, index=0,
                           label="origin", info={"bracket_p": branch_point.info.get("bracket_p")})
