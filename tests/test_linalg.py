@@ -29,6 +29,19 @@ def test_factorizations_solve_and_determinant(cls):
     assert l == pytest.approx(logdet, rel=1e-12)
 
 
+def test_sparse_lu_pivots_are_indexed_by_the_columns_of_the_matrix():
+    """An arrow matrix: SuperLU eliminates the dense first column last, so the order of its factor's
+    columns is not the matrix's; each pivot is at its column's index (the Schur complement of the
+    diagonal at column 0)."""
+    n = 12
+    d = np.arange(1.0, n + 1)
+    arrow = np.diag(d)
+    arrow[0, 1:] = arrow[1:, 0] = 0.1
+    pivots = SparseLU(sp.csc_matrix(arrow)).pivots()
+    np.testing.assert_array_equal(pivots[1:], d[1:])
+    assert pivots[0] == pytest.approx(1.0 - np.sum(0.01 / d[1:]), rel=1e-14)
+
+
 def test_determinant_sign_without_overflow():
     # det = 3^5000 overflows a float; its sign and log must still come out right, with a flipped sign
     n = 5000

@@ -825,6 +825,13 @@ class SparseLU(Factorization):
     def solve(self, b, trans=False):
         return self._check(self._lu.solve(np.asarray(b, dtype=float), trans="T" if trans else "N"))
 
+    def pivots(self) -> np.ndarray:
+        """Diagonal of the U factor, each pivot at the index of its column of ``A`` (SuperLU orders the
+        columns for sparsity: the pivot of factor column ``k`` belongs to column ``perm_c[k]``)."""
+        d = np.empty(self.n)
+        d[self._lu.perm_c] = self._lu.U.diagonal()
+        return d
+
     def det_sign_log(self):
         parity = _permutation_parity(self._lu.perm_r) * _permutation_parity(self._lu.perm_c)
         return _sign_log_from_diagonal(self._lu.U.diagonal(), parity)

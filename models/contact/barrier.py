@@ -393,6 +393,8 @@ class ContactCells:
             self.cr[-q:] *= mirror
             self._sign_r[-1] = mirror
         self._basis = np.ascontiguousarray(L.T)  # (3, q)
+        self._sign_r.setflags(write=False)
+        self._basis.setflags(write=False)
         self.weight = np.concatenate([[1.0], np.tile(w, n_cells)])
         if cell_weights is not None:
             cw = np.asarray(cell_weights, dtype=float)
@@ -404,6 +406,18 @@ class ContactCells:
             self.cell_weight = np.ones(N)
         self.first = np.concatenate([[0], 1 + q * np.arange(N)]).astype(int)
         self.n_nodes, self.quadrature = N, q
+
+    @property
+    def sign_r(self) -> np.ndarray:
+        """``(N, 3)``, read-only: the sign of each stencil node's ``r`` in its cell (``-1`` for the pole cell's
+        mirrored neighbour, ``+1`` elsewhere); ``cr = sign_r[cell] * cz``."""
+        return self._sign_r
+
+    @property
+    def basis(self) -> np.ndarray:
+        """``(3, quadrature)``, read-only: the cell's basis functions at its Gauss points (the base cell's single
+        sample, the node itself, is not among them)."""
+        return self._basis
 
     def points(self, r: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Sample points ``(r_s, z_s)`` of the nodal coordinates ``r, z`` (each shape ``(N,)``)."""
@@ -861,7 +875,7 @@ class ContactBarrier:
         cell = np.repeat(near[rows], xi.size)
         weight = (0.5 * (b - a)[:, None] * wq).ravel() * cells.cell_weight[cell]
         basis = kernels.cell_basis(t.ravel()).T
-        cr, cz = basis * cells._sign_r[cell], basis
+        cr, cz = basis * cells.sign_r[cell], basis
         return (np.concatenate([cells.cell[base], cell]), np.concatenate([cells.cr[base], cr]),
                 np.concatenate([cells.cz[base], cz]), np.concatenate([cells.weight[base], weight]))
 
@@ -929,7 +943,7 @@ class ContactBarrier:
         cell, cr, cz, w, rs, zs = self._workspace
         gaps = np.empty(n)
         count = ext.support(np.ascontiguousarray(x), c, self._radius, isinstance(self.indenter, Plate), self.dhat,
-                            cells._basis, cells.cell_weight, xi, wq, gaps, cell, cr, cz, w, rs, zs)
+                            cells.basis, cells.cell_weight, xi, wq, gaps, cell, cr, cz, w, rs, zs)
         if count < 0:
             return None
         pts = IntegrationPoints(cell[:count].copy(), cr[:count].copy(), cz[:count].copy(), w[:count].copy(),
@@ -1210,7 +1224,7 @@ class ContactBarrier:
         t_all = breaks[np.arange(inner.size), k]
         basis = kernels.cell_basis(t_all).T
         nodes = cells.stencil[inner]
-        rs = np.sum(basis * cells._sign_r[inner] * r[nodes], axis=1)
+        rs = np.sum(basis * cells.sign_r[inner] * r[nodes], axis=1)
         zs = np.sum(basis * z[nodes], axis=1)
         d_all = np.concatenate([self._dist(r[:1], z[:1], c), self._dist(rs, zs, c)])
         best = int(np.argmin(d_all))
@@ -1219,7 +1233,7 @@ class ContactBarrier:
         else:
             cell, t, coef = best, float(t_all[best - 1]), basis[best - 1]
         nodes = cells.stencil[cell]
-        cr, cz = coef * cells._sign_r[cell], coef
+        cr, cz = coef * cells.sign_r[cell], coef
         rp, zp = float(np.dot(cr, r[nodes])), float(np.dot(cz, z[nodes]))
         d, dr, dz, dc = self._point_distance_gradient(rp, zp, c)
         grad = np.zeros(x.size)
@@ -1298,7 +1312,7 @@ class ContactBarrier:
         ext = barrier_extension()
         if ext is not None:
             t = ext.safe_fraction(np.ascontiguousarray(x), np.ascontiguousarray(dx), c, dc, self._radius,
-                                  isinstance(self.indenter, Plate), self.cells(r.size)._basis)
+                                  isinstance(self.indenter, Plate), self.cells(r.size).basis)
             if t >= 0:
                 return 1.0 if t > 1.0 else safety * t
             # a sample point is not outside: numpy's check below names it

@@ -433,10 +433,7 @@ class BorderedBandedLU(Factorization):
         pivots, each at the index of its column.
         """
         if self._sparse is not None:
-            lu = self._sparse._lu
-            d = np.empty(self.n)
-            d[lu.perm_c] = lu.U.diagonal()
-            return d
+            return self._sparse.pivots()
         return np.append(self._lu[self.kl + self.ku, :], self.schur)
 
 

@@ -114,6 +114,17 @@ def _edges(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarra
     return r, z, r[1:] - r[:-1], z[1:] - z[:-1]
 
 
+def _read_only(params: tuple) -> tuple:
+    """``params`` with every array replaced by a read-only view of it (numbers as they are)."""
+    out = []
+    for p in params:
+        if isinstance(p, np.ndarray):
+            p = p.view()
+            p.setflags(write=False)
+        out.append(p)
+    return tuple(out)
+
+
 def _stretch_local(r, z, er, ez):
     return er, ez, r[:-1] + r[1:]
 
@@ -365,6 +376,26 @@ class ShellEnergy:
         return out
 
     # ---- public interface ------------------------------------------------------------------------
+    @property
+    def stretch_parameters(self) -> tuple:
+        """The stretching kernels' fixed arguments ``(lbar, rbar, ks, nu)``, the ones the energy uses.
+
+        ``lbar`` and ``rbar`` are the reference length and mid-radius of every edge ``(N-1,)``; ``ks`` is a
+        number for a constant thickness, else :attr:`ks_edges`.  The arrays are read-only views.
+        """
+        return _read_only(self._terms["stretch"].params)
+
+    @property
+    def bend_parameters(self) -> tuple:
+        """The bending kernels' fixed arguments ``(lbar, rbar, k11bar, k22bar, kb, nu)``, the ones the energy uses.
+
+        Per interior node of :attr:`bend_nodes`: the reference Voronoi length and radius, the reference
+        curvatures (:attr:`kappa11_bar`, :attr:`kappa22_bar`, computed by the energy's own kernel), and
+        ``kb`` (a number for a constant thickness, else the nodes' :attr:`kb_nodes`).  The arrays are
+        read-only views.
+        """
+        return _read_only(self._terms["bend"].params)
+
     @property
     def reference_state(self) -> np.ndarray:
         """The reference state vector (a new array)."""

@@ -193,7 +193,7 @@ __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_d
            "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
            "skirt_density", "free_edge_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy",
-           "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH", "COMPILED"]
+           "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH", "COMPILED", "POLE_FREE", "FREE_EDGE_FREE"]
 
 _hgen, COMPILED = prefer_compiled(_harmonic_generated, "contin_models.shell._harmonic_ckernels")
 """``_hgen``: the generated kernels of the harmonic blocks (:mod:`contin_models.shell._harmonic_generated`),
@@ -202,10 +202,10 @@ is then True; the same numbers, see :mod:`contin.numerics.compiled`)."""
 
 #: The pole curvature's local variables that are not zero at an axisymmetric state (the generated jets'
 #: arguments, :mod:`contin_models.shell.harmonic_codegen`).
-_POLE_FREE = (0, 2, 4, 6, 8, 9, 11, 13)
+POLE_FREE = (0, 2, 4, 6, 8, 9, 11, 13)
 #: The same for a rotating edge's density (:func:`free_edge_density`): ``e = (y0, 0, y2)``, ``Dp = (0, y4, 0)``,
 #: ``Pp = (0, y7, 0)``, ``Ppp = (y9, 0, 0)``.
-_FREE_EDGE_FREE = (0, 2, 4, 7, 9)
+FREE_EDGE_FREE = (0, 2, 4, 7, 9)
 
 HARMONIC_HALF_BANDWIDTH = 8
 """Half-bandwidth of a full block in the interleaved ``[a, b, c]`` ordering (a bending element
@@ -584,27 +584,20 @@ class HarmonicShell:
         xr = np.asarray(mer.x, dtype=float)
         self.z_ref = float(xr[1]) if z_ref is None else float(z_ref)
         # stretch parameters per edge, exactly those of the 1-D energy
-        terms = getattr(shell, "_terms", {})
-        sp_ = terms["stretch"].params if "stretch" in terms else (mer.edge_length, mer.edge_radius, shell.ks, shell.nu)
+        sp_ = shell.stretch_parameters
         self.s_lbar, self.s_rbar = np.asarray(sp_[0], float), np.asarray(sp_[1], float)
         self.s_ks = np.broadcast_to(np.asarray(sp_[2], float), self.s_lbar.shape).copy()
         # bending parameters per interior node
         self.b_nodes = np.asarray(shell.bend_nodes)
-        if "bend" in terms:
-            bp = terms["bend"].params
-            self.b_lbar, self.b_rbar, self.b_k11, self.b_k22 = (np.asarray(p, float) for p in bp[:4])
-            self.b_kb = np.broadcast_to(np.asarray(bp[4], float), self.b_lbar.shape).copy()
-        else:
-            i = self.b_nodes
-            self.b_lbar, self.b_rbar = mer.voronoi_length[i], mer.node_radius[i]
-            self.b_k11, self.b_k22 = shell.kappa11_bar, shell.kappa22_bar
-            self.b_kb = np.full(i.size, shell.kb)
+        bp = shell.bend_parameters
+        self.b_lbar, self.b_rbar, self.b_k11, self.b_k22 = (np.asarray(p, float) for p in bp[:4])
+        self.b_kb = np.broadcast_to(np.asarray(bp[4], float), self.b_lbar.shape).copy()
         self.clamp = st.clamp
         # a rotating edge's moment-free half cell (not the clamp's element)
         edge = getattr(st, "edge_element", None)
         self.free_edge = edge if (edge is not None and edge is not st.clamp) else None
         self.poles = []  # (node, neighbour, north, PoleMirror)
-        for (element, dofs), k in zip(st._poles, st.poles):
+        for (element, _), k in zip(st.pole_elements, st.poles):
             north = k == N - 1
             self.poles.append((k, k - 1 if north else 1, north, element))
         self._cache: dict = {}  # state bytes -> local Hessians, oldest first
@@ -742,7 +735,7 @@ class HarmonicShell:
             vals = ([V["P"][c][1:2] - V["P"][c][:1] for c in range(3)] + [V["Pp"][c][1:2] - V["Pp"][c][:1] for c in range(3)]
                     + [V["Pp"][c][:1] for c in range(3)] + [V["Ppp"][c][:1] for c in range(3)])
             if self.method == "generated":
-                Hf = _hgen.free_edge_hessian(*(float(vals[i][0]) for i in _FREE_EDGE_FREE), float(fe.K),
+                Hf = _hgen.free_edge_hessian(*(float(vals[i][0]) for i in FREE_EDGE_FREE), float(fe.K),
                                              float(fe.kappa_bar), self.nu)[:, :, None]
             else:
                 y = Jet.variables(vals)
@@ -759,7 +752,7 @@ class HarmonicShell:
                     + [V["Qp"][c][nb:nb + 1] for c in range(3)])
             if self.method == "generated":
                 kernel = getattr(_hgen, f"pole_{'north' if north else 'south'}_{'cur' if element.current_length else 'ref'}_jet")
-                v, g, h = kernel(*(float(vals[i][0]) for i in _POLE_FREE), float(element.lbar))
+                v, g, h = kernel(*(float(vals[i][0]) for i in POLE_FREE), float(element.lbar))
             else:
                 y = Jet.variables(vals)
                 L = None if element.current_length else element.lbar

@@ -421,11 +421,11 @@ class ShellPointLoad(Problem):
         """
         if self._pole is None:
             raise ValueError("use_pole_element needs the mirror pole treatment (pole='mirror')")
-        shells = [self, self.twin] if self.control == "force" else [self]
-        for shell in shells:
-            shell._pole = element
-            for key in [k for k in vars(shell) if k.endswith("_cache")]:
-                del shell.__dict__[key]
+        if self.control == "force":
+            self.twin.use_pole_element(element)
+        self._pole = element
+        for key in [k for k in vars(self) if k.endswith("_cache")]:
+            del self.__dict__[key]
         if self.control == "force":
             self._hess_cache = self.twin.__dict__.setdefault("_hess_cache", [])
 

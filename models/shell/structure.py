@@ -295,6 +295,7 @@ class ShellStructure:
             b_bar = float(z[k] - z[nb]) if k == N - 1 else float(z[1] - z[0])
             lbar = float(meridian.edge_length[-1] if k == N - 1 else meridian.edge_length[0])
             element = PoleMirror(lbar, float(kb_nodes[k]), self.nu, kappa11_length == "current", a_bar, b_bar)
+            dofs.setflags(write=False)
             self._poles.append((element, dofs))
 
         H0 = self.shell.hessian(meridian.x)
@@ -327,6 +328,13 @@ class ShellStructure:
     def pattern(self) -> sp.csr_matrix:
         """The fixed CSR pattern of every full Hessian (do not modify)."""
         return self._pattern
+
+    @property
+    def pole_elements(self) -> tuple[tuple[PoleMirror, np.ndarray], ...]:
+        """The mirror bending element of each pole of :attr:`poles` (same order), with the full-state dofs
+        of its local variables: ``(r_nb, z_nb, z_pole)`` at the north pole, ``(r_1, z_0, z_1)`` at the south
+        one (``nb`` the pole's neighbour).  The dof arrays are read-only."""
+        return tuple(self._poles)
 
     def reference_state(self) -> np.ndarray:
         """The reference full state (a new array)."""
