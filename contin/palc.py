@@ -102,7 +102,13 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
             curve.calibrate(u0, p0)
         current, lin = _first_point(curve, u0, p0, tangent, correct_start)
     except STEP_FAILURES as exc:
-        return recorder.finish("failed", f"could not start: {exc}", t_start)
+        hint = ""
+        if isinstance(exc, (SingularMatrixError, np.linalg.LinAlgError)):
+            hint = ("; the Jacobian is singular at the start: a branch point (start next to it, or use "
+                    "switch_branch), or a state on a branch that breaks a continuous symmetry, where a whole "
+                    "orbit of equilibria passes through the start and only its fixed-point space (as "
+                    "switch_branch traces it) or a phase condition makes the solutions a curve")
+        return recorder.finish("failed", f"could not start: {exc}{hint}", t_start)
     if st.check_model:
         failure = _check_start(problem, current, lin)
         if failure:

@@ -260,3 +260,14 @@ def test_six_springs_branches_report_the_points_that_break_their_symmetry(branch
     spinodal = [chain.family_elongation(F, m, 0) for F in (F_min, F_max) for m in range(7)]
     others = [s for s in breaking if not any(min(s.info["bracket_p"]) <= D <= max(s.info["bracket_p"]) for D in spinodal)]
     assert all(min(abs(b - end) for b in s.info["bracket_p"]) <= 1e-6 * end for s in others)
+
+
+def test_a_start_on_a_circle_of_equilibria_says_why_it_cannot_be_traced():
+    # the O(2) strut's tilted states form circles of equilibria: the Jacobian is singular at every one
+    # of them, and a run started there failed with "linear solve produced non-finite values" alone
+    strut = AugustiStrut()
+    br = contin.continuation(strut, np.zeros(2), 0.0, p_max=1.5)
+    post = contin.switch_branch(strut, _near(br, 1.0, 1e-12), p_min=0.5, p_max=1.5)
+    k = len(post.p) // 2
+    run = contin.continuation(AugustiStrut(), post.u[k], post.p[k], p_min=0.5, p_max=1.5)
+    assert run.status == "failed" and "continuous symmetry" in run.message and "switch_branch" in run.message
