@@ -576,30 +576,27 @@ class HarmonicShell:
             raise ValueError(f"HarmonicShell: method must be 'generated' or 'jets', got {method!r}")
         self.method = method
         self.structure = st = structure
-        shell = st.shell
-        mer = st.meridian
-        self.N = N = int(st.N)
-        self.nu = float(st.nu)
-        self.current = shell.kappa11_length == "current"
+        #: The reference data of every element (:class:`contin_models.shell.reference.ShellReference`), the
+        #: structure's: the parameters below are its arrays.
+        self.reference = ref = st.reference
+        mer = ref.meridian
+        self.N = N = int(ref.N)
+        self.nu = float(ref.nu)
+        self.current = ref.kappa11_length == "current"
         xr = np.asarray(mer.x, dtype=float)
         self.z_ref = float(xr[1]) if z_ref is None else float(z_ref)
         # stretch parameters per edge, exactly those of the 1-D energy
-        sp_ = shell.stretch_parameters
-        self.s_lbar, self.s_rbar = np.asarray(sp_[0], float), np.asarray(sp_[1], float)
-        self.s_ks = np.broadcast_to(np.asarray(sp_[2], float), self.s_lbar.shape).copy()
+        self.s_lbar, self.s_rbar, self.s_ks = ref.stretch.lbar, ref.stretch.rbar, ref.ks_edges
         # bending parameters per interior node
-        self.b_nodes = np.asarray(shell.bend_nodes)
-        bp = shell.bend_parameters
-        self.b_lbar, self.b_rbar, self.b_k11, self.b_k22 = (np.asarray(p, float) for p in bp[:4])
-        self.b_kb = np.broadcast_to(np.asarray(bp[4], float), self.b_lbar.shape).copy()
-        self.clamp = st.clamp
+        b = ref.bend
+        self.b_nodes = b.nodes
+        self.b_lbar, self.b_rbar, self.b_k11, self.b_k22 = b.lbar, b.rbar, b.k11bar, b.k22bar
+        self.b_kb = ref.kb_nodes[b.nodes]
+        edge = ref.edge
+        self.clamp = edge.element if edge is not None and edge.kind == "clamped" else None
         # a rotating edge's moment-free half cell (not the clamp's element)
-        edge = getattr(st, "edge_element", None)
-        self.free_edge = edge if (edge is not None and edge is not st.clamp) else None
-        self.poles = []  # (node, neighbour, north, PoleMirror)
-        for (element, _), k in zip(st.pole_elements, st.poles):
-            north = k == N - 1
-            self.poles.append((k, k - 1 if north else 1, north, element))
+        self.free_edge = edge.element if edge is not None and edge.kind == "moment_free" else None
+        self.poles = [(p.node, p.neighbour, p.north, p.element) for p in ref.poles]  # (node, neighbour, north, PoleMirror)
         self._cache: dict = {}  # state bytes -> local Hessians, oldest first
 
     # ---- local variables -------------------------------------------------------------------------
