@@ -4,6 +4,21 @@ Element energies and their exact derivatives come from :mod:`contin_models.shell
 emitted by ``python -m contin_models.shell.codegen`` (the only module that needs sympy; it is not imported
 here).
 
+Reading order:
+
+1. **Reference geometry**: :mod:`~contin_models.shell.supports`, :mod:`~contin_models.shell.geometry`,
+   :mod:`~contin_models.shell.meridian`, and :mod:`~contin_models.shell.reference`, the one read-only table of
+   every element's reference data (:class:`~contin_models.shell.reference.ShellReference`).
+2. **The energy written once**: :mod:`~contin_models.shell.density`, the 2-D energy densities; the generators
+   :mod:`~contin_models.shell.codegen` and :mod:`~contin_models.shell.harmonic_codegen` and the kernels they emit.
+3. **The views**: :mod:`~contin_models.shell.jets` (forward second derivatives), :mod:`~contin_models.shell.energy`
+   (the traced axisymmetric energy, :class:`ShellEnergy`), :mod:`~contin_models.shell.harmonic` (the blocks per
+   wave number and the ring mesh).
+4. **Loads**: :mod:`~contin_models.shell.volume` (the forces live in the problems; contact in
+   :mod:`contin_models.contact`).
+5. **The problem**: :mod:`~contin_models.shell.structure`, :mod:`~contin_models.shell.problem`,
+   :mod:`~contin_models.shell.pressure`, :mod:`~contin_models.shell.strain`, :mod:`~contin_models.shell.boundaries`.
+
 The public names are imported on first use (:mod:`contin.lazy`), so a light module of the package, such
 as :mod:`contin_models.shell.supports` (which the scene schema reads), loads without numpy: the command
 line loads every model's schema to print its help or to refuse a scene.

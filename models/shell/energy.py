@@ -50,8 +50,7 @@ decided in the next step.
 
 from __future__ import annotations
 
-import math
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 import scipy.sparse as sp
@@ -61,6 +60,9 @@ from contin.numerics.linalg import FixedPattern, same_values
 
 from . import _generated
 from .geometry import ReferenceCap
+
+if TYPE_CHECKING:
+    from .reference import ShellReference
 
 __all__ = ["ShellEnergy", "HALF_BANDWIDTH", "kernels", "COMPILED", "compiled_rows"]
 
@@ -222,6 +224,10 @@ class ShellEnergy:
         eq. 3.9 read with a bar) or the current one (the default; see the module docstring).  At the
         reference state both give the same curvature; they differ by terms of order (membrane
         strain) x (curvature).
+    reference : ShellReference, optional, keyword only
+        The reference data of every element (:class:`contin_models.shell.reference.ShellReference`), in
+        place of ``cap``, ``E``, ``h``, ``nu`` and ``kappa11_length``: a structure builds it once with
+        its supports and its views share it.  Without it the energy builds its own from the others.
 
     Attributes
     ----------
@@ -236,6 +242,8 @@ class ShellEnergy:
         Bending stiffness of every node (constant when ``h`` is a scalar).
     h : float or ndarray
         The thickness as given (a read-only copy of an array); :attr:`h_nodes` is always an array.
+    reference : ShellReference
+        The reference data the energy evaluates against (the same object as the structure's).
 
     Notes
     -----
@@ -244,67 +252,39 @@ class ShellEnergy:
     pole treatment (see the module docstring).
     """
 
-    def __init__(self, cap: ReferenceCap, E: float, h: float, nu: float,
-                 kappa11_length: Literal["reference", "current"] = "current") -> None:
-        h_array = None
-        if np.ndim(h) == 0:
-            E, h, nu = float(E), float(h), float(nu)
-            if not (h > 0 and math.isfinite(h)):
-                raise ValueError(f"ShellEnergy: h must be a positive number, got {h!r}")
-        else:
-            E, nu = float(E), float(nu)
-            h_array = np.array(h, dtype=float)
-            if h_array.shape != (cap.N,):
-                raise ValueError(f"ShellEnergy: h must be a number or an array of shape (N,) = ({cap.N},), "
-                                 f"got shape {h_array.shape}")
-            if not (np.all(h_array > 0) and np.isfinite(h_array).all()):
-                raise ValueError("ShellEnergy: h must be positive and finite at every node")
-            h_array.setflags(write=False)
-            h = h_array
-        if not (E > 0 and math.isfinite(E)):
-            raise ValueError(f"ShellEnergy: E must be a positive number, got {E!r}")
-        if not (-1.0 < nu < 1.0):
-            raise ValueError(f"ShellEnergy: nu must be in (-1, 1), got {nu!r}")
-        if kappa11_length not in ("reference", "current"):
-            raise ValueError(f"ShellEnergy: kappa11_length must be 'reference' or 'current', "
-                             f"got {kappa11_length!r}")
-        self.cap = cap
-        self.E, self.h, self.nu = E, h, nu
-        self.kappa11_length = kappa11_length
-        N = cap.N
+    def __init__(self, cap: ReferenceCap | None = None, E: float | None = None, h: float | np.ndarray | None = None,
+                 nu: float | None = None, kappa11_length: Literal["reference", "current"] = "current", *,
+                 reference: ShellReference | None = None) -> None:
+        if reference is None:
+            if cap is None or E is None or h is None or nu is None:
+                raise TypeError("ShellEnergy: give cap, E, h and nu, or a reference")
+            # the structures build their table with their supports; alone, the energy builds its own
+            from .reference import ShellReference
+            reference = ShellReference.build(cap, E, nu, h, kappa11_length)
+        elif not (cap is None and E is None and h is None and nu is None):
+            raise TypeError("ShellEnergy: give either cap, E, h and nu or a reference, not both")
+        #: The reference data of every element (:class:`contin_models.shell.reference.ShellReference`).
+        self.reference = ref = reference
+        self.cap = ref.meridian
+        self.E, self.h, self.nu = ref.E, ref.h, ref.nu
+        self.kappa11_length = ref.kappa11_length
+        N = ref.N
         self.n = 2 * N
-        self.bend_nodes = np.arange(1, N - 1)  # base and pole skipped (see module docstring)
-        if h_array is None:
-            self.ks = E * h / (1.0 - nu**2)
-            self.kb = E * h**3 / (12.0 * (1.0 - nu**2))
-            ks_param, kb_param = self.ks, self.kb
-            self.h_nodes = np.full(N, h)
-            self.ks_edges = np.full(N - 1, self.ks)
-            self.kb_nodes = np.full(N, self.kb)
-        else:
-            self.h_nodes = h_array
-            self.ks_edges = E * (0.5 * (h_array[:-1] + h_array[1:])) / (1.0 - nu**2)
-            self.kb_nodes = E * h_array**3 / (12.0 * (1.0 - nu**2))
-            self.ks, self.kb = float(self.ks_edges[-1]), float(self.kb_nodes[-1])
-            ks_param, kb_param = self.ks_edges, self.kb_nodes[self.bend_nodes]
-        for a in (self.h_nodes, self.ks_edges, self.kb_nodes):
-            a.setflags(write=False)
+        self.bend_nodes = ref.bend.nodes  # base and pole skipped (see module docstring)
+        self.ks, self.kb = ref.ks, ref.kb
+        self.h_nodes, self.ks_edges, self.kb_nodes = ref.h_nodes, ref.ks_edges, ref.kb_nodes
 
         edges = np.arange(N - 1)
         s_dofs = 2 * edges[:, None] + np.arange(4)[None, :]
-        stretch = _Term("stretch", s_dofs, _stretch_local, (cap.edge_length, cap.edge_radius, ks_param, nu))
+        st = ref.stretch
+        stretch = _Term("stretch", s_dofs, _stretch_local, (st.lbar, st.rbar, st.ks, ref.nu))
 
         b_dofs = 2 * (self.bend_nodes[:, None] - 1) + np.arange(6)[None, :]
-        kernels = "bend" if kappa11_length == "reference" else "bend_cur"
-        i = self.bend_nodes
-        lbar, rbar = cap.voronoi_length[i], cap.node_radius[i]
-        self._curv_fn = getattr(gen, f"{kernels}_fast_curvatures")
-        self._curv_params = (lbar, rbar, 0.0, 0.0, kb_param, nu)
-        # Reference curvatures from the very same kernel code and local variables as the energy, so
-        # the reference state is exactly flat.
-        k11bar, k22bar = self._curv_fn(*_bend_local(*_edges(cap.x)), *self._curv_params)
-        self.kappa11_bar, self.kappa22_bar = k11bar, k22bar
-        bend = _Term(kernels, b_dofs, _bend_local, (lbar, rbar, k11bar, k22bar, kb_param, nu))
+        b = ref.bend
+        self._curv_fn = getattr(gen, f"{b.kernels}_fast_curvatures")
+        self._curv_params = (b.lbar, b.rbar, 0.0, 0.0, b.kb, ref.nu)
+        self.kappa11_bar, self.kappa22_bar = b.k11bar, b.k22bar
+        bend = _Term(b.kernels, b_dofs, _bend_local, (b.lbar, b.rbar, b.k11bar, b.k22bar, b.kb, ref.nu))
         self._terms = {"stretch": stretch, "bend": bend}  # the order of the packed outputs
         self._build_pattern()
         # gradient and Hessian in one pass (see gradient()): the state of the last full gradient,

@@ -188,11 +188,14 @@ from contin.numerics.linalg import SymmetricBand
 from contin.numerics.stability import stability_info
 
 from . import _harmonic_generated
+from .density import (_addv, _norm, _scale, _sub, bend_curvatures, bend_density, free_edge_density, pole_curvature,
+                      skirt_density, stretch_density, volume_density)
+from .jets import Jet
 
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "harmonic_mode",
            "block_eigs",
            "block_inertia", "stretch_density", "bend_density", "pole_curvature", "volume_density",
-           "skirt_density", "free_edge_density", "contact_point_hessian", "mode_maps", "ring_mesh_energy",
+           "skirt_density", "free_edge_density", "bend_curvatures", "contact_point_hessian", "mode_maps", "ring_mesh_energy",
            "ring_mesh_block", "HARMONIC_HALF_BANDWIDTH", "COMPILED", "POLE_FREE", "FREE_EDGE_FREE"]
 
 _hgen, COMPILED = prefer_compiled(_harmonic_generated, "contin_models.shell._harmonic_ckernels")
@@ -210,262 +213,6 @@ FREE_EDGE_FREE = (0, 2, 4, 7, 9)
 HARMONIC_HALF_BANDWIDTH = 8
 """Half-bandwidth of a full block in the interleaved ``[a, b, c]`` ordering (a bending element
 couples nodes ``i-1 .. i+1``)."""
-
-
-# ---------------------------------------------------------------------------------------------------
-# second-order forward differentiation, vectorised over elements
-# ---------------------------------------------------------------------------------------------------
-class Jet:
-    """Value, gradient and Hessian of a function of ``k`` variables at ``m`` points.
-
-    ``v`` has shape ``(m,)``, ``g`` ``(k, m)`` and ``h`` ``(k, k, m)`` (``None`` for zero).  The
-    arithmetic is exact second-order forward differentiation (products by the Leibniz rule, unary
-    functions by the chain rule).
-    """
-
-    __slots__ = ("v", "g", "h")
-    __array_priority__ = 100
-
-    def __init__(self, v, g, h=None):
-        self.v, self.g, self.h = v, g, h
-
-    @staticmethod
-    def variables(values: list) -> list["Jet"]:
-        """Independent variables: ``values[i]`` with unit gradient ``i``."""
-        k = len(values)
-        vals = [np.asarray(v, dtype=float) for v in values]
-        m = max(v.size for v in vals)
-        out = []
-        for i, v in enumerate(vals):
-            g = np.zeros((k, m))
-            g[i] = 1.0
-            out.append(Jet(np.broadcast_to(v, (m,)).astype(float), g))
-        return out
-
-    @staticmethod
-    def linear(values: np.ndarray, grads: np.ndarray) -> "Jet":
-        """A jet linear in the variables: value ``(m,)`` and gradient ``(k, m)``."""
-        return Jet(np.asarray(values, dtype=float), np.asarray(grads, dtype=float))
-
-    @staticmethod
-    def _hadd(a, b):
-        if a is None:
-            return b
-        if b is None:
-            return a
-        return a + b
-
-    def __add__(self, o):
-        if isinstance(o, Jet):
-            return Jet(self.v + o.v, self.g + o.g, Jet._hadd(self.h, o.h))
-        return Jet(self.v + o, self.g, self.h)
-
-    __radd__ = __add__
-
-    def __neg__(self):
-        return Jet(-self.v, -self.g, None if self.h is None else -self.h)
-
-    def __sub__(self, o):
-        return self + (-o)
-
-    def __rsub__(self, o):
-        return (-self) + o
-
-    def __mul__(self, o):
-        if isinstance(o, Jet):
-            g = self.g * o.v + o.g * self.v
-            cross = self.g[:, None, :] * o.g[None, :, :]
-            h = cross + cross.transpose(1, 0, 2)
-            if self.h is not None:
-                h += self.h * o.v
-            if o.h is not None:
-                h += o.h * self.v
-            return Jet(self.v * o.v, g, h)
-        return Jet(self.v * o, self.g * o, None if self.h is None else self.h * o)
-
-    __rmul__ = __mul__
-
-    def _unary(self, f0, f1, f2):
-        g = self.g * f1
-        h = f2 * (self.g[:, None, :] * self.g[None, :, :])
-        if self.h is not None:
-            h += self.h * f1
-        return Jet(f0, g, h)
-
-    def __truediv__(self, o):
-        if isinstance(o, Jet):
-            return self * o.reciprocal()
-        return self * (1.0 / o)
-
-    def __rtruediv__(self, o):
-        return self.reciprocal() * o
-
-    def reciprocal(self):
-        iv = 1.0 / self.v
-        return self._unary(iv, -iv * iv, 2.0 * iv * iv * iv)
-
-    def sqrt(self):
-        s = np.sqrt(self.v)
-        return self._unary(s, 0.5 / s, -0.25 / (s * self.v))
-
-    def take(self, idx):
-        """The jet at the points ``idx`` (an index array into the ``m`` points)."""
-        return Jet(self.v[idx], self.g[:, idx], None if self.h is None else self.h[:, :, idx])
-
-    def total(self):
-        """The sum over the points, as a jet at one point."""
-        return Jet(self.v.sum(keepdims=True), self.g.sum(axis=1, keepdims=True),
-                   None if self.h is None else self.h.sum(axis=2, keepdims=True))
-
-    def log(self):
-        return self._unary(np.log(self.v), 1.0 / self.v, -1.0 / (self.v * self.v))
-
-    def square(self):
-        return self._unary(self.v * self.v, 2.0 * self.v, np.full_like(self.v, 2.0))
-
-
-#: Square root of a symbolic expression (set by :mod:`contin_models.shell.harmonic_codegen`, which
-#: evaluates the same densities in sympy; never needed at run time).
-SYMBOLIC_SQRT = None
-
-
-def _sqrt(x):
-    if isinstance(x, Jet):
-        return x.sqrt()
-    if SYMBOLIC_SQRT is not None and not isinstance(x, (np.ndarray, float, int, np.floating)):
-        return SYMBOLIC_SQRT(x)
-    return np.sqrt(x)
-
-
-def _dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def _norm(a):
-    return _sqrt(_dot(a, a))
-
-
-def _scale(a, s):
-    return (a[0] * s, a[1] * s, a[2] * s)
-
-
-def _sub(a, b):
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-def _addv(a, b):
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-# ---------------------------------------------------------------------------------------------------
-# the 2-D energy densities (per radian), as functions of the local vectors at one theta
-# ---------------------------------------------------------------------------------------------------
-# Every vector is a 3-tuple of components in the local frame (e_r, e_theta, e_z) (or any orthonormal
-# frame: the densities are invariant); components are arrays or Jets.
-
-def stretch_density(D, Mp, lbar, rbar, ks, nu):
-    """Stretching energy per radian of an edge.
-
-    ``D = P_j - P_i`` (the chord between the rings at one ``theta``), ``Mp = (P'_i + P'_j) / 2``.
-    """
-    g1 = _scale(D, 1.0 / lbar)
-    g2 = _scale(Mp, 1.0 / rbar)
-    n1, n2 = _norm(g1), _norm(g2)
-    e11, e22 = n1 - 1.0, n2 - 1.0
-    e12 = _dot(g1, g2) / (n1 * n2) * 0.5
-    q = e11 * e11 + 2.0 * nu * (e11 * e22) + e22 * e22 + 2.0 * (1.0 - nu) * (e12 * e12)
-    return q * (0.5 * rbar * lbar * ks)
-
-
-def bend_curvatures(e1, e2, Dp, Pp, Ppp, L=None):
-    """``(kappa11, kappa22, kappa12)`` of an interior node (module docstring).
-
-    ``e1 = P_i - P_{i-1}``, ``e2 = P_{i+1} - P_i``, ``Dp = P'_{i+1} - P'_{i-1}``, ``Pp = P'_i``,
-    ``Ppp = P''_i``; ``L`` the length in ``kappa11`` (``None``: the current ``(|e1| + |e2|) / 2``).
-    """
-    l1, l2 = _norm(e1), _norm(e2)
-    sp_ = _norm(Pp)
-    tau = _scale(Pp, 1.0 / sp_)
-    cross = -_dot(_cross(e1, e2), tau)
-    dot = _dot(e1, e2)
-    Lk = (l1 + l2) * 0.5 if L is None else L
-    k11 = 2.0 * cross / ((l1 * l2 + dot) * Lk)
-    t = _addv(_scale(e1, 1.0 / l1), _scale(e2, 1.0 / l2))
-    nv = _cross(tau, t)
-    nv = _scale(nv, 1.0 / _norm(nv))
-    k22 = -_dot(nv, Ppp) / (sp_ * sp_)
-    k12 = _dot(nv, Dp) / ((l1 + l2) * sp_)
-    return k11, k22, k12
-
-
-def bend_density(e1, e2, Dp, Pp, Ppp, lbar, rbar, k11bar, k22bar, kb, nu, L=None):
-    """Bending energy per radian of an interior node (arguments as :func:`bend_curvatures`)."""
-    k11, k22, k12 = bend_curvatures(e1, e2, Dp, Pp, Ppp, L)
-    B11, B22 = k11 - k11bar, k22 - k22bar
-    q = B11 * B11 + 2.0 * nu * (B11 * B22) + B22 * B22 + 2.0 * (1.0 - nu) * (k12 * k12)
-    return q * (0.5 * rbar * lbar * kb)
-
-
-def pole_curvature(Pm, Pmp, Pc, Pq, Pqp, north, L=None):
-    """Directional curvature ``kappa(theta)`` at a pole.
-
-    ``Pm``, ``Pmp``: the neighbour ring's point and ``P'`` at ``theta``; ``Pc``: the pole;
-    ``Pq``, ``Pqp``: the neighbour's point and ``P'`` at ``theta + pi`` (all in one frame).
-    ``north``: the pole is the last node (the meridian runs neighbour -> pole), else the first.
-    ``L``: ``None`` for the current length ``(|e1| + |e2|) / 2``, else the reference one.
-    """
-    if north:
-        e1, e2 = _sub(Pc, Pm), _sub(Pq, Pc)
-    else:
-        e1, e2 = _sub(Pc, Pq), _sub(Pm, Pc)
-    w = _sub(Pmp, Pqp)
-    w = _scale(w, 1.0 / _norm(w))
-    l1, l2 = _norm(e1), _norm(e2)
-    cross = -_dot(_cross(e1, e2), w)
-    Lk = (l1 + l2) * 0.5 if L is None else L
-    return 2.0 * cross / ((l1 * l2 + _dot(e1, e2)) * Lk)
-
-
-def _horizontal_triple(P, A, D):
-    """``h(P).(A x D)`` with ``h(P) = (P_r, P_t, 0)``."""
-    c = _cross(A, D)
-    return P[0] * c[0] + P[1] * c[1]
-
-
-def volume_density(Pi, Pj, Ppi, Ppj):
-    """Volume per radian of the ruled strip between rings ``i`` and ``j`` (flux of ``(x, y, 0)/2``)."""
-    D = _sub(Pj, Pi)
-    s = (_horizontal_triple(Pi, Ppi, D) * (1.0 / 3.0) + _horizontal_triple(Pj, Ppj, D) * (1.0 / 3.0)
-         + (_horizontal_triple(Pi, Ppj, D) + _horizontal_triple(Pj, Ppi, D)) * (1.0 / 6.0))
-    return s * 0.5
-
-
-def free_edge_density(e, Dp, Pp, Ppp, K, kbar, nu):
-    """Bending energy per radian of a rotating edge's half cell (:class:`contin_models.shell.structure.MomentFreeEdge`).
-
-    ``e = P_1 - P_0``, ``Dp = P'_1 - P'_0``, ``Pp = P'_0``, ``Ppp = P''_0``; ``K`` the 1-D element's
-    ``pi r0bar lbar_0 kb (1 - nu^2) / 2``.  The moment-free edge eliminates ``B11 = -nu B22``: the
-    density is ``kb ((1 - nu^2) B22^2 + 2 (1 - nu) kappa12^2)`` over the half cell, with ``kappa22`` the
-    circumferential normal curvature about the first edge's normal (``n_r / r_0`` when axisymmetric,
-    the 1-D element's) and the twist ``kappa12`` one-sided over the first edge (zero when axisymmetric).
-    """
-    l = _norm(e)
-    sp_ = _norm(Pp)
-    tau = _scale(Pp, 1.0 / sp_)
-    nv = _cross(tau, _scale(e, 1.0 / l))
-    nv = _scale(nv, 1.0 / _norm(nv))
-    B22 = -_dot(nv, Ppp) / (sp_ * sp_) - kbar
-    k12 = _dot(nv, Dp) / (l * sp_)
-    return (B22 * B22 + (2.0 / (1.0 + nu)) * (k12 * k12)) * (K / (2.0 * math.pi))
-
-
-def skirt_density(P0, Pp0, z_ref):
-    """Volume per radian of the skirt from the base plane ``z = z_ref`` up to ring 0."""
-    return (P0[0] * Pp0[1] - P0[1] * Pp0[0]) * (P0[2] - z_ref) * 0.5
 
 
 def contact_point_hessian(barrier: Any, X: np.ndarray, c: float) -> np.ndarray:
@@ -576,30 +323,28 @@ class HarmonicShell:
             raise ValueError(f"HarmonicShell: method must be 'generated' or 'jets', got {method!r}")
         self.method = method
         self.structure = st = structure
-        shell = st.shell
-        mer = st.meridian
-        self.N = N = int(st.N)
-        self.nu = float(st.nu)
-        self.current = shell.kappa11_length == "current"
+        #: The reference data of every element (:class:`contin_models.shell.reference.ShellReference`), the
+        #: structure's: the parameters below are its arrays.
+        self.reference = ref = st.reference
+        mer = ref.meridian
+        self.N = int(ref.N)
+        self.nu = float(ref.nu)
+        self.current = ref.kappa11_length == "current"
         xr = np.asarray(mer.x, dtype=float)
         self.z_ref = float(xr[1]) if z_ref is None else float(z_ref)
         # stretch parameters per edge, exactly those of the 1-D energy
-        sp_ = shell.stretch_parameters
-        self.s_lbar, self.s_rbar = np.asarray(sp_[0], float), np.asarray(sp_[1], float)
-        self.s_ks = np.broadcast_to(np.asarray(sp_[2], float), self.s_lbar.shape).copy()
+        self.s_lbar, self.s_rbar, self.s_ks = ref.stretch.lbar, ref.stretch.rbar, ref.ks_edges
         # bending parameters per interior node
-        self.b_nodes = np.asarray(shell.bend_nodes)
-        bp = shell.bend_parameters
-        self.b_lbar, self.b_rbar, self.b_k11, self.b_k22 = (np.asarray(p, float) for p in bp[:4])
-        self.b_kb = np.broadcast_to(np.asarray(bp[4], float), self.b_lbar.shape).copy()
-        self.clamp = st.clamp
+        b = ref.bend
+        self.b_nodes = b.nodes
+        self.b_lbar, self.b_rbar, self.b_k11, self.b_k22 = b.lbar, b.rbar, b.k11bar, b.k22bar
+        self.b_kb = ref.kb_nodes[b.nodes]
+        edge = ref.edge
+        self.clamp = edge.element if edge is not None and edge.kind == "clamped" else None
         # a rotating edge's moment-free half cell (not the clamp's element)
-        edge = getattr(st, "edge_element", None)
-        self.free_edge = edge if (edge is not None and edge is not st.clamp) else None
-        self.poles = []  # (node, neighbour, north, PoleMirror)
-        for (element, _), k in zip(st.pole_elements, st.poles):
-            north = k == N - 1
-            self.poles.append((k, k - 1 if north else 1, north, element))
+        self.free_edge = edge.element if edge is not None and edge.kind == "moment_free" else None
+        # (node, neighbour, north, PoleMirror)
+        self.poles = [(p.node, p.neighbour, p.north, p.element) for p in ref.poles]
         self._cache: dict = {}  # state bytes -> local Hessians, oldest first
 
     # ---- local variables -------------------------------------------------------------------------

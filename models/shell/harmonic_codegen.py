@@ -42,6 +42,7 @@ import sympy as sp
 
 from contin.modelkit.codegen import c_extension_text, cse_lines, generator_main, kernel_printer, module_text
 
+from . import density
 from . import harmonic as H
 
 __all__ = ["generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT", "C_OUTPUT", "VARIANTS"]
@@ -60,8 +61,8 @@ def _bend_kernel(variant: str) -> str:
     """The bending density's Hessian at axisymmetric states: the curvatures' jets, then the chain rule."""
     y = sp.symbols("y0:15", real=True)
     lbar = sp.Symbol("lbar", real=True)
-    curv = _symbolic(H.bend_curvatures, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
-                     None if variant == "bend_cur" else lbar)
+    curv = _symbolic(density.bend_curvatures, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]),
+                     tuple(y[12:15]), None if variant == "bend_cur" else lbar)
     axisym = {y[k]: 0 for k in range(15) if k not in _FREE and k != 12}
     axisym[y[12]] = -y[10]
     exprs, targets = [], []
@@ -127,12 +128,12 @@ def _bend_kernel(variant: str) -> str:
 
 
 def _symbolic(function: Callable[..., Any], *args: Any) -> Any:
-    """``function(*args)`` on sympy symbols (the densities take their square roots by ``harmonic._sqrt``)."""
-    H.SYMBOLIC_SQRT = sp.sqrt
+    """``function(*args)`` on sympy symbols (the densities take their square roots by ``density._sqrt``)."""
+    density.SYMBOLIC_SQRT = sp.sqrt
     try:
         return function(*args)
     finally:
-        H.SYMBOLIC_SQRT = None
+        density.SYMBOLIC_SQRT = None
 
 
 def _hessian_kernel(name: str, doc: str, energy: Any, y: Sequence[Any], free: Sequence[int], params: Sequence[str],
@@ -159,7 +160,7 @@ def _hessian_kernel(name: str, doc: str, energy: Any, y: Sequence[Any], free: Se
 def _stretch_kernel() -> str:
     y = sp.symbols("y0:6", real=True)
     lbar, rbar, ks, nu = sp.symbols("lbar rbar ks nu", real=True)
-    E = _symbolic(H.stretch_density, tuple(y[0:3]), tuple(y[3:6]), lbar, rbar, ks, nu)
+    E = _symbolic(density.stretch_density, tuple(y[0:3]), tuple(y[3:6]), lbar, rbar, ks, nu)
     return _hessian_kernel("stretch_hessian",
                            "Hessian ``(6, 6, m)`` of the stretching density per radian at axisymmetric states.",
                            E, y, _STRETCH_FREE, ("lbar", "rbar", "ks", "nu"), per_element=True)
@@ -169,8 +170,8 @@ def _pole_kernel(variant: str) -> str:
     y = sp.symbols("y0:15", real=True)
     lbar = sp.Symbol("lbar", real=True)
     north = "_north_" in variant
-    kap = _symbolic(H.pole_curvature, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), tuple(y[12:15]),
-                    north, None if variant.endswith("_cur") else lbar)
+    kap = _symbolic(density.pole_curvature, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]),
+                    tuple(y[12:15]), north, None if variant.endswith("_cur") else lbar)
     axisym = {y[k]: 0 for k in range(15) if k not in H.POLE_FREE}
     grads = [sp.diff(kap, y[i]) for i in range(15)]
     exprs = [kap.subs(axisym)] + [g.subs(axisym) for g in grads]
@@ -198,7 +199,7 @@ def _pole_kernel(variant: str) -> str:
 def _free_edge_kernel() -> str:
     y = sp.symbols("y0:12", real=True)
     K, kbar, nu = sp.symbols("K kbar nu", real=True)
-    E = _symbolic(H.free_edge_density, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), K, kbar, nu)
+    E = _symbolic(density.free_edge_density, tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), K, kbar, nu)
     return _hessian_kernel("free_edge_hessian",
                            "Hessian ``(12, 12)`` of the bending density per radian of a rotating edge at an "
                            "axisymmetric state.", E, y, H.FREE_EDGE_FREE, ("K", "kbar", "nu"), per_element=False)

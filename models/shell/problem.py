@@ -78,6 +78,7 @@ from contin.problem import LeadingBlock, Problem
 
 from .energy import HALF_BANDWIDTH, ShellEnergy
 from .geometry import POLE_RATIO, spherical_cap
+from .reference import ShellReference
 
 __all__ = ["ShellPointLoad", "PoleMirror", "ROUNDOFF_MARGIN", "SubMatrix", "csr_slots", "shell_residual_scale"]
 
@@ -276,7 +277,10 @@ class ShellPointLoad(Problem):
             self._load_by_force(twin)
             return
         self.cap = spherical_cap(R, phi_hat, N, pole_ratio)
-        self.shell = ShellEnergy(self.cap, E, h, nu, kappa11_length=kappa11_length)
+        # the paper's supports: a sliding base without an edge element, the pole by the choice made;
+        # the force-controlled problem shares this table through its twin
+        self.reference = ShellReference.build(self.cap, E, nu, h, kappa11_length, "sliding", "none", pole)
+        self.shell = ShellEnergy(reference=self.reference)
         self.R, self.E, self.nu, self.h, self.phi_hat, self.N = float(R), float(E), float(nu), float(h), float(phi_hat), int(N)
         self.control = "displacement"
         self.pole = pole
@@ -297,11 +301,9 @@ class ShellPointLoad(Problem):
                      "force": SubMatrix(H0, self.idx_force)}
 
         if pole == "mirror":
-            a_bar = float(self.cap.r[-2])
-            b_bar = float(self.cap.z[-1] - self.cap.z[-2])
-            self._pole = PoleMirror(self.cap.edge_length[-1], self.shell.kb, self.shell.nu,
-                                    kappa11_length == "current", a_bar, b_bar)
-            loc = np.array([n - 4, n - 3, n - 1])
+            (pole_reference,) = self.reference.poles
+            self._pole = pole_reference.element
+            loc = pole_reference.dofs
             self._pole_dofs = loc
             rr, cc = np.meshgrid(loc, loc, indexing="ij")
             self._pole_slots = csr_slots(H0, rr.ravel(), cc.ravel())

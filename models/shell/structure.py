@@ -53,6 +53,7 @@ from contin.problem import LeadingBlock, Problem
 from . import _generated as gen
 from .energy import HALF_BANDWIDTH, ShellEnergy
 from .problem import PoleMirror, SubMatrix, csr_slots, shell_residual_scale
+from .reference import ShellReference
 from .supports import SUPPORTS  # defined apart: the scene schema reads it without loading numpy
 from .volume import PressureTerm, volume_gradient, volume_hessian
 
@@ -235,8 +236,12 @@ class ShellStructure:
 
     Attributes
     ----------
+    reference : ShellReference
+        The reference data of every element, the supports and the poles
+        (:class:`contin_models.shell.reference.ShellReference`), built once: :attr:`shell` and the harmonic
+        blocks read it.
     fixed : ndarray
-        Sorted full-state dofs the supports and the axis fix.
+        Sorted full-state dofs the supports and the axis fix (read-only).
     rigid_fix : int or None
         The dof fixed only to remove the rigid translation along the axis (module docstring).
     poles : list of int
@@ -247,56 +252,26 @@ class ShellStructure:
                  boundary: Literal["sliding", "pinned", "clamped", "free"] = "sliding",
                  kappa11_length: Literal["reference", "current"] = "current",
                  edge_bending: Literal["moment_free", "none"] = "moment_free") -> None:
-        if edge_bending not in ("moment_free", "none"):
-            raise ValueError(f"ShellStructure: edge_bending must be 'moment_free' or 'none', got {edge_bending!r}")
-        if boundary not in SUPPORTS:
-            raise ValueError(f"ShellStructure: boundary must be one of {SUPPORTS}, got {boundary!r}")
         if h is None:
             h = getattr(meridian, "thickness", None)
             if h is None:
                 raise ValueError("ShellStructure: give the thickness h (the meridian carries none)")
         self.meridian = meridian
-        self.shell = ShellEnergy(meridian, E, h, nu, kappa11_length=kappa11_length)
-        self.E, self.nu = float(E), float(nu)
+        self.reference = ref = ShellReference.build(meridian, E, nu, h, kappa11_length, boundary, edge_bending)
+        self.shell = ShellEnergy(reference=ref)
+        self.E, self.nu = ref.E, ref.nu
         N = int(meridian.N)
         self.N, self.n_full = N, 2 * N
-        r, z = np.asarray(meridian.r, dtype=float), np.asarray(meridian.z, dtype=float)
-        if np.any(r < 0):
-            raise ValueError("ShellStructure: the meridian must lie in r >= 0")
-        self.poles = [k for k in (0, N - 1) if r[k] == 0.0]
-        if 0 in self.poles and boundary not in ("free", "sliding"):
-            raise ValueError(f"ShellStructure: node 0 is a pole on the axis, it takes no support "
-                             f"(boundary {boundary!r})")
-        self.boundary = "free" if 0 in self.poles else boundary
-        kb_nodes = np.asarray(getattr(self.shell, "kb_nodes", np.full(N, self.shell.kb)), dtype=float)
-        self.kb_nodes = kb_nodes
-        self.h_nodes = np.asarray(getattr(self.shell, "h_nodes", np.full(N, self.shell.h)), dtype=float)
-
-        fixed = {2 * k for k in self.poles}  # r = 0 on the axis
-        if self.boundary in ("sliding", "pinned", "clamped"):
-            fixed.add(1)
-        if self.boundary in ("pinned", "clamped"):
-            fixed.add(0)
-        self.rigid_fix: int | None = None
-        if not any(d % 2 == 1 for d in fixed):  # nothing holds z: remove the rigid translation
-            self.rigid_fix = 2 * (N // 2) + 1
-            fixed.add(self.rigid_fix)
-        self.fixed = np.array(sorted(fixed))
-        self.free = np.array([i for i in range(self.n_full) if i not in fixed])
+        self.poles = list(ref.axis_nodes)
+        self.boundary = ref.boundary
+        self.kb_nodes = ref.kb_nodes
+        self.h_nodes = ref.h_nodes
+        self.rigid_fix: int | None = ref.rigid_fix
+        self.fixed = ref.fixed
+        self.free = ref.free
 
         # mirror bending elements of the poles: (element, full-state dofs of (a, -, b) local variables)
-        self._poles: list[tuple[PoleMirror, np.ndarray]] = []
-        for k in self.poles:
-            nb = k - 1 if k == N - 1 else 1  # the pole's neighbour
-            # local variables (r_nb, z_nb, z_pole) for the north pole, (r_1, z_0, z_1) for the south one:
-            # a = r_nb, b = (z_pole - z_nb) or (z_1 - z_0); both meridians turn counter-clockwise
-            dofs = np.array([2 * nb, 2 * nb + 1, 2 * k + 1]) if k == N - 1 else np.array([2 * nb, 1, 3])
-            a_bar = float(r[nb])
-            b_bar = float(z[k] - z[nb]) if k == N - 1 else float(z[1] - z[0])
-            lbar = float(meridian.edge_length[-1] if k == N - 1 else meridian.edge_length[0])
-            element = PoleMirror(lbar, float(kb_nodes[k]), self.nu, kappa11_length == "current", a_bar, b_bar)
-            dofs.setflags(write=False)
-            self._poles.append((element, dofs))
+        self._poles: list[tuple[PoleMirror, np.ndarray]] = [(p.element, p.dofs) for p in ref.poles]
 
         H0 = self.shell.hessian(meridian.x)
         self._pattern = H0
@@ -304,17 +279,7 @@ class ShellStructure:
         for _, dofs in self._poles:
             rr, cc = np.meshgrid(dofs, dofs, indexing="ij")
             self._pole_slots.append(csr_slots(H0, rr.ravel(), cc.ravel()))
-        if self.boundary == "clamped":
-            # the smooth curve's tangent when the meridian knows it (theta: the angle of its outward
-            # normal, tangent (-sin, cos)); the circle through the first nodes otherwise
-            theta = getattr(meridian, "theta", None)
-            tangent = None if theta is None else (-math.sin(float(theta[0])), math.cos(float(theta[0])))
-            self.edge_element: ClampedEdge | MomentFreeEdge | None = ClampedEdge(r, z, float(kb_nodes[0]), self.nu,
-                                                                                 tangent)
-        elif edge_bending == "moment_free" and 0 not in self.poles:
-            self.edge_element = MomentFreeEdge(r, z, float(kb_nodes[0]), self.nu)
-        else:
-            self.edge_element = None
+        self.edge_element: ClampedEdge | MomentFreeEdge | None = None if ref.edge is None else ref.edge.element
         #: The clamp's element (None unless clamped).
         self.clamp = self.edge_element if self.boundary == "clamped" else None
         self.edge_bending = edge_bending
