@@ -1,8 +1,7 @@
-"""Generate :mod:`contin_models.shell._density_generated`: value, gradient and Hessian of the 2-D densities at any state.
+"""Generate :mod:`contin_models.shell._density_generated`: value, gradient and Hessian of the 2-D densities anywhere.
 
 Run as ``python -m contin_models.shell.density_codegen [--output PATH] [--check]`` (about half a
-minute).  Only this module
-imports sympy; the emitted file is plain vectorised numpy and is committed.
+minute).  Only this module imports sympy; the emitted file is plain vectorised numpy and is committed.
 
 :mod:`contin_models.shell.harmonic_codegen` differentiates the densities at axisymmetric states only
 (the harmonic blocks need nothing else).  A view whose states are not axisymmetric (rings of
