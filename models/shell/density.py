@@ -14,18 +14,37 @@ are derived from these expression trees, so a rewritten product or literal chang
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
 
 import numpy as np
 
 from .jets import Jet
 
-__all__ = ["SYMBOLIC_SQRT", "stretch_density", "bend_curvatures", "bend_density", "pole_curvature", "volume_density",
+__all__ = ["SYMBOLIC_SQRT", "symbolic_sqrt", "stretch_density", "bend_curvatures", "bend_density", "pole_curvature", "volume_density",
            "free_edge_density", "skirt_density"]
 
 
-#: Square root of a symbolic expression (set by :mod:`contin_models.shell.harmonic_codegen`, which
-#: evaluates the same densities in sympy; never needed at run time).
+#: Square root of a symbolic expression (set by :func:`symbolic_sqrt` while the generators evaluate
+#: the same densities in sympy; never needed at run time).
 SYMBOLIC_SQRT = None
+
+
+@contextmanager
+def symbolic_sqrt(sqrt: Callable[[Any], Any]) -> Iterator[None]:
+    """Within the block the densities take the square roots of symbolic arguments by ``sqrt``.
+
+    The code generators (:mod:`contin_models.shell.harmonic_codegen`,
+    :mod:`contin_models.shell.density_codegen`) evaluate the densities on sympy symbols with
+    ``sqrt = sympy.sqrt``; this module itself never imports sympy.
+    """
+    global SYMBOLIC_SQRT
+    previous, SYMBOLIC_SQRT = SYMBOLIC_SQRT, sqrt
+    try:
+        yield
+    finally:
+        SYMBOLIC_SQRT = previous
 
 
 def _sqrt(x):

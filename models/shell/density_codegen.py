@@ -7,7 +7,7 @@ minute).  Only this module imports sympy; the emitted file is plain vectorised n
 (the harmonic blocks need nothing else).  A view whose states are not axisymmetric (rings of
 material points moving in three directions) needs, at every angular station, the value, the
 gradient and the Hessian of each density in all of its local variables: that is what is generated
-here, from the same functions of :mod:`contin_models.shell.harmonic` evaluated on sympy symbols.
+here, from the same functions of :mod:`contin_models.shell.density` evaluated on sympy symbols.
 
 What is generated
 -----------------
@@ -16,7 +16,7 @@ sequence of ``k`` arrays of one shape, ``(m,)`` for ``m`` stations), in the orde
 arguments, each 3-vector as its components ``(r, t, z)`` in the local frame (any orthonormal frame:
 the densities are invariant), and the per-element parameters (arrays that broadcast against one
 variable, or numbers).  It returns the value ``(...)``, the gradient ``(k, ...)`` and the full
-symmetric Hessian ``(k, k, ...)``: the layout of :class:`contin_models.shell.harmonic.Jet`, so that
+symmetric Hessian ``(k, k, ...)``: the layout of :class:`contin_models.shell.jets.Jet`, so that
 ``y`` gathered from the unknowns by one index array and the gradient scattered back by the same
 index share their shape.
 
@@ -32,21 +32,21 @@ kernel                 k     ``y``                                        parame
 ``pole_<side>_<L>_jet`` 15   ``Pm, Pm', Pc, Pq, Pq'``                     ``lbar`` (unused by ``cur``)
 =====================  ====  ===========================================  ===========================================
 
-(:func:`~contin_models.shell.harmonic.stretch_density`, :func:`~contin_models.shell.harmonic.bend_density`
+(:func:`~contin_models.shell.density.stretch_density`, :func:`~contin_models.shell.density.bend_density`
 with ``L`` the current ``(|e1| + |e2|)/2`` or the reference ``lbar``,
-:func:`~contin_models.shell.harmonic.free_edge_density`, :func:`~contin_models.shell.harmonic.volume_density`,
-:func:`~contin_models.shell.harmonic.skirt_density`; the pole kernels differentiate the directional
-curvature :func:`~contin_models.shell.harmonic.pole_curvature`, ``side`` ``north`` or ``south``: the pole's
+:func:`~contin_models.shell.density.free_edge_density`, :func:`~contin_models.shell.density.volume_density`,
+:func:`~contin_models.shell.density.skirt_density`; the pole kernels differentiate the directional
+curvature :func:`~contin_models.shell.density.pole_curvature`, ``side`` ``north`` or ``south``: the pole's
 energy is a function of the curvature's mean and mean square over the angle, which the view forms.)
 
 How
 ---
 The bending density is a quadratic form in the three curvatures
-(:func:`~contin_models.shell.harmonic.bend_curvatures`): the kernel differentiates the curvatures
+(:func:`~contin_models.shell.density.bend_curvatures`): the kernel differentiates the curvatures
 (value, gradient, Hessian, one common-subexpression elimination) and assembles the density's
 derivatives by the chain rule, ``g = sum_a F_a g_a``, ``H = sum_a F_a H_a + sum_a (sum_b F_ab g_b) g_a^T``,
 which costs far fewer operations than differentiating the density itself.  The outer quadratic form
-is checked against :func:`~contin_models.shell.harmonic.bend_density` at generation time (to 40
+is checked against :func:`~contin_models.shell.density.bend_density` at generation time (to 40
 digits at a random point).  The other densities are differentiated directly (they are small or
 polynomial).
 """
@@ -62,7 +62,7 @@ import sympy as sp
 
 from contin.modelkit.codegen import KernelBody, generator_main, kernel_printer, module_text
 
-from . import harmonic as H
+from . import density as D
 
 __all__ = ["generate_source", "main", "DEFAULT_OUTPUT", "KERNELS"]
 
@@ -74,13 +74,10 @@ KERNELS = tuple(f"{name}_jet" for name in ("stretch", *BEND_VARIANTS, "free_edge
 
 
 def _symbolic(function: Callable[..., Any], *args: Any) -> Any:
-    """``function(*args)`` on sympy symbols (the densities take their square roots by ``harmonic.SYMBOLIC_SQRT``),
-    each result's float constants made exact (``1.0 / 3.0`` is ``1/3``: no ``1.0*x`` left in the kernels)."""
-    H.SYMBOLIC_SQRT = sp.sqrt
-    try:
+    """``function(*args)`` on sympy symbols (:func:`contin_models.shell.density.symbolic_sqrt`), each result's
+    float constants made exact (``1.0 / 3.0`` is ``1/3``: no ``1.0*x`` left in the kernels)."""
+    with D.symbolic_sqrt(sp.sqrt):
         out = function(*args)
-    finally:
-        H.SYMBOLIC_SQRT = None
     return tuple(_exact(e) for e in out) if isinstance(out, tuple) else _exact(out)
 
 
@@ -182,10 +179,10 @@ def _bend_kernel(variant: str) -> str:
     params = sp.symbols("lbar rbar k11bar k22bar kb nu", real=True)
     lbar = params[0]
     L = None if variant == "bend_cur" else lbar
-    curv = _symbolic(H.bend_curvatures, *_vectors(y), L)
+    curv = _symbolic(D.bend_curvatures, *_vectors(y), L)
     u = sp.symbols("_k11 _k22 _k12", real=True)
     outer = _bend_quadratic(*u, *params)
-    _check_equal(outer.xreplace(dict(zip(u, curv))), _symbolic(H.bend_density, *_vectors(y), *params, L),
+    _check_equal(outer.xreplace(dict(zip(u, curv))), _symbolic(D.bend_density, *_vectors(y), *params, L),
                  (*y, *params), variant)
     length = "the current ``(|e1| + |e2|)/2``" if variant == "bend_cur" else "``lbar``"
     doc = (f"Value, gradient ``(15, ...)`` and Hessian ``(15, 15, ...)`` of the bending density per radian of an "
@@ -207,19 +204,19 @@ def _direct_kernel(name: str, what: str, variables: str, density: Callable[..., 
 def _pole_kernel(variant: str) -> str:
     north, current = "_north_" in variant, variant.endswith("_cur")
     return _direct_kernel(f"{variant}_jet", f"the pole's directional curvature ({variant})", "Pm, Pm', Pc, Pq, Pq'",
-                          lambda *a: H.pole_curvature(*a[:5], north, None if current else a[5]), ["lbar"])
+                          lambda *a: D.pole_curvature(*a[:5], north, None if current else a[5]), ["lbar"])
 
 
 def _kernels() -> list[str]:
     """Every kernel's source, in the order of :data:`KERNELS`."""
-    return ([_direct_kernel("stretch_jet", "the stretching density per radian of an edge", "D, Mp", H.stretch_density,
+    return ([_direct_kernel("stretch_jet", "the stretching density per radian of an edge", "D, Mp", D.stretch_density,
                             ["lbar", "rbar", "ks", "nu"])]
             + [_bend_kernel(v) for v in BEND_VARIANTS]
             + [_direct_kernel("free_edge_jet", "the bending density per radian of a rotating edge", "e, Dp, Pp, Ppp",
-                              H.free_edge_density, ["K", "kbar", "nu"]),
+                              D.free_edge_density, ["K", "kbar", "nu"]),
                _direct_kernel("volume_jet", "the volume per radian of the strip between two rings",
-                              "P_i, P_j, P'_i, P'_j", H.volume_density, []),
-               _direct_kernel("skirt_jet", "the skirt's volume per radian", "P_0, P'_0", H.skirt_density, ["z_ref"])]
+                              "P_i, P_j, P'_i, P'_j", D.volume_density, []),
+               _direct_kernel("skirt_jet", "the skirt's volume per radian", "P_0, P'_0", D.skirt_density, ["z_ref"])]
             + [_pole_kernel(v) for v in POLE_VARIANTS])
 
 

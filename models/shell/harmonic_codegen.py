@@ -129,11 +129,8 @@ def _bend_kernel(variant: str) -> str:
 
 def _symbolic(function: Callable[..., Any], *args: Any) -> Any:
     """``function(*args)`` on sympy symbols (the densities take their square roots by ``density._sqrt``)."""
-    density.SYMBOLIC_SQRT = sp.sqrt
-    try:
+    with density.symbolic_sqrt(sp.sqrt):
         return function(*args)
-    finally:
-        density.SYMBOLIC_SQRT = None
 
 
 def _hessian_kernel(name: str, doc: str, energy: Any, y: Sequence[Any], free: Sequence[int], params: Sequence[str],
