@@ -103,7 +103,7 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
         current, lin = _first_point(curve, u0, p0, tangent, correct_start)
     except STEP_FAILURES as exc:
         hint = ""
-        if isinstance(exc, (SingularMatrixError, np.linalg.LinAlgError)):
+        if isinstance(exc, np.linalg.LinAlgError):  # SingularMatrixError among them
             hint = ("; the Jacobian is singular at the start: a branch point (start next to it, or use "
                     "switch_branch), or a state on a branch that breaks a continuous symmetry, where a whole "
                     "orbit of equilibria passes through the start and only its fixed-point space (as "
