@@ -290,6 +290,14 @@ class Element:
             hess.append([[self._replace(e) for e in row] for row in d2])
         return jac, hess
 
+    def chain_strains(self) -> list[sp.Expr]:
+        """The strains as the kernels compute them: :attr:`strain_formulas` through the prelude and the inputs,
+        as functions of :attr:`dofs`."""
+        values = {s: e for s, e in self.inputs}
+        for s, e in self.prelude:
+            values[s] = e.xreplace(values)
+        return [self._replace(f).xreplace(values) for f in self.strain_formulas]
+
     def check_names(self) -> None:
         """Every name the kernels assign or take is distinct."""
         names = ([str(s) for s, _ in self.inputs] + [str(s) for s in self.params]
@@ -425,14 +433,6 @@ def axisymmetric_restriction(name: str, dofs: list[sp.Symbol],
     return tuple(e.xreplace(back) for e in strains), energy.xreplace(back)
 
 
-def _chain_strains(el: Element) -> list[sp.Expr]:
-    """The strains as the kernels compute them: :attr:`Element.strain_formulas` through the prelude and the inputs."""
-    values = {s: e for s, e in el.inputs}
-    for s, e in el.prelude:
-        values[s] = e.xreplace(values)
-    return [el._replace(f).xreplace(values) for f in el.strain_formulas]
-
-
 def _rational_points(el: Element, count: int) -> list[dict[sp.Symbol, sp.Rational]]:
     """Random states of the element's nodes at which every square root of its strains is rational.
 
@@ -480,7 +480,7 @@ def check_axisymmetric_restriction(el: Element) -> None:
     """
     strains, energy = axisymmetric_restriction(el.name, el.dofs, el.params)
     for point in _rational_points(el, 4):
-        for (key, derived), chain in zip(zip(el.strains, strains), _chain_strains(el)):
+        for (key, derived), chain in zip(zip(el.strains, strains), el.chain_strains()):
             difference = (derived - chain).xreplace(point)
             assert difference.is_Rational and difference == 0, (
                 f"{el.name}: {key} of the density is not the kernels' {key} at {point}")
