@@ -26,6 +26,49 @@ def test_generated_file_is_reproduced_byte_for_byte(tmp_path):
     assert_reproduced("shell", tmp_path)
 
 
+def _scaled(function, factor, index=None):
+    """``function`` with its result (or its result's entry ``index``) times ``factor``: a wrong density."""
+    def wrong(*args, **kwargs):
+        out = function(*args, **kwargs)
+        if index is None:
+            return out * factor
+        return tuple(v * factor if i == index else v for i, v in enumerate(out))
+    return wrong
+
+
+def test_elements_are_the_densities_restricted_to_axisymmetric_states():
+    from contin_models.shell import codegen
+
+    for el in codegen.build_elements():
+        codegen.check_axisymmetric_restriction(el)
+
+
+@pytest.mark.parametrize("name, attribute, factor, index, message", [
+    ("bend", "bend_curvatures", 1.01, 1, "kappa22 of the density"),
+    ("bend_cur", "bend_curvatures", 1.01, 0, "kappa11 of the density"),
+    ("stretch", "stretch_strains", 1.01, 1, "eps22 of the density"),
+    ("bend", "bend_density", 1.01, None, "2 pi times the density"),
+    ("stretch", "stretch_density", 2.1 / 2.0, None, "2 pi times the density"),
+])
+def test_axisymmetric_restriction_check_fails_for_a_wrong_density(monkeypatch, name, attribute, factor, index,
+                                                                   message):
+    from contin_models.shell import codegen, density
+
+    monkeypatch.setattr(density, attribute, _scaled(getattr(density, attribute), factor, index))
+    el = next(e for e in codegen.build_elements() if e.name == name)
+    with pytest.raises(AssertionError, match=message):
+        codegen.check_axisymmetric_restriction(el)
+
+
+def test_axisymmetric_restriction_check_fails_for_a_twist_at_axisymmetric_states(monkeypatch):
+    from contin_models.shell import codegen, density
+
+    curvatures = density.bend_curvatures
+    monkeypatch.setattr(density, "bend_curvatures", lambda *a: curvatures(*a)[:2] + (curvatures(*a)[0] * 0.01,))
+    with pytest.raises(AssertionError, match="third strain does not vanish"):
+        codegen.generate_source()
+
+
 # ---- (b) reference state -------------------------------------------------------------------------
 @pytest.mark.parametrize("variant", VARIANTS)
 @pytest.mark.parametrize("N, phi_hat", [(12, 0.6), (40, 1.2), (200, 0.8)])

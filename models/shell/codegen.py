@@ -36,7 +36,11 @@ Elements (notation of ``docs/model.md#the-discrete-shell``; a bar means "in the 
 
 How the derivatives are generated
 ---------------------------------
-The formulas above (:attr:`Element.strains`, in the node coordinates) are the definition.  The
+The formulas above are the 2-D densities of :mod:`contin_models.shell.density` at axisymmetric states
+(:func:`axisymmetric_restriction`): :attr:`Element.strains` are those restrictions, in the node
+coordinates, and the element's energy is ``2 pi`` times the density.  Before an element is emitted,
+:func:`check_axisymmetric_restriction` asserts that the strains the kernels compute are the
+density's, that the third strain (shear, twist) vanishes and that the weights agree.  The
 emitted code evaluates the same functions and their exact derivatives through a chain of changes of
 variables in which every step is small, which makes the kernels several times shorter than
 differentiating the Cartesian formulas directly (numpy pays per array operation, and for a few
@@ -95,6 +99,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import partial
+import random
 from pathlib import Path
 
 import sympy as sp
@@ -103,7 +108,11 @@ from sympy.printing.numpy import NumPyPrinter
 from contin.modelkit.codegen import (KernelBody, c_extension_text, count_operations, emitted_helpers, function_header,
                             generator_main, kernel_printer, module_text, upper_pairs)
 
-__all__ = ["Element", "Layer", "build_elements", "generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT",
+from . import density
+from .density_codegen import symbolic
+
+__all__ = ["Element", "Layer", "build_elements", "axisymmetric_restriction", "check_axisymmetric_restriction",
+           "generate_source", "generate_c_source", "main", "DEFAULT_OUTPUT",
            "C_OUTPUT"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_generated.py")
@@ -163,8 +172,8 @@ class Element:
     params : list of sympy.Symbol
         Further (per-element or material) arguments, after the dofs.
     strains : dict of str to sympy.Expr
-        The two strain measures as functions of :attr:`dofs` (the definition), returned by the
-        helper ``<name>_<strains_name>``.
+        The two strain measures as functions of :attr:`dofs` (the definition: the 2-D density's,
+        :func:`axisymmetric_restriction`), returned by the helper ``<name>_<strains_name>``.
     reference : tuple of sympy.Expr
         Their reference values (subtracted before the quadratic form).
     weight : sympy.Expr
@@ -281,6 +290,14 @@ class Element:
             hess.append([[self._replace(e) for e in row] for row in d2])
         return jac, hess
 
+    def chain_strains(self) -> list[sp.Expr]:
+        """The strains as the kernels compute them: :attr:`strain_formulas` through the prelude and the inputs,
+        as functions of :attr:`dofs`."""
+        values = {s: e for s, e in self.inputs}
+        for s, e in self.prelude:
+            values[s] = e.xreplace(values)
+        return [self._replace(f).xreplace(values) for f in self.strain_formulas]
+
     def check_names(self) -> None:
         """Every name the kernels assign or take is distinct."""
         names = ([str(s) for s, _ in self.inputs] + [str(s) for s in self.params]
@@ -367,12 +384,126 @@ class _CosMid(sp.Function):
         return -_SinMid(*self.args) / 2
 
 
+def axisymmetric_restriction(name: str, dofs: list[sp.Symbol],
+                             params: list[sp.Symbol]) -> tuple[tuple[sp.Expr, sp.Expr, sp.Expr], sp.Expr]:
+    """The 2-D density of element ``name`` at the axisymmetric state through its nodes, as sympy expressions.
+
+    At ``theta = 0`` the ring through node ``(r, z)`` has ``P = (r, 0, z)``, ``P' = (0, r, 0)`` and
+    ``P'' = (-r, 0, 0)`` in the frame ``(e_r, e_theta, e_z)``.  The radii are positive symbols while the
+    density is evaluated (so ``|P'| = r``), then the element's real ``dofs``; the densities' float
+    constants become exact (:func:`contin_models.shell.density_codegen.symbolic`).  A negative radius
+    (a node across the axis) is outside the definition: there ``|P'| = -r``, the 1-D formulas are
+    their continuation.
+
+    Parameters
+    ----------
+    name : str
+        ``stretch`` (:func:`contin_models.shell.density.stretch_strains`), ``bend`` or ``bend_cur``
+        (:func:`contin_models.shell.density.bend_curvatures` with ``L = lbar`` or the current length).
+    dofs : list of sympy.Symbol
+        The node coordinates ``[r0, z0, r1, z1, ...]`` (2 nodes for ``stretch``, 3 for bending).
+    params : list of sympy.Symbol
+        The element's parameters, in the order of :attr:`Element.params`.
+
+    Returns
+    -------
+    strains : tuple of sympy.Expr
+        ``(eps11, eps22, eps12)`` or ``(kappa11, kappa22, kappa12)``.
+    energy : sympy.Expr
+        The density (energy per radian).
+    """
+    radii = [sp.Dummy(str(r), positive=True) for r in dofs[0::2]]
+    P = [(r, 0, z) for r, z in zip(radii, dofs[1::2])]
+    Pp = [(0, r, 0) for r in radii]
+    Ppp = [(-r, 0, 0) for r in radii]
+    if name == "stretch":
+        D = tuple(b - a for a, b in zip(P[0], P[1]))
+        Mp = (0, (radii[0] + radii[1]) / 2, 0)
+        lbar, rbar = params[:2]
+        strains = symbolic(density.stretch_strains, D, Mp, lbar, rbar)
+        energy = symbolic(density.stretch_density, D, Mp, *params)
+    else:
+        e1 = tuple(b - a for a, b in zip(P[0], P[1]))
+        e2 = tuple(b - a for a, b in zip(P[1], P[2]))
+        Dp = tuple(b - a for a, b in zip(Pp[0], Pp[2]))
+        L = None if name == "bend_cur" else params[0]
+        strains = symbolic(density.bend_curvatures, e1, e2, Dp, Pp[1], Ppp[1], L)
+        energy = symbolic(density.bend_density, e1, e2, Dp, Pp[1], Ppp[1], *params, L)
+    back = dict(zip(radii, dofs[0::2]))
+    return tuple(e.xreplace(back) for e in strains), energy.xreplace(back)
+
+
+def _rational_points(el: Element, count: int) -> list[dict[sp.Symbol, sp.Rational]]:
+    """Random states of the element's nodes at which every square root of its strains is rational.
+
+    Each edge has a rational length and the direction ``(cos 2a, sin 2a)`` with ``tan(a / 2)``
+    rational, so that ``cos a``, ``sin a`` and with them the half turn between two edges are rational:
+    the strains then evaluate exactly (no rounding), and equal strains give an exact zero.  The radii
+    stay positive (a node's radius is large next to the edges).
+    """
+    rng = random.Random(len(el.dofs))
+
+    def fraction(low: int, high: int) -> sp.Rational:
+        return sp.Rational(rng.randint(low, high), 100)
+
+    points = []
+    for _ in range(count):
+        point = {p: fraction(10, 90) for p in el.params}
+        edges = []
+        for _edge in range(len(el.dofs) // 2 - 1):
+            t, length = fraction(-90, 90), fraction(5, 60)
+            c, s = (1 - t**2) / (1 + t**2), 2 * t / (1 + t**2)
+            edges.append((length * (c * c - s * s), length * 2 * c * s))
+        r, z = fraction(500, 900), fraction(-50, 50)
+        if len(edges) == 1:
+            nodes = [(r, z), (r + edges[0][0], z + edges[0][1])]
+        else:  # (r, z) is the middle node
+            nodes = [(r - edges[0][0], z - edges[0][1]), (r, z), (r + edges[1][0], z + edges[1][1])]
+        point.update(zip(el.dofs, [v for node in nodes for v in node]))
+        points.append(point)
+    return points
+
+
+def check_axisymmetric_restriction(el: Element) -> None:
+    """Assert that the element is the 2-D density restricted to axisymmetric states, times ``2 pi``.
+
+    With the density of :func:`axisymmetric_restriction`:
+
+    * :attr:`Element.strains` are its first two strains, and each equals the chain form the kernels
+      evaluate (:meth:`Element.chain_strains`) exactly at random rational states
+      (:func:`_rational_points`; sympy's ``simplify`` does not prove the circumferential curvature's
+      identity in reasonable time);
+    * its third (shear or twist) strain is zero;
+    * ``2 pi`` times the density minus the element's energy simplifies to zero, each strain an opaque
+      symbol on both sides: the weights and the quadratic forms agree.
+
+    Raises
+    ------
+    AssertionError
+        Naming the element and the quantity that differs.
+    """
+    strains, energy = axisymmetric_restriction(el.name, el.dofs, el.params)
+    assert list(el.strains.values()) == list(strains[:2]), f"{el.name}: the strains are not the density's"
+    for point in _rational_points(el, 4):
+        for (key, derived), chain in zip(zip(el.strains, strains), el.chain_strains()):
+            difference = (derived - chain).xreplace(point)
+            assert difference.is_Rational and difference == 0, (
+                f"{el.name}: {key} of the density is not the kernels' {key} at {point}")
+    assert strains[2] == 0, f"{el.name}: the density's third strain does not vanish at axisymmetric states"
+    opaque = sp.symbols("_s1 _s2", real=True)
+    as_symbols = dict(zip(strains[:2], opaque))
+    element = el.energy.xreplace(dict(zip(el.strains.values(), opaque)))
+    density_of_strains = energy.xreplace(as_symbols)
+    assert not density_of_strains.free_symbols & set(el.dofs), (
+        f"{el.name}: the density at axisymmetric states is not a function of its strains alone")
+    assert sp.simplify(2 * sp.pi * density_of_strains - element) == 0, (
+        f"{el.name}: 2 pi times the density is not the element's energy {el.weight} (s1^2 + 2 nu s1 s2 + s2^2)")
+
+
 def _stretch() -> Element:
     r0, z0, r1, z1 = sp.symbols("r0 z0 r1 z1", real=True)
     lbar, rbar, ks, nu = sp.symbols("lbar rbar ks nu", positive=True)
-    length = sp.sqrt((r1 - r0) ** 2 + (z1 - z0) ** 2)
-    eps11 = length / lbar - 1
-    eps22 = (r0 + r1) / (2 * rbar) - 1
+    eps11, eps22, _ = axisymmetric_restriction("stretch", [r0, z0, r1, z1], [lbar, rbar, ks, nu])[0]
     # local variables, prelude, strain variables
     er, ez, rs = sp.symbols("er ez rs", real=True)
     l, il, c, s, e11, e22 = sp.symbols("l il c s eps11 eps22", real=True)
@@ -407,16 +538,9 @@ def _bend(current_length: bool) -> Element:
     k11bar, k22bar = sp.symbols("k11bar k22bar", real=True)
     ar, az = r1 - r0, z1 - z0
     br, bz = r2 - r1, z2 - z1
-    la = sp.sqrt(ar**2 + az**2)
-    lb = sp.sqrt(br**2 + bz**2)
-    cross = ar * bz - az * br
-    dot = ar * br + az * bz
-    den = la * lb + dot  # |e1| |e2| (1 + cos xi)
-    length = (la + lb) / 2 if current_length else lbar
-    kappa11 = 2 * cross / (den * length)  # 2 tan(xi/2) / L
-    # radial part of the unit bisector normal: t = e1/|e1| + e2/|e2|, |t|^2 = 2 + 2 dot/(|e1||e2|)
-    n_r = (az / la + bz / lb) / sp.sqrt(2 + 2 * dot / (la * lb))
-    kappa22 = n_r / r1
+    name = "bend_cur" if current_length else "bend"
+    params = [lbar, rbar, k11bar, k22bar, kb, nu]
+    kappa11, kappa22, _ = axisymmetric_restriction(name, [r0, z0, r1, z1, r2, z2], params)[0]
     which = "current Voronoi length (|e1|+|e2|)/2" if current_length else "reference Voronoi length lbar"
 
     # local variables e1 = (ar, az), e2 = (br, bz), r1; the polar form of the two edges
@@ -454,9 +578,9 @@ def _bend(current_length: bool) -> Element:
                   hessians={0: la_hess, 1: t1_hess, 2: lb_hess, 3: t2_hess},
                   rotations=[(0, 1, 0, ca, sa, ila), (2, 3, 2, cb, sb, ilb)], passthrough={4: 4})
     return Element(
-        name="bend_cur" if current_length else "bend",
+        name=name,
         dofs=[r0, z0, r1, z1, r2, z2],
-        params=[lbar, rbar, k11bar, k22bar, kb, nu],
+        params=params,
         strains={"kappa11": kappa11, "kappa22": kappa22},
         reference=(k11bar, k22bar),
         weight=sp.pi * rbar * lbar * kb,
@@ -786,6 +910,7 @@ def generate_source() -> str:
     chunks: list[str] = []
     for el in elements:
         el.check_names()
+        check_axisymmetric_restriction(el)
         emitters = ((_emit_fast_energy, "fast_energy"), (_emit_fast_gradient, "fast_gradient"),
                     (_emit_fast_hessian, "fast_hessian"), (_emit_fast_gradient_hessian, "fast_gradient_hessian"),
                     (_emit_fast_strains, f"fast_{el.strains_name}"),

@@ -22,8 +22,8 @@ import numpy as np
 
 from .jets import Jet
 
-__all__ = ["SYMBOLIC_SQRT", "symbolic_sqrt", "stretch_density", "bend_curvatures", "bend_density", "pole_curvature", "volume_density",
-           "free_edge_density", "skirt_density"]
+__all__ = ["SYMBOLIC_SQRT", "symbolic_sqrt", "stretch_strains", "stretch_density", "bend_curvatures", "bend_density",
+           "pole_curvature", "volume_density", "free_edge_density", "skirt_density"]
 
 
 #: Square root of a symbolic expression (set by :func:`symbolic_sqrt` while the generators evaluate
@@ -85,16 +85,20 @@ def _addv(a, b):
 # Every vector is a 3-tuple of components in the local frame (e_r, e_theta, e_z) (or any orthonormal
 # frame: the densities are invariant); components are arrays or Jets.
 
+def stretch_strains(D, Mp, lbar, rbar):
+    """``(eps11, eps22, eps12)`` of an edge (arguments as :func:`stretch_density`)."""
+    g1 = _scale(D, 1.0 / lbar)
+    g2 = _scale(Mp, 1.0 / rbar)
+    n1, n2 = _norm(g1), _norm(g2)
+    return n1 - 1.0, n2 - 1.0, _dot(g1, g2) / (n1 * n2) * 0.5
+
+
 def stretch_density(D, Mp, lbar, rbar, ks, nu):
     """Stretching energy per radian of an edge.
 
     ``D = P_j - P_i`` (the chord between the rings at one ``theta``), ``Mp = (P'_i + P'_j) / 2``.
     """
-    g1 = _scale(D, 1.0 / lbar)
-    g2 = _scale(Mp, 1.0 / rbar)
-    n1, n2 = _norm(g1), _norm(g2)
-    e11, e22 = n1 - 1.0, n2 - 1.0
-    e12 = _dot(g1, g2) / (n1 * n2) * 0.5
+    e11, e22, e12 = stretch_strains(D, Mp, lbar, rbar)
     q = e11 * e11 + 2.0 * nu * (e11 * e22) + e22 * e22 + 2.0 * (1.0 - nu) * (e12 * e12)
     return q * (0.5 * rbar * lbar * ks)
 

@@ -64,7 +64,7 @@ from contin.modelkit.codegen import KernelBody, generator_main, kernel_printer, 
 
 from . import density as D
 
-__all__ = ["generate_source", "main", "DEFAULT_OUTPUT", "KERNELS"]
+__all__ = ["generate_source", "main", "symbolic", "DEFAULT_OUTPUT", "KERNELS"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_density_generated.py")
 BEND_VARIANTS = ("bend_cur", "bend_ref")
@@ -73,7 +73,7 @@ POLE_VARIANTS = tuple(f"pole_{side}_{length}" for side in ("north", "south") for
 KERNELS = tuple(f"{name}_jet" for name in ("stretch", *BEND_VARIANTS, "free_edge", "volume", "skirt", *POLE_VARIANTS))
 
 
-def _symbolic(function: Callable[..., Any], *args: Any) -> Any:
+def symbolic(function: Callable[..., Any], *args: Any) -> Any:
     """``function(*args)`` on sympy symbols (:func:`contin_models.shell.density.symbolic_sqrt`), each result's
     float constants made exact (``1.0 / 3.0`` is ``1/3``: no ``1.0*x`` left in the kernels)."""
     with D.symbolic_sqrt(sp.sqrt):
@@ -179,10 +179,10 @@ def _bend_kernel(variant: str) -> str:
     params = sp.symbols("lbar rbar k11bar k22bar kb nu", real=True)
     lbar = params[0]
     L = None if variant == "bend_cur" else lbar
-    curv = _symbolic(D.bend_curvatures, *_vectors(y), L)
+    curv = symbolic(D.bend_curvatures, *_vectors(y), L)
     u = sp.symbols("_k11 _k22 _k12", real=True)
     outer = _bend_quadratic(*u, *params)
-    _check_equal(outer.xreplace(dict(zip(u, curv))), _symbolic(D.bend_density, *_vectors(y), *params, L),
+    _check_equal(outer.xreplace(dict(zip(u, curv))), symbolic(D.bend_density, *_vectors(y), *params, L),
                  (*y, *params), variant)
     length = "the current ``(|e1| + |e2|)/2``" if variant == "bend_cur" else "``lbar``"
     doc = (f"Value, gradient ``(15, ...)`` and Hessian ``(15, 15, ...)`` of the bending density per radian of an "
@@ -195,7 +195,7 @@ def _direct_kernel(name: str, what: str, variables: str, density: Callable[..., 
     ``variables`` names its vector arguments, ``what`` says what it is."""
     k = 3 * len(variables.split(", "))
     y = sp.symbols(f"y0:{k}", real=True)
-    E = _symbolic(density, *_vectors(y), *[sp.Symbol(p, real=True) for p in params])
+    E = symbolic(density, *_vectors(y), *[sp.Symbol(p, real=True) for p in params])
     u = sp.Symbol("_u0", real=True)
     doc = f"Value, gradient ``({k}, ...)`` and Hessian ``({k}, {k}, ...)`` of {what} in ``({variables})``."
     return _kernel(name, doc, y, [E], u, [u], params)
