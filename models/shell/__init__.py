@@ -35,7 +35,8 @@ _EXPORTS: dict[str, str] = {
                      "meridian", "plate_meridian", "spherical_cap_meridian", "table_meridian", "torus_meridian",
                      "with_dimple", "with_mode"), "meridian"),
     "ShellPressure": "pressure",
-    **dict.fromkeys(("PoleMirror", "ShellPointLoad"), "problem"),
+    "PoleMirror": "elements",
+    "ShellPointLoad": "problem",
 }
 
 __all__ = ["HALF_BANDWIDTH", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "ShellPressure", "interleave",

@@ -64,8 +64,9 @@ from typing import Literal
 
 import numpy as np
 
+from .elements import ClampedEdge
 from .geometry import spherical_cap
-from .structure import ClampedEdge, ShellOfRevolution, ShellStructure
+from .structure import ShellOfRevolution, ShellStructure
 
 __all__ = ["ShellPressure", "ClampedEdge", "BOUNDARIES", "classical_pressure", "cap_lambda",
            "phi_hat_for_lambda"]

@@ -76,6 +76,7 @@ from contin.analyses.deadload import DeadLoad
 from contin.numerics.linalg import BandedLU, Factorization, FixedPattern, inf_norm, same_values, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
+from .elements import PoleMirror
 from .energy import HALF_BANDWIDTH, ShellEnergy
 from .geometry import POLE_RATIO, spherical_cap
 from .reference import ShellReference
@@ -99,86 +100,6 @@ def shell_residual_scale(E: float, h: float, R: float, H: sp.csr_matrix) -> floa
 
 def _scaled(derivative: tuple[np.ndarray, float], factor: float) -> tuple[np.ndarray, float]:
     return derivative[0] * factor, derivative[1] * factor
-
-
-class PoleMirror:
-    """Bending element of the pole node with a mirror node across the axis.
-
-    Acts on the local variables ``(r_{N-2}, z_{N-2}, z_{N-1})`` through ``a = r_{N-2}`` and
-    ``b = z_{N-1} - z_{N-2}`` (``r_{N-1} = 0``).
-
-    Parameters
-    ----------
-    lbar : float
-        Reference length of the last edge (the pole's Voronoi length with the mirror edge).
-    kb : float
-        Bending stiffness ``E h^3 / (12 (1 - nu^2))``.
-    nu : float
-        Poisson's ratio.
-    current_length : bool
-        Use the current last-edge length ``sqrt(a^2 + b^2)`` in ``kappa11`` instead of ``lbar``.
-    a_bar, b_bar : float
-        Reference ``a`` and ``b``; the reference curvature ``kappabar`` comes from the same formula,
-        so the reference state is stress free.
-
-    Notes
-    -----
-    The element's area ``pi (lbar/2)^2`` is the exact area of the pole's cell, so that with the
-    interior rings the cells tile the cap; the module docstring ("Pole treatment") gives the
-    measured effect of other weights and lengths.
-    """
-
-    def __init__(self, lbar: float, kb: float, nu: float, current_length: bool,
-                 a_bar: float, b_bar: float) -> None:
-        self.lbar = float(lbar)
-        self.current_length = bool(current_length)
-        self.area = math.pi * (0.5 * self.lbar) ** 2
-        self.K = self.area * kb * (1.0 + nu)
-        self.kappa_bar = self.curvature(a_bar, b_bar)[0]
-
-    def curvature(self, a: float, b: float) -> tuple[float, np.ndarray, np.ndarray]:
-        """Pole curvature ``kappa`` with its gradient and Hessian in ``(a, b)``."""
-        if self.current_length:
-            s = a * a + b * b
-            rs = math.sqrt(s)
-            s32 = s * rs
-            s52 = s32 * s
-            k = 2.0 * b / (a * rs)
-            ka = -2.0 * b / (a * a * rs) - 2.0 * b / s32
-            kb_ = 2.0 * a / s32
-            kaa = 4.0 * b / (a ** 3 * rs) + 2.0 * b / (a * s32) + 6.0 * a * b / s52
-            kab = 2.0 / s32 - 6.0 * a * a / s52
-            kbb = -6.0 * a * b / s52
-        else:
-            c = 2.0 / self.lbar
-            k = c * b / a
-            ka = -c * b / (a * a)
-            kb_ = c / a
-            kaa = 2.0 * c * b / a ** 3
-            kab = -c / (a * a)
-            kbb = 0.0
-        return k, np.array([ka, kb_]), np.array([[kaa, kab], [kab, kbb]])
-
-    # local (r_{N-2}, z_{N-2}, z_{N-1}) -> (a, b) is linear with this Jacobian
-    _T = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 1.0]])
-
-    def energy(self, a: float, b: float) -> float:
-        """Element energy ``K (kappa - kappabar)^2``."""
-        k = self.curvature(a, b)[0]
-        return self.K * (k - self.kappa_bar) ** 2
-
-    def gradient_hessian(self, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
-        """Gradient (3,) and Hessian (3, 3) in the local variables ``(r_{N-2}, z_{N-2}, z_{N-1})``."""
-        k, g, H = self.curvature(a, b)
-        c, B = 2.0 * self.K, k - self.kappa_bar
-        (ka, kb_), ((kaa, kab), (_, kbb)) = g.tolist(), H.tolist()
-        # T^T g and T^T H T with T = _T (a = r_{N-2}, b = z_{N-1} - z_{N-2}), written out in floats:
-        # the pole element is evaluated with every gradient and Hessian, and small-array numpy
-        # operations cost more than the arithmetic
-        ga, gb = c * B * ka, c * B * kb_
-        haa, hab, hbb = c * (ka * ka + B * kaa), c * (ka * kb_ + B * kab), c * (kb_ * kb_ + B * kbb)
-        return (np.array([ga, -gb, gb]),
-                np.array([[haa, -hab, hab], [-hab, hbb, -hbb], [hab, -hbb, hbb]]))
 
 
 def csr_slots(A: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:

@@ -16,15 +16,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 
+from .elements import ClampedEdge, MomentFreeEdge, PoleMirror
 from .energy import _bend_local, _edges, kernels
 from .supports import SUPPORTS
-
-if TYPE_CHECKING:
-    from .problem import PoleMirror
 
 __all__ = ["ShellReference", "StretchReference", "BendReference", "PoleReference", "EdgeReference"]
 
@@ -300,10 +298,6 @@ class ShellReference:
 
     def _supports(self, boundary: str | None, edge_bending: str, pole: str) -> None:
         """The axis nodes, the poles' and the edge's elements, and the fixed dofs."""
-        # the small elements live beside the problems that compose them, which build this table
-        from .problem import PoleMirror
-        from .structure import ClampedEdge, MomentFreeEdge
-
         meridian, N, nu = self.meridian, self.N, self.nu
         r, z = np.asarray(meridian.r, dtype=float), np.asarray(meridian.z, dtype=float)
         self.boundary = boundary

@@ -50,9 +50,9 @@ import scipy.sparse as sp
 from contin.numerics.linalg import BandedLU, Factorization, same_values, symmetric_column
 from contin.problem import LeadingBlock, Problem
 
-from . import _generated as gen
+from .elements import ClampedEdge, MomentFreeEdge, PoleMirror, edge_tangent
 from .energy import HALF_BANDWIDTH, ShellEnergy
-from .problem import PoleMirror, SubMatrix, csr_slots, shell_residual_scale
+from .problem import SubMatrix, csr_slots, shell_residual_scale
 from .reference import ShellReference
 from .supports import SUPPORTS  # defined apart: the scene schema reads it without loading numpy
 from .volume import PressureTerm, volume_gradient, volume_hessian
@@ -66,147 +66,6 @@ LOADS = ("point", "ring", "pressure")
 #: Hessians kept per structure: the engine asks for the Jacobian, the stability operators and the
 #: observables' derivatives at the same state.
 _HESSIAN_CACHE_SIZE = 3
-
-
-def edge_tangent(r: np.ndarray, z: np.ndarray) -> tuple[float, float]:
-    """Unit tangent at node 0 of a polyline, pointing along it, from the circle through nodes 0, 1, 2.
-
-    Exact for a polyline whose first three nodes lie on a circle or a straight line (spherical caps,
-    tori, plates, cones), second-order in the spacing otherwise.
-    """
-    p0, p1, p2 = (np.array([r[k], z[k]], dtype=float) for k in range(3))
-    a, b = p1 - p0, p2 - p0
-    cross = a[0] * b[1] - a[1] * b[0]
-    if abs(cross) <= 1e-14 * np.linalg.norm(a) * np.linalg.norm(b):  # collinear: a straight edge
-        t = a
-    else:
-        # centre c of the circle through p0, p1, p2 (relative to p0); the tangent at p0 is normal to c
-        aa, bb = a @ a, b @ b
-        c = np.array([b[1] * aa - a[1] * bb, a[0] * bb - b[0] * aa]) / (2.0 * cross)
-        t = np.array([-c[1], c[0]])
-        if t @ a < 0:
-            t = -t
-    t = t / np.linalg.norm(t)
-    return float(t[0]), float(t[1])
-
-
-class ClampedEdge:
-    """Bending element of the edge node against a fixed ghost node on the reference edge tangent.
-
-    The interior nodes' bending element (generated ``"bend"`` kernel, ``kappa11`` over the reference
-    length given) on the nodes ``(ghost, 0, 1)``, with length and weight the half of the first
-    reference edge inside the shell.  The ghost lies one first-edge length behind node 0 along the
-    reference tangent (the smooth meridian's, else :func:`edge_tangent`).  Why the tangent and the half cell:
-    :mod:`contin_models.shell.pressure`.
-
-    Parameters
-    ----------
-    r, z : ndarray
-        Reference node coordinates (node 0 is the edge).
-    kb, nu : float
-        Bending stiffness at the edge node and Poisson's ratio.
-    tangent : (float, float), optional
-        Unit tangent of the smooth reference meridian at node 0, along it; default
-        :func:`edge_tangent` of the nodes.
-    """
-
-    #: Full-state dofs of the element's real nodes (0 and 1): ``r_0, z_0, r_1, z_1``.
-    dofs = np.arange(4)
-
-    def __init__(self, r: np.ndarray, z: np.ndarray, kb: float, nu: float,
-                 tangent: tuple[float, float] | None = None) -> None:
-        l0 = math.hypot(r[1] - r[0], z[1] - z[0])
-        tr, tz = edge_tangent(r, z) if tangent is None else tangent
-        self.ghost = (float(r[0]) - l0 * tr, float(z[0]) - l0 * tz)
-        self.lbar = 0.5 * l0  # the edge node's cell inside the shell
-        self.rbar = float(r[0])
-        self.kb, self.nu = float(kb), float(nu)
-        k11, k22 = gen.bend_curvatures(*self.ghost, r[0], z[0], r[1], z[1],
-                                       self.lbar, self.rbar, 0.0, 0.0, self.kb, self.nu)
-        self.kappa_bar = (float(k11), float(k22))
-
-    def _args(self, x: np.ndarray) -> tuple:
-        return (*self.ghost, x[0], x[1], x[2], x[3], self.lbar, self.rbar, *self.kappa_bar, self.kb, self.nu)
-
-    def curvatures(self, x: np.ndarray) -> tuple[float, float]:
-        """``(kappa11, kappa22)`` at the edge node of a full state."""
-        k11, k22 = gen.bend_curvatures(*self._args(x))
-        return float(k11), float(k22)
-
-    def energy(self, x: np.ndarray) -> float:
-        """Element energy ``pi rbar lbar kb (B11^2 + 2 nu B11 B22 + B22^2)`` of a full state."""
-        return float(gen.bend_energy(*self._args(x)))
-
-    def gradient(self, x: np.ndarray) -> np.ndarray:
-        """Gradient (4,) in :attr:`dofs` (the ghost is fixed: its entries are dropped)."""
-        return gen.bend_gradient(*self._args(x))[2:]
-
-    def hessian(self, x: np.ndarray) -> np.ndarray:
-        """Hessian (4, 4) in :attr:`dofs`."""
-        return gen.bend_hessian(*self._args(x))[2:, 2:]
-
-
-class MomentFreeEdge:
-    """Bending element of an edge node whose rotation is free: the half cell inside the shell, moment free.
-
-    At an edge that may rotate (sliding, pinned, free) the meridional moment vanishes,
-    ``B11 + nu B22 = 0``, so the bending energy density ``kb (B11^2 + 2 nu B11 B22 + B22^2)`` of the
-    edge's cell is ``kb (1 - nu^2) B22^2`` with ``B22`` the change of the hoop curvature
-    ``kappa22 = n_r / r_0``, ``n`` the first edge's unit normal.  Weighted with the half cell
-    ``pi r0bar lbar_0 / 2`` the node owns inside the shell, as for the interior nodes and
-    :class:`ClampedEdge`.  Without it the edge's half cell carries no bending energy at all, an
-    O(spacing) error: a pinned plate under a central point load then converges at first order
-    (errors 5.5e-4, 2.7e-4 at N = 400, 800); with it at order 1.9 (2.0e-5, 5.9e-6;
-    ``tests/test_shell_structure.py``).  The paper's base has no such element (``edge_bending="none"``).
-
-    Parameters
-    ----------
-    r, z : ndarray
-        Reference node coordinates (node 0 is the edge, off the axis).
-    kb, nu : float
-        Bending stiffness at the edge node and Poisson's ratio.
-    """
-
-    #: Full-state dofs of the element: ``r_0, z_0, r_1, z_1``.
-    dofs = np.arange(4)
-    _DR = np.array([-1.0, 0.0, 1.0, 0.0])
-    _DZ = np.array([0.0, -1.0, 0.0, 1.0])
-
-    def __init__(self, r: np.ndarray, z: np.ndarray, kb: float, nu: float) -> None:
-        l0 = math.hypot(r[1] - r[0], z[1] - z[0])
-        self.K = math.pi * float(r[0]) * 0.5 * l0 * float(kb) * (1.0 - nu * nu)
-        self.kappa_bar = self.curvature(np.array([r[0], z[0], r[1], z[1]], dtype=float))[0]
-
-    def curvature(self, u: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
-        """``kappa22 = (z_1 - z_0) / (l r_0)`` with its gradient and Hessian in ``(r_0, z_0, r_1, z_1)``."""
-        r0, z0, r1, z1 = (float(v) for v in u[:4])
-        dr, dz = r1 - r0, z1 - z0
-        l = math.hypot(dr, dz)
-        a, b, c = dz, 1.0 / l, 1.0 / r0  # kappa22 = a b c
-        g = dr * self._DR + dz * self._DZ  # l dl
-        da, db, dc = self._DZ, -g / l**3, np.array([-c * c, 0.0, 0.0, 0.0])
-        Hb = 3.0 / l**5 * np.outer(g, g) - (np.outer(self._DR, self._DR) + np.outer(self._DZ, self._DZ)) / l**3
-        Hc = np.zeros((4, 4))
-        Hc[0, 0] = 2.0 * c**3
-        t = db * c + b * dc
-        k = a * b * c
-        dk = da * b * c + a * t
-        Hk = a * (Hb * c + np.outer(db, dc) + np.outer(dc, db) + b * Hc) + np.outer(da, t) + np.outer(t, da)
-        return k, dk, Hk
-
-    def energy(self, x: np.ndarray) -> float:
-        """``K (kappa22 - kappabar22)^2`` of a full state."""
-        return self.K * (self.curvature(x)[0] - self.kappa_bar) ** 2
-
-    def gradient(self, x: np.ndarray) -> np.ndarray:
-        """Gradient (4,) in :attr:`dofs`."""
-        k, dk, _ = self.curvature(x)
-        return 2.0 * self.K * (k - self.kappa_bar) * dk
-
-    def hessian(self, x: np.ndarray) -> np.ndarray:
-        """Hessian (4, 4) in :attr:`dofs`."""
-        k, dk, Hk = self.curvature(x)
-        return 2.0 * self.K * (np.outer(dk, dk) + (k - self.kappa_bar) * Hk)
 
 
 class ShellStructure:
