@@ -11,9 +11,11 @@ Reading order:
    every element's reference data (:class:`~contin_models.shell.reference.ShellReference`).
 2. **The energy written once**: :mod:`~contin_models.shell.density`, the 2-D energy densities; the generators
    :mod:`~contin_models.shell.codegen` and :mod:`~contin_models.shell.harmonic_codegen` and the kernels they emit.
-3. **The views**: :mod:`~contin_models.shell.jets` (forward second derivatives), :mod:`~contin_models.shell.energy`
+3. **The views**: :mod:`~contin_models.shell.layouts` (which rings each density reads, shared by every view),
+   :mod:`~contin_models.shell.jets` (forward second derivatives), :mod:`~contin_models.shell.energy`
    (the traced axisymmetric energy, :class:`ShellEnergy`), :mod:`~contin_models.shell.harmonic` (the blocks per
-   wave number and the ring mesh).
+   wave number and the ring mesh), :mod:`~contin_models.shell.fourier` (the 3-D view: rings moving in three
+   directions, Fourier series in the angle, :class:`FourierShell`).
 4. **Loads**: :mod:`~contin_models.shell.volume` (the forces live in the problems; contact in
    :mod:`contin_models.contact`).
 5. **The problem**: :mod:`~contin_models.shell.structure`, :mod:`~contin_models.shell.problem`,
@@ -35,11 +37,12 @@ _EXPORTS: dict[str, str] = {
                      "meridian", "plate_meridian", "spherical_cap_meridian", "table_meridian", "torus_meridian",
                      "with_dimple", "with_mode"), "meridian"),
     "ShellPressure": "pressure",
+    **dict.fromkeys(("AngularBasis", "FourierShell"), "fourier"),
     "PoleMirror": "elements",
     "ShellPointLoad": "problem",
 }
 
-__all__ = ["HALF_BANDWIDTH", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "ShellPressure", "interleave",
+__all__ = ["AngularBasis", "FourierShell", "HALF_BANDWIDTH", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "ShellPressure", "interleave",
            "spherical_cap", "split",
            "Cone", "EllipseArc", "ReferenceMeridian", "Segment", "SphericalArc", "TableProfile", "TorusArc",
            "annulus_meridian", "complete_sphere_meridian", "cone_meridian", "ellipsoid_cap_meridian", "meridian",

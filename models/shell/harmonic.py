@@ -190,6 +190,7 @@ from contin.numerics.stability import stability_info
 from . import _harmonic_generated
 from .density import (_addv, _norm, _scale, _sub, bend_curvatures, bend_density, free_edge_density, pole_curvature,
                       skirt_density, stretch_density, volume_density)
+from . import layouts
 from .jets import Jet
 
 __all__ = ["Jet", "HarmonicShell", "HarmonicDofs", "harmonic_block", "harmonic_dofs", "harmonic_family", "harmonic_mode",
@@ -350,21 +351,15 @@ class HarmonicShell:
     # ---- local variables -------------------------------------------------------------------------
     def _layouts(self) -> list:
         """``(name, nodes, layout)`` of the stretch, bend and volume families (they do not depend on the state)."""
-        layouts = self.__dict__.get("_family_layouts")
-        if layouts is None:
+        families = self.__dict__.get("_family_layouts")
+        if families is None:
             i = np.arange(self.N - 1)
             j = self.b_nodes
-            layouts = self._family_layouts = [
-                # stretch: D = P_j - P_i, Mp = (P'_i + P'_j)/2
-                ("stretch", np.stack([i, i + 1], axis=1), [([(1, 1.0), (0, -1.0)], "P"), ([(0, 0.5), (1, 0.5)], "Pp")]),
-                # bend: e1, e2, Dp, Pp, Ppp
-                ("bend", np.stack([j - 1, j, j + 1], axis=1),
-                 [([(1, 1.0), (0, -1.0)], "P"), ([(2, 1.0), (1, -1.0)], "P"), ([(2, 1.0), (0, -1.0)], "Pp"),
-                  ([(1, 1.0)], "Pp"), ([(1, 1.0)], "Ppp")]),
-                # volume strips: Pi, Pj, P'i, P'j
-                ("volume", np.stack([i, i + 1], axis=1),
-                 [([(0, 1.0)], "P"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "Pp")])]
-        return layouts
+            families = self._family_layouts = [
+                ("stretch", np.stack([i, i + 1], axis=1), layouts.STRETCH),
+                ("bend", np.stack([j - 1, j, j + 1], axis=1), layouts.BEND),
+                ("volume", np.stack([i, i + 1], axis=1), layouts.VOLUME)]
+        return families
 
     def _families(self, x: np.ndarray, names: tuple = ("stretch", "bend")) -> dict:
         """Local vectors ``(nodes, layout, values)`` of the families ``names`` at an axisymmetric state ``x``."""
@@ -432,7 +427,7 @@ class HarmonicShell:
                 vals = [V["P"][c][:1] for c in range(3)] + [V["Pp"][c][:1] for c in range(3)]
                 y = Jet.variables(vals)
                 e = skirt_density(tuple(y[0:3]), tuple(y[3:6]), self.z_ref)
-                loc["skirt"] = (np.array([[0]]), [([(0, 1.0)], "P"), ([(0, 1.0)], "Pp")], e.h)
+                loc["skirt"] = (np.array([[0]]), layouts.SKIRT, e.h)
         return loc["volume"]
 
     def local_hessians(self, x: np.ndarray) -> dict:
@@ -472,9 +467,7 @@ class HarmonicShell:
                     + [V["Pp"][c][1:2] - G["Pp"][c] for c in range(3)] + [V["Pp"][c][:1] for c in range(3)]
                     + [V["Ppp"][c][:1] for c in range(3)])
             Hc = self._bend_hessian(vals, (cl.lbar, cl.rbar, cl.kappa_bar[0], cl.kappa_bar[1], cl.kb, cl.nu), False)
-            layout = [([(0, 1.0)], "P"), ([(1, 1.0), (0, -1.0)], "P"), ([(1, 1.0)], "Pp"), ([(0, 1.0)], "Pp"),
-                      ([(0, 1.0)], "Ppp")]
-            res["clamp"] = (np.array([[0, 1]]), layout, Hc)
+            res["clamp"] = (np.array([[0, 1]]), layouts.CLAMP, Hc)
         if self.free_edge is not None:
             fe = self.free_edge
             vals = ([V["P"][c][1:2] - V["P"][c][:1] for c in range(3)] + [V["Pp"][c][1:2] - V["Pp"][c][:1] for c in range(3)]
@@ -486,9 +479,7 @@ class HarmonicShell:
                 y = Jet.variables(vals)
                 Hf = free_edge_density(tuple(y[0:3]), tuple(y[3:6]), tuple(y[6:9]), tuple(y[9:12]), fe.K,
                                        fe.kappa_bar, self.nu).h
-            layout = [([(1, 1.0), (0, -1.0)], "P"), ([(1, 1.0), (0, -1.0)], "Pp"), ([(0, 1.0)], "Pp"),
-                      ([(0, 1.0)], "Ppp")]
-            res["free_edge"] = (np.array([[0, 1]]), layout, Hf)
+            res["free_edge"] = (np.array([[0, 1]]), layouts.FREE_EDGE, Hf)
         # poles: the curvature B(theta) as a jet (value, gradient, Hessian) in Pm, Pm', Pc, Pq, Pq'
         res["poles"] = []
         for k, nb, north, element in self.poles:
@@ -505,7 +496,7 @@ class HarmonicShell:
                                      north, L)
                 v, g, h = kap.v[0], kap.g[:, 0], kap.h[:, :, 0]
             B0 = float(v) - element.kappa_bar
-            layout = [([(0, 1.0)], "P"), ([(0, 1.0)], "Pp"), ([(1, 1.0)], "P"), ([(0, 1.0)], "Q"), ([(0, 1.0)], "Qp")]
+            layout = layouts.POLE
             Akb = element.K / (1.0 + self.nu)  # A kb
             res["poles"].append((np.array([[nb, k]]), layout, B0, g, h, Akb))
         self._cache[key] = res

@@ -1,0 +1,448 @@
+"""The 3-D view of the shell: rings of material points moving in three directions, Fourier series in the angle.
+
+The traced model knows only axisymmetric states; the harmonic blocks (:mod:`contin_models.shell.harmonic`)
+know the second variation about them.  This view carries states that are not axisymmetric at all, with
+the same energy: the 2-D densities of :mod:`contin_models.shell.density`, read through the shared
+layouts of :mod:`contin_models.shell.layouts`, differentiated by the generated kernels of
+:mod:`contin_models.shell._density_generated` (value, gradient and Hessian at any state).
+
+Unknowns
+--------
+Node ``i`` of the meridian is a ring of material points labelled by the reference angle ``theta``.
+In the local frame ``(e_r(theta), e_theta(theta), e_z)`` a point sits at ``P_i(theta) = (R, T, Z)``,
+and each of the three components is a short Fourier series in ``theta`` (:class:`AngularBasis`):
+
+* a state symmetric under the dihedral group ``D_n`` (``n``-fold rotation about the axis and the
+  mirror in the meridional plane ``theta = 0``): ``R`` and ``Z`` are cosine series and ``T`` a sine
+  series of the wave numbers ``0, n, 2n, ..., K n``;
+* a state symmetric under rotations only (``C_n``), or without any symmetry (``n = 1``): cosines and
+  sines of each wave number in every component.
+
+The unknowns are the series' coefficients, node by node (``m`` per node, :attr:`AngularBasis.terms`),
+so the Hessian is banded along the meridian with a half-bandwidth of about ``3 m``: a Newton step costs
+O(N) at a fixed angular resolution.  An axisymmetric state is ``R = r_i``, ``Z = z_i`` (the ``k = 0``
+cosines) and every other coefficient zero.
+
+The angle
+---------
+The energy is integrated over ``theta`` by the trapezoidal rule on ``M`` equally spaced angles.  On the
+harmonics of a ``D_n`` basis the integrand has period ``2 pi / n`` and is even in ``theta``, so the
+rule is evaluated on the ``M / (2 n) + 1`` angles of one half period, the ends weighted half.  The rule
+integrates a trigonometric polynomial of degree below ``M`` exactly, so with ``M > 2 K n`` the second
+variation about an axisymmetric state (a quadratic form in the coefficients with ``theta``-independent
+density Hessians) is integrated exactly: the Hessian of this view at an axisymmetric state, restricted
+to wave number ``k``, *is* the harmonic block of ``k`` (the ``theta``-derivatives are exact on both
+sides), so a branch point located by the blocks is a branch point of this view.  Away from
+axisymmetric states the rule converges spectrally in ``M``.
+
+The pole is one material point: its coefficients are tied so that ``P(theta)`` does not depend on
+``theta`` (:meth:`FourierShell.reduction`); its element reads the neighbour ring at ``theta + pi``, which
+this view evaluates from the series directly.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import _density_generated as _dgen
+from . import layouts
+
+__all__ = ["AngularBasis", "FourierShell", "FourierReduction"]
+
+#: The frame component of each unknown component: ``R`` radial, ``T`` circumferential, ``Z`` axial.
+_FRAME = {"R": 0, "T": 1, "Z": 2}
+
+
+@dataclass(frozen=True)
+class AngularBasis:
+    """The Fourier series in the angle of one symmetry class, and the quadrature that integrates over it.
+
+    Parameters
+    ----------
+    n : int
+        The order of the rotational symmetry: the wave numbers are ``0, n, ..., K n`` (``>= 1``;
+        ``n = 1`` with ``mirror=False`` is no symmetry at all).
+    K : int
+        The number of harmonics above ``0`` (``>= 0``; ``K = 0`` is an axisymmetric state).
+    mirror : bool
+        The states are symmetric about the meridional plane ``theta = 0`` (``D_n``; else ``C_n``).
+    M : int, optional
+        Angles of the trapezoidal rule on the whole circle: a multiple of ``2 n`` (``D_n``) or of ``n``,
+        above ``2 K n`` (so that quadratic forms about axisymmetric states are integrated exactly).
+        Default ``2 n (2 K + 2)``: twice the harmonics' resolution.
+    """
+
+    n: int
+    K: int
+    mirror: bool = True
+    M: int | None = None
+    terms: tuple = field(init=False, repr=False)
+    theta: np.ndarray = field(init=False, repr=False)
+    weights: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        n, K = self.n, self.K
+        if not isinstance(n, (int, np.integer)) or n < 1:
+            raise ValueError(f"AngularBasis: n (the order of the rotational symmetry) must be an integer >= 1, got {n!r}")
+        if not isinstance(K, (int, np.integer)) or K < 0:
+            raise ValueError(f"AngularBasis: K (the number of harmonics above 0) must be an integer >= 0, got {K!r}")
+        period = 2 * n if self.mirror else n
+        M = 2 * n * (2 * K + 2) if self.M is None else self.M
+        if not isinstance(M, (int, np.integer)) or M % period or M <= 2 * K * n:
+            raise ValueError(f"AngularBasis: M (angles of the quadrature on the circle) must be a multiple of {period} "
+                             f"above 2 K n = {2 * K * n}, got {M!r}")
+        object.__setattr__(self, "M", int(M))
+        terms = []
+        for k in range(0, n * K + 1, n):
+            terms += [("R", "cos", k), ("Z", "cos", k)]
+            if k > 0:
+                terms.append(("T", "sin", k))
+            if not self.mirror:
+                if k > 0:
+                    terms += [("R", "sin", k), ("Z", "sin", k)]
+                terms.append(("T", "cos", k))
+        object.__setattr__(self, "terms", tuple(terms))
+        dth = 2.0 * math.pi / M
+        if self.mirror:  # one half period, the ends weighted half
+            q = np.arange(M // (2 * n) + 1)
+            w = np.full(q.size, 2.0 * n * dth)
+            w[0] = w[-1] = n * dth
+        else:  # one period
+            q = np.arange(M // n)
+            w = np.full(q.size, n * dth)
+        object.__setattr__(self, "theta", q * dth)
+        object.__setattr__(self, "weights", w)
+
+    @property
+    def m(self) -> int:
+        """Unknowns per node."""
+        return len(self.terms)
+
+    @property
+    def wave_numbers(self) -> np.ndarray:
+        """``0, n, ..., K n``."""
+        return np.arange(0, self.n * self.K + 1, self.n)
+
+    def index(self, component: str, trig: str, k: int) -> int:
+        """Position of the coefficient of ``trig(k theta)`` in ``component`` among a node's unknowns."""
+        try:
+            return self.terms.index((component, trig, int(k)))
+        except ValueError:
+            raise KeyError(f"AngularBasis: no term {component} {trig}({k} theta) in {self}") from None
+
+    def functions(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The terms' functions of ``theta`` and their first and second derivatives, each ``(len(theta), m)``."""
+        th = np.asarray(theta, dtype=float)[:, None]
+        k = np.array([t[2] for t in self.terms], dtype=float)[None, :]
+        cos = np.array([t[1] == "cos" for t in self.terms])[None, :]
+        c, s = np.cos(k * th), np.sin(k * th)
+        f = np.where(cos, c, s)
+        f1 = np.where(cos, -k * s, k * c)
+        return f, f1, -k * k * f
+
+    def ring_maps(self, theta: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        """Per ring quantity of :data:`contin_models.shell.layouts.KINDS` the ``(len(theta), 3, m)`` map from
+        a node's unknowns to its frame components at ``theta`` (default: the quadrature's angles).
+
+        ``P' = (R' - T, R + T', Z')`` and ``P'' = (R'' - R - 2 T', 2 R' - T + T'', Z'')`` in the frame
+        at ``theta``; ``Q``, ``Qp``: ``P`` and ``P'`` at ``theta + pi`` expressed in the frame at ``theta``
+        (horizontal components reversed).
+        """
+        th = self.theta if theta is None else np.asarray(theta, dtype=float)
+        comp = [_FRAME[t[0]] for t in self.terms]
+        j = np.arange(self.m)
+        out = {}
+        for name, angle in (("P", th), ("Q", th + math.pi)):
+            f, f1, f2 = self.functions(angle)
+            P = np.zeros((th.size, 3, self.m))
+            Pp = np.zeros_like(P)
+            Ppp = np.zeros_like(P)
+            P[:, comp, j] = f
+            for jj, c in enumerate(comp):
+                if c == 0:    # R
+                    Pp[:, 0, jj], Pp[:, 1, jj] = f1[:, jj], f[:, jj]
+                    Ppp[:, 0, jj], Ppp[:, 1, jj] = f2[:, jj] - f[:, jj], 2.0 * f1[:, jj]
+                elif c == 1:  # T
+                    Pp[:, 0, jj], Pp[:, 1, jj] = -f[:, jj], f1[:, jj]
+                    Ppp[:, 0, jj], Ppp[:, 1, jj] = -2.0 * f1[:, jj], f2[:, jj] - f[:, jj]
+                else:         # Z
+                    Pp[:, 2, jj], Ppp[:, 2, jj] = f1[:, jj], f2[:, jj]
+            if name == "P":
+                out.update(P=P, Pp=Pp, Ppp=Ppp)
+            else:
+                flip = np.array([-1.0, -1.0, 1.0])[None, :, None]
+                out.update(Q=P * flip, Qp=Pp * flip)
+        return out
+
+
+@dataclass(frozen=True)
+class FourierReduction:
+    """The admissible unknowns of a :class:`FourierShell`: ``c = T q + c_fixed``.
+
+    Attributes
+    ----------
+    T : scipy.sparse.csr_matrix
+        ``(N m, len(free))`` map from the free unknowns to all (unit columns, except the pole's tied pairs).
+    free : ndarray of int
+        The unknown carried by each column of ``T``.
+    fixed : ndarray of int
+        Unknowns held at their values in ``c_fixed`` (supports, poles, rigid motions, controls).
+    """
+
+    T: sp.csr_matrix
+    free: np.ndarray
+    fixed: np.ndarray
+
+    def full(self, q: np.ndarray, held: np.ndarray) -> np.ndarray:
+        """All unknowns from the free ones ``q``, the fixed ones taken from ``held`` (a full vector)."""
+        c = np.array(held, dtype=float)
+        c[self.free] = 0.0
+        return c + self.T @ q
+
+
+class FourierShell:
+    """The 3-D view of a :class:`~contin_models.shell.structure.ShellStructure` (module docstring).
+
+    Parameters
+    ----------
+    structure : ShellStructure
+        The shell: meridian, material, supports and poles (its :attr:`reference` table).
+    basis : AngularBasis
+        The Fourier series in the angle and the quadrature.
+    z_ref : float, optional
+        Height of the pressure's base plane (default: the reference height of node 0).
+    """
+
+    def __init__(self, structure: Any, basis: AngularBasis, z_ref: float | None = None) -> None:
+        self.structure = st = structure
+        self.reference = ref = st.reference
+        self.basis = basis
+        self.N = int(ref.N)
+        self.m = basis.m
+        self.nu = nu = float(ref.nu)
+        xr = np.asarray(ref.meridian.x, dtype=float)
+        self.z_ref = float(xr[1]) if z_ref is None else float(z_ref)
+        maps = basis.ring_maps()
+        i = np.arange(self.N - 1)
+        families = [("stretch", np.stack([i, i + 1], axis=1), layouts.STRETCH, _dgen.stretch_jet,
+                     (ref.stretch.lbar, ref.stretch.rbar, ref.ks_edges, nu), None)]
+        b = ref.bend
+        if b.nodes.size:
+            kernel = _dgen.bend_cur_jet if ref.kappa11_length == "current" else _dgen.bend_ref_jet
+            families.append(("bend", np.stack([b.nodes - 1, b.nodes, b.nodes + 1], axis=1), layouts.BEND, kernel,
+                             (b.lbar, b.rbar, b.k11bar, b.k22bar, ref.kb_nodes[b.nodes], nu), None))
+        edge = ref.edge
+        if edge is not None and edge.kind == "clamped":
+            cl = edge.element
+            gr, gz = cl.ghost
+            offset = np.zeros(15)  # e1 = P_0 - G, Dp = P'_1 - G' (the ghost ring fixed in space)
+            offset[0:3] = (-gr, 0.0, -gz)
+            offset[6:9] = (0.0, -gr, 0.0)
+            families.append(("clamp", np.array([[0, 1]]), layouts.CLAMP, _dgen.bend_ref_jet,
+                             (cl.lbar, cl.rbar, cl.kappa_bar[0], cl.kappa_bar[1], cl.kb, cl.nu), offset))
+        elif edge is not None and edge.kind == "moment_free":
+            fe = edge.element
+            families.append(("free_edge", np.array([[0, 1]]), layouts.FREE_EDGE, _dgen.free_edge_jet,
+                             (fe.K, fe.kappa_bar, nu), None))
+        self._families = [(name, nodes, self._local_map(layout, nodes.shape[1], maps), kernel, params, offset)
+                          for name, nodes, layout, kernel, params, offset in families]
+        self._volume = [("volume", np.stack([i, i + 1], axis=1), self._local_map(layouts.VOLUME, 2, maps),
+                         _dgen.volume_jet, (), None)]
+        self._poles = []
+        for p in ref.poles:
+            el = p.element
+            kernel = getattr(_dgen, f"pole_{'north' if p.north else 'south'}_{'cur' if el.current_length else 'ref'}_jet")
+            self._poles.append((np.array([[p.neighbour, p.node]]), kernel, float(el.lbar), float(el.kappa_bar),
+                                float(el.K) / (1.0 + nu)))
+        self._pole_map = self._local_map(layouts.POLE, 2, maps)
+        if 0 not in [p.node for p in ref.poles]:
+            self._volume.append(("skirt", np.array([[0]]), self._local_map(layouts.SKIRT, 1, maps), _dgen.skirt_jet,
+                                 (self.z_ref,), None))
+        self._cache: dict = {}
+
+    # ---- unknowns ----------------------------------------------------------------------------------
+    @property
+    def size(self) -> int:
+        """The number of unknowns, ``N m``."""
+        return self.N * self.m
+
+    def axisymmetric_state(self, x: np.ndarray) -> np.ndarray:
+        """The unknowns of the axisymmetric state ``x = [r_0, z_0, r_1, z_1, ...]`` of the traced model."""
+        x = np.asarray(x, dtype=float)
+        if x.shape != (2 * self.N,):
+            raise ValueError(f"FourierShell: an axisymmetric state has {2 * self.N} entries, got shape {x.shape}")
+        c = np.zeros(self.size)
+        c[self.basis.index("R", "cos", 0)::self.m] = x[0::2]
+        c[self.basis.index("Z", "cos", 0)::self.m] = x[1::2]
+        return c
+
+    def reference_state(self) -> np.ndarray:
+        """The unknowns of the reference (undeformed) shell."""
+        return self.axisymmetric_state(self.structure.reference_state())
+
+    def axisymmetric_dofs(self) -> np.ndarray:
+        """The unknowns ``R cos 0`` and ``Z cos 0`` of every node, in the traced model's order ``[r_0, z_0, ...]``."""
+        d = np.empty(2 * self.N, dtype=int)
+        d[0::2] = np.arange(self.N) * self.m + self.basis.index("R", "cos", 0)
+        d[1::2] = np.arange(self.N) * self.m + self.basis.index("Z", "cos", 0)
+        return d
+
+    def dofs_of_wave(self, k: int) -> np.ndarray:
+        """The unknowns of wave number ``k`` in the harmonic blocks' order ``[a_0, b_0, c_0, a_1, ...]``:
+        ``R cos``, ``Z cos``, ``T sin`` (``k = 0``: ``T cos``, without a mirror)."""
+        tr = "cos" if k == 0 else "sin"
+        idx = [self.basis.index("R", "cos", k), self.basis.index("Z", "cos", k), self.basis.index("T", tr, k)]
+        return (np.arange(self.N)[:, None] * self.m + np.array(idx)[None, :]).ravel()
+
+    def points(self, c: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """Cartesian positions ``(N, len(theta), 3)`` of the rings' material points at the angles ``theta``."""
+        th = np.asarray(theta, dtype=float)
+        P = np.einsum("qcj,ij->iqc", self.basis.ring_maps(th)["P"], np.asarray(c, float).reshape(self.N, self.m))
+        cs, sn = np.cos(th)[None, :], np.sin(th)[None, :]
+        return np.stack([P[..., 0] * cs - P[..., 1] * sn, P[..., 0] * sn + P[..., 1] * cs, P[..., 2]], axis=-1)
+
+    def reduction(self, remove_rigid: bool = True, control_fixed=()) -> FourierReduction:
+        """The admissible unknowns: poles are single points, supports hold their rings, and (``remove_rigid``)
+        a shell without a support in ``z`` has its rigid motions removed at the structure's ``rigid_fix``
+        node, as the harmonic blocks do per wave number (:func:`contin_models.shell.harmonic.harmonic_dofs`).
+
+        ``control_fixed``: traced-model dofs (``2 i`` for ``r_i``, ``2 i + 1`` for ``z_i``) a control holds;
+        their ``k = 0`` unknowns are fixed.
+        """
+        st, B, m = self.structure, self.basis, self.m
+        fixed: set[int] = set()
+        tied: list = []
+        terms = B.terms
+        for k in st.poles:
+            for j, (comp, trig, wave) in enumerate(terms):
+                keep = (comp, trig, wave) == ("Z", "cos", 0) or (wave == 1 and comp == "R")
+                if (comp, wave) == ("T", 1):  # P'(theta) of one point: T sin 1 = -R cos 1, T cos 1 = R sin 1
+                    tied.append((k * m + j, k * m + B.index("R", "sin" if trig == "cos" else "cos", 1),
+                                 1.0 if trig == "cos" else -1.0))
+                elif not keep:
+                    fixed.add(k * m + j)
+        if 0 not in st.poles:
+            if st.boundary == "sliding":
+                fixed |= {j for j, t in enumerate(terms) if t[0] in ("Z", "T")}
+            elif st.boundary in ("pinned", "clamped"):
+                fixed |= set(range(m))
+        if remove_rigid and st.rigid_fix is not None:
+            k = st.rigid_fix // 2
+            rigid = {("Z", "cos", 0), ("T", "cos", 0), ("R", "cos", 1), ("Z", "cos", 1), ("R", "sin", 1), ("Z", "sin", 1)}
+            fixed |= {k * m + j for j, t in enumerate(terms) if t in rigid}
+        for d in control_fixed:
+            i, which = divmod(int(d), 2)
+            fixed.add(i * m + B.index("Z" if which else "R", "cos", 0))
+        tied_dofs = {t[0] for t in tied}
+        free = np.array([d for d in range(self.size) if d not in fixed and d not in tied_dofs], dtype=int)
+        col = {d: j for j, d in enumerate(free)}
+        rows, cols, vals = list(free), list(range(free.size)), [1.0] * free.size
+        for d, master, f in tied:
+            if master in col:
+                rows.append(d)
+                cols.append(col[master])
+                vals.append(f)
+        T = sp.csr_matrix((vals, (rows, cols)), shape=(self.size, free.size))
+        return FourierReduction(T=T, free=free, fixed=np.array(sorted(fixed | tied_dofs), dtype=int))
+
+    # ---- the energy --------------------------------------------------------------------------------
+    @staticmethod
+    def _local_map(layout: tuple, nn: int, maps: dict) -> np.ndarray:
+        """``(Q, 3 len(layout), nn m)``: an element's local variables at each angle from its nodes' unknowns."""
+        Q, _, m = maps["P"].shape
+        B = np.zeros((Q, 3 * len(layout), nn * m))
+        for v, (combo, kind) in enumerate(layout):
+            for slot, coef in combo:
+                B[:, 3 * v:3 * v + 3, slot * m:(slot + 1) * m] += coef * maps[kind]
+        return B
+
+    def _element_dofs(self, nodes: np.ndarray) -> np.ndarray:
+        return (nodes[:, :, None] * self.m + np.arange(self.m)[None, None, :]).reshape(nodes.shape[0], -1)
+
+    def _jets(self, c: np.ndarray, family: tuple) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """A family's local values, gradients and Hessians at every element and angle: ``(E, Q)``,
+        ``(k, E, Q)``, ``(k, k, E, Q)``."""
+        name, nodes, B, kernel, params, offset = family
+        ce = c[self._element_dofs(nodes)]                       # (E, A)
+        y = np.einsum("qka,ea->keq", B, ce, optimize=True)      # (k, E, Q)
+        if offset is not None:
+            y = y + offset[:, None, None]
+        E, Q = ce.shape[0], B.shape[0]
+        args = [np.asarray(p, float)[:, None] * np.ones((1, Q)) if np.ndim(p) else p for p in params]
+        v, g, h = kernel(y, *args)
+        return np.broadcast_to(v, (E, Q)), g, h
+
+    def _terms(self, c: np.ndarray, pressure: float) -> list:
+        """Per term: ``(element dofs (E, A), energy, element gradients (E, A), element Hessians (E, A, A))``, cached."""
+        c = np.asarray(c, dtype=float)
+        key = (c.tobytes(), float(pressure))
+        if key in self._cache:
+            return self._cache[key]
+        w = self.basis.weights
+        out = []
+        groups = [(fam, 1.0) for fam in self._families]
+        if pressure != 0.0:
+            groups += [(fam, float(pressure)) for fam in self._volume]
+        for fam, factor in groups:
+            B = fam[2]
+            v, g, h = self._jets(c, fam)
+            energy = factor * float(np.einsum("eq,q->", v, w))
+            ge = factor * np.einsum("q,qka,keq->ea", w, B, g, optimize=True)
+            hB = np.einsum("kleq,qlb->keqb", h * w, B, optimize=True)
+            He = factor * np.einsum("qka,keqb->eab", B, hB, optimize=True)
+            out.append((self._element_dofs(fam[1]), energy, ge, He))
+        for nodes, kernel, lbar, kbar, Akb in self._poles:
+            out.append(self._pole_term(c, nodes, kernel, lbar, kbar, Akb))
+        self._cache = {key: out}
+        return out
+
+    def _pole_term(self, c: np.ndarray, nodes: np.ndarray, kernel: Any, lbar: float, kbar: float, Akb: float) -> tuple:
+        """The pole's element ``A kb ((3 nu - 1) <B>^2 + 2 (1 - nu) <B^2>)`` with ``<>`` the mean over the angle."""
+        nu, B = self.nu, self._pole_map
+        w = self.basis.weights / (2.0 * math.pi)
+        dofs = self._element_dofs(nodes)
+        y = np.einsum("qka,a->kq", B, c[dofs[0]])
+        v, g, h = kernel(y, lbar)
+        Bq = v - kbar                                              # (Q,)
+        G = np.einsum("qka,kq->qa", B, g)                          # dB_q in the unknowns
+        Hq = np.einsum("qka,klq,qlb->qab", B, h, B)                # d2B_q
+        mean, mean2 = float(w @ Bq), float(w @ (Bq * Bq))
+        dmean = w @ G
+        energy = Akb * ((3.0 * nu - 1.0) * mean * mean + 2.0 * (1.0 - nu) * mean2)
+        grad = Akb * (2.0 * (3.0 * nu - 1.0) * mean * dmean + 4.0 * (1.0 - nu) * ((w * Bq) @ G))
+        hess = Akb * (2.0 * (3.0 * nu - 1.0) * (np.outer(dmean, dmean) + mean * np.einsum("q,qab->ab", w, Hq))
+                      + 4.0 * (1.0 - nu) * (np.einsum("q,qa,qb->ab", w, G, G) + np.einsum("q,qab->ab", w * Bq, Hq)))
+        return dofs, energy, grad[None, :], hess[None, :, :]
+
+    def energy(self, c: np.ndarray, pressure: float = 0.0) -> float:
+        """The elastic energy of the state ``c`` (plus ``pressure`` times the enclosed volume)."""
+        return float(sum(t[1] for t in self._terms(c, pressure)))
+
+    def volume(self, c: np.ndarray) -> float:
+        """The volume between the shell and its base plane (``z = z_ref``), or enclosed by a closed shell."""
+        return self.energy(c, 1.0) - self.energy(c, 0.0)
+
+    def gradient(self, c: np.ndarray, pressure: float = 0.0) -> np.ndarray:
+        """The energy's gradient in all unknowns."""
+        g = np.zeros(self.size)
+        for dofs, _, ge, _ in self._terms(c, pressure):
+            np.add.at(g, dofs.ravel(), ge.ravel())
+        return g
+
+    def hessian(self, c: np.ndarray, pressure: float = 0.0) -> sp.csr_matrix:
+        """The energy's Hessian in all unknowns (banded along the meridian)."""
+        rows, cols, vals = [], [], []
+        for dofs, _, _, He in self._terms(c, pressure):
+            A = dofs.shape[1]
+            rows.append(np.repeat(dofs, A, axis=1).ravel())
+            cols.append(np.tile(dofs, (1, A)).ravel())
+            vals.append(He.ravel())
+        H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                          shape=(self.size, self.size))
+        H.sum_duplicates()
+        return H

@@ -1,0 +1,165 @@
+"""The shell's 3-D view (Fourier series in the angle, :mod:`contin_models.shell.fourier`).
+
+What is checked, against what nobody tuned:
+
+* restricted to axisymmetric states it is the traced 1-D model: energy, gradient and Hessian to
+  roundoff, for a sliding cap with its rotating edge's element, a clamped cap, a closed sphere under
+  pressure (volume and pole elements at both ends), off equilibrium;
+* its Hessian at an axisymmetric state, restricted to the unknowns of wave number ``k``, is the
+  harmonic block of ``k`` (:mod:`contin_models.shell.harmonic`, computed by other kernels and another
+  assembly), so the blocks' branch points are this view's;
+* an unsupported shell has exactly six zero modes (three translations, three rotations);
+* a ``D_n`` state computed in the ``D_n`` basis (half a period of angles) has the energy, gradient and
+  Hessian of the same state in the basis without symmetry (the whole circle); the gradient has no
+  component that breaks the symmetry;
+* gradient and Hessian are the derivatives of the energy (central differences) at a state with no
+  symmetry at all;
+* bad bases are refused with the field named.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from contin_models.shell.fourier import AngularBasis, FourierShell
+from contin_models.shell.geometry import spherical_cap
+from contin_models.shell.harmonic import harmonic_block
+from contin_models.shell.meridian import complete_sphere_meridian
+from contin_models.shell.structure import ShellStructure
+from contin_models.shell.volume import enclosed_volume, volume_gradient, volume_hessian
+
+
+def perturbed(x: np.ndarray, amplitude: float, seed: int) -> np.ndarray:
+    """An axisymmetric state off equilibrium (the radii on the axis stay zero)."""
+    rng = np.random.default_rng(seed)
+    y = x * (1.0 + amplitude * rng.standard_normal(x.size))
+    return y
+
+
+def traced(st: ShellStructure, x: np.ndarray, pressure: float, z_ref: float) -> tuple:
+    E, g, H = st.energy(x), st.gradient(x), st.hessian(x).toarray()
+    if pressure:
+        E += pressure * enclosed_volume(x, z_ref)
+        g = g + pressure * volume_gradient(x, z_ref)
+        H = H + pressure * volume_hessian(x, z_ref).toarray()
+    return E, g, H
+
+
+def structures() -> dict:
+    cap = spherical_cap(1.0, 0.8, 30)
+    sphere = complete_sphere_meridian(1.0, 31, 1.0)
+    return {"sliding cap": (ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding"), 0.0),
+            "clamped cap": (ShellStructure(cap, 1e6, 0.3, 0.02, boundary="clamped", kappa11_length="reference"), 0.0),
+            "sphere under pressure": (ShellStructure(sphere, 1.0, 0.3, 0.02), 3e-4)}
+
+
+@pytest.mark.parametrize("name", ["sliding cap", "clamped cap", "sphere under pressure"])
+def test_axisymmetric_restriction_is_the_traced_model(name: str) -> None:
+    st, p = structures()[name]
+    x = perturbed(st.reference_state(), 0.02, 1)
+    view = FourierShell(st, AngularBasis(3, 2))
+    c = view.axisymmetric_state(x)
+    ax = view.axisymmetric_dofs()
+    E1, g1, H1 = traced(st, x, p, view.z_ref)
+    assert abs(view.energy(c, p) - E1) <= 1e-13 * abs(E1)
+    g = view.gradient(c, p)
+    scale = np.max(np.abs(g1))
+    assert np.max(np.abs(g[ax] - g1)) <= 1e-13 * scale
+    # no component along a wave: an axisymmetric state is a critical point of every symmetry-breaking field
+    assert np.max(np.abs(np.delete(g, ax))) <= 1e-14 * scale
+    # the radius of a pole is held in both (a point on the axis); every other entry agrees
+    keep = np.array([d for d in range(2 * st.N) if not (d % 2 == 0 and d // 2 in st.poles)])
+    H = view.hessian(c, p).toarray()[np.ix_(ax, ax)]
+    assert np.max(np.abs(H - H1)[np.ix_(keep, keep)]) <= 2e-12 * np.max(np.abs(H1))
+
+
+@pytest.mark.parametrize("name", ["sliding cap", "clamped cap", "sphere under pressure"])
+def test_hessian_on_a_wave_number_is_the_harmonic_block(name: str) -> None:
+    st, p = structures()[name]
+    x = perturbed(st.reference_state(), 0.02, 2)
+    for n, K in ((1, 3), (4, 2)):
+        view = FourierShell(st, AngularBasis(n, K))
+        H = view.hessian(view.axisymmetric_state(x), p).toarray()
+        for k in view.basis.wave_numbers[1:]:
+            block = harmonic_block(st, x, int(k), pressure=p, z_ref=view.z_ref, reduced=False).toarray()
+            d = view.dofs_of_wave(int(k))
+            assert np.max(np.abs(H[np.ix_(d, d)] - block)) <= 2e-12 * np.max(np.abs(block)), (n, k)
+            # and a wave couples to no other unknown at an axisymmetric state
+            others = np.setdiff1d(np.arange(view.size), d)
+            assert np.max(np.abs(H[np.ix_(d, others)])) <= 1e-13 * np.max(np.abs(block))
+
+
+def test_unsupported_shell_has_exactly_six_rigid_zero_modes() -> None:
+    st = ShellStructure(spherical_cap(1.0, 0.8, 20), 1e6, 0.3, 0.02, boundary="free")
+    view = FourierShell(st, AngularBasis(1, 3, mirror=False))
+    red = view.reduction(remove_rigid=False)
+    H = (red.T.T @ view.hessian(view.reference_state()) @ red.T).toarray()
+    ev = np.linalg.eigvalsh(H) / np.max(np.abs(H))
+    assert np.all(np.abs(ev[:6]) < 1e-14) and ev[6] > 1e-8, ev[:8]
+    # with the rigid motions removed at the structure's node: none left
+    red = view.reduction()
+    H = (red.T.T @ view.hessian(view.reference_state()) @ red.T).toarray()
+    assert np.linalg.eigvalsh(H)[0] > 1e-8 * np.max(np.abs(H))
+
+
+def test_dihedral_basis_is_the_full_circle_on_symmetric_states() -> None:
+    st = ShellStructure(spherical_cap(1.0, 0.8, 20), 1e6, 0.3, 0.02, boundary="free")
+    sym = FourierShell(st, AngularBasis(3, 2, M=36))
+    full = FourierShell(st, AngularBasis(1, 6, mirror=False, M=36))
+    rng = np.random.default_rng(3)
+    red = sym.reduction(remove_rigid=False)
+    c = sym.reference_state() + red.T @ (1e-2 * rng.standard_normal(red.free.size))
+    where = np.array([full.basis.index(*t) for t in sym.basis.terms])
+    idx = (np.arange(st.N)[:, None] * full.m + where[None, :]).ravel()
+    cf = np.zeros(full.size)
+    cf[idx] = c
+    E = sym.energy(c)
+    assert abs(full.energy(cf) - E) <= 1e-14 * abs(E)
+    g, gf = sym.gradient(c), full.gradient(cf)
+    assert np.max(np.abs(gf[idx] - g)) <= 1e-14 * np.max(np.abs(g))
+    assert np.max(np.abs(np.delete(gf, idx))) <= 1e-13 * np.max(np.abs(g))
+    H, Hf = sym.hessian(c).toarray(), full.hessian(cf).toarray()
+    assert np.max(np.abs(Hf[np.ix_(idx, idx)] - H)) <= 1e-14 * np.max(np.abs(H))
+
+
+def test_derivatives_are_those_of_the_energy_without_symmetry() -> None:
+    sphere = complete_sphere_meridian(1.0, 15, 1.0)
+    st = ShellStructure(sphere, 1.0, 0.3, 0.05)
+    view = FourierShell(st, AngularBasis(1, 2, mirror=False))
+    rng = np.random.default_rng(4)
+    red = view.reduction(remove_rigid=False)
+    c = view.reference_state() + red.T @ (2e-2 * rng.standard_normal(red.free.size))
+    p = 1e-3
+    g, H = view.gradient(c, p), view.hessian(c, p)
+    for seed in range(3):
+        d = red.T @ np.random.default_rng(10 + seed).standard_normal(red.free.size)
+        h = 1e-5
+        dE = (view.energy(c + h * d, p) - view.energy(c - h * d, p)) / (2 * h)
+        assert abs(dE - g @ d) <= 1e-7 * np.max(np.abs(g)) * np.linalg.norm(d, 1)
+        dg = (view.gradient(c + h * d, p) - view.gradient(c - h * d, p)) / (2 * h)
+        assert np.max(np.abs(dg - H @ d)) <= 1e-6 * np.max(np.abs(H @ d))
+
+
+def test_a_pole_is_one_point_and_the_points_are_cartesian() -> None:
+    st = ShellStructure(spherical_cap(1.0, 0.8, 12), 1e6, 0.3, 0.02, boundary="sliding")
+    view = FourierShell(st, AngularBasis(1, 2, mirror=False))
+    red = view.reduction()
+    c = red.full(np.random.default_rng(5).standard_normal(red.free.size), view.reference_state())
+    th = np.linspace(0.0, 2.0 * math.pi, 7)
+    X = view.points(c, th)
+    pole = st.N - 1
+    assert np.max(np.abs(X[pole] - X[pole, :1])) < 1e-14  # the same point at every angle
+    assert np.max(np.abs(X[0, :, 2] - X[0, 0, 2])) < 1e-14  # the sliding edge keeps its height
+    ref = view.points(view.reference_state(), th)
+    r = np.hypot(ref[..., 0], ref[..., 1])
+    assert np.allclose(r, st.reference_state()[0::2][:, None], atol=1e-15)
+
+
+@pytest.mark.parametrize("kwargs, field", [({"n": 0, "K": 1}, "n"), ({"n": 2, "K": -1}, "K"),
+                                           ({"n": 3, "K": 2, "M": 15}, "M"), ({"n": 3, "K": 2, "M": 12}, "M")])
+def test_bad_bases_are_refused_with_the_field_named(kwargs: dict, field: str) -> None:
+    with pytest.raises(ValueError, match=f"{field} "):
+        AngularBasis(**kwargs)
