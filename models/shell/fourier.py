@@ -369,7 +369,7 @@ class FourierShell:
         ``(k, E, Q)``, ``(k, k, E, Q)``."""
         name, nodes, B, kernel, params, offset = family
         ce = c[self._element_dofs(nodes)]                       # (E, A)
-        y = np.einsum("qka,ea->keq", B, ce, optimize=True)      # (k, E, Q)
+        y = np.ascontiguousarray(np.matmul(B, ce.T).transpose(1, 2, 0))  # (k, E, Q)
         if offset is not None:
             y = y + offset[:, None, None]
         E, Q = ce.shape[0], B.shape[0]
@@ -377,32 +377,34 @@ class FourierShell:
         v, g, h = kernel(y, *args)
         return np.broadcast_to(v, (E, Q)), g, h
 
-    def _terms(self, c: np.ndarray, pressure: float) -> list:
-        """Per term: ``(element dofs (E, A), energy, element gradients (E, A), element Hessians (E, A, A))``, cached."""
+    def _state(self, c: np.ndarray, volume: bool) -> dict:
+        """The densities' jets at the state ``c`` (and the volume's with ``volume``), kept for the last state."""
         c = np.asarray(c, dtype=float)
-        key = (c.tobytes(), float(pressure))
-        if key in self._cache:
-            return self._cache[key]
-        w = self.basis.weights
-        out = []
-        groups = [(fam, 1.0) for fam in self._families]
+        if c.shape != (self.size,):
+            raise ValueError(f"FourierShell: a state has {self.size} unknowns, got shape {c.shape}")
+        key = c.tobytes()
+        st = self._cache.get("state")
+        if st is None or st["key"] != key:
+            st = self._cache["state"] = {"key": key, "c": c}
+        if "elastic" not in st:
+            st["elastic"] = [self._jets(c, fam) for fam in self._families]
+            st["poles"] = [self._pole_term(c, *pole) for pole in self._poles]
+        if volume and "volume" not in st:
+            st["volume"] = [self._jets(c, fam) for fam in self._volume]
+        return st
+
+    def _groups(self, c: np.ndarray, pressure: float):
+        """``(family, jets, factor)`` of every integrated term at ``c``."""
+        st = self._state(c, pressure != 0.0)
+        for fam, jets in zip(self._families, st["elastic"]):
+            yield fam, jets, 1.0
         if pressure != 0.0:
-            groups += [(fam, float(pressure)) for fam in self._volume]
-        for fam, factor in groups:
-            B = fam[2]
-            v, g, h = self._jets(c, fam)
-            energy = factor * float(np.einsum("eq,q->", v, w))
-            ge = factor * np.einsum("q,qka,keq->ea", w, B, g, optimize=True)
-            hB = np.einsum("kleq,qlb->keqb", h * w, B, optimize=True)
-            He = factor * np.einsum("qka,keqb->eab", B, hB, optimize=True)
-            out.append((self._element_dofs(fam[1]), energy, ge, He))
-        for nodes, kernel, lbar, kbar, Akb in self._poles:
-            out.append(self._pole_term(c, nodes, kernel, lbar, kbar, Akb))
-        self._cache = {key: out}
-        return out
+            for fam, jets in zip(self._volume, st["volume"]):
+                yield fam, jets, float(pressure)
 
     def _pole_term(self, c: np.ndarray, nodes: np.ndarray, kernel: Any, lbar: float, kbar: float, Akb: float) -> tuple:
-        """The pole's element ``A kb ((3 nu - 1) <B>^2 + 2 (1 - nu) <B^2>)`` with ``<>`` the mean over the angle."""
+        """The pole's element ``A kb ((3 nu - 1) <B>^2 + 2 (1 - nu) <B^2>)`` with ``<>`` the mean over the angle:
+        ``(element dofs (1, A), energy, gradient (1, A), Hessian (1, A, A))``."""
         nu, B = self.nu, self._pole_map
         w = self.basis.weights / (2.0 * math.pi)
         dofs = self._element_dofs(nodes)
@@ -410,7 +412,7 @@ class FourierShell:
         v, g, h = kernel(y, lbar)
         Bq = v - kbar                                              # (Q,)
         G = np.einsum("qka,kq->qa", B, g)                          # dB_q in the unknowns
-        Hq = np.einsum("qka,klq,qlb->qab", B, h, B)                # d2B_q
+        Hq = np.einsum("qka,klq,qlb->qab", B, h, B, optimize=True)  # d2B_q
         mean, mean2 = float(w @ Bq), float(w @ (Bq * Bq))
         dmean = w @ G
         energy = Akb * ((3.0 * nu - 1.0) * mean * mean + 2.0 * (1.0 - nu) * mean2)
@@ -421,7 +423,9 @@ class FourierShell:
 
     def energy(self, c: np.ndarray, pressure: float = 0.0) -> float:
         """The elastic energy of the state ``c`` (plus ``pressure`` times the enclosed volume)."""
-        return float(sum(t[1] for t in self._terms(c, pressure)))
+        w = self.basis.weights
+        e = sum(factor * float(np.einsum("eq,q->", jets[0], w)) for _, jets, factor in self._groups(c, pressure))
+        return float(e + sum(t[1] for t in self._cache["state"]["poles"]))
 
     def volume(self, c: np.ndarray) -> float:
         """The volume between the shell and its base plane (``z = z_ref``), or enclosed by a closed shell."""
@@ -429,20 +433,60 @@ class FourierShell:
 
     def gradient(self, c: np.ndarray, pressure: float = 0.0) -> np.ndarray:
         """The energy's gradient in all unknowns."""
+        w = self.basis.weights
         g = np.zeros(self.size)
-        for dofs, _, ge, _ in self._terms(c, pressure):
+        for fam, jets, factor in self._groups(c, pressure):
+            B = fam[2]
+            ge = np.matmul(B.reshape(-1, B.shape[2]).T, (jets[1] * w).transpose(2, 0, 1).reshape(-1, jets[1].shape[1])).T
+            np.add.at(g, self._element_dofs(fam[1]).ravel(), factor * ge.ravel())
+        for dofs, _, ge, _ in self._cache["state"]["poles"]:
             np.add.at(g, dofs.ravel(), ge.ravel())
         return g
 
-    def hessian(self, c: np.ndarray, pressure: float = 0.0) -> sp.csr_matrix:
-        """The energy's Hessian in all unknowns (banded along the meridian)."""
-        rows, cols, vals = [], [], []
-        for dofs, _, _, He in self._terms(c, pressure):
+    def pattern(self, pressure: bool = False) -> sp.csr_matrix:
+        """Every entry the Hessian may hold (ones, canonical), with the volume's under ``pressure``: its band."""
+        key = ("pattern", bool(pressure))
+        if key not in self._cache:
+            terms = list(self._families) + (list(self._volume) if pressure else [])
+            dofs = [self._element_dofs(t[1]) for t in terms] + [self._element_dofs(p[0]) for p in self._poles]
+            rows = np.concatenate([np.repeat(d, d.shape[1], axis=1).ravel() for d in dofs])
+            cols = np.concatenate([np.tile(d, (1, d.shape[1])).ravel() for d in dofs])
+            P = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.size, self.size))
+            P.sum_duplicates()
+            P.data[:] = 1.0
+            self._cache[key] = P
+        return self._cache[key]
+
+    def _slots(self, dofs: np.ndarray, pressure: bool) -> np.ndarray:
+        """Positions in :meth:`pattern`'s data of an element family's ``(E, A, A)`` Hessian entries."""
+        key = ("slots", dofs.tobytes(), dofs.shape, bool(pressure))
+        if key not in self._cache:
+            P = self.pattern(pressure)
             A = dofs.shape[1]
-            rows.append(np.repeat(dofs, A, axis=1).ravel())
-            cols.append(np.tile(dofs, (1, A)).ravel())
-            vals.append(He.ravel())
-        H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(self.size, self.size))
-        H.sum_duplicates()
-        return H
+            rows = np.repeat(dofs, A, axis=1).ravel()
+            cols = np.tile(dofs, (1, A)).ravel()
+            # entries of each row are sorted by column: search the column within the row's stretch
+            start = P.indptr[rows]
+            pos = np.empty(rows.size, dtype=np.int64)
+            for r in np.unique(rows):
+                sel = rows == r
+                pos[sel] = start[sel] + np.searchsorted(P.indices[P.indptr[r]:P.indptr[r + 1]], cols[sel])
+            self._cache[key] = pos
+        return self._cache[key]
+
+    def hessian(self, c: np.ndarray, pressure: float = 0.0) -> sp.csr_matrix:
+        """The energy's Hessian in all unknowns (banded along the meridian; the entries of :meth:`pattern`)."""
+        w = self.basis.weights
+        P = self.pattern(pressure != 0.0)
+        data = np.zeros(P.nnz)
+        for fam, jets, factor in self._groups(c, pressure):
+            B, h = fam[2], jets[2]
+            Q, k, A = B.shape
+            hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))  # (E, Q, k, k)
+            # H_e = sum_q B_q^T H_eq B_q: H_e is block-diagonal in q, so with B stacked over q it is one product
+            He = np.matmul(B.reshape(Q * k, A).T[None], np.matmul(hq, B[None]).reshape(-1, Q * k, A))
+            data += np.bincount(self._slots(self._element_dofs(fam[1]), pressure != 0.0), factor * He.ravel(),
+                                minlength=P.nnz)
+        for dofs, _, _, He in self._cache["state"]["poles"]:
+            data += np.bincount(self._slots(dofs, pressure != 0.0), He.ravel(), minlength=P.nnz)
+        return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)

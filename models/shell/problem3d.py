@@ -1,0 +1,190 @@
+"""A shell of revolution in its 3-D view (:class:`contin_models.shell.fourier.FourierShell`) as a :class:`contin.Problem`.
+
+The unknowns are the free Fourier coefficients of the rings (:meth:`FourierShell.reduction`: poles one
+point, supports held, and under displacement control the pole's height held at the parameter); the
+residual is the reduced gradient of the total energy and the Jacobian its Hessian, banded along the
+meridian (a banded LU: O(N) per Newton step at a fixed angular resolution).  Loads: a point force at
+the pole (``F``, positive pushing the pole down, force or displacement control) and a uniform
+external pressure (``p``).  The basis fixes the symmetry class of every state traced: a ``D_n`` basis
+traces ``D_n``-symmetric states only, and its branch points are the ones that keep that symmetry.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+import numpy as np
+import scipy.sparse as sp
+
+from contin.numerics.linalg import BandedLU, Factorization, bandwidths
+from contin.problem import Problem
+
+from .fourier import AngularBasis, FourierShell
+from .problem import _scaled
+
+__all__ = ["Shell3D"]
+
+
+class Shell3D(Problem):
+    """A :class:`~contin_models.shell.structure.ShellStructure` under one load, in the 3-D view.
+
+    Parameters
+    ----------
+    structure : ShellStructure
+        The shell and its supports.
+    basis : AngularBasis
+        The angular series (and with it the symmetry class of the states).
+    load : {"point", "pressure"}
+        A point force at the pole (node ``N-1``, on the axis) or a uniform external pressure.
+    control : {"force", "displacement"}
+        The load as the parameter, or (point load) the pole's deflection ``w``.
+    length : float, optional
+        Length that normalises ``w`` and ``F`` (``w_over_L``, ``F_norm = F L / (2 pi D)``); default the
+        meridian's ``length_scale`` (or ``R``).
+
+    Notes
+    -----
+    Observables: the load (``F`` or ``p``), ``w`` (the pole's deflection), ``w_over_L`` and, under a
+    point load, ``F_norm``; all with exact derivatives.  :meth:`full_state` gives the Fourier
+    coefficients of every ring, :attr:`view` the energy.
+    """
+
+    def __init__(self, structure: Any, basis: AngularBasis, load: Literal["point", "pressure"] = "point",
+                 control: Literal["force", "displacement"] = "force", length: float | None = None) -> None:
+        if load not in ("point", "pressure"):
+            raise ValueError(f"Shell3D: load must be 'point' or 'pressure', got {load!r}")
+        if control not in ("force", "displacement"):
+            raise ValueError(f"Shell3D: control must be 'force' or 'displacement', got {control!r}")
+        st = self.structure = structure
+        N = st.N
+        if N - 1 not in st.poles:
+            raise ValueError("Shell3D: the load's deflection is the pole's: node N-1 must be on the axis (r = 0)")
+        if load == "pressure" and control != "force":
+            raise ValueError("Shell3D: pressure takes control='force'")
+        if st.rigid_fix is not None and load == "point":
+            raise ValueError(f"Shell3D: a point force needs a support in z (boundary {st.boundary!r} leaves the "
+                             "shell free to translate)")
+        self.load, self.control = load, control
+        self.view = view = FourierShell(st, basis)
+        self.basis = basis
+        if length is None:
+            length = getattr(st.meridian, "length_scale", None) or getattr(st.meridian, "R", None)
+        self.length = float(length) if length is not None else 1.0
+        self.z_dof = (N - 1) * view.m + basis.index("Z", "cos", 0)
+        self.c_ref = view.reference_state()
+        self.z_ref_pole = float(self.c_ref[self.z_dof])
+        held = [2 * N - 1] if control == "displacement" else []
+        self.reduction = red = view.reduction(control_fixed=held)
+        self.T = red.T.tocsc()
+        self.Tt = red.T.T.tocsr()
+        self.D = float(st.kb_nodes[N - 1])
+        H0 = self.Tt @ view.hessian(self.c_ref) @ self.T
+        absT = abs(self.T)
+        self.kl, self.ku = bandwidths(absT.T @ view.pattern(load == "pressure") @ absT)
+        name = "F" if load == "point" else "p"
+        self.load_name = name
+        observables: dict[str, Any] = {name: self._obs_load, "w": self._obs_w,
+                                       "w_over_L": lambda u, p: self._obs_w(u, p) / self.length}
+        derivatives: dict[str, Any] = {name: self._dobs_load, "w": self._dobs_w,
+                                       "w_over_L": lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.length)}
+        if load == "point":
+            f_norm = self.length / (2.0 * math.pi * self.D)
+            observables["F_norm"] = lambda u, p: self._obs_load(u, p) * f_norm
+            derivatives["F_norm"] = lambda u, p: _scaled(self._dobs_load(u, p), f_norm)
+        scale = st.residual_scale(H0, self.length)
+        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
+                         name=f"shell3d_{load}_{control}", parameter_name=name if control == "force" else "w",
+                         residual_scale=scale)
+
+    # ---- maps between the coefficients and the unknowns -------------------------------------------
+    @property
+    def n(self) -> int:
+        """Number of unknowns."""
+        return self.reduction.free.size
+
+    def full_state(self, u: np.ndarray, p: float = 0.0) -> np.ndarray:
+        """Every ring's Fourier coefficients from the unknowns (and, under displacement control, ``w = p``)."""
+        u = np.asarray(u, dtype=float)
+        if u.shape != (self.n,):
+            raise ValueError(f"Shell3D: the unknown vector must have shape ({self.n},), got {u.shape}")
+        held = self.c_ref
+        if self.control == "displacement":
+            held = held.copy()
+            held[self.z_dof] = self.z_ref_pole - float(p)
+        return self.reduction.full(u, held)
+
+    def unknowns(self, c: np.ndarray) -> np.ndarray:
+        """The unknowns of a full coefficient vector (the pole's ``T`` is tied to its ``R``)."""
+        return np.asarray(c, dtype=float)[self.reduction.free].copy()
+
+    def reference_unknowns(self) -> np.ndarray:
+        """The unknowns of the reference state, the equilibrium at zero load."""
+        return self.unknowns(self.c_ref)
+
+    # ---- the Problem interface -------------------------------------------------------------------
+    def _pressure(self, p: float) -> float:
+        return float(p) if self.load == "pressure" else 0.0
+
+    def _gradient(self, c: np.ndarray, p: float) -> np.ndarray:
+        g = self.view.gradient(c, self._pressure(p))
+        if self.load == "point" and self.control == "force":  # the potential -F w, w = z_ref - z
+            g = g.copy()
+            g[self.z_dof] += float(p)
+        return g
+
+    def energy(self, u: np.ndarray, p: float) -> float:
+        c = self.full_state(u, p)
+        e = self.view.energy(c, self._pressure(p))
+        if self.load == "point" and self.control == "force":
+            e -= float(p) * (self.z_ref_pole - float(c[self.z_dof]))
+        return e
+
+    def residual(self, u: np.ndarray, p: float) -> np.ndarray:
+        return self.Tt @ self._gradient(self.full_state(u, p), p)
+
+    def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
+        H = self.view.hessian(self.full_state(u, p), self._pressure(p))
+        return (self.Tt @ H @ self.T).tocsr()
+
+    def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
+        c = self.full_state(u, p)
+        if self.load == "pressure":
+            return self.Tt @ (self.view.gradient(c, 1.0) - self.view.gradient(c, 0.0))
+        if self.control == "force":
+            d = np.zeros(self.view.size)
+            d[self.z_dof] = 1.0
+            return self.Tt @ d
+        H = self.view.hessian(c)
+        return -(self.Tt @ H[:, [self.z_dof]]).toarray().ravel()  # z = z_ref - w
+
+    def factorize(self, J) -> Factorization:
+        """Banded LU (O(N) at a fixed angular resolution)."""
+        return BandedLU(J, self.kl, self.ku)
+
+    # ---- observables -----------------------------------------------------------------------------
+    def _obs_load(self, u: np.ndarray, p: float) -> float:
+        if self.control == "force":
+            return float(p)
+        return -float(self._gradient(self.full_state(u, p), p)[self.z_dof])
+
+    def _dobs_load(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        if self.control == "force":
+            return np.zeros(self.n), 1.0
+        col = self.view.hessian(self.full_state(u, p))[:, [self.z_dof]].toarray().ravel()
+        return -(self.Tt @ col), float(col[self.z_dof])
+
+    def _obs_w(self, u: np.ndarray, p: float) -> float:
+        if self.control == "displacement":
+            return float(p)
+        return self.z_ref_pole - float(self.full_state(u, p)[self.z_dof])
+
+    def _dobs_w(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        if self.control == "displacement":
+            return np.zeros(self.n), 1.0
+        d = np.zeros(self.view.size)
+        d[self.z_dof] = -1.0
+        return self.Tt @ d, 0.0
+
+    def __repr__(self) -> str:
+        return f"Shell3D({self.structure!r}, {self.basis!r}, load={self.load!r}, control={self.control!r})"
