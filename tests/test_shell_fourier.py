@@ -195,3 +195,30 @@ def test_the_3d_view_traces_the_axisymmetric_path_and_meets_the_blocks_branch_po
             assert np.max(np.abs(np.delete(c, ax))) < 1e-12
             r = one.residual(one.unknowns(c[ax]), p)
             assert np.max(np.abs(r)) < 1e-11 * one.residual_scale, np.max(np.abs(r)) / one.residual_scale
+
+
+def test_bloch_blocks_are_the_hessian_on_every_perturbation() -> None:
+    """At a ``D_3`` state (off equilibrium: the splitting is kinematic), the spectrum of the Hessian on
+    every perturbation (the basis without symmetry, waves 0 .. 7) is the union of the Bloch blocks'
+    spectra, the two-dimensional class counted twice."""
+    st = ShellStructure(spherical_cap(1.0, 0.8, 12), 1e6, 0.3, 0.02, boundary="sliding")
+    sym = FourierShell(st, AngularBasis(3, 2))
+    full = FourierShell(st, AngularBasis(1, 7, mirror=False, M=sym.basis.M))
+    red = sym.reduction()
+    c = red.full(np.random.default_rng(6).standard_normal(red.free.size) * 3e-3 + red.T.T @ sym.reference_state(),
+                 sym.reference_state())
+    cf = np.zeros(full.size)
+    for j, term in enumerate(sym.basis.terms):
+        cf[full.basis.index(*term)::full.m] = c[j::sym.m]
+    fred = full.reduction()
+    whole = np.linalg.eigvalsh((fred.T.T @ full.hessian(cf) @ fred.T).toarray())
+    parts = []
+    for j, parity, multiplicity in sym.bloch_classes():
+        ev = np.linalg.eigvalsh(sym.bloch_block(c, j, parity).toarray())
+        parts += [ev] * multiplicity
+    parts = np.sort(np.concatenate(parts))
+    assert parts.size == whole.size
+    assert np.max(np.abs(parts - whole)) <= 1e-12 * np.max(np.abs(whole))
+    assert np.sum(whole < 0) > 0  # the state is far enough from the reference to test the count
+    index = sym.morse_index(c)
+    assert sum(m * index[j, par] for j, par, m in sym.bloch_classes()) == np.sum(whole < 0)

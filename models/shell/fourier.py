@@ -75,12 +75,20 @@ class AngularBasis:
         Angles of the trapezoidal rule on the whole circle: a multiple of ``2 n`` (``D_n``) or of ``n``,
         above ``2 K n`` (so that quadratic forms about axisymmetric states are integrated exactly).
         Default ``2 n (2 K + 2)``: twice the harmonics' resolution.
+    j : int
+        The Bloch wave number of a class of perturbations (``0 .. n // 2``): the waves ``q n +- j``.  A
+        state's basis has ``j = 0``.
+    parity : {"even", "odd", "both"}, optional
+        Symmetric about ``theta = 0`` (``R``, ``Z`` cosines, ``T`` sines), antisymmetric (``R``, ``Z`` sines,
+        ``T`` cosines) or both; default ``"even"`` with ``mirror`` and ``"both"`` without.
     """
 
     n: int
     K: int
     mirror: bool = True
     M: int | None = None
+    j: int = 0
+    parity: str | None = None
     terms: tuple = field(init=False, repr=False)
     theta: np.ndarray = field(init=False, repr=False)
     weights: np.ndarray = field(init=False, repr=False)
@@ -97,15 +105,20 @@ class AngularBasis:
             raise ValueError(f"AngularBasis: M (angles of the quadrature on the circle) must be a multiple of {period} "
                              f"above 2 K n = {2 * K * n}, got {M!r}")
         object.__setattr__(self, "M", int(M))
+        j = self.j
+        if not isinstance(j, (int, np.integer)) or not 0 <= j <= n // 2:
+            raise ValueError(f"AngularBasis: j (the Bloch wave number) must be an integer in [0, n // 2 = {n // 2}], "
+                             f"got {j!r}")
+        parity = self.parity if self.parity is not None else ("even" if self.mirror else "both")
+        if parity not in ("even", "odd", "both"):
+            raise ValueError(f"AngularBasis: parity must be 'even', 'odd' or 'both', got {parity!r}")
+        object.__setattr__(self, "parity", parity)
         terms = []
-        for k in range(0, n * K + 1, n):
-            terms += [("R", "cos", k), ("Z", "cos", k)]
-            if k > 0:
-                terms.append(("T", "sin", k))
-            if not self.mirror:
-                if k > 0:
-                    terms += [("R", "sin", k), ("Z", "sin", k)]
-                terms.append(("T", "cos", k))
+        for k in self.wave_numbers.tolist():
+            if parity in ("even", "both"):  # symmetric about theta = 0
+                terms += [("R", "cos", k), ("Z", "cos", k)] + ([("T", "sin", k)] if k > 0 else [])
+            if parity in ("odd", "both"):   # antisymmetric about theta = 0
+                terms += ([("R", "sin", k), ("Z", "sin", k)] if k > 0 else []) + [("T", "cos", k)]
         object.__setattr__(self, "terms", tuple(terms))
         dth = 2.0 * math.pi / M
         if self.mirror:  # one half period, the ends weighted half
@@ -125,8 +138,15 @@ class AngularBasis:
 
     @property
     def wave_numbers(self) -> np.ndarray:
-        """``0, n, ..., K n``."""
-        return np.arange(0, self.n * self.K + 1, self.n)
+        """``0, n, ..., K n``; for a Bloch class ``j > 0`` the waves ``m = q n +- j`` up to ``K n + j``."""
+        n, j = self.n, self.j
+        m = np.arange(0, n * self.K + j + 1)
+        return m[(m % n == j % n) | (m % n == (n - j) % n)]
+
+    def bloch(self, j: int, parity: str) -> "AngularBasis":
+        """The perturbations of Bloch wave number ``j`` and one ``parity`` about a state of this basis
+        (the same ``n``, ``K`` and ``M``): the waves ``m = q n +- j`` (:class:`FourierShell.bloch_block`)."""
+        return AngularBasis(self.n, self.K, mirror=parity == "even", M=self.M, j=int(j), parity=parity)
 
     def index(self, component: str, trig: str, k: int) -> int:
         """Position of the coefficient of ``trig(k theta)`` in ``component`` among a node's unknowns."""
@@ -251,6 +271,9 @@ class FourierShell:
                              (fe.K, fe.kappa_bar, nu), None))
         self._families = [(name, nodes, self._local_map(layout, nodes.shape[1], maps), kernel, params, offset)
                           for name, nodes, layout, kernel, params, offset in families]
+        #: Each element family's layout (:mod:`contin_models.shell.layouts`).
+        self._layouts = {name: layout for name, _, layout, *_ in families}
+        self._layouts.update(volume=layouts.VOLUME, skirt=layouts.SKIRT)
         self._volume = [("volume", np.stack([i, i + 1], axis=1), self._local_map(layouts.VOLUME, 2, maps),
                          _dgen.volume_jet, (), None)]
         self._poles = []
@@ -490,3 +513,104 @@ class FourierShell:
         for dofs, _, _, He in self._cache["state"]["poles"]:
             data += np.bincount(self._slots(dofs, pressure != 0.0), He.ravel(), minlength=P.nnz)
         return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
+
+    # ---- stability against every perturbation: the Bloch blocks ------------------------------------
+    def _full_circle(self) -> tuple[np.ndarray, np.ndarray]:
+        """The trapezoidal rule's ``M`` angles on the whole circle and their weights."""
+        M = self.basis.M
+        return 2.0 * math.pi * np.arange(M) / M, np.full(M, 2.0 * math.pi / M)
+
+    def _perturbation_view(self, j: int, parity: str) -> tuple["FourierShell", dict]:
+        """The view of the perturbation class ``(j, parity)`` and its local maps on the whole circle, cached."""
+        key = ("bloch", int(j), parity)
+        if key not in self._cache:
+            pb = self.basis.bloch(j, parity)
+            pview = FourierShell(self.structure, pb, self.z_ref)
+            theta, _ = self._full_circle()
+            state_maps, pmaps = self.basis.ring_maps(theta), pb.ring_maps(theta)
+            maps = {}
+            for fam, pfam in zip(self._families + self._volume, pview._families + pview._volume):
+                layout = self._layouts[fam[0]]
+                nn = fam[1].shape[1]
+                maps[fam[0]] = (self._local_map(layout, nn, state_maps), self._local_map(layout, nn, pmaps))
+            maps["pole"] = (self._local_map(layouts.POLE, 2, state_maps), self._local_map(layouts.POLE, 2, pmaps))
+            self._cache[key] = (pview, maps)
+        return self._cache[key]
+
+    def bloch_block(self, c: np.ndarray, j: int, parity: str = "even", pressure: float = 0.0,
+                    remove_rigid: bool = True, control_fixed=()) -> sp.csr_matrix:
+        """The Hessian at the state ``c`` (of this view's ``D_n`` basis) on the perturbations of Bloch wave
+        number ``j`` and one parity (:meth:`AngularBasis.bloch`), reduced to their admissible unknowns.
+
+        At a ``D_n``-symmetric state the Hessian on every perturbation splits into these blocks (the
+        irreducible representations of ``D_n``): the waves ``m = q n +- j`` couple only among themselves,
+        and symmetric and antisymmetric fields about the mirror do not couple.  For ``0 < j < n / 2`` the
+        two parities carry the same two-dimensional representation and have the same spectrum.  The angle
+        is integrated over the whole circle with the basis's ``M`` angles.  ``control_fixed`` (traced-model
+        dofs held by a control) acts on ``j = 0``, ``"even"`` only.
+        """
+        if not self.basis.mirror or self.basis.j != 0:
+            raise ValueError("FourierShell.bloch_block: the state's basis must be a D_n basis (mirror=True, j=0)")
+        c = np.asarray(c, dtype=float)
+        pview, maps = self._perturbation_view(j, parity)
+        _, w = self._full_circle()
+        P = pview.pattern(pressure != 0.0)
+        data = np.zeros(P.nnz)
+        groups = [(f, 1.0) for f in self._families]
+        if pressure != 0.0:
+            groups += [(f, float(pressure)) for f in self._volume]
+        for fam, factor in groups:
+            name, nodes, _, kernel, params, offset = fam
+            Bs, Bp = maps[name]
+            _, _, h = self._jets(c, (name, nodes, Bs, kernel, params, offset))
+            Q, k, A = Bp.shape
+            hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))
+            He = np.matmul(Bp.reshape(Q * k, A).T[None], np.matmul(hq, Bp[None]).reshape(-1, Q * k, A))
+            data += np.bincount(pview._slots(pview._element_dofs(nodes), pressure != 0.0), factor * He.ravel(),
+                                minlength=P.nnz)
+        Bs, Bp = maps["pole"]
+        for nodes, kernel, lbar, kbar, Akb in self._poles:
+            He = self._pole_hessian(c, nodes, kernel, lbar, kbar, Akb, Bs, Bp, w)
+            data += np.bincount(pview._slots(pview._element_dofs(nodes), pressure != 0.0), He.ravel(), minlength=P.nnz)
+        H = sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
+        held = control_fixed if (j == 0 and parity == "even") else ()
+        T = pview.reduction(remove_rigid, held).T
+        return (T.T @ H @ T).tocsr()
+
+    def _pole_hessian(self, c: np.ndarray, nodes: np.ndarray, kernel: Any, lbar: float, kbar: float, Akb: float,
+                      Bs: np.ndarray, Bp: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """The pole element's second variation along the perturbations mapped by ``Bp`` (state by ``Bs``)."""
+        nu = self.nu
+        wm = w / (2.0 * math.pi)
+        y = np.einsum("qka,a->kq", Bs, c[self._element_dofs(nodes)[0]])
+        v, g, h = kernel(y, lbar)
+        Bq = v - kbar
+        G = np.einsum("qka,kq->qa", Bp, g)
+        Hq = np.einsum("qka,klq,qlb->qab", Bp, h, Bp, optimize=True)
+        mean = float(wm @ Bq)
+        dmean = wm @ G
+        return Akb * (2.0 * (3.0 * nu - 1.0) * (np.outer(dmean, dmean) + mean * np.einsum("q,qab->ab", wm, Hq))
+                      + 4.0 * (1.0 - nu) * (np.einsum("q,qa,qb->ab", wm, G, G) + np.einsum("q,qab->ab", wm * Bq, Hq)))
+
+    def bloch_classes(self) -> list[tuple[int, str, int]]:
+        """``(j, parity, multiplicity)`` of every class of perturbations about a ``D_n`` state: the
+        irreducible representations of ``D_n``, each once (a two-dimensional one by one parity, counted twice)."""
+        n = self.basis.n
+        out = []
+        for j in range(n // 2 + 1):
+            if j == 0 or 2 * j == n:
+                out += [(j, "even", 1), (j, "odd", 1)]
+            else:
+                out.append((j, "even", 2))
+        return out
+
+    def morse_index(self, c: np.ndarray, pressure: float = 0.0, remove_rigid: bool = True,
+                    control_fixed=()) -> dict[tuple[int, str], int]:
+        """The number of negative eigenvalues of each Bloch block at the ``D_n`` state ``c`` (by the blocks'
+        ``L D L^T`` inertia), keyed ``(j, parity)``; the Morse index against every perturbation is
+        ``sum(multiplicity * count)`` over :meth:`bloch_classes`."""
+        from contin.numerics.stability import stability_info
+
+        return {(j, par): int(stability_info(self.bloch_block(c, j, par, pressure, remove_rigid, control_fixed),
+                                             0).n_negative)
+                for j, par, _ in self.bloch_classes()}
