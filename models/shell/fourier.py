@@ -329,6 +329,18 @@ class FourierShell:
         cs, sn = np.cos(th)[None, :], np.sin(th)[None, :]
         return np.stack([P[..., 0] * cs - P[..., 1] * sn, P[..., 0] * sn + P[..., 1] * cs, P[..., 2]], axis=-1)
 
+    def point_map(self, node: int, theta: float) -> np.ndarray:
+        """``(3, N m)``: the Cartesian position of ring ``node``'s material point at the angle ``theta``, a
+        linear function of the unknowns (a point force's potential is ``-F . point_map @ c``)."""
+        if not 0 <= int(node) < self.N:
+            raise ValueError(f"FourierShell: node must be in [0, {self.N - 1}], got {node!r}")
+        th = float(theta)
+        P = self.basis.ring_maps(np.array([th]))["P"][0]          # (3, m): frame components
+        rot = np.array([[math.cos(th), -math.sin(th), 0.0], [math.sin(th), math.cos(th), 0.0], [0.0, 0.0, 1.0]])
+        out = np.zeros((3, self.size))
+        out[:, int(node) * self.m:(int(node) + 1) * self.m] = rot @ P
+        return out
+
     def reduction(self, remove_rigid: bool = True, control_fixed=()) -> FourierReduction:
         """The admissible unknowns: poles are single points, supports hold their rings, and (``remove_rigid``)
         a shell without a support in ``z`` has its rigid motions removed at the structure's ``rigid_fix``

@@ -4,14 +4,15 @@ The unknowns are the free Fourier coefficients of the rings (:meth:`FourierShell
 point, supports held, and under displacement control the pole's height held at the parameter); the
 residual is the reduced gradient of the total energy and the Jacobian its Hessian, banded along the
 meridian (a banded LU: O(N) per Newton step at a fixed angular resolution).  Loads: a point force at
-the pole (``F``, positive pushing the pole down, force or displacement control) and a uniform
-external pressure (``p``).  The basis fixes the symmetry class of every state traced: a ``D_n`` basis
+the pole (``F``, positive pushing the pole down, force or displacement control), a uniform
+external pressure (``p``), or dead point forces on any material points (``P`` times each force).  The basis fixes the symmetry class of every state traced: a ``D_n`` basis
 traces ``D_n``-symmetric states only, and its branch points are the ones that keep that symmetry.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any, Literal
 
 import numpy as np
@@ -35,59 +36,85 @@ class Shell3D(Problem):
         The shell and its supports.
     basis : AngularBasis
         The angular series (and with it the symmetry class of the states).
-    load : {"point", "pressure"}
-        A point force at the pole (node ``N-1``, on the axis) or a uniform external pressure.
+    load : {"point", "pressure", "forces"}
+        A point force at the pole (node ``N-1``, on the axis), a uniform external pressure, or ``forces``.
     control : {"force", "displacement"}
         The load as the parameter, or (point load) the pole's deflection ``w``.
     length : float, optional
         Length that normalises ``w`` and ``F`` (``w_over_L``, ``F_norm = F L / (2 pi D)``); default the
         meridian's ``length_scale`` (or ``R``).
+    forces : sequence of (node, theta, (Fx, Fy, Fz))
+        With ``load="forces"``: dead forces (Cartesian, per unit parameter ``P``) on the material point of
+        ring ``node`` at the reference angle ``theta``.  A basis with symmetry needs the whole symmetric
+        set (every image of a force under the basis's group), as the energy is the whole shell's.
 
     Notes
     -----
-    Observables: the load (``F`` or ``p``), ``w`` (the pole's deflection), ``w_over_L`` and, under a
-    point load, ``F_norm``; all with exact derivatives.  :meth:`full_state` gives the Fourier
+    Observables: the load (``F``, ``p`` or ``P``), ``w`` (the pole's deflection, where there is a pole),
+    ``w_over_L``, under a point load ``F_norm``, and per force ``u0``, ``u1``, ... (the displacement of its
+    point along it); all with exact derivatives.  :meth:`full_state` gives the Fourier
     coefficients of every ring, :attr:`view` the energy.
     """
 
-    def __init__(self, structure: Any, basis: AngularBasis, load: Literal["point", "pressure"] = "point",
-                 control: Literal["force", "displacement"] = "force", length: float | None = None) -> None:
-        if load not in ("point", "pressure"):
-            raise ValueError(f"Shell3D: load must be 'point' or 'pressure', got {load!r}")
+    def __init__(self, structure: Any, basis: AngularBasis, load: Literal["point", "pressure", "forces"] = "point",
+                 control: Literal["force", "displacement"] = "force", length: float | None = None,
+                 forces: Sequence[tuple[int, float, Sequence[float]]] = ()) -> None:
+        if load not in ("point", "pressure", "forces"):
+            raise ValueError(f"Shell3D: load must be 'point', 'pressure' or 'forces', got {load!r}")
         if control not in ("force", "displacement"):
             raise ValueError(f"Shell3D: control must be 'force' or 'displacement', got {control!r}")
         st = self.structure = structure
         N = st.N
-        if N - 1 not in st.poles:
-            raise ValueError("Shell3D: the load's deflection is the pole's: node N-1 must be on the axis (r = 0)")
-        if load == "pressure" and control != "force":
-            raise ValueError("Shell3D: pressure takes control='force'")
+        pole = N - 1 in st.poles
+        if load == "point" and not pole:
+            raise ValueError("Shell3D: a point load acts at the pole: node N-1 must be on the axis (r = 0)")
+        if load != "point" and control != "force":
+            raise ValueError(f"Shell3D: load {load!r} takes control='force'")
         if st.rigid_fix is not None and load == "point":
             raise ValueError(f"Shell3D: a point force needs a support in z (boundary {st.boundary!r} leaves the "
                              "shell free to translate)")
+        if load == "forces" and not forces:
+            raise ValueError("Shell3D: load 'forces' needs forces = [(node, theta, (Fx, Fy, Fz)), ...]")
         self.load, self.control = load, control
         self.view = view = FourierShell(st, basis)
         self.basis = basis
         if length is None:
             length = getattr(st.meridian, "length_scale", None) or getattr(st.meridian, "R", None)
         self.length = float(length) if length is not None else 1.0
-        self.z_dof = (N - 1) * view.m + basis.index("Z", "cos", 0)
         self.c_ref = view.reference_state()
-        self.z_ref_pole = float(self.c_ref[self.z_dof])
+        self.z_dof = (N - 1) * view.m + basis.index("Z", "cos", 0) if pole else None
+        self.z_ref_pole = float(self.c_ref[self.z_dof]) if pole else math.nan
         held = [2 * N - 1] if control == "displacement" else []
         self.reduction = red = view.reduction(control_fixed=held)
         self.T = red.T.tocsc()
         self.Tt = red.T.T.tocsr()
         self.D = float(st.kb_nodes[N - 1])
+        # the load per unit parameter as a force on the unknowns: the point force at the pole pushes its
+        # height down; each of ``forces`` acts on one material point in a fixed direction (dead loads)
+        self.load_vector = np.zeros(view.size)
+        self.forces = []
+        if load == "point":
+            self.load_vector[self.z_dof] = -1.0
+        for k, (node, theta, F) in enumerate(forces):
+            F = np.asarray(F, dtype=float)
+            if F.shape != (3,) or not np.all(np.isfinite(F)) or not np.any(F):
+                raise ValueError(f"Shell3D: forces[{k}] needs a finite, nonzero (Fx, Fy, Fz), got {F!r}")
+            X = view.point_map(int(node), float(theta))
+            self.load_vector += F @ X
+            self.forces.append((int(node), float(theta), F, (F / np.linalg.norm(F)) @ X))
         H0 = self.Tt @ view.hessian(self.c_ref) @ self.T
         absT = abs(self.T)
         self.kl, self.ku = bandwidths(absT.T @ view.pattern(load == "pressure") @ absT)
-        name = "F" if load == "point" else "p"
+        name = {"point": "F", "pressure": "p", "forces": "P"}[load]
         self.load_name = name
-        observables: dict[str, Any] = {name: self._obs_load, "w": self._obs_w,
-                                       "w_over_L": lambda u, p: self._obs_w(u, p) / self.length}
-        derivatives: dict[str, Any] = {name: self._dobs_load, "w": self._dobs_w,
-                                       "w_over_L": lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.length)}
+        observables: dict[str, Any] = {name: self._obs_load}
+        derivatives: dict[str, Any] = {name: self._dobs_load}
+        if pole:
+            observables.update(w=self._obs_w, w_over_L=lambda u, p: self._obs_w(u, p) / self.length)
+            derivatives.update(w=self._dobs_w, w_over_L=lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.length))
+        for k, (_, _, _, along) in enumerate(self.forces):
+            observables[f"u{k}"] = lambda u, p, a=along: float(a @ (self.full_state(u, p) - self.c_ref))
+            derivatives[f"u{k}"] = lambda u, p, a=along: (self.Tt @ a, 0.0)
         if load == "point":
             f_norm = self.length / (2.0 * math.pi * self.D)
             observables["F_norm"] = lambda u, p: self._obs_load(u, p) * f_norm
@@ -128,16 +155,15 @@ class Shell3D(Problem):
 
     def _gradient(self, c: np.ndarray, p: float) -> np.ndarray:
         g = self.view.gradient(c, self._pressure(p))
-        if self.load == "point" and self.control == "force":  # the potential -F w, w = z_ref - z
-            g = g.copy()
-            g[self.z_dof] += float(p)
+        if self.load != "pressure" and self.control == "force":  # the dead loads' potential -p f.(c - c_ref)
+            g = g - float(p) * self.load_vector
         return g
 
     def energy(self, u: np.ndarray, p: float) -> float:
         c = self.full_state(u, p)
         e = self.view.energy(c, self._pressure(p))
-        if self.load == "point" and self.control == "force":
-            e -= float(p) * (self.z_ref_pole - float(c[self.z_dof]))
+        if self.load != "pressure" and self.control == "force":
+            e -= float(p) * float(self.load_vector @ (c - self.c_ref))
         return e
 
     def residual(self, u: np.ndarray, p: float) -> np.ndarray:
@@ -152,9 +178,7 @@ class Shell3D(Problem):
         if self.load == "pressure":
             return self.Tt @ (self.view.gradient(c, 1.0) - self.view.gradient(c, 0.0))
         if self.control == "force":
-            d = np.zeros(self.view.size)
-            d[self.z_dof] = 1.0
-            return self.Tt @ d
+            return -(self.Tt @ self.load_vector)
         H = self.view.hessian(c)
         return -(self.Tt @ H[:, [self.z_dof]]).toarray().ravel()  # z = z_ref - w
 
