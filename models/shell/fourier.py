@@ -74,7 +74,8 @@ class AngularBasis:
     M : int, optional
         Angles of the trapezoidal rule on the whole circle: a multiple of ``2 n`` (``D_n``) or of ``n``,
         above ``2 K n`` (so that quadratic forms about axisymmetric states are integrated exactly).
-        Default ``2 n (2 K + 2)``: twice the harmonics' resolution.
+        Default: the smallest multiple of ``2 n`` above ``3 K n`` (the rule that integrates products of
+        three fields of the basis exactly; the energy's higher harmonics are small).
     j : int
         The Bloch wave number of a class of perturbations (``0 .. n // 2``): the waves ``q n +- j``.  A
         state's basis has ``j = 0``.
@@ -100,7 +101,7 @@ class AngularBasis:
         if not isinstance(K, (int, np.integer)) or K < 0:
             raise ValueError(f"AngularBasis: K (the number of harmonics above 0) must be an integer >= 0, got {K!r}")
         period = 2 * n if self.mirror else n
-        M = 2 * n * (2 * K + 2) if self.M is None else self.M
+        M = 2 * n * ((3 * K + 2) // 2) if self.M is None else self.M
         if not isinstance(M, (int, np.integer)) or M % period or M <= 2 * K * n:
             raise ValueError(f"AngularBasis: M (angles of the quadrature on the circle) must be a multiple of {period} "
                              f"above 2 K n = {2 * K * n}, got {M!r}")
@@ -500,12 +501,10 @@ class FourierShell:
             A = dofs.shape[1]
             rows = np.repeat(dofs, A, axis=1).ravel()
             cols = np.tile(dofs, (1, A)).ravel()
-            # entries of each row are sorted by column: search the column within the row's stretch
-            start = P.indptr[rows]
-            pos = np.empty(rows.size, dtype=np.int64)
-            for r in np.unique(rows):
-                sel = rows == r
-                pos[sel] = start[sel] + np.searchsorted(P.indices[P.indptr[r]:P.indptr[r + 1]], cols[sel])
+            # a canonical CSR matrix lists its entries sorted by (row, column): search the pairs' keys
+            size = np.int64(self.size)
+            keys = np.repeat(np.arange(self.size, dtype=np.int64), np.diff(P.indptr)) * size + P.indices
+            pos = np.searchsorted(keys, rows.astype(np.int64) * size + cols)
             self._cache[key] = pos
         return self._cache[key]
 
