@@ -1,4 +1,5 @@
-"""The shell's kernels in C (contin_models.shell._ckernels) against the same kernels in numpy.
+"""The shell's kernels in C (contin_models.shell._ckernels, _harmonic_ckernels, _density_ckernels) against the same
+kernels in numpy.
 
 The C source is generated from the committed numpy module (contin.modelkit.codegen.c_extension_text); the
 extension is built by the package install where a C compiler is found, and the shell falls back on
@@ -10,12 +11,14 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import types
 
 import numpy as np
 import pytest
 
 from contin.modelkit.codegen import c_extension_text
-from contin_models.shell import _generated, _harmonic_generated, harmonic
+from contin.numerics.compiled import prefer_compiled
+from contin_models.shell import _density_generated, _generated, _harmonic_generated, density_kernels, harmonic
 from contin_models.shell.energy import COMPILED, compiled_rows, kernels
 
 ROWS = compiled_rows(_generated.NDOF)
@@ -44,11 +47,19 @@ def test_harmonic_c_source_is_generated_from_the_committed_numpy_kernels():
         "models/shell/_harmonic_ckernels.c is out of date: run `python -m contin_models.shell.harmonic_codegen`")
 
 
+def test_density_c_source_is_generated_from_the_committed_numpy_kernels():
+    from contin_models.shell.density_codegen import C_OUTPUT, generate_c_source
+
+    assert C_OUTPUT.read_text(encoding="utf-8") == generate_c_source(), (
+        "models/shell/_density_ckernels.c is out of date: run `python -m contin_models.shell.density_codegen`")
+
+
 def test_the_ci_build_has_the_compiled_kernels():
     if os.environ.get("CI") != "true":
         pytest.skip("only CI, whose machine has a C compiler, must have built the extensions")
     assert COMPILED, "the package install did not build contin_models.shell._ckernels"
     assert harmonic.COMPILED, "the package install did not build contin_models.shell._harmonic_ckernels"
+    assert density_kernels.COMPILED, "the package install did not build contin_models.shell._density_ckernels"
     from contin.numerics import linalg
 
     assert linalg.banded_extension() is not None, "the package install did not build contin.numerics._banded"
@@ -78,6 +89,102 @@ def test_compiled_harmonic_kernel_gives_the_numpy_numbers(name):
         # libm's pow and numpy's differ in the last bit for the odd powers (x**3, x**5) these kernels
         # take; the rest is the same operations in the same order
         np.testing.assert_allclose(g, e, rtol=1e-11, atol=1e-12 * max(np.abs(e).max(), 1.0))
+
+
+needs_density_compiled = pytest.mark.skipif(not density_kernels.COMPILED,
+                                            reason="the C extension contin_models.shell._density_ckernels is not built")
+
+
+def _density_inputs(name: str, stations: tuple[int, ...], rng: np.random.Generator) -> tuple[np.ndarray, list]:
+    """A general state's local variables ``(k, *stations)`` (every entry nonzero, of either sign, no symmetry)
+    and the kernel's parameters as arrays of the station shape, nu a number as the shell passes it."""
+    kernel = getattr(_density_generated, name)
+    k = {"stretch_jet": 6, "skirt_jet": 6, "free_edge_jet": 12, "volume_jet": 12}.get(name, 15)
+    y = rng.uniform(0.1, 1.0, (k, *stations)) * rng.choice([-1.0, 1.0], (k, *stations))
+    names = kernel.__code__.co_varnames[1:kernel.__code__.co_argcount]
+    params = [0.3 if p == "nu" else rng.uniform(0.3, 1.5, stations) for p in names]
+    return y, params
+
+
+def _assert_density_outputs_equal(got: tuple, expected: tuple, rtol: float) -> None:
+    """Same shapes and types, and each output within ``rtol`` of its largest entry."""
+    assert len(got) == len(expected) == 3
+    for g, e in zip(got, expected):
+        assert np.shape(g) == np.shape(e) and isinstance(g, np.ndarray) == isinstance(e, np.ndarray)
+        np.testing.assert_allclose(g, e, rtol=rtol, atol=rtol * np.abs(e).max())
+
+
+@needs_density_compiled
+@pytest.mark.parametrize("name", _density_generated.KERNELS)
+def test_compiled_density_kernel_gives_the_numpy_numbers(name):
+    rng = np.random.default_rng(8)
+    for stations in [(27, 10), (31,)]:  # (elements, angles) as the 3-D view passes them, and a flat list
+        y, params = _density_inputs(name, stations, rng)
+        expected, got = getattr(_density_generated, name)(y, *params), getattr(density_kernels.kernels, name)(y, *params)
+        # the same operations in the same order, but for numpy's own power (x**3, x**5) against libm's
+        _assert_density_outputs_equal(got, expected, 1e-14)
+
+
+def _compiled_only_density_kernels() -> types.ModuleType:
+    """The density kernels of the C extension, with numpy kernels that fail: what the C does not take fails."""
+    def refused(*inputs):
+        raise AssertionError("the compiled kernel refused these inputs")
+
+    numpy_kernels = types.ModuleType("refusing")
+    for name in _density_generated.KERNELS:
+        setattr(numpy_kernels, name, refused)
+    namespace, compiled = prefer_compiled(numpy_kernels, "contin_models.shell._density_ckernels")
+    assert compiled
+    return namespace
+
+
+@needs_density_compiled
+def test_compiled_density_kernel_takes_strided_states_broadcast_parameters_and_one_station():
+    name = "bend_cur_jet"
+    rng = np.random.default_rng(9)
+    y, params = _density_inputs(name, (12, 8), rng)
+    numpy_kernel, kernel = getattr(_density_generated, name), getattr(_compiled_only_density_kernels(), name)
+    expected = numpy_kernel(y, *params)
+    strided = np.ascontiguousarray(np.moveaxis(y, 2, 1)).swapaxes(1, 2)  # the same values, not C-contiguous
+    assert not strided.flags.c_contiguous
+    per_element = [p[:, :1] if np.ndim(p) else p for p in params]  # (E, 1): the same at every angle...
+    same = [np.broadcast_to(p, (12, 8)) if np.ndim(p) else p for p in per_element]  # ...as at (E, Q)
+    _assert_density_outputs_equal(kernel(strided, *per_element), numpy_kernel(y, *same), 1e-14)
+    _assert_density_outputs_equal(kernel(y, *params), expected, 1e-14)
+    station = [y[:, 3, 4], *[p[3, 4] if np.ndim(p) else p for p in params]]  # numbers in: a number out
+    one = kernel(*station)
+    assert np.isscalar(one[0]) and one[1].shape == (15,) and one[2].shape == (15, 15)
+    _assert_density_outputs_equal(one, numpy_kernel(*station), 1e-14)
+    _assert_density_outputs_equal(one, tuple(o[..., 3, 4][()] for o in expected), 1e-14)
+
+
+@needs_density_compiled
+def test_density_inputs_the_extension_does_not_take_fall_back_on_numpy():
+    name = "stretch_jet"
+    rng = np.random.default_rng(10)
+    y, params = _density_inputs(name, (7,), rng)
+    numpy_kernel, kernel = getattr(_density_generated, name), getattr(density_kernels.kernels, name)
+    single = y.astype(np.float32)  # not float64: computed by numpy, in numpy's precision
+    for g, e in zip(kernel(single, *params), numpy_kernel(single, *params)):
+        np.testing.assert_array_equal(g, e)
+    with pytest.raises(ValueError):  # too few variables: numpy's own error
+        kernel(y[:5], *params)
+
+
+def test_translation_of_kernels_that_unpack_stacked_variables():
+    source = ("def k(y, c):\n"
+              "    y0, y1 = y\n"
+              "    _shape = numpy.shape(y0)\n"
+              "    _g = numpy.zeros((2,) + _shape)\n"
+              "    _v = y1*c\n"
+              "    _g[1] = y0\n"
+              "    return _v, _g\n")
+    text = c_extension_text(source, {}, "_k", "test", returning=["k"])
+    assert "Input in[3];" in text  # y0, y1 and c: one input each
+    assert "const double y1 = in[1].data[_i * in[1].stride];" in text
+    assert "const double c = in[2].data[_i * in[2].stride];" in text
+    assert "out_g[1 * _m + _i] = y0;" in text and "out_v[_i] = _v;" in text
+    assert "\"{'k': (True, [(), (2,)])}\"" in text and "\"{'k': 2}\"" in text
 
 
 @needs_compiled

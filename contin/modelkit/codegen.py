@@ -1041,12 +1041,19 @@ def _c_output_name(name: str) -> str:
 
 
 def _zeros_shape(value: Any) -> tuple[tuple[int, ...], bool] | None:
-    """``(shape, per_element)`` of ``numpy.zeros(shape)`` (per element when its last extent is ``_m``), or None."""
+    """``(shape, per_element)`` of ``numpy.zeros(shape)`` (per element when its last extent is ``_m``, or when
+    the station shape ``_shape`` is appended: ``numpy.zeros((15,) + _shape)``), or None."""
     import ast
 
     if not (isinstance(value, ast.Call) and ast.unparse(value.func) == "numpy.zeros" and len(value.args) == 1):
         return None
     arg = value.args[0]
+    if (isinstance(arg, ast.BinOp) and isinstance(arg.op, ast.Add) and isinstance(arg.left, ast.Tuple)
+            and isinstance(arg.right, ast.Name) and arg.right.id == "_shape"):
+        dims = arg.left.elts
+        if not all(isinstance(d, ast.Constant) and isinstance(d.value, int) for d in dims):
+            return None
+        return tuple(d.value for d in dims), True
     extents = arg.elts if isinstance(arg, ast.Tuple) else [arg]
     per_element = isinstance(extents[-1], ast.Name) and extents[-1].id == "_m"
     dims = extents[:-1] if per_element else extents
@@ -1055,17 +1062,37 @@ def _zeros_shape(value: Any) -> tuple[tuple[int, ...], bool] | None:
     return tuple(d.value for d in dims), per_element
 
 
-def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None]:
-    """``(C function text, method-table entry, returns)`` of one generated numpy kernel.
+def _stacked_variables(function: Any) -> tuple[list[str], Any]:
+    """The names a kernel unpacks its first argument into (``y0, y1, y2 = y`` as its first statement after
+    the docstring) and that statement, or ``([], None)``."""
+    import ast
+
+    first = next((s for s in function.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))),
+                 None)
+    args = function.args.args
+    if (isinstance(first, ast.Assign) and len(first.targets) == 1 and isinstance(first.targets[0], ast.Tuple)
+            and all(isinstance(t, ast.Name) for t in first.targets[0].elts)
+            and isinstance(first.value, ast.Name) and args and first.value.id == args[0].arg):
+        return [t.id for t in first.targets[0].elts], first
+    return [], None
+
+
+def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None, int]:
+    """``(C function text, method-table entry, returns, stacked)`` of one generated numpy kernel.
 
     ``rows``: the kernel fills an ``out`` argument of ``rows`` rows (``returns`` is None).  None: the
     kernel allocates its outputs with ``numpy.zeros`` and returns them (or scalars per element);
-    ``returns`` is then ``(per_element, [shape of each returned value])``.
+    ``returns`` is then ``(per_element, [shape of each returned value])``.  ``stacked``: the number of
+    variables the kernel unpacks its first argument into (0 if it does not), each of them an input of
+    the C function in its place.
     """
     import ast
 
     name = function.name
     inputs = [a.arg for a in function.args.args if a.arg != "out"]
+    stacked, unpacking = _stacked_variables(function) if rows is None else ([], None)
+    if stacked:
+        inputs = stacked + inputs[1:]
     body, declared = [], set(inputs)
     outputs: dict[str, tuple[str, tuple[int, ...]]] = {}
     returned: list[str] = []
@@ -1083,11 +1110,15 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
             continue
         if isinstance(statement, ast.If) and ast.unparse(statement.test) == "out is None" and rows is not None:
             continue
+        if stacked and statement is unpacking:
+            continue
         if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
             raise ValueError(f"{name}: no C translation for statement {ast.unparse(statement)!r}")
         target = statement.targets[0]
         if rows is None and isinstance(target, ast.Name):
             if target.id == "_m" and ast.unparse(statement.value) == f"numpy.shape({inputs[0]})[0]":
+                continue
+            if stacked and target.id == "_shape" and ast.unparse(statement.value) == f"numpy.shape({inputs[0]})":
                 continue
             zeros = _zeros_shape(statement.value)
             if zeros is not None:
@@ -1132,7 +1163,7 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
     lines += ["    }", f"    release(in, {n}, outputs, {nout});", "    Py_RETURN_NONE;", "}"]
     arguments = "*inputs, out" if rows is not None else "*inputs, *outputs"
     entry = f'    {{"{name}", (PyCFunction)(void (*)(void))c_{name}, METH_FASTCALL, "{name}({arguments})"}},'
-    return "\n".join(lines), entry, (None if rows is not None else (per_element, shapes))
+    return "\n".join(lines), entry, (None if rows is not None else (per_element, shapes)), len(stacked)
 
 
 def c_extension_text(python_source: str, rows: dict[str, int], module: str, title: str,
@@ -1155,7 +1186,12 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
       per element; the C function is ``name(*inputs, *outputs)``, the outputs zero-filled arrays in
       the returned order, and the module's string ``RETURNS`` (a Python literal,
       :func:`contin.numerics.compiled.prefer_compiled` reads it) gives each such kernel's
-      ``(per_element, [shape of each returned value])``.
+      ``(per_element, [shape of each returned value])``.  A returning kernel may instead take its
+      variables stacked in its first argument, which its first statement unpacks (``y0, y1, y2 = y``;
+      then ``_shape = numpy.shape(y0)`` and ``numpy.zeros((3,) + _shape)`` for outputs per station, of
+      any station shape in numpy): the C function takes each of those variables as an input of its
+      own in the argument's place, and the module's string ``STACKED`` (a Python literal) gives each
+      such kernel's number of variables.
 
     Inputs are float64 arrays of one size ``m`` (1-D with any stride, or C-contiguous) or numbers;
     outputs writable C-contiguous float64 arrays of ``rows x m`` values.  Anything else raises
@@ -1186,21 +1222,24 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
         raise ValueError(f"c_extension_text: no kernel named {', '.join(missing)} in the source")
     kernels = [_c_kernel(functions[name], n) for name, n in rows.items()]
     kernels += [_c_kernel(functions[name], None) for name in returning]
-    table = "\n".join(entry for _, entry, _ in kernels)
-    returns = {name: spec for name, (_, _, spec) in zip([*rows, *returning], kernels) if spec is not None}
+    table = "\n".join(entry for _, entry, _, _ in kernels)
+    names = [*rows, *returning]
+    returns = {name: spec for name, (_, _, spec, _) in zip(names, kernels) if spec is not None}
+    stacked = {name: n for name, (_, _, _, n) in zip(names, kernels) if n}
     init = [f"PyMODINIT_FUNC PyInit_{module}(void) {{",
             "    PyObject *module = PyModule_Create(&moduledef);"]
-    if returns:
-        init += [f"    if (module != NULL && PyModule_AddStringConstant(module, \"RETURNS\", \"{returns!r}\") < 0) {{",
-                 "        Py_DECREF(module);",
-                 "        return NULL;",
-                 "    }"]
+    for constant, value in (("RETURNS", returns), ("STACKED", stacked)):
+        if value:
+            init += [f"    if (module != NULL && PyModule_AddStringConstant(module, \"{constant}\", \"{value!r}\") < 0) {{",
+                     "        Py_DECREF(module);",
+                     "        return NULL;",
+                     "    }"]
     init += ["    return module;", "}"]
     return "\n".join([
         f"/* {title}",
         "   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */",
         _C_PRELUDE,
-        "\n\n".join(text for text, _, _ in kernels),
+        "\n\n".join(text for text, _, _, _ in kernels),
         "",
         f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",
         "",

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 import importlib
+import math
 import os
 import types
 from collections.abc import Callable, Mapping
@@ -56,15 +57,39 @@ def _kernel(compiled: Callable, fallback: Callable, rows: int) -> Callable:
     return kernel
 
 
+def _station_inputs(inputs: tuple, stacked: int) -> tuple[list, tuple[int, ...]] | None:
+    """The compiled kernel's inputs for a kernel taking ``stacked`` variables in its first argument
+    ``(stacked, *stations)``: each variable, then each array parameter, flattened over the stations
+    (array parameters broadcast to them first; numbers stay numbers); and the station shape.  None for
+    inputs of another shape (the numpy kernel answers them)."""
+    y = inputs[0]
+    if np.ndim(y) < 1 or np.shape(y)[0] != stacked:
+        return None
+    stations = np.shape(y)[1:]
+    try:
+        params = [np.broadcast_to(p, stations).reshape(-1) if np.ndim(p) else p for p in inputs[1:]]
+    except ValueError:
+        return None
+    return [*np.reshape(y, (stacked, math.prod(stations))), *params], stations
+
+
 def _returning_kernel(compiled: Callable, fallback: Callable, per_element: bool,
-                      shapes: list[tuple[int, ...]]) -> Callable:
+                      shapes: list[tuple[int, ...]], stacked: int = 0) -> Callable:
     def kernel(*inputs):
-        m = np.shape(inputs[0])[0] if per_element else None
+        args, stations = inputs, ()
+        if stacked:
+            flat = _station_inputs(inputs, stacked)
+            if flat is None:
+                return fallback(*inputs)
+            args, stations = flat
+        m = (math.prod(stations) if stacked else np.shape(inputs[0])[0]) if per_element else None
         outputs = [np.zeros(shape + (m,) if per_element else shape or (1,)) for shape in shapes]
         try:
-            compiled(*inputs, *outputs)
+            compiled(*args, *outputs)
         except TypeError:  # as for the out= kernels: numpy takes what the extension does not
             return fallback(*inputs)
+        if stacked:  # back to the station shape; numbers for a single station, as numpy gives
+            outputs = [o.reshape(shape + stations)[()] for o, shape in zip(outputs, shapes)]
         if not per_element:  # the numbers of a single element are numbers, as numpy's are
             outputs = [float(o[0]) if not shape else o for o, shape in zip(outputs, shapes)]
         return tuple(outputs) if len(outputs) > 1 else outputs[0]
@@ -96,7 +121,12 @@ def prefer_compiled(kernels: types.ModuleType, extension: str,
         A new module object holding every public name of ``kernels``; each name in ``rows`` is the
         compiled kernel behind the numpy kernel's signature (``name(*inputs, out=None)``), and so is
         each kernel of the extension's ``RETURNS`` (``name(*inputs)``), falling back on the numpy
-        kernel for inputs the extension does not take.
+        kernel for inputs the extension does not take.  A kernel of the extension's ``STACKED``
+        (``name -> k``) takes its ``k`` variables stacked, ``(k, *stations)`` with any station shape,
+        and its parameters as numbers or arrays that broadcast to the stations: the namespace's
+        kernel passes the compiled one each variable and each array parameter flattened over the
+        stations (a copy where they are not contiguous, or where a parameter is broadcast) and
+        gives the outputs the station shape, as numpy does.
     compiled : bool
         Whether the extension was imported (False also when ``CONTIN_COMPILED=0``).
     """
@@ -107,6 +137,7 @@ def prefer_compiled(kernels: types.ModuleType, extension: str,
         return namespace, False
     rows = dict(rows or {})
     returns = ast.literal_eval(getattr(module, "RETURNS", "{}"))
+    stacked = ast.literal_eval(getattr(module, "STACKED", "{}"))
     if any(not hasattr(module, name) or not hasattr(kernels, name) for name in [*rows, *returns]):
         # an extension built from another version of the generated source: use none of it
         return namespace, False
@@ -114,5 +145,5 @@ def prefer_compiled(kernels: types.ModuleType, extension: str,
         setattr(namespace, name, _kernel(getattr(module, name), getattr(kernels, name), n))
     for name, (per_element, shapes) in returns.items():
         setattr(namespace, name, _returning_kernel(getattr(module, name), getattr(kernels, name), per_element,
-                                                   [tuple(s) for s in shapes]))
+                                                   [tuple(s) for s in shapes], stacked.get(name, 0)))
     return namespace, True

@@ -1,7 +1,10 @@
 """Generate :mod:`contin_models.shell._density_generated`: value, gradient and Hessian of the 2-D densities anywhere.
 
 Run as ``python -m contin_models.shell.density_codegen [--output PATH] [--check]`` (about half a
-minute).  Only this module imports sympy; the emitted file is plain vectorised numpy and is committed.
+minute).  Only this module imports sympy; the emitted file is plain vectorised numpy and is committed,
+and so is the source of its C extension (:data:`C_OUTPUT`, :func:`generate_c_source`), translated from
+it by :func:`contin.modelkit.codegen.c_extension_text`; :mod:`contin_models.shell.density_kernels` serves
+the compiled kernels where the install built them.
 
 :mod:`contin_models.shell.harmonic_codegen` differentiates the densities at axisymmetric states only
 (the harmonic blocks need nothing else).  A view whose states are not axisymmetric (rings of
@@ -60,13 +63,16 @@ from typing import Any
 
 import sympy as sp
 
-from contin.modelkit.codegen import KernelBody, generator_main, kernel_printer, module_text
+from contin.modelkit.codegen import KernelBody, c_extension_text, generator_main, kernel_printer, module_text
 
 from . import density as D
 
-__all__ = ["generate_source", "main", "symbolic", "DEFAULT_OUTPUT", "KERNELS"]
+__all__ = ["generate_source", "generate_c_source", "main", "symbolic", "DEFAULT_OUTPUT", "C_OUTPUT", "KERNELS"]
 
 DEFAULT_OUTPUT = Path(__file__).with_name("_density_generated.py")
+#: The same kernels as a C extension (``contin_models.shell._density_ckernels``), generated from the
+#: committed numpy module by :func:`contin.modelkit.codegen.c_extension_text` and built when the package installs
+C_OUTPUT = Path(__file__).with_name("_density_ckernels.c")
 BEND_VARIANTS = ("bend_cur", "bend_ref")
 POLE_VARIANTS = tuple(f"pole_{side}_{length}" for side in ("north", "south") for length in ("cur", "ref"))
 #: Every generated kernel's name, in the order of the module.
@@ -234,10 +240,32 @@ def generate_source() -> str:
     return module_text(_PREAMBLE, KERNELS, f"KERNELS = {KERNELS!r}", _kernels())
 
 
+def generate_c_source(python_source: str | None = None) -> str:
+    """Text of ``_density_ckernels.c``: every kernel of ``python_source`` in C.
+
+    Each kernel unpacks its stacked variables ``y``; the C function takes them one by one, flattened
+    over the stations (:func:`contin.numerics.compiled.prefer_compiled` does that).
+
+    Parameters
+    ----------
+    python_source : str or None
+        Text of the numpy module (``None``: the committed ``_density_generated.py``, which the C
+        file is generated from and checked against).
+    """
+    text = DEFAULT_OUTPUT.read_text(encoding="utf-8") if python_source is None else python_source
+    return c_extension_text(text, {}, "_density_ckernels",
+                            "Value, gradient and Hessian of the 2-D densities at general states "
+                            "(contin_models.shell._density_ckernels).", returning=KERNELS)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """The generator's command line (:func:`contin.modelkit.codegen.generator_main`): ``--output PATH``, ``--check``."""
+    """The generator's command line (:func:`contin.modelkit.codegen.generator_main`): ``--output PATH``, ``--check``.
+
+    Without ``--output`` the C extension's source :data:`C_OUTPUT` is written (or checked) too.
+    """
     return generator_main(argv, generate_source, DEFAULT_OUTPUT, "python -m contin_models.shell.density_codegen",
-                          "Generate the 2-D densities' value, gradient and Hessian kernels at general states.")
+                          "Generate the 2-D densities' value, gradient and Hessian kernels at general states.",
+                          companions=[(generate_c_source, C_OUTPUT)])
 
 
 if __name__ == "__main__":
