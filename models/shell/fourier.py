@@ -49,7 +49,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import _density_generated as _dgen
+from .density_kernels import kernels as _dgen
 from . import layouts
 
 __all__ = ["AngularBasis", "FourierShell", "FourierReduction"]
