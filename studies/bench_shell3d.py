@@ -1,0 +1,171 @@
+"""The cost of the shell's 3-D view (:mod:`contin_models.shell.fourier`): Newton steps, symmetry, a traced branch.
+
+Run ``python -m studies.bench_shell3d [--out DIR] [--full] [--quiet] [--repeat R]``.
+
+Three measurements, each the median of ``--repeat`` runs in this process:
+
+* **A Newton step against N** (``steps``): the paper's cap (``phi_hat = 0.8``, h/R = 0.02, nu = 0.5,
+  sliding edge) in the ``D_3`` basis with ``K`` harmonics, at a state on the way down under the pole's
+  deflection: assembling the Jacobian, factoring it (banded LU) and solving, for N = 100, 200, 400, 800.
+  At a fixed angular resolution the step should grow as O(N): the time per node is reported.
+* **The symmetry's gain** (``symmetry``): the pinched open hemisphere of :mod:`studies.pinched_hemisphere`
+  at P = 200 solved in its ``D_2`` basis and, from that state perturbed off the symmetry, by Newton's
+  method in the basis without any symmetry (the same waves, the same angles): the largest difference of
+  the two states and the time of a Newton step in each.
+* **A traced branch** (``branch``): the paper's cap at N = 200 in the ``D_3`` basis, traced from the
+  unloaded cap (displacement control, stability watched) to its first branch point, then along the
+  three-wave branch to ``w = 0.37 R``; beside it the axisymmetric trace of the same cap (the traced 1-D
+  model, the same settings) to the same deflection.  The ratio of their times is the cost of the 3-D
+  view on this path.
+
+Outputs in ``--out`` (default ``out/bench_shell3d``): ``summary.json``.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import math  # noqa: E402
+import time  # noqa: E402
+from collections.abc import Callable, Sequence  # noqa: E402
+from typing import Any  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import contin  # noqa: E402
+from studies._common import output_dir, print_table, run_study, say, study_parser, write_json  # noqa: E402
+
+#: The paper's default cap.
+PHI_HAT, H_OVER_R, NU, E = 0.8, 0.02, 0.5, 1e6
+#: The three-wave basis of the paper's cap: harmonics of ``D_3`` (waves ``0, 3, ..., 3 K``).
+WAVES, HARMONICS = 3, 4
+#: Where the traced branch stops.
+W_END = 0.37
+
+
+def median_time(call: Callable[[], Any], repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        call()
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times))
+
+
+def cap(N: int) -> Any:
+    from contin_models.shell.geometry import spherical_cap
+    from contin_models.shell.structure import ShellStructure
+
+    return ShellStructure(spherical_cap(1.0, PHI_HAT, N), E, NU, H_OVER_R, boundary="sliding")
+
+
+def newton_step(prob: Any, u: np.ndarray, p: float) -> np.ndarray:
+    """One Newton step of the problem at ``(u, p)``: residual, Jacobian, banded LU, solve."""
+    r = prob.residual(u, p)
+    return prob.factorize(prob.jacobian(u, p)).solve(-r)
+
+
+def steps(meshes: Sequence[int], repeat: int) -> list[dict[str, Any]]:
+    from contin_models.shell.fourier import AngularBasis
+    from contin_models.shell.problem3d import Shell3D
+
+    rows = []
+    for N in meshes:
+        prob = Shell3D(cap(N), AngularBasis(WAVES, HARMONICS), "point", "displacement")
+        rng = np.random.default_rng(0)
+        u = prob.reference_unknowns() + 1e-4 * rng.standard_normal(prob.n)  # not axisymmetric: every term works
+        newton_step(prob, u, 0.1)  # the first call builds the caches (maps, pattern, slots)
+        seconds = median_time(lambda: newton_step(prob, u + 1e-12 * rng.standard_normal(prob.n), 0.1), repeat)
+        rows.append({"N": N, "unknowns": prob.n, "band": prob.kl, "step_ms": 1e3 * seconds,
+                     "per_node_us": 1e6 * seconds / N})
+    return rows
+
+
+def symmetry(repeat: int, N: int = 24, K: int = 8) -> dict[str, Any]:
+    from contin_models.shell.fourier import AngularBasis
+    from contin_models.shell.problem3d import Shell3D
+    from studies.pinched_hemisphere import hemisphere
+
+    sym = hemisphere(N, K)
+    load = 200.0
+    br = contin.continuation(sym, sym.reference_unknowns(), 0.0, p_max=load, ds=5.0, ds_max=40.0, max_steps=500)
+    if br.status != "bound":
+        raise RuntimeError(f"bench_shell3d: the D_2 trace stopped before P = {load:g}: {br.message}")
+    c_sym = sym.full_state(br.u[-1], load)
+    basis = AngularBasis(1, 2 * K, mirror=False, M=sym.basis.M)
+    full = Shell3D(sym.structure, basis, "forces", forces=[(f[0], f[1], f[2]) for f in sym.forces])
+    lift = np.zeros(full.view.size)
+    for j, term in enumerate(sym.basis.terms):
+        lift[full.basis.index(*term)::full.view.m] = c_sym[j::sym.view.m]
+    u = full.unknowns(lift) + 1e-6 * np.random.default_rng(1).standard_normal(full.n)
+    iterations = 0
+    for iterations in range(1, 31):
+        du = newton_step(full, u, load)
+        u = u + du
+        if np.max(np.abs(du)) < 1e-12 * sym.structure.meridian.length_scale:
+            break
+    difference = float(np.max(np.abs(full.full_state(u, load) - lift)))
+    u_sym = br.u[-1]
+    t_sym = median_time(lambda: newton_step(sym, u_sym, load), repeat)
+    t_full = median_time(lambda: newton_step(full, u, load), repeat)
+    return {"N": N, "K": K, "M": sym.basis.M, "unknowns_D2": sym.n, "unknowns_none": full.n,
+            "newton_iterations": iterations, "largest_difference": difference, "step_ms_D2": 1e3 * t_sym,
+            "step_ms_none": 1e3 * t_full, "ratio": t_full / t_sym}
+
+
+def branch(N: int, repeat: int) -> dict[str, Any]:
+    from contin_models.shell.fourier import AngularBasis
+    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.structure import ShellOfRevolution
+
+    st = cap(N)
+    settings = dict(ds=0.01, ds_max=0.02, max_steps=2000, stability=True)
+
+    def axisymmetric() -> Any:
+        prob = ShellOfRevolution(st, "point", "displacement")
+        return contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=W_END, **settings)
+
+    def three_waves() -> tuple[Any, Any]:
+        prob = Shell3D(st, AngularBasis(WAVES, HARMONICS), "point", "displacement")
+        first = contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=W_END, **settings)
+        bp = next(s for s in first.special_points if s.kind == "branch_point")
+        second = contin.switch_branch(prob, bp, settings=contin.Settings(ds=0.002, ds_max=0.01), max_steps=2000,
+                                      p_max=W_END, stability=True)
+        return first, second
+
+    t_axi = median_time(axisymmetric, repeat)
+    t_3d = median_time(three_waves, max(1, repeat // 3))
+    first, second = three_waves()
+    bp = next(s for s in first.special_points if s.kind == "branch_point")
+    ax = axisymmetric()
+    return {"N": N, "K": HARMONICS, "w_branch_point": float(bp.p), "w_end": W_END,
+            "points_3d": int(np.searchsorted(first.p, bp.p)) + len(second.p), "points_axisymmetric": len(ax.p),
+            "seconds_3d": t_3d, "seconds_axisymmetric": t_axi, "ratio": t_3d / t_axi}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = study_parser("bench_shell3d", "the cost of the shell's 3-D view")
+    parser.add_argument("--repeat", type=int, default=5, help="runs per timing (the median is reported)")
+    args = parser.parse_args(argv)
+    out = output_dir(args.out)
+    t0 = time.perf_counter()
+    say(args.quiet, "Newton steps against N")
+    rows = steps((100, 200, 400, 800) if args.full else (100, 200, 400), args.repeat)
+    print_table(rows, ["N", "unknowns", "band", "step_ms", "per_node_us"], digits=4)
+    say(args.quiet, "the symmetry's gain (pinched hemisphere, D_2 against no symmetry)")
+    sym = symmetry(args.repeat)
+    print_table([sym], list(sym), digits=4)
+    say(args.quiet, "a traced branch of the paper's cap against its axisymmetric trace")
+    br = branch(200 if args.full else 100, args.repeat)
+    print_table([br], list(br), digits=4)
+    write_json(out / "summary.json", {"steps": rows, "symmetry": sym, "branch": br, "repeat": args.repeat,
+                                      "wall_time_s": time.perf_counter() - t0,
+                                      "command": "python -m studies.bench_shell3d" + (" --full" if args.full else "")})
+    say(args.quiet, f"{time.perf_counter() - t0:.1f} s; outputs in {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(run_study(main))
