@@ -222,3 +222,28 @@ def test_bloch_blocks_are_the_hessian_on_every_perturbation() -> None:
     assert np.sum(whole < 0) > 0  # the state is far enough from the reference to test the count
     index = sym.morse_index(c)
     assert sum(m * index[j, par] for j, par, m in sym.bloch_classes()) == np.sum(whole < 0)
+
+
+def test_pressure_in_the_3d_view_meets_the_blocks_bifurcation() -> None:
+    """A clamped cap under pressure (lambda = 7, R/h = 400): the harmonic blocks locate its first
+    bifurcation (into ``n = 3``, before the axisymmetric snap); the ``D_3`` view, started at zero
+    pressure, finds a branch point of its own at the same pressure."""
+    import contin
+    from contin_models.shell.meridian import spherical_cap_meridian
+    from contin_models.shell.pressure import phi_hat_for_lambda
+    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.structure import ShellOfRevolution
+
+    nu, R, h = 0.3, 400.0, 1.0
+    E = math.sqrt(3 * (1 - nu * nu)) / (2 * (h / R) ** 2)  # p_c = 1
+    st = ShellStructure(spherical_cap_meridian(R, phi_hat_for_lambda(7.0, R, h, nu), 40, 1.0), E, nu, h, "clamped")
+    settings = contin.Settings(ds=0.05, ds_max=0.05, max_steps=200, stability=True)
+    one = ShellOfRevolution(st, "pressure", p_c=1.0, length=R, harmonics=4)
+    b1 = contin.continuation(one, one.reference_unknowns(), 0.0, settings, p_max=1.0, stop_at=("fold", "bifurcation"))
+    first = b1.special_points[-1]
+    assert first.kind == "bifurcation" and first.info["key"] == 3
+    view = Shell3D(st, AngularBasis(3, 2), "pressure", length=R)
+    b3 = contin.continuation(view, view.reference_unknowns(), 0.0, settings, p_max=1.0, stop_at=("branch_point",))
+    bp = b3.special_points[-1]
+    assert bp.kind == "branch_point" and bp.located
+    assert abs(bp.p - first.p) < 1e-9 * abs(first.p)

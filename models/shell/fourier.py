@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -52,7 +53,7 @@ import scipy.sparse as sp
 from .density_kernels import kernels as _dgen
 from . import layouts
 
-__all__ = ["AngularBasis", "FourierShell", "FourierReduction"]
+__all__ = ["AngularBasis", "FourierShell", "FourierReduction", "csr_positions"]
 
 #: The frame component of each unknown component: ``R`` radial, ``T`` circumferential, ``Z`` axial.
 _FRAME = {"R": 0, "T": 1, "Z": 2}
@@ -201,6 +202,14 @@ class AngularBasis:
         return out
 
 
+def csr_positions(P: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Positions in ``P.data`` of the entries ``(rows[k], cols[k])`` of a canonical CSR matrix (each must be stored)."""
+    # a canonical CSR matrix lists its entries sorted by (row, column): search the pairs' keys
+    size = np.int64(P.shape[1])
+    keys = np.repeat(np.arange(P.shape[0], dtype=np.int64), np.diff(P.indptr)) * size + P.indices
+    return np.searchsorted(keys, np.asarray(rows, dtype=np.int64) * size + np.asarray(cols, dtype=np.int64))
+
+
 @dataclass(frozen=True)
 class FourierReduction:
     """The admissible unknowns of a :class:`FourierShell`: ``c = T q + c_fixed``.
@@ -224,6 +233,33 @@ class FourierReduction:
         c = np.array(held, dtype=float)
         c[self.free] = 0.0
         return c + self.T @ q
+
+    def restriction(self, P: sp.csr_matrix) -> Callable[[np.ndarray], sp.csr_matrix]:
+        """A map from the data of a matrix with the pattern ``P`` (canonical) to ``T^T H T``, without a sparse
+        product: every unknown is free, tied to one free unknown, or fixed, so each entry of ``H`` lands in
+        at most one entry of ``T^T H T``."""
+        T = self.T.tocsr()
+        n_full = T.shape[0]
+        col = np.full(n_full, -1, dtype=np.int64)
+        fac = np.zeros(n_full)
+        has = np.diff(T.indptr) > 0
+        col[has] = T.indices[T.indptr[:-1][has]]
+        fac[has] = T.data[T.indptr[:-1][has]]
+        rows = np.repeat(np.arange(n_full), np.diff(P.indptr))
+        ri, ci = col[rows], col[P.indices]
+        keep = np.flatnonzero((ri >= 0) & (ci >= 0))
+        factor = fac[rows[keep]] * fac[P.indices[keep]]
+        m = T.shape[1]
+        R = sp.csr_matrix((np.ones(keep.size), (ri[keep], ci[keep])), shape=(m, m))
+        R.sum_duplicates()
+        slots = csr_positions(R, ri[keep], ci[keep])
+        indices, indptr, nnz = R.indices, R.indptr, R.nnz
+
+        def restrict(data: np.ndarray) -> sp.csr_matrix:
+            return sp.csr_matrix((np.bincount(slots, data[keep] * factor, minlength=nnz), indices, indptr),
+                                 shape=(m, m))
+
+        return restrict
 
 
 class FourierShell:
@@ -501,17 +537,15 @@ class FourierShell:
             A = dofs.shape[1]
             rows = np.repeat(dofs, A, axis=1).ravel()
             cols = np.tile(dofs, (1, A)).ravel()
-            # a canonical CSR matrix lists its entries sorted by (row, column): search the pairs' keys
-            size = np.int64(self.size)
-            keys = np.repeat(np.arange(self.size, dtype=np.int64), np.diff(P.indptr)) * size + P.indices
-            pos = np.searchsorted(keys, rows.astype(np.int64) * size + cols)
-            self._cache[key] = pos
+            self._cache[key] = csr_positions(P, rows, cols)
         return self._cache[key]
 
-    def hessian(self, c: np.ndarray, pressure: float = 0.0) -> sp.csr_matrix:
-        """The energy's Hessian in all unknowns (banded along the meridian; the entries of :meth:`pattern`)."""
+    def hessian(self, c: np.ndarray, pressure: float = 0.0, volume_pattern: bool = False) -> sp.csr_matrix:
+        """The energy's Hessian in all unknowns (banded along the meridian; the entries of :meth:`pattern`,
+        with the volume's where there is a pressure or ``volume_pattern`` asks for them)."""
         w = self.basis.weights
-        P = self.pattern(pressure != 0.0)
+        with_volume = pressure != 0.0 or volume_pattern
+        P = self.pattern(with_volume)
         data = np.zeros(P.nnz)
         for fam, jets, factor in self._groups(c, pressure):
             B, h = fam[2], jets[2]
@@ -519,10 +553,10 @@ class FourierShell:
             hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))  # (E, Q, k, k)
             # H_e = sum_q B_q^T H_eq B_q: H_e is block-diagonal in q, so with B stacked over q it is one product
             He = np.matmul(B.reshape(Q * k, A).T[None], np.matmul(hq, B[None]).reshape(-1, Q * k, A))
-            data += np.bincount(self._slots(self._element_dofs(fam[1]), pressure != 0.0), factor * He.ravel(),
+            data += np.bincount(self._slots(self._element_dofs(fam[1]), with_volume), factor * He.ravel(),
                                 minlength=P.nnz)
         for dofs, _, _, He in self._cache["state"]["poles"]:
-            data += np.bincount(self._slots(dofs, pressure != 0.0), He.ravel(), minlength=P.nnz)
+            data += np.bincount(self._slots(dofs, with_volume), He.ravel(), minlength=P.nnz)
         return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
 
     # ---- stability against every perturbation: the Bloch blocks ------------------------------------

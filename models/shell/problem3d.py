@@ -102,9 +102,9 @@ class Shell3D(Problem):
             X = view.point_map(int(node), float(theta))
             self.load_vector += F @ X
             self.forces.append((int(node), float(theta), F, (F / np.linalg.norm(F)) @ X))
-        H0 = self.Tt @ view.hessian(self.c_ref) @ self.T
-        absT = abs(self.T)
-        self.kl, self.ku = bandwidths(absT.T @ view.pattern(load == "pressure") @ absT)
+        self._restrict = red.restriction(view.pattern(load == "pressure"))
+        H0 = self._restrict(view.hessian(self.c_ref, volume_pattern=load == "pressure").data)
+        self.kl, self.ku = bandwidths(H0)  # every entry the pattern may hold is stored
         name = {"point": "F", "pressure": "p", "forces": "P"}[load]
         self.load_name = name
         observables: dict[str, Any] = {name: self._obs_load}
@@ -170,8 +170,8 @@ class Shell3D(Problem):
         return self.Tt @ self._gradient(self.full_state(u, p), p)
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
-        H = self.view.hessian(self.full_state(u, p), self._pressure(p))
-        return (self.Tt @ H @ self.T).tocsr()
+        c = self.full_state(u, p)
+        return self._restrict(self.view.hessian(c, self._pressure(p), volume_pattern=self.load == "pressure").data)
 
     def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
         c = self.full_state(u, p)
