@@ -14,9 +14,11 @@ Three measurements, each the median of ``--repeat`` runs in this process:
   the two states and the time of a Newton step in each.
 * **A traced branch** (``branch``): the paper's cap at N = 200 in the ``D_3`` basis, traced from the
   unloaded cap (displacement control, stability watched) to its first branch point, then along the
-  three-wave branch to ``w = 0.37 R``; beside it the axisymmetric trace of the same cap (the traced 1-D
-  model, the same settings) to the same deflection.  The ratio of their times is the cost of the 3-D
-  view on this path.
+  three-wave branch to ``w = 0.37 R`` (:func:`studies.shell3d_convergence.three_wave_branch`); beside it
+  the axisymmetric trace of the same cap (the traced 1-D model, the same settings) to the same
+  deflection.  Both count the Morse index at every point and store no eigenvalues (``n_eigs = 0``: the
+  three smallest of a banded matrix cost a reduction to tridiagonal form, 8 Newton steps of the 3-D view
+  at N = 100).  The ratio of their times is the cost of the 3-D view on this path.
 
 Outputs in ``--out`` (default ``out/bench_shell3d``): ``summary.json``.
 """
@@ -37,8 +39,6 @@ import numpy as np  # noqa: E402
 import contin  # noqa: E402
 from studies._common import output_dir, print_table, run_study, say, study_parser, write_json  # noqa: E402
 
-#: The paper's default cap.
-PHI_HAT, H_OVER_R, NU, E = 0.8, 0.02, 0.5, 1e6
 #: The three-wave basis of the paper's cap: harmonics of ``D_3`` (waves ``0, 3, ..., 3 K``); ``K = 3`` puts the
 #: load on the branch within 1e-5 of its angular limit (:mod:`studies.shell3d_convergence`).
 WAVES, HARMONICS = 3, 3
@@ -56,10 +56,9 @@ def median_time(call: Callable[[], Any], repeat: int) -> float:
 
 
 def cap(N: int) -> Any:
-    from contin_models.shell.geometry import spherical_cap
-    from contin_models.shell.structure import ShellStructure
+    from studies.shell3d_convergence import paper_cap
 
-    return ShellStructure(spherical_cap(1.0, PHI_HAT, N), E, NU, H_OVER_R, boundary="sliding")
+    return paper_cap(N)
 
 
 def newton_step(prob: Any, u: np.ndarray, p: float) -> np.ndarray:
@@ -117,33 +116,23 @@ def symmetry(repeat: int, N: int = 24, K: int = 8) -> dict[str, Any]:
 
 
 def branch(N: int, repeat: int) -> dict[str, Any]:
-    from contin_models.shell.fourier import AngularBasis
-    from contin_models.shell.problem3d import Shell3D
     from contin_models.shell.structure import ShellOfRevolution
+    from studies.shell3d_convergence import three_wave_branch
 
     st = cap(N)
-    settings = dict(ds=0.01, ds_max=0.02, max_steps=2000, stability=True)
 
     def axisymmetric() -> Any:
         prob = ShellOfRevolution(st, "point", "displacement")
-        return contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=W_END, **settings)
-
-    def three_waves() -> tuple[Any, Any]:
-        prob = Shell3D(st, AngularBasis(WAVES, HARMONICS), "point", "displacement")
-        first = contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=W_END, **settings)
-        bp = next(s for s in first.special_points if s.kind == "branch_point")
-        second = contin.switch_branch(prob, bp, settings=contin.Settings(ds=0.005, ds_max=0.02), max_steps=2000,
-                                      p_max=W_END, stability=True)
-        return first, second
+        return contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=W_END, ds=0.01, ds_max=0.02,
+                                   max_steps=2000, stability=True, n_eigs=0)
 
     t_axi = median_time(axisymmetric, repeat)
-    t_3d = median_time(three_waves, max(1, repeat // 3))
-    first, second = three_waves()
-    bp = next(s for s in first.special_points if s.kind == "branch_point")
+    t_3d = median_time(lambda: three_wave_branch(N, HARMONICS, W_END, n_eigs=0), max(1, repeat // 2))
+    run = three_wave_branch(N, HARMONICS, W_END, n_eigs=0)
     ax = axisymmetric()
-    return {"N": N, "K": HARMONICS, "w_branch_point": float(bp.p), "w_end": W_END,
-            "points_3d": int(np.searchsorted(first.p, bp.p)) + len(second.p), "points_axisymmetric": len(ax.p),
-            "seconds_3d": t_3d, "seconds_axisymmetric": t_axi, "ratio": t_3d / t_axi}
+    return {"N": N, "K": HARMONICS, "w_branch_point": run["w_bp"], "w_end": W_END, "points_3d": run["points"],
+            "points_axisymmetric": len(ax.p), "seconds_3d": t_3d, "seconds_axisymmetric": t_axi,
+            "ratio": t_3d / t_axi, "ratio_per_point": (t_3d / run["points"]) / (t_axi / len(ax.p))}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
