@@ -433,14 +433,15 @@ class FourierShell:
                 B[:, 3 * v:3 * v + 3, slot * m:(slot + 1) * m] += coef * maps[kind]
         return B
 
-    def _element_dofs(self, nodes: np.ndarray) -> np.ndarray:
+    def element_dofs(self, nodes: np.ndarray) -> np.ndarray:
+        """``(E, nn m)``: the unknowns of elements on the nodes ``(E, nn)``, node by node."""
         return (nodes[:, :, None] * self.m + np.arange(self.m)[None, None, :]).reshape(nodes.shape[0], -1)
 
     def _jets(self, c: np.ndarray, family: tuple) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """A family's local values, gradients and Hessians at every element and angle: ``(E, Q)``,
         ``(k, E, Q)``, ``(k, k, E, Q)``."""
         name, nodes, B, kernel, params, offset = family
-        ce = c[self._element_dofs(nodes)]                       # (E, A)
+        ce = c[self.element_dofs(nodes)]                       # (E, A)
         y = np.ascontiguousarray(np.matmul(B, ce.T).transpose(1, 2, 0))  # (k, E, Q)
         if offset is not None:
             y = y + offset[:, None, None]
@@ -479,7 +480,7 @@ class FourierShell:
         ``(element dofs (1, A), energy, gradient (1, A), Hessian (1, A, A))``."""
         nu, B = self.nu, self._pole_map
         w = self.basis.weights / (2.0 * math.pi)
-        dofs = self._element_dofs(nodes)
+        dofs = self.element_dofs(nodes)
         y = np.einsum("qka,a->kq", B, c[dofs[0]])
         v, g, h = kernel(y, lbar)
         Bq = v - kbar                                              # (Q,)
@@ -510,7 +511,7 @@ class FourierShell:
         for fam, jets, factor in self._groups(c, pressure):
             B = fam[2]
             ge = np.matmul(B.reshape(-1, B.shape[2]).T, (jets[1] * w).transpose(2, 0, 1).reshape(-1, jets[1].shape[1])).T
-            np.add.at(g, self._element_dofs(fam[1]).ravel(), factor * ge.ravel())
+            np.add.at(g, self.element_dofs(fam[1]).ravel(), factor * ge.ravel())
         for dofs, _, ge, _ in self._cache["state"]["poles"]:
             np.add.at(g, dofs.ravel(), ge.ravel())
         return g
@@ -520,7 +521,7 @@ class FourierShell:
         key = ("pattern", bool(pressure))
         if key not in self._cache:
             terms = list(self._families) + (list(self._volume) if pressure else [])
-            dofs = [self._element_dofs(t[1]) for t in terms] + [self._element_dofs(p[0]) for p in self._poles]
+            dofs = [self.element_dofs(t[1]) for t in terms] + [self.element_dofs(p[0]) for p in self._poles]
             rows = np.concatenate([np.repeat(d, d.shape[1], axis=1).ravel() for d in dofs])
             cols = np.concatenate([np.tile(d, (1, d.shape[1])).ravel() for d in dofs])
             P = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.size, self.size))
@@ -529,8 +530,9 @@ class FourierShell:
             self._cache[key] = P
         return self._cache[key]
 
-    def _slots(self, dofs: np.ndarray, pressure: bool) -> np.ndarray:
-        """Positions in :meth:`pattern`'s data of an element family's ``(E, A, A)`` Hessian entries."""
+    def hessian_slots(self, dofs: np.ndarray, pressure: bool) -> np.ndarray:
+        """Positions in the data of :meth:`pattern` (``pressure``: with the volume's entries) of the
+        ``(E, A, A)`` Hessian entries of elements on the unknowns ``dofs`` (``(E, A)``), cached."""
         key = ("slots", dofs.tobytes(), dofs.shape, bool(pressure))
         if key not in self._cache:
             P = self.pattern(pressure)
@@ -553,10 +555,10 @@ class FourierShell:
             hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))  # (E, Q, k, k)
             # H_e = sum_q B_q^T H_eq B_q: H_e is block-diagonal in q, so with B stacked over q it is one product
             He = np.matmul(B.reshape(Q * k, A).T[None], np.matmul(hq, B[None]).reshape(-1, Q * k, A))
-            data += np.bincount(self._slots(self._element_dofs(fam[1]), with_volume), factor * He.ravel(),
+            data += np.bincount(self.hessian_slots(self.element_dofs(fam[1]), with_volume), factor * He.ravel(),
                                 minlength=P.nnz)
         for dofs, _, _, He in self._cache["state"]["poles"]:
-            data += np.bincount(self._slots(dofs, with_volume), He.ravel(), minlength=P.nnz)
+            data += np.bincount(self.hessian_slots(dofs, with_volume), He.ravel(), minlength=P.nnz)
         return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
 
     # ---- stability against every perturbation: the Bloch blocks ------------------------------------
@@ -574,7 +576,7 @@ class FourierShell:
             theta, _ = self._full_circle()
             state_maps, pmaps = self.basis.ring_maps(theta), pb.ring_maps(theta)
             maps = {}
-            for fam, pfam in zip(self._families + self._volume, pview._families + pview._volume):
+            for fam in self._families + self._volume:
                 layout = self._layouts[fam[0]]
                 nn = fam[1].shape[1]
                 maps[fam[0]] = (self._local_map(layout, nn, state_maps), self._local_map(layout, nn, pmaps))
@@ -611,12 +613,12 @@ class FourierShell:
             Q, k, A = Bp.shape
             hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))
             He = np.matmul(Bp.reshape(Q * k, A).T[None], np.matmul(hq, Bp[None]).reshape(-1, Q * k, A))
-            data += np.bincount(pview._slots(pview._element_dofs(nodes), pressure != 0.0), factor * He.ravel(),
+            data += np.bincount(pview.hessian_slots(pview.element_dofs(nodes), pressure != 0.0), factor * He.ravel(),
                                 minlength=P.nnz)
         Bs, Bp = maps["pole"]
         for nodes, kernel, lbar, kbar, Akb in self._poles:
             He = self._pole_hessian(c, nodes, kernel, lbar, kbar, Akb, Bs, Bp, w)
-            data += np.bincount(pview._slots(pview._element_dofs(nodes), pressure != 0.0), He.ravel(), minlength=P.nnz)
+            data += np.bincount(pview.hessian_slots(pview.element_dofs(nodes), pressure != 0.0), He.ravel(), minlength=P.nnz)
         H = sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
         held = control_fixed if (j == 0 and parity == "even") else ()
         T = pview.reduction(remove_rigid, held).T
@@ -627,7 +629,7 @@ class FourierShell:
         """The pole element's second variation along the perturbations mapped by ``Bp`` (state by ``Bs``)."""
         nu = self.nu
         wm = w / (2.0 * math.pi)
-        y = np.einsum("qka,a->kq", Bs, c[self._element_dofs(nodes)[0]])
+        y = np.einsum("qka,a->kq", Bs, c[self.element_dofs(nodes)[0]])
         v, g, h = kernel(y, lbar)
         Bq = v - kbar
         G = np.einsum("qka,kq->qa", Bp, g)
