@@ -59,10 +59,11 @@ def paper_cap(N: int, boundary: str = "sliding") -> Any:
 
 
 def three_wave_branch(N: int, K: int, w_end: float = W_END, boundary: str = "sliding",
-                      n_eigs: int = 3, waves: int = WAVES) -> dict[str, Any]:
+                      n_eigs: int = 0, waves: int = WAVES) -> dict[str, Any]:
     """Trace the cap in the ``D_waves`` basis to its first branch point, switch onto the bifurcating branch
     and follow it to ``w_end``: the branch point's deflection, the force there and at ``w_end``, the traces
-    (``n_eigs``: the smallest eigenvalues stored per point, :class:`contin.Settings`)."""
+    (``n_eigs``: the smallest eigenvalues stored per point, :class:`contin.Settings`; by default none, the
+    Morse index only: a banded eigensolve costs O(n^2 b) per point, which dominates from N = 400 on)."""
     from contin_models.shell.fourier import AngularBasis
     from contin_models.shell.problem3d import Shell3D
 
