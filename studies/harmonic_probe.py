@@ -52,7 +52,8 @@ import scipy.sparse.linalg as spla  # noqa: E402
 
 import contin  # noqa: E402
 from contin_models.shell.geometry import spherical_cap  # noqa: E402
-from contin_models.shell.harmonic import HarmonicShell, block_eigs, ring_mesh_block  # noqa: E402
+from contin_models.shell.harmonic import HarmonicShell, block_eigs  # noqa: E402
+from contin_models.shell.ring_mesh import ring_mesh_block  # noqa: E402
 from contin_models.shell.meridian import complete_sphere_meridian
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure  # noqa: E402
 

@@ -29,8 +29,9 @@ import contin
 from contin_models.shell.geometry import spherical_cap
 from contin_models.shell.harmonic import (HarmonicShell, Jet, block_eigs, block_inertia, bend_density,
                                           free_edge_density, harmonic_block, harmonic_dofs, mode_maps,
-                                          ring_mesh_block, ring_mesh_energy, stretch_density, volume_density)
+                                          stretch_density, volume_density)
 from contin_models.shell.meridian import complete_sphere_meridian
+from contin_models.shell.ring_mesh import ring_mesh_block, ring_mesh_energy
 from contin_models.shell.structure import ShellOfRevolution, ShellStructure
 from contin_models.shell.volume import volume_hessian
 from studies.harmonic_probe import indented_state
