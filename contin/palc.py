@@ -486,11 +486,15 @@ def _step(curve: Curve, previous: Point | None, current: Point, ds: float) -> tu
     if curve.problem.symmetric and st.watch_index and not st.stability and c.linearization is not None:
         # the Morse index of the Jacobian the corrector last factorized (one converged update from the
         # point): from its pivots where they give it exactly (no interchanges), else one pivot-free
-        # L D L^T of that same matrix; the model's Jacobian is not evaluated again
+        # L D L^T of that same matrix; the model's Jacobian is not evaluated again.  It is the primary
+        # index only where the primary operator is that Jacobian (or it bordered by constraints);
+        # otherwise the index is counted from the operator itself (None here)
         J, _, F = c.linearization
         new.inertia = F.symmetric_inertia() if F is not None else None
         if new.inertia is None:
             new.inertia = inertia(J)
+        if new.inertia is not None:
+            new.inertia = curve.problem.index_from_jacobian(new.inertia)
     return new, c.contraction, cos_turn
 
 

@@ -328,6 +328,29 @@ class Problem:
             return self.jacobian(u, p)
         return None
 
+    def index_from_jacobian(self, n_negative: int) -> int | None:
+        """The primary Morse index from the Jacobian's negative count ``n_negative``, or None.
+
+        Known where the primary stability operator is the Jacobian itself (the default for a symmetric
+        problem, or declared so) or the Jacobian bordered by constraints (:class:`Constrained`, whose count
+        is ``n_negative`` minus the constraints); None for any other operator, whose count needs a
+        factorization of its own (:meth:`stability`).  The engine uses it to take the index from the
+        corrector's factorization.
+        """
+        cls = type(self)
+        if cls.stability_operator is not Problem.stability_operator \
+                or cls.stability_operators is not Problem.stability_operators:
+            return None
+        declared = getattr(self, "_stability_operators", {})
+        if declared:
+            op = next(iter(declared.values()))
+            if isinstance(op, Constrained):
+                return op.count(n_negative) if op.operator == self.jacobian else None
+            return int(n_negative) if op == self.jacobian else None
+        if self._stability_operator is None and self.symmetric:
+            return int(n_negative)
+        return None
+
     def stability_operators(self, u: Array, p: float) -> dict[str, Any]:
         """Stability operators by label; the first label is the primary one.
 

@@ -408,3 +408,20 @@ def test_the_volume_control_study_runs(tmp_path) -> None:
         assert cap["agreement"]["n_compared"] == cap["agreement"]["n_wanted"] > 10
         assert cap["agreement"]["max_rel_diff_p"] < 1e-6
     assert_figure(tmp_path, "volume_control")
+
+
+def test_a_prescribed_volume_traces_with_default_settings() -> None:
+    """Without ``stability`` the engine watches the Morse index from the corrector's factorization of
+    the bordered Jacobian, which has one negative eigenvalue more than the constrained Hessian (the
+    multiplier's saddle): counted as the primary index it made every volume-controlled trace
+    'unexplained' at its first step.  The primary operator's own count (Constrained) is what is watched."""
+    from contin_models.shell.geometry import spherical_cap
+    from contin_models.shell.structure import ShellOfRevolution, ShellStructure
+
+    st = ShellStructure(spherical_cap(1.0, 0.8, 20), 1e6, 0.3, 0.02, boundary="clamped")
+    pressure = ShellOfRevolution(st, "pressure")
+    volume = ConjugateControl(pressure, "dV", linear=True, multiplier_unit=1e3)
+    U0, q0 = volume.from_load_state(pressure.reference_unknowns(), 0.0)
+    br = continuation(volume, U0, q0, p_max=0.005, ds=0.001, ds_max=0.0025)
+    assert br.status == "bound", br.message
+    assert volume.index_from_jacobian(3) == 2 and pressure.index_from_jacobian(3) == 3

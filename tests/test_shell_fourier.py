@@ -247,3 +247,44 @@ def test_pressure_in_the_3d_view_meets_the_blocks_bifurcation() -> None:
     bp = b3.special_points[-1]
     assert bp.kind == "branch_point" and bp.located
     assert abs(bp.p - first.p) < 1e-9 * abs(first.p)
+
+
+def test_ring_line_loads_and_the_volume_control() -> None:
+    """The other loads: a ring force is the traced model's on axisymmetric states; a line load of wave 3
+    works only on wave 3 (its work is the integral of the density against the ring's displacement); a
+    prescribed volume (contin.ConjugateControl) meets the pressure-controlled states."""
+    import contin
+    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.structure import ShellOfRevolution
+
+    st = ShellStructure(spherical_cap(1.0, 0.8, 20), 1e6, 0.3, 0.02, boundary="clamped")
+    ring = Shell3D(st, AngularBasis(3, 2), "ring", node=10)
+    one = ShellOfRevolution(st, "ring", node=10)
+    b3 = contin.continuation(ring, ring.reference_unknowns(), 0.0, p_max=5.0, ds=1.0, ds_max=2.0, max_steps=50)
+    ax = ring.view.axisymmetric_dofs()
+    for u, p in zip(b3.u, b3.p):  # axisymmetric and in equilibrium as the traced model
+        c = ring.full_state(u, p)
+        assert np.max(np.abs(np.delete(c, ax))) < 1e-12
+        assert np.max(np.abs(one.residual(one.unknowns(c[ax]), p))) < 1e-9 * one.residual_scale
+        assert abs(ring.observables["w"](u, p) - one.observables["w"](one.unknowns(c[ax]), p)) < 1e-14
+    # a line load q_z cos(3 theta) on ring 10: its work on a unit wave-3 height coefficient is pi q_z
+    line = Shell3D(st, AngularBasis(3, 2), "forces", line_loads=[(10, 3, (0.0, 0.0, -2.0))])
+    k = 10 * line.view.m + line.basis.index("Z", "cos", 3)
+    assert line.load_vector[k] == pytest.approx(-2.0 * math.pi, rel=1e-14)
+    assert np.count_nonzero(np.abs(line.load_vector) > 1e-14) == 1
+    with pytest.raises(ValueError, match="wave number 2"):
+        Shell3D(st, AngularBasis(3, 2), "forces", line_loads=[(10, 2, (0.0, 0.0, 1.0))])
+    # volume control against pressure control
+    pressure = Shell3D(st, AngularBasis(3, 2), "pressure")
+    volume = contin.ConjugateControl(pressure, "dV", linear=True, multiplier_unit=1e2)
+    p0 = 200.0  # about 0.4 of the classical buckling pressure
+    bp = contin.continuation(pressure, pressure.reference_unknowns(), 0.0, p_max=p0, ds=50.0, ds_max=100.0)
+    assert bp.status == "bound"
+    dV = -pressure.conjugate_force(bp.u[-1], p0)
+    assert dV > 0  # an external pressure pushes the cap in
+    U0, q0 = volume.from_load_state(pressure.reference_unknowns(), 0.0)
+    bv = contin.continuation(volume, U0, q0, p_max=dV, ds=dV / 5, ds_max=dV / 2)
+    assert bv.status == "bound"
+    u, p = volume.split(bv.u[-1])
+    assert p == pytest.approx(p0, rel=1e-8)
+    assert np.max(np.abs(u - bp.u[-1])) < 1e-9

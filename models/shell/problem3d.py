@@ -24,7 +24,10 @@ from contin.problem import Problem
 from .fourier import AngularBasis, FourierShell
 from .problem import _scaled
 
-__all__ = ["Shell3D"]
+__all__ = ["Shell3D", "LOADS"]
+
+#: The loads of :class:`Shell3D`.
+LOADS = ("point", "ring", "pressure", "forces")
 
 
 class Shell3D(Problem):
@@ -56,11 +59,13 @@ class Shell3D(Problem):
     coefficients of every ring, :attr:`view` the energy.
     """
 
-    def __init__(self, structure: Any, basis: AngularBasis, load: Literal["point", "pressure", "forces"] = "point",
+    def __init__(self, structure: Any, basis: AngularBasis,
+                 load: Literal["point", "ring", "pressure", "forces"] = "point",
                  control: Literal["force", "displacement"] = "force", length: float | None = None,
-                 forces: Sequence[tuple[int, float, Sequence[float]]] = ()) -> None:
-        if load not in ("point", "pressure", "forces"):
-            raise ValueError(f"Shell3D: load must be 'point', 'pressure' or 'forces', got {load!r}")
+                 forces: Sequence[tuple[int, float, Sequence[float]]] = (), node: int | None = None,
+                 line_loads: Sequence[tuple[int, int, Sequence[float]]] = ()) -> None:
+        if load not in LOADS:
+            raise ValueError(f"Shell3D: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
             raise ValueError(f"Shell3D: control must be 'force' or 'displacement', got {control!r}")
         st = self.structure = structure
@@ -68,13 +73,18 @@ class Shell3D(Problem):
         pole = N - 1 in st.poles
         if load == "point" and not pole:
             raise ValueError("Shell3D: a point load acts at the pole: node N-1 must be on the axis (r = 0)")
-        if load != "point" and control != "force":
-            raise ValueError(f"Shell3D: load {load!r} takes control='force'")
-        if st.rigid_fix is not None and load == "point":
-            raise ValueError(f"Shell3D: a point force needs a support in z (boundary {st.boundary!r} leaves the "
-                             "shell free to translate)")
-        if load == "forces" and not forces:
-            raise ValueError("Shell3D: load 'forces' needs forces = [(node, theta, (Fx, Fy, Fz)), ...]")
+        if load == "ring":
+            if node is None or not (0 < int(node) < N - 1) or int(node) in st.poles:
+                raise ValueError(f"Shell3D: a ring load needs node in (0, {N - 1}), off the axis, got {node!r}")
+        if load in ("pressure", "forces") and control != "force":
+            raise ValueError(f"Shell3D: load {load!r} takes control='force' (a prescribed volume: "
+                             "contin.ConjugateControl on the pressure-controlled problem)")
+        if st.rigid_fix is not None and load in ("point", "ring"):
+            raise ValueError(f"Shell3D: a point or ring force needs a support in z (boundary {st.boundary!r} leaves "
+                             "the shell free to translate)")
+        if load == "forces" and not forces and not line_loads:
+            raise ValueError("Shell3D: load 'forces' needs forces = [(node, theta, (Fx, Fy, Fz)), ...] or "
+                             "line_loads = [(node, n, (q_r, q_t, q_z)), ...]")
         self.load, self.control = load, control
         self.view = view = FourierShell(st, basis)
         self.basis = basis
@@ -82,40 +92,48 @@ class Shell3D(Problem):
             length = getattr(st.meridian, "length_scale", None) or getattr(st.meridian, "R", None)
         self.length = float(length) if length is not None else 1.0
         self.c_ref = view.reference_state()
-        self.z_dof = (N - 1) * view.m + basis.index("Z", "cos", 0) if pole else None
-        self.z_ref_pole = float(self.c_ref[self.z_dof]) if pole else math.nan
-        held = [2 * N - 1] if control == "displacement" else []
+        # the loaded node: the pole under a point load, the ring's node; its height is what a
+        # displacement control holds and what ``w`` measures (the pole's otherwise, where there is one)
+        self.node = int(node) if load == "ring" else (N - 1 if pole else None)
+        self.z_dof = self.node * view.m + basis.index("Z", "cos", 0) if self.node is not None else None
+        self.z_ref_node = float(self.c_ref[self.z_dof]) if self.node is not None else math.nan
+        held = [2 * self.node + 1] if control == "displacement" else []
         self.reduction = red = view.reduction(control_fixed=held)
         self.T = red.T.tocsc()
         self.Tt = red.T.T.tocsr()
-        self.D = float(st.kb_nodes[N - 1])
-        # the load per unit parameter as a force on the unknowns: the point force at the pole pushes its
-        # height down; each of ``forces`` acts on one material point in a fixed direction (dead loads)
+        self.D = float(st.kb_nodes[self.node if self.node is not None else N - 1])
+        # the load per unit parameter as a force on the unknowns (dead loads): the point or ring force pushes
+        # the loaded node's height down (a ring force is uniform around the ring: it works on the mean
+        # height); each of ``forces`` acts on one material point in a fixed direction; each line load on
+        # its ring with the density ``(q_r cos n theta, q_t sin n theta, q_z cos n theta)`` per radian
         self.load_vector = np.zeros(view.size)
         self.forces = []
-        if load == "point":
+        if load in ("point", "ring"):
             self.load_vector[self.z_dof] = -1.0
-        for k, (node, theta, F) in enumerate(forces):
+        for k, (at, theta, F) in enumerate(forces):
             F = np.asarray(F, dtype=float)
             if F.shape != (3,) or not np.all(np.isfinite(F)) or not np.any(F):
                 raise ValueError(f"Shell3D: forces[{k}] needs a finite, nonzero (Fx, Fy, Fz), got {F!r}")
-            X = view.point_map(int(node), float(theta))
+            X = view.point_map(int(at), float(theta))
             self.load_vector += F @ X
-            self.forces.append((int(node), float(theta), F, (F / np.linalg.norm(F)) @ X))
+            self.forces.append((int(at), float(theta), F, (F / np.linalg.norm(F)) @ X))
+        for k, (at, wave, q) in enumerate(line_loads):
+            self.load_vector += self._line_load(k, int(at), int(wave), q)
+        self._v_ref = view.volume(self.c_ref) if load == "pressure" else 0.0
         self._restrict = red.restriction(view.pattern(load == "pressure"))
         H0 = self._restrict(view.hessian(self.c_ref, volume_pattern=load == "pressure").data)
         self.kl, self.ku = bandwidths(H0)  # every entry the pattern may hold is stored
-        name = {"point": "F", "pressure": "p", "forces": "P"}[load]
+        name = {"point": "F", "ring": "F", "pressure": "p", "forces": "P"}[load]
         self.load_name = name
         observables: dict[str, Any] = {name: self._obs_load}
         derivatives: dict[str, Any] = {name: self._dobs_load}
-        if pole:
+        if self.node is not None:
             observables.update(w=self._obs_w, w_over_L=lambda u, p: self._obs_w(u, p) / self.length)
             derivatives.update(w=self._dobs_w, w_over_L=lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.length))
         for k, (_, _, _, along) in enumerate(self.forces):
             observables[f"u{k}"] = lambda u, p, a=along: float(a @ (self.full_state(u, p) - self.c_ref))
             derivatives[f"u{k}"] = lambda u, p, a=along: (self.Tt @ a, 0.0)
-        if load == "point":
+        if load in ("point", "ring"):
             f_norm = self.length / (2.0 * math.pi * self.D)
             observables["F_norm"] = lambda u, p: self._obs_load(u, p) * f_norm
             derivatives["F_norm"] = lambda u, p: _scaled(self._dobs_load(u, p), f_norm)
@@ -123,6 +141,27 @@ class Shell3D(Problem):
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          name=f"shell3d_{load}_{control}", parameter_name=name if control == "force" else "w",
                          residual_scale=scale)
+
+    def _line_load(self, k: int, node: int, wave: int, q: Sequence[float]) -> np.ndarray:
+        """The unknowns' load vector of a line load on ring ``node``: ``int q(theta) . X(theta) dtheta``."""
+        view, basis = self.view, self.basis
+        q = np.asarray(q, dtype=float)
+        if q.shape != (3,) or not np.all(np.isfinite(q)) or not np.any(q):
+            raise ValueError(f"Shell3D: line_loads[{k}] needs a finite, nonzero (q_r, q_t, q_z), got {q!r}")
+        if not 0 <= node < self.structure.N or node in self.structure.poles:
+            raise ValueError(f"Shell3D: line_loads[{k}] acts on a ring: node in [0, {self.structure.N - 1}] off the "
+                             f"axis, got {node}")
+        if wave < 0 or wave not in set(basis.wave_numbers.tolist()):
+            raise ValueError(f"Shell3D: line_loads[{k}] has wave number {wave}, which the basis does not carry "
+                             f"(its waves: {basis.wave_numbers.tolist()})")
+        # the integral of products of trigonometric polynomials, exactly by the trapezoidal rule
+        M = 2 * (int(basis.wave_numbers.max()) + wave) + 2
+        theta = 2.0 * math.pi * np.arange(M) / M
+        density = q[:, None] * np.array([np.cos(wave * theta), np.sin(wave * theta), np.cos(wave * theta)])
+        P = basis.ring_maps(theta)["P"]                               # (M, 3, m): frame components
+        out = np.zeros(view.size)
+        out[node * view.m:(node + 1) * view.m] = np.einsum("cq,qcj->j", density, P) * (2.0 * math.pi / M)
+        return out
 
     # ---- maps between the coefficients and the unknowns -------------------------------------------
     @property
@@ -138,7 +177,7 @@ class Shell3D(Problem):
         held = self.c_ref
         if self.control == "displacement":
             held = held.copy()
-            held[self.z_dof] = self.z_ref_pole - float(p)
+            held[self.z_dof] = self.z_ref_node - float(p)
         return self.reduction.full(u, held)
 
     def unknowns(self, c: np.ndarray) -> np.ndarray:
@@ -160,11 +199,29 @@ class Shell3D(Problem):
         return g
 
     def energy(self, u: np.ndarray, p: float) -> float:
+        """The total energy: elastic, the pressure's ``p (V - V_ref)`` or the dead loads' potential."""
         c = self.full_state(u, p)
-        e = self.view.energy(c, self._pressure(p))
-        if self.load != "pressure" and self.control == "force":
+        if self.load == "pressure":  # p (V - V_ref): the potential vanishes in the reference state
+            return self.view.energy(c, float(p)) - float(p) * self._v_ref
+        e = self.view.energy(c)
+        if self.control == "force":
             e -= float(p) * float(self.load_vector @ (c - self.c_ref))
         return e
+
+    def conjugate_force(self, u: np.ndarray, p: float) -> float:
+        """``dE/dp`` at fixed unknowns (force control): the volume change ``V - V_ref`` under a pressure, minus
+        the displacement the dead loads work on (``-load_vector . (c - c_ref)``) otherwise; with
+        :class:`contin.ConjugateControl` it prescribes the volume or the loaded points' displacement."""
+        if self.control != "force":
+            raise ValueError("Shell3D.conjugate_force: the load is the parameter under force control only")
+        c = self.full_state(u, p)
+        if self.load == "pressure":
+            return self.view.volume(c) - self._v_ref
+        return -float(self.load_vector @ (c - self.c_ref))
+
+    def conjugate_stiffness(self, u: np.ndarray, p: float) -> float:
+        """``d2E/dp2`` at fixed unknowns: zero, every load of this problem enters the energy linearly."""
+        return 0.0
 
     def residual(self, u: np.ndarray, p: float) -> np.ndarray:
         return self.Tt @ self._gradient(self.full_state(u, p), p)
@@ -201,7 +258,7 @@ class Shell3D(Problem):
     def _obs_w(self, u: np.ndarray, p: float) -> float:
         if self.control == "displacement":
             return float(p)
-        return self.z_ref_pole - float(self.full_state(u, p)[self.z_dof])
+        return self.z_ref_node - float(self.full_state(u, p)[self.z_dof])
 
     def _dobs_w(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
         if self.control == "displacement":

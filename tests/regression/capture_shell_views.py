@@ -57,7 +57,8 @@ def _point_load(out: dict, name: str, pole: str) -> None:
 
 def _structure(out: dict, name: str, st, pressure: float = 0.0, jets: bool = False, ring: bool = False) -> None:
     """A structure's traced energy, gradient, Hessian, its harmonic blocks and (``ring``) the ring mesh's."""
-    from contin_models.shell.harmonic import HarmonicShell, ring_mesh_block
+    from contin_models.shell.harmonic import HarmonicShell
+    from contin_models.shell.ring_mesh import ring_mesh_block
     from contin_models.shell.volume import enclosed_volume, volume_gradient, volume_hessian
 
     x = deformed(st.meridian.x)
