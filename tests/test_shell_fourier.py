@@ -291,3 +291,29 @@ def test_ring_line_loads_and_the_volume_control() -> None:
     u, p = volume.split(bv.u[-1])
     assert p == pytest.approx(p0, rel=1e-8)
     assert np.max(np.abs(u - bp.u[-1])) < 1e-9
+
+
+def test_every_mode_watches_the_other_classes_and_locates_the_blocks_bifurcations() -> None:
+    """With ``every_mode`` the D_3 trace of the paper's cap counts its stability against every
+    perturbation: the class ``j = 1`` (waves 1, 2, 4, 5, 7) becomes singular where the harmonic blocks
+    locate their ``n = 1`` and ``n = 2`` bifurcations, and the Morse index counts that class twice."""
+    import contin
+    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.structure import ShellOfRevolution
+
+    st = ShellStructure(spherical_cap(1.0, 0.8, 30), 1e6, 0.5, 0.02, boundary="sliding")
+    one = ShellOfRevolution(st, "point", "displacement", harmonics=3)
+    b1 = contin.continuation(one, one.reference_unknowns(), 0.0, p_max=0.38, ds=0.01, ds_max=0.02, max_steps=200,
+                             stability=True)
+    blocks = {s.info["key"]: s.p for s in b1.special_points if s.kind == "bifurcation"}
+    shell = Shell3D(st, AngularBasis(3, 2), "point", "displacement", every_mode=True)
+    b3 = contin.continuation(shell, shell.reference_unknowns(), 0.0, p_max=0.38, ds=0.01, ds_max=0.02,
+                             max_steps=200, stability=True)
+    assert b3.success
+    j1 = [s for s in b3.special_points if s.kind == "bifurcation" and s.info["key"] == (1, "even") and s.located]
+    assert len(j1) == 2
+    assert abs(j1[0].p - blocks[1]) < 1e-9 and abs(j1[1].p - blocks[2]) < 1e-9
+    # before the first: stable against everything; after it, the pair of a two-dimensional class
+    index = np.asarray(b3.n_negative)
+    assert index[np.asarray(b3.p) < j1[0].p].max() == 0
+    assert index[(np.asarray(b3.p) > j1[0].p) & (np.asarray(b3.p) < blocks[3])].min() == 2

@@ -46,6 +46,10 @@ class Shell3D(Problem):
     length : float, optional
         Length that normalises ``w`` and ``F`` (``w_over_L``, ``F_norm = F L / (2 pi D)``); default the
         meridian's ``length_scale`` (or ``R``).
+    every_mode : bool
+        Watch the stability against every perturbation, not only those of the basis's class: the Bloch
+        blocks of the other irreducible representations of ``D_n`` as an operator family (``"bloch"``);
+        with ``stability`` the engine counts them and locates the bifurcations that break the symmetry.
     forces : sequence of (node, theta, (Fx, Fy, Fz))
         With ``load="forces"``: dead forces (Cartesian, per unit parameter ``P``) on the material point of
         ring ``node`` at the reference angle ``theta``.  A basis with symmetry needs the whole symmetric
@@ -63,7 +67,7 @@ class Shell3D(Problem):
                  load: Literal["point", "ring", "pressure", "forces"] = "point",
                  control: Literal["force", "displacement"] = "force", length: float | None = None,
                  forces: Sequence[tuple[int, float, Sequence[float]]] = (), node: int | None = None,
-                 line_loads: Sequence[tuple[int, int, Sequence[float]]] = ()) -> None:
+                 line_loads: Sequence[tuple[int, int, Sequence[float]]] = (), every_mode: bool = False) -> None:
         if load not in LOADS:
             raise ValueError(f"Shell3D: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
@@ -138,9 +142,29 @@ class Shell3D(Problem):
             observables["F_norm"] = lambda u, p: self._obs_load(u, p) * f_norm
             derivatives["F_norm"] = lambda u, p: _scaled(self._dobs_load(u, p), f_norm)
         scale = st.residual_scale(H0, self.length)
+        families = (self._bloch_family(),) if every_mode else ()
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          name=f"shell3d_{load}_{control}", parameter_name=name if control == "force" else "w",
-                         residual_scale=scale)
+                         residual_scale=scale, operator_families=families)
+
+    def _bloch_family(self) -> Any:
+        """The Bloch blocks of every class but the traced one as a :class:`contin.OperatorFamily` named
+        ``"bloch"`` (keys ``(j, parity)``, the two-dimensional classes with multiplicity 2): with
+        ``stability`` the engine counts the Morse index against every perturbation and locates where a
+        class's block becomes singular, a bifurcation that breaks the traced symmetry."""
+        from contin.watch.modes import OperatorFamily
+
+        if not (self.basis.mirror and self.basis.j == 0):
+            raise ValueError("Shell3D: every_mode needs a D_n basis (mirror=True)")
+        view = self.view
+        classes = [(j, parity, copies) for j, parity, copies in view.bloch_classes() if (j, parity) != (0, "even")]
+        keys = tuple((j, parity) for j, parity, _ in classes)
+        copies = {(j, parity): c for j, parity, c in classes}
+
+        def block(key: tuple[int, str], u: np.ndarray, p: float) -> sp.csr_matrix:
+            return view.bloch_block(self.full_state(u, p), key[0], key[1], pressure=self._pressure(p))
+
+        return OperatorFamily("bloch", keys, block, multiplicity=lambda key: copies[key])
 
     def _line_load(self, k: int, node: int, wave: int, q: Sequence[float]) -> np.ndarray:
         """The unknowns' load vector of a line load on ring ``node``: ``int q(theta) . X(theta) dtheta``."""
