@@ -317,3 +317,19 @@ def test_every_mode_watches_the_other_classes_and_locates_the_blocks_bifurcation
     index = np.asarray(b3.n_negative)
     assert index[np.asarray(b3.p) < j1[0].p].max() == 0
     assert index[(np.asarray(b3.p) > j1[0].p) & (np.asarray(b3.p) < blocks[3])].min() == 2
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"load": "pressure", "boundary": "free"}, "free edge cannot carry pressure"),
+    ({"load": "ring", "node": 0}, "ring load needs node"),
+    ({"load": "point", "boundary": "free"}, "needs a support in z"),
+    ({"load": "forces"}, "needs forces"),
+    ({"load": "pressure", "control": "displacement"}, "takes control='force'"),
+    ({"load": "forces", "forces": [(0, 0.0, (0.0, 0.0, 0.0))]}, "nonzero"),
+    ({"load": "gravity"}, "load must be one of")])
+def test_bad_problems_are_refused_with_the_reason(kwargs: dict, message: str) -> None:
+    from contin_models.shell.problem3d import Shell3D
+
+    st = ShellStructure(spherical_cap(1.0, 0.8, 12), 1e6, 0.3, 0.02, boundary=kwargs.pop("boundary", "sliding"))
+    with pytest.raises(ValueError, match=message):
+        Shell3D(st, AngularBasis(2, 1), **kwargs)

@@ -83,6 +83,8 @@ class Shell3D(Problem):
         if load in ("pressure", "forces") and control != "force":
             raise ValueError(f"Shell3D: load {load!r} takes control='force' (a prescribed volume: "
                              "contin.ConjugateControl on the pressure-controlled problem)")
+        if load == "pressure" and st.boundary == "free" and 0 not in st.poles:
+            raise ValueError("Shell3D: a free edge cannot carry pressure (the volume is not closed)")
         if st.rigid_fix is not None and load in ("point", "ring"):
             raise ValueError(f"Shell3D: a point or ring force needs a support in z (boundary {st.boundary!r} leaves "
                              "the shell free to translate)")
