@@ -438,17 +438,39 @@ class FourierShell:
         return (nodes[:, :, None] * self.m + np.arange(self.m)[None, None, :]).reshape(nodes.shape[0], -1)
 
     def _jets(self, c: np.ndarray, family: tuple) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """A family's local values, gradients and Hessians at every element and angle: ``(E, Q)``,
-        ``(k, E, Q)``, ``(k, k, E, Q)``."""
+        """A family's local values, gradients and Hessians at every angle and element: ``(Q, E)``,
+        ``(k, Q, E)``, ``(k, k, Q, E)`` (the angle first: the Hessian's products then run on its slices
+        without a transposed copy, :meth:`_element_hessians`)."""
         name, nodes, B, kernel, params, offset = family
-        ce = c[self.element_dofs(nodes)]                       # (E, A)
-        y = np.ascontiguousarray(np.matmul(B, ce.T).transpose(1, 2, 0))  # (k, E, Q)
+        ce = c[self._dofs(nodes)]                                  # (E, A)
+        y = np.matmul(B.transpose(1, 0, 2), ce.T)                  # (k, Q, E)
         if offset is not None:
-            y = y + offset[:, None, None]
+            y += offset[:, None, None]
         E, Q = ce.shape[0], B.shape[0]
-        args = [np.asarray(p, float)[:, None] * np.ones((1, Q)) if np.ndim(p) else p for p in params]
-        v, g, h = kernel(y, *args)
-        return np.broadcast_to(v, (E, Q)), g, h
+        # per-element parameters broadcast over the angles (the stations' last axis is the element)
+        v, g, h = kernel(y, *[np.asarray(p, float) if np.ndim(p) else p for p in params])
+        return np.broadcast_to(v, (Q, E)), g, h
+
+    def _dofs(self, nodes: np.ndarray) -> np.ndarray:
+        """:meth:`element_dofs` of a family's ``nodes``, cached."""
+        key = ("dofs", nodes.tobytes(), nodes.shape)
+        if key not in self._cache:
+            self._cache[key] = self.element_dofs(nodes)
+        return self._cache[key]
+
+    @staticmethod
+    def _element_hessians(h: np.ndarray, B: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """``(A, E, A)``: the element Hessians ``H_e = sum_q w_q B_q^T h_eq B_q`` (entry ``(a, e, b)``) from the
+        local Hessians ``h`` ``(k, k, Q, E)`` and the local map ``B`` ``(Q, k, A)``.
+
+        Two large matrix products instead of many small ones: first ``X_iq = h_q[i]^T (w_q B_q)`` for each
+        local variable and angle (``(E, A)`` each, on slices of ``h`` as they lie), then ``B`` stacked over
+        the local variables and angles, ``(A, k Q)``, times all ``X`` stacked, ``(k Q, E A)``.
+        """
+        Q, k, A = B.shape
+        E = h.shape[-1]
+        X = np.matmul(h.transpose(0, 2, 3, 1), (w[:, None, None] * B)[None])  # (k, Q, E, A)
+        return np.matmul(B.transpose(1, 0, 2).reshape(k * Q, A).T, X.reshape(k * Q, E * A)).reshape(A, E, A)
 
     def _state(self, c: np.ndarray, volume: bool) -> dict:
         """The densities' jets at the state ``c`` (and the volume's with ``volume``), kept for the last state."""
@@ -481,23 +503,37 @@ class FourierShell:
         nu, B = self.nu, self._pole_map
         w = self.basis.weights / (2.0 * math.pi)
         dofs = self.element_dofs(nodes)
-        y = np.einsum("qka,a->kq", B, c[dofs[0]])
+        y = np.matmul(B, c[dofs[0]]).T                            # (k, Q)
         v, g, h = kernel(y, lbar)
         Bq = v - kbar                                              # (Q,)
-        G = np.einsum("qka,kq->qa", B, g)                          # dB_q in the unknowns
-        Hq = np.einsum("qka,klq,qlb->qab", B, h, B, optimize=True)  # d2B_q
+        G = np.matmul(B.transpose(0, 2, 1), g.T[:, :, None])[:, :, 0]  # (Q, A): dB_q in the unknowns
         mean, mean2 = float(w @ Bq), float(w @ (Bq * Bq))
         dmean = w @ G
         energy = Akb * ((3.0 * nu - 1.0) * mean * mean + 2.0 * (1.0 - nu) * mean2)
         grad = Akb * (2.0 * (3.0 * nu - 1.0) * mean * dmean + 4.0 * (1.0 - nu) * ((w * Bq) @ G))
-        hess = Akb * (2.0 * (3.0 * nu - 1.0) * (np.outer(dmean, dmean) + mean * np.einsum("q,qab->ab", w, Hq))
-                      + 4.0 * (1.0 - nu) * (np.einsum("q,qa,qb->ab", w, G, G) + np.einsum("q,qab->ab", w * Bq, Hq)))
+        hess = self._pole_second(B, G, h, Bq, w, Akb)
         return dofs, energy, grad[None, :], hess[None, :, :]
+
+    def _pole_second(self, B: np.ndarray, G: np.ndarray, h: np.ndarray, Bq: np.ndarray, w: np.ndarray,
+                     Akb: float) -> np.ndarray:
+        """The pole element's second variation ``(A, A)`` along the perturbations mapped by ``B`` ``(Q, k, A)``:
+        ``G`` the curvature's first variation ``(Q, A)``, ``h`` its Hessian in the local variables
+        ``(k, k, Q)``, ``Bq`` its value less the reference at each angle, ``w`` the angle's weights over
+        ``2 pi``."""
+        nu = self.nu
+        mean, dmean = float(w @ Bq), w @ G
+        # the curvature's second variation enters weighted: sum_q c_q B_q^T h_q B_q, c_q its weight
+        cq = 2.0 * (3.0 * nu - 1.0) * mean * w + 4.0 * (1.0 - nu) * (w * Bq)
+        hw = h.transpose(2, 0, 1) * cq[:, None, None]                # (Q, k, k)
+        Q, k, A = B.shape
+        second = np.matmul(B.reshape(Q * k, A).T, np.matmul(hw, B).reshape(Q * k, A))
+        return Akb * (2.0 * (3.0 * nu - 1.0) * np.outer(dmean, dmean) + 4.0 * (1.0 - nu) * np.matmul(G.T * w, G)
+                      + second)
 
     def energy(self, c: np.ndarray, pressure: float = 0.0) -> float:
         """The elastic energy of the state ``c`` (plus ``pressure`` times the enclosed volume)."""
         w = self.basis.weights
-        e = sum(factor * float(np.einsum("eq,q->", jets[0], w)) for _, jets, factor in self._groups(c, pressure))
+        e = sum(factor * float(np.einsum("qe,q->", jets[0], w)) for _, jets, factor in self._groups(c, pressure))
         return float(e + sum(t[1] for t in self._cache["state"]["poles"]))
 
     def volume(self, c: np.ndarray) -> float:
@@ -509,9 +545,11 @@ class FourierShell:
         w = self.basis.weights
         g = np.zeros(self.size)
         for fam, jets, factor in self._groups(c, pressure):
-            B = fam[2]
-            ge = np.matmul(B.reshape(-1, B.shape[2]).T, (jets[1] * w).transpose(2, 0, 1).reshape(-1, jets[1].shape[1])).T
-            np.add.at(g, self.element_dofs(fam[1]).ravel(), factor * ge.ravel())
+            B, gl = fam[2], jets[1]
+            Q, k, A = B.shape
+            # g_e = sum_q w_q B_q^T g_eq, with (q, i) stacked: one product (A, Q k) (Q k, E)
+            ge = np.matmul((w[:, None, None] * B).reshape(Q * k, A).T, gl.transpose(1, 0, 2).reshape(Q * k, -1))
+            g += np.bincount(self._dofs(fam[1]).T.ravel(), factor * ge.ravel(), minlength=self.size)
         for dofs, _, ge, _ in self._cache["state"]["poles"]:
             np.add.at(g, dofs.ravel(), ge.ravel())
         return g
@@ -550,16 +588,22 @@ class FourierShell:
         P = self.pattern(with_volume)
         data = np.zeros(P.nnz)
         for fam, jets, factor in self._groups(c, pressure):
-            B, h = fam[2], jets[2]
-            Q, k, A = B.shape
-            hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))  # (E, Q, k, k)
-            # H_e = sum_q B_q^T H_eq B_q: H_e is block-diagonal in q, so with B stacked over q it is one product
-            He = np.matmul(B.reshape(Q * k, A).T[None], np.matmul(hq, B[None]).reshape(-1, Q * k, A))
-            data += np.bincount(self.hessian_slots(self.element_dofs(fam[1]), with_volume), factor * He.ravel(),
-                                minlength=P.nnz)
+            He = self._element_hessians(jets[2], fam[2], w)
+            data += np.bincount(self._transposed_slots(self, fam[1], with_volume), factor * He.ravel(), minlength=P.nnz)
         for dofs, _, _, He in self._cache["state"]["poles"]:
             data += np.bincount(self.hessian_slots(dofs, with_volume), He.ravel(), minlength=P.nnz)
         return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
+
+    def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool) -> np.ndarray:
+        """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, E, A)`` of
+        :meth:`_element_hessians` (``view``: this view or one of its perturbation views), cached."""
+        key = ("slots_t", view.basis.terms, view.basis.mirror, nodes.tobytes(), nodes.shape, bool(pressure))
+        if key not in self._cache:
+            dofs = view.element_dofs(nodes)
+            E, A = dofs.shape
+            self._cache[key] = np.ascontiguousarray(
+                view.hessian_slots(dofs, pressure).reshape(E, A, A).transpose(1, 0, 2)).ravel()
+        return self._cache[key]
 
     # ---- stability against every perturbation: the Bloch blocks ------------------------------------
     def _full_circle(self) -> tuple[np.ndarray, np.ndarray]:
@@ -610,10 +654,8 @@ class FourierShell:
             name, nodes, _, kernel, params, offset = fam
             Bs, Bp = maps[name]
             _, _, h = self._jets(c, (name, nodes, Bs, kernel, params, offset))
-            Q, k, A = Bp.shape
-            hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))
-            He = np.matmul(Bp.reshape(Q * k, A).T[None], np.matmul(hq, Bp[None]).reshape(-1, Q * k, A))
-            data += np.bincount(pview.hessian_slots(pview.element_dofs(nodes), pressure != 0.0), factor * He.ravel(),
+            He = self._element_hessians(h, Bp, w)
+            data += np.bincount(self._transposed_slots(pview, nodes, pressure != 0.0), factor * He.ravel(),
                                 minlength=P.nnz)
         Bs, Bp = maps["pole"]
         for nodes, kernel, lbar, kbar, Akb in self._poles:
@@ -627,17 +669,11 @@ class FourierShell:
     def _pole_hessian(self, c: np.ndarray, nodes: np.ndarray, kernel: Any, lbar: float, kbar: float, Akb: float,
                       Bs: np.ndarray, Bp: np.ndarray, w: np.ndarray) -> np.ndarray:
         """The pole element's second variation along the perturbations mapped by ``Bp`` (state by ``Bs``)."""
-        nu = self.nu
         wm = w / (2.0 * math.pi)
-        y = np.einsum("qka,a->kq", Bs, c[self.element_dofs(nodes)[0]])
+        y = np.matmul(Bs, c[self.element_dofs(nodes)[0]]).T
         v, g, h = kernel(y, lbar)
-        Bq = v - kbar
-        G = np.einsum("qka,kq->qa", Bp, g)
-        Hq = np.einsum("qka,klq,qlb->qab", Bp, h, Bp, optimize=True)
-        mean = float(wm @ Bq)
-        dmean = wm @ G
-        return Akb * (2.0 * (3.0 * nu - 1.0) * (np.outer(dmean, dmean) + mean * np.einsum("q,qab->ab", wm, Hq))
-                      + 4.0 * (1.0 - nu) * (np.einsum("q,qa,qb->ab", wm, G, G) + np.einsum("q,qab->ab", wm * Bq, Hq)))
+        G = np.matmul(Bp.transpose(0, 2, 1), g.T[:, :, None])[:, :, 0]
+        return self._pole_second(Bp, G, h, v - kbar, wm, Akb)
 
     def bloch_classes(self) -> list[tuple[int, str, int]]:
         """``(j, parity, multiplicity)`` of every class of perturbations about a ``D_n`` state: the
