@@ -962,6 +962,38 @@ static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, In
 """
 
 
+#: Emitted after the prelude by an extension computing two elements at once (``pairs=True``): a pair of
+#: doubles in one SIMD register (a GCC/Clang vector type), its loads and stores, and each math function
+#: lane by lane (the scalar C function on each lane, so that every lane gets the scalar code's bits).
+_C_PAIRS = r"""
+#if defined(__GNUC__)
+#define CONTIN_PAIRS 1
+typedef double pair __attribute__((vector_size(16)));
+
+static inline pair pair_of(double a, double b) {
+    pair r = {a, b};
+    return r;
+}
+
+static inline pair pair_load(const double *p) {
+    pair r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+static inline void pair_store(double *p, pair v) {
+    memcpy(p, &v, sizeof v);
+}
+
+#define PAIR_FUNCTION(name, f) static inline pair name(pair x) { return pair_of(f(x[0]), f(x[1])); }
+%s
+static inline pair pair_pow(pair x, double e) {
+    return pair_of(pow(x[0], e), pow(x[1], e));
+}
+#endif
+"""
+
+
 class _CExpression:
     """Prints a numpy kernel's expression (a Python ``ast`` node) as a fully parenthesised C expression.
 
@@ -1017,12 +1049,8 @@ class _CExpression:
         raise ValueError(f"{self.function}: no C translation for {ast.unparse(node)!r}")
 
     def _power(self, node: Any) -> str:
-        import ast
-
         base, exponent = self(node.left), node.right
-        value = (exponent.value if isinstance(exponent, ast.Constant)
-                 else -exponent.operand.value if isinstance(exponent, ast.UnaryOp) and isinstance(exponent.op, ast.USub)
-                 and isinstance(exponent.operand, ast.Constant) else None)
+        value = _exponent(exponent)
         # numpy's own shortcuts for these exponents (square, reciprocal, sqrt), so that C gives its bits
         if value == 2:
             return f"({base} * {base})"
@@ -1033,6 +1061,64 @@ class _CExpression:
         if value == 0.5:
             return f"sqrt({base})"
         return f"pow({base}, {self(exponent)})"
+
+
+class _CPairExpression(_CExpression):
+    """:class:`_CExpression` for two elements at once (``_i`` and ``_i + 1``): variables are pairs
+    (:data:`_C_PAIRS`), numbers stay numbers (a pair times a number is a pair), output entries are read
+    as pairs."""
+
+    def typed(self, node: Any) -> tuple[str, bool]:
+        """The C text of ``node`` and whether it is a pair (else a number)."""
+        import ast
+
+        if isinstance(node, ast.Name):
+            return node.id, True
+        if isinstance(node, ast.Subscript):
+            return f"pair_load(&{self.entry(node)})", True
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            text, is_pair = self.typed(node.operand)
+            return f"({'-' if isinstance(node.op, ast.USub) else '+'}{text})", is_pair
+        if isinstance(node, ast.BinOp) and type(node.op).__name__ in _C_OPERATORS:
+            (left, lp), (right, rp) = self.typed(node.left), self.typed(node.right)
+            return f"({left} {_C_OPERATORS[type(node.op).__name__]} {right})", lp or rp
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            base, is_pair = self.typed(node.left)
+            value = _exponent(node.right)
+            prefix = "pair_" if is_pair else ""
+            if value == 2:
+                return f"({base} * {base})", is_pair
+            if value == 1:
+                return base, is_pair
+            if value == -1:
+                return f"(1.0 / {base})", is_pair
+            if value == 0.5:
+                return f"{prefix}sqrt({base})", is_pair
+            exponent, exponent_pair = self.typed(node.right)
+            if exponent_pair:
+                raise ValueError(f"{self.function}: no C translation for a variable exponent in pairs")
+            return f"{prefix}pow({base}, {exponent})", is_pair
+        if isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords:
+            _CExpression.__call__(self, node)  # the scalar printer's checks (a known numpy function)
+            f = node.func
+            name = _C_FUNCTIONS[f.attr if isinstance(f, ast.Attribute) else f.id]
+            text, is_pair = self.typed(node.args[0])
+            return (f"pair_{name}({text})" if is_pair else f"{name}({text})"), is_pair
+        return _CExpression.__call__(self, node), False
+
+    def __call__(self, node: Any) -> str:
+        return self.typed(node)[0]
+
+
+def _exponent(node: Any) -> float | None:
+    """A constant exponent's value (``2``, ``-1``, ``0.5``, ...), or None."""
+    import ast
+
+    if isinstance(node, ast.Constant):
+        return node.value
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub) and isinstance(node.operand, ast.Constant):
+        return -node.operand.value
+    return None
 
 
 def _c_output_name(name: str) -> str:
@@ -1077,14 +1163,16 @@ def _stacked_variables(function: Any) -> tuple[list[str], Any]:
     return [], None
 
 
-def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None, int]:
+def _c_kernel(function: Any, rows: int | None,
+              pairs: bool = False) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None, int]:
     """``(C function text, method-table entry, returns, stacked)`` of one generated numpy kernel.
 
     ``rows``: the kernel fills an ``out`` argument of ``rows`` rows (``returns`` is None).  None: the
     kernel allocates its outputs with ``numpy.zeros`` and returns them (or scalars per element);
     ``returns`` is then ``(per_element, [shape of each returned value])``.  ``stacked``: the number of
     variables the kernel unpacks its first argument into (0 if it does not), each of them an input of
-    the C function in its place.
+    the C function in its place.  ``pairs`` (a returning kernel): the elements are computed two at a
+    time where the compiler has vector types (:data:`_C_PAIRS`), the last one of an odd count alone.
     """
     import ast
 
@@ -1094,6 +1182,8 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
     if stacked:
         inputs = stacked + inputs[1:]
     body, declared = [], set(inputs)
+    pair_body: list[str] = []
+    pairs = pairs and rows is None
     outputs: dict[str, tuple[str, tuple[int, ...]]] = {}
     returned: list[str] = []
     per_element = True
@@ -1127,10 +1217,18 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
                 continue
         expression = _CExpression(name, outputs)
         value = expression(statement.value)
+        if pairs:
+            printer = _CPairExpression(name, outputs)
+            pair_value, is_pair = printer.typed(statement.value)
+            pair_value = pair_value if is_pair else f"pair_of({pair_value}, {pair_value})"
         if isinstance(target, ast.Name):
+            if pairs:
+                pair_body.append(f"{'' if target.id in declared else 'pair '}{target.id} = {pair_value};")
             body.append(f"{'' if target.id in declared else 'double '}{target.id} = {value};")
             declared.add(target.id)
         elif isinstance(target, ast.Subscript):
+            if pairs:
+                pair_body.append(f"pair_store(&{expression.entry(target)}, {pair_value});")
             body.append(f"{expression.entry(target)} = {value};")
         else:
             raise ValueError(f"{name}: no C translation for target {ast.unparse(target)!r}")
@@ -1140,6 +1238,7 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
             if r not in outputs:
                 outputs[r] = (_c_output_name(r), ())
                 body.append(f"{outputs[r][0]}[_i] = {r};")
+                pair_body.append(f"pair_store(&{outputs[r][0]}[_i], {r});")
         order = returned
     else:
         order = ["out"]
@@ -1156,8 +1255,15 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
              "        return NULL;",
              "    }"]
     lines += [f"    double *{outputs[r][0]} = outputs[{k}].data;" for k, r in enumerate(order)]
-    lines += ["    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
     used = set(re.findall(r"\b\w+\b", "\n".join(body)))  # an input the kernel ignores is not read
+    if pairs:
+        lines += ["    Py_ssize_t _i = 0;", "#ifdef CONTIN_PAIRS", "    for (; _i + 1 < _m; _i += 2) {"]
+        lines += [f"        const pair {a} = pair_of(in[{k}].data[_i * in[{k}].stride], "
+                  f"in[{k}].data[(_i + 1) * in[{k}].stride]);" for k, a in enumerate(inputs) if a in used]
+        lines += ["        " + line for line in pair_body]
+        lines += ["    }", "#endif", "    for (; _i < _m; _i++) {"]
+    else:
+        lines += ["    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
     lines += [f"        const double {a} = in[{k}].data[_i * in[{k}].stride];" for k, a in enumerate(inputs) if a in used]
     lines += ["        " + line for line in body]
     lines += ["    }", f"    release(in, {n}, outputs, {nout});", "    Py_RETURN_NONE;", "}"]
@@ -1167,7 +1273,7 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
 
 
 def c_extension_text(python_source: str, rows: dict[str, int], module: str, title: str,
-                     returning: Sequence[str] = ()) -> str:
+                     returning: Sequence[str] = (), pairs: bool = False) -> str:
     """C source of a Python extension module computing generated numpy kernels element by element.
 
     Each kernel must be a function of the generated module ``python_source`` whose body is
@@ -1209,6 +1315,11 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
         First line of the C file's comment.
     returning : sequence of str
         The kernels that return their outputs.
+    pairs : bool
+        The returning kernels compute two elements at once in one SIMD register where the compiler
+        offers GCC's vector types (each lane the same operations in the same order, so the same bits;
+        math functions lane by lane), the last element of an odd count alone.  For kernels with many
+        operations per element; the text without pairs does not change.
 
     Returns
     -------
@@ -1221,7 +1332,7 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     if missing:
         raise ValueError(f"c_extension_text: no kernel named {', '.join(missing)} in the source")
     kernels = [_c_kernel(functions[name], n) for name, n in rows.items()]
-    kernels += [_c_kernel(functions[name], None) for name in returning]
+    kernels += [_c_kernel(functions[name], None, pairs) for name in returning]
     table = "\n".join(entry for _, entry, _, _ in kernels)
     names = [*rows, *returning]
     returns = {name: spec for name, (_, _, spec, _) in zip(names, kernels) if spec is not None}
@@ -1238,7 +1349,8 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     return "\n".join([
         f"/* {title}",
         "   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */",
-        _C_PRELUDE,
+        _C_PRELUDE + (_C_PAIRS % "\n".join(f"PAIR_FUNCTION(pair_{c}, {c})" for c in dict.fromkeys(_C_FUNCTIONS.values()))
+                      if pairs else ""),
         "\n\n".join(text for text, _, _, _ in kernels),
         "",
         f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",

@@ -255,7 +255,7 @@ def generate_c_source(python_source: str | None = None) -> str:
     text = DEFAULT_OUTPUT.read_text(encoding="utf-8") if python_source is None else python_source
     return c_extension_text(text, {}, "_density_ckernels",
                             "Value, gradient and Hessian of the 2-D densities at general states "
-                            "(contin_models.shell._density_ckernels).", returning=KERNELS)
+                            "(contin_models.shell._density_ckernels).", returning=KERNELS, pairs=True)
 
 
 def main(argv: list[str] | None = None) -> int:
