@@ -458,19 +458,58 @@ class FourierShell:
             self._cache[key] = self.element_dofs(nodes)
         return self._cache[key]
 
-    @staticmethod
-    def _element_hessians(h: np.ndarray, B: np.ndarray, w: np.ndarray) -> np.ndarray:
-        """``(A, E, A)``: the element Hessians ``H_e = sum_q w_q B_q^T h_eq B_q`` (entry ``(a, e, b)``) from the
-        local Hessians ``h`` ``(k, k, Q, E)`` and the local map ``B`` ``(Q, k, A)``.
+    def _element_hessians(self, h: np.ndarray, B: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The element Hessians ``H_e = sum_q w_q B_q^T h_eq B_q`` from the local Hessians ``h`` ``(k, k, Q, E)``
+        and the local map ``B`` ``(Q, k, A)``: ``(A, E, A)`` (entry ``(a, e, b)``), the rows in the order
+        ``rows`` (row ``r`` is the element's unknown ``rows[r]``).
 
         Two large matrix products instead of many small ones: first ``X_iq = h_q[i]^T (w_q B_q)`` for each
         local variable and angle (``(E, A)`` each, on slices of ``h`` as they lie), then ``B`` stacked over
-        the local variables and angles, ``(A, k Q)``, times all ``X`` stacked, ``(k Q, E A)``.
+        the local variables and angles times all ``X`` stacked, ``(k Q, E A)``.  The local variables are
+        3-vectors in the frame at the angle; an unknown of ``Z`` moves only their axial components and one
+        of ``R`` or ``T`` only the horizontal ones (:meth:`AngularBasis.ring_maps`), so the second product
+        splits in two, each over its own components (:meth:`_component_split`).
         """
         Q, k, A = B.shape
         E = h.shape[-1]
-        X = np.matmul(h.transpose(0, 2, 3, 1), (w[:, None, None] * B)[None])  # (k, Q, E, A)
-        return np.matmul(B.transpose(1, 0, 2).reshape(k * Q, A).T, X.reshape(k * Q, E * A)).reshape(A, E, A)
+        split = self._component_split(B)
+        if split is None:
+            X = np.matmul(h.transpose(0, 2, 3, 1), (w[:, None, None] * B)[None])  # (k, Q, E, A)
+            He = np.matmul(B.transpose(1, 0, 2).reshape(k * Q, A).T, X.reshape(k * Q, E * A))
+            return He.reshape(A, E, A), np.arange(A)
+        rows, horizontal, vertical = split
+        V = k // 3
+        X = np.empty((3, V, Q, E, A))                              # (component, vector, angle, element, unknown)
+        np.matmul(h.reshape(V, 3, k, Q, E).transpose(1, 0, 3, 4, 2), w[:, None, None] * B, out=X)
+        He = np.empty((A, E * A))
+        nh = horizontal.shape[0]
+        np.matmul(horizontal, X[:2].reshape(2 * V * Q, E * A), out=He[:nh])
+        np.matmul(vertical, X[2].reshape(V * Q, E * A), out=He[nh:])
+        return He.reshape(A, E, A), rows
+
+    def _component_split(self, B: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """For a local map ``B`` ``(Q, k, A)`` of 3-vectors whose horizontal components only the unknowns of
+        ``R`` and ``T`` move and whose axial ones only those of ``Z``: ``(rows, horizontal, vertical)``, the
+        unknowns in the order horizontal then vertical, and ``B`` of each set on its components stacked as
+        the product of :meth:`_element_hessians` reads them, ``[a, (component, vector, angle)]``; None for any
+        other map.  Cached per map."""
+        key = ("split", id(B))
+        entry = self._cache.get(key)
+        if entry is None or entry[0] is not B:
+            Q, k, A = B.shape
+            split = None
+            if k % 3 == 0:
+                reach = np.abs(B).max(axis=0) != 0                # (k, A): local variable i moves with unknown a
+                axial = np.arange(k) % 3 == 2
+                vertical = ~reach[~axial].any(axis=0)              # the unknowns of Z
+                if not reach[axial][:, ~vertical].any():
+                    V = k // 3
+                    Bc = B.reshape(Q, V, 3, A)
+                    split = (np.concatenate([np.flatnonzero(~vertical), np.flatnonzero(vertical)]),
+                             np.ascontiguousarray(Bc[:, :, :2][..., ~vertical].transpose(3, 2, 1, 0)).reshape(-1, 2 * V * Q),
+                             np.ascontiguousarray(Bc[:, :, 2][..., vertical].transpose(2, 1, 0)).reshape(-1, V * Q))
+            self._cache[key] = entry = (B, split)
+        return entry[1]
 
     def _state(self, c: np.ndarray, volume: bool) -> dict:
         """The densities' jets at the state ``c`` (and the volume's with ``volume``), kept for the last state."""
@@ -588,21 +627,24 @@ class FourierShell:
         P = self.pattern(with_volume)
         data = np.zeros(P.nnz)
         for fam, jets, factor in self._groups(c, pressure):
-            He = self._element_hessians(jets[2], fam[2], w)
-            data += np.bincount(self._transposed_slots(self, fam[1], with_volume), factor * He.ravel(), minlength=P.nnz)
+            He, rows = self._element_hessians(jets[2], fam[2], w)
+            data += np.bincount(self._transposed_slots(self, fam[1], with_volume, rows), factor * He.ravel(),
+                                minlength=P.nnz)
         for dofs, _, _, He in self._cache["state"]["poles"]:
             data += np.bincount(self.hessian_slots(dofs, with_volume), He.ravel(), minlength=P.nnz)
         return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
 
-    def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool) -> np.ndarray:
+    def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool, rows: np.ndarray) -> np.ndarray:
         """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, E, A)`` of
-        :meth:`_element_hessians` (``view``: this view or one of its perturbation views), cached."""
-        key = ("slots_t", view.basis.terms, view.basis.mirror, nodes.tobytes(), nodes.shape, bool(pressure))
+        :meth:`_element_hessians`, its rows ordered by ``rows`` (``view``: this view or one of its
+        perturbation views), cached."""
+        key = ("slots_t", view.basis.terms, view.basis.mirror, nodes.tobytes(), nodes.shape, bool(pressure),
+               rows.tobytes())
         if key not in self._cache:
             dofs = view.element_dofs(nodes)
             E, A = dofs.shape
             self._cache[key] = np.ascontiguousarray(
-                view.hessian_slots(dofs, pressure).reshape(E, A, A).transpose(1, 0, 2)).ravel()
+                view.hessian_slots(dofs, pressure).reshape(E, A, A).transpose(1, 0, 2)[rows]).ravel()
         return self._cache[key]
 
     # ---- stability against every perturbation: the Bloch blocks ------------------------------------
@@ -654,8 +696,8 @@ class FourierShell:
             name, nodes, _, kernel, params, offset = fam
             Bs, Bp = maps[name]
             _, _, h = self._jets(c, (name, nodes, Bs, kernel, params, offset))
-            He = self._element_hessians(h, Bp, w)
-            data += np.bincount(self._transposed_slots(pview, nodes, pressure != 0.0), factor * He.ravel(),
+            He, rows = self._element_hessians(h, Bp, w)
+            data += np.bincount(self._transposed_slots(pview, nodes, pressure != 0.0, rows), factor * He.ravel(),
                                 minlength=P.nnz)
         Bs, Bp = maps["pole"]
         for nodes, kernel, lbar, kbar, Akb in self._poles:
