@@ -625,6 +625,11 @@ class FourierShell:
         w = self.basis.weights
         with_volume = pressure != 0.0 or volume_pattern
         P = self.pattern(with_volume)
+        # kept with the state's jets: a Jacobian and the derivative in the load at one point ask for it twice
+        key = ("hessian", float(pressure), with_volume)
+        st = self._state(c, pressure != 0.0)
+        if key in st:
+            return sp.csr_matrix((st[key].copy(), P.indices, P.indptr), shape=P.shape)
         data = np.zeros(P.nnz)
         for fam, jets, factor in self._groups(c, pressure):
             He, rows = self._element_hessians(jets[2], fam[2], w)
@@ -632,7 +637,8 @@ class FourierShell:
                                 minlength=P.nnz)
         for dofs, _, _, He in self._cache["state"]["poles"]:
             data += np.bincount(self.hessian_slots(dofs, with_volume), He.ravel(), minlength=P.nnz)
-        return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
+        st[key] = data
+        return sp.csr_matrix((data.copy(), P.indices, P.indptr), shape=P.shape)
 
     def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool, rows: np.ndarray) -> np.ndarray:
         """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, E, A)`` of
