@@ -994,6 +994,11 @@ static inline pair pair_pow(pair x, double e) {
 """
 
 
+def _pairs_prelude() -> str:
+    """:data:`_C_PAIRS` with a pair version of every function of :data:`_C_FUNCTIONS`."""
+    return _C_PAIRS % "\n".join(f"PAIR_FUNCTION(pair_{c}, {c})" for c in dict.fromkeys(_C_FUNCTIONS.values()))
+
+
 class _CExpression:
     """Prints a numpy kernel's expression (a Python ``ast`` node) as a fully parenthesised C expression.
 
@@ -1349,8 +1354,7 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     return "\n".join([
         f"/* {title}",
         "   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */",
-        _C_PRELUDE + (_C_PAIRS % "\n".join(f"PAIR_FUNCTION(pair_{c}, {c})" for c in dict.fromkeys(_C_FUNCTIONS.values()))
-                      if pairs else ""),
+        _C_PRELUDE + (_pairs_prelude() if pairs else ""),
         "\n\n".join(text for text, _, _, _ in kernels),
         "",
         f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",

@@ -505,9 +505,11 @@ class FourierShell:
                 if not reach[axial][:, ~vertical].any():
                     V = k // 3
                     Bc = B.reshape(Q, V, 3, A)
+                    horizontal = Bc[:, :, :2][..., ~vertical].transpose(3, 2, 1, 0)   # (a, component, vector, q)
+                    axial_map = Bc[:, :, 2][..., vertical].transpose(2, 1, 0)          # (a, vector, q)
                     split = (np.concatenate([np.flatnonzero(~vertical), np.flatnonzero(vertical)]),
-                             np.ascontiguousarray(Bc[:, :, :2][..., ~vertical].transpose(3, 2, 1, 0)).reshape(-1, 2 * V * Q),
-                             np.ascontiguousarray(Bc[:, :, 2][..., vertical].transpose(2, 1, 0)).reshape(-1, V * Q))
+                             np.ascontiguousarray(horizontal).reshape(-1, 2 * V * Q),
+                             np.ascontiguousarray(axial_map).reshape(-1, V * Q))
             self._cache[key] = entry = (B, split)
         return entry[1]
 
@@ -640,7 +642,8 @@ class FourierShell:
         st[key] = data
         return sp.csr_matrix((data.copy(), P.indices, P.indptr), shape=P.shape)
 
-    def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool, rows: np.ndarray) -> np.ndarray:
+    def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool,
+                          rows: np.ndarray) -> np.ndarray:
         """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, E, A)`` of
         :meth:`_element_hessians`, its rows ordered by ``rows`` (``view``: this view or one of its
         perturbation views), cached."""
