@@ -588,8 +588,8 @@ class FourierShell:
         for fam, jets, factor in self._groups(c, pressure):
             B, gl = fam[2], jets[1]
             Q, k, A = B.shape
-            # g_e = sum_q w_q B_q^T g_eq, with (q, i) stacked: one product (A, Q k) (Q k, E)
-            ge = np.matmul((w[:, None, None] * B).reshape(Q * k, A).T, gl.transpose(1, 0, 2).reshape(Q * k, -1))
+            # g_e = sum_q w_q B_q^T g_eq, with (i, q) stacked as the kernel gives them: one product (A, k Q) (k Q, E)
+            ge = np.matmul((w[None, :, None] * B.transpose(1, 0, 2)).reshape(k * Q, A).T, gl.reshape(k * Q, -1))
             g += np.bincount(self._dofs(fam[1]).T.ravel(), factor * ge.ravel(), minlength=self.size)
         for dofs, _, ge, _ in self._cache["state"]["poles"]:
             np.add.at(g, dofs.ravel(), ge.ravel())
