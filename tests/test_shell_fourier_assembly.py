@@ -112,7 +112,7 @@ def test_element_hessians_of_a_map_without_the_component_split() -> None:
     h = rng.standard_normal((k, k, Q, E))
     h = h + h.transpose(1, 0, 2, 3)
     He, rows = view._element_hessians(h, B, w)
-    expected = np.einsum("qia,ijqe,qjb,q->aeb", B, h, B, w)
+    expected = np.einsum("qia,ijqe,qjb,q->abe", B, h, B, w)
     np.testing.assert_allclose(He, expected[rows], rtol=0, atol=RTOL * np.abs(expected).max())
 
 

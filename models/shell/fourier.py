@@ -460,32 +460,33 @@ class FourierShell:
 
     def _element_hessians(self, h: np.ndarray, B: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The element Hessians ``H_e = sum_q w_q B_q^T h_eq B_q`` from the local Hessians ``h`` ``(k, k, Q, E)``
-        and the local map ``B`` ``(Q, k, A)``: ``(A, E, A)`` (entry ``(a, e, b)``), the rows in the order
-        ``rows`` (row ``r`` is the element's unknown ``rows[r]``).
+        and the local map ``B`` ``(Q, k, A)``: ``(A, A, E)`` (entry ``(a, b, e)``, the element last), the
+        rows in the order ``rows`` (row ``r`` is the element's unknown ``rows[r]``).
 
-        Two large matrix products instead of many small ones: first ``X_iq = h_q[i]^T (w_q B_q)`` for each
-        local variable and angle (``(E, A)`` each, on slices of ``h`` as they lie), then ``B`` stacked over
-        the local variables and angles times all ``X`` stacked, ``(k Q, E A)``.  The local variables are
+        Two large matrix products instead of many small ones: first ``X_iq = (w_q B_q)^T h_q[i]`` for each
+        local variable and angle (``(A, E)`` each, on slices of ``h`` as they lie), then ``B`` stacked over
+        the local variables and angles times all ``X`` stacked, ``(k Q, A E)``.  The local variables are
         3-vectors in the frame at the angle; an unknown of ``Z`` moves only their axial components and one
         of ``R`` or ``T`` only the horizontal ones (:meth:`AngularBasis.ring_maps`), so the second product
         splits in two, each over its own components (:meth:`_component_split`).
         """
         Q, k, A = B.shape
         E = h.shape[-1]
+        Bw = (w[:, None, None] * B).transpose(0, 2, 1)             # (Q, A, k)
         split = self._component_split(B)
         if split is None:
-            X = np.matmul(h.transpose(0, 2, 3, 1), (w[:, None, None] * B)[None])  # (k, Q, E, A)
-            He = np.matmul(B.transpose(1, 0, 2).reshape(k * Q, A).T, X.reshape(k * Q, E * A))
-            return He.reshape(A, E, A), np.arange(A)
+            X = np.matmul(Bw[None], h.transpose(0, 2, 1, 3))       # (k, Q, A, E)
+            He = np.matmul(B.transpose(1, 0, 2).reshape(k * Q, A).T, X.reshape(k * Q, A * E))
+            return He.reshape(A, A, E), np.arange(A)
         rows, horizontal, vertical = split
         V = k // 3
-        X = np.empty((3, V, Q, E, A))                              # (component, vector, angle, element, unknown)
-        np.matmul(h.reshape(V, 3, k, Q, E).transpose(1, 0, 3, 4, 2), w[:, None, None] * B, out=X)
-        He = np.empty((A, E * A))
+        X = np.empty((3, V, Q, A, E))                              # (component, vector, angle, unknown, element)
+        np.matmul(Bw, h.reshape(V, 3, k, Q, E).transpose(1, 0, 3, 2, 4), out=X)
+        He = np.empty((A, A * E))
         nh = horizontal.shape[0]
-        np.matmul(horizontal, X[:2].reshape(2 * V * Q, E * A), out=He[:nh])
-        np.matmul(vertical, X[2].reshape(V * Q, E * A), out=He[nh:])
-        return He.reshape(A, E, A), rows
+        np.matmul(horizontal, X[:2].reshape(2 * V * Q, A * E), out=He[:nh])
+        np.matmul(vertical, X[2].reshape(V * Q, A * E), out=He[nh:])
+        return He.reshape(A, A, E), rows
 
     def _component_split(self, B: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """For a local map ``B`` ``(Q, k, A)`` of 3-vectors whose horizontal components only the unknowns of
@@ -632,19 +633,79 @@ class FourierShell:
         st = self._state(c, pressure != 0.0)
         if key in st:
             return sp.csr_matrix((st[key].copy(), P.indices, P.indptr), shape=P.shape)
-        data = np.zeros(P.nnz)
+        band, place, positions = self._band(with_volume)
         for fam, jets, factor in self._groups(c, pressure):
             He, rows = self._element_hessians(jets[2], fam[2], w)
-            data += np.bincount(self._transposed_slots(self, fam[1], with_volume, rows), factor * He.ravel(),
-                                minlength=P.nnz)
-        for dofs, _, _, He in self._cache["state"]["poles"]:
-            data += np.bincount(self.hessian_slots(dofs, with_volume), He.ravel(), minlength=P.nnz)
+            if factor != 1.0:
+                He *= factor
+            self._add_to_band(band, He, rows, fam[1], place)
+        for pole, (dofs, _, _, He) in zip(self._poles, self._cache["state"]["poles"]):
+            self._add_to_band(band, He[0][:, :, None], np.arange(dofs.shape[1]), pole[0], place)
+        data = band.ravel()[positions]
         st[key] = data
         return sp.csr_matrix((data.copy(), P.indices, P.indptr), shape=P.shape)
 
+    def _band(self, pressure: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The Hessian's entries gathered by node pairs before they are read out in the order of
+        :meth:`pattern` (``pressure``: with the volume's): ``(band, place, positions)``.
+
+        ``band[d, place[a], b, i]`` (zeros to fill) is the entry of unknown ``a`` of node ``i`` and unknown
+        ``b`` of node ``i + d - w`` (``w`` the widest coupling), the node last so that the elements of a
+        family add to it by slices (:meth:`_add_to_band`); ``place`` orders a node's unknowns as
+        :meth:`_component_split` orders an element's (those of ``R`` and ``T``, then those of ``Z``);
+        ``positions`` are the pattern's entries in the flattened band.
+        """
+        key = ("band", bool(pressure))
+        if key not in self._cache:
+            P, m, N = self.pattern(pressure), self.m, self.N
+            vertical = np.array([t[0] == "Z" for t in self.basis.terms])
+            place = np.empty(m, dtype=np.int64)
+            place[np.concatenate([np.flatnonzero(~vertical), np.flatnonzero(vertical)])] = np.arange(m)
+            rows = np.repeat(np.arange(P.shape[0], dtype=np.int64), np.diff(P.indptr))
+            (i, a), (j, b) = divmod(rows, m), divmod(P.indices.astype(np.int64), m)
+            w = int(np.abs(j - i).max())
+            positions = (((j - i + w) * m + place[a]) * m + b) * N + i
+            self._cache[key] = ((2 * w + 1, m, m, N), place, positions)
+        shape, place, positions = self._cache[key]
+        return np.zeros(shape), place, positions
+
+    def _add_to_band(self, band: np.ndarray, He: np.ndarray, rows: np.ndarray, nodes: np.ndarray,
+                     place: np.ndarray) -> None:
+        """Add the element Hessians ``He`` ``(A, A, E)`` (rows ordered by ``rows``) of the elements on ``nodes``
+        ``(E, nn)`` to ``band`` (:meth:`_band`): a slice per run of rows that one node holds in the band's
+        order where element ``e`` has the nodes ``n + e, n + e + 1, ...`` (as along a meridian); one entry
+        at a time otherwise."""
+        m, E = self.m, nodes.shape[0]
+        w, N = band.shape[0] // 2, band.shape[3]
+        key = ("runs", rows.tobytes(), nodes.tobytes(), nodes.shape)
+        if key not in self._cache:
+            slot, unknown = divmod(rows, m)
+            target = place[unknown]
+            starts = np.flatnonzero(np.r_[True, (slot[1:] != slot[:-1]) | (target[1:] != target[:-1] + 1)])
+            ends = np.r_[starts[1:], rows.size]
+            # node i + s in slot s of element i: each slot's nodes and each element's follow one another
+            regular = bool(np.all(nodes == nodes[0, 0] + np.arange(E)[:, None] + np.arange(nodes.shape[1])[None, :]))
+            if regular and starts.size <= 2 * nodes.shape[1]:
+                self._cache[key] = [(r0, r1, int(slot[r0]), int(target[r0])) for r0, r1 in zip(starts, ends)]
+            else:
+                i = nodes[:, slot].T[:, None, :]                   # (A, 1, E): the node of each row
+                j = np.repeat(nodes, m, axis=1).T[None, :, :]     # (1, A, E): the node of each column
+                b = (np.arange(nodes.shape[1] * m) % m)[None, :, None]
+                self._cache[key] = ((((j - i + w) * m + target[:, None, None]) * m + b) * N + i).ravel()
+        runs = self._cache[key]
+        nn = nodes.shape[1]
+        if isinstance(runs, list):
+            # a run's columns, node by node, are successive rows of the band
+            for r0, r1, s, a0 in runs:
+                i0 = int(nodes[0, s])
+                band[w - s:w - s + nn, a0:a0 + r1 - r0, :, i0:i0 + E] += \
+                    He[r0:r1].reshape(r1 - r0, nn, m, E).transpose(1, 0, 2, 3)
+        else:
+            np.add.at(band.reshape(-1), runs, He.ravel())
+
     def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool,
                           rows: np.ndarray) -> np.ndarray:
-        """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, E, A)`` of
+        """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, A, E)`` of
         :meth:`_element_hessians`, its rows ordered by ``rows`` (``view``: this view or one of its
         perturbation views), cached."""
         key = ("slots_t", view.basis.terms, view.basis.mirror, nodes.tobytes(), nodes.shape, bool(pressure),
@@ -653,7 +714,7 @@ class FourierShell:
             dofs = view.element_dofs(nodes)
             E, A = dofs.shape
             self._cache[key] = np.ascontiguousarray(
-                view.hessian_slots(dofs, pressure).reshape(E, A, A).transpose(1, 0, 2)[rows]).ravel()
+                view.hessian_slots(dofs, pressure).reshape(E, A, A).transpose(1, 2, 0)[rows]).ravel()
         return self._cache[key]
 
     # ---- stability against every perturbation: the Bloch blocks ------------------------------------
