@@ -1054,18 +1054,22 @@ class _CExpression:
         raise ValueError(f"{self.function}: no C translation for {ast.unparse(node)!r}")
 
     def _power(self, node: Any) -> str:
-        base, exponent = self(node.left), node.right
-        value = _exponent(exponent)
-        # numpy's own shortcuts for these exponents (square, reciprocal, sqrt), so that C gives its bits
-        if value == 2:
-            return f"({base} * {base})"
-        if value == 1:
-            return base
-        if value == -1:
-            return f"(1.0 / {base})"
-        if value == 0.5:
-            return f"sqrt({base})"
-        return f"pow({base}, {self(exponent)})"
+        return _power_text(self(node.left), _exponent(node.right), lambda: self(node.right))
+
+
+def _power_text(base: str, value: float | None, exponent: Callable[[], str], prefix: str = "") -> str:
+    """C text of ``base ** exponent`` (``value`` the exponent's if it is a constant; ``prefix`` of the
+    functions called: ``pair_`` for pairs)."""
+    # numpy's own shortcuts for these exponents (square, reciprocal, sqrt), so that C gives its bits
+    if value == 2:
+        return f"({base} * {base})"
+    if value == 1:
+        return base
+    if value == -1:
+        return f"(1.0 / {base})"
+    if value == 0.5:
+        return f"{prefix}sqrt({base})"
+    return f"{prefix}pow({base}, {exponent()})"
 
 
 class _CPairExpression(_CExpression):
@@ -1089,20 +1093,14 @@ class _CPairExpression(_CExpression):
             return f"({left} {_C_OPERATORS[type(node.op).__name__]} {right})", lp or rp
         if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
             base, is_pair = self.typed(node.left)
-            value = _exponent(node.right)
-            prefix = "pair_" if is_pair else ""
-            if value == 2:
-                return f"({base} * {base})", is_pair
-            if value == 1:
-                return base, is_pair
-            if value == -1:
-                return f"(1.0 / {base})", is_pair
-            if value == 0.5:
-                return f"{prefix}sqrt({base})", is_pair
-            exponent, exponent_pair = self.typed(node.right)
-            if exponent_pair:
-                raise ValueError(f"{self.function}: no C translation for a variable exponent in pairs")
-            return f"{prefix}pow({base}, {exponent})", is_pair
+
+            def exponent() -> str:
+                text, exponent_pair = self.typed(node.right)
+                if exponent_pair:
+                    raise ValueError(f"{self.function}: no C translation for a variable exponent in pairs")
+                return text
+
+            return _power_text(base, _exponent(node.right), exponent, "pair_" if is_pair else ""), is_pair
         if isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords:
             _CExpression.__call__(self, node)  # the scalar printer's checks (a known numpy function)
             f = node.func
