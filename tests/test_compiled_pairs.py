@@ -1,7 +1,7 @@
-"""Generated C kernels computing two stations at once (``c_extension_text(..., pairs=True)``).
+"""Generated C kernels computing stations four or two at once (``c_extension_text(..., pairs=True)``).
 
-The pairs run the scalar code's operations in the same order on each lane of a vector register, so
-a station computed in a pair has the bits it has when computed alone (the scalar loop).
+The vectors run the scalar code's operations in the same order on each lane of a register, so a
+station computed in a quad or a pair has the bits it has when computed alone (the scalar loop).
 """
 
 from __future__ import annotations
@@ -27,7 +27,11 @@ def test_translation_in_pairs() -> None:
     text = c_extension_text(SOURCE, {}, "_k", "test", returning=["k"], pairs=True)
     assert "#ifdef CONTIN_PAIRS" in text and "for (; _i + 1 < _m; _i += 2) {" in text
     assert "const pair y1 = pair_of(in[1].data[_i * in[1].stride], in[1].data[(_i + 1) * in[1].stride]);" in text
-    assert "pair _a = pair_of(sqrt(2.0), sqrt(2.0));" in text  # a number made a pair
+    assert "pair _a = pair_splat(sqrt(2.0));" in text  # a number made a pair
+    # four at a time in a function compiled for AVX2, called where the processor has it
+    assert "QUADS static Py_ssize_t c_k_quads(const Input *in, double *out_v, double *out_g, Py_ssize_t _m) {" in text
+    assert "quad _v = (((quad_sqrt(y1) * c) + _a) + quad_pow(y0, 3.0));" in text
+    assert "if (__builtin_cpu_supports(\"avx2\")) {" in text and "_i = c_k_quads(in, out_v, out_g, _m);" in text
     assert "pair _v = (((pair_sqrt(y1) * c) + _a) + pair_pow(y0, 3.0));" in text
     assert "pair_store(&out_g[1 * _m + _i], y0);" in text
     assert "pair_store(&out_g[0 * _m + _i], (pair_load(&out_g[1 * _m + _i]) * pair_cos(c)));" in text
@@ -40,12 +44,12 @@ def test_translation_in_pairs() -> None:
 
 @pytest.mark.skipif(not density_kernels.COMPILED, reason="the density kernels' C extension is not built")
 @pytest.mark.parametrize("name", _density_generated.KERNELS)
-def test_a_station_in_a_pair_has_the_bits_it_has_alone(name: str) -> None:
+def test_a_station_in_a_quad_or_a_pair_has_the_bits_it_has_alone(name: str) -> None:
     kernel = getattr(density_kernels.kernels, name)
     numpy_kernel = getattr(_density_generated, name)
     k = {"stretch_jet": 6, "skirt_jet": 6, "free_edge_jet": 12, "volume_jet": 12}.get(name, 15)
     rng = np.random.default_rng(11)
-    m = 9  # four pairs and one station alone
+    m = 7  # a quad (with AVX2), a pair and one station alone
     y = rng.uniform(0.1, 1.0, (k, m)) * rng.choice([-1.0, 1.0], (k, m))
     names = numpy_kernel.__code__.co_varnames[1:numpy_kernel.__code__.co_argcount]
     params = [0.3 if p == "nu" else rng.uniform(0.3, 1.5, m) for p in names]

@@ -962,10 +962,13 @@ static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, In
 """
 
 
-#: Emitted after the prelude by an extension computing two elements at once (``pairs=True``): a pair of
-#: doubles in one SIMD register (a GCC/Clang vector type), its loads and stores, and each math function
-#: lane by lane (the scalar C function on each lane, so that every lane gets the scalar code's bits).
-_C_PAIRS = r"""
+#: Emitted after the prelude by an extension computing elements two or four at once (``pairs=True``):
+#: a pair of doubles in one SIMD register (a GCC/Clang vector type) and, on x86-64, a quad in one AVX
+#: register (its functions compiled for AVX2, called where the processor has it); their loads, stores
+#: and numbers made vectors, and each math function lane by lane (the scalar C function on each lane).
+#: Every lane runs the scalar code's operations in the same order, so it gets the scalar code's bits
+#: (no multiply-add is contracted: AVX2 does not include FMA).
+_C_VECTORS = r"""
 #if defined(__GNUC__)
 #define CONTIN_PAIRS 1
 typedef double pair __attribute__((vector_size(16)));
@@ -973,6 +976,10 @@ typedef double pair __attribute__((vector_size(16)));
 static inline pair pair_of(double a, double b) {
     pair r = {a, b};
     return r;
+}
+
+static inline pair pair_splat(double a) {
+    return pair_of(a, a);
 }
 
 static inline pair pair_load(const double *p) {
@@ -986,17 +993,54 @@ static inline void pair_store(double *p, pair v) {
 }
 
 #define PAIR_FUNCTION(name, f) static inline pair name(pair x) { return pair_of(f(x[0]), f(x[1])); }
-%s
+%(pair_functions)s
 static inline pair pair_pow(pair x, double e) {
     return pair_of(pow(x[0], e), pow(x[1], e));
 }
 #endif
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define CONTIN_QUADS 1
+#define QUADS __attribute__((target("avx2")))
+typedef double quad __attribute__((vector_size(32)));
+
+QUADS static inline quad quad_of(double a, double b, double c, double d) {
+    quad r = {a, b, c, d};
+    return r;
+}
+
+QUADS static inline quad quad_splat(double a) {
+    return quad_of(a, a, a, a);
+}
+
+QUADS static inline quad quad_load(const double *p) {
+    quad r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+QUADS static inline void quad_store(double *p, quad v) {
+    memcpy(p, &v, sizeof v);
+}
+
+#define QUAD_FUNCTION(name, f) \
+    QUADS static inline quad name(quad x) { return quad_of(f(x[0]), f(x[1]), f(x[2]), f(x[3])); }
+%(quad_functions)s
+QUADS static inline quad quad_pow(quad x, double e) {
+    return quad_of(pow(x[0], e), pow(x[1], e), pow(x[2], e), pow(x[3], e));
+}
+#endif
 """
 
+#: The vector kinds of :data:`_C_VECTORS`: name -> lanes.
+_LANES = {"pair": 2, "quad": 4}
 
-def _pairs_prelude() -> str:
-    """:data:`_C_PAIRS` with a pair version of every function of :data:`_C_FUNCTIONS`."""
-    return _C_PAIRS % "\n".join(f"PAIR_FUNCTION(pair_{c}, {c})" for c in dict.fromkeys(_C_FUNCTIONS.values()))
+
+def _vectors_prelude() -> str:
+    """:data:`_C_VECTORS` with a vector version of every function of :data:`_C_FUNCTIONS`."""
+    functions = dict.fromkeys(_C_FUNCTIONS.values())
+    return _C_VECTORS % {f"{kind}_functions": "\n".join(f"{kind.upper()}_FUNCTION({kind}_{c}, {c})" for c in functions)
+                         for kind in _LANES}
 
 
 class _CExpression:
@@ -1059,7 +1103,7 @@ class _CExpression:
 
 def _power_text(base: str, value: float | None, exponent: Callable[[], str], prefix: str = "") -> str:
     """C text of ``base ** exponent`` (``value`` the exponent's if it is a constant; ``prefix`` of the
-    functions called: ``pair_`` for pairs)."""
+    functions called: ``pair_`` for pairs, ``quad_`` for quads)."""
     # numpy's own shortcuts for these exponents (square, reciprocal, sqrt), so that C gives its bits
     if value == 2:
         return f"({base} * {base})"
@@ -1072,45 +1116,54 @@ def _power_text(base: str, value: float | None, exponent: Callable[[], str], pre
     return f"{prefix}pow({base}, {exponent()})"
 
 
-class _CPairExpression(_CExpression):
-    """:class:`_CExpression` for two elements at once (``_i`` and ``_i + 1``): variables are pairs
-    (:data:`_C_PAIRS`), numbers stay numbers (a pair times a number is a pair), output entries are read
-    as pairs."""
+class _CVectorExpression(_CExpression):
+    """:class:`_CExpression` for several elements at once (``_i``, ``_i + 1``, ...): variables are vectors of
+    the ``kind`` of :data:`_C_VECTORS` (``pair``, ``quad``), numbers stay numbers (a vector times a number
+    is a vector), output entries are read as vectors."""
+
+    def __init__(self, function: str, outputs: dict[str, tuple[str, tuple[int, ...]]], kind: str) -> None:
+        super().__init__(function, outputs)
+        self.kind = kind
 
     def typed(self, node: Any) -> tuple[str, bool]:
-        """The C text of ``node`` and whether it is a pair (else a number)."""
+        """The C text of ``node`` and whether it is a vector (else a number)."""
         import ast
 
         if isinstance(node, ast.Name):
             return node.id, True
         if isinstance(node, ast.Subscript):
-            return f"pair_load(&{self.entry(node)})", True
+            return f"{self.kind}_load(&{self.entry(node)})", True
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-            text, is_pair = self.typed(node.operand)
-            return f"({'-' if isinstance(node.op, ast.USub) else '+'}{text})", is_pair
+            text, vector = self.typed(node.operand)
+            return f"({'-' if isinstance(node.op, ast.USub) else '+'}{text})", vector
         if isinstance(node, ast.BinOp) and type(node.op).__name__ in _C_OPERATORS:
-            (left, lp), (right, rp) = self.typed(node.left), self.typed(node.right)
-            return f"({left} {_C_OPERATORS[type(node.op).__name__]} {right})", lp or rp
+            (left, lv), (right, rv) = self.typed(node.left), self.typed(node.right)
+            return f"({left} {_C_OPERATORS[type(node.op).__name__]} {right})", lv or rv
         if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
-            base, is_pair = self.typed(node.left)
+            base, vector = self.typed(node.left)
 
             def exponent() -> str:
-                text, exponent_pair = self.typed(node.right)
-                if exponent_pair:
-                    raise ValueError(f"{self.function}: no C translation for a variable exponent in pairs")
+                text, exponent_vector = self.typed(node.right)
+                if exponent_vector:
+                    raise ValueError(f"{self.function}: no C translation for a variable exponent in vectors")
                 return text
 
-            return _power_text(base, _exponent(node.right), exponent, "pair_" if is_pair else ""), is_pair
+            return _power_text(base, _exponent(node.right), exponent, f"{self.kind}_" if vector else ""), vector
         if isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords:
             _CExpression.__call__(self, node)  # the scalar printer's checks (a known numpy function)
             f = node.func
             name = _C_FUNCTIONS[f.attr if isinstance(f, ast.Attribute) else f.id]
-            text, is_pair = self.typed(node.args[0])
-            return (f"pair_{name}({text})" if is_pair else f"{name}({text})"), is_pair
+            text, vector = self.typed(node.args[0])
+            return (f"{self.kind}_{name}({text})" if vector else f"{name}({text})"), vector
         return _CExpression.__call__(self, node), False
 
     def __call__(self, node: Any) -> str:
         return self.typed(node)[0]
+
+    def value(self, node: Any) -> str:
+        """C text of ``node`` as a vector (a number repeated on every lane)."""
+        text, vector = self.typed(node)
+        return text if vector else f"{self.kind}_splat({text})"
 
 
 def _exponent(node: Any) -> float | None:
@@ -1174,8 +1227,9 @@ def _c_kernel(function: Any, rows: int | None,
     kernel allocates its outputs with ``numpy.zeros`` and returns them (or scalars per element);
     ``returns`` is then ``(per_element, [shape of each returned value])``.  ``stacked``: the number of
     variables the kernel unpacks its first argument into (0 if it does not), each of them an input of
-    the C function in its place.  ``pairs`` (a returning kernel): the elements are computed two at a
-    time where the compiler has vector types (:data:`_C_PAIRS`), the last one of an odd count alone.
+    the C function in its place.  ``pairs`` (a returning kernel): the elements are computed four at a
+    time where the processor has AVX2 and two at a time where the compiler has vector types
+    (:data:`_C_VECTORS`), the last ones alone.
     """
     import ast
 
@@ -1185,8 +1239,8 @@ def _c_kernel(function: Any, rows: int | None,
     if stacked:
         inputs = stacked + inputs[1:]
     body, declared = [], set(inputs)
-    pair_body: list[str] = []
-    pairs = pairs and rows is None
+    # the body again for each vector kind of _C_VECTORS (a returning kernel with pairs)
+    vectors: dict[str, list[str]] = {kind: [] for kind in _LANES} if pairs and rows is None else {}
     outputs: dict[str, tuple[str, tuple[int, ...]]] = {}
     returned: list[str] = []
     per_element = True
@@ -1220,18 +1274,15 @@ def _c_kernel(function: Any, rows: int | None,
                 continue
         expression = _CExpression(name, outputs)
         value = expression(statement.value)
-        if pairs:
-            printer = _CPairExpression(name, outputs)
-            pair_value, is_pair = printer.typed(statement.value)
-            pair_value = pair_value if is_pair else f"pair_of({pair_value}, {pair_value})"
+        vector_values = {kind: _CVectorExpression(name, outputs, kind).value(statement.value) for kind in vectors}
         if isinstance(target, ast.Name):
-            if pairs:
-                pair_body.append(f"{'' if target.id in declared else 'pair '}{target.id} = {pair_value};")
+            for kind, text in vector_values.items():
+                vectors[kind].append(f"{'' if target.id in declared else kind + ' '}{target.id} = {text};")
             body.append(f"{'' if target.id in declared else 'double '}{target.id} = {value};")
             declared.add(target.id)
         elif isinstance(target, ast.Subscript):
-            if pairs:
-                pair_body.append(f"pair_store(&{expression.entry(target)}, {pair_value});")
+            for kind, text in vector_values.items():
+                vectors[kind].append(f"{kind}_store(&{expression.entry(target)}, {text});")
             body.append(f"{expression.entry(target)} = {value};")
         else:
             raise ValueError(f"{name}: no C translation for target {ast.unparse(target)!r}")
@@ -1241,7 +1292,8 @@ def _c_kernel(function: Any, rows: int | None,
             if r not in outputs:
                 outputs[r] = (_c_output_name(r), ())
                 body.append(f"{outputs[r][0]}[_i] = {r};")
-                pair_body.append(f"pair_store(&{outputs[r][0]}[_i], {r});")
+                for kind, lines in vectors.items():
+                    lines.append(f"{kind}_store(&{outputs[r][0]}[_i], {r});")
         order = returned
     else:
         order = ["out"]
@@ -1259,11 +1311,24 @@ def _c_kernel(function: Any, rows: int | None,
              "    }"]
     lines += [f"    double *{outputs[r][0]} = outputs[{k}].data;" for k, r in enumerate(order)]
     used = set(re.findall(r"\b\w+\b", "\n".join(body)))  # an input the kernel ignores is not read
-    if pairs:
-        lines += ["    Py_ssize_t _i = 0;", "#ifdef CONTIN_PAIRS", "    for (; _i + 1 < _m; _i += 2) {"]
-        lines += [f"        const pair {a} = pair_of(in[{k}].data[_i * in[{k}].stride], "
-                  f"in[{k}].data[(_i + 1) * in[{k}].stride]);" for k, a in enumerate(inputs) if a in used]
-        lines += ["        " + line for line in pair_body]
+
+    def loads(kind: str) -> list[str]:
+        lanes = ", ".join("in[{k}].data[" + ("_i" if j == 0 else f"(_i + {j})") + " * in[{k}].stride]"
+                          for j in range(_LANES[kind]))
+        return [f"        const {kind} {a} = {kind}_of({lanes.format(k=k)});" for k, a in enumerate(inputs) if a in used]
+
+    if vectors:
+        pointers = ", ".join(f"double *{outputs[r][0]}" for r in order)
+        quads = [f"static Py_ssize_t c_{name}_quads(const Input *in, {pointers}, Py_ssize_t _m) {{",
+                 "    Py_ssize_t _i = 0;", "    for (; _i + 3 < _m; _i += 4) {"]
+        quads += loads("quad") + ["        " + line for line in vectors["quad"]]
+        quads += ["    }", "    return _i;", "}"]
+        lines[:0] = ["#ifdef CONTIN_QUADS", "QUADS " + quads[0], *quads[1:], "#endif", ""]
+        lines += ["    Py_ssize_t _i = 0;", "#ifdef CONTIN_QUADS",
+                  "    if (__builtin_cpu_supports(\"avx2\")) {",
+                  f"        _i = c_{name}_quads(in, {', '.join(outputs[r][0] for r in order)}, _m);", "    }",
+                  "#endif", "#ifdef CONTIN_PAIRS", "    for (; _i + 1 < _m; _i += 2) {"]
+        lines += loads("pair") + ["        " + line for line in vectors["pair"]]
         lines += ["    }", "#endif", "    for (; _i < _m; _i++) {"]
     else:
         lines += ["    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
@@ -1319,10 +1384,11 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     returning : sequence of str
         The kernels that return their outputs.
     pairs : bool
-        The returning kernels compute two elements at once in one SIMD register where the compiler
-        offers GCC's vector types (each lane the same operations in the same order, so the same bits;
-        math functions lane by lane), the last element of an odd count alone.  For kernels with many
-        operations per element; the text without pairs does not change.
+        The returning kernels compute four elements at once in one AVX register where the processor
+        has AVX2 (x86-64), then two at once in one SIMD register where the compiler offers GCC's vector
+        types, the last ones alone (each lane the same operations in the same order, so the same bits;
+        math functions lane by lane) (:data:`_C_VECTORS`).  For kernels with many operations per element;
+        the text without pairs does not change.
 
     Returns
     -------
@@ -1352,7 +1418,7 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     return "\n".join([
         f"/* {title}",
         "   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */",
-        _C_PRELUDE + (_pairs_prelude() if pairs else ""),
+        _C_PRELUDE + (_vectors_prelude() if pairs else ""),
         "\n\n".join(text for text, _, _, _ in kernels),
         "",
         f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",
