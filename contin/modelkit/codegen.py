@@ -1315,7 +1315,8 @@ def _c_kernel(function: Any, rows: int | None,
     def loads(kind: str) -> list[str]:
         lanes = ", ".join("in[{k}].data[" + ("_i" if j == 0 else f"(_i + {j})") + " * in[{k}].stride]"
                           for j in range(_LANES[kind]))
-        return [f"        const {kind} {a} = {kind}_of({lanes.format(k=k)});" for k, a in enumerate(inputs) if a in used]
+        return [f"        const {kind} {a} = {kind}_of({lanes.format(k=k)});"
+                for k, a in enumerate(inputs) if a in used]
 
     if vectors:
         pointers = ", ".join(f"double *{outputs[r][0]}" for r in order)
