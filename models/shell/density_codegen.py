@@ -3,7 +3,8 @@
 Run as ``python -m contin_models.shell.density_codegen [--output PATH] [--check]`` (about half a
 minute).  Only this module imports sympy; the emitted file is plain vectorised numpy and is committed,
 and so is the source of its C extension (:data:`C_OUTPUT`, :func:`generate_c_source`), translated from
-it by :func:`contin.modelkit.codegen.c_extension_text`; :mod:`contin_models.shell.density_kernels` serves
+it by :func:`contin.modelkit.codegen.c_extension_text` with several stations per SIMD register
+(``pairs=True``: thousands of operations per station); :mod:`contin_models.shell.density_kernels` serves
 the compiled kernels where the install built them.
 
 :mod:`contin_models.shell.harmonic_codegen` differentiates the densities at axisymmetric states only
