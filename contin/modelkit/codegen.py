@@ -962,7 +962,7 @@ static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, In
 """
 
 
-#: Emitted after the prelude by an extension computing elements two or four at once (``pairs=True``):
+#: Emitted after the prelude by an extension computing elements two or four at once (``simd=True``):
 #: a pair of doubles in one SIMD register (a GCC/Clang vector type) and, on x86-64, a quad in one AVX
 #: register (its functions compiled for AVX2, called where the processor has it); their loads, stores
 #: and numbers made vectors, and each math function lane by lane (the scalar C function on each lane).
@@ -1220,14 +1220,14 @@ def _stacked_variables(function: Any) -> tuple[list[str], Any]:
 
 
 def _c_kernel(function: Any, rows: int | None,
-              pairs: bool = False) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None, int]:
+              simd: bool = False) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None, int]:
     """``(C function text, method-table entry, returns, stacked)`` of one generated numpy kernel.
 
     ``rows``: the kernel fills an ``out`` argument of ``rows`` rows (``returns`` is None).  None: the
     kernel allocates its outputs with ``numpy.zeros`` and returns them (or scalars per element);
     ``returns`` is then ``(per_element, [shape of each returned value])``.  ``stacked``: the number of
     variables the kernel unpacks its first argument into (0 if it does not), each of them an input of
-    the C function in its place.  ``pairs`` (a returning kernel): the elements are computed four at a
+    the C function in its place.  ``simd`` (a returning kernel): the elements are computed four at a
     time where the processor has AVX2 and two at a time where the compiler has vector types
     (:data:`_C_VECTORS`), the last ones alone.
     """
@@ -1239,8 +1239,8 @@ def _c_kernel(function: Any, rows: int | None,
     if stacked:
         inputs = stacked + inputs[1:]
     body, declared = [], set(inputs)
-    # the body again for each vector kind of _C_VECTORS (a returning kernel with pairs)
-    vectors: dict[str, list[str]] = {kind: [] for kind in _LANES} if pairs and rows is None else {}
+    # the body again for each vector kind of _C_VECTORS (a returning kernel with simd)
+    vectors: dict[str, list[str]] = {kind: [] for kind in _LANES} if simd and rows is None else {}
     outputs: dict[str, tuple[str, tuple[int, ...]]] = {}
     returned: list[str] = []
     per_element = True
@@ -1342,7 +1342,7 @@ def _c_kernel(function: Any, rows: int | None,
 
 
 def c_extension_text(python_source: str, rows: dict[str, int], module: str, title: str,
-                     returning: Sequence[str] = (), pairs: bool = False) -> str:
+                     returning: Sequence[str] = (), simd: bool = False) -> str:
     """C source of a Python extension module computing generated numpy kernels element by element.
 
     Each kernel must be a function of the generated module ``python_source`` whose body is
@@ -1384,12 +1384,12 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
         First line of the C file's comment.
     returning : sequence of str
         The kernels that return their outputs.
-    pairs : bool
+    simd : bool
         The returning kernels compute four elements at once in one AVX register where the processor
         has AVX2 (x86-64), then two at once in one SIMD register where the compiler offers GCC's vector
         types, the last ones alone (each lane the same operations in the same order, so the same bits;
         math functions lane by lane) (:data:`_C_VECTORS`).  For kernels with many operations per element;
-        the text without pairs does not change.
+        the text without ``simd`` does not change.
 
     Returns
     -------
@@ -1402,7 +1402,7 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     if missing:
         raise ValueError(f"c_extension_text: no kernel named {', '.join(missing)} in the source")
     kernels = [_c_kernel(functions[name], n) for name, n in rows.items()]
-    kernels += [_c_kernel(functions[name], None, pairs) for name in returning]
+    kernels += [_c_kernel(functions[name], None, simd) for name in returning]
     table = "\n".join(entry for _, entry, _, _ in kernels)
     names = [*rows, *returning]
     returns = {name: spec for name, (_, _, spec, _) in zip(names, kernels) if spec is not None}
@@ -1419,7 +1419,7 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     return "\n".join([
         f"/* {title}",
         "   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */",
-        _C_PRELUDE + (_vectors_prelude() if pairs else ""),
+        _C_PRELUDE + (_vectors_prelude() if simd else ""),
         "\n\n".join(text for text, _, _, _ in kernels),
         "",
         f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",

@@ -11,7 +11,7 @@ for one station).
 
 The compiled kernels run over the stations four at a time where the processor has AVX2, two at a time
 where the compiler has vector types, the last ones one by one (each station the same operations in
-the same order, so the same bits whichever way it is computed; ``tests/test_compiled_pairs.py``): the
+the same order, so the same bits whichever way it is computed; ``tests/test_compiled_vectors.py``): the
 namespace passes each of the ``k`` variables and each array parameter flattened over the stations,
 copying those that are not contiguous and broadcasting parameters given per element, say, to every
 station first.  An input the

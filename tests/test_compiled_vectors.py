@@ -1,4 +1,4 @@
-"""Generated C kernels computing stations four or two at once (``c_extension_text(..., pairs=True)``).
+"""Generated C kernels computing stations four or two at once (``c_extension_text(..., simd=True)``).
 
 The vectors run the scalar code's operations in the same order on each lane of a register, so a
 station computed in a quad or a pair has the bits it has when computed alone (the scalar loop).
@@ -23,8 +23,8 @@ SOURCE = ("def k(y, c):\n"
           "    return _v, _g\n")
 
 
-def test_translation_in_pairs() -> None:
-    text = c_extension_text(SOURCE, {}, "_k", "test", returning=["k"], pairs=True)
+def test_translation_in_vectors() -> None:
+    text = c_extension_text(SOURCE, {}, "_k", "test", returning=["k"], simd=True)
     assert "#ifdef CONTIN_PAIRS" in text and "for (; _i + 1 < _m; _i += 2) {" in text
     assert "const pair y1 = pair_of(in[1].data[_i * in[1].stride], in[1].data[(_i + 1) * in[1].stride]);" in text
     assert "pair _a = pair_splat(sqrt(2.0));" in text  # a number made a pair
@@ -38,7 +38,7 @@ def test_translation_in_pairs() -> None:
     assert "pair_store(&out_v[_i], _v);" in text
     # the scalar loop is still there for the last station (and for compilers without vector types)...
     assert "for (; _i < _m; _i++) {" in text and "double _v = (((sqrt(y1) * c) + _a) + pow(y0, 3.0));" in text
-    # ...and without pairs nothing of them is emitted
+    # ...and without simd nothing of the vectors is emitted
     assert "pair" not in c_extension_text(SOURCE, {}, "_k", "test", returning=["k"])
 
 
