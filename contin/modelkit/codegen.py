@@ -962,6 +962,87 @@ static int prepare(const char *name, PyObject *const *args, Py_ssize_t nargs, In
 """
 
 
+#: Emitted after the prelude by an extension computing elements two or four at once (``simd=True``):
+#: a pair of doubles in one SIMD register (a GCC/Clang vector type) and, on x86-64, a quad in one AVX
+#: register (its functions compiled for AVX2, called where the processor has it); their loads, stores
+#: and numbers made vectors, and each math function lane by lane (the scalar C function on each lane).
+#: Every lane runs the scalar code's operations in the same order, so it gets the scalar code's bits
+#: (no multiply-add is contracted: AVX2 does not include FMA).
+_C_VECTORS = r"""
+#if defined(__GNUC__)
+#define CONTIN_PAIRS 1
+typedef double pair __attribute__((vector_size(16)));
+
+static inline pair pair_of(double a, double b) {
+    pair r = {a, b};
+    return r;
+}
+
+static inline pair pair_splat(double a) {
+    return pair_of(a, a);
+}
+
+static inline pair pair_load(const double *p) {
+    pair r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+static inline void pair_store(double *p, pair v) {
+    memcpy(p, &v, sizeof v);
+}
+
+#define PAIR_FUNCTION(name, f) static inline pair name(pair x) { return pair_of(f(x[0]), f(x[1])); }
+%(pair_functions)s
+static inline pair pair_pow(pair x, double e) {
+    return pair_of(pow(x[0], e), pow(x[1], e));
+}
+#endif
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define CONTIN_QUADS 1
+#define QUADS __attribute__((target("avx2")))
+typedef double quad __attribute__((vector_size(32)));
+
+QUADS static inline quad quad_of(double a, double b, double c, double d) {
+    quad r = {a, b, c, d};
+    return r;
+}
+
+QUADS static inline quad quad_splat(double a) {
+    return quad_of(a, a, a, a);
+}
+
+QUADS static inline quad quad_load(const double *p) {
+    quad r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+QUADS static inline void quad_store(double *p, quad v) {
+    memcpy(p, &v, sizeof v);
+}
+
+#define QUAD_FUNCTION(name, f) \
+    QUADS static inline quad name(quad x) { return quad_of(f(x[0]), f(x[1]), f(x[2]), f(x[3])); }
+%(quad_functions)s
+QUADS static inline quad quad_pow(quad x, double e) {
+    return quad_of(pow(x[0], e), pow(x[1], e), pow(x[2], e), pow(x[3], e));
+}
+#endif
+"""
+
+#: The vector kinds of :data:`_C_VECTORS`: name -> lanes.
+_LANES = {"pair": 2, "quad": 4}
+
+
+def _vectors_prelude() -> str:
+    """:data:`_C_VECTORS` with a vector version of every function of :data:`_C_FUNCTIONS`."""
+    functions = dict.fromkeys(_C_FUNCTIONS.values())
+    return _C_VECTORS % {f"{kind}_functions": "\n".join(f"{kind.upper()}_FUNCTION({kind}_{c}, {c})" for c in functions)
+                         for kind in _LANES}
+
+
 class _CExpression:
     """Prints a numpy kernel's expression (a Python ``ast`` node) as a fully parenthesised C expression.
 
@@ -1017,22 +1098,83 @@ class _CExpression:
         raise ValueError(f"{self.function}: no C translation for {ast.unparse(node)!r}")
 
     def _power(self, node: Any) -> str:
+        return _power_text(self(node.left), _exponent(node.right), lambda: self(node.right))
+
+
+def _power_text(base: str, value: float | None, exponent: Callable[[], str], prefix: str = "") -> str:
+    """C text of ``base ** exponent`` (``value`` the exponent's if it is a constant; ``prefix`` of the
+    functions called: ``pair_`` for pairs, ``quad_`` for quads)."""
+    # numpy's own shortcuts for these exponents (square, reciprocal, sqrt), so that C gives its bits
+    if value == 2:
+        return f"({base} * {base})"
+    if value == 1:
+        return base
+    if value == -1:
+        return f"(1.0 / {base})"
+    if value == 0.5:
+        return f"{prefix}sqrt({base})"
+    return f"{prefix}pow({base}, {exponent()})"
+
+
+class _CVectorExpression(_CExpression):
+    """:class:`_CExpression` for several elements at once (``_i``, ``_i + 1``, ...): variables are vectors of
+    the ``kind`` of :data:`_C_VECTORS` (``pair``, ``quad``), numbers stay numbers (a vector times a number
+    is a vector), output entries are read as vectors."""
+
+    def __init__(self, function: str, outputs: dict[str, tuple[str, tuple[int, ...]]], kind: str) -> None:
+        super().__init__(function, outputs)
+        self.kind = kind
+
+    def typed(self, node: Any) -> tuple[str, bool]:
+        """The C text of ``node`` and whether it is a vector (else a number)."""
         import ast
 
-        base, exponent = self(node.left), node.right
-        value = (exponent.value if isinstance(exponent, ast.Constant)
-                 else -exponent.operand.value if isinstance(exponent, ast.UnaryOp) and isinstance(exponent.op, ast.USub)
-                 and isinstance(exponent.operand, ast.Constant) else None)
-        # numpy's own shortcuts for these exponents (square, reciprocal, sqrt), so that C gives its bits
-        if value == 2:
-            return f"({base} * {base})"
-        if value == 1:
-            return base
-        if value == -1:
-            return f"(1.0 / {base})"
-        if value == 0.5:
-            return f"sqrt({base})"
-        return f"pow({base}, {self(exponent)})"
+        if isinstance(node, ast.Name):
+            return node.id, True
+        if isinstance(node, ast.Subscript):
+            return f"{self.kind}_load(&{self.entry(node)})", True
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            text, vector = self.typed(node.operand)
+            return f"({'-' if isinstance(node.op, ast.USub) else '+'}{text})", vector
+        if isinstance(node, ast.BinOp) and type(node.op).__name__ in _C_OPERATORS:
+            (left, lv), (right, rv) = self.typed(node.left), self.typed(node.right)
+            return f"({left} {_C_OPERATORS[type(node.op).__name__]} {right})", lv or rv
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            base, vector = self.typed(node.left)
+
+            def exponent() -> str:
+                text, exponent_vector = self.typed(node.right)
+                if exponent_vector:
+                    raise ValueError(f"{self.function}: no C translation for a variable exponent in vectors")
+                return text
+
+            return _power_text(base, _exponent(node.right), exponent, f"{self.kind}_" if vector else ""), vector
+        if isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords:
+            _CExpression.__call__(self, node)  # the scalar printer's checks (a known numpy function)
+            f = node.func
+            name = _C_FUNCTIONS[f.attr if isinstance(f, ast.Attribute) else f.id]
+            text, vector = self.typed(node.args[0])
+            return (f"{self.kind}_{name}({text})" if vector else f"{name}({text})"), vector
+        return _CExpression.__call__(self, node), False
+
+    def __call__(self, node: Any) -> str:
+        return self.typed(node)[0]
+
+    def value(self, node: Any) -> str:
+        """C text of ``node`` as a vector (a number repeated on every lane)."""
+        text, vector = self.typed(node)
+        return text if vector else f"{self.kind}_splat({text})"
+
+
+def _exponent(node: Any) -> float | None:
+    """A constant exponent's value (``2``, ``-1``, ``0.5``, ...), or None."""
+    import ast
+
+    if isinstance(node, ast.Constant):
+        return node.value
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub) and isinstance(node.operand, ast.Constant):
+        return -node.operand.value
+    return None
 
 
 def _c_output_name(name: str) -> str:
@@ -1077,14 +1219,17 @@ def _stacked_variables(function: Any) -> tuple[list[str], Any]:
     return [], None
 
 
-def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None, int]:
+def _c_kernel(function: Any, rows: int | None,
+              simd: bool = False) -> tuple[str, str, tuple[bool, list[tuple[int, ...]]] | None, int]:
     """``(C function text, method-table entry, returns, stacked)`` of one generated numpy kernel.
 
     ``rows``: the kernel fills an ``out`` argument of ``rows`` rows (``returns`` is None).  None: the
     kernel allocates its outputs with ``numpy.zeros`` and returns them (or scalars per element);
     ``returns`` is then ``(per_element, [shape of each returned value])``.  ``stacked``: the number of
     variables the kernel unpacks its first argument into (0 if it does not), each of them an input of
-    the C function in its place.
+    the C function in its place.  ``simd`` (a returning kernel): the elements are computed four at a
+    time where the processor has AVX2 and two at a time where the compiler has vector types
+    (:data:`_C_VECTORS`), the last ones alone.
     """
     import ast
 
@@ -1094,6 +1239,8 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
     if stacked:
         inputs = stacked + inputs[1:]
     body, declared = [], set(inputs)
+    # the body again for each vector kind of _C_VECTORS (a returning kernel with simd)
+    vectors: dict[str, list[str]] = {kind: [] for kind in _LANES} if simd and rows is None else {}
     outputs: dict[str, tuple[str, tuple[int, ...]]] = {}
     returned: list[str] = []
     per_element = True
@@ -1127,10 +1274,15 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
                 continue
         expression = _CExpression(name, outputs)
         value = expression(statement.value)
+        vector_values = {kind: _CVectorExpression(name, outputs, kind).value(statement.value) for kind in vectors}
         if isinstance(target, ast.Name):
+            for kind, text in vector_values.items():
+                vectors[kind].append(f"{'' if target.id in declared else kind + ' '}{target.id} = {text};")
             body.append(f"{'' if target.id in declared else 'double '}{target.id} = {value};")
             declared.add(target.id)
         elif isinstance(target, ast.Subscript):
+            for kind, text in vector_values.items():
+                vectors[kind].append(f"{kind}_store(&{expression.entry(target)}, {text});")
             body.append(f"{expression.entry(target)} = {value};")
         else:
             raise ValueError(f"{name}: no C translation for target {ast.unparse(target)!r}")
@@ -1140,6 +1292,8 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
             if r not in outputs:
                 outputs[r] = (_c_output_name(r), ())
                 body.append(f"{outputs[r][0]}[_i] = {r};")
+                for kind, lines in vectors.items():
+                    lines.append(f"{kind}_store(&{outputs[r][0]}[_i], {r});")
         order = returned
     else:
         order = ["out"]
@@ -1156,8 +1310,29 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
              "        return NULL;",
              "    }"]
     lines += [f"    double *{outputs[r][0]} = outputs[{k}].data;" for k, r in enumerate(order)]
-    lines += ["    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
     used = set(re.findall(r"\b\w+\b", "\n".join(body)))  # an input the kernel ignores is not read
+
+    def loads(kind: str) -> list[str]:
+        lanes = ", ".join("in[{k}].data[" + ("_i" if j == 0 else f"(_i + {j})") + " * in[{k}].stride]"
+                          for j in range(_LANES[kind]))
+        return [f"        const {kind} {a} = {kind}_of({lanes.format(k=k)});"
+                for k, a in enumerate(inputs) if a in used]
+
+    if vectors:
+        pointers = ", ".join(f"double *{outputs[r][0]}" for r in order)
+        quads = [f"static Py_ssize_t c_{name}_quads(const Input *in, {pointers}, Py_ssize_t _m) {{",
+                 "    Py_ssize_t _i = 0;", "    for (; _i + 3 < _m; _i += 4) {"]
+        quads += loads("quad") + ["        " + line for line in vectors["quad"]]
+        quads += ["    }", "    return _i;", "}"]
+        lines[:0] = ["#ifdef CONTIN_QUADS", "QUADS " + quads[0], *quads[1:], "#endif", ""]
+        lines += ["    Py_ssize_t _i = 0;", "#ifdef CONTIN_QUADS",
+                  "    if (__builtin_cpu_supports(\"avx2\")) {",
+                  f"        _i = c_{name}_quads(in, {', '.join(outputs[r][0] for r in order)}, _m);", "    }",
+                  "#endif", "#ifdef CONTIN_PAIRS", "    for (; _i + 1 < _m; _i += 2) {"]
+        lines += loads("pair") + ["        " + line for line in vectors["pair"]]
+        lines += ["    }", "#endif", "    for (; _i < _m; _i++) {"]
+    else:
+        lines += ["    for (Py_ssize_t _i = 0; _i < _m; _i++) {"]
     lines += [f"        const double {a} = in[{k}].data[_i * in[{k}].stride];" for k, a in enumerate(inputs) if a in used]
     lines += ["        " + line for line in body]
     lines += ["    }", f"    release(in, {n}, outputs, {nout});", "    Py_RETURN_NONE;", "}"]
@@ -1167,7 +1342,7 @@ def _c_kernel(function: Any, rows: int | None) -> tuple[str, str, tuple[bool, li
 
 
 def c_extension_text(python_source: str, rows: dict[str, int], module: str, title: str,
-                     returning: Sequence[str] = ()) -> str:
+                     returning: Sequence[str] = (), simd: bool = False) -> str:
     """C source of a Python extension module computing generated numpy kernels element by element.
 
     Each kernel must be a function of the generated module ``python_source`` whose body is
@@ -1209,6 +1384,12 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
         First line of the C file's comment.
     returning : sequence of str
         The kernels that return their outputs.
+    simd : bool
+        The returning kernels compute four elements at once in one AVX register where the processor
+        has AVX2 (x86-64), then two at once in one SIMD register where the compiler offers GCC's vector
+        types, the last ones alone (each lane the same operations in the same order, so the same bits;
+        math functions lane by lane) (:data:`_C_VECTORS`).  For kernels with many operations per element;
+        the text without ``simd`` does not change.
 
     Returns
     -------
@@ -1221,7 +1402,7 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     if missing:
         raise ValueError(f"c_extension_text: no kernel named {', '.join(missing)} in the source")
     kernels = [_c_kernel(functions[name], n) for name, n in rows.items()]
-    kernels += [_c_kernel(functions[name], None) for name in returning]
+    kernels += [_c_kernel(functions[name], None, simd) for name in returning]
     table = "\n".join(entry for _, entry, _, _ in kernels)
     names = [*rows, *returning]
     returns = {name: spec for name, (_, _, spec, _) in zip(names, kernels) if spec is not None}
@@ -1238,7 +1419,7 @@ def c_extension_text(python_source: str, rows: dict[str, int], module: str, titl
     return "\n".join([
         f"/* {title}",
         "   Generated from the numpy kernels by contin.modelkit.codegen.c_extension_text: do not edit. */",
-        _C_PRELUDE,
+        _C_PRELUDE + (_vectors_prelude() if simd else ""),
         "\n\n".join(text for text, _, _, _ in kernels),
         "",
         f"static PyMethodDef methods[] = {{\n{table}\n    {{NULL, NULL, 0, NULL}}\n}};",

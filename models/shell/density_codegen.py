@@ -3,7 +3,8 @@
 Run as ``python -m contin_models.shell.density_codegen [--output PATH] [--check]`` (about half a
 minute).  Only this module imports sympy; the emitted file is plain vectorised numpy and is committed,
 and so is the source of its C extension (:data:`C_OUTPUT`, :func:`generate_c_source`), translated from
-it by :func:`contin.modelkit.codegen.c_extension_text`; :mod:`contin_models.shell.density_kernels` serves
+it by :func:`contin.modelkit.codegen.c_extension_text` with several stations per SIMD register
+(``simd=True``: thousands of operations per station); :mod:`contin_models.shell.density_kernels` serves
 the compiled kernels where the install built them.
 
 :mod:`contin_models.shell.harmonic_codegen` differentiates the densities at axisymmetric states only
@@ -255,7 +256,7 @@ def generate_c_source(python_source: str | None = None) -> str:
     text = DEFAULT_OUTPUT.read_text(encoding="utf-8") if python_source is None else python_source
     return c_extension_text(text, {}, "_density_ckernels",
                             "Value, gradient and Hessian of the 2-D densities at general states "
-                            "(contin_models.shell._density_ckernels).", returning=KERNELS)
+                            "(contin_models.shell._density_ckernels).", returning=KERNELS, simd=True)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -9,9 +9,12 @@ its parameters as numbers or arrays that broadcast to the station shape ``y.shap
 the value ``(...)``, the gradient ``(k, ...)`` and the Hessian ``(k, k, ...)`` (numbers and small arrays
 for one station).
 
-The compiled kernels run over the stations one after the other: the namespace passes each of the
-``k`` variables and each array parameter flattened over the stations, copying those that are not
-contiguous and broadcasting parameters given per element, say, to every station first.  An input the
+The compiled kernels run over the stations four at a time where the processor has AVX2, two at a time
+where the compiler has vector types, the last ones one by one (each station the same operations in
+the same order, so the same bits whichever way it is computed; ``tests/test_compiled_vectors.py``): the
+namespace passes each of the ``k`` variables and each array parameter flattened over the stations,
+copying those that are not contiguous and broadcasting parameters given per element, say, to every
+station first.  An input the
 extension does not take (not float64, a ``y`` of another first extent) is computed by the numpy
 kernel; the two give the same numbers to rounding (``tests/test_compiled_kernels.py``).
 """

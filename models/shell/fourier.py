@@ -438,17 +438,81 @@ class FourierShell:
         return (nodes[:, :, None] * self.m + np.arange(self.m)[None, None, :]).reshape(nodes.shape[0], -1)
 
     def _jets(self, c: np.ndarray, family: tuple) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """A family's local values, gradients and Hessians at every element and angle: ``(E, Q)``,
-        ``(k, E, Q)``, ``(k, k, E, Q)``."""
+        """A family's local values, gradients and Hessians at every angle and element: ``(Q, E)``,
+        ``(k, Q, E)``, ``(k, k, Q, E)`` (the angle first: the Hessian's products then run on its slices
+        without a transposed copy, :meth:`_element_hessians`)."""
         name, nodes, B, kernel, params, offset = family
-        ce = c[self.element_dofs(nodes)]                       # (E, A)
-        y = np.ascontiguousarray(np.matmul(B, ce.T).transpose(1, 2, 0))  # (k, E, Q)
+        ce = c[self._dofs(nodes)]                                  # (E, A)
+        y = np.matmul(B.transpose(1, 0, 2), ce.T)                  # (k, Q, E)
         if offset is not None:
-            y = y + offset[:, None, None]
+            y += offset[:, None, None]
         E, Q = ce.shape[0], B.shape[0]
-        args = [np.asarray(p, float)[:, None] * np.ones((1, Q)) if np.ndim(p) else p for p in params]
-        v, g, h = kernel(y, *args)
-        return np.broadcast_to(v, (E, Q)), g, h
+        # per-element parameters broadcast over the angles (the stations' last axis is the element)
+        v, g, h = kernel(y, *[np.asarray(p, float) if np.ndim(p) else p for p in params])
+        return np.broadcast_to(v, (Q, E)), g, h
+
+    def _dofs(self, nodes: np.ndarray) -> np.ndarray:
+        """:meth:`element_dofs` of a family's ``nodes``, cached."""
+        key = ("dofs", nodes.tobytes(), nodes.shape)
+        if key not in self._cache:
+            self._cache[key] = self.element_dofs(nodes)
+        return self._cache[key]
+
+    def _element_hessians(self, h: np.ndarray, B: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The element Hessians ``H_e = sum_q w_q B_q^T h_eq B_q`` from the local Hessians ``h`` ``(k, k, Q, E)``
+        and the local map ``B`` ``(Q, k, A)``: ``(A, A, E)`` (entry ``(a, b, e)``, the element last), the
+        rows in the order ``rows`` (row ``r`` is the element's unknown ``rows[r]``).
+
+        Two large matrix products instead of many small ones: first ``X_iq = (w_q B_q)^T h_q[i]`` for each
+        local variable and angle (``(A, E)`` each, on slices of ``h`` as they lie), then ``B`` stacked over
+        the local variables and angles times all ``X`` stacked, ``(k Q, A E)``.  The local variables are
+        3-vectors in the frame at the angle; an unknown of ``Z`` moves only their axial components and one
+        of ``R`` or ``T`` only the horizontal ones (:meth:`AngularBasis.ring_maps`), so the second product
+        splits in two, each over its own components (:meth:`_component_split`).
+        """
+        Q, k, A = B.shape
+        E = h.shape[-1]
+        Bw = (w[:, None, None] * B).transpose(0, 2, 1)             # (Q, A, k)
+        split = self._component_split(B)
+        if split is None:
+            X = np.matmul(Bw[None], h.transpose(0, 2, 1, 3))       # (k, Q, A, E)
+            He = np.matmul(B.transpose(1, 0, 2).reshape(k * Q, A).T, X.reshape(k * Q, A * E))
+            return He.reshape(A, A, E), np.arange(A)
+        rows, horizontal, vertical = split
+        V = k // 3
+        X = np.empty((3, V, Q, A, E))                              # (component, vector, angle, unknown, element)
+        np.matmul(Bw, h.reshape(V, 3, k, Q, E).transpose(1, 0, 3, 2, 4), out=X)
+        He = np.empty((A, A * E))
+        nh = horizontal.shape[0]
+        np.matmul(horizontal, X[:2].reshape(2 * V * Q, A * E), out=He[:nh])
+        np.matmul(vertical, X[2].reshape(V * Q, A * E), out=He[nh:])
+        return He.reshape(A, A, E), rows
+
+    def _component_split(self, B: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """For a local map ``B`` ``(Q, k, A)`` of 3-vectors whose horizontal components only the unknowns of
+        ``R`` and ``T`` move and whose axial ones only those of ``Z``: ``(rows, horizontal, vertical)``, the
+        unknowns in the order horizontal then vertical, and ``B`` of each set on its components stacked as
+        the product of :meth:`_element_hessians` reads them, ``[a, (component, vector, angle)]``; None for any
+        other map.  Cached per map."""
+        key = ("split", id(B))
+        entry = self._cache.get(key)
+        if entry is None or entry[0] is not B:
+            Q, k, A = B.shape
+            split = None
+            if k % 3 == 0:
+                reach = np.abs(B).max(axis=0) != 0                # (k, A): local variable i moves with unknown a
+                axial = np.arange(k) % 3 == 2
+                vertical = ~reach[~axial].any(axis=0)              # the unknowns of Z
+                if not reach[axial][:, ~vertical].any():
+                    V = k // 3
+                    Bc = B.reshape(Q, V, 3, A)
+                    horizontal = Bc[:, :, :2][..., ~vertical].transpose(3, 2, 1, 0)   # (a, component, vector, q)
+                    axial_map = Bc[:, :, 2][..., vertical].transpose(2, 1, 0)          # (a, vector, q)
+                    split = (np.concatenate([np.flatnonzero(~vertical), np.flatnonzero(vertical)]),
+                             np.ascontiguousarray(horizontal).reshape(-1, 2 * V * Q),
+                             np.ascontiguousarray(axial_map).reshape(-1, V * Q))
+            self._cache[key] = entry = (B, split)
+        return entry[1]
 
     def _state(self, c: np.ndarray, volume: bool) -> dict:
         """The densities' jets at the state ``c`` (and the volume's with ``volume``), kept for the last state."""
@@ -481,23 +545,37 @@ class FourierShell:
         nu, B = self.nu, self._pole_map
         w = self.basis.weights / (2.0 * math.pi)
         dofs = self.element_dofs(nodes)
-        y = np.einsum("qka,a->kq", B, c[dofs[0]])
+        y = np.matmul(B, c[dofs[0]]).T                            # (k, Q)
         v, g, h = kernel(y, lbar)
         Bq = v - kbar                                              # (Q,)
-        G = np.einsum("qka,kq->qa", B, g)                          # dB_q in the unknowns
-        Hq = np.einsum("qka,klq,qlb->qab", B, h, B, optimize=True)  # d2B_q
+        G = np.matmul(B.transpose(0, 2, 1), g.T[:, :, None])[:, :, 0]  # (Q, A): dB_q in the unknowns
         mean, mean2 = float(w @ Bq), float(w @ (Bq * Bq))
         dmean = w @ G
         energy = Akb * ((3.0 * nu - 1.0) * mean * mean + 2.0 * (1.0 - nu) * mean2)
         grad = Akb * (2.0 * (3.0 * nu - 1.0) * mean * dmean + 4.0 * (1.0 - nu) * ((w * Bq) @ G))
-        hess = Akb * (2.0 * (3.0 * nu - 1.0) * (np.outer(dmean, dmean) + mean * np.einsum("q,qab->ab", w, Hq))
-                      + 4.0 * (1.0 - nu) * (np.einsum("q,qa,qb->ab", w, G, G) + np.einsum("q,qab->ab", w * Bq, Hq)))
+        hess = self._pole_second(B, G, h, Bq, w, Akb)
         return dofs, energy, grad[None, :], hess[None, :, :]
+
+    def _pole_second(self, B: np.ndarray, G: np.ndarray, h: np.ndarray, Bq: np.ndarray, w: np.ndarray,
+                     Akb: float) -> np.ndarray:
+        """The pole element's second variation ``(A, A)`` along the perturbations mapped by ``B`` ``(Q, k, A)``:
+        ``G`` the curvature's first variation ``(Q, A)``, ``h`` its Hessian in the local variables
+        ``(k, k, Q)``, ``Bq`` its value less the reference at each angle, ``w`` the angle's weights over
+        ``2 pi``."""
+        nu = self.nu
+        mean, dmean = float(w @ Bq), w @ G
+        # the curvature's second variation enters weighted: sum_q c_q B_q^T h_q B_q, c_q its weight
+        cq = 2.0 * (3.0 * nu - 1.0) * mean * w + 4.0 * (1.0 - nu) * (w * Bq)
+        hw = h.transpose(2, 0, 1) * cq[:, None, None]                # (Q, k, k)
+        Q, k, A = B.shape
+        second = np.matmul(B.reshape(Q * k, A).T, np.matmul(hw, B).reshape(Q * k, A))
+        return Akb * (2.0 * (3.0 * nu - 1.0) * np.outer(dmean, dmean) + 4.0 * (1.0 - nu) * np.matmul(G.T * w, G)
+                      + second)
 
     def energy(self, c: np.ndarray, pressure: float = 0.0) -> float:
         """The elastic energy of the state ``c`` (plus ``pressure`` times the enclosed volume)."""
         w = self.basis.weights
-        e = sum(factor * float(np.einsum("eq,q->", jets[0], w)) for _, jets, factor in self._groups(c, pressure))
+        e = sum(factor * float(np.einsum("qe,q->", jets[0], w)) for _, jets, factor in self._groups(c, pressure))
         return float(e + sum(t[1] for t in self._cache["state"]["poles"]))
 
     def volume(self, c: np.ndarray) -> float:
@@ -509,9 +587,11 @@ class FourierShell:
         w = self.basis.weights
         g = np.zeros(self.size)
         for fam, jets, factor in self._groups(c, pressure):
-            B = fam[2]
-            ge = np.matmul(B.reshape(-1, B.shape[2]).T, (jets[1] * w).transpose(2, 0, 1).reshape(-1, jets[1].shape[1])).T
-            np.add.at(g, self.element_dofs(fam[1]).ravel(), factor * ge.ravel())
+            B, gl = fam[2], jets[1]
+            Q, k, A = B.shape
+            # g_e = sum_q w_q B_q^T g_eq, with (i, q) stacked as the kernel gives them: one product (A, k Q) (k Q, E)
+            ge = np.matmul((w[None, :, None] * B.transpose(1, 0, 2)).reshape(k * Q, A).T, gl.reshape(k * Q, -1))
+            g += np.bincount(self._dofs(fam[1]).T.ravel(), factor * ge.ravel(), minlength=self.size)
         for dofs, _, ge, _ in self._cache["state"]["poles"]:
             np.add.at(g, dofs.ravel(), ge.ravel())
         return g
@@ -548,18 +628,94 @@ class FourierShell:
         w = self.basis.weights
         with_volume = pressure != 0.0 or volume_pattern
         P = self.pattern(with_volume)
-        data = np.zeros(P.nnz)
+        # kept with the state's jets: a Jacobian and the derivative in the load at one point ask for it twice
+        key = ("hessian", float(pressure), with_volume)
+        st = self._state(c, pressure != 0.0)
+        if key in st:
+            return sp.csr_matrix((st[key].copy(), P.indices, P.indptr), shape=P.shape)
+        band, place, positions = self._band(with_volume)
         for fam, jets, factor in self._groups(c, pressure):
-            B, h = fam[2], jets[2]
-            Q, k, A = B.shape
-            hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))  # (E, Q, k, k)
-            # H_e = sum_q B_q^T H_eq B_q: H_e is block-diagonal in q, so with B stacked over q it is one product
-            He = np.matmul(B.reshape(Q * k, A).T[None], np.matmul(hq, B[None]).reshape(-1, Q * k, A))
-            data += np.bincount(self.hessian_slots(self.element_dofs(fam[1]), with_volume), factor * He.ravel(),
-                                minlength=P.nnz)
-        for dofs, _, _, He in self._cache["state"]["poles"]:
-            data += np.bincount(self.hessian_slots(dofs, with_volume), He.ravel(), minlength=P.nnz)
-        return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
+            He, rows = self._element_hessians(jets[2], fam[2], w)
+            if factor != 1.0:
+                He *= factor
+            self._add_to_band(band, He, rows, fam[1], place)
+        for pole, (dofs, _, _, He) in zip(self._poles, self._cache["state"]["poles"]):
+            self._add_to_band(band, He[0][:, :, None], np.arange(dofs.shape[1]), pole[0], place)
+        data = band.ravel()[positions]
+        st[key] = data
+        return sp.csr_matrix((data.copy(), P.indices, P.indptr), shape=P.shape)
+
+    def _band(self, pressure: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The Hessian's entries gathered by node pairs before they are read out in the order of
+        :meth:`pattern` (``pressure``: with the volume's): ``(band, place, positions)``.
+
+        ``band[d, place[a], b, i]`` (zeros to fill) is the entry of unknown ``a`` of node ``i`` and unknown
+        ``b`` of node ``i + d - w`` (``w`` the widest coupling), the node last so that the elements of a
+        family add to it by slices (:meth:`_add_to_band`); ``place`` orders a node's unknowns as
+        :meth:`_component_split` orders an element's (those of ``R`` and ``T``, then those of ``Z``);
+        ``positions`` are the pattern's entries in the flattened band.
+        """
+        key = ("band", bool(pressure))
+        if key not in self._cache:
+            P, m, N = self.pattern(pressure), self.m, self.N
+            vertical = np.array([t[0] == "Z" for t in self.basis.terms])
+            place = np.empty(m, dtype=np.int64)
+            place[np.concatenate([np.flatnonzero(~vertical), np.flatnonzero(vertical)])] = np.arange(m)
+            rows = np.repeat(np.arange(P.shape[0], dtype=np.int64), np.diff(P.indptr))
+            (i, a), (j, b) = divmod(rows, m), divmod(P.indices.astype(np.int64), m)
+            w = int(np.abs(j - i).max())
+            positions = (((j - i + w) * m + place[a]) * m + b) * N + i
+            self._cache[key] = ((2 * w + 1, m, m, N), place, positions)
+        shape, place, positions = self._cache[key]
+        return np.zeros(shape), place, positions
+
+    def _add_to_band(self, band: np.ndarray, He: np.ndarray, rows: np.ndarray, nodes: np.ndarray,
+                     place: np.ndarray) -> None:
+        """Add the element Hessians ``He`` ``(A, A, E)`` (rows ordered by ``rows``) of the elements on ``nodes``
+        ``(E, nn)`` to ``band`` (:meth:`_band`): a slice per run of rows that one node holds in the band's
+        order where element ``e`` has the nodes ``n + e, n + e + 1, ...`` (as along a meridian); one entry
+        at a time otherwise."""
+        m, E = self.m, nodes.shape[0]
+        w, N = band.shape[0] // 2, band.shape[3]
+        key = ("runs", rows.tobytes(), nodes.tobytes(), nodes.shape)
+        if key not in self._cache:
+            slot, unknown = divmod(rows, m)
+            target = place[unknown]
+            starts = np.flatnonzero(np.r_[True, (slot[1:] != slot[:-1]) | (target[1:] != target[:-1] + 1)])
+            ends = np.r_[starts[1:], rows.size]
+            # node i + s in slot s of element i: each slot's nodes and each element's follow one another
+            regular = bool(np.all(nodes == nodes[0, 0] + np.arange(E)[:, None] + np.arange(nodes.shape[1])[None, :]))
+            if regular and starts.size <= 2 * nodes.shape[1]:
+                self._cache[key] = [(r0, r1, int(slot[r0]), int(target[r0])) for r0, r1 in zip(starts, ends)]
+            else:
+                i = nodes[:, slot].T[:, None, :]                   # (A, 1, E): the node of each row
+                j = np.repeat(nodes, m, axis=1).T[None, :, :]     # (1, A, E): the node of each column
+                b = (np.arange(nodes.shape[1] * m) % m)[None, :, None]
+                self._cache[key] = ((((j - i + w) * m + target[:, None, None]) * m + b) * N + i).ravel()
+        runs = self._cache[key]
+        nn = nodes.shape[1]
+        if isinstance(runs, list):
+            # a run's columns, node by node, are successive rows of the band
+            for r0, r1, s, a0 in runs:
+                i0 = int(nodes[0, s])
+                band[w - s:w - s + nn, a0:a0 + r1 - r0, :, i0:i0 + E] += \
+                    He[r0:r1].reshape(r1 - r0, nn, m, E).transpose(1, 0, 2, 3)
+        else:
+            np.add.at(band.reshape(-1), runs, He.ravel())
+
+    def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool,
+                          rows: np.ndarray) -> np.ndarray:
+        """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, A, E)`` of
+        :meth:`_element_hessians`, its rows ordered by ``rows`` (``view``: this view or one of its
+        perturbation views), cached."""
+        key = ("slots_t", view.basis.terms, view.basis.mirror, nodes.tobytes(), nodes.shape, bool(pressure),
+               rows.tobytes())
+        if key not in self._cache:
+            dofs = view.element_dofs(nodes)
+            E, A = dofs.shape
+            self._cache[key] = np.ascontiguousarray(
+                view.hessian_slots(dofs, pressure).reshape(E, A, A).transpose(1, 2, 0)[rows]).ravel()
+        return self._cache[key]
 
     # ---- stability against every perturbation: the Bloch blocks ------------------------------------
     def _full_circle(self) -> tuple[np.ndarray, np.ndarray]:
@@ -610,10 +766,8 @@ class FourierShell:
             name, nodes, _, kernel, params, offset = fam
             Bs, Bp = maps[name]
             _, _, h = self._jets(c, (name, nodes, Bs, kernel, params, offset))
-            Q, k, A = Bp.shape
-            hq = np.ascontiguousarray(np.moveaxis(h * w, (0, 1), (2, 3)))
-            He = np.matmul(Bp.reshape(Q * k, A).T[None], np.matmul(hq, Bp[None]).reshape(-1, Q * k, A))
-            data += np.bincount(pview.hessian_slots(pview.element_dofs(nodes), pressure != 0.0), factor * He.ravel(),
+            He, rows = self._element_hessians(h, Bp, w)
+            data += np.bincount(self._transposed_slots(pview, nodes, pressure != 0.0, rows), factor * He.ravel(),
                                 minlength=P.nnz)
         Bs, Bp = maps["pole"]
         for nodes, kernel, lbar, kbar, Akb in self._poles:
@@ -627,17 +781,11 @@ class FourierShell:
     def _pole_hessian(self, c: np.ndarray, nodes: np.ndarray, kernel: Any, lbar: float, kbar: float, Akb: float,
                       Bs: np.ndarray, Bp: np.ndarray, w: np.ndarray) -> np.ndarray:
         """The pole element's second variation along the perturbations mapped by ``Bp`` (state by ``Bs``)."""
-        nu = self.nu
         wm = w / (2.0 * math.pi)
-        y = np.einsum("qka,a->kq", Bs, c[self.element_dofs(nodes)[0]])
+        y = np.matmul(Bs, c[self.element_dofs(nodes)[0]]).T
         v, g, h = kernel(y, lbar)
-        Bq = v - kbar
-        G = np.einsum("qka,kq->qa", Bp, g)
-        Hq = np.einsum("qka,klq,qlb->qab", Bp, h, Bp, optimize=True)
-        mean = float(wm @ Bq)
-        dmean = wm @ G
-        return Akb * (2.0 * (3.0 * nu - 1.0) * (np.outer(dmean, dmean) + mean * np.einsum("q,qab->ab", wm, Hq))
-                      + 4.0 * (1.0 - nu) * (np.einsum("q,qa,qb->ab", wm, G, G) + np.einsum("q,qab->ab", wm * Bq, Hq)))
+        G = np.matmul(Bp.transpose(0, 2, 1), g.T[:, :, None])[:, :, 0]
+        return self._pole_second(Bp, G, h, v - kbar, wm, Akb)
 
     def bloch_classes(self) -> list[tuple[int, str, int]]:
         """``(j, parity, multiplicity)`` of every class of perturbations about a ``D_n`` state: the

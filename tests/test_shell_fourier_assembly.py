@@ -1,0 +1,156 @@
+"""The 3-D view's assembly (:class:`contin_models.shell.fourier.FourierShell`) against a direct evaluation.
+
+The view evaluates its energy, gradient and Hessian by large matrix products on the kernels' own layout,
+split by frame component (:meth:`FourierShell._element_hessians`).  Here the same sums are written out
+term by term, ``sum_q w_q B_q^T h_eq B_q`` per element with ``einsum`` and scattered one entry at a time,
+from the same local maps and the same kernels: the two must agree to rounding.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from contin_models.shell import layouts
+from contin_models.shell.fourier import AngularBasis, FourierShell
+from contin_models.shell.geometry import spherical_cap
+from contin_models.shell.meridian import complete_sphere_meridian
+from contin_models.shell.structure import ShellStructure
+
+RTOL = 1e-14
+
+
+def _family_terms(view: FourierShell, family: tuple, c: np.ndarray, w: np.ndarray) -> tuple:
+    """One family's energy, gradient and Hessian (dense), each element and angle in turn."""
+    name, nodes, B, kernel, params, offset = family
+    dofs = view.element_dofs(nodes)
+    y = np.einsum("qka,ea->keq", B, c[dofs])
+    if offset is not None:
+        y = y + offset[:, None, None]
+    E, Q = dofs.shape[0], B.shape[0]
+    v, g, h = kernel(y, *[np.asarray(p, float)[:, None] * np.ones((1, Q)) if np.ndim(p) else p for p in params])
+    energy = float(np.sum(np.broadcast_to(v, (E, Q)) * w))
+    grad = np.zeros(view.size)
+    np.add.at(grad, dofs, np.einsum("qka,keq,q->ea", B, g, w))
+    hess = np.zeros((view.size, view.size))
+    np.add.at(hess, (dofs[:, :, None], dofs[:, None, :]), np.einsum("qka,kleq,qlb,q->eab", B, h, B, w))
+    return energy, grad, hess
+
+
+def _pole_terms(view: FourierShell, pole: tuple, B: np.ndarray, c: np.ndarray, w: np.ndarray) -> tuple:
+    """The pole element's ``A kb ((3 nu - 1) <B>^2 + 2 (1 - nu) <B^2>)``, its gradient and Hessian (dense)."""
+    nodes, kernel, lbar, kbar, Akb = pole
+    nu, wm = view.nu, w / (2.0 * math.pi)
+    dofs = view.element_dofs(nodes)[0]
+    v, g, h = kernel(np.einsum("qka,a->kq", B, c[dofs]), lbar)
+    b = v - kbar
+    G = np.einsum("qka,kq->qa", B, g)
+    Hq = np.einsum("qka,klq,qlb->qab", B, h, B)
+    mean, mean2, dmean = wm @ b, wm @ (b * b), wm @ G
+    energy = Akb * ((3.0 * nu - 1.0) * mean ** 2 + 2.0 * (1.0 - nu) * mean2)
+    grad, hess = np.zeros(view.size), np.zeros((view.size, view.size))
+    grad[dofs] = Akb * (2.0 * (3.0 * nu - 1.0) * mean * dmean + 4.0 * (1.0 - nu) * ((wm * b) @ G))
+    hess[np.ix_(dofs, dofs)] = Akb * (
+        2.0 * (3.0 * nu - 1.0) * (np.outer(dmean, dmean) + mean * np.einsum("q,qab->ab", wm, Hq))
+        + 4.0 * (1.0 - nu) * (np.einsum("q,qa,qb->ab", wm, G, G) + np.einsum("q,qab->ab", wm * b, Hq)))
+    return energy, grad, hess
+
+
+def direct(view: FourierShell, c: np.ndarray, pressure: float) -> tuple[float, np.ndarray, np.ndarray]:
+    """Energy, gradient and dense Hessian of ``view`` at ``c``, every term written out."""
+    w = view.basis.weights
+    terms = [(f, 1.0) for f in view._families] + [(f, pressure) for f in view._volume if pressure]
+    energy, grad, hess = 0.0, np.zeros(view.size), np.zeros((view.size, view.size))
+    for family, factor in terms:
+        e, g, h = _family_terms(view, family, c, w)
+        energy, grad, hess = energy + factor * e, grad + factor * g, hess + factor * h
+    for pole in view._poles:
+        e, g, h = _pole_terms(view, pole, view._pole_map, c, w)
+        energy, grad, hess = energy + e, grad + g, hess + h
+    return energy, grad, hess
+
+
+def shells() -> dict:
+    cap = spherical_cap(1.0, 0.8, 24)
+    return {"sliding cap (pole, free edge)": (ShellStructure(cap, 1e6, 0.5, 0.02, boundary="sliding"), 0.0),
+            "clamped cap (clamp)": (ShellStructure(cap, 1e6, 0.3, 0.02, boundary="clamped",
+                                                   kappa11_length="reference"), 0.0),
+            "sphere under pressure (two poles, volume)": (ShellStructure(complete_sphere_meridian(1.0, 25, 1.0),
+                                                                         1.0, 0.3, 0.02), 3e-4)}
+
+
+def state(view: FourierShell, amplitude: float, seed: int) -> np.ndarray:
+    """The reference state with every coefficient moved (not axisymmetric: every term of the kernels works)."""
+    return view.reference_state() + amplitude * np.random.default_rng(seed).standard_normal(view.size)
+
+
+@pytest.mark.parametrize("basis", [AngularBasis(3, 3), AngularBasis(1, 2, mirror=False)], ids=["D3", "none"])
+@pytest.mark.parametrize("name", list(shells()))
+def test_energy_gradient_and_hessian_are_the_direct_sums(name: str, basis: AngularBasis) -> None:
+    st, pressure = shells()[name]
+    view = FourierShell(st, basis)
+    c = state(view, 2e-3, 1)
+    energy, grad, hess = direct(view, c, pressure)
+    assert abs(view.energy(c, pressure) - energy) <= RTOL * abs(energy)
+    np.testing.assert_allclose(view.gradient(c, pressure), grad, rtol=0, atol=RTOL * np.abs(grad).max())
+    H = view.hessian(c, pressure)
+    np.testing.assert_allclose(H.toarray(), hess, rtol=0, atol=RTOL * np.abs(hess).max())
+    # the same state again gives the kept Hessian, which a caller changing its copy does not reach
+    H.data[:] = 0.0
+    np.testing.assert_allclose(view.hessian(c, pressure).toarray(), hess, rtol=0, atol=RTOL * np.abs(hess).max())
+
+
+def test_element_hessians_of_a_map_without_the_component_split() -> None:
+    # a local map mixing every component with every unknown: the products without the split
+    st, _ = shells()["sliding cap (pole, free edge)"]
+    view = FourierShell(st, AngularBasis(3, 1))
+    rng = np.random.default_rng(4)
+    Q, k, A, E = 5, 9, 8, 7
+    B, w = rng.standard_normal((Q, k, A)), rng.uniform(0.1, 1.0, Q)
+    h = rng.standard_normal((k, k, Q, E))
+    h = h + h.transpose(1, 0, 2, 3)
+    He, rows = view._element_hessians(h, B, w)
+    expected = np.einsum("qia,ijqe,qjb,q->abe", B, h, B, w)
+    np.testing.assert_allclose(He, expected[rows], rtol=0, atol=RTOL * np.abs(expected).max())
+
+
+def test_bloch_blocks_are_the_direct_sums() -> None:
+    st, _ = shells()["sliding cap (pole, free edge)"]
+    view = FourierShell(st, AngularBasis(3, 2))
+    c = state(view, 2e-3, 2)
+    M = view.basis.M
+    w = np.full(M, 2.0 * math.pi / M)
+    for j, parity in [(0, "even"), (1, "even"), (0, "odd")]:
+        pview = FourierShell(st, view.basis.bloch(j, parity))
+        theta = 2.0 * math.pi * np.arange(M) / M
+        state_maps, pmaps = view.basis.ring_maps(theta), pview.basis.ring_maps(theta)
+        H = np.zeros((pview.size, pview.size))
+        for family in view._families:
+            name, nodes, _, kernel, params, offset = family
+            layout = view._layouts[name]
+            Bs = FourierShell._local_map(layout, nodes.shape[1], state_maps)
+            Bp = FourierShell._local_map(layout, nodes.shape[1], pmaps)
+            dofs, pdofs = view.element_dofs(nodes), pview.element_dofs(nodes)
+            y = np.einsum("qka,ea->keq", Bs, c[dofs])
+            if offset is not None:
+                y = y + offset[:, None, None]
+            _, _, h = kernel(y, *[np.asarray(p, float)[:, None] * np.ones((1, M)) if np.ndim(p) else p for p in params])
+            np.add.at(H, (pdofs[:, :, None], pdofs[:, None, :]), np.einsum("qka,kleq,qlb,q->eab", Bp, h, Bp, w))
+        Bs, Bp = (FourierShell._local_map(layouts.POLE, 2, m) for m in (state_maps, pmaps))
+        for nodes, kernel, lbar, kbar, Akb in view._poles:
+            nu, wm = view.nu, w / (2.0 * math.pi)
+            v, g, h = kernel(np.einsum("qka,a->kq", Bs, c[view.element_dofs(nodes)[0]]), lbar)
+            b = v - kbar
+            G = np.einsum("qka,kq->qa", Bp, g)
+            Hq = np.einsum("qka,klq,qlb->qab", Bp, h, Bp)
+            mean, dmean = wm @ b, wm @ G
+            d = pview.element_dofs(nodes)[0]
+            H[np.ix_(d, d)] += Akb * (
+                2.0 * (3.0 * nu - 1.0) * (np.outer(dmean, dmean) + mean * np.einsum("q,qab->ab", wm, Hq))
+                + 4.0 * (1.0 - nu) * (np.einsum("q,qa,qb->ab", wm, G, G) + np.einsum("q,qab->ab", wm * b, Hq)))
+        T = pview.reduction(True).T.toarray()
+        expected = T.T @ H @ T
+        got = view.bloch_block(c, j, parity).toarray()
+        np.testing.assert_allclose(got, expected, rtol=0, atol=RTOL * np.abs(expected).max())
