@@ -104,7 +104,9 @@ class Settings:
     n_eigs : int
         Number of smallest eigenvalues stored per point.  0 stores only the Morse index, which for
         a sparse (banded) operator costs one pivot-free factorization per point, O(n), instead of
-        a banded eigensolve, O(n^2 b).
+        a banded eigensolve: O(n^2 b) by LAPACK, or for a large band (``n^2 b`` above
+        ``contin.numerics.stability.SHIFT_INVERT_WORK``) Lanczos in shift-invert mode, a few O(n b^2)
+        factorizations.
     locate_tol : float
         Relative tolerance of the arclength root-finding that locates events and branch points.
     store_states : bool
