@@ -1,12 +1,15 @@
 """A shell of revolution in its 3-D view (:class:`contin_models.shell.fourier.FourierShell`) as a :class:`contin.Problem`.
 
 The unknowns are the free Fourier coefficients of the rings (:meth:`FourierShell.reduction`: poles one
-point, supports held, and under displacement control the pole's height held at the parameter); the
-residual is the reduced gradient of the total energy and the Jacobian its Hessian, banded along the
-meridian (a banded LU: O(N) per Newton step at a fixed angular resolution).  Loads: a point force at
-the pole (``F``, positive pushing the pole down, force or displacement control), a uniform
-external pressure (``p``), or dead point forces on any material points (``P`` times each force).  The basis fixes the symmetry class of every state traced: a ``D_n`` basis
-traces ``D_n``-symmetric states only, and its branch points are the ones that keep that symmetry.
+point, supports held, and under displacement control the loaded node's height held at the parameter);
+the residual is the reduced gradient of the total energy and the Jacobian its Hessian, banded along
+the meridian (a banded LU: O(N) per Newton step at a fixed angular resolution).  Loads: a point force
+at the pole or a uniform force on a ring (``F``, positive pushing down; force or displacement
+control), a uniform external pressure (``p``; a prescribed volume through :class:`contin.ConjugateControl`),
+or dead point forces on any material points and ``cos(n theta)`` line loads on rings (``P`` times
+each).  The basis fixes the symmetry class of every state traced: a ``D_n`` basis traces
+``D_n``-symmetric states only, and its branch points are the ones that keep that symmetry
+(``every_mode`` watches the others).
 """
 
 from __future__ import annotations
@@ -39,10 +42,11 @@ class Shell3D(Problem):
         The shell and its supports.
     basis : AngularBasis
         The angular series (and with it the symmetry class of the states).
-    load : {"point", "pressure", "forces"}
-        A point force at the pole (node ``N-1``, on the axis), a uniform external pressure, or ``forces``.
+    load : {"point", "ring", "pressure", "forces"}
+        A point force at the pole (node ``N-1``, on the axis), a uniform force on ring ``node``, a uniform
+        external pressure, or ``forces`` and ``line_loads``.
     control : {"force", "displacement"}
-        The load as the parameter, or (point load) the pole's deflection ``w``.
+        The load as the parameter, or (point and ring loads) the loaded node's deflection ``w``.
     length : float, optional
         Length that normalises ``w`` and ``F`` (``w_over_L``, ``F_norm = F L / (2 pi D)``); default the
         meridian's ``length_scale`` (or ``R``).
@@ -54,11 +58,18 @@ class Shell3D(Problem):
         With ``load="forces"``: dead forces (Cartesian, per unit parameter ``P``) on the material point of
         ring ``node`` at the reference angle ``theta``.  A basis with symmetry needs the whole symmetric
         set (every image of a force under the basis's group), as the energy is the whole shell's.
+    node : int, optional
+        The loaded ring of a ring force (``0 < node < N-1``, off the axis).
+    line_loads : sequence of (node, n, (q_r, q_t, q_z))
+        With ``load="forces"``: per radian of ring ``node`` the dead load ``(q_r cos n theta, q_t sin n theta,
+        q_z cos n theta)`` (components in the reference frame at the material point), ``P`` times it; ``n``
+        must be a wave of the basis.
 
     Notes
     -----
-    Observables: the load (``F``, ``p`` or ``P``), ``w`` (the pole's deflection, where there is a pole),
-    ``w_over_L``, under a point load ``F_norm``, and per force ``u0``, ``u1``, ... (the displacement of its
+    Observables: the load (``F``, ``p`` or ``P``), ``w`` (the loaded node's deflection: the ring's under a
+    ring force, else the pole's where there is one),
+    ``w_over_L``, under a point or ring force ``F_norm``, and per force ``u0``, ``u1``, ... (the displacement of its
     point along it); all with exact derivatives.  :meth:`full_state` gives the Fourier
     coefficients of every ring, :attr:`view` the energy.
     """
