@@ -171,7 +171,7 @@ kernels, COMPILED = prefer_compiled(_generated, "contin_models.contact._ckernels
 
 __all__ = ["Sphere", "Plate", "ContactBarrier", "ContactState", "ContactCells", "IntegrationPoints", "default_barrier",
            "barrier_value", "barrier_extension", "kernels", "COMPILED", "length_weights", "PAPER_K", "PAPER_DHAT",
-           "PAPER_E", "PAPER_R", "PAPER_N", "QUADRATURE_POINTS", "SUPPORT_POINTS"]
+           "PAPER_E", "PAPER_R", "PAPER_N", "QUADRATURE_POINTS", "SUPPORT_POINTS", "support_pieces", "barrier_jet", "CELL_MONOMIALS"]
 
 #: The paper's barrier constants and the modulus and radius they were chosen for.
 PAPER_K, PAPER_DHAT, PAPER_E, PAPER_R = 1e8, 1e-3, 1e6, 1.0
@@ -443,7 +443,7 @@ class ContactCells:
         """
         nodes = self.stencil[cells]
         rr, zz = r[nodes] * self._sign_r[cells], z[nodes]
-        return rr @ _MONOMIAL.T, zz @ _MONOMIAL.T
+        return rr @ CELL_MONOMIALS.T, zz @ CELL_MONOMIALS.T
 
     def cell_minimum(self, values: np.ndarray) -> np.ndarray:
         """Smallest value of each cell's samples, shape ``(N,)``."""
@@ -458,7 +458,8 @@ class ContactCells:
 
 #: The quadratic B-spline cell in monomials: ``x(t) = sum_k t^k sum_j _MONOMIAL[k, j] x_j`` over the
 #: stencil ``i-1, i, i+1`` (the expansion of :func:`contin_models.contact._generated.cell_basis`).
-_MONOMIAL = np.array([[0.125, 0.75, 0.125], [-0.5, 0.0, 0.5], [0.5, -1.0, 0.5]])
+#: The cell basis in monomials: row ``k`` holds the coefficients of ``t^k`` in ``(B_0, B_1, B_2)``.
+CELL_MONOMIALS = np.array([[0.125, 0.75, 0.125], [-0.5, 0.0, 0.5], [0.5, -1.0, 0.5]])
 
 
 def _polyval(coefs: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -535,6 +536,33 @@ def _monotone_breaks(coefs: np.ndarray) -> np.ndarray:
         rows = np.nonzero(change)[0]
         crit[change] = _roots_in_brackets(slope[rows], lo[change], hi[change])
     return np.sort(np.column_stack([-half, crit, half]), axis=1)
+
+
+def support_pieces(gap: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pieces of ``[-1/2, 1/2]`` where each row's polynomial is negative, one per monotone piece.
+
+    ``gap``: ascending coefficients ``(m, 5)`` (:meth:`ContactBarrier.gap_polynomial`).  The rows are cut at
+    their critical points into monotone pieces; a piece's end where the sign changes is the root in it
+    (Newton's method kept in the bracket).  Returns ``(rows, a, b)``: the row of each piece and its ends.
+    """
+    breaks = _monotone_breaks(gap)
+    lo, hi = breaks[:, :-1], breaks[:, 1:]
+    in_lo, in_hi = _polyval(gap, lo) < 0, _polyval(gap, hi) < 0
+    cross = (in_lo != in_hi) & (hi > lo)
+    root = np.zeros_like(lo)
+    if np.any(cross):
+        root[cross] = _roots_in_brackets(gap[np.nonzero(cross)[0]], lo[cross], hi[cross])
+    a, b = np.where(in_lo, lo, root), np.where(in_hi, hi, root)
+    use = (in_lo | in_hi) & (b > a)
+    return np.nonzero(use)[0], a[use], b[use]
+
+
+def barrier_jet(d: np.ndarray, K: float, dhat: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``W(d) = -K (d - dhat)^2 log(d / dhat)`` for ``d < dhat`` (0 beyond) and its first two derivatives in ``d``."""
+    d = np.asarray(d, dtype=float)
+    lg = np.log(np.minimum(d / dhat, 1.0))
+    a = np.minimum(d - dhat, 0.0)
+    return -K * a * a * lg, -K * (2.0 * a * lg + a * a / d), -K * (2.0 * lg + 4.0 * a / d - a * a / (d * d))
 
 
 @dataclass
@@ -812,25 +840,33 @@ class ContactBarrier:
                 "is infinite there")
         return cells, ds
 
-    def _gap_polynomial(self, R: np.ndarray, Z: np.ndarray, c: float) -> np.ndarray:
+    def gap_polynomial(self, R: np.ndarray, Z: np.ndarray, c: float, T: np.ndarray | None = None) -> np.ndarray:
         """Ascending coefficients ``(m, 5)`` of a polynomial in ``t`` negative exactly where a cell is within ``dhat``.
 
         Plate: ``d(t) - dhat``.  Sphere: ``|x(t) - (0, zc)|^2 - (rho + dhat)^2``.  ``R, Z`` are the
-        cells' curves (:meth:`ContactCells.curve`).
+        cells' curves (:meth:`ContactCells.curve`: ascending coefficients ``(m, 3)`` of quadratics in ``t``);
+        ``T``, a third (circumferential) component of a curve in three dimensions, adds its square.
         """
         g = np.zeros((R.shape[0], 5))
         if isinstance(self.indenter, Plate):
             g[:, 0] = c - self.dhat - Z[:, 0]
             g[:, 1:3] = -Z[:, 1:]
             return g
-        p, q = R, Z.copy()
+        q = Z.copy()
         q[:, 0] -= c
-        g[:, 0] = p[:, 0] ** 2 + q[:, 0] ** 2 - (self.indenter.radius + self.dhat) ** 2
-        g[:, 1] = 2.0 * (p[:, 0] * p[:, 1] + q[:, 0] * q[:, 1])
-        g[:, 2] = p[:, 1] ** 2 + q[:, 1] ** 2 + 2.0 * (p[:, 0] * p[:, 2] + q[:, 0] * q[:, 2])
-        g[:, 3] = 2.0 * (p[:, 1] * p[:, 2] + q[:, 1] * q[:, 2])
-        g[:, 4] = p[:, 2] ** 2 + q[:, 2] ** 2
+        g[:, 0] = -(self.indenter.radius + self.dhat) ** 2
+        for p in (R, q) if T is None else (R, T, q):
+            g[:, 0] += p[:, 0] ** 2
+            g[:, 1] += 2.0 * p[:, 0] * p[:, 1]
+            g[:, 2] += p[:, 1] ** 2 + 2.0 * p[:, 0] * p[:, 2]
+            g[:, 3] += 2.0 * p[:, 1] * p[:, 2]
+            g[:, 4] += p[:, 2] ** 2
         return g
+
+    @property
+    def support_rule(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The Gauss-Legendre points and weights on ``[-1, 1]`` of each support piece (None: the fixed points)."""
+        return None if self.quadrature == 1 else self._support_rule
 
     def _integration_points(self, cells: ContactCells, r: np.ndarray, z: np.ndarray, c: float,
                             ds: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -858,18 +894,7 @@ class ContactBarrier:
         if near.size == 0:
             return cells.cell[base], cells.cr[base], cells.cz[base], cells.weight[base]
         Rc, Zc = cells.curve(r, z, near)
-        g = self._gap_polynomial(Rc, Zc, c)
-        breaks = _monotone_breaks(g)
-        lo, hi = breaks[:, :-1], breaks[:, 1:]
-        in_lo, in_hi = _polyval(g, lo) < 0, _polyval(g, hi) < 0
-        cross = (in_lo != in_hi) & (hi > lo)
-        root = np.zeros_like(lo)
-        if np.any(cross):
-            root[cross] = _roots_in_brackets(g[np.nonzero(cross)[0]], lo[cross], hi[cross])
-        a, b = np.where(in_lo, lo, root), np.where(in_hi, hi, root)
-        use = (in_lo | in_hi) & (b > a)
-        rows = np.nonzero(use)[0]
-        a, b = a[use], b[use]
+        rows, a, b = support_pieces(self.gap_polynomial(Rc, Zc, c))
         xi, wq = self._support_rule
         t = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * xi
         cell = np.repeat(near[rows], xi.size)
@@ -1217,7 +1242,7 @@ class ContactBarrier:
         cells = self.cells(r.size)
         inner = np.arange(1, r.size)
         Rc, Zc = cells.curve(r, z, inner)
-        g = self._gap_polynomial(Rc, Zc, c)
+        g = self.gap_polynomial(Rc, Zc, c)
         breaks = _monotone_breaks(g)
         vals = _polyval(g, breaks)
         k = np.argmin(vals, axis=1)

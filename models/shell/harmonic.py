@@ -184,6 +184,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from contin.numerics.compiled import prefer_compiled
+from contin_models.contact.barrier import barrier_jet
 from contin.numerics.linalg import SymmetricBand
 from contin.numerics.stability import stability_info
 
@@ -237,11 +238,7 @@ def contact_point_hessian(barrier: Any, X: np.ndarray, c: float) -> np.ndarray:
         gd = np.zeros_like(X)
         gd[2] = -1.0
         Hd = np.zeros((3, 3, X.shape[1]))
-    t = np.minimum(d / dh, 1.0)
-    lg = np.log(t)
-    a = np.minimum(d - dh, 0.0)
-    W1 = -K * (2.0 * a * lg + a * a / d)
-    W2 = -K * (2.0 * lg + 4.0 * a / d - a * a / (d * d))
+    _, W1, W2 = barrier_jet(d, K, dh)
     return W2 * gd[:, None, :] * gd[None, :, :] + W1 * Hd
 
 
