@@ -76,3 +76,55 @@ def test_a_point_inside_the_indenter_is_refused(pressed) -> None:
     view = FourierShell(st, AngularBasis(2, 1))
     with pytest.raises(ValueError, match="inside the indenter"):
         Contact3D(view, barrier).energy(view.axisymmetric_state(x), position - 0.01)
+
+
+@pytest.mark.parametrize("indenter", ["sphere", "plate"])
+def test_an_indenter_traced_in_the_3d_view_is_the_traced_model_on_axisymmetric_states(indenter: str) -> None:
+    """``Shell3D`` under an indenter's travel (the position as the parameter, the step filter in 3-D):
+    the trace in the ``D_3`` basis stays axisymmetric and ends at the traced model's force."""
+    import contin
+    from contin_models.contact.barrier import Plate, Sphere
+    from contin_models.contact.indentation import ShellIndentation
+    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.structure import ShellStructure
+
+    one = ShellIndentation(N=30, indenter=Sphere(0.5) if indenter == "sphere" else Plate())
+    el = one.elastic
+    st = ShellStructure(el.cap, el.E, el.nu, el.h, boundary="sliding", edge_bending="none")  # that model's energy
+    shell = Shell3D(st, AngularBasis(3, 1), indenter, "displacement", barrier=one.barrier)
+    assert shell.c0 == one.c0
+    b1 = contin.continuation(one, one.reference_unknowns(), 0.0, p_max=0.05, ds=0.01, ds_max=0.02, max_steps=200)
+    b3 = contin.continuation(shell, shell.reference_unknowns(), 0.0, p_max=0.05, ds=0.01, ds_max=0.02,
+                             max_steps=200)
+    assert b1.status == b3.status == "bound"
+    F1, F3 = b1.observable("F")[-1], b3.observable("F")[-1]
+    assert F3 > 0 and abs(F3 - F1) <= 1e-8 * F1
+    c = shell.full_state(b3.u[-1], b3.p[-1])
+    assert np.max(np.abs(np.delete(c, shell.view.axisymmetric_dofs()))) < 1e-12
+    with pytest.raises(ValueError, match="needs barrier"):
+        Shell3D(st, AngularBasis(3, 1), indenter, "displacement")
+
+
+@pytest.mark.parametrize("which", [0, 2])
+def test_position_derivatives_and_the_step_filter(pressed, which: int) -> None:
+    st, x, contacts = pressed
+    barrier, position = contacts[which]
+    view = FourierShell(st, AngularBasis(1, 2, mirror=False))
+    red = view.reduction()
+    rng = np.random.default_rng(9)
+    c = red.full(red.T.T @ view.axisymmetric_state(x) + 2e-5 * rng.standard_normal(red.free.size),
+                 view.axisymmetric_state(x))
+    contact = Contact3D(view, barrier)
+    Ec, mixed, Ecc = contact.position_derivatives(c, position)
+    h = 1e-8
+    assert abs((contact.energy(c, position + h) - contact.energy(c, position - h)) / (2 * h) - Ec) <= 1e-6 * abs(Ec)
+    dg = (contact.gradient(c, position + h) - contact.gradient(c, position - h)) / (2 * h)
+    assert np.max(np.abs(dg - mixed)) <= 1e-5 * np.max(np.abs(mixed))
+    dEc = (contact.position_derivatives(c, position + h)[0] - contact.position_derivatives(c, position - h)[0]) / (2 * h)
+    assert abs(dEc - Ecc) <= 1e-5 * abs(Ecc)
+    # the filter: lowering the indenter by twice the smallest gap of the samples is cut short before contact
+    assert contact.max_safe_fraction(c, position, np.zeros_like(c), 0.0) == 1.0
+    gap = contact.points(c, position)  # every point of the integral is within dhat
+    assert gap["q"].size > 0
+    f = contact.max_safe_fraction(c, position, np.zeros_like(c), -2.0 * barrier.dhat)
+    assert 0.0 < f < 0.9 * 0.5 + 1e-12

@@ -176,5 +176,73 @@ class Contact3D:
             data = np.bincount(view.hessian_slots(view.element_dofs(nodes), False), He.ravel(), minlength=P.nnz)
         return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
 
+    def _position_jets(self, X: np.ndarray, position: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per point ``dW/dc``, ``d2W/dc dX`` ``(S, 3)`` and ``d2W/dc2`` (the indenter's position ``c``)."""
+        K, dhat = self.barrier.K, self.barrier.dhat
+        if isinstance(self.barrier.indenter, Plate):
+            d = position - X[:, 2]
+            gd = np.zeros_like(X)
+            gd[:, 2] = -1.0
+            d_c, d_cX, d_cc = np.ones(X.shape[0]), np.zeros_like(X), np.zeros(X.shape[0])
+        else:
+            D = X - np.array([0.0, 0.0, position])
+            q = np.sqrt(np.sum(D * D, axis=1))
+            d = q - self.barrier.indenter.radius
+            gd = D / q[:, None]
+            d_c = -D[:, 2] / q
+            d_cX = D * (D[:, 2] / q ** 3)[:, None]
+            d_cX[:, 2] -= 1.0 / q
+            d_cc = (q * q - D[:, 2] ** 2) / q ** 3
+        _, W1, W2 = barrier_jet(d, K, dhat)
+        return W1 * d_c, (W2 * d_c)[:, None] * gd + W1[:, None] * d_cX, W2 * d_c * d_c + W1 * d_cc
+
+    def position_derivatives(self, c: np.ndarray, position: float) -> tuple[float, np.ndarray, float]:
+        """``dE/dc``, ``d2E/dc du`` (in the view's unknowns) and ``d2E/dc2`` at the state ``c`` and the indenter
+        position: the contact force is ``-dE/dc``."""
+        view = self.view
+        mixed = np.zeros(view.size)
+        pts = self.points(c, position)
+        if pts["q"].size == 0:
+            return 0.0, mixed, 0.0
+        Ec, EcX, Ecc = self._position_jets(pts["X"], float(position))
+        w = pts["weight"]
+        Bmap, nodes = self._maps(pts)
+        np.add.at(mixed, view.element_dofs(nodes).ravel(), np.einsum("s,sc,sca->sa", w, EcX, Bmap).ravel())
+        return float(w @ Ec), mixed, float(w @ Ecc)
+
+    def max_safe_fraction(self, c: np.ndarray, position: float, dc: np.ndarray, dposition: float,
+                          safety: float = 0.9) -> float:
+        """The largest safe fraction of the step ``(dc, dposition)`` times ``safety``, or 1 when the whole step
+        is safe: no fixed sample point of any cell, at any angle of the quadrature, reaches the indenter
+        (:meth:`contin_models.contact.barrier.ContactBarrier.max_safe_fraction` in three dimensions: each point
+        moves along a straight segment)."""
+        X, V = self._samples(c), self._samples(np.asarray(dc, dtype=float))  # the points are linear in c
+        if isinstance(self.barrier.indenter, Plate):
+            gap = position - X[:, 2]
+            closing = V[:, 2] - dposition
+            hit = closing > 0
+            s = np.full(X.shape[0], np.inf)
+            s[hit] = gap[hit] / closing[hit]
+        else:
+            U = X - np.array([0.0, 0.0, position])
+            V = V - np.array([0.0, 0.0, dposition])
+            rho = self.barrier.indenter.radius
+            c0 = np.sum(U * U, axis=1) - rho * rho
+            b = np.sum(U * V, axis=1)
+            a = np.sum(V * V, axis=1)
+            disc = b * b - a * c0
+            hit = (disc >= 0) & (b < 0)
+            s = np.full(X.shape[0], np.inf)
+            s[hit] = c0[hit] / (-b[hit] + np.sqrt(disc[hit]))
+        first = float(np.min(s)) if s.size else np.inf
+        return 1.0 if first > 1.0 else safety * max(first, 0.0)
+
+    def _samples(self, c: np.ndarray) -> np.ndarray:
+        """The fixed sample points of every cell at every angle, ``(Q (1 + (N-1) q), 3)``, linear in ``c``."""
+        pts = self._stencil_points(c)                                  # (Q, N, 3, 3)
+        inner = np.einsum("jk,qijc->qikc", self.cells.basis, pts[:, 1:])  # (Q, N-1, quadrature, 3)
+        base = pts[:, 0, 1, :][:, None, :]
+        return np.concatenate([base, inner.reshape(pts.shape[0], -1, 3)], axis=1).reshape(-1, 3)
+
     def __repr__(self) -> str:
         return f"Contact3D({self.barrier.indenter.name}, K={self.barrier.K}, dhat={self.barrier.dhat})"

@@ -30,7 +30,7 @@ from .problem import _scaled
 __all__ = ["Shell3D", "LOADS"]
 
 #: The loads of :class:`Shell3D`.
-LOADS = ("point", "ring", "pressure", "forces")
+LOADS = ("point", "ring", "pressure", "forces", "sphere", "plate")
 
 
 class Shell3D(Problem):
@@ -78,7 +78,8 @@ class Shell3D(Problem):
                  load: Literal["point", "ring", "pressure", "forces"] = "point",
                  control: Literal["force", "displacement"] = "force", length: float | None = None,
                  forces: Sequence[tuple[int, float, Sequence[float]]] = (), node: int | None = None,
-                 line_loads: Sequence[tuple[int, int, Sequence[float]]] = (), every_mode: bool = False) -> None:
+                 line_loads: Sequence[tuple[int, int, Sequence[float]]] = (), every_mode: bool = False,
+                 barrier: Any = None) -> None:
         if load not in LOADS:
             raise ValueError(f"Shell3D: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
@@ -91,6 +92,13 @@ class Shell3D(Problem):
         if load == "ring":
             if node is None or not (0 < int(node) < N - 1) or int(node) in st.poles:
                 raise ValueError(f"Shell3D: a ring load needs node in (0, {N - 1}), off the axis, got {node!r}")
+        indenter = load in ("sphere", "plate")
+        if indenter:
+            if barrier is None or barrier.indenter.name != load:
+                raise ValueError(f"Shell3D: load {load!r} needs barrier = a ContactBarrier with a {load} indenter")
+            if control != "displacement" or not pole:
+                raise ValueError(f"Shell3D: an indenter ({load}) is driven by its travel (control='displacement') "
+                                 "onto a cap with a pole at node N-1")
         if load in ("pressure", "forces") and control != "force":
             raise ValueError(f"Shell3D: load {load!r} takes control='force' (a prescribed volume: "
                              "contin.ConjugateControl on the pressure-controlled problem)")
@@ -114,7 +122,7 @@ class Shell3D(Problem):
         self.node = int(node) if load == "ring" else (N - 1 if pole else None)
         self.z_dof = self.node * view.m + basis.index("Z", "cos", 0) if self.node is not None else None
         self.z_ref_node = float(self.c_ref[self.z_dof]) if self.node is not None else math.nan
-        held = [2 * self.node + 1] if control == "displacement" else []
+        held = [2 * self.node + 1] if control == "displacement" and not indenter else []
         self.reduction = red = view.reduction(control_fixed=held)
         self.T = red.T.tocsc()
         self.Tt = red.T.T.tocsr()
@@ -137,10 +145,19 @@ class Shell3D(Problem):
         for k, (at, wave, q) in enumerate(line_loads):
             self.load_vector += self._line_load(k, int(at), int(wave), q)
         self._v_ref = view.volume(self.c_ref) if load == "pressure" else 0.0
+        # an indenter: the barrier over the surface, its position c = c0 - w_b (w_b the travel, the
+        # parameter), c0 where its barrier first reaches the cap's curve on the axis (as in the traced model)
+        self.contact = None
+        if indenter:
+            from .contact3d import Contact3D
+
+            self.contact = Contact3D(view, barrier)
+            x_ref = st.reference_state()
+            self.c0 = float(barrier.indenter.contact_position(barrier.pole_height(x_ref))) + barrier.dhat
         self._restrict = red.restriction(view.pattern(load == "pressure"))
         H0 = self._restrict(view.hessian(self.c_ref, volume_pattern=load == "pressure").data)
         self.kl, self.ku = bandwidths(H0)  # every entry the pattern may hold is stored
-        name = {"point": "F", "ring": "F", "pressure": "p", "forces": "P"}[load]
+        name = {"point": "F", "ring": "F", "pressure": "p", "forces": "P", "sphere": "F", "plate": "F"}[load]
         self.load_name = name
         observables: dict[str, Any] = {name: self._obs_load}
         derivatives: dict[str, Any] = {name: self._dobs_load}
@@ -156,8 +173,14 @@ class Shell3D(Problem):
             derivatives["F_norm"] = lambda u, p: _scaled(self._dobs_load(u, p), f_norm)
         scale = st.residual_scale(H0, self.length)
         families = (self._bloch_family(),) if every_mode else ()
+        if indenter:  # the parameter is the travel; w stays the pole's deflection
+            observables[name], derivatives[name] = self._contact_force, self._dcontact_force
+            observables["w"], derivatives["w"] = self._pole_w, self._dpole_w
+            observables["w_over_L"] = lambda u, p: self._pole_w(u, p) / self.length
+            derivatives["w_over_L"] = lambda u, p: _scaled(self._dpole_w(u, p), 1.0 / self.length)
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
-                         name=f"shell3d_{load}_{control}", parameter_name=name if control == "force" else "w",
+                         name=f"shell3d_{load}_{control}",
+                         parameter_name="w_b" if indenter else (name if control == "force" else "w"),
                          residual_scale=scale, operator_families=families)
 
     def _bloch_family(self) -> Any:
@@ -212,7 +235,7 @@ class Shell3D(Problem):
         if u.shape != (self.n,):
             raise ValueError(f"Shell3D: the unknown vector must have shape ({self.n},), got {u.shape}")
         held = self.c_ref
-        if self.control == "displacement":
+        if self.control == "displacement" and self.contact is None:
             held = held.copy()
             held[self.z_dof] = self.z_ref_node - float(p)
         return self.reduction.full(u, held)
@@ -229,8 +252,14 @@ class Shell3D(Problem):
     def _pressure(self, p: float) -> float:
         return float(p) if self.load == "pressure" else 0.0
 
+    def position(self, p: float) -> float:
+        """The indenter's position at the travel ``p``: ``c0 - p``."""
+        return self.c0 - float(p)
+
     def _gradient(self, c: np.ndarray, p: float) -> np.ndarray:
         g = self.view.gradient(c, self._pressure(p))
+        if self.contact is not None:
+            return g + self.contact.gradient(c, self.position(p))
         if self.load != "pressure" and self.control == "force":  # the dead loads' potential -p f.(c - c_ref)
             g = g - float(p) * self.load_vector
         return g
@@ -241,6 +270,8 @@ class Shell3D(Problem):
         if self.load == "pressure":  # p (V - V_ref): the potential vanishes in the reference state
             return self.view.energy(c, float(p)) - float(p) * self._v_ref
         e = self.view.energy(c)
+        if self.contact is not None:
+            return e + self.contact.energy(c, self.position(p))
         if self.control == "force":
             e -= float(p) * float(self.load_vector @ (c - self.c_ref))
         return e
@@ -265,16 +296,43 @@ class Shell3D(Problem):
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         c = self.full_state(u, p)
-        return self._restrict(self.view.hessian(c, self._pressure(p), volume_pattern=self.load == "pressure").data)
+        data = self.view.hessian(c, self._pressure(p), volume_pattern=self.load == "pressure").data
+        if self.contact is not None:  # both on the view's pattern without the volume
+            data = data + self.contact.hessian(c, self.position(p)).data
+        return self._restrict(data)
 
     def dresidual_dp(self, u: np.ndarray, p: float) -> np.ndarray:
         c = self.full_state(u, p)
+        if self.contact is not None:  # d/dp at fixed unknowns: the position moves by -dp
+            return -(self.Tt @ self.contact.position_derivatives(c, self.position(p))[1])
         if self.load == "pressure":
             return self.Tt @ (self.view.gradient(c, 1.0) - self.view.gradient(c, 0.0))
         if self.control == "force":
             return -(self.Tt @ self.load_vector)
         H = self.view.hessian(c)
         return -(self.Tt @ H[:, [self.z_dof]]).toarray().ravel()  # z = z_ref - w
+
+    def max_step_fraction(self, u: np.ndarray, p: float, du: np.ndarray, dp: float) -> float:
+        """Under an indenter, the barrier's filter: no sample point may reach the indenter along the step."""
+        if self.contact is None:
+            return 1.0
+        return self.contact.max_safe_fraction(self.full_state(u, p), self.position(p), self.T @ du, -float(dp))
+
+    def _contact_force(self, u: np.ndarray, p: float) -> float:
+        """The indenter's force on the shell, ``-dE/dc`` (positive pushing down)."""
+        return -self.contact.position_derivatives(self.full_state(u, p), self.position(p))[0]
+
+    def _dcontact_force(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        _, mixed, cc = self.contact.position_derivatives(self.full_state(u, p), self.position(p))
+        return -(self.Tt @ mixed), cc
+
+    def _pole_w(self, u: np.ndarray, p: float) -> float:
+        return self.z_ref_node - float(self.full_state(u, p)[self.z_dof])
+
+    def _dpole_w(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
+        d = np.zeros(self.view.size)
+        d[self.z_dof] = -1.0
+        return self.Tt @ d, 0.0
 
     def factorize(self, J) -> Factorization:
         """Banded LU (O(N) at a fixed angular resolution)."""
