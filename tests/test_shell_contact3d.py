@@ -128,3 +128,28 @@ def test_position_derivatives_and_the_step_filter(pressed, which: int) -> None:
     assert gap["q"].size > 0
     f = contact.max_safe_fraction(c, position, np.zeros_like(c), -2.0 * barrier.dhat)
     assert 0.0 < f < 0.9 * 0.5 + 1e-12
+
+
+def test_a_dead_load_on_the_indenter_is_the_traced_models() -> None:
+    """Force control of the indenter: ``contin.DeadLoad`` on the 3-D view's travel-driven problem (its
+    ``conjugate_force`` is the contact force) ends where the traced model's force control ends."""
+    import contin
+    from contin.analyses.deadload import DeadLoad
+    from contin_models.contact.barrier import Sphere
+    from contin_models.contact.indentation import ShellIndentation, ShellIndentationForce
+    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.structure import ShellStructure
+
+    one = ShellIndentation(N=30, indenter=Sphere(0.5))
+    el = one.elastic
+    st = ShellStructure(el.cap, el.E, el.nu, el.h, boundary="sliding", edge_bending="none")
+    shell = Shell3D(st, AngularBasis(3, 1), "sphere", "displacement", barrier=one.barrier)
+    start = contin.continuation(shell, shell.reference_unknowns(), 0.0, p_max=0.05, ds=0.01, ds_max=0.02)
+    force = DeadLoad(shell)
+    U, F = force.from_displacement_state(start.u[-1], float(start.p[-1]))
+    bf = contin.continuation(force, U, F, p_max=1.3 * F, ds=0.5, ds_max=2.0, max_steps=200)
+    traced = ShellIndentationForce(N=30, indenter=Sphere(0.5))
+    U1, F1 = traced.contact_start(0.05)
+    b1 = contin.continuation(traced, U1, F1, p_max=1.3 * F, ds=0.5, ds_max=2.0, max_steps=200)
+    assert bf.status == b1.status == "bound"
+    assert abs(force.split(bf.u[-1])[1] - b1.observable("w_b")[-1]) < 1e-10

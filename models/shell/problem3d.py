@@ -277,18 +277,25 @@ class Shell3D(Problem):
         return e
 
     def conjugate_force(self, u: np.ndarray, p: float) -> float:
-        """``dE/dp`` at fixed unknowns (force control): the volume change ``V - V_ref`` under a pressure, minus
-        the displacement the dead loads work on (``-load_vector . (c - c_ref)``) otherwise; with
-        :class:`contin.ConjugateControl` it prescribes the volume or the loaded points' displacement."""
-        if self.control != "force":
-            raise ValueError("Shell3D.conjugate_force: the load is the parameter under force control only")
+        """``dE/dp`` at fixed unknowns: under force control the volume change ``V - V_ref`` under a pressure,
+        minus the displacement the dead loads work on (``-load_vector . (c - c_ref)``) otherwise, with which
+        :class:`contin.ConjugateControl` prescribes the volume or the loaded points' displacement; under an
+        indenter's travel the contact force, with which :class:`contin.DeadLoad` puts a force on it."""
         c = self.full_state(u, p)
+        if self.contact is not None:  # dE/dw_b at fixed unknowns: the contact force (contin.DeadLoad on it)
+            return -self.contact.position_derivatives(c, self.position(p))[0]
+        if self.control != "force":
+            raise ValueError("Shell3D.conjugate_force: the load is the parameter under force control (or the travel "
+                             "of an indenter) only")
         if self.load == "pressure":
             return self.view.volume(c) - self._v_ref
         return -float(self.load_vector @ (c - self.c_ref))
 
     def conjugate_stiffness(self, u: np.ndarray, p: float) -> float:
-        """``d2E/dp2`` at fixed unknowns: zero, every load of this problem enters the energy linearly."""
+        """``d2E/dp2`` at fixed unknowns: zero for the loads, which enter the energy linearly; the barrier's
+        curvature in the indenter's position under an indenter's travel."""
+        if self.contact is not None:
+            return self.contact.position_derivatives(self.full_state(u, p), self.position(p))[2]
         return 0.0
 
     def residual(self, u: np.ndarray, p: float) -> np.ndarray:
