@@ -75,7 +75,7 @@ class Contact3D:
         coefficients ``(S, 3)``, weight (the angle's included) and coordinates ``(S, 3)``."""
         cells, barrier = self.cells, self.barrier
         pts = self._stencil_points(c)                                  # (Q, N, 3, 3)
-        Qn, N = pts.shape[0], pts.shape[1]
+        N = pts.shape[1]
         inner = np.arange(1, N)
         curves = np.einsum("kj,qijc->qick", CELL_MONOMIALS, pts[:, inner])  # (Q, N-1, 3 comps, 3 powers)
         flat = curves.reshape(-1, 3, 3)
@@ -91,7 +91,7 @@ class Contact3D:
         X = np.einsum("sj,sjc->sc", coef, pts[q, cell])
         # the base node's own term where it is within dhat
         base = pts[:, 0, 1, :]                                         # (Q, 3): node 0 at every angle
-        d0 = self._distance(base, float(position))
+        d0 = self._distance(base, float(position))["d"]
         near = np.flatnonzero(d0 < barrier.dhat)
         q0 = near
         coef0 = np.tile([0.0, 1.0, 0.0], (near.size, 1))
@@ -100,31 +100,38 @@ class Contact3D:
                 "coef": np.concatenate([coef0, coef]), "weight": np.concatenate([w0, weight]),
                 "X": np.concatenate([base[near], X])}
 
-    def _distance(self, X: np.ndarray, position: float) -> np.ndarray:
+    def _distance(self, X: np.ndarray, position: float) -> dict[str, np.ndarray]:
+        """The distance ``d`` of the points ``X`` ``(S, 3)`` to the indenter at ``position`` and its derivatives:
+        ``dX`` ``(S, 3)``, ``dXX`` ``(S, 3, 3)``, ``dc``, ``dcX`` ``(S, 3)``, ``dcc`` (``c`` the position)."""
+        S = X.shape[0]
         if isinstance(self.barrier.indenter, Plate):
-            return position - X[:, 2]
-        C = np.array([0.0, 0.0, position])
-        return np.sqrt(np.sum((X - C) ** 2, axis=1)) - self.barrier.indenter.radius
+            dX = np.zeros_like(X)
+            dX[:, 2] = -1.0
+            return {"d": position - X[:, 2], "dX": dX, "dXX": np.zeros((S, 3, 3)), "dc": np.ones(S),
+                    "dcX": np.zeros_like(X), "dcc": np.zeros(S)}
+        D = X - np.array([0.0, 0.0, position])
+        q = np.sqrt(np.sum(D * D, axis=1))
+        dX = D / q[:, None]
+        dcX = D * (D[:, 2] / q ** 3)[:, None]
+        dcX[:, 2] -= 1.0 / q
+        return {"d": q - self.barrier.indenter.radius, "dX": dX,
+                "dXX": (np.eye(3)[None] - dX[:, :, None] * dX[:, None, :]) / q[:, None, None],
+                "dc": -D[:, 2] / q, "dcX": dcX, "dcc": (q * q - D[:, 2] ** 2) / q ** 3}
+
+    def _barrier(self, X: np.ndarray, position: float) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray,
+                                                                np.ndarray]:
+        """The distance's derivatives (:meth:`_distance`) and ``W``, ``W'``, ``W''`` at the points."""
+        g = self._distance(X, position)
+        if np.any(g["d"] <= 0):
+            raise ValueError("Contact3D: a point of the barrier integral lies on or inside the indenter "
+                             f"(d = {float(g['d'].min()):.6g} <= 0); the barrier is infinite there")
+        return (g, *barrier_jet(g["d"], self.barrier.K, self.barrier.dhat))
 
     def _point_jets(self, X: np.ndarray, position: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``W``, its gradient ``(S, 3)`` and Hessian ``(S, 3, 3)`` in the points' coordinates."""
-        K, dhat = self.barrier.K, self.barrier.dhat
-        if isinstance(self.barrier.indenter, Plate):
-            d = position - X[:, 2]
-            gd = np.zeros_like(X)
-            gd[:, 2] = -1.0
-            Hd = np.zeros((X.shape[0], 3, 3))
-        else:
-            D = X - np.array([0.0, 0.0, position])
-            q = np.sqrt(np.sum(D * D, axis=1))
-            d = q - self.barrier.indenter.radius
-            gd = D / q[:, None]
-            Hd = (np.eye(3)[None] - gd[:, :, None] * gd[:, None, :]) / q[:, None, None]
-        if np.any(d <= 0):
-            raise ValueError("Contact3D: a point of the barrier integral lies on or inside the indenter "
-                             f"(d = {float(d.min()):.6g} <= 0); the barrier is infinite there")
-        W, W1, W2 = barrier_jet(d, K, dhat)
-        return W, W1[:, None] * gd, W2[:, None, None] * gd[:, :, None] * gd[:, None, :] + W1[:, None, None] * Hd
+        g, W, W1, W2 = self._barrier(X, position)
+        gd = g["dX"]
+        return W, W1[:, None] * gd, W2[:, None, None] * gd[:, :, None] * gd[:, None, :] + W1[:, None, None] * g["dXX"]
 
     # ---- energy and derivatives in the view's unknowns ---------------------------------------------------
     def _maps(self, pts: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -178,23 +185,9 @@ class Contact3D:
 
     def _position_jets(self, X: np.ndarray, position: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Per point ``dW/dc``, ``d2W/dc dX`` ``(S, 3)`` and ``d2W/dc2`` (the indenter's position ``c``)."""
-        K, dhat = self.barrier.K, self.barrier.dhat
-        if isinstance(self.barrier.indenter, Plate):
-            d = position - X[:, 2]
-            gd = np.zeros_like(X)
-            gd[:, 2] = -1.0
-            d_c, d_cX, d_cc = np.ones(X.shape[0]), np.zeros_like(X), np.zeros(X.shape[0])
-        else:
-            D = X - np.array([0.0, 0.0, position])
-            q = np.sqrt(np.sum(D * D, axis=1))
-            d = q - self.barrier.indenter.radius
-            gd = D / q[:, None]
-            d_c = -D[:, 2] / q
-            d_cX = D * (D[:, 2] / q ** 3)[:, None]
-            d_cX[:, 2] -= 1.0 / q
-            d_cc = (q * q - D[:, 2] ** 2) / q ** 3
-        _, W1, W2 = barrier_jet(d, K, dhat)
-        return W1 * d_c, (W2 * d_c)[:, None] * gd + W1[:, None] * d_cX, W2 * d_c * d_c + W1 * d_cc
+        g, _, W1, W2 = self._barrier(X, position)
+        d_c = g["dc"]
+        return W1 * d_c, (W2 * d_c)[:, None] * g["dX"] + W1[:, None] * g["dcX"], W2 * d_c * d_c + W1 * g["dcc"]
 
     def position_derivatives(self, c: np.ndarray, position: float) -> tuple[float, np.ndarray, float]:
         """``dE/dc``, ``d2E/dc du`` (in the view's unknowns) and ``d2E/dc2`` at the state ``c`` and the indenter
