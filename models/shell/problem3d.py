@@ -175,9 +175,6 @@ class Shell3D(Problem):
         families = (self._bloch_family(),) if every_mode else ()
         if indenter:  # the parameter is the travel; w stays the pole's deflection
             observables[name], derivatives[name] = self._contact_force, self._dcontact_force
-            observables["w"], derivatives["w"] = self._pole_w, self._dpole_w
-            observables["w_over_L"] = lambda u, p: self._pole_w(u, p) / self.length
-            derivatives["w_over_L"] = lambda u, p: _scaled(self._dpole_w(u, p), 1.0 / self.length)
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          name=f"shell3d_{load}_{control}",
                          parameter_name="w_b" if indenter else (name if control == "force" else "w"),
@@ -333,14 +330,6 @@ class Shell3D(Problem):
         _, mixed, cc = self.contact.position_derivatives(self.full_state(u, p), self.position(p))
         return -(self.Tt @ mixed), cc
 
-    def _pole_w(self, u: np.ndarray, p: float) -> float:
-        return self.z_ref_node - float(self.full_state(u, p)[self.z_dof])
-
-    def _dpole_w(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
-        d = np.zeros(self.view.size)
-        d[self.z_dof] = -1.0
-        return self.Tt @ d, 0.0
-
     def factorize(self, J) -> Factorization:
         """Banded LU (O(N) at a fixed angular resolution)."""
         return BandedLU(J, self.kl, self.ku)
@@ -358,12 +347,12 @@ class Shell3D(Problem):
         return -(self.Tt @ col), float(col[self.z_dof])
 
     def _obs_w(self, u: np.ndarray, p: float) -> float:
-        if self.control == "displacement":
+        if self.control == "displacement" and self.contact is None:
             return float(p)
         return self.z_ref_node - float(self.full_state(u, p)[self.z_dof])
 
     def _dobs_w(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
-        if self.control == "displacement":
+        if self.control == "displacement" and self.contact is None:
             return np.zeros(self.n), 1.0
         d = np.zeros(self.view.size)
         d[self.z_dof] = -1.0
