@@ -295,7 +295,7 @@ def test_ring_line_loads_and_the_volume_control() -> None:
 
 def test_every_mode_watches_the_other_classes_and_locates_the_blocks_bifurcations() -> None:
     """With ``every_mode`` the D_3 trace of the paper's cap counts its stability against every
-    perturbation: the class ``j = 1`` (waves 1, 2, 4, 5, 7) becomes singular where the harmonic blocks
+    perturbation: the class ``j = 1`` (the representation ``E1``: waves 1, 2, 4, 5, 7) becomes singular where the harmonic blocks
     locate their ``n = 1`` and ``n = 2`` bifurcations, and the Morse index counts that class twice."""
     import contin
     from contin_models.shell.problem3d import Shell3D
@@ -310,7 +310,7 @@ def test_every_mode_watches_the_other_classes_and_locates_the_blocks_bifurcation
     b3 = contin.continuation(shell, shell.reference_unknowns(), 0.0, p_max=0.38, ds=0.01, ds_max=0.02,
                              max_steps=200, stability=True)
     assert b3.success
-    j1 = [s for s in b3.special_points if s.kind == "bifurcation" and s.info["key"] == (1, "even") and s.located]
+    j1 = [s for s in b3.special_points if s.kind == "bifurcation" and s.info["key"] == "E1" and s.located]
     assert len(j1) == 2
     assert abs(j1[0].p - blocks[1]) < 1e-9 and abs(j1[1].p - blocks[2]) < 1e-9
     # before the first: stable against everything; after it, the pair of a two-dimensional class
@@ -359,3 +359,25 @@ def test_energy_of_a_smooth_three_wave_field_converges_at_second_order() -> None
         d = np.abs(np.diff(E))
         orders = np.log2(d[:-1] / d[1:])
         assert np.all(orders > 1.95), (wave, orders)
+
+
+@pytest.mark.parametrize("control", ["displacement", "force"])
+def test_both_controls_stability_labels_are_the_traced_models(control: str) -> None:
+    """Shell3D labels every point as the traced model does: ``"force"`` (the loaded node's height free) and
+    ``"displacement"`` (held), the control's own first; on axisymmetric states (K = 0) the counts are the same."""
+    import contin
+    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.structure import ShellOfRevolution
+
+    st = ShellStructure(spherical_cap(1.0, 0.8, 30), 1e6, 0.5, 0.02, boundary="sliding")
+    # steps of about 0.01 R in w either way: the force changes by about 100 D / R over 0.01 R
+    steps = ({"p_max": 0.45, "ds": 0.01, "ds_max": 0.02} if control == "displacement" else
+             {"bounds": {"w": (None, 0.45)}, "ds": 0.5, "ds_max": 2.0, "param_weight": 1e-2})
+    runs = [contin.continuation(P, P.reference_unknowns(), 0.0, max_steps=80, stability=True, n_eigs=0, **steps)
+            for P in (ShellOfRevolution(st, "point", control), Shell3D(st, AngularBasis(3, 0), "point", control))]
+    one, three = runs
+    assert list(three.stability_by) == list(one.stability_by) == [control, {"force": "displacement",
+                                                                              "displacement": "force"}[control]]
+    for label in one.stability_by:
+        assert np.array_equal(three.n_negative_under(label), one.n_negative_under(label))
+    assert max(one.n_negative_under(label).max() for label in one.stability_by) > 0

@@ -964,6 +964,8 @@ def _csv_cell(v: Any) -> str:
         return str(int(v))
     if isinstance(v, (int, np.integer)):
         return str(int(v))
+    if isinstance(v, str):  # a text column (an operator family's key that is not a number)
+        return v
     f = float(v)
     return repr(f) if math.isfinite(f) else ""
 

@@ -1014,7 +1014,8 @@ def branch_columns(branches: Sequence[Branch],
 def _mode_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
     """Per watched operator family (:mod:`contin.watch.modes`): ``n_negative_<name>``, the Morse index of all its
     operators (each counted with its multiplicity); ``critical_<name>``, the smallest key with a negative
-    eigenvalue, or where there is none the key whose eigenvalue nearest zero is smallest; and
+    eigenvalue, or where there is none the key whose eigenvalue nearest zero is smallest (a key that is not a
+    number as its text, a tuple's parts separated by blanks); and
     ``lowest_<name>``, that key's eigenvalue nearest zero (NaN on a branch that did not watch the family)."""
     import numpy as np
 
@@ -1033,7 +1034,7 @@ def _mode_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
             counts = np.asarray(fam["n_negative"], dtype=float).reshape(len(br), len(fam["keys"]))
             lows = np.asarray(fam.get("lowest", np.full(counts.shape, np.nan)), dtype=float).reshape(counts.shape)
             mult = np.asarray(fam.get("multiplicity", [1] * len(fam["keys"])), dtype=float)
-            keys = np.asarray(fam["keys"], dtype=float)
+            keys = _key_column(fam["keys"])
             total.append(counts @ mult)
             unstable = np.argmax(counts > 0, axis=1)  # the first key with a negative eigenvalue
             any_negative = (counts > 0).any(axis=1)
@@ -1043,12 +1044,23 @@ def _mode_columns(branches: Sequence[Branch]) -> dict[str, np.ndarray]:
             rows = np.arange(len(br))
             picked = lows[rows, pick]
             ok = any_negative | np.isfinite(finite[rows, stable_pick])
-            critical.append(np.where(ok, keys[pick], np.nan))
+            critical.append(np.where(ok, keys[pick], np.nan if keys.dtype != object else ""))
             lowest.append(np.where(ok, picked, np.nan))
         out[f"n_negative_{name}"] = np.concatenate(total)
         out[f"critical_{name}"] = np.concatenate(critical)
         out[f"lowest_{name}"] = np.concatenate(lowest)
     return out
+
+
+def _key_column(keys: Sequence[Any]) -> Any:
+    """A family's keys as a column's values: numbers as floats, any other key (a tuple, a name) as its text."""
+    import numpy as np
+
+    try:
+        return np.asarray(keys, dtype=float).reshape(len(keys))
+    except (TypeError, ValueError):
+        # a tuple's parts separated by blanks: the text goes into a CSV cell
+        return np.array([" ".join(map(str, k)) if isinstance(k, (list, tuple)) else str(k) for k in keys], dtype=object)
 
 
 # ---------------------------------------------------------------------------------------------------

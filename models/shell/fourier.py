@@ -53,7 +53,7 @@ import scipy.sparse as sp
 from .density_kernels import kernels as _dgen
 from . import layouts
 
-__all__ = ["AngularBasis", "FourierShell", "FourierReduction", "csr_positions"]
+__all__ = ["AngularBasis", "FourierShell", "FourierReduction", "csr_positions", "representation_name"]
 
 #: The frame component of each unknown component: ``R`` radial, ``T`` circumferential, ``Z`` axial.
 _FRAME = {"R": 0, "T": 1, "Z": 2}
@@ -260,6 +260,21 @@ class FourierReduction:
                                  shape=(m, m))
 
         return restrict
+
+
+def representation_name(n: int, j: int, parity: str) -> str:
+    """The name of the irreducible representation of ``D_n`` of the Bloch class ``(j, parity)``.
+
+    ``A1``: ``j = 0``, even (the ``D_n``-symmetric states themselves: ``R``, ``Z`` cosine and ``T`` sine series of
+    the waves ``0, n, 2n, ...``); ``A2``: ``j = 0``, odd (the same waves, the mirrored parity); ``B1``, ``B2``: ``j = n/2``
+    (``n`` even; the waves ``n/2, 3n/2, ...``), even and odd; ``Ej``: ``0 < j < n/2``, two-dimensional (the waves
+    ``q n +- j``, each with both parities).
+    """
+    if j == 0:
+        return "A1" if parity == "even" else "A2"
+    if 2 * j == n:
+        return "B1" if parity == "even" else "B2"
+    return f"E{j}"
 
 
 class FourierShell:
@@ -798,6 +813,11 @@ class FourierShell:
             else:
                 out.append((j, "even", 2))
         return out
+
+    def representations(self) -> dict[str, tuple[int, str, int]]:
+        """:meth:`bloch_classes` by the names of the representations of ``D_n`` (:func:`representation_name`)."""
+        n = self.basis.n
+        return {representation_name(n, j, parity): (j, parity, copies) for j, parity, copies in self.bloch_classes()}
 
     def morse_index(self, c: np.ndarray, pressure: float = 0.0, remove_rigid: bool = True,
                     control_fixed=()) -> dict[tuple[int, str], int]:

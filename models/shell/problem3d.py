@@ -50,9 +50,13 @@ class Shell3D(Problem):
     length : float, optional
         Length that normalises ``w`` and ``F`` (``w_over_L``, ``F_norm = F L / (2 pi D)``); default the
         meridian's ``length_scale`` (or ``R``).
+    p_c : float, optional
+        Under pressure, the pressure the observable ``p_over_p_c`` is measured in (e.g. the classical
+        buckling pressure).
     every_mode : bool
         Watch the stability against every perturbation, not only those of the basis's class: the Bloch
-        blocks of the other irreducible representations of ``D_n`` as an operator family (``"bloch"``);
+        blocks of the other irreducible representations of ``D_n`` as an operator family (``"representation"``,
+        keyed ``A2``, ``B1``, ``E1``, ...);
         with ``stability`` the engine counts them and locates the bifurcations that break the symmetry.
     forces : sequence of (node, theta, (Fx, Fy, Fz))
         With ``load="forces"``: dead forces (Cartesian, per unit parameter ``P``) on the material point of
@@ -67,9 +71,15 @@ class Shell3D(Problem):
 
     Notes
     -----
+    Stability labels, as the traced model's: under a point or ring force ``"force"`` (the loaded node's
+    height free) and ``"displacement"`` (held), the control's own first; under an indenter
+    ``"displacement"`` (the travel held) and ``"force"`` (a dead load on the indenter); one label otherwise.
+    With ``every_mode`` each label counts the other classes' negative eigenvalues too.
+
     Observables: the load (``F``, ``p`` or ``P``), ``w`` (the loaded node's deflection: the ring's under a
     ring force, else the pole's where there is one),
-    ``w_over_L``, under a point or ring force ``F_norm``, and per force ``u0``, ``u1``, ... (the displacement of its
+    ``w_over_L`` and ``w_over_h`` (over the loaded node's thickness), under a point or ring force ``F_norm``,
+    under pressure with ``p_c`` given ``p_over_p_c``, and per force ``u0``, ``u1``, ... (the displacement of its
     point along it); all with exact derivatives.  :meth:`full_state` gives the Fourier
     coefficients of every ring, :attr:`view` the energy.
     """
@@ -79,7 +89,7 @@ class Shell3D(Problem):
                  control: Literal["force", "displacement"] = "force", length: float | None = None,
                  forces: Sequence[tuple[int, float, Sequence[float]]] = (), node: int | None = None,
                  line_loads: Sequence[tuple[int, int, Sequence[float]]] = (), every_mode: bool = False,
-                 barrier: Any = None) -> None:
+                 barrier: Any = None, p_c: float | None = None) -> None:
         if load not in LOADS:
             raise ValueError(f"Shell3D: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
@@ -162,8 +172,17 @@ class Shell3D(Problem):
         observables: dict[str, Any] = {name: self._obs_load}
         derivatives: dict[str, Any] = {name: self._dobs_load}
         if self.node is not None:
-            observables.update(w=self._obs_w, w_over_L=lambda u, p: self._obs_w(u, p) / self.length)
-            derivatives.update(w=self._dobs_w, w_over_L=lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.length))
+            h_node = float(st.h_nodes[self.node])
+            observables.update(w=self._obs_w, w_over_L=lambda u, p: self._obs_w(u, p) / self.length,
+                               w_over_h=lambda u, p: self._obs_w(u, p) / h_node)
+            derivatives.update(w=self._dobs_w, w_over_L=lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / self.length),
+                               w_over_h=lambda u, p: _scaled(self._dobs_w(u, p), 1.0 / h_node))
+        if load == "pressure" and p_c is not None:
+            if not (math.isfinite(p_c) and p_c > 0.0):
+                raise ValueError(f"Shell3D: p_c must be a finite pressure > 0, got {p_c!r}")
+            observables["p_over_p_c"] = lambda u, p: float(p) / p_c
+            derivatives["p_over_p_c"] = lambda u, p: (np.zeros(self.n), 1.0 / p_c)
+        self.p_c = p_c
         for k, (_, _, _, along) in enumerate(self.forces):
             observables[f"u{k}"] = lambda u, p, a=along: float(a @ (self.full_state(u, p) - self.c_ref))
             derivatives[f"u{k}"] = lambda u, p, a=along: (self.Tt @ a, 0.0)
@@ -176,28 +195,54 @@ class Shell3D(Problem):
         if indenter:  # the parameter is the travel; w stays the pole's deflection
             observables[name], derivatives[name] = self._contact_force, self._dcontact_force
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
+                         stability_operators=self._stability_operators(2 * self.node + 1 if pole or load == "ring"
+                                                                       else None),
                          name=f"shell3d_{load}_{control}",
                          parameter_name="w_b" if indenter else (name if control == "force" else "w"),
                          residual_scale=scale, operator_families=families)
 
+    def _stability_operators(self, height: int | None) -> dict[str, Any] | None:
+        """The stability labels of the traced model: ``"force"`` (the Hessian with the loaded node's height
+        free) and ``"displacement"`` (with it held), the control's own first; an indenter's ``"displacement"``
+        (its travel held) and ``"force"`` (a dead load on it: the Hessian bordered by the travel).  ``height``:
+        the traced-model dof of the loaded node's height (``2 i + 1``).  None (one label) under other loads."""
+        from contin.analyses.deadload import bordered_matrix
+
+        view = self.view
+        if self.contact is not None:
+            def dead_load(u: np.ndarray, p: float) -> sp.csr_matrix:
+                _, mixed, cc = self.contact.position_derivatives(self.full_state(u, p), self.position(p))
+                return bordered_matrix(self.jacobian(u, p), self.Tt @ mixed, cc)
+
+            return {"displacement": self.jacobian, "force": dead_load}
+        if self.load not in ("point", "ring") or height is None:
+            return None
+        other = view.reduction(control_fixed=[height] if self.control == "force" else [])
+        restrict = other.restriction(view.pattern(False))
+
+        def other_control(u: np.ndarray, p: float) -> sp.csr_matrix:
+            return restrict(view.hessian(self.full_state(u, p)).data)
+
+        return {self.control: self.jacobian, ("displacement" if self.control == "force" else "force"): other_control}
+
     def _bloch_family(self) -> Any:
         """The Bloch blocks of every class but the traced one as a :class:`contin.OperatorFamily` named
-        ``"bloch"`` (keys ``(j, parity)``, the two-dimensional classes with multiplicity 2): with
-        ``stability`` the engine counts the Morse index against every perturbation and locates where a
+        ``"representation"`` (keys the names of the representations of ``D_n``, ``A2``, ``B1``, ``E1``, ...,
+        :func:`contin_models.shell.fourier.representation_name`; the two-dimensional ones with multiplicity 2):
+        with ``stability`` the engine counts the Morse index against every perturbation and locates where a
         class's block becomes singular, a bifurcation that breaks the traced symmetry."""
         from contin.watch.modes import OperatorFamily
 
         if not (self.basis.mirror and self.basis.j == 0):
             raise ValueError("Shell3D: every_mode needs a D_n basis (mirror=True)")
         view = self.view
-        classes = [(j, parity, copies) for j, parity, copies in view.bloch_classes() if (j, parity) != (0, "even")]
-        keys = tuple((j, parity) for j, parity, _ in classes)
-        copies = {(j, parity): c for j, parity, c in classes}
+        classes = {name: cls for name, cls in view.representations().items() if name != "A1"}
 
-        def block(key: tuple[int, str], u: np.ndarray, p: float) -> sp.csr_matrix:
-            return view.bloch_block(self.full_state(u, p), key[0], key[1], pressure=self._pressure(p))
+        def block(key: str, u: np.ndarray, p: float) -> sp.csr_matrix:
+            j, parity, _ = classes[key]
+            return view.bloch_block(self.full_state(u, p), j, parity, pressure=self._pressure(p))
 
-        return OperatorFamily("bloch", keys, block, multiplicity=lambda key: copies[key])
+        return OperatorFamily("representation", tuple(classes), block, multiplicity=lambda key: classes[key][2])
 
     def _line_load(self, k: int, node: int, wave: int, q: Sequence[float]) -> np.ndarray:
         """The unknowns' load vector of a line load on ring ``node``: ``int q(theta) . X(theta) dtheta``."""

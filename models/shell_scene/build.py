@@ -41,7 +41,7 @@ __all__ = ["Build", "build", "contact_problem", "contact_settings", "end_of_path
            "FORCE_JUMP_ATTEMPTS", "is_papers_cap", "length_unit", "travel", "scene_meridian", "scene_structure",
            "revolution_problem", "revolution_settings", "rest_stiffness", "buckling_mode", "FLAT_TRAVEL_OVER_H", "harmonics_of",
            "loaded_travel", "loaded_end", "LOWEST_W", "RING_EVERSION_FRACTION",
-           "watch_harmonics", "step_limits"]
+           "watch_harmonics", "step_limits", "traced_structure"]
 
 #: Minimum number of steps over the eversion depth: ``ds`` and ``ds_max`` are capped at this
 #: fraction of ``2 R (1 - sin phi_hat)``, so shallow caps (short paths) are still resolved.
@@ -253,11 +253,7 @@ def watch_harmonics(scene: Scene, problem: Problem) -> Problem:
     """
     from contin_models.shell.harmonic import harmonic_family
 
-    indenter = isinstance(problem, (ShellIndentation, ShellIndentationForce))
-    shell = problem.elastic if indenter else problem
-    s = scene["shell"]
-    structure = ShellStructure(shell.cap, s["E"], s["nu"], s["h"], "sliding", shell.shell.kappa11_length,
-                               edge_bending="none")
+    structure = traced_structure(scene, problem)
     n_max = harmonics_of(scene, structure)
     if n_max:
         contact = None
@@ -269,6 +265,21 @@ def watch_harmonics(scene: Scene, problem: Problem) -> Problem:
         problem.operator_families = (harmonic_family(structure, problem.full_state, n_max, contact=contact,
                                                      pole_held=held),)
     return problem
+
+
+def traced_structure(scene: Scene, problem: Problem) -> ShellStructure:
+    """The :class:`ShellStructure` whose energy is the elastic energy of a problem :func:`build` made of ``scene``.
+
+    A shell of revolution's own structure; for the paper's cap (the point load, the indenters) the sliding cap
+    without an edge element (``edge_bending="none"``), whose energy is :class:`ShellPointLoad`'s: what the
+    harmonic blocks and the 3-D view of such a scene are built on.
+    """
+    if isinstance(problem, ShellOfRevolution):
+        return problem.structure
+    shell = problem.elastic if isinstance(problem, (ShellIndentation, ShellIndentationForce)) else problem
+    s = scene["shell"]
+    return ShellStructure(shell.cap, s["E"], s["nu"], s["h"], "sliding", shell.shell.kappa11_length,
+                          edge_bending="none")
 
 
 def revolution_problem(scene: Scene, control: str | None = None, perfect: bool = False) -> ShellOfRevolution:

@@ -27,7 +27,11 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
     from .point import run_point, run_point_force
 
     kind, control = scene["load"]["kind"], scene["load"]["control"]
-    if kind in ("sphere", "plate"):
+    if scene.get("view", {}).get("kind") == "3d":
+        from .view3d import run_view3d
+
+        result = run_view3d(scene, progress)
+    elif kind in ("sphere", "plate"):
         # imported here: a point-load trace never loads the contact runner (nor scipy.optimize)
         from .contact import run_contact, run_contact_force
 
@@ -62,6 +66,9 @@ def resume_scene(scene: Scene, start: Any, progress: bool = False) -> TraceResul
     from .build import is_papers_cap
     from .point import resume_point
 
+    if scene.get("view", {}).get("kind") == "3d":
+        raise SceneError("a restart from a saved point is supported in the axisymmetric view (view.kind = "
+                         "\"axisymmetric\"); this scene has view.kind = \"3d\": trace it anew", "constraint")
     if scene["load"]["kind"] != "point" or not is_papers_cap(scene):
         raise SceneError(f"a restart from a saved point is supported for the point load on the paper's cap "
                          f"(load.kind = \"point\", shell.geometry = \"sphere\", shell.boundary = \"sliding\", no "
@@ -73,7 +80,8 @@ def resume_scene(scene: Scene, start: Any, progress: bool = False) -> TraceResul
 
 #: Scene keys a restart keeps: they fix the mesh, the support or the load, i.e. the unknowns of the saved state.
 RESTART_FIXED = ("shell.N", "shell.pole_ratio", "shell.geometry", "shell.boundary", "shell.table", "load.kind",
-                 "imperfection.kind", "imperfection.delta_over_h", "imperfection.lambda_I")
+                 "imperfection.kind", "imperfection.delta_over_h", "imperfection.lambda_I", "view.kind", "view.symmetry",
+                 "view.harmonics", "view.angles")
 
 
 #: What a force-controlled indentation that stops on the contact ring's steps should try.
@@ -209,6 +217,10 @@ _CLASSIFY_REQUIRES = (
                "load at the pole, docs/model.md#classes; an indenter can only push, so its path has no F < 0 to "
                "classify. The class of this cap: the same command with --set load.kind=point. The indenter's own "
                "snap (w_b_c, F at the snaps): 'contin trace' with this scene, in summary.json"),
+    Constraint(("view.kind",), lambda s: s["view"]["kind"] == "axisymmetric", 'view.kind = "axisymmetric"',
+               "the classes are defined on the axisymmetric path of the point load (docs/model.md#classes); "
+               "'contin trace' with view.kind = \"3d\" traces the path in the 3-D view and locates where it breaks "
+               "its symmetry"),
     Constraint(("shell.geometry", "shell.boundary", "imperfection.kind"),
                lambda s: s["shell"]["geometry"] == "sphere" and s["shell"]["boundary"] == "sliding"
                and s["imperfection"]["kind"] == "none",

@@ -8,6 +8,7 @@ Scene keys (public contract, ``--set section.key=value``)::
                     table (CSV profile), E, nu, h, N, pole_ratio (node spacing at the pole / elsewhere),
                     boundary = "sliding" | "pinned" | "clamped" | "free" (the indenters: sliding only)
     [imperfection]  kind = "none" | "dimple" | "mode", delta_over_h, lambda_I (dimple width)
+    [view]          kind = "axisymmetric" | "3d", symmetry = "Dn" | "none", harmonics (K), angles (M, 0: the rule)
     [stability]     harmonics (watch non-axisymmetric modes n = 1 .. n_max), n_max (0: the default rule)
     [load]          kind = "point" | "ring" | "sphere" | "plate" | "pressure", radius (sphere),
                     ring_radius (ring), pole_held (point, with harmonics), control = "displacement" | "force" (pressure: the volume change
@@ -30,7 +31,7 @@ from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
 __all__ = ["SHELL_SCHEMA", "shell_first_instability", "instability_text", "harmonic_summary", "record_fields",
            "record_instability", "MAX_NODES", "LARGE_MESH", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene",
-           "eversion_displacement", "minimum_nodes", "nodes_per_bending_length", "run_time_forecast", "STALL_STEPS",
+           "eversion_displacement", "minimum_nodes", "symmetry_order", "nodes_per_bending_length", "run_time_forecast", "STALL_STEPS",
            "AUTO_MAX_STEPS"]
 
 Scene = dict[str, dict[str, Any]]
@@ -111,6 +112,56 @@ def _thin(scene: dict[str, dict[str, Any]]) -> bool:
     if shell.get("geometry", "sphere") == "sphere":
         return shell["h"] < shell["R"]
     return not _geometry_ok(scene) or shell["h"] < bending_radius(shell)
+
+
+def symmetry_order(symmetry: str) -> tuple[int, bool]:
+    """``(n, mirror)`` of ``view.symmetry``: ``"Dn"`` is ``(n, True)``, ``"none"`` ``(1, False)``.
+
+    Raises
+    ------
+    ValueError
+        For any other text, and for ``"Dn"`` with ``n < 2``.
+    """
+    text = str(symmetry).strip()
+    if text == "none":
+        return 1, False
+    if len(text) > 1 and text[0] in "dD" and text[1:].isdigit() and int(text[1:]) >= 2:
+        return int(text[1:]), True
+    raise ValueError(f'view.symmetry must be "Dn" with an integer n >= 2 (e.g. "D3") or "none", got {symmetry!r}')
+
+
+def _symmetry_ok(symmetry: str) -> bool:
+    try:
+        symmetry_order(symmetry)
+    except ValueError:
+        return False
+    return True
+
+
+def _angles_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    view = scene["view"]
+    if view["kind"] != "3d" or view["angles"] == 0 or not _symmetry_ok(view["symmetry"]):
+        return True
+    n, mirror = symmetry_order(view["symmetry"])
+    M = view["angles"]
+    return M > 2 * view["harmonics"] * n and (M % (2 * n) == 0 if mirror else True)
+
+
+def _angles_need(scene: dict[str, dict[str, Any]]) -> str:
+    view = scene["view"]
+    n, mirror = symmetry_order(view["symmetry"])
+    step = 2 * n if mirror else 1
+    least = (2 * view["harmonics"] * n // step + 1) * step
+    return (f"view.symmetry = {view['symmetry']!r} and view.harmonics = {view['harmonics']} need view.angles >= {least}"
+            + (f" and a multiple of {step}" if mirror else "") + f" (view.angles = {view['angles']})")
+
+
+def _view_load_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    if scene["view"]["kind"] != "3d":
+        return True
+    kind, control = scene["load"]["kind"], scene["load"]["control"]
+    return (kind in ("point", "ring") or (kind == "pressure" and control == "force")
+            or (kind in ("sphere", "plate") and control == "displacement"))
 
 
 SHELL_SCHEMA = Schema(
@@ -206,6 +257,22 @@ SHELL_SCHEMA = Schema(
                                              "beta_0 its angular width (R: the geometry's length scale)"),
         },
 
+        "view": {
+            "kind": choice("axisymmetric", ("axisymmetric", "3d"),
+                           help="axisymmetric: the meridian's states (r, z per node), the traced model; 3d: states "
+                                "that need not be axisymmetric, each node a ring of material points moving in three "
+                                "directions as Fourier series in the angle, in the symmetry class view.symmetry "
+                                "(docs/model.md, the 3-D view)"),
+            "symmetry": Field(str, "D3", _symmetry_ok, 'a dihedral class "D2", "D3", ... ("Dn", n >= 2) or "none"',
+                              "symmetry of the traced states in the 3-D view: Dn, n-fold rotation about the axis and "
+                              "the mirror in a meridional plane (waves 0, n, 2n, ...; the other classes of Dn are "
+                              "watched by their Bloch blocks), or none (every wave 0 .. view.harmonics)"),
+            "harmonics": integer(3, low=1, high=64, help="harmonics K of the 3-D view: the waves 0, n, ..., K n (Dn) "
+                                                        "or 0 .. K (none)"),
+            "angles": integer(0, low=0, high=100_000,
+                              help="angles M of the 3-D view's trapezoidal rule on the whole circle, a multiple of 2n "
+                                   "(Dn) above 2 K n; 0: the smallest multiple of 2 n above 3 K n"),
+        },
         "stability": {
             "harmonics": boolean(False, help="also judge stability against non-axisymmetric modes: the Hessian blocks of "
                                              "wave numbers n = 1 .. n_max at every point, a bifurcation into mode n "
@@ -215,6 +282,30 @@ SHELL_SCHEMA = Schema(
                                                        "number plus 2 (contin_models.shell.structure.default_harmonics)"),
         },    },
     constraints=[
+        Constraint(("view.kind", "view.symmetry", "view.harmonics", "view.angles"), _angles_ok,
+                   "view.angles = 0 or a multiple of 2 n above 2 K n (view.symmetry = \"Dn\"; above 2 K for "
+                   "\"none\"), K = view.harmonics",
+                   "the trapezoidal rule in the angle integrates the second variation about an axisymmetric state "
+                   "exactly only with more than 2 K n angles, and a Dn-symmetric state is evaluated on one half "
+                   "period, which needs a multiple of 2 n", detail=_angles_need),
+        Constraint(("view.kind", "load.kind", "load.control"), _view_load_ok,
+                   'with view.kind = "3d": load.kind = "point" or "ring" (either control), "pressure" under '
+                   'load.control = "force", or "sphere" or "plate" under load.control = "displacement"',
+                   "the 3-D view traces the equilibrium path through its folds under the parameter of the scene's "
+                   "control; a prescribed volume and a dead load on an indenter are traced in the axisymmetric view "
+                   "(view.kind = \"axisymmetric\")"),
+        Constraint(("view.kind", "stability.harmonics"),
+                   lambda s: s["view"]["kind"] != "3d" or not s["stability"]["harmonics"],
+                   'stability.harmonics = false with view.kind = "3d"',
+                   "stability.harmonics watches the axisymmetric view's harmonic blocks; the 3-D view judges "
+                   "stability against every class of perturbation of its symmetry itself (the Bloch blocks of Dn, or "
+                   "every wave of view.harmonics without symmetry)"),
+        Constraint(("view.kind", "view.symmetry", "load.pole_held"),
+                   lambda s: not (s["view"]["kind"] == "3d" and s["view"]["symmetry"] == "none"
+                                  and s["load"]["kind"] == "point" and s["load"]["pole_held"]),
+                   'load.pole_held = false with view.kind = "3d" and view.symmetry = "none"',
+                   "in the 3-D view the point force at the pole is frictionless: without symmetry the pole may move "
+                   "sideways (in a Dn class with n >= 2 it stays on the axis by symmetry)"),
         Constraint(("continuation.ds", "continuation.ds_max"),
                    lambda s: s["continuation"]["ds"] <= s["continuation"]["ds_max"],
                    "continuation.ds <= continuation.ds_max"),
