@@ -127,3 +127,113 @@ def test_bad_reference_is_refused() -> None:
     off[(st.N - 1) * basis.m + basis.index("Z", "cos", 3)] = 1e-3  # the pole's height varies with the angle
     with pytest.raises(ValueError, match="reference must keep every pole"):
         FourierShell(st, basis, reference=off)
+
+
+# ---- the imperfections users ask for ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("boundary", ["sliding", "clamped"])
+def test_axisymmetric_dimple_is_the_imperfect_1d_model(boundary: str) -> None:
+    """The 1-D model's own imperfection (a pole dimple, :func:`with_dimple`) given to the perfect structure's
+    3-D view as ``c_bar`` is the imperfect 1-D model on axisymmetric states.  Sliding: to roundoff.  Clamped:
+    the view keeps the perfect structure's ghost ring, the imperfect meridian's tangent at the edge turns by
+    the dimple's tail there (``delta exp(-(alpha / beta0)^2)``, 1e-13 here), so the clamp's element differs
+    by that much."""
+    from contin_models.shell.meridian import spherical_cap_meridian, with_dimple
+
+    m = spherical_cap_meridian(1.0, 0.8, 30)
+    kw = dict(boundary=boundary, kappa11_length="reference" if boundary == "clamped" else "current")
+    perfect = ShellStructure(m, 1e6, 0.5, 0.02, **kw)
+    imperfect = ShellStructure(with_dimple(m, 0.01, 0.15), 1e6, 0.5, 0.02, **kw)
+    basis = AngularBasis(3, 2)
+    view = FourierShell(perfect, basis)
+    view = FourierShell(perfect, basis, reference=view.axisymmetric_state(imperfect.reference_state()))
+    rng = np.random.default_rng(1)
+    x = imperfect.reference_state() * (1.0 + 0.02 * rng.standard_normal(2 * perfect.N))
+    c, ax = view.axisymmetric_state(x), view.axisymmetric_dofs()
+    E1, g1, H1 = imperfect.energy(x), imperfect.gradient(x), imperfect.hessian(x).toarray()
+    tol = 1e-14 if boundary == "sliding" else 1e-11
+    assert abs(view.energy(c) - E1) <= tol * abs(E1)
+    assert np.max(np.abs(view.gradient(c)[ax] - g1)) <= tol * np.max(np.abs(g1))
+    keep = np.array([d for d in range(2 * perfect.N) if not (d % 2 == 0 and d // 2 in perfect.poles)])
+    H = view.hessian(c).toarray()[np.ix_(ax, ax)]
+    assert np.max(np.abs(H - H1)[np.ix_(keep, keep)]) <= 10 * tol * np.max(np.abs(H1))
+    # the perfect view sees the dimple strained: the comparison can fail
+    assert abs(FourierShell(perfect, basis).energy(c) - E1) > 1e-4 * abs(E1)
+
+
+def cap() -> ShellStructure:
+    return ShellStructure(spherical_cap(1.0, 0.8, 30), 1e6, 0.5, 0.02, boundary="sliding")
+
+
+def normal_displacement(st: ShellStructure, basis: AngularBasis, c: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """``(N, len(theta))``: each material point's displacement from the perfect reference along the meridian's
+    outward normal (Cartesian points projected on the normal turned to the point's angle)."""
+    from contin_models.shell.imperfection3d import meridian_normals
+
+    view = FourierShell(st, basis)
+    d = view.points(c, theta) - view.points(view.reference_state(), theta)
+    nr, nz = meridian_normals(st)
+    return (d[..., 0] * np.cos(theta) + d[..., 1] * np.sin(theta)) * nr[:, None] + d[..., 2] * nz[:, None]
+
+
+def test_dimple_away_from_the_pole() -> None:
+    from contin_models.shell.imperfection3d import dimple_imperfection
+
+    st = cap()
+    theta = np.linspace(0.0, 2.0 * math.pi, 73)
+    node, delta, width = 12, 2e-3, 0.2
+    for basis, theta0 in ((AngularBasis(1, 12), 0.0), (AngularBasis(1, 12, mirror=False), 1.0)):
+        c = dimple_imperfection(st, basis, delta, width, node=node, theta0=theta0)
+        view = FourierShell(st, basis, reference=c)   # the poles stayed points
+        w = normal_displacement(st, basis, c, theta)
+        k = int(np.argmin(np.abs(theta - theta0)))
+        # inward by delta at the centre (to the truncation), the Gaussian elsewhere
+        assert abs(w[node, k] + delta) <= 1e-2 * delta
+        s = np.concatenate([[0.0], np.cumsum(st.reference.meridian.edge_length)])
+        r = st.reference.meridian.x[0::2]
+        d2 = (s - s[node])[:, None] ** 2 + (2.0 * r[:, None] * np.sin(0.5 * (theta - theta0))) ** 2
+        assert np.max(np.abs(w + delta * np.exp(-d2 / width ** 2))) <= 1e-2 * delta
+        assert abs(view.energy(c)) <= 1e-20
+
+
+def test_dimple_inputs_are_refused_with_the_field_named() -> None:
+    from contin_models.shell.imperfection3d import dimple_imperfection
+
+    st = cap()
+    basis = AngularBasis(1, 12)
+    cases = [(dict(delta=math.nan, width=0.2, node=12), "delta must be a finite number"),
+             (dict(delta=1e-3, width=0.0, node=12), "width must be a positive length"),
+             (dict(delta=1e-3, width=0.2), "give exactly one of node"),
+             (dict(delta=1e-3, width=0.2, node=30), r"node must be an integer in \[0, 29\]"),
+             (dict(delta=1e-3, width=0.2, s0=5.0), r"s0 \(arc length from node 0\) must be in \[0, "),
+             (dict(delta=1e-3, width=0.2, node=12, theta0=0.5), "theta0 must be 0 or pi"),
+             (dict(delta=1e-3, width=0.02, node=12), r"the basis \(K = 12 harmonics\) carries the dimple")]
+    for kwargs, message in cases:
+        with pytest.raises(ValueError, match=message):
+            dimple_imperfection(st, basis, **kwargs)
+    with pytest.raises(ValueError, match="a single dimple needs a basis with n = 1"):
+        dimple_imperfection(st, AngularBasis(3, 2), 1e-3, 0.2, node=12)
+
+
+def test_mode_imperfection_has_its_largest_normal_displacement_delta() -> None:
+    from contin_models.shell.imperfection3d import branch_mode, mode_imperfection
+
+    st = cap()
+    basis = AngularBasis(3, 2)
+    mode = branch_mode(st, st.reference_state(), 3)
+    delta = 1e-4
+    c = mode_imperfection(st, basis, 3, mode, delta)
+    FourierShell(st, basis, reference=c)  # the poles stayed points
+    theta = np.linspace(0.0, 2.0 * math.pi / 3.0, 41)
+    w = normal_displacement(st, basis, c, theta)
+    # inward by delta at theta = 0 where the mode's normal amplitude is largest, nowhere more than delta
+    k = int(np.argmax(np.abs(w[:, 0])))
+    assert abs(w[k, 0] + delta) <= 1e-12 * delta
+    assert np.max(np.abs(w)) <= delta * (1.0 + 1e-12)
+    assert np.max(np.abs(w - w[:, :1] * np.cos(3 * theta)[None, :])) <= 1e-10 * delta  # the points subtracted
+    with pytest.raises(ValueError, match="the basis does not carry the wave n = 4"):
+        mode_imperfection(st, basis, 4, mode, delta)
+    with pytest.raises(ValueError, match=r"mode must be finite amplitudes of shape \(N, 3\) = \(30, 3\)"):
+        mode_imperfection(st, basis, 3, mode[:-1], delta)
+    with pytest.raises(ValueError, match="delta must be a finite number"):
+        mode_imperfection(st, basis, 3, mode, math.inf)
