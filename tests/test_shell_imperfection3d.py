@@ -75,6 +75,9 @@ def test_axisymmetric_reference_given_is_the_default_path(name: str) -> None:
     assert np.max(np.abs(g1 - g0)) <= 1e-12 * np.max(np.abs(g0))
     H0, H1 = default.hessian(c).toarray(), general.hessian(c).toarray()
     assert np.max(np.abs(H1 - H0)) <= 1e-12 * np.max(np.abs(H0))
+    # the Bloch blocks integrate over the whole circle: the reference's numbers at those angles too
+    B0, B1 = default.bloch_block(c, 1).toarray(), general.bloch_block(c, 1).toarray()
+    assert np.max(np.abs(B1 - B0)) <= 1e-12 * np.max(np.abs(B0))
 
 
 @pytest.mark.parametrize("name", ["paper cap", "clamped cap"])
@@ -93,6 +96,14 @@ def test_imperfect_reference_is_stress_free(name: str, symmetry: str) -> None:
     # and the Hessian there is a stiffness: no negative direction on the admissible unknowns
     T = view.reduction().T
     assert np.linalg.eigvalsh((T.T @ view.hessian(c_bar) @ T).toarray())[0] > 0
+    if symmetry == "D3":  # stable against every perturbation, the classes that break D_3 too
+        assert set(view.morse_index(c_bar).values()) == {0}
+    # the problem's unloaded equilibrium: the supports hold their rings where c_bar has them
+    from contin_models.shell.problem3d import Shell3D
+
+    prob = Shell3D(st, basis, "point", "force", reference=c_bar)
+    assert np.max(np.abs(prob.full_state(prob.reference_unknowns(), 0.0) - c_bar)) == 0.0
+    assert np.max(np.abs(prob.residual(prob.reference_unknowns(), 0.0))) <= 1e-10 * g_scale
 
 
 def test_imperfect_derivatives_are_the_energy_s() -> None:
