@@ -54,6 +54,7 @@ def bump(view: FourierShell, delta: float, wave: int) -> np.ndarray:
     nr, nz = t[1] / length, -t[0] / length
     s = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(r), np.diff(z)))])
     a = delta * np.sin(math.pi * s / s[-1])
+    a[[0, -1]] = 0.0
     c = view.reference_state()
     terms = [("cos", wave)] if wave else [("cos", 1), ("sin", 2)]
     for trig, k in terms:
@@ -102,7 +103,7 @@ def test_imperfect_reference_is_stress_free(name: str, symmetry: str) -> None:
     from contin_models.shell.problem3d import Shell3D
 
     prob = Shell3D(st, basis, "point", "force", reference=c_bar)
-    assert np.max(np.abs(prob.full_state(prob.reference_unknowns(), 0.0) - c_bar)) == 0.0
+    assert np.max(np.abs(prob.full_state(prob.reference_unknowns(), 0.0) - c_bar)) <= 1e-15
     assert np.max(np.abs(prob.residual(prob.reference_unknowns(), 0.0))) <= 1e-10 * g_scale
 
 
