@@ -99,7 +99,8 @@ def _density_inputs(name: str, stations: tuple[int, ...], rng: np.random.Generat
     """A general state's local variables ``(k, *stations)`` (every entry nonzero, of either sign, no symmetry)
     and the kernel's parameters as arrays of the station shape, nu a number as the shell passes it."""
     kernel = getattr(_density_generated, name)
-    k = {"stretch_jet": 6, "skirt_jet": 6, "free_edge_jet": 12, "volume_jet": 12}.get(name, 15)
+    k = {"stretch": 6, "skirt": 6, "free_edge": 12, "volume": 12}.get(name.removesuffix("_jet").removesuffix("_general"),
+                                                                      15)
     y = rng.uniform(0.1, 1.0, (k, *stations)) * rng.choice([-1.0, 1.0], (k, *stations))
     names = kernel.__code__.co_varnames[1:kernel.__code__.co_argcount]
     params = [0.3 if p == "nu" else rng.uniform(0.3, 1.5, stations) for p in names]

@@ -47,7 +47,8 @@ def test_translation_in_vectors() -> None:
 def test_a_station_in_a_quad_or_a_pair_has_the_bits_it_has_alone(name: str) -> None:
     kernel = getattr(density_kernels.kernels, name)
     numpy_kernel = getattr(_density_generated, name)
-    k = {"stretch_jet": 6, "skirt_jet": 6, "free_edge_jet": 12, "volume_jet": 12}.get(name, 15)
+    k = {"stretch": 6, "skirt": 6, "free_edge": 12, "volume": 12}.get(name.removesuffix("_jet").removesuffix("_general"),
+                                                                      15)
     rng = np.random.default_rng(11)
     m = 7  # a quad (with AVX2), a pair and one station alone
     y = rng.uniform(0.1, 1.0, (k, m)) * rng.choice([-1.0, 1.0], (k, m))

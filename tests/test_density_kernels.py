@@ -22,6 +22,7 @@ import pytest
 
 from contin_models.shell import _density_generated as G
 from contin_models.shell import _harmonic_generated as HG
+from contin_models.shell import density as D
 from contin_models.shell import harmonic as H
 
 M = 6  # stations per check
@@ -49,11 +50,11 @@ def _rings(rng: np.random.Generator, m: int) -> dict[str, np.ndarray]:
 def _local(name: str, x: dict[str, np.ndarray]) -> np.ndarray:
     """A kernel's local variables ``(k, m)`` at the axisymmetric state ``x`` (the densities' argument order)."""
     P0, P1, P2, Q0, Q1, Q2, S0, S1 = (x[k] for k in ("P0", "P1", "P2", "Q0", "Q1", "Q2", "S0", "S1"))
-    if name == "stretch":
+    if name.startswith("stretch"):
         parts = [P1 - P0, (Q0 + Q1) / 2]
     elif name.startswith("bend"):
         parts = [P1 - P0, P2 - P1, Q2 - Q0, Q1, S1]
-    elif name == "free_edge":
+    elif name.startswith("free_edge"):
         parts = [P1 - P0, Q1 - Q0, Q0, S0]
     elif name == "volume":
         parts = [P0, P1, Q0, Q1]
@@ -67,6 +68,7 @@ def _local(name: str, x: dict[str, np.ndarray]) -> np.ndarray:
 
 
 LBAR, RBAR, K11BAR, K22BAR, KB, KS, NU = 0.11, 0.65, 1.1, 1.2, 2.0, 3.0, 0.3
+E12BAR, K12BAR = 0.04, -0.7  # a reference's shear and twist (the general kernels)
 #: kernel -> (the density as a function of the local variables, the kernel's parameters)
 DENSITIES: dict[str, tuple[Callable[[Any], Any], tuple]] = {
     "stretch": (lambda y: H.stretch_density(*_vectors(y), LBAR, RBAR, KS, NU), (LBAR, RBAR, KS, NU)),
@@ -80,6 +82,14 @@ DENSITIES: dict[str, tuple[Callable[[Any], Any], tuple]] = {
     **{f"pole_{side}_{length}": ((lambda y, north=side == "north", L=None if length == "cur" else LBAR:
                                   H.pole_curvature(*_vectors(y), north, L)), (LBAR,))
        for side in ("north", "south") for length in ("cur", "ref")},
+    "stretch_general": (lambda y: D.general_stretch_density(*_vectors(y), LBAR, RBAR, E12BAR, KS, NU),
+                        (LBAR, RBAR, E12BAR, KS, NU)),
+    "bend_cur_general": (lambda y: D.general_bend_density(*_vectors(y), LBAR, RBAR, K11BAR, K22BAR, K12BAR, KB, NU),
+                         (LBAR, RBAR, K11BAR, K22BAR, K12BAR, KB, NU)),
+    "bend_ref_general": (lambda y: D.general_bend_density(*_vectors(y), LBAR, RBAR, K11BAR, K22BAR, K12BAR, KB, NU,
+                                                          LBAR), (LBAR, RBAR, K11BAR, K22BAR, K12BAR, KB, NU)),
+    "free_edge_general": (lambda y: D.general_free_edge_density(*_vectors(y), 0.7, 1.3, K12BAR, NU),
+                          (0.7, 1.3, K12BAR, NU)),
 }
 
 

@@ -18,7 +18,8 @@ Reading order:
    :mod:`~contin_models.shell.jets` (forward second derivatives), :mod:`~contin_models.shell.energy`
    (the traced axisymmetric energy, :class:`ShellEnergy`), :mod:`~contin_models.shell.harmonic` (the blocks per
    wave number), :mod:`~contin_models.shell.fourier` (the 3-D view: rings moving in three directions, Fourier
-   series in the angle, :class:`FourierShell`), :mod:`~contin_models.shell.ring_mesh` (the same energy on a
+   series in the angle, :class:`FourierShell`; its imperfect references from
+   :mod:`~contin_models.shell.imperfection3d`), :mod:`~contin_models.shell.ring_mesh` (the same energy on a
    ring of points per node, finite differences in the angle: an independent check).
 4. **Loads**: :mod:`~contin_models.shell.volume` (the forces live in the problems; contact in
    :mod:`contin_models.contact`).
@@ -44,11 +45,13 @@ _EXPORTS: dict[str, str] = {
     "ShellPressure": "pressure",
     **dict.fromkeys(("AngularBasis", "FourierShell"), "fourier"),
     "Shell3D": "problem3d",
+    **dict.fromkeys(("branch_mode", "dimple_imperfection", "mode_imperfection"), "imperfection3d"),
     "PoleMirror": "elements",
     "ShellPointLoad": "problem",
 }
 
-__all__ = ["AngularBasis", "FourierShell", "HALF_BANDWIDTH", "Shell3D", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "ShellPressure", "interleave",
+__all__ = ["AngularBasis", "FourierShell", "HALF_BANDWIDTH", "Shell3D", "branch_mode", "dimple_imperfection",
+           "mode_imperfection", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "ShellPressure", "interleave",
            "spherical_cap", "split",
            "Cone", "EllipseArc", "ReferenceMeridian", "Segment", "SphericalArc", "TableProfile", "TorusArc",
            "annulus_meridian", "complete_sphere_meridian", "cone_meridian", "ellipsoid_cap_meridian", "meridian",

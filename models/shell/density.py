@@ -22,8 +22,10 @@ import numpy as np
 
 from .jets import Jet
 
-__all__ = ["SYMBOLIC_SQRT", "symbolic_sqrt", "stretch_strains", "stretch_density", "bend_curvatures", "bend_density",
-           "pole_curvature", "volume_density", "free_edge_density", "skirt_density"]
+__all__ = ["SYMBOLIC_SQRT", "symbolic_sqrt", "stretch_strains", "stretch_density", "general_stretch_density",
+           "stretch_reference", "bend_curvatures", "bend_density", "general_bend_density", "pole_curvature",
+           "volume_density", "free_edge_density", "general_free_edge_density", "free_edge_curvatures",
+           "vector_length", "skirt_density"]
 
 
 #: Square root of a symbolic expression (set by :func:`symbolic_sqrt` while the generators evaluate
@@ -98,9 +100,28 @@ def stretch_density(D, Mp, lbar, rbar, ks, nu):
 
     ``D = P_j - P_i`` (the chord between the rings at one ``theta``), ``Mp = (P'_i + P'_j) / 2``.
     """
+    return general_stretch_density(D, Mp, lbar, rbar, 0.0, ks, nu)
+
+
+def general_stretch_density(D, Mp, lbar, rbar, e12bar, ks, nu):
+    """Stretching energy per radian of an edge against a reference that need not be axisymmetric.
+
+    ``lbar``, ``rbar``: the reference ``|D|`` and ``|Mp|`` at this ``theta``, ``e12bar`` the reference's
+    shear (:func:`stretch_reference`; ``0`` for an axisymmetric reference, :func:`stretch_density`).  The
+    strains are ``|D| / lbar - 1``, ``|Mp| / rbar - 1`` and ``eps12 - e12bar``, the weight the reference
+    lengths' product ``rbar lbar``.
+    """
     e11, e22, e12 = stretch_strains(D, Mp, lbar, rbar)
-    q = e11 * e11 + 2.0 * nu * (e11 * e22) + e22 * e22 + 2.0 * (1.0 - nu) * (e12 * e12)
+    B12 = e12 - e12bar
+    q = e11 * e11 + 2.0 * nu * (e11 * e22) + e22 * e22 + 2.0 * (1.0 - nu) * (B12 * B12)
     return q * (0.5 * rbar * lbar * ks)
+
+
+def stretch_reference(D, Mp):
+    """``(lbar, rbar, e12bar)`` of an edge at one ``theta`` from its reference local vectors
+    (:func:`general_stretch_density`): the lengths and the shear of :func:`stretch_strains` there."""
+    lbar, rbar = _norm(D), _norm(Mp)
+    return lbar, rbar, stretch_strains(D, Mp, lbar, rbar)[2]
 
 
 def bend_curvatures(e1, e2, Dp, Pp, Ppp, L=None):
@@ -126,9 +147,16 @@ def bend_curvatures(e1, e2, Dp, Pp, Ppp, L=None):
 
 def bend_density(e1, e2, Dp, Pp, Ppp, lbar, rbar, k11bar, k22bar, kb, nu, L=None):
     """Bending energy per radian of an interior node (arguments as :func:`bend_curvatures`)."""
+    return general_bend_density(e1, e2, Dp, Pp, Ppp, lbar, rbar, k11bar, k22bar, 0.0, kb, nu, L)
+
+
+def general_bend_density(e1, e2, Dp, Pp, Ppp, lbar, rbar, k11bar, k22bar, k12bar, kb, nu, L=None):
+    """Bending energy per radian of an interior node against a reference that need not be axisymmetric:
+    ``k12bar`` the reference twist (``0`` for an axisymmetric reference, :func:`bend_density`), the
+    weight ``rbar lbar`` (the reference ``|P'|`` and Voronoi length at this ``theta``)."""
     k11, k22, k12 = bend_curvatures(e1, e2, Dp, Pp, Ppp, L)
-    B11, B22 = k11 - k11bar, k22 - k22bar
-    q = B11 * B11 + 2.0 * nu * (B11 * B22) + B22 * B22 + 2.0 * (1.0 - nu) * (k12 * k12)
+    B11, B22, B12 = k11 - k11bar, k22 - k22bar, k12 - k12bar
+    q = B11 * B11 + 2.0 * nu * (B11 * B22) + B22 * B22 + 2.0 * (1.0 - nu) * (B12 * B12)
     return q * (0.5 * rbar * lbar * kb)
 
 
@@ -173,16 +201,34 @@ def free_edge_density(e, Dp, Pp, Ppp, K, kbar, nu):
     ``pi r0bar lbar_0 kb (1 - nu^2) / 2``.  The moment-free edge eliminates ``B11 = -nu B22``: the
     density is ``kb ((1 - nu^2) B22^2 + 2 (1 - nu) kappa12^2)`` over the half cell, with ``kappa22`` the
     circumferential normal curvature about the first edge's normal (``n_r / r_0`` when axisymmetric,
-    the 1-D element's) and the twist ``kappa12`` one-sided over the first edge (zero when axisymmetric).
+    the 1-D element's) and the twist ``kappa12`` one-sided over the first edge (zero when axisymmetric),
+    :func:`free_edge_curvatures`.
     """
+    return general_free_edge_density(e, Dp, Pp, Ppp, K, kbar, 0.0, nu)
+
+
+def general_free_edge_density(e, Dp, Pp, Ppp, K, kbar, k12bar, nu):
+    """:func:`free_edge_density` against a reference that need not be axisymmetric: ``kbar``, ``k12bar``
+    the reference's :func:`free_edge_curvatures` (the twist ``0`` when axisymmetric), ``K`` the weight
+    from the reference's ``|P'_0|`` and ``|e|`` at this ``theta``."""
+    k22, k12 = free_edge_curvatures(e, Dp, Pp, Ppp)
+    B22, B12 = k22 - kbar, k12 - k12bar
+    return (B22 * B22 + (2.0 / (1.0 + nu)) * (B12 * B12)) * (K / (2.0 * math.pi))
+
+
+def free_edge_curvatures(e, Dp, Pp, Ppp):
+    """``(kappa22, kappa12)`` of a rotating edge's half cell (arguments as :func:`free_edge_density`)."""
     l = _norm(e)
     sp_ = _norm(Pp)
     tau = _scale(Pp, 1.0 / sp_)
     nv = _cross(tau, _scale(e, 1.0 / l))
     nv = _scale(nv, 1.0 / _norm(nv))
-    B22 = -_dot(nv, Ppp) / (sp_ * sp_) - kbar
-    k12 = _dot(nv, Dp) / (l * sp_)
-    return (B22 * B22 + (2.0 / (1.0 + nu)) * (k12 * k12)) * (K / (2.0 * math.pi))
+    return -_dot(nv, Ppp) / (sp_ * sp_), _dot(nv, Dp) / (l * sp_)
+
+
+def vector_length(a):
+    """The length of a local vector ``a`` (a 3-tuple of components in an orthonormal frame)."""
+    return _norm(a)
 
 
 def skirt_density(P0, Pp0, z_ref):

@@ -34,6 +34,9 @@ kernel                 k     ``y``                                        parame
 ``volume_jet``         12    ``P_i, P_j, P'_i, P'_j``                     none
 ``skirt_jet``          6     ``P_0, P'_0``                                ``z_ref``
 ``pole_<side>_<L>_jet`` 15   ``Pm, Pm', Pc, Pq, Pq'``                     ``lbar`` (unused by ``cur``)
+``stretch_general_jet``   6  ``D, Mp``                                    ``lbar, rbar, e12bar, ks, nu``
+``bend_<L>_general_jet`` 15  ``e1, e2, Dp, Pp, Ppp``                      ``lbar, rbar, k11bar, k22bar, k12bar, kb, nu``
+``free_edge_general_jet`` 12 ``e, Dp, Pp, Ppp``                           ``K, kbar, k12bar, nu``
 =====================  ====  ===========================================  ===========================================
 
 (:func:`~contin_models.shell.density.stretch_density`, :func:`~contin_models.shell.density.bend_density`
@@ -41,7 +44,11 @@ with ``L`` the current ``(|e1| + |e2|)/2`` or the reference ``lbar``,
 :func:`~contin_models.shell.density.free_edge_density`, :func:`~contin_models.shell.density.volume_density`,
 :func:`~contin_models.shell.density.skirt_density`; the pole kernels differentiate the directional
 curvature :func:`~contin_models.shell.density.pole_curvature`, ``side`` ``north`` or ``south``: the pole's
-energy is a function of the curvature's mean and mean square over the angle, which the view forms.)
+energy is a function of the curvature's mean and mean square over the angle, which the view forms.  The
+``general`` kernels differentiate :func:`~contin_models.shell.density.general_stretch_density`,
+:func:`~contin_models.shell.density.general_bend_density` (``L`` as ``bend_cur`` or ``bend_ref``) and
+:func:`~contin_models.shell.density.general_free_edge_density`: the same strains against a reference that
+need not be axisymmetric, whose shear ``e12bar`` and twist ``k12bar`` are subtracted too.)
 
 How
 ---
@@ -76,8 +83,12 @@ DEFAULT_OUTPUT = Path(__file__).with_name("_density_generated.py")
 C_OUTPUT = Path(__file__).with_name("_density_ckernels.c")
 BEND_VARIANTS = ("bend_cur", "bend_ref")
 POLE_VARIANTS = tuple(f"pole_{side}_{length}" for side in ("north", "south") for length in ("cur", "ref"))
+#: The densities against a reference that need not be axisymmetric (a shear and a twist to subtract, the
+#: reference numbers given per station).
+GENERAL_VARIANTS = ("stretch_general", "bend_cur_general", "bend_ref_general", "free_edge_general")
 #: Every generated kernel's name, in the order of the module.
-KERNELS = tuple(f"{name}_jet" for name in ("stretch", *BEND_VARIANTS, "free_edge", "volume", "skirt", *POLE_VARIANTS))
+KERNELS = tuple(f"{name}_jet" for name in ("stretch", *BEND_VARIANTS, "free_edge", "volume", "skirt", *POLE_VARIANTS,
+                                           *GENERAL_VARIANTS))
 
 
 def symbolic(function: Callable[..., Any], *args: Any) -> Any:
@@ -165,11 +176,11 @@ def _kernel(name: str, doc: str, y: Sequence[sp.Symbol], inner: Sequence[sp.Expr
 
 
 def _bend_quadratic(k11: Any, k22: Any, k12: Any, lbar: Any, rbar: Any, k11bar: Any, k22bar: Any, kb: Any,
-                    nu: Any) -> Any:
-    """The bending density as the quadratic form in the curvatures that :func:`harmonic.bend_density` evaluates
-    (checked against it by :func:`_check_equal`)."""
-    b11, b22 = k11 - k11bar, k22 - k22bar
-    return (b11 ** 2 + 2 * nu * b11 * b22 + b22 ** 2 + 2 * (1 - nu) * k12 ** 2) * (rbar * lbar * kb / 2)
+                    nu: Any, k12bar: Any = 0) -> Any:
+    """The bending density as the quadratic form in the curvatures that :func:`density.general_bend_density`
+    evaluates (checked against it by :func:`_check_equal`)."""
+    b11, b22, b12 = k11 - k11bar, k22 - k22bar, k12 - k12bar
+    return (b11 ** 2 + 2 * nu * b11 * b22 + b22 ** 2 + 2 * (1 - nu) * b12 ** 2) * (rbar * lbar * kb / 2)
 
 
 def _check_equal(a: sp.Expr, b: sp.Expr, symbols: Sequence[sp.Symbol], what: str) -> None:
@@ -183,17 +194,22 @@ def _check_equal(a: sp.Expr, b: sp.Expr, symbols: Sequence[sp.Symbol], what: str
 
 def _bend_kernel(variant: str) -> str:
     y = sp.symbols("y0:15", real=True)
-    params = sp.symbols("lbar rbar k11bar k22bar kb nu", real=True)
+    general = variant.endswith("_general")
+    names = "lbar rbar k11bar k22bar k12bar kb nu" if general else "lbar rbar k11bar k22bar kb nu"
+    params = sp.symbols(names, real=True)
+    by = dict(zip(names.split(), params))
     lbar = params[0]
-    L = None if variant == "bend_cur" else lbar
+    L = None if variant.startswith("bend_cur") else lbar
     curv = symbolic(D.bend_curvatures, *_vectors(y), L)
     u = sp.symbols("_k11 _k22 _k12", real=True)
-    outer = _bend_quadratic(*u, *params)
-    _check_equal(outer.xreplace(dict(zip(u, curv))), symbolic(D.bend_density, *_vectors(y), *params, L),
+    outer = _bend_quadratic(*u, *(by[p] for p in "lbar rbar k11bar k22bar kb nu".split()), by.get("k12bar", 0))
+    density = D.general_bend_density if general else D.bend_density
+    _check_equal(outer.xreplace(dict(zip(u, curv))), symbolic(density, *_vectors(y), *params, L),
                  (*y, *params), variant)
-    length = "the current ``(|e1| + |e2|)/2``" if variant == "bend_cur" else "``lbar``"
+    length = "the current ``(|e1| + |e2|)/2``" if L is None else "``lbar``"
+    against = " against a reference with the twist ``k12bar``" if general else ""
     doc = (f"Value, gradient ``(15, ...)`` and Hessian ``(15, 15, ...)`` of the bending density per radian of an "
-           f"interior node in ``(e1, e2, Dp, Pp, Ppp)`` (``L`` {length}).")
+           f"interior node in ``(e1, e2, Dp, Pp, Ppp)`` (``L`` {length}){against}.")
     return _kernel(f"{variant}_jet", doc, y, curv, outer, u, [str(p) for p in params])
 
 
@@ -224,7 +240,12 @@ def _kernels() -> list[str]:
                _direct_kernel("volume_jet", "the volume per radian of the strip between two rings",
                               "P_i, P_j, P'_i, P'_j", D.volume_density, []),
                _direct_kernel("skirt_jet", "the skirt's volume per radian", "P_0, P'_0", D.skirt_density, ["z_ref"])]
-            + [_pole_kernel(v) for v in POLE_VARIANTS])
+            + [_pole_kernel(v) for v in POLE_VARIANTS]
+            + [_direct_kernel("stretch_general_jet", "the stretching density per radian of an edge against any "
+                              "reference", "D, Mp", D.general_stretch_density, ["lbar", "rbar", "e12bar", "ks", "nu"]),
+               _bend_kernel("bend_cur_general"), _bend_kernel("bend_ref_general"),
+               _direct_kernel("free_edge_general_jet", "the bending density per radian of a rotating edge against any "
+                              "reference", "e, Dp, Pp, Ppp", D.general_free_edge_density, ["K", "kbar", "k12bar", "nu"])])
 
 
 _PREAMBLE = '''"""Generated by ``python -m contin_models.shell.density_codegen``: do not edit.

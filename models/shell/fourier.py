@@ -38,6 +38,25 @@ axisymmetric states the rule converges spectrally in ``M``.
 The pole is one material point: its coefficients are tied so that ``P(theta)`` does not depend on
 ``theta`` (:meth:`FourierShell.reduction`); its element reads the neighbour ring at ``theta + pi``, which
 this view evaluates from the series directly.
+
+The reference
+-------------
+By default the strains are measured against the structure's axisymmetric reference, whose numbers per
+element (:class:`contin_models.shell.reference.ShellReference`) do not depend on the angle.  A stress-free
+shape that is not axisymmetric (an imperfection) is given as a state ``c_bar`` of the view
+(``reference=``).  Its numbers are then computed per element *and* quadrature angle by the densities' own
+formulas at its local vectors (:func:`~contin_models.shell.density.stretch_reference`,
+:func:`~contin_models.shell.density.bend_curvatures`, :func:`~contin_models.shell.density.free_edge_curvatures`,
+:func:`~contin_models.shell.density.pole_curvature`), and the general kernels measure the strains against
+them: ``|D| / |D_bar| - 1``, ``|M'| / |M'_bar| - 1``, ``eps12 - eps12_bar``, ``kappa - kappa_bar`` for all
+three curvatures, the weights the reference's lengths at that angle (the Voronoi length times ``|P'_bar|``;
+the moment-free edge's half cell likewise; a pole's cell ``pi (l/2)^2`` with ``l`` its edge's mean
+reference length over the angle).  ``kappa11_length="reference"`` carries over as the reference Voronoi
+length at each angle, ``(|e1_bar| + |e2_bar|) / 2`` (the clamp's half first edge, the pole's two edges),
+which is the structure's own number when ``c_bar`` is axisymmetric; ``"current"`` stays the current
+length.  At ``c = c_bar`` every strain vanishes, so the energy and its gradient vanish; with ``c_bar`` the
+axisymmetric reference the numbers are the default path's to roundoff.  A clamp's ghost ring stays the
+structure's (fixed in space), with its curvatures measured at ``c_bar``.
 """
 
 from __future__ import annotations
@@ -51,7 +70,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .density_kernels import kernels as _dgen
-from . import layouts
+from . import density, layouts
 
 __all__ = ["AngularBasis", "FourierShell", "FourierReduction", "csr_positions", "representation_name"]
 
@@ -277,6 +296,64 @@ def representation_name(n: int, j: int, parity: str) -> str:
     return f"E{j}"
 
 
+# ---- a general stress-free reference: its numbers per element and angle --------------------------------
+# Each builder takes an element family's local vectors at the reference (3-tuples of (Q, E) arrays, the
+# layout's order) and returns the parameters of the family's general kernel, by the densities' own formulas.
+
+def _general_stretch(ks: Any, nu: float) -> Callable[[list], tuple]:
+    def params(v: list) -> tuple:
+        lbar, rbar, e12bar = density.stretch_reference(*v)
+        return lbar, rbar, e12bar, ks, nu
+    return params
+
+
+def _general_bend(kb: Any, nu: float, current: bool) -> Callable[[list], tuple]:
+    def params(v: list) -> tuple:
+        # the Voronoi length at this angle; kappa11's length with kappa11_length="reference"
+        L = (density.vector_length(v[0]) + density.vector_length(v[1])) * 0.5
+        k11, k22, k12 = density.bend_curvatures(*v, None if current else L)
+        return L, density.vector_length(v[3]), k11, k22, k12, kb, nu
+    return params
+
+
+def _general_clamp(kb: float, nu: float) -> Callable[[list], tuple]:
+    def params(v: list) -> tuple:
+        # the edge node's cell inside the shell: half the first edge (the clamp's length and weight)
+        L = density.vector_length(v[1]) * 0.5
+        k11, k22, k12 = density.bend_curvatures(*v, L)
+        return L, density.vector_length(v[3]), k11, k22, k12, kb, nu
+    return params
+
+
+def _general_free_edge(kb: float, nu: float) -> Callable[[list], tuple]:
+    def params(v: list) -> tuple:
+        k22, k12 = density.free_edge_curvatures(*v)
+        # the half cell's weight as the 1-D element's, pi r0 (l0 / 2) kb (1 - nu^2), at this angle
+        K = math.pi * density.vector_length(v[2]) * 0.5 * density.vector_length(v[0]) * kb * (1.0 - nu * nu)
+        return K, k22, k12, nu
+    return params
+
+
+class _GeneralPole:
+    """A pole's reference from the reference state's local vectors ``y`` ``(15, Q)`` (:data:`layouts.POLE`):
+    ``(L, kappa_bar)`` per angle, ``L`` the Voronoi length of the pole's two edges at that angle (the
+    curvature's length unless ``current``)."""
+
+    def __init__(self, north: bool, current: bool) -> None:
+        self.north, self.current = north, current
+
+    @staticmethod
+    def lengths(y: np.ndarray) -> np.ndarray:
+        """``(|Pc - Pm| + |Pq - Pc|) / 2`` per angle."""
+        Pm, Pc, Pq = y[0:3], y[6:9], y[9:12]
+        return (density.vector_length(tuple(Pc - Pm)) + density.vector_length(tuple(Pq - Pc))) * 0.5
+
+    def __call__(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        L = self.lengths(y)
+        v = [tuple(y[j:j + 3]) for j in range(0, 15, 3)]
+        return L, density.pole_curvature(*v, self.north, None if self.current else L)
+
+
 class FourierShell:
     """The 3-D view of a :class:`~contin_models.shell.structure.ShellStructure` (module docstring).
 
@@ -288,9 +365,15 @@ class FourierShell:
         The Fourier series in the angle and the quadrature.
     z_ref : float, optional
         Height of the pressure's base plane (default: the reference height of node 0).
+    reference : ndarray, optional
+        The stress-free shape as a state of this view (``(N m,)`` coefficients in ``basis``), for an
+        imperfection that need not be axisymmetric (:mod:`contin_models.shell.imperfection3d`); every pole
+        must be one point.  Default: the structure's axisymmetric reference, with its numbers from
+        :attr:`reference` (module docstring, "The reference").
     """
 
-    def __init__(self, structure: Any, basis: AngularBasis, z_ref: float | None = None) -> None:
+    def __init__(self, structure: Any, basis: AngularBasis, z_ref: float | None = None,
+                 reference: np.ndarray | None = None) -> None:
         self.structure = st = structure
         self.reference = ref = st.reference
         self.basis = basis
@@ -299,15 +382,29 @@ class FourierShell:
         self.nu = nu = float(ref.nu)
         xr = np.asarray(ref.meridian.x, dtype=float)
         self.z_ref = float(xr[1]) if z_ref is None else float(z_ref)
+        self._cache: dict = {}
+        # a stress-free reference given as a state: its numbers per element and angle come from the
+        # densities' own strain and curvature formulas at its local vectors (:meth:`_reference_params`)
+        self._c_bar = None if reference is None else self._checked_reference(reference)
+        general = self._c_bar is not None
         maps = basis.ring_maps()
         i = np.arange(self.N - 1)
-        families = [("stretch", np.stack([i, i + 1], axis=1), layouts.STRETCH, _dgen.stretch_jet,
-                     (ref.stretch.lbar, ref.stretch.rbar, ref.ks_edges, nu), None)]
+        if general:
+            stretch = (_dgen.stretch_general_jet, _general_stretch(ref.ks_edges, nu))
+        else:
+            stretch = (_dgen.stretch_jet, (ref.stretch.lbar, ref.stretch.rbar, ref.ks_edges, nu))
+        families = [("stretch", np.stack([i, i + 1], axis=1), layouts.STRETCH, *stretch, None)]
         b = ref.bend
         if b.nodes.size:
-            kernel = _dgen.bend_cur_jet if ref.kappa11_length == "current" else _dgen.bend_ref_jet
-            families.append(("bend", np.stack([b.nodes - 1, b.nodes, b.nodes + 1], axis=1), layouts.BEND, kernel,
-                             (b.lbar, b.rbar, b.k11bar, b.k22bar, ref.kb_nodes[b.nodes], nu), None))
+            current = ref.kappa11_length == "current"
+            if general:
+                bend = (_dgen.bend_cur_general_jet if current else _dgen.bend_ref_general_jet,
+                        _general_bend(ref.kb_nodes[b.nodes], nu, current))
+            else:
+                bend = (_dgen.bend_cur_jet if current else _dgen.bend_ref_jet,
+                        (b.lbar, b.rbar, b.k11bar, b.k22bar, ref.kb_nodes[b.nodes], nu))
+            families.append(("bend", np.stack([b.nodes - 1, b.nodes, b.nodes + 1], axis=1), layouts.BEND, *bend,
+                             None))
         edge = ref.edge
         if edge is not None and edge.kind == "clamped":
             cl = edge.element
@@ -315,12 +412,18 @@ class FourierShell:
             offset = np.zeros(15)  # e1 = P_0 - G, Dp = P'_1 - G' (the ghost ring fixed in space)
             offset[0:3] = (-gr, 0.0, -gz)
             offset[6:9] = (0.0, -gr, 0.0)
-            families.append(("clamp", np.array([[0, 1]]), layouts.CLAMP, _dgen.bend_ref_jet,
-                             (cl.lbar, cl.rbar, cl.kappa_bar[0], cl.kappa_bar[1], cl.kb, cl.nu), offset))
+            if general:
+                clamp = (_dgen.bend_ref_general_jet, _general_clamp(cl.kb, cl.nu))
+            else:
+                clamp = (_dgen.bend_ref_jet, (cl.lbar, cl.rbar, cl.kappa_bar[0], cl.kappa_bar[1], cl.kb, cl.nu))
+            families.append(("clamp", np.array([[0, 1]]), layouts.CLAMP, *clamp, offset))
         elif edge is not None and edge.kind == "moment_free":
             fe = edge.element
-            families.append(("free_edge", np.array([[0, 1]]), layouts.FREE_EDGE, _dgen.free_edge_jet,
-                             (fe.K, fe.kappa_bar, nu), None))
+            if general:
+                free = (_dgen.free_edge_general_jet, _general_free_edge(float(edge.kb), nu))
+            else:
+                free = (_dgen.free_edge_jet, (fe.K, fe.kappa_bar, nu))
+            families.append(("free_edge", np.array([[0, 1]]), layouts.FREE_EDGE, *free, None))
         self._families = [(name, nodes, self._local_map(layout, nodes.shape[1], maps), kernel, params, offset)
                           for name, nodes, layout, kernel, params, offset in families]
         #: Each element family's layout (:mod:`contin_models.shell.layouts`).
@@ -328,17 +431,71 @@ class FourierShell:
         self._layouts.update(volume=layouts.VOLUME, skirt=layouts.SKIRT)
         self._volume = [("volume", np.stack([i, i + 1], axis=1), self._local_map(layouts.VOLUME, 2, maps),
                          _dgen.volume_jet, (), None)]
+        self._pole_map = self._local_map(layouts.POLE, 2, maps)
         self._poles = []
         for p in ref.poles:
             el = p.element
             kernel = getattr(_dgen, f"pole_{'north' if p.north else 'south'}_{'cur' if el.current_length else 'ref'}_jet")
-            self._poles.append((np.array([[p.neighbour, p.node]]), kernel, float(el.lbar), float(el.kappa_bar),
-                                float(el.K) / (1.0 + nu)))
-        self._pole_map = self._local_map(layouts.POLE, 2, maps)
+            nodes = np.array([[p.neighbour, p.node]])
+            if general:
+                # the pole's cell from the reference: its edge's mean length over the angle
+                lbar, kbar = None, _GeneralPole(p.north, el.current_length)
+                length = float(self.basis.weights @ kbar.lengths(np.matmul(self._pole_map, self._c_bar[
+                    self.element_dofs(nodes)[0]]).T)) / (2.0 * math.pi)
+                Akb = math.pi * (0.5 * length) ** 2 * p.kb
+            else:
+                lbar, kbar, Akb = float(el.lbar), float(el.kappa_bar), float(el.K) / (1.0 + nu)
+            self._poles.append((nodes, kernel, lbar, kbar, Akb))
         if 0 not in [p.node for p in ref.poles]:
             self._volume.append(("skirt", np.array([[0]]), self._local_map(layouts.SKIRT, 1, maps), _dgen.skirt_jet,
                                  (self.z_ref,), None))
-        self._cache: dict = {}
+
+    def _checked_reference(self, reference: np.ndarray) -> np.ndarray:
+        """``reference`` as a read-only state of this view, refused unless finite, of the view's size and with
+        every pole at one point."""
+        c = np.array(reference, dtype=float)
+        if c.shape != (self.size,):
+            raise ValueError(f"FourierShell: reference must be a state of the view, shape ({self.size},), "
+                             f"got shape {c.shape}")
+        if not np.isfinite(c).all():
+            raise ValueError("FourierShell: reference must be finite")
+        poles = list(self.structure.poles)
+        if poles:
+            # the pole is one material point: its position may not depend on the angle
+            theta = 2.0 * math.pi * np.arange(7) / 7.0
+            X = self.points(c, theta)[poles]                          # (poles, 7, 3)
+            spread = float(np.max(np.abs(X - X[:, :1])))
+            scale = float(np.max(np.abs(self.points(c, theta[:1]))))
+            if spread > 1e-12 * scale:
+                raise ValueError(f"FourierShell: reference must keep every pole (nodes {poles}) at one point: its "
+                                 f"position varies by {spread:.3g} with the angle")
+        c.setflags(write=False)
+        return c
+
+    def _reference_params(self, family: tuple) -> tuple:
+        """A family's reference numbers per station for its local map (the quadrature's or another set of
+        angles): the family's builder evaluated at the reference's local vectors, cached per map."""
+        name, nodes, B, _, build, offset = family
+        key = ("reference", name, id(B))
+        entry = self._cache.get(key)
+        if entry is None or entry[0] is not B:
+            y = np.matmul(B.transpose(1, 0, 2), self._c_bar[self._dofs(nodes)].T)    # (k, Q, E)
+            if offset is not None:
+                y += offset[:, None, None]
+            self._cache[key] = entry = (B, build([tuple(y[j:j + 3]) for j in range(0, y.shape[0], 3)]))
+        return entry[1]
+
+    def _pole_reference(self, nodes: np.ndarray, lbar: Any, kbar: Any, B: np.ndarray) -> tuple[Any, Any]:
+        """The pole's reference length and curvature at the angles of the map ``B``: ``(lbar, kbar)`` as
+        given for an axisymmetric reference, per angle from the reference state otherwise, cached per map."""
+        if not isinstance(kbar, _GeneralPole):
+            return lbar, kbar
+        key = ("pole reference", nodes.tobytes(), id(B))
+        entry = self._cache.get(key)
+        if entry is None or entry[0] is not B:
+            y = np.matmul(B, self._c_bar[self.element_dofs(nodes)[0]]).T             # (k, Q)
+            self._cache[key] = entry = (B, kbar(y))
+        return entry[1]
 
     # ---- unknowns ----------------------------------------------------------------------------------
     @property
@@ -357,7 +514,10 @@ class FourierShell:
         return c
 
     def reference_state(self) -> np.ndarray:
-        """The unknowns of the reference (undeformed) shell."""
+        """The unknowns of the stress-free reference shell: the ``reference`` given, else the structure's
+        axisymmetric one."""
+        if self._c_bar is not None:
+            return self._c_bar.copy()
         return self.axisymmetric_state(self.structure.reference_state())
 
     def axisymmetric_dofs(self) -> np.ndarray:
@@ -462,6 +622,8 @@ class FourierShell:
         if offset is not None:
             y += offset[:, None, None]
         E, Q = ce.shape[0], B.shape[0]
+        if callable(params):  # a general reference: its numbers per station of this map
+            params = self._reference_params(family)
         # per-element parameters broadcast over the angles (the stations' last axis is the element)
         v, g, h = kernel(y, *[np.asarray(p, float) if np.ndim(p) else p for p in params])
         return np.broadcast_to(v, (Q, E)), g, h
@@ -560,6 +722,7 @@ class FourierShell:
         nu, B = self.nu, self._pole_map
         w = self.basis.weights / (2.0 * math.pi)
         dofs = self.element_dofs(nodes)
+        lbar, kbar = self._pole_reference(nodes, lbar, kbar, B)
         y = np.matmul(B, c[dofs[0]]).T                            # (k, Q)
         v, g, h = kernel(y, lbar)
         Bq = v - kbar                                              # (Q,)
@@ -797,6 +960,7 @@ class FourierShell:
                       Bs: np.ndarray, Bp: np.ndarray, w: np.ndarray) -> np.ndarray:
         """The pole element's second variation along the perturbations mapped by ``Bp`` (state by ``Bs``)."""
         wm = w / (2.0 * math.pi)
+        lbar, kbar = self._pole_reference(nodes, lbar, kbar, Bs)
         y = np.matmul(Bs, c[self.element_dofs(nodes)[0]]).T
         v, g, h = kernel(y, lbar)
         G = np.matmul(Bp.transpose(0, 2, 1), g.T[:, :, None])[:, :, 0]

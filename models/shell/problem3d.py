@@ -68,6 +68,11 @@ class Shell3D(Problem):
         With ``load="forces"``: per radian of ring ``node`` the dead load ``(q_r cos n theta, q_t sin n theta,
         q_z cos n theta)`` (components in the reference frame at the material point), ``P`` times it; ``n``
         must be a wave of the basis.
+    reference : ndarray, optional
+        The stress-free shape as a state of the view (:class:`~contin_models.shell.fourier.FourierShell`),
+        e.g. an imperfection of :mod:`contin_models.shell.imperfection3d`: the unloaded equilibrium, where
+        the supports hold their rings and from which ``w`` and the loads' work are measured.  Default: the
+        structure's axisymmetric reference.
 
     Notes
     -----
@@ -89,7 +94,7 @@ class Shell3D(Problem):
                  control: Literal["force", "displacement"] = "force", length: float | None = None,
                  forces: Sequence[tuple[int, float, Sequence[float]]] = (), node: int | None = None,
                  line_loads: Sequence[tuple[int, int, Sequence[float]]] = (), every_mode: bool = False,
-                 barrier: Any = None, p_c: float | None = None) -> None:
+                 barrier: Any = None, p_c: float | None = None, reference: np.ndarray | None = None) -> None:
         if load not in LOADS:
             raise ValueError(f"Shell3D: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
@@ -121,7 +126,7 @@ class Shell3D(Problem):
             raise ValueError("Shell3D: load 'forces' needs forces = [(node, theta, (Fx, Fy, Fz)), ...] or "
                              "line_loads = [(node, n, (q_r, q_t, q_z)), ...]")
         self.load, self.control = load, control
-        self.view = view = FourierShell(st, basis)
+        self.view = view = FourierShell(st, basis, reference=reference)
         self.basis = basis
         if length is None:
             length = getattr(st.meridian, "length_scale", None) or getattr(st.meridian, "R", None)
