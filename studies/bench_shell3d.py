@@ -129,9 +129,21 @@ def branch(N: int, repeat: int) -> dict[str, Any]:
     t_3d = median_time(lambda: three_wave_branch(N, HARMONICS, W_END, n_eigs=0), max(1, repeat // 2))
     run = three_wave_branch(N, HARMONICS, W_END, n_eigs=0)
     ax = axisymmetric()
+    # the floor: one Newton step of each at the end of its path (a fresh state each time, so that no
+    # cache of the last state answers)
+    rng = np.random.default_rng(2)
+    prob3, prob1 = run["problem"], ShellOfRevolution(st, "point", "displacement")
+    states = [(prob3, run["second"].u[-1], float(run["second"].p[-1])), (prob1, ax.u[-1], float(ax.p[-1]))]
+    step_3d, step_1d = (median_time(lambda: newton_step(prob, u + 1e-13 * rng.standard_normal(u.size), w),
+                                    10 * repeat) for prob, u, w in states)
+    n_3d = run["first"].meta["n_factorizations"] + run["second"].meta["n_factorizations"]
     return {"N": N, "K": HARMONICS, "w_branch_point": run["w_bp"], "w_end": W_END, "points_3d": run["points"],
-            "points_axisymmetric": len(ax.p), "seconds_3d": t_3d, "seconds_axisymmetric": t_axi,
-            "ratio": t_3d / t_axi, "ratio_per_point": (t_3d / run["points"]) / (t_axi / len(ax.p))}
+            "points_axisymmetric": len(ax.p), "factorizations_3d": n_3d,
+            "factorizations_axisymmetric": ax.meta["n_factorizations"], "seconds_3d": t_3d,
+            "seconds_axisymmetric": t_axi, "ratio": t_3d / t_axi,
+            "ratio_per_point": (t_3d / run["points"]) / (t_axi / len(ax.p)),
+            "newton_step_ms_3d": 1e3 * step_3d, "newton_step_ms_axisymmetric": 1e3 * step_1d,
+            "floor": step_3d / step_1d}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
