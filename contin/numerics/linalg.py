@@ -403,7 +403,7 @@ class BandedLU(Factorization):
 class BandedCholesky(Factorization):
     """Cholesky factorization ``A = U^T U`` of a symmetric positive definite banded matrix (LAPACK ``pbtrf``).
 
-    A third of the work of the banded LU of the same matrix (no pivoting, one triangle), and exact
+    A fraction of the work of the banded LU of the same matrix (no pivoting, one triangle), and exact
     inertia for free: a factorization that exists says that ``A`` has no negative eigenvalue.  Only the
     upper triangle of ``A`` is read.  Most callers want :func:`symmetric_band_factorization`, which falls
     back to the banded LU where ``A`` is not positive definite.
@@ -464,14 +464,8 @@ def symmetric_band_factorization(A, kd: int | None = None) -> Factorization:
 
     Along a stable branch every Jacobian is positive definite and costs the Cholesky alone; an
     indefinite one costs the Cholesky up to its first non-positive pivot and the LU.  The caller vouches
-    for the symmetry (only the upper triangle decides which factorization is used).
-
-    Parameters
-    ----------
-    A : sparse matrix or SymmetricBand
-        The symmetric matrix.
-    kd : int, optional
-        Its half-bandwidth (default: measured).
+    for the symmetry (only the upper triangle decides which factorization is used).  ``A`` and ``kd`` are
+    those of :class:`BandedCholesky`.
 
     Returns
     -------
