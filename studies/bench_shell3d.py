@@ -6,7 +6,8 @@ Three measurements, each the median of ``--repeat`` runs in this process:
 
 * **A Newton step against N** (``steps``): the paper's cap (``phi_hat = 0.8``, h/R = 0.02, nu = 0.5,
   sliding edge) in the ``D_3`` basis with ``K`` harmonics, at a state on the way down under the pole's
-  deflection: assembling the Jacobian, factoring it (banded LU) and solving, for N = 100, 200, 400, 800.
+  deflection: assembling the Jacobian, factoring it (banded Cholesky, the banded LU where it is not positive
+  definite) and solving, for N = 100, 200, 400, 800.
   At a fixed angular resolution the step should grow as O(N): the time per node is reported.
 * **The symmetry's gain** (``symmetry``): the pinched open hemisphere of :mod:`studies.pinched_hemisphere`
   at P = 200 solved in its ``D_2`` basis and, from that state perturbed off the symmetry, by Newton's
@@ -18,7 +19,10 @@ Three measurements, each the median of ``--repeat`` runs in this process:
   the axisymmetric trace of the same cap (the traced 1-D model, the same settings) to the same
   deflection.  Both count the Morse index at every point and store no eigenvalues (``n_eigs = 0``: the
   three smallest of a banded matrix cost a reduction to tridiagonal form, 8 Newton steps of the 3-D view
-  at N = 100).  The ratio of their times is the cost of the 3-D view on this path.
+  at N = 100).  The ratio of their times is the cost of the 3-D view on this path; beside it the
+  factorizations each run took, and the floor: one Newton step of each model at the end of its path,
+  and their ratio (``floor``), which a 3-D trace with as many Newton steps as the axisymmetric one
+  would cost.
 
 Outputs in ``--out`` (default ``out/bench_shell3d``): ``summary.json``.
 """
@@ -61,7 +65,7 @@ def cap(N: int) -> Any:
 
 
 def newton_step(prob: Any, u: np.ndarray, p: float) -> np.ndarray:
-    """One Newton step of the problem at ``(u, p)``: residual, Jacobian, banded LU, solve."""
+    """One Newton step of the problem at ``(u, p)``: residual, Jacobian, its factorization, solve."""
     r = prob.residual(u, p)
     return prob.factorize(prob.jacobian(u, p)).solve(-r)
 
@@ -129,9 +133,21 @@ def branch(N: int, repeat: int) -> dict[str, Any]:
     t_3d = median_time(lambda: three_wave_branch(N, HARMONICS, W_END, n_eigs=0), max(1, repeat // 2))
     run = three_wave_branch(N, HARMONICS, W_END, n_eigs=0)
     ax = axisymmetric()
+    # the floor: one Newton step of each at the end of its path (a fresh state each time, so that no
+    # cache of the last state answers)
+    rng = np.random.default_rng(2)
+    prob3, prob1 = run["problem"], ShellOfRevolution(st, "point", "displacement")
+    states = [(prob3, run["second"].u[-1], float(run["second"].p[-1])), (prob1, ax.u[-1], float(ax.p[-1]))]
+    step_3d, step_1d = (median_time(lambda: newton_step(prob, u + 1e-13 * rng.standard_normal(u.size), w),
+                                    10 * repeat) for prob, u, w in states)
+    n_3d = run["first"].meta["n_factorizations"] + run["second"].meta["n_factorizations"]
     return {"N": N, "K": HARMONICS, "w_branch_point": run["w_bp"], "w_end": W_END, "points_3d": run["points"],
-            "points_axisymmetric": len(ax.p), "seconds_3d": t_3d, "seconds_axisymmetric": t_axi,
-            "ratio": t_3d / t_axi, "ratio_per_point": (t_3d / run["points"]) / (t_axi / len(ax.p))}
+            "points_axisymmetric": len(ax.p), "factorizations_3d": n_3d,
+            "factorizations_axisymmetric": ax.meta["n_factorizations"], "seconds_3d": t_3d,
+            "seconds_axisymmetric": t_axi, "ratio": t_3d / t_axi,
+            "ratio_per_point": (t_3d / run["points"]) / (t_axi / len(ax.p)),
+            "newton_step_ms_3d": 1e3 * step_3d, "newton_step_ms_axisymmetric": 1e3 * step_1d,
+            "floor": step_3d / step_1d}
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -46,6 +46,11 @@ PHI_HAT, H_OVER_R, NU, E = 0.8, 0.02, 0.5, 1e6
 #: cap's first bifurcation in ``D_3`` comes later (near 0.44 R) and into six waves, so it is followed in ``D_6``.
 WAVES, W_END = 3, 0.37
 BRANCHES = {"sliding": (WAVES, W_END), "clamped": (6, 0.45)}
+#: The first step onto the bifurcating branch (in the arclength metric).  The branch leaves the branch point
+#: as a parabola in the load, ``w - w_bp`` about four times the square of the wave amplitude, which in the
+#: metric's root-mean-square of the state turns within about 1e-4 of the point: a longer first step is
+#: halved until it is that short, and each halving costs a failed correction.
+SWITCH_DS = 1e-4
 FAST = {"meridian": ((50, 100, 200), 3), "angle": (50, (1, 2, 3, 4))}
 FULL = {"meridian": ((25, 50, 100, 200, 400, 800), 4), "angle": (100, (1, 2, 3, 4, 6))}
 
@@ -75,7 +80,7 @@ def three_wave_branch(N: int, K: int, w_end: float = W_END, boundary: str = "sli
     if bp is None or bp.kind != "branch_point" or not bp.located:
         raise RuntimeError(f"shell3d_convergence: no located branch point before w = {w_end} at N = {N}, K = {K}: "
                            f"{first.message}")
-    second = contin.switch_branch(prob, bp, settings=contin.Settings(ds=0.005, ds_max=0.02), max_steps=2000,
+    second = contin.switch_branch(prob, bp, settings=contin.Settings(ds=SWITCH_DS, ds_max=0.02), max_steps=2000,
                                   p_max=w_end, stability=True, n_eigs=n_eigs)
     if second.status != "bound":
         raise RuntimeError(f"shell3d_convergence: the three-wave branch stopped before w = {w_end} at N = {N}, "

@@ -595,3 +595,66 @@ def test_inf_norm_of_every_storage_is_the_largest_absolute_row_sum() -> None:
         assert inf_norm(matrix) == pytest.approx(expected, rel=1e-14)
     assert inf_norm(sp.csr_matrix((0, 0))) == 0.0
 
+
+
+@pytest.mark.parametrize("kd", [1, 4])
+def test_upper_band_of_fixed_pattern_matrices_is_the_dense_upper_band(kd):
+    """The cached positions of a fixed pattern give each new matrix's own upper band (Fortran-ordered, as
+    pbtrf factorizes it in place), the same as the band of a plain CSR matrix; a band wider than kd is refused."""
+    from contin.numerics.linalg import FixedPattern, SymmetricBand, upper_band
+
+    rng = np.random.default_rng(kd)
+    n = 30
+    A, _ = _random_band(rng, n, kd, 0.0)
+    S = sp.csr_matrix(A)
+    pattern = FixedPattern(S.indices, S.indptr, S.shape)
+    for _ in range(3):
+        A, ab = _random_band(rng, n, kd, 0.0)
+        data = sp.csr_matrix(A).data
+        got = upper_band(pattern.matrix(data), kd)
+        assert got.flags.f_contiguous
+        inside = np.add.outer(np.arange(kd + 1), np.arange(n)) >= kd  # entries of the band inside the matrix
+        assert np.array_equal(got[inside], ab[inside])
+        assert np.array_equal(got[inside], upper_band(sp.csr_matrix(A), kd)[inside])
+        assert np.array_equal(SymmetricBand(got).toarray(), A)
+    with pytest.raises(ValueError, match="half-bandwidth"):
+        upper_band(pattern.matrix(data), kd - 1)
+
+
+def test_symmetric_band_factorization_solves_counts_and_signs_like_dense(banded_path):
+    """Cholesky where the matrix is positive definite (index 0 read off the factorization), the banded LU
+    otherwise: solves, determinant sign and log against a dense reference, and the Morse index the
+    factorization reports (where it reports one) equals the count of negative eigenvalues."""
+    from contin.numerics.linalg import BandedCholesky, BandedLU, symmetric_band_factorization
+
+    rng = np.random.default_rng(7)
+    kinds = set()
+    for shift in (-1.5, 0.0, 4.0):
+        for _ in range(30):
+            n, kd = int(rng.integers(5, 50)), int(rng.integers(1, 6))
+            A, _ = _random_band(rng, n, kd, shift)
+            F = symmetric_band_factorization(sp.csr_matrix(A), kd)
+            negative = int(np.count_nonzero(np.linalg.eigvalsh(A) < 0.0))
+            assert isinstance(F, BandedCholesky if negative == 0 else BandedLU)
+            kinds.add(type(F).__name__)
+            index = F.symmetric_inertia()
+            assert index is None or index == negative
+            b, B = rng.standard_normal(n), rng.standard_normal((n, 2))
+            np.testing.assert_allclose(F.solve(b), np.linalg.solve(A, b), rtol=1e-9, atol=1e-9)
+            np.testing.assert_allclose(F.solve(B, trans=True), np.linalg.solve(A.T, B), rtol=1e-9, atol=1e-9)
+            sign, log = np.linalg.slogdet(A)
+            assert F.det_sign() == F.det_sign_log()[0] == sign
+            assert F.det_sign_log()[1] == pytest.approx(log, rel=1e-10, abs=1e-10)
+    assert kinds == {"BandedCholesky", "BandedLU"}
+
+
+def test_banded_cholesky_refuses_a_matrix_that_is_not_positive_definite():
+    from contin.numerics.linalg import BandedCholesky, NotPositiveDefiniteError, SymmetricBand
+
+    ab = np.array([[0.0, 1.0, 0.5], [1.0, 1.0, 2.0]])  # [[1, 1, 0], [1, 1, .5], [0, .5, 2]]: singular leading block
+    with pytest.raises(NotPositiveDefiniteError):
+        BandedCholesky(SymmetricBand(ab))
+    ab[1, 1] = 3.0
+    F = BandedCholesky(SymmetricBand(ab))
+    assert F.symmetric_inertia() == 0
+    np.testing.assert_allclose(F.pivots(), np.linalg.cholesky(SymmetricBand(ab).toarray()).diagonal() ** 2)

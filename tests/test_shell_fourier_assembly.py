@@ -154,3 +154,26 @@ def test_bloch_blocks_are_the_direct_sums() -> None:
         expected = T.T @ H @ T
         got = view.bloch_block(c, j, parity).toarray()
         np.testing.assert_allclose(got, expected, rtol=0, atol=RTOL * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("mirror", [True, False])
+def test_restriction_is_the_product_with_the_reduction(mirror: bool) -> None:
+    """``FourierReduction.restriction`` (a gather plus the sums of the pole's tied pairs) equals ``T^T H T``
+    by sparse products, with the tied pairs' factors -1 of the basis without symmetry; its matrices share
+    one read-only pattern."""
+    st = ShellStructure(spherical_cap(1.0, 0.8, 12), 1e6, 0.3, 0.02, boundary="sliding")
+    basis = AngularBasis(3, 2) if mirror else AngularBasis(1, 2, mirror=False)
+    view = FourierShell(st, basis)
+    red = view.reduction()
+    assert mirror or np.any(red.T.data < 0)
+    restrict = red.restriction(view.pattern())
+    rng = np.random.default_rng(4)
+    first = None
+    for _ in range(2):
+        H = view.hessian(view.reference_state() + 1e-3 * rng.standard_normal(view.size))
+        reference = (red.T.T @ H @ red.T).toarray()
+        got = restrict(H.data)
+        np.testing.assert_allclose(got.toarray(), reference, rtol=0, atol=RTOL * np.abs(reference).max())
+        assert not got.indices.flags.writeable
+        assert first is None or got.indices is first.indices
+        first = got

@@ -40,6 +40,10 @@ __all__ = [
     "Factorization",
     "DenseLU",
     "BandedLU",
+    "BandedCholesky",
+    "NotPositiveDefiniteError",
+    "symmetric_band_factorization",
+    "upper_band",
     "TridiagonalLU",
     "SparseLU",
     "SymmetricBand",
@@ -259,24 +263,56 @@ class FixedPattern:
         return A
 
 
-#: The band positions of the last few patterns seen by :func:`to_banded`, by the identity of their
-#: read-only index arrays (the matrices of a :class:`FixedPattern` share them, and they cannot change).
-_BAND_POSITIONS: list[tuple[np.ndarray, np.ndarray, tuple[int, int, int], np.ndarray]] = []
+#: Band positions of the last few patterns seen by :func:`to_banded` and :func:`upper_band`, by the identity
+#: of their read-only index arrays (the matrices of a :class:`FixedPattern` share them, and they cannot change).
+_BAND_POSITIONS: list[tuple[np.ndarray, np.ndarray, tuple, Any]] = []
+
+
+def _pattern_memo(A, key: tuple, compute: Callable[[], Any]) -> Any:
+    """``compute()`` for the canonical CSR matrix ``A``, remembered for its pattern when the index arrays
+    are read-only (a :class:`FixedPattern`'s: they cannot change, so their identity names the pattern)."""
+    for indices, indptr, k, value in _BAND_POSITIONS:
+        if indices is A.indices and indptr is A.indptr and k == key:
+            return value
+    value = compute()
+    if not (A.indices.flags.writeable or A.indptr.flags.writeable):
+        _BAND_POSITIONS.insert(0, (A.indices, A.indptr, key, value))
+        del _BAND_POSITIONS[6:]
+    return value
 
 
 def _band_positions(A, kl: int, ku: int, extra_rows: int) -> np.ndarray:
     """Flat positions in band storage of the stored entries of the canonical CSR matrix ``A``."""
-    key = (kl, ku, extra_rows)
-    for indices, indptr, k, positions in _BAND_POSITIONS:
-        if indices is A.indices and indptr is A.indptr and k == key:
-            return positions
+    def compute() -> np.ndarray:
+        n = A.shape[0]
+        rows = np.repeat(np.arange(n), np.diff(A.indptr))
+        return (extra_rows + ku + rows - A.indices) * n + A.indices
+
+    return _pattern_memo(A, ("general", kl, ku, extra_rows), compute)
+
+
+def upper_band(A, kd: int) -> np.ndarray:
+    """The upper band of the symmetric sparse ``A`` in LAPACK's storage, ``ab[kd + i - j, j] = A[i, j]`` for
+    ``j - kd <= i <= j``, Fortran-ordered (``pbtrf`` factorizes it in place); only the upper triangle is read.
+
+    For a canonical CSR matrix of a :class:`FixedPattern` the entries' positions are computed once per pattern.
+    """
     n = A.shape[0]
-    rows = np.repeat(np.arange(n), np.diff(A.indptr))
-    positions = (extra_rows + ku + rows - A.indices) * n + A.indices
-    if not (A.indices.flags.writeable or A.indptr.flags.writeable):
-        _BAND_POSITIONS.insert(0, (A.indices, A.indptr, key, positions))
-        del _BAND_POSITIONS[4:]
-    return positions
+    ab = np.zeros((kd + 1, n), order="F")
+    if sp.issparse(A) and A.format == "csr" and A.has_canonical_format:
+        def compute() -> tuple[np.ndarray, np.ndarray]:
+            rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(A.indptr))
+            cols = A.indices.astype(np.int64)
+            upper = np.flatnonzero(cols >= rows)
+            if upper.size and int(np.max(cols[upper] - rows[upper])) > kd:
+                raise ValueError(f"upper_band: the matrix has entries beyond the half-bandwidth kd = {kd}")
+            # Fortran order: entry (r, c) of the (kd + 1, n) array lies at c (kd + 1) + r
+            return upper, cols[upper] * (kd + 1) + kd + rows[upper] - cols[upper]
+
+        upper, positions = _pattern_memo(A, ("upper", kd), compute)
+        ab.T.reshape(-1)[positions] = A.data[upper]  # ab.T is C-contiguous: a view
+        return ab
+    return np.asfortranarray(SymmetricBand.from_sparse(A, kd).ab)
 
 
 def same_values(a: np.ndarray, b: np.ndarray) -> bool:
@@ -362,6 +398,88 @@ class BandedLU(Factorization):
 
     def det_sign(self):
         return _sign_from_diagonal(self.pivots(), _ipiv_parity(self._piv))
+
+
+class BandedCholesky(Factorization):
+    """Cholesky factorization ``A = U^T U`` of a symmetric positive definite banded matrix (LAPACK ``pbtrf``).
+
+    A fraction of the work of the banded LU of the same matrix (no pivoting, one triangle), and exact
+    inertia for free: a factorization that exists says that ``A`` has no negative eigenvalue.  Only the
+    upper triangle of ``A`` is read.  Most callers want :func:`symmetric_band_factorization`, which falls
+    back to the banded LU where ``A`` is not positive definite.
+
+    Parameters
+    ----------
+    A : sparse matrix or SymmetricBand
+        The symmetric matrix.
+    kd : int, optional
+        Its half-bandwidth (default: measured).
+
+    Raises
+    ------
+    NotPositiveDefiniteError
+        When a pivot is not positive (``A`` is indefinite, singular, or not a number).
+    """
+
+    def __init__(self, A, kd: int | None = None) -> None:
+        if isinstance(A, SymmetricBand):
+            kd, ab = A.kd, np.array(A.ab, dtype=float, order="F")
+        else:
+            kd = max(bandwidths(A)) if kd is None else int(kd)
+            ab = upper_band(A, kd)
+        self.n = A.shape[0]
+        self.kd = kd
+        self._factor, info = lapack.dpbtrf(ab, lower=0, overwrite_ab=1)
+        if info != 0:
+            raise NotPositiveDefiniteError(f"banded Cholesky: pivot {info} of {self.n} is not positive")
+        self.exactly_singular = False
+        self._solve = cholesky_band_solver(self._factor)
+
+    def solve(self, b, trans=False):
+        # A is symmetric: A^T x = b is A x = b
+        return self._check(self._solve(np.asarray(b, dtype=float)))
+
+    def pivots(self) -> np.ndarray:
+        """The pivots ``d`` of ``A = L D L^T``: the squares of ``U``'s diagonal."""
+        return self._factor[self.kd] ** 2
+
+    def symmetric_inertia(self) -> int | None:
+        """0: a positive definite matrix has no negative eigenvalue."""
+        return 0
+
+    def det_sign_log(self):
+        return 1.0, 2.0 * float(np.sum(np.log(self._factor[self.kd])))
+
+    def det_sign(self):
+        return 1.0
+
+
+class NotPositiveDefiniteError(np.linalg.LinAlgError):
+    """Raised by :class:`BandedCholesky` for a matrix that is not positive definite."""
+
+
+def symmetric_band_factorization(A, kd: int | None = None) -> Factorization:
+    """The cheapest exact factorization of the symmetric banded matrix ``A``: :class:`BandedCholesky` where it
+    is positive definite, else the banded LU with partial pivoting (:class:`BandedLU`).
+
+    Along a stable branch every Jacobian is positive definite and costs the Cholesky alone; an
+    indefinite one costs the Cholesky up to its first non-positive pivot and the LU.  The caller vouches
+    for the symmetry (only the upper triangle decides which factorization is used).  ``A`` and ``kd`` are
+    those of :class:`BandedCholesky`.
+
+    Returns
+    -------
+    Factorization
+        A :class:`BandedCholesky` or a :class:`BandedLU`.
+    """
+    if isinstance(A, SymmetricBand):
+        kd = A.kd
+    elif kd is None:
+        kd = max(bandwidths(A))
+    try:
+        return BandedCholesky(A, kd)
+    except NotPositiveDefiniteError:
+        return BandedLU(A, kd, kd)
 
 
 class TridiagonalLU(Factorization):

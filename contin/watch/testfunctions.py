@@ -414,7 +414,8 @@ class _HessianBranchTest:
         """The branch point ``(u, p)``: where the test function vanishes on the curve (:func:`root_near_singular`)."""
         seg = self.seg
         return root_near_singular(seg, lambda u, p: fold_function(self.curve.problem, u, p, self.b, self.b)[0],
-                                  0.0, seg.sigma_B, self.ends[0], width * abs(seg.sigma_B), attempts)
+                                  0.0, seg.sigma_B, self.ends[0], width * abs(seg.sigma_B), attempts,
+                                  g_hi=self.ends[1])
 
     def directions(self, u: np.ndarray, p: float) -> Bifurcation:
         """Null vector, the branch's tangents and the bifurcation equation at the located point."""
@@ -441,20 +442,26 @@ def nudged(fun: Callable[[float], Any], sigma: float, room: float) -> tuple[floa
 
 
 def root_near_singular(seg: Segment, g_at: Callable[[np.ndarray, float], float], lo: float, hi: float, g_lo: float,
-                       width: float, attempts: int = 6) -> tuple[np.ndarray, float]:
+                       width: float, attempts: int = 6, g_hi: float | None = None) -> tuple[np.ndarray, float]:
     """The point ``(u, p)`` of ``seg`` in ``[lo, hi]`` where ``g_at`` changes sign, next to a singular point.
 
     At a branch point the corrector's bordered system is itself singular (two branches cross the
-    hyperplane there), so points closer to it than roundoff allows do not converge.  Hence bisection
-    down to a bracket of ``width`` (a point that fails is nudged along the segment), then the root of
-    the cubic through ``g`` at four points ``w / 2`` to ``2 w`` from the bracket's centre, and the
-    state by the same cubic (Lagrange) interpolation of those four converged points: its error is
+    hyperplane there), so points closer to it than roundoff allows do not converge.  Hence the
+    bracket is narrowed down to ``width`` (a point that fails is nudged along the segment), then the
+    root of the cubic through ``g`` at four points ``w / 2`` to ``2 w`` from the bracket's centre, and
+    the state by the same cubic (Lagrange) interpolation of those four converged points: its error is
     ``O(w^4)``, far below the corrector's tolerance.  ``w`` doubles when a point fails to converge.
+
+    The bracket narrows by bisection, or, given ``g_hi`` (the value at ``hi``) for a ``g`` that is smooth
+    on the segment, by false position (:func:`_false_position`): each value costs a corrected point, and
+    a smooth ``g`` is bracketed to ``width`` in a few of them where bisection takes ``log2(|hi - lo| / width)``.
     """
     def value(sigma: float) -> float:
         u, p, _ = seg.point(sigma)
         return g_at(u, p)
 
+    if g_hi is not None and g_lo * g_hi < 0:
+        lo, hi = _false_position(value, lo, hi, g_lo, g_hi, width)
     while abs(hi - lo) > width:
         mid = 0.5 * (lo + hi)
         g_mid = nudged(value, mid, 0.25 * abs(hi - lo))[1]
@@ -481,6 +488,46 @@ def root_near_singular(seg: Segment, g_at: Callable[[np.ndarray, float], float],
         p = float(sum(wi * pt[1] for wi, pt in zip(weights, pts)))
         return np.asarray(u, dtype=float), p
     raise CorrectorFailure(f"no converged points around the singular point: {last}")
+
+
+#: False-position steps :func:`_false_position` takes before it leaves the rest to bisection.
+FALSE_POSITION_STEPS = 12
+
+
+def _false_position(value: Callable[[float], float], lo: float, hi: float, g_lo: float, g_hi: float,
+                    width: float) -> tuple[float, float]:
+    """A bracket ``(lo, hi)`` of the sign change of ``value``, narrowed towards ``width`` by false position.
+
+    The Illinois variant: an end that stays twice has its value halved, so that both ends move.  Once an
+    estimate is within ``width / 2`` of the last (it has converged to the root), the next point is placed
+    ``width / 2`` beyond it towards the far end, which then brackets the root to about ``width``.  A point
+    that fails to converge is nudged (:func:`nudged`).  Returns the bracket it reached after at most
+    :data:`FALSE_POSITION_STEPS` values (bisection finishes what is left).
+    """
+    stale = 0  # +1: lo stayed last time, -1: hi stayed
+    previous = None
+    for _ in range(FALSE_POSITION_STEPS):
+        if abs(hi - lo) <= width:
+            break
+        s = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
+        if previous is not None and abs(s - previous) <= 0.5 * width:
+            # converged from one side: step past the root so that the far end comes next to it
+            s += 0.5 * width * (1.0 if stale == -1 else -1.0) * np.sign(hi - lo)
+        margin = 0.25 * width * np.sign(hi - lo)
+        s = float(np.clip(s, min(lo + margin, hi - margin), max(lo + margin, hi - margin)))
+        previous = s
+        s, g = nudged(value, s, 0.25 * abs(hi - lo))
+        if g * g_lo > 0:
+            lo, g_lo = s, g
+            if stale == -1:
+                g_hi *= 0.5
+            stale = -1
+        else:
+            hi, g_hi = s, g
+            if stale == 1:
+                g_lo *= 0.5
+            stale = 1
+    return lo, hi
 
 
 def _cubic_root(coef: np.ndarray, x0: float, x1: float, g0: float, g1: float) -> float:

@@ -69,6 +69,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from contin.numerics.linalg import FixedPattern
+
 from .density_kernels import kernels as _dgen
 from . import density, layouts
 
@@ -272,11 +274,22 @@ class FourierReduction:
         R = sp.csr_matrix((np.ones(keep.size), (ri[keep], ci[keep])), shape=(m, m))
         R.sum_duplicates()
         slots = csr_positions(R, ri[keep], ci[keep])
-        indices, indptr, nnz = R.indices, R.indptr, R.nnz
+        # the restricted matrices share one read-only pattern: no index checks per matrix, and the
+        # factorizations find their band positions by it (contin.numerics.linalg.FixedPattern)
+        pattern = FixedPattern(R.indices, R.indptr, R.shape)
+        # almost every entry of T^T H T is one entry of H: gathered, then the few sums of tied pairs added
+        order = np.argsort(slots, kind="stable")
+        first = np.r_[True, slots[order][1:] != slots[order][:-1]]
+        source, scale = keep[order[first]], factor[order[first]]
+        unit = bool(np.all(scale == 1.0))
+        rest = order[~first]
+        rest_slots, rest_source, rest_factor = slots[rest], keep[rest], factor[rest]
 
         def restrict(data: np.ndarray) -> sp.csr_matrix:
-            return sp.csr_matrix((np.bincount(slots, data[keep] * factor, minlength=nnz), indices, indptr),
-                                 shape=(m, m))
+            out = data[source] if unit else data[source] * scale
+            if rest.size:
+                np.add.at(out, rest_slots, data[rest_source] * rest_factor)
+            return pattern.matrix(out)
 
         return restrict
 

@@ -21,7 +21,7 @@ from typing import Any, Literal
 import numpy as np
 import scipy.sparse as sp
 
-from contin.numerics.linalg import BandedLU, Factorization, bandwidths
+from contin.numerics.linalg import Factorization, bandwidths, symmetric_band_factorization, symmetric_column
 from contin.problem import Problem
 
 from .fourier import AngularBasis, FourierShell
@@ -363,8 +363,7 @@ class Shell3D(Problem):
             return self.Tt @ (self.view.gradient(c, 1.0) - self.view.gradient(c, 0.0))
         if self.control == "force":
             return -(self.Tt @ self.load_vector)
-        H = self.view.hessian(c)
-        return -(self.Tt @ H[:, [self.z_dof]]).toarray().ravel()  # z = z_ref - w
+        return -(self.Tt @ symmetric_column(self.view.hessian(c), self.z_dof))  # z = z_ref - w
 
     def max_step_fraction(self, u: np.ndarray, p: float, du: np.ndarray, dp: float) -> float:
         """Under an indenter, the barrier's filter: no sample point may reach the indenter along the step."""
@@ -381,8 +380,9 @@ class Shell3D(Problem):
         return -(self.Tt @ mixed), cc
 
     def factorize(self, J) -> Factorization:
-        """Banded LU (O(N) at a fixed angular resolution)."""
-        return BandedLU(J, self.kl, self.ku)
+        """Banded Cholesky where the Jacobian (the energy's Hessian) is positive definite, else banded LU: O(N)
+        at a fixed angular resolution."""
+        return symmetric_band_factorization(J, max(self.kl, self.ku))
 
     # ---- observables -----------------------------------------------------------------------------
     def _obs_load(self, u: np.ndarray, p: float) -> float:
@@ -393,7 +393,7 @@ class Shell3D(Problem):
     def _dobs_load(self, u: np.ndarray, p: float) -> tuple[np.ndarray, float]:
         if self.control == "force":
             return np.zeros(self.n), 1.0
-        col = self.view.hessian(self.full_state(u, p))[:, [self.z_dof]].toarray().ravel()
+        col = symmetric_column(self.view.hessian(self.full_state(u, p)), self.z_dof)
         return -(self.Tt @ col), float(col[self.z_dof])
 
     def _obs_w(self, u: np.ndarray, p: float) -> float:
