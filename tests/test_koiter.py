@@ -110,3 +110,33 @@ def test_an_asymmetric_point_has_a():
     assert not k.symmetric
     assert k.a == pytest.approx(0.6, rel=1e-8)
     assert np.isnan(k.b)
+
+
+class FarFundamentalPath(contin.Problem):
+    """``E = k (x - X)^2 / 2 + mu(p) y^2 / 2 + y^4 / 4`` with ``X = 1000`` and ``mu(p) = sin(1 - p)``: the
+    fundamental path ``y = 0``, ``x = X`` far from the origin, the branch point at ``p_c = 1`` (``C1 = mu'
+    = -1``) and the branch ``y^2 = -mu(p)``, so ``p - p_c = xi^2`` to second order (``b_abs = 1``)."""
+
+    X = 1000.0
+
+    def __init__(self) -> None:
+        super().__init__(symmetric=True)
+
+    def residual(self, u, p):
+        x, y = u
+        return np.array([x - self.X, np.sin(1.0 - p) * y + y ** 3])
+
+    def jacobian(self, u, p):
+        x, y = u
+        return np.array([[1.0, 0.0], [0.0, np.sin(1.0 - p) + 3.0 * y ** 2]])
+
+    def dresidual_dp(self, u, p):
+        return np.array([0.0, -np.cos(1.0 - p) * u[1]])
+
+
+def test_the_traced_tangent_is_differenced_on_the_parameters_scale():
+    """A state far from zero (max|u| = 1000) must not make the difference step along the traced tangent
+    move the parameter by the state's scale: C1 is the critical eigenvalue's rate along the path."""
+    k = koiter_coefficients(FarFundamentalPath(), np.array([1000.0, 0.0]), 1.0)
+    assert k.C1 == pytest.approx(-1.0, rel=1e-8)
+    assert k.b_abs == pytest.approx(1.0, rel=1e-6)

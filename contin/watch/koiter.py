@@ -102,7 +102,8 @@ def koiter_coefficients(problem: Problem, u: np.ndarray, p: float, null_vector: 
         one whose tangent is orthogonal to the null vector (a trivial or symmetric fundamental path);
         the choice matters only at an asymmetric point.
     step : float
-        The difference step: the largest entry of ``phi`` moves by ``step (1 + max|u|)``.  The third
+        The difference step: along each direction the largest state entry moves by ``step (1 + max|u|)``
+        and the parameter by at most ``step (1 + |p|)``.  The third
         derivative is a second difference of the Hessian, so roundoff grows as ``1 / step^2`` while
         the extrapolated truncation error falls as ``step^4``.
 
@@ -140,14 +141,22 @@ def koiter_coefficients(problem: Problem, u: np.ndarray, p: float, null_vector: 
         if t_p == 0.0:
             raise ValueError("the traced branch's tangent has no parameter component: p is not its load")
         t_u, t_p = t_u / t_p, 1.0
-    # the largest entry of a unit direction moves by ``step`` of the state's scale
-    h = step * (1.0 + float(np.max(np.abs(u), initial=0.0))) / float(np.max(np.abs(phi)))
+    state_scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
+
+    def step_along(d_u: np.ndarray, d_p: float) -> float:
+        """The difference step along ``(d_u, d_p)``: its largest state entry moves by ``step`` of the state's
+        scale and the parameter by at most ``step (1 + |p|)`` (the traced tangent, scaled to ``d_p = 1``, may
+        be long in the parameter where the state's entries are small)."""
+        reach = max(float(np.max(np.abs(d_u), initial=0.0)) / state_scale, abs(d_p) / (1.0 + abs(p)))
+        return step / reach
 
     def jac(du: np.ndarray, dp: float) -> Any:
         return problem.checked_jacobian(u + du, p + dp)
 
     def first(d_u: np.ndarray, d_p: float, x: np.ndarray) -> np.ndarray:
         """``(J_X[d]) x``: the Hessian's derivative along ``d = (d_u, d_p)`` applied to ``x``."""
+        h = step_along(d_u, d_p)
+
         def central(hh: float) -> np.ndarray:
             return (jac(hh * d_u, hh * d_p) @ x - jac(-hh * d_u, -hh * d_p) @ x) / (2.0 * hh)
         return (4.0 * central(0.5 * h) - central(h)) / 3.0
@@ -155,6 +164,7 @@ def koiter_coefficients(problem: Problem, u: np.ndarray, p: float, null_vector: 
     def second(x: np.ndarray) -> float:
         """``phi^T J_uu[x, x] phi``, i.e. ``phi^T f_uuu[x, x, phi]``."""
         J0 = J @ phi
+        h = step_along(x, 0.0)
 
         def central(hh: float) -> float:
             return float(phi @ (jac(hh * x, 0.0) @ phi - 2.0 * J0 + jac(-hh * x, 0.0) @ phi)) / hh ** 2
