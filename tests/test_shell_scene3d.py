@@ -39,6 +39,12 @@ BAD_VIEWS = [
     (["load.kind=plate", "load.control=force"], ["view.kind", "load.kind", "displacement"]),
     (["stability.harmonics=true"], ["stability.harmonics", "Bloch"]),
     (["view.symmetry=none", "load.pole_held=true"], ["load.pole_held", "frictionless"]),
+    (["imperfection.kind=mode", "imperfection.delta_over_h=0.1", "imperfection.waves=2"],
+     ["imperfection.waves", "breaks the declared symmetry"]),
+    (["imperfection.kind=mode", "imperfection.delta_over_h=0.1", "imperfection.waves=6"],
+     ["imperfection.waves", "up to K n"]),
+    (["view.kind=axisymmetric", "imperfection.kind=mode", "imperfection.delta_over_h=0.1", "imperfection.waves=3"],
+     ["imperfection.waves", "only the 3-D view"]),
 ]
 
 
@@ -137,3 +143,25 @@ def test_a_surface_that_is_not_axisymmetric_is_drawn_in_colour_and_an_axisymmetr
         panels.append(len(fig.axes))  # the surface, and a colour bar when there is colour
         plt.close(fig)
     assert panels == [1, 2]
+
+
+def test_a_mode_of_n_waves_is_the_stress_free_shape():
+    """``imperfection.waves = 3``: the reference is the perfect cap's plus its three-wave mode at the first
+    bifurcation into three waves, of largest normal displacement delta; the traced class carries it."""
+    from contin_models.shell.fourier import FourierShell
+    from contin_models.shell.imperfection3d import meridian_normals
+
+    delta_over_h = 0.1
+    vb = view_problem(scene3d("imperfection.kind=mode", f"imperfection.delta_over_h={delta_over_h}",
+                              "imperfection.waves=3"))
+    view, st = vb.problem.view, vb.problem.structure
+    perfect = FourierShell(st, vb.problem.basis).reference_state()
+    imperfect = vb.problem.c_ref
+    assert np.array_equal(imperfect, view.reference_state())
+    b, m = vb.problem.basis, view.m
+    waves = imperfect - perfect
+    assert np.max(np.abs(np.delete(waves, view.dofs_of_wave(3)))) == 0.0  # three waves, nothing else
+    nr, nz = meridian_normals(st)
+    normal = waves[b.index("R", "cos", 3)::m] * nr + waves[b.index("Z", "cos", 3)::m] * nz
+    assert np.max(np.abs(normal)) == pytest.approx(delta_over_h * 0.02, rel=1e-12)
+    assert np.linalg.norm(vb.problem.residual(vb.u0, 0.0)) < 1e-8  # at rest in its own shape

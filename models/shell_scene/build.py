@@ -208,7 +208,8 @@ def scene_meridian(scene: Scene, perfect: bool = False) -> ReferenceMeridian:
     scene : dict
         A resolved scene.
     perfect : bool
-        Leave the imperfection out.
+        Leave the imperfection out.  (A mode of ``imperfection.waves >= 1`` is not axisymmetric: the meridian
+        is then the perfect one, and the 3-D view carries the mode.)
 
     Raises
     ------
@@ -222,7 +223,8 @@ def scene_meridian(scene: Scene, perfect: bool = False) -> ReferenceMeridian:
         m = reference_meridian(s, imperfection, ring_radius=ring)
     except ValueError as exc:
         raise SceneError(str(exc), "constraint") from None
-    if imperfection and imperfection.get("kind") == "mode":
+    # a mode of n >= 1 waves is the 3-D view's reference (contin_models.shell_scene.view3d.mode_reference)
+    if imperfection and imperfection.get("kind") == "mode" and not imperfection.get("waves", 0):
         mode = buckling_mode(scene)
         m = with_mode(m, mode, imperfection["delta_over_h"] * s["h"], normalize="normal")
     return m

@@ -49,7 +49,8 @@ def scene_title(scene: dict[str, dict[str, Any]]) -> str:
     if shell.get("boundary", "sliding") != "sliding":
         parts.append(f"{shell['boundary']} edge")
     if imp.get("kind", "none") != "none":
-        parts.append(rf"{imp['kind']} imperfection $\delta/h = {_number(imp.get('delta_over_h', 0.0))}$")
+        waves = f" of {imp['waves']} waves" if imp["kind"] == "mode" and imp.get("waves", 0) else ""
+        parts.append(rf"{imp['kind']} imperfection{waves} $\delta/h = {_number(imp.get('delta_over_h', 0.0))}$")
     parts.append(f"$N = {shell['N']}$")
     return ", ".join(parts)
 

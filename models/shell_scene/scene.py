@@ -80,7 +80,7 @@ def resume_scene(scene: Scene, start: Any, progress: bool = False) -> TraceResul
 
 #: Scene keys a restart keeps: they fix the mesh, the support or the load, i.e. the unknowns of the saved state.
 RESTART_FIXED = ("shell.N", "shell.pole_ratio", "shell.geometry", "shell.boundary", "shell.table", "load.kind",
-                 "imperfection.kind", "imperfection.delta_over_h", "imperfection.lambda_I", "view.kind", "view.symmetry",
+                 "imperfection.kind", "imperfection.delta_over_h", "imperfection.lambda_I", "imperfection.waves", "view.kind", "view.symmetry",
                  "view.harmonics", "view.angles")
 
 

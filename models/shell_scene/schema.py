@@ -7,7 +7,8 @@ Scene keys (public contract, ``--set section.key=value``)::
                     radial semi-axis: ellipse), H (cone's rise), b, t_edge (ellipse), knuckle (torus),
                     table (CSV profile), E, nu, h, N, pole_ratio (node spacing at the pole / elsewhere),
                     boundary = "sliding" | "pinned" | "clamped" | "free" (the indenters: sliding only)
-    [imperfection]  kind = "none" | "dimple" | "mode", delta_over_h, lambda_I (dimple width)
+    [imperfection]  kind = "none" | "dimple" | "mode", delta_over_h, lambda_I (dimple width), waves (mode: 0 axisymmetric,
+                    n >= 1 waves in the 3-D view)
     [view]          kind = "axisymmetric" | "3d", symmetry = "Dn" | "none", harmonics (K), angles (M, 0: the rule)
     [stability]     harmonics (watch non-axisymmetric modes n = 1 .. n_max), n_max (0: the default rule)
     [load]          kind = "point" | "ring" | "sphere" | "plate" | "pressure", radius (sphere),
@@ -156,6 +157,14 @@ def _angles_need(scene: dict[str, dict[str, Any]]) -> str:
             + (f" and a multiple of {step}" if mirror else "") + f" (view.angles = {view['angles']})")
 
 
+def _waves_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    waves, view = scene["imperfection"]["waves"], scene["view"]
+    if waves == 0 or view["kind"] != "3d" or not _symmetry_ok(view["symmetry"]):
+        return True
+    n, _ = symmetry_order(view["symmetry"])
+    return waves % n == 0 and waves <= view["harmonics"] * n
+
+
 def _view_load_ok(scene: dict[str, dict[str, Any]]) -> bool:
     if scene["view"]["kind"] != "3d":
         return True
@@ -253,6 +262,9 @@ SHELL_SCHEMA = Schema(
                                 "buckling mode (the null vector at the first fold or branch point of its path)"),
             "delta_over_h": real(0.0, help="amplitude over the thickness: the dimple's depth at the pole, or the "
                                            "mode's largest inward normal displacement (positive pushes inwards)"),
+            "waves": integer(0, low=0, high=1000,
+                             help="kind = \"mode\": 0, the perfect shell's axisymmetric buckling mode; n >= 1 (view.kind "
+                                  "= \"3d\"), its mode of n waves where its path first bifurcates into n waves"),
             "lambda_I": real(2.0, gt=0, help="dimple width lambda_I = (12 (1 - nu^2))^(1/4) sqrt(R/h) beta_0, "
                                              "beta_0 its angular width (R: the geometry's length scale)"),
         },
@@ -294,6 +306,16 @@ SHELL_SCHEMA = Schema(
                    "the 3-D view traces the equilibrium path through its folds under the parameter of the scene's "
                    "control; a prescribed volume and a dead load on an indenter are traced in the axisymmetric view "
                    "(view.kind = \"axisymmetric\")"),
+        Constraint(("imperfection.waves", "imperfection.kind", "view.kind"),
+                   lambda s: s["imperfection"]["waves"] == 0 or (s["imperfection"]["kind"] == "mode"
+                                                                and s["view"]["kind"] == "3d"),
+                   'imperfection.waves = 0, or imperfection.kind = "mode" with view.kind = "3d"',
+                   "a mode of n >= 1 waves is not axisymmetric: only the 3-D view carries it"),
+        Constraint(("imperfection.waves", "view.symmetry", "view.harmonics"), _waves_ok,
+                   "imperfection.waves a wave of the view: a multiple of n up to K n (view.symmetry = \"Dn\"), up "
+                   "to K (\"none\"), K = view.harmonics",
+                   "an imperfection that breaks the declared symmetry would be cut to the part the traced class "
+                   "carries; declare a symmetry the imperfection has (e.g. view.symmetry = \"D3\" for 3 or 6 waves)"),
         Constraint(("view.kind", "stability.harmonics"),
                    lambda s: s["view"]["kind"] != "3d" or not s["stability"]["harmonics"],
                    'stability.harmonics = false with view.kind = "3d"',

@@ -46,8 +46,8 @@ from .build import LOWEST_W, build, length_unit, loaded_end, traced_structure
 from .labels import force_axes, length_symbol, pressure_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene, record_fields, symmetry_order
 
-__all__ = ["angular_basis", "view_problem", "representations", "run_view3d", "surface_shapes", "draw_surfaces",
-           "MAX_SURFACES"]
+__all__ = ["angular_basis", "view_problem", "mode_reference", "representations", "run_view3d", "surface_shapes",
+           "draw_surfaces", "MAX_SURFACES"]
 
 #: Observables a special point's record carries at its top level.
 _OBS = ("F", "p", "w", "w_b", "w_over_h", "w_over_L", "F_norm", "p_over_p_c")
@@ -108,33 +108,76 @@ def view_problem(scene: Scene, progress: bool = False) -> ViewBuild:
     the loaded node's deflection ``w`` under a point or ring load (the axisymmetric point-load run states it
     in its own runner).
     """
+    axi = build(scene, progress)
+    structure = traced_structure(scene, axi.problem)
+    basis = angular_basis(scene)
+    reference = mode_reference(scene, axi, structure, basis) if scene["imperfection"].get("waves", 0) else None
+    problem, settings = _shell3d(scene, axi, structure, basis, basis.mirror and basis.n >= 2, reference)
+    return ViewBuild(problem=problem, settings=settings, u0=problem.reference_unknowns(), p0=0.0, axisymmetric=axi)
+
+
+def _shell3d(scene: Scene, axi: Any, structure: Any, basis: Any, every_mode: bool,
+             reference: np.ndarray | None = None) -> tuple[Any, contin.Settings]:
+    """:class:`Shell3D` of the scene's load on ``structure`` in ``basis``, and the axisymmetric build's settings
+    with the end of the path stated for it."""
     from contin_models.contact.indentation import ShellIndentation
     from contin_models.shell.problem3d import Shell3D
 
-    axi = build(scene, progress)
     load = scene["load"]
     kind, control = load["kind"], load["control"]
-    structure = traced_structure(scene, axi.problem)
-    basis = angular_basis(scene)
-    every_mode = basis.mirror and basis.n >= 2
     L = length_unit(scene)
     settings = axi.settings
     if kind in ("sphere", "plate"):
         if not isinstance(axi.problem, ShellIndentation):
             raise TypeError("view_problem: an indenter scene builds a ShellIndentation")
         problem = Shell3D(structure, basis, kind, "displacement", length=L, every_mode=every_mode,
-                          barrier=axi.problem.barrier)
-        settings = dataclasses.replace(settings, p_max=axi.w_end)
-    elif kind == "pressure":
+                          barrier=axi.problem.barrier, reference=reference)
+        return problem, dataclasses.replace(settings, p_max=axi.w_end)
+    if kind == "pressure":
         problem = Shell3D(structure, basis, "pressure", "force", length=L, every_mode=every_mode,
-                          p_c=float(axi.problem.p_c))
-    else:
-        node = structure.meridian.ring_node if kind == "ring" else None
-        problem = Shell3D(structure, basis, kind, control, length=L, node=node, every_mode=every_mode)
-        end = loaded_end(scene, axi.problem)
-        ends = {"p_max": end, "p_min": LOWEST_W} if control == "displacement" else {}
-        settings = dataclasses.replace(settings, bounds={"w": (LOWEST_W, end)}, **ends)
-    return ViewBuild(problem=problem, settings=settings, u0=problem.reference_unknowns(), p0=0.0, axisymmetric=axi)
+                          p_c=float(axi.problem.p_c), reference=reference)
+        return problem, settings
+    node = structure.meridian.ring_node if kind == "ring" else None
+    problem = Shell3D(structure, basis, kind, control, length=L, node=node, every_mode=every_mode, reference=reference)
+    end = loaded_end(scene, axi.problem)
+    ends = {"p_max": end, "p_min": LOWEST_W} if control == "displacement" else {}
+    return problem, dataclasses.replace(settings, bounds={"w": (LOWEST_W, end)}, **ends)
+
+
+def mode_reference(scene: Scene, axi: Any, structure: Any, basis: Any) -> np.ndarray:
+    """The stress-free shape of ``imperfection.kind = "mode"`` with ``imperfection.waves = n``: the perfect
+    shell's mode of ``n`` waves where its path under the scene's load first bifurcates into it, as an
+    imperfection of largest normal displacement ``imperfection.delta_over_h`` times ``h`` (inward for a
+    positive amplitude) in ``basis`` (:func:`contin_models.shell.imperfection3d.mode_imperfection`).
+
+    The bifurcation is located as the first branch point of the perfect path in the basis of the waves
+    ``0`` and ``n`` (``Dn``, one harmonic), whose quadrature puts it where the harmonic block of ``n`` does.
+
+    Raises
+    ------
+    contin.app.scene.SceneError
+        When the perfect path has no located bifurcation into ``n`` waves up to its end.
+    """
+    from contin.app.scene import SceneError
+    from contin_models.shell.fourier import AngularBasis
+    from contin_models.shell.imperfection3d import mode_imperfection
+
+    imp = scene["imperfection"]
+    n = int(imp["waves"])
+    probe, settings = _shell3d(scene, axi, structure, AngularBasis(n, 1), every_mode=False)
+    br = contin.continuation(probe, probe.reference_unknowns(), 0.0, dataclasses.replace(settings, stability=True),
+                             stop_at=("branch_point",))
+    bp = next((s for s in br.special_points if s.kind == "branch_point" and s.located and s.bifurcation is not None
+               and s.bifurcation.null_vector is not None), None)
+    if bp is None:
+        raise SceneError(f"imperfection.waves = {n}: the perfect shell's path has no located bifurcation into {n} waves "
+                         f"up to its end ({br.message}); choose the waves of one that it has (a run with "
+                         "view.kind = \"3d\" lists them)", "constraint")
+    phi = probe.T @ np.asarray(bp.bifurcation.null_vector, dtype=float)
+    m, b = probe.view.m, probe.basis
+    mode = np.stack([phi[b.index("R", "cos", n)::m], phi[b.index("Z", "cos", n)::m],
+                     phi[b.index("T", "sin", n)::m]], axis=1)
+    return mode_imperfection(structure, basis, n, mode, float(imp["delta_over_h"]) * float(scene["shell"]["h"]))
 
 
 def _class_columns(br: Branch, label: str) -> dict[str, np.ndarray]:
