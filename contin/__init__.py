@@ -67,6 +67,7 @@ package and its command start without loading the engine.  Where each part lives
 ``analyses.diagram``      bifurcation diagrams as ``networkx`` graphs
 ``analyses.autodiagram``  automatic diagrams: switching at every branch point to a depth, repeats and copies merged
 ``analyses.deflation``    solutions no traced branch reaches (:func:`deflate`), and the branches through them
+``analyses.lift``         a located bifurcation carried into another problem and located there again (:class:`Lift`)
 ``plot.branches``         plots of branches, their special points and snaps (:func:`plot_branches`)
 ``plot.framing``          the part of a diagram with its snaps, as a detail panel or limited axes
 ``plot.style``            the project's figure style
@@ -110,6 +111,7 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("DeflatedBranches", "DeflationAttempt", "DeflationResult", "DeflationSettings", "deflate",
                      "deflated_branches"), "analyses.deflation"),
     **dict.fromkeys(("StabilityInfo", "stability_info"), "numerics.stability"),
+    **dict.fromkeys(("Lift", "LiftError", "lift_branch_point"), "analyses.lift"),
     **dict.fromkeys(("FamilyProblem", "FoldCurveProblem", "cusp_curve_problem"), "analyses.twopar"),
 }
 
