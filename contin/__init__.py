@@ -35,7 +35,7 @@ package and its command start without loading the engine.  Where each part lives
 ========================  =========================================================================================
 ``problem``               the model interface (:class:`Problem`; stability operators, :class:`LeadingBlock`)
 ``settings``              :class:`Settings` and their ranges
-``palc``                  the continuation loop (:func:`continuation`, :func:`switch_branch`)
+``palc``                  the continuation loop (:func:`continuation`, :func:`switch_branch`, :func:`switch_branch_along`)
 ``recorder``              accepted points, their stability, special points -> :class:`Branch`
 ``numerics.linalg``       factorizations and bordered solves
 ``numerics.stability``    Morse index and smallest eigenvalues of symmetric operators
@@ -101,7 +101,8 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("AutoDiagram", "SwitchAttempt", "auto_diagram"), "analyses.autodiagram"),
     "plot_branches": "plot.branches", "save_diagram": "analyses.diagram",
     **dict.fromkeys(("JumpError", "JumpResult", "jump"), "analyses.jump"),
-    **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch"), "palc"),
+    **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch", "switch_branch_along"),
+                     "palc"),
     **dict.fromkeys(("Constrained", "LeadingBlock", "NonFiniteError", "Problem"), "problem"),
     **dict.fromkeys(("ConjugateControl", "LoadConjugate"), "analyses.conjugate"),
     **dict.fromkeys(("OperatorFamily", "family_counts"), "watch.modes"),

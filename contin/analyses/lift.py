@@ -146,7 +146,7 @@ def lift_branch_point(point: SpecialPoint, source: Problem, target: Problem, lif
     u0 = np.asarray(lift.state(np.asarray(point.u, dtype=float), float(point.p)), dtype=float)
     p0 = float(lift.parameter(float(point.p)))
     psi0 = np.asarray(lift.mode(mode), dtype=float)
-    n = target.n
+    n = np.asarray(target.residual(u0, p0)).size if u0.ndim == 1 else -1
     for what, v in (("state", u0), ("mode", psi0)):
         if v.shape != (n,) or not np.all(np.isfinite(v)):
             raise LiftError(f"{lift.name}: the lifted {what} must be a finite vector of the target's {n} unknowns, "
