@@ -51,6 +51,10 @@ from ..watch.testfunctions import bifurcation_directions
 
 __all__ = ["Lift", "LiftError", "lift_branch_point"]
 
+#: Relative Newton steps below which a step that no longer contracts (to half the previous one) is rounding:
+#: the iteration ends there.
+ROUNDING_FLOOR = 1e-9
+
 
 class LiftError(ValueError):
     """A point that cannot be lifted (not a bifurcation, a mode the lift does not carry), or one the target
@@ -120,7 +124,8 @@ def lift_branch_point(point: SpecialPoint, source: Problem, target: Problem, lif
     lift : Lift
     tol : float
         Newton ends when its step changes the state and the parameter by less than ``tol`` relative to
-        their sizes (and the unfolding scalar by less than ``tol`` relative to the residual's scale).
+        their sizes (and the unfolding scalar by less than ``tol`` relative to the residual's scale), or
+        when steps below :data:`ROUNDING_FLOOR` stop contracting (the rounding floor of a fine mesh).
     max_iter : int
         Newton steps at most.
 
@@ -219,6 +224,7 @@ def _newton(problem: Problem, u: np.ndarray, p: float, psi0: np.ndarray, tol: fl
     residual's scale."""
     n = u.size
     psi, mu = psi0.copy(), 0.0
+    previous = math.inf
     scale = float(getattr(problem, "residual_scale", 1.0) or 1.0)
     dp_step = 1e-4 * (abs(p) if p != 0.0 else 1.0)
     for step in range(1, max_iter + 1):
@@ -248,14 +254,17 @@ def _newton(problem: Problem, u: np.ndarray, p: float, psi0: np.ndarray, tol: fl
             raise LiftError(f"{name}: Newton on the branch point's extended system gave a non-finite step at "
                             f"{problem.parameter_name} = {p:.10g}")
         u, p, psi, mu = u + d[:n], p + float(d[n]), psi + d[n + 1:2 * n + 1], mu + float(d[-1])
-        small = (float(np.max(np.abs(d[:n]))) <= tol * (1.0 + float(np.max(np.abs(u))))
-                 and abs(float(d[n])) <= tol * (1.0 + abs(p)) and abs(float(d[-1])) <= tol * scale)
-        if small:
+        size = max(float(np.max(np.abs(d[:n]))) / (1.0 + float(np.max(np.abs(u)))), abs(float(d[n])) / (1.0 + abs(p)),
+                   abs(float(d[-1])) / scale)
+        # converged, or stalled at the rounding floor: once the steps are that small they stop contracting
+        # (on a fine mesh the floor lies above tol; the point is then as good as its rounding allows)
+        if size <= tol or (size <= ROUNDING_FLOOR and size >= 0.5 * previous):
             if abs(mu) > 1e-6 * scale:
                 raise LiftError(f"{name}: no branch point of the target near the lifted point: the extended system's "
                                 f"root at {problem.parameter_name} = {p:.10g} has the unfolding mu = {mu:.3g}, not 0 "
                                 f"(relative to the residual's scale {scale:.3g})")
             return u, p, psi, step, mu / scale
+        previous = size
     raise LiftError(f"{name}: Newton on the branch point's extended system did not converge from the lifted point "
                     f"in {max_iter} steps (last {problem.parameter_name} = {p:.10g}); the target has no simple branch "
                     "point near it")
