@@ -35,7 +35,7 @@ package and its command start without loading the engine.  Where each part lives
 ========================  =========================================================================================
 ``problem``               the model interface (:class:`Problem`; stability operators, :class:`LeadingBlock`)
 ``settings``              :class:`Settings` and their ranges
-``palc``                  the continuation loop (:func:`continuation`, :func:`switch_branch`, :func:`switch_branch_along`)
+``palc``                  the continuation loop (:func:`continuation`, the switches :func:`switch_branch` and its ``_along``)
 ``recorder``              accepted points, their stability, special points -> :class:`Branch`
 ``numerics.linalg``       factorizations and bordered solves
 ``numerics.stability``    Morse index and smallest eigenvalues of symmetric operators

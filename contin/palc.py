@@ -45,8 +45,8 @@ from .watch.multiple import IndexWatch, primary_index
 from .watch.testfunctions import KnownBranchPoints, TestFunction
 from .watch.watchlist import test_functions
 
-__all__ = ["Settings", "continuation", "locate_fold", "switch_branch", "switch_branch_along", "CorrectorFailure", "Curve", "Point",
-           "Correction"]
+__all__ = ["Settings", "continuation", "locate_fold", "switch_branch", "switch_branch_along", "CorrectorFailure", "Curve",
+           "Point", "Correction"]
 
 #: failures of one continuation step: the step is retried smaller
 STEP_FAILURES = (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError)

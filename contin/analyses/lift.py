@@ -236,20 +236,20 @@ def _newton(problem: Problem, u: np.ndarray, p: float, psi0: np.ndarray, tol: fl
         h = 1e-4 * (1.0 + float(np.max(np.abs(u), initial=0.0))) / max(float(np.max(np.abs(psi))), 1e-300)
         S = (sp.csr_matrix(problem.checked_jacobian(u + h * psi, p))
              - sp.csr_matrix(problem.checked_jacobian(u - h * psi, p))) / (2 * h)
-        Jp_psi = (np.asarray(problem.dresidual_dp(u + h * psi, p)) - np.asarray(problem.dresidual_dp(u - h * psi, p))) / (2 * h)
+        Jp_psi = (np.asarray(problem.dresidual_dp(u + h * psi, p))
+                  - np.asarray(problem.dresidual_dp(u - h * psi, p))) / (2 * h)
         fpp_psi = float((np.asarray(problem.dresidual_dp(u, p + dp_step))
                          - np.asarray(problem.dresidual_dp(u, p - dp_step))) @ psi) / (2 * dp_step)
-        col = lambda v: sp.csr_matrix(np.asarray(v, dtype=float).reshape(-1, 1))  # noqa: E731
-        row = lambda v: sp.csr_matrix(np.asarray(v, dtype=float).reshape(1, -1))  # noqa: E731
-        A = sp.bmat([[J, col(fp), mu * sp.identity(n) if mu else None, col(psi)],
-                     [S, col(Jp_psi), J, None],
-                     [row(Jp_psi), sp.csr_matrix([[fpp_psi]]), row(fp), None],
-                     [None, None, row(psi0), sp.csr_matrix((1, 1))]], format="csc")
+        A = sp.bmat([[J, _column(fp), mu * sp.identity(n) if mu else None, _column(psi)],
+                     [S, _column(Jp_psi), J, None],
+                     [_column(Jp_psi).T, sp.csr_matrix([[fpp_psi]]), _column(fp).T, None],
+                     [None, None, _column(psi0).T, sp.csr_matrix((1, 1))]], format="csc")
         try:
             d = splu(A).solve(-G)
         except RuntimeError as exc:
             raise LiftError(f"{name}: the branch point's extended system is singular near the lifted point "
-                            f"({problem.parameter_name} = {p:.10g}): not a simple branch point of the target ({exc})") from None
+                            f"({problem.parameter_name} = {p:.10g}): not a simple branch point of the target "
+                            f"({exc})") from None
         if not np.all(np.isfinite(d)):
             raise LiftError(f"{name}: Newton on the branch point's extended system gave a non-finite step at "
                             f"{problem.parameter_name} = {p:.10g}")
@@ -268,3 +268,7 @@ def _newton(problem: Problem, u: np.ndarray, p: float, psi0: np.ndarray, tol: fl
     raise LiftError(f"{name}: Newton on the branch point's extended system did not converge from the lifted point "
                     f"in {max_iter} steps (last {problem.parameter_name} = {p:.10g}); the target has no simple branch "
                     "point near it")
+
+
+def _column(v: np.ndarray) -> sp.csr_matrix:
+    return sp.csr_matrix(np.asarray(v, dtype=float).reshape(-1, 1))
