@@ -29,6 +29,7 @@ stability, and the coefficients of the odd multiples of ``n`` reversed.  :func:`
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -108,6 +109,7 @@ def shell_lift(source: Problem, target: Shell3D, n: int) -> Lift:
     return Lift(state=state, mode=mode, family="n", key=n, name=f"shell_lift(n = {n})")
 
 
+@dataclass
 class WavesBranch:
     """The ``n``-wave branch followed from the axisymmetric trace's bifurcation (:func:`follow_waves`).
 
@@ -121,8 +123,9 @@ class WavesBranch:
         The ``+1`` half of the ``n``-wave branch, from the branch point.
     """
 
-    def __init__(self, problem: Shell3D, branch_point: SpecialPoint, branch: Branch) -> None:
-        self.problem, self.branch_point, self.branch = problem, branch_point, branch
+    problem: Shell3D
+    branch_point: SpecialPoint
+    branch: Branch
 
 
 def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure: Any = None,
@@ -161,7 +164,8 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     Raises
     ------
     LiftError
-        The point is not a located bifurcation into waves, or the 3-D view has no branch point near it.
+        The point is not a located bifurcation into waves, the source is an indenter's problem, or the 3-D
+        view has no branch point near it.
     """
     from contin.palc import switch_branch
 
@@ -175,6 +179,9 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     st = structure if structure is not None else getattr(source, "structure", None)
     if st is None:
         raise LiftError("follow_waves: give the structure whose energy the source's is (structure=...)")
+    if getattr(source, "barrier", None) is not None:
+        raise LiftError("follow_waves: the source is pressed by an indenter, which this lift does not carry into the "
+                        "3-D view; the point, ring and pressure loads are lifted")
     # the source's load: a shell of revolution names it; the paper's model is a point load
     load = getattr(source, "load", "point")
     node = getattr(source, "node", None) if load == "ring" else None
