@@ -35,7 +35,7 @@ package and its command start without loading the engine.  Where each part lives
 ========================  =========================================================================================
 ``problem``               the model interface (:class:`Problem`; stability operators, :class:`LeadingBlock`)
 ``settings``              :class:`Settings` and their ranges
-``palc``                  the continuation loop (:func:`continuation`, :func:`switch_branch`)
+``palc``                  the continuation loop (:func:`continuation`, the switches :func:`switch_branch` and its ``_along``)
 ``recorder``              accepted points, their stability, special points -> :class:`Branch`
 ``numerics.linalg``       factorizations and bordered solves
 ``numerics.stability``    Morse index and smallest eigenvalues of symmetric operators
@@ -67,6 +67,7 @@ package and its command start without loading the engine.  Where each part lives
 ``analyses.diagram``      bifurcation diagrams as ``networkx`` graphs
 ``analyses.autodiagram``  automatic diagrams: switching at every branch point to a depth, repeats and copies merged
 ``analyses.deflation``    solutions no traced branch reaches (:func:`deflate`), and the branches through them
+``analyses.lift``         a located bifurcation carried into another problem and located there again (:class:`Lift`)
 ``plot.branches``         plots of branches, their special points and snaps (:func:`plot_branches`)
 ``plot.framing``          the part of a diagram with its snaps, as a detail panel or limited axes
 ``plot.style``            the project's figure style
@@ -100,7 +101,8 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("AutoDiagram", "SwitchAttempt", "auto_diagram"), "analyses.autodiagram"),
     "plot_branches": "plot.branches", "save_diagram": "analyses.diagram",
     **dict.fromkeys(("JumpError", "JumpResult", "jump"), "analyses.jump"),
-    **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch"), "palc"),
+    **dict.fromkeys(("CorrectorFailure", "continuation", "locate_fold", "switch_branch", "switch_branch_along"),
+                     "palc"),
     **dict.fromkeys(("Constrained", "LeadingBlock", "NonFiniteError", "Problem"), "problem"),
     **dict.fromkeys(("ConjugateControl", "LoadConjugate"), "analyses.conjugate"),
     **dict.fromkeys(("OperatorFamily", "family_counts"), "watch.modes"),
@@ -110,6 +112,7 @@ _EXPORTS: dict[str, str] = {
     **dict.fromkeys(("DeflatedBranches", "DeflationAttempt", "DeflationResult", "DeflationSettings", "deflate",
                      "deflated_branches"), "analyses.deflation"),
     **dict.fromkeys(("StabilityInfo", "stability_info"), "numerics.stability"),
+    **dict.fromkeys(("Lift", "LiftError", "lift_branch_point"), "analyses.lift"),
     **dict.fromkeys(("FamilyProblem", "FoldCurveProblem", "cusp_curve_problem"), "analyses.twopar"),
 }
 

@@ -45,8 +45,8 @@ from .watch.multiple import IndexWatch, primary_index
 from .watch.testfunctions import KnownBranchPoints, TestFunction
 from .watch.watchlist import test_functions
 
-__all__ = ["Settings", "continuation", "locate_fold", "switch_branch", "CorrectorFailure", "Curve", "Point",
-           "Correction"]
+__all__ = ["Settings", "continuation", "locate_fold", "switch_branch", "switch_branch_along", "CorrectorFailure", "Curve",
+           "Point", "Correction"]
 
 #: failures of one continuation step: the step is retried smaller
 STEP_FAILURES = (CorrectorFailure, NonFiniteError, SingularMatrixError, np.linalg.LinAlgError)
@@ -685,6 +685,46 @@ def switch_branch(problem: Problem, branch_point: SpecialPoint, settings: Settin
     br.special_points.insert(0, origin)
     br.meta["origin"] = {"kind": "branch_point", "p": float(branch_point.p)}
     return br
+
+
+def switch_branch_along(problem: Problem, u: np.ndarray, p: float, along: np.ndarray, settings: Settings | None = None,
+                        *, traced: np.ndarray | None = None, direction: int = 1, ds: float | None = None,
+                        events: Sequence[Event] = (), known: Sequence[SpecialPoint] = (),
+                        **overrides: Any) -> Branch:
+    """Continue the branch that leaves ``(u, p)`` along an explicit direction, for callers that know it.
+
+    As :func:`switch_branch` from a branch point whose record holds the one direction ``along`` (and the traced
+    branch's tangent ``traced``, which the step off keeps clear of); nothing is located or checked at
+    ``(u, p)`` beyond what the first corrected point needs.
+
+    Parameters
+    ----------
+    problem : Problem
+    u, p : ndarray, float
+        The point the branch leaves (a branch point, or wherever the caller knows a branch passes).
+    along : ndarray, shape (n + 1,)
+        The direction ``(du, dp)`` of the new branch (any length; a mode is ``(mode, 0)``).
+    traced : ndarray, shape (n + 1,), optional
+        The tangent of the branch already traced through the point.
+    direction, ds, events, known, overrides
+        As :func:`switch_branch`.
+
+    Returns
+    -------
+    Branch
+        The new branch; its first special point is ``(u, p)``, a ``"branch_point"`` labelled ``"origin"``.
+    """
+    u = np.asarray(u, dtype=float)
+    along = np.asarray(along, dtype=float)
+    if along.shape != (u.size + 1,) or not np.all(np.isfinite(along)) or not np.any(along[:-1]):
+        raise ValueError(f"switch_branch_along: along must be a finite direction (du, dp) of shape ({u.size + 1},) "
+                         f"with du not zero, got shape {along.shape}")
+    kernel = along[:-1] / float(np.linalg.norm(along[:-1]))
+    record = Bifurcation(multiplicity=1, kernel=kernel[None, :], directions=along[None, :], traced=traced,
+                         kind="unresolved", labels=["given by the caller"])
+    point = SpecialPoint("branch_point", float(p), u, problem.evaluate_observables(u, float(p)),
+                         residual=max_abs(problem.residual(u, float(p))), located=True, bifurcation=record)
+    return switch_branch(problem, point, settings, direction=direction, ds=ds, events=events, known=known, **overrides)
 
 
 def _in_fixed_space(problem: Problem, bp: SpecialPoint, branch: int,

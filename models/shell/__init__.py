@@ -25,6 +25,7 @@ Reading order:
    :mod:`contin_models.contact`).
 5. **The problem**: :mod:`~contin_models.shell.structure`, :mod:`~contin_models.shell.problem`,
    :mod:`~contin_models.shell.problem3d` (the 3-D view under a load, :class:`Shell3D`),
+   :mod:`~contin_models.shell.lift` (a bifurcation into ``n`` waves carried into the 3-D view and followed),
    :mod:`~contin_models.shell.pressure`, :mod:`~contin_models.shell.strain`, :mod:`~contin_models.shell.boundaries`.
 
 The public names are imported on first use (:mod:`contin.lazy`), so a light module of the package, such
@@ -45,13 +46,14 @@ _EXPORTS: dict[str, str] = {
     "ShellPressure": "pressure",
     **dict.fromkeys(("AngularBasis", "FourierShell"), "fourier"),
     "Shell3D": "problem3d",
+    **dict.fromkeys(("WavesBranch", "follow_waves", "rotated_half", "shell_lift"), "lift"),
     **dict.fromkeys(("branch_mode", "dimple_imperfection", "mode_imperfection"), "imperfection3d"),
     "PoleMirror": "elements",
     "ShellPointLoad": "problem",
 }
 
 __all__ = ["AngularBasis", "FourierShell", "HALF_BANDWIDTH", "Shell3D", "branch_mode", "dimple_imperfection",
-           "mode_imperfection", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "ShellPressure", "interleave",
+           "mode_imperfection", "WavesBranch", "follow_waves", "rotated_half", "shell_lift", "PoleMirror", "ReferenceCap", "ShellEnergy", "ShellPointLoad", "ShellPressure", "interleave",
            "spherical_cap", "split",
            "Cone", "EllipseArc", "ReferenceMeridian", "Segment", "SphericalArc", "TableProfile", "TorusArc",
            "annulus_meridian", "complete_sphere_meridian", "cone_meridian", "ellipsoid_cap_meridian", "meridian",
