@@ -165,19 +165,21 @@ def mode_reference(scene: Scene, axi: Any, structure: Any, basis: Any) -> np.nda
     imp = scene["imperfection"]
     n = int(imp["waves"])
     probe, settings = _shell3d(scene, axi, structure, AngularBasis(n, 1), every_mode=False)
-    br = contin.continuation(probe, probe.reference_unknowns(), 0.0, dataclasses.replace(settings, stability=True),
-                             stop_at=("branch_point",))
-    bp = next((s for s in br.special_points if s.kind == "branch_point" and s.located and s.bifurcation is not None
-               and s.bifurcation.null_vector is not None), None)
-    if bp is None:
-        raise SceneError(f"imperfection.waves = {n}: the perfect shell's path has no located bifurcation into {n} waves "
-                         f"up to its end ({br.message}); choose the waves of one that it has (a run with "
-                         "view.kind = \"3d\" lists them)", "constraint")
-    phi = probe.T @ np.asarray(bp.bifurcation.null_vector, dtype=float)
+    br = contin.continuation(probe, probe.reference_unknowns(), 0.0, dataclasses.replace(settings, stability=True))
     m, b = probe.view.m, probe.basis
-    mode = np.stack([phi[b.index("R", "cos", n)::m], phi[b.index("Z", "cos", n)::m],
-                     phi[b.index("T", "sin", n)::m]], axis=1)
-    return mode_imperfection(structure, basis, n, mode, float(imp["delta_over_h"]) * float(scene["shell"]["h"]))
+    waves = probe.view.dofs_of_wave(n)
+    for bp in br.special_points:
+        if bp.kind != "branch_point" or not bp.located or bp.bifurcation is None or bp.bifurcation.null_vector is None:
+            continue
+        phi = probe.T @ np.asarray(bp.bifurcation.null_vector, dtype=float)
+        # a branch point of the axisymmetric waves alone (its mode in wave 0) is not the bifurcation sought
+        if np.linalg.norm(phi[waves]) > 0.5 * np.linalg.norm(phi):
+            mode = np.stack([phi[b.index("R", "cos", n)::m], phi[b.index("Z", "cos", n)::m],
+                             phi[b.index("T", "sin", n)::m]], axis=1)
+            return mode_imperfection(structure, basis, n, mode, float(imp["delta_over_h"]) * float(scene["shell"]["h"]))
+    raise SceneError(f"imperfection.waves = {n}: the perfect shell's path has no located bifurcation into {n} waves "
+                     f"up to its end ({br.message}); choose the waves of one that it has (a run with "
+                     "view.kind = \"3d\" lists them)", "constraint")
 
 
 def _class_columns(br: Branch, label: str) -> dict[str, np.ndarray]:
