@@ -180,3 +180,38 @@ def test_the_eigenvalues_near_zero_do_not_depend_on_what_the_process_computed_be
     eigsh(H, k=3, which="LA")  # anything else the process asks of ARPACK in between
     second = eigenvalues_near_zero(H, k=2, vectors=True)
     assert np.array_equal(first[0], second[0]) and np.array_equal(first[1], second[1])
+
+
+def test_the_eigenvalue_bisection_reuses_the_bracket_ends_operators(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Two eigenvalues of a key cross zero on one step: the location bisects each on the eigenvalue itself,
+    from the bracket ends' operators as the counts at those points built them, not built again."""
+    from contin.watch import modes
+
+    calls: list[tuple[int, float, bool]] = []
+    locating = [False]
+
+    def op(k, u, p):
+        calls.append((k, float(u[0]), locating[0]))
+        return np.diag([k * k - u[0], k * k + 0.01 - u[0]])
+
+    original = modes.ModeTest.locate
+
+    def locate(self, *args):
+        locating[0] = True
+        try:
+            return original(self, *args)
+        finally:
+            locating[0] = False
+
+    monkeypatch.setattr(modes.ModeTest, "locate", locate)
+    family = contin.OperatorFamily("k", (1, 2), op, multiplicity=lambda k: 2)
+    prob = contin.Problem(residual=lambda u, p: np.array([u[0] - p]), jacobian=lambda u, p: np.eye(1),
+                          dresidual_dp=lambda u, p: np.array([-1.0]), symmetric=True, operator_families=[family],
+                          name="family")
+    br = contin.continuation(prob, np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=5.0, stability=True, max_steps=100)
+    bif = [s for s in br.special_points if s.kind == "bifurcation"]
+    assert [(round(s.p, 9), s.info["key"], s.info["counts_after"]) for s in bif] == [(1.0, 1, [2, 0]), (4.0, 2, [2, 2])]
+    stored = set(float(p) for p in br.p)
+    in_location = [(k, u) for k, u, during in calls if during]
+    assert in_location, "the location evaluated no operator"
+    assert not [(k, u) for k, u in in_location if u in stored], "a bracket end's operator was evaluated again"

@@ -49,7 +49,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ..numerics.linalg import BandedLU, SingularMatrixError, SymmetricBand, bandwidths, cholesky_band_solver, factorize
+from ..numerics.linalg import (BandedLU, SingularMatrixError, SymmetricBand, bandwidths, cholesky_band_solver, factorize,
+                               upper_band)
 from ..numerics.stability import BANDED_MIN, LDL_GROWTH_LIMIT, lanczos_start, pivot_free_ldlt, stability_info
 from ..path.curve import Curve, Point
 from ..path.segment import Segment
@@ -114,7 +115,8 @@ def _band(H: Any) -> SymmetricBand | None:
     if sp.issparse(H) and H.shape[0] > BANDED_MIN:
         b = max(bandwidths(H))
         if b + 1 <= 0.1 * H.shape[0]:
-            return SymmetricBand(_upper_band(H, b))
+            # a family's operators of one read-only pattern (a FixedPattern's) find their band positions once
+            return SymmetricBand(upper_band(H, b))
     return None
 
 
@@ -227,15 +229,6 @@ def _jacobi_scaled(K: Any, scale: np.ndarray | None = None) -> Any:
         Ds = sp.diags(s)
         return (Ds @ K @ Ds).tocsr()
     return np.asarray(K, dtype=float) * s[:, None] * s[None, :]
-
-
-def _upper_band(H: Any, b: int) -> np.ndarray:
-    """LAPACK's upper band storage ``ab[b + i - j, j] = H[i, j]`` of a sparse symmetric matrix."""
-    C = sp.coo_matrix(H)
-    keep = (C.col >= C.row) & (C.col - C.row <= b)
-    ab = np.zeros((b + 1, H.shape[0]))
-    ab[b + C.row[keep] - C.col[keep], C.col[keep]] = C.data[keep]
-    return ab
 
 
 def family_counts(family: OperatorFamily, u: np.ndarray, p: float) -> tuple[int, ...]:
@@ -465,6 +458,14 @@ class ModeTest(TestFunction):
     def _eigenvalue(self, key: Any, index: int, u: np.ndarray, p: float) -> float:
         return ordered_eigenvalue(self.family.operator(key, u, p), index)
 
+    def _kept(self, key: Any, pt: Point) -> tuple[Any, Callable[[np.ndarray], np.ndarray] | None] | None:
+        """The key's operator at the point ``pt`` and its solver as :meth:`value` made them there (kept for the
+        last two points counted: a located bifurcation's bracket ends), or None."""
+        for counted, factored in self._factored:
+            if counted is pt and key in factored:
+                return factored[key]
+        return None
+
     def _bordered_root(self, seg: Segment, key: Any, index: int,
                        nodes: dict) -> tuple[float, np.ndarray, np.ndarray | None] | None:
         """The key's bifurcation on the segment (its eigenvalue number ``index`` crosses zero), or None.
@@ -486,9 +487,9 @@ class ModeTest(TestFunction):
         ops: dict[float, Any] = {}
         solvers: dict[float, Callable[[np.ndarray], np.ndarray] | None] = {}
         for sigma, pt in ((0.0, seg.A), (seg.sigma_B, seg.B)):  # the ends' operators as value() factorized them
-            for counted, factored in self._factored:
-                if counted is pt and key in factored:
-                    ops[sigma], solvers[sigma] = factored[key]
+            kept = self._kept(key, pt)
+            if kept is not None:
+                ops[sigma], solvers[sigma] = kept
         K_B = ops.get(seg.sigma_B)
         if K_B is None:
             K_B = ops[seg.sigma_B] = fam.operator(key, seg.B.u, seg.B.p)
@@ -546,8 +547,9 @@ class ModeTest(TestFunction):
             # the eigenvalues number min(a, b) .. max(a, b) - 1 (ascending) cross zero on the step: the
             # first crossing along the curve is where the key bifurcates
             for index in range(min(a, b), max(a, b)):
-                g_A = self._eigenvalue(key, index, seg.A.u, seg.A.p)
-                g_B = self._eigenvalue(key, index, seg.B.u, seg.B.p)
+                g_A, g_B = (ordered_eigenvalue(kept[0], index) if kept is not None else
+                            self._eigenvalue(key, index, pt.u, pt.p)
+                            for pt, kept in ((seg.A, self._kept(key, seg.A)), (seg.B, self._kept(key, seg.B))))
                 if g_A * g_B > 0.0:  # crossed twice on the step: no sign change to bracket
                     failures[f"{key}[{index}]"] = f"eigenvalue {index} has the same sign at both ends ({g_A:.3g}, {g_B:.3g})"
                     continue

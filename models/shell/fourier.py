@@ -894,20 +894,6 @@ class FourierShell:
         else:
             np.add.at(band.reshape(-1), runs, He.ravel())
 
-    def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool,
-                          rows: np.ndarray) -> np.ndarray:
-        """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, A, E)`` of
-        :meth:`_element_hessians`, its rows ordered by ``rows`` (``view``: this view or one of its
-        perturbation views), cached."""
-        key = ("slots_t", view.basis.terms, view.basis.mirror, nodes.tobytes(), nodes.shape, bool(pressure),
-               rows.tobytes())
-        if key not in self._cache:
-            dofs = view.element_dofs(nodes)
-            E, A = dofs.shape
-            self._cache[key] = np.ascontiguousarray(
-                view.hessian_slots(dofs, pressure).reshape(E, A, A).transpose(1, 2, 0)[rows]).ravel()
-        return self._cache[key]
-
     # ---- stability against every perturbation: the Bloch blocks ------------------------------------
     # A block is the Hessian's quadratic form on one class of perturbations, integrated by the trapezoidal
     # rule on the whole circle.  The state's local Hessians repeat with period 2 pi / n and are even about
@@ -992,22 +978,22 @@ class FourierShell:
             raise ValueError("FourierShell.bloch_block: the state's basis must be a D_n basis (mirror=True, j=0)")
         pview, maps, w = self._perturbation_view(j, parity)
         with_volume = pressure != 0.0
-        P = pview.pattern(with_volume)
-        data = np.zeros(P.nnz)
         st = self._state(c, with_volume)
+        # gathered by node pairs as the perturbation view gathers its own Hessian (:meth:`hessian`)
+        band, place, positions = pview._band(with_volume)
         for fam, jets, factor in self._groups(c, pressure):
             h = jets[2]
             if w.size != h.shape[2]:  # the half period twice: the perturbations and their partners
                 h = np.concatenate([h, h], axis=2)
             He, rows = self._element_hessians(h, maps[fam[0]], w)
-            data += np.bincount(self._transposed_slots(pview, fam[1], with_volume, rows), factor * He.ravel(),
-                                minlength=P.nnz)
+            if factor != 1.0:
+                He *= factor
+            pview._add_to_band(band, He, rows, fam[1], place)
         for k, (nodes, _, _, _, Akb) in enumerate(self._poles):
             He = self._pole_hessian(self._pole_circle(st, k), maps["pole"], Akb)
-            data += np.bincount(pview.hessian_slots(pview.element_dofs(nodes), with_volume), He.ravel(),
-                                minlength=P.nnz)
+            pview._add_to_band(band, He[:, :, None], np.arange(He.shape[0]), nodes, place)
         held = tuple(int(d) for d in control_fixed) if (j == 0 and parity == "even") else ()
-        return self._restricted(pview, j, parity, with_volume, remove_rigid, held)(data)
+        return self._restricted(pview, j, parity, with_volume, remove_rigid, held)(band.ravel()[positions])
 
     def _pole_circle(self, st: dict, k: int) -> tuple:
         """Pole ``k``'s curvature at the state of ``st`` (:meth:`_state`) on the whole circle, kept with the
