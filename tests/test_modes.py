@@ -6,6 +6,8 @@ key ``k`` gains a negative eigenvalue at ``p = k^2`` and another at ``p = 2 k^2`
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -129,9 +131,10 @@ def test_the_stored_mode_is_the_null_vector_of_the_operator_itself() -> None:
     assert np.linalg.norm(K @ mode) < 1e-9 * np.linalg.norm(K)
 
 
-def test_the_location_reuses_the_bracket_ends_operators_and_factorizations(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The root of the bordered function evaluates the key's operator only at new points on the curve: the
-    bracket ends' operators and factorizations are those the counts at those points made."""
+def _operators_built_while(monkeypatch: pytest.MonkeyPatch, method: str, second: float) -> tuple[Any, list, set]:
+    """Trace the family ``diag(k^2 - u, second k^2 - u)`` (keys 1, 2) to ``p = 5``, recording the keys and states
+    at which its operator is built while :class:`contin.watch.modes.ModeTest`'s ``method`` runs: the branch,
+    those ``(key, u)`` and the stored parameters."""
     from contin.watch import modes
 
     calls: list[tuple[int, float, bool]] = []
@@ -139,27 +142,32 @@ def test_the_location_reuses_the_bracket_ends_operators_and_factorizations(monke
 
     def op(k, u, p):
         calls.append((k, float(u[0]), locating[0]))
-        return np.diag([k * k - u[0], 2.0 * k * k - u[0]])
+        return np.diag([k * k - u[0], second * k * k - u[0]])
 
-    original = modes.ModeTest._bordered_root
+    original = getattr(modes.ModeTest, method)
 
-    def bordered_root(self, *args):
+    def watched(self, *args):
         locating[0] = True
         try:
             return original(self, *args)
         finally:
             locating[0] = False
 
-    monkeypatch.setattr(modes.ModeTest, "_bordered_root", bordered_root)
+    monkeypatch.setattr(modes.ModeTest, method, watched)
     family = contin.OperatorFamily("k", (1, 2), op, multiplicity=lambda k: 2)
     prob = contin.Problem(residual=lambda u, p: np.array([u[0] - p]), jacobian=lambda u, p: np.eye(1),
                           dresidual_dp=lambda u, p: np.array([-1.0]), symmetric=True, operator_families=[family],
                           name="family")
     br = contin.continuation(prob, np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=5.0, stability=True, max_steps=100)
+    return br, [(k, u) for k, u, during in calls if during], set(float(p) for p in br.p)
+
+
+def test_the_location_reuses_the_bracket_ends_operators_and_factorizations(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The root of the bordered function evaluates the key's operator only at new points on the curve: the
+    bracket ends' operators and factorizations are those the counts at those points made."""
+    br, in_location, stored = _operators_built_while(monkeypatch, "_bordered_root", 2.0)
     bif = [s for s in br.special_points if s.kind == "bifurcation"]
     assert [(round(s.p, 9), s.info["key"]) for s in bif] == [(1.0, 1), (2.0, 1), (4.0, 2)]
-    stored = set(float(p) for p in br.p)
-    in_location = [(k, u) for k, u, during in calls if during]
     assert in_location, "the bordered roots evaluated no operator"
     assert not [(k, u) for k, u in in_location if u in stored], "a bracket end's operator was evaluated again"
 
@@ -185,33 +193,8 @@ def test_the_eigenvalues_near_zero_do_not_depend_on_what_the_process_computed_be
 def test_the_eigenvalue_bisection_reuses_the_bracket_ends_operators(monkeypatch: pytest.MonkeyPatch) -> None:
     """Two eigenvalues of a key cross zero on one step: the location bisects each on the eigenvalue itself,
     from the bracket ends' operators as the counts at those points built them, not built again."""
-    from contin.watch import modes
-
-    calls: list[tuple[int, float, bool]] = []
-    locating = [False]
-
-    def op(k, u, p):
-        calls.append((k, float(u[0]), locating[0]))
-        return np.diag([k * k - u[0], k * k + 0.01 - u[0]])
-
-    original = modes.ModeTest.locate
-
-    def locate(self, *args):
-        locating[0] = True
-        try:
-            return original(self, *args)
-        finally:
-            locating[0] = False
-
-    monkeypatch.setattr(modes.ModeTest, "locate", locate)
-    family = contin.OperatorFamily("k", (1, 2), op, multiplicity=lambda k: 2)
-    prob = contin.Problem(residual=lambda u, p: np.array([u[0] - p]), jacobian=lambda u, p: np.eye(1),
-                          dresidual_dp=lambda u, p: np.array([-1.0]), symmetric=True, operator_families=[family],
-                          name="family")
-    br = contin.continuation(prob, np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=5.0, stability=True, max_steps=100)
+    br, in_location, stored = _operators_built_while(monkeypatch, "locate", 1.0 + 0.01)
     bif = [s for s in br.special_points if s.kind == "bifurcation"]
     assert [(round(s.p, 9), s.info["key"], s.info["counts_after"]) for s in bif] == [(1.0, 1, [2, 0]), (4.0, 2, [2, 2])]
-    stored = set(float(p) for p in br.p)
-    in_location = [(k, u) for k, u, during in calls if during]
     assert in_location, "the location evaluated no operator"
     assert not [(k, u) for k, u in in_location if u in stored], "a bracket end's operator was evaluated again"
