@@ -198,3 +198,27 @@ def test_the_eigenvalue_bisection_reuses_the_bracket_ends_operators(monkeypatch:
     assert [(round(s.p, 9), s.info["key"], s.info["counts_after"]) for s in bif] == [(1.0, 1, [2, 0]), (4.0, 2, [2, 2])]
     assert in_location, "the location evaluated no operator"
     assert not [(k, u) for k, u in in_location if u in stored], "a bracket end's operator was evaluated again"
+
+
+def test_a_second_crossing_of_a_key_is_located_by_the_bordered_function(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Key ``k``'s second eigenvalue crosses at ``2 k^2`` while the eigenvector estimate still follows the first
+    (on a diagonal operator inverse iteration never leaves it): the bordered function of that estimate keeps its
+    sign, and the location takes the crossing eigenvalue's own vector instead of bisecting the eigenvalue
+    (a banded eigensolve per evaluation)."""
+    from contin.watch import modes
+
+    bisected: list[int] = []
+    original = modes.ordered_eigenvalue
+
+    def ordered_eigenvalue(H, index):
+        bisected.append(index)
+        return original(H, index)
+
+    monkeypatch.setattr(modes, "ordered_eigenvalue", ordered_eigenvalue)
+    br = contin.continuation(family_problem(), np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=10.0, stability=True,
+                             max_steps=100)
+    bif = sorted((s.p, s.info["key"]) for s in br.special_points if s.kind == "bifurcation")
+    assert [k for _, k in bif] == [1, 1, 2, 2, 3]
+    np.testing.assert_allclose([p for p, _ in bif], [1.0, 2.0, 4.0, 8.0, 9.0], rtol=0, atol=1e-9)
+    assert all(s.located for s in br.special_points if s.kind == "bifurcation")
+    assert not bisected, f"eigenvalues bisected: indices {bisected}"

@@ -466,8 +466,8 @@ class ModeTest(TestFunction):
                 return factored[key]
         return None
 
-    def _bordered_root(self, seg: Segment, key: Any, index: int,
-                       nodes: dict) -> tuple[float, np.ndarray, np.ndarray | None] | None:
+    def _bordered_root(self, seg: Segment, key: Any, index: int, nodes: dict,
+                       negative_at_B: bool = True) -> tuple[float, np.ndarray, np.ndarray | None] | None:
         """The key's bifurcation on the segment (its eigenvalue number ``index`` crosses zero), or None.
 
         The root of the bordered function ``g = 1 / (b^T K^-1 b)`` of the key's operator ``K`` along the
@@ -482,6 +482,12 @@ class ModeTest(TestFunction):
         change sign, or its root is a pole of ``b^T K^-1 b`` rather than a singular ``K`` (the eigenvalue
         nearest zero not below :data:`SINGULAR_RATIO` of the next): the caller then bisects on the
         eigenvalue itself.
+
+        The estimate follows, from point to point, the eigenvalue that was nearest zero; when another one
+        crosses, it can still be the old one's vector, and ``g`` then keeps its sign.  ``g`` is tried once
+        more with the border the crossing eigenvalue's own vector at ``B``: of the :data:`CROSSING_PAIRS`
+        eigenpairs nearest zero there, the nearest on the side the eigenvalue crossed to
+        (``negative_at_B``: the count grew on the step).
         """
         fam, tol = self.family, self.curve.settings.locate_tol
         ops: dict[float, Any] = {}
@@ -521,7 +527,13 @@ class ModeTest(TestFunction):
 
         g_A, g_B = g(0.0), g(seg.sigma_B)
         if not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
-            return None
+            crossing = _nearest_on_side(K_B, negative_at_B, border, solvers.get(seg.sigma_B))
+            if crossing is None:
+                return None
+            border = crossing  # g reads it: the bordered function of the crossing eigenvalue's vector
+            g_A, g_B = g(0.0), g(seg.sigma_B)
+            if not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
+                return None
         sigma = seg.root(g, g_A, g_B, tol, ftol=BORDERED_NOISE)
         w, mode = _scaled_near_zero(operator(sigma), fam.vectors, start=border, solve=solvers.get(sigma))
         if w.size > 1 and abs(w[0]) > SINGULAR_RATIO * abs(w[1]):
@@ -540,7 +552,7 @@ class ModeTest(TestFunction):
             if a == b:
                 continue
             if abs(b - a) == 1:  # one eigenvalue crossed: the bordered function, no eigenvalues needed
-                found = self._bordered_root(seg, key, min(a, b), nodes)
+                found = self._bordered_root(seg, key, min(a, b), nodes, b > a)
                 if found is not None:
                     located.append((found[0], key, found[1:]))
                     continue
@@ -583,6 +595,26 @@ class ModeTest(TestFunction):
             info["mode"] = mode
         return SpecialPoint("bifurcation", p, u.copy(), self.curve.problem.evaluate_observables(u, p), residual=res,
                             located=True, s=seg.A.s + sigma, label=self.name, info=info)
+
+
+#: Eigenpairs nearest zero among which a location looks for the crossing eigenvalue's vector.
+CROSSING_PAIRS = 3
+
+
+def _nearest_on_side(K: Any, negative: bool, start: np.ndarray | None,
+                     solve: Callable[[np.ndarray], np.ndarray] | None) -> np.ndarray | None:
+    """The unit eigenvector of the symmetric ``K``'s eigenvalue nearest zero among the negative ones
+    (``negative``) or the others, looked for among the :data:`CROSSING_PAIRS` nearest zero
+    (:func:`eigenvalues_near_zero`, from ``start``, with ``solve`` a solver with ``K`` at hand); None when
+    none of them is on that side."""
+    w, V = eigenvalues_near_zero(K, CROSSING_PAIRS, vectors=True, start=start, solve=solve)
+    if V is None:
+        return None
+    side = np.flatnonzero((w < 0.0) == negative)
+    if side.size == 0:
+        return None
+    v = V[:, side[0]]
+    return v / np.linalg.norm(v)
 
 
 #: The bordered function's noise floor, relative to its size at the segment's ends: below it a converged
