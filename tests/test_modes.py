@@ -190,10 +190,28 @@ def test_the_eigenvalues_near_zero_do_not_depend_on_what_the_process_computed_be
     assert np.array_equal(first[0], second[0]) and np.array_equal(first[1], second[1])
 
 
+def _record_bisections(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The indices of the eigenvalues :mod:`contin.watch.modes` bisects from now on (one per evaluation)."""
+    from contin.watch import modes
+
+    bisected: list[int] = []
+    original = modes.ordered_eigenvalue
+
+    def ordered_eigenvalue(H, index):
+        bisected.append(index)
+        return original(H, index)
+
+    monkeypatch.setattr(modes, "ordered_eigenvalue", ordered_eigenvalue)
+    return bisected
+
+
 def test_the_eigenvalue_bisection_reuses_the_bracket_ends_operators(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Two eigenvalues of a key cross zero on one step: the location bisects each on the eigenvalue itself,
-    from the bracket ends' operators as the counts at those points built them, not built again."""
-    br, in_location, stored = _operators_built_while(monkeypatch, "locate", 1.0 + 0.01)
+    """A double eigenvalue of a key crosses zero: no bordered function singles out one of the two, and the
+    location bisects each on the eigenvalue itself, from the bracket ends' operators as the counts at those
+    points built them, not built again."""
+    bisected = _record_bisections(monkeypatch)
+    br, in_location, stored = _operators_built_while(monkeypatch, "locate", 1.0)
+    assert bisected
     bif = [s for s in br.special_points if s.kind == "bifurcation"]
     assert [(round(s.p, 9), s.info["key"], s.info["counts_after"]) for s in bif] == [(1.0, 1, [2, 0]), (4.0, 2, [2, 2])]
     assert in_location, "the location evaluated no operator"
@@ -205,20 +223,23 @@ def test_a_second_crossing_of_a_key_is_located_by_the_bordered_function(monkeypa
     (on a diagonal operator inverse iteration never leaves it): the bordered function of that estimate keeps its
     sign, and the location takes the crossing eigenvalue's own vector instead of bisecting the eigenvalue
     (a banded eigensolve per evaluation)."""
-    from contin.watch import modes
-
-    bisected: list[int] = []
-    original = modes.ordered_eigenvalue
-
-    def ordered_eigenvalue(H, index):
-        bisected.append(index)
-        return original(H, index)
-
-    monkeypatch.setattr(modes, "ordered_eigenvalue", ordered_eigenvalue)
+    bisected = _record_bisections(monkeypatch)
     br = contin.continuation(family_problem(), np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=10.0, stability=True,
                              max_steps=100)
     bif = sorted((s.p, s.info["key"]) for s in br.special_points if s.kind == "bifurcation")
     assert [k for _, k in bif] == [1, 1, 2, 2, 3]
     np.testing.assert_allclose([p for p, _ in bif], [1.0, 2.0, 4.0, 8.0, 9.0], rtol=0, atol=1e-9)
     assert all(s.located for s in br.special_points if s.kind == "bifurcation")
+    assert not bisected, f"eigenvalues bisected: indices {bisected}"
+
+
+def test_two_crossings_on_one_step_are_located_by_the_bordered_function(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Key ``k``'s two eigenvalues cross at ``k^2`` and ``1.01 k^2``, on one step: each is located by the bordered
+    function of its own vector, and the first is reported, without bisecting an eigenvalue."""
+    bisected = _record_bisections(monkeypatch)
+    br, _, _ = _operators_built_while(monkeypatch, "locate", 1.01)
+    bif = [s for s in br.special_points if s.kind == "bifurcation"]
+    assert [(s.info["key"], s.info["counts_after"]) for s in bif] == [(1, [2, 0]), (2, [2, 2])]
+    np.testing.assert_allclose([s.p for s in bif], [1.0, 4.0], rtol=0, atol=1e-9)
+    assert all(s.located for s in bif)
     assert not bisected, f"eigenvalues bisected: indices {bisected}"

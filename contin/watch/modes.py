@@ -466,8 +466,8 @@ class ModeTest(TestFunction):
                 return factored[key]
         return None
 
-    def _bordered_root(self, seg: Segment, key: Any, index: int, nodes: dict,
-                       negative_at_B: bool = True) -> tuple[float, np.ndarray, np.ndarray | None] | None:
+    def _bordered_root(self, seg: Segment, key: Any, index: int, nodes: dict, negative_at_B: bool = True,
+                       rank: int | None = None) -> tuple[float, np.ndarray, np.ndarray | None] | None:
         """The key's bifurcation on the segment (its eigenvalue number ``index`` crosses zero), or None.
 
         The root of the bordered function ``g = 1 / (b^T K^-1 b)`` of the key's operator ``K`` along the
@@ -487,7 +487,9 @@ class ModeTest(TestFunction):
         crosses, it can still be the old one's vector, and ``g`` then keeps its sign.  ``g`` is tried once
         more with the border the crossing eigenvalue's own vector at ``B``: of the :data:`CROSSING_PAIRS`
         eigenpairs nearest zero there, the nearest on the side the eigenvalue crossed to
-        (``negative_at_B``: the count grew on the step).
+        (``negative_at_B``: the count grew on the step).  Where several eigenvalues crossed on the step,
+        ``rank`` says which one this is among those on that side, counted from zero (0 the nearest), and
+        the border is that one's vector from the start.
         """
         fam, tol = self.family, self.curve.settings.locate_tol
         ops: dict[float, Any] = {}
@@ -525,15 +527,21 @@ class ModeTest(TestFunction):
                 return 0.0
             return 1.0 / q if q != 0.0 else np.inf
 
+        if rank is not None:  # several crossed: this one's own vector at B
+            if seg.sigma_B not in solvers:
+                solvers[seg.sigma_B] = _solver(K_B)
+            border = _nearest_on_side(K_B, negative_at_B, border, solvers[seg.sigma_B], rank)
+            if border is None:
+                return None
         g_A, g_B = g(0.0), g(seg.sigma_B)
-        if not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
+        if rank is None and not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
             crossing = _nearest_on_side(K_B, negative_at_B, border, solvers.get(seg.sigma_B))
             if crossing is None:
                 return None
             border = crossing  # g reads it: the bordered function of the crossing eigenvalue's vector
             g_A, g_B = g(0.0), g(seg.sigma_B)
-            if not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
-                return None
+        if not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
+            return None
         sigma = seg.root(g, g_A, g_B, tol, ftol=BORDERED_NOISE)
         w, mode = _scaled_near_zero(operator(sigma), fam.vectors, start=border, solve=solvers.get(sigma))
         if w.size > 1 and abs(w[0]) > SINGULAR_RATIO * abs(w[1]):
@@ -556,9 +564,21 @@ class ModeTest(TestFunction):
                 if found is not None:
                     located.append((found[0], key, found[1:]))
                     continue
-            # the eigenvalues number min(a, b) .. max(a, b) - 1 (ascending) cross zero on the step: the
-            # first crossing along the curve is where the key bifurcates
-            for index in range(min(a, b), max(a, b)):
+                indices = [min(a, b)]
+            else:
+                # the eigenvalues number min(a, b) .. max(a, b) - 1 (ascending) cross zero on the step, each
+                # by the bordered function of its own vector at B (at B the crossed ones lie on one side of
+                # zero, number b - 1 the nearest of them when the count grew, number b when it fell)
+                indices = []
+                for index in range(min(a, b), max(a, b)):
+                    found = self._bordered_root(seg, key, index, nodes, b > a, b - 1 - index if b > a else index - b)
+                    if found is not None:
+                        located.append((found[0], key, found[1:]))
+                    else:
+                        indices.append(index)
+            # the rest bisected on the eigenvalue itself: the first crossing along the curve is where the
+            # key bifurcates
+            for index in indices:
                 g_A, g_B = (ordered_eigenvalue(kept[0], index) if kept is not None else
                             self._eigenvalue(key, index, pt.u, pt.p)
                             for pt, kept in ((seg.A, self._kept(key, seg.A)), (seg.B, self._kept(key, seg.B))))
@@ -602,18 +622,18 @@ CROSSING_PAIRS = 3
 
 
 def _nearest_on_side(K: Any, negative: bool, start: np.ndarray | None,
-                     solve: Callable[[np.ndarray], np.ndarray] | None) -> np.ndarray | None:
-    """The unit eigenvector of the symmetric ``K``'s eigenvalue nearest zero among the negative ones
-    (``negative``) or the others, looked for among the :data:`CROSSING_PAIRS` nearest zero
-    (:func:`eigenvalues_near_zero`, from ``start``, with ``solve`` a solver with ``K`` at hand); None when
-    none of them is on that side."""
-    w, V = eigenvalues_near_zero(K, CROSSING_PAIRS, vectors=True, start=start, solve=solve)
+                     solve: Callable[[np.ndarray], np.ndarray] | None, rank: int = 0) -> np.ndarray | None:
+    """The unit eigenvector of the symmetric ``K``'s eigenvalue number ``rank`` (0: the nearest zero) among the
+    negative ones (``negative``) or the others, looked for among the :data:`CROSSING_PAIRS` ``+ rank``
+    eigenpairs nearest zero (:func:`eigenvalues_near_zero`, from ``start``, with ``solve`` a solver with
+    ``K`` at hand); None when fewer of them lie on that side."""
+    w, V = eigenvalues_near_zero(K, CROSSING_PAIRS + rank, vectors=True, start=start, solve=solve)
     if V is None:
         return None
     side = np.flatnonzero((w < 0.0) == negative)
-    if side.size == 0:
+    if side.size <= rank:
         return None
-    v = V[:, side[0]]
+    v = V[:, side[rank]]
     return v / np.linalg.norm(v)
 
 
