@@ -63,7 +63,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import numpy as np
@@ -824,17 +824,39 @@ class FourierShell:
         st = self._state(c, pressure != 0.0)
         if key in st:
             return sp.csr_matrix((st[key].copy(), P.indices, P.indptr), shape=P.shape)
-        band, place, positions = self._band(with_volume)
-        for fam, jets, factor in self._groups(c, pressure):
-            He, rows = self._element_hessians(jets[2], fam[2], w)
-            if factor != 1.0:
-                He *= factor
-            self._add_to_band(band, He, rows, fam[1], place)
-        for pole, (dofs, _, _, He) in zip(self._poles, self._cache["state"]["poles"]):
-            self._add_to_band(band, He[0][:, :, None], np.arange(dofs.shape[1]), pole[0], place)
-        data = band.ravel()[positions]
-        st[key] = data
+        def elements():
+            for fam, jets, factor in self._groups(c, pressure):
+                He, rows = self._element_hessians(jets[2], fam[2], w)
+                if factor != 1.0:
+                    He *= factor
+                yield He, rows, fam[1]
+            for pole, (dofs, _, _, He) in zip(self._poles, self._cache["state"]["poles"]):
+                yield He[0][:, :, None], np.arange(dofs.shape[1]), pole[0]
+
+        data = st[key] = self.assemble(elements(), with_volume)
         return sp.csr_matrix((data.copy(), P.indices, P.indptr), shape=P.shape)
+
+    def assemble(self, elements: Iterable[tuple[np.ndarray, np.ndarray, np.ndarray]], pressure: bool) -> np.ndarray:
+        """The sum of element Hessians as the data of a matrix of :meth:`pattern` (``pressure``: with the
+        volume's entries).
+
+        Parameters
+        ----------
+        elements : iterable of ``(He, rows, nodes)``
+            ``He`` ``(A, A, E)``: the Hessians of the elements on the nodes ``nodes`` ``(E, nn)``, in this view's
+            unknowns of those nodes (:meth:`element_dofs`), the element last; row ``r`` (and column ``r``) is
+            the element's unknown ``rows[r]``.
+        pressure : bool
+
+        Returns
+        -------
+        ndarray
+            ``(pattern(pressure).nnz,)``.
+        """
+        band, place, positions = self._band(pressure)
+        for He, rows, nodes in elements:
+            self._add_to_band(band, He, rows, nodes, place)
+        return band.ravel()[positions]
 
     def _band(self, pressure: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The Hessian's entries gathered by node pairs before they are read out in the order of
@@ -979,21 +1001,24 @@ class FourierShell:
         pview, maps, w = self._perturbation_view(j, parity)
         with_volume = pressure != 0.0
         st = self._state(c, with_volume)
-        # gathered by node pairs as the perturbation view gathers its own Hessian (:meth:`hessian`)
-        band, place, positions = pview._band(with_volume)
-        for fam, jets, factor in self._groups(c, pressure):
-            h = jets[2]
-            if w.size != h.shape[2]:  # the half period twice: the perturbations and their partners
-                h = np.concatenate([h, h], axis=2)
-            He, rows = self._element_hessians(h, maps[fam[0]], w)
-            if factor != 1.0:
-                He *= factor
-            pview._add_to_band(band, He, rows, fam[1], place)
-        for k, (nodes, _, _, _, Akb) in enumerate(self._poles):
-            He = self._pole_hessian(self._pole_circle(st, k), maps["pole"], Akb)
-            pview._add_to_band(band, He[:, :, None], np.arange(He.shape[0]), nodes, place)
+
+        def elements():
+            for fam, jets, factor in self._groups(c, pressure):
+                h = jets[2]
+                if w.size != h.shape[2]:  # the half period twice: the perturbations and their partners
+                    h = np.concatenate([h, h], axis=2)
+                He, rows = self._element_hessians(h, maps[fam[0]], w)
+                if factor != 1.0:
+                    He *= factor
+                yield He, rows, fam[1]
+            for k, (nodes, _, _, _, Akb) in enumerate(self._poles):
+                He = self._pole_hessian(self._pole_circle(st, k), maps["pole"], Akb)
+                yield He[:, :, None], np.arange(He.shape[0]), nodes
+
         held = tuple(int(d) for d in control_fixed) if (j == 0 and parity == "even") else ()
-        return self._restricted(pview, j, parity, with_volume, remove_rigid, held)(band.ravel()[positions])
+        # summed in the perturbation view's pattern as it sums its own Hessian (:meth:`hessian`)
+        return self._restricted(pview, j, parity, with_volume, remove_rigid, held)(
+            pview.assemble(elements(), with_volume))
 
     def _pole_circle(self, st: dict, k: int) -> tuple:
         """Pole ``k``'s curvature at the state of ``st`` (:meth:`_state`) on the whole circle, kept with the
