@@ -1,8 +1,8 @@
 """The cost of the shell's 3-D view (:mod:`contin_models.shell.fourier`): Newton steps, symmetry, a traced branch.
 
-Run ``python -m studies.bench_shell3d [--out DIR] [--full] [--quiet] [--repeat R]``.
+Run ``python -m studies.bench_shell3d [--out DIR] [--full] [--quiet] [--repeat R] [--only PART ...]``.
 
-Three measurements, each the median of ``--repeat`` runs in this process:
+Four measurements (``--only``: some of them), each the median of ``--repeat`` runs in this process:
 
 * **A Newton step against N** (``steps``): the paper's cap (``phi_hat = 0.8``, h/R = 0.02, nu = 0.5,
   sliding edge) in the ``D_3`` basis with ``K`` harmonics, at a state on the way down under the pole's
@@ -23,6 +23,15 @@ Three measurements, each the median of ``--repeat`` runs in this process:
   factorizations each run took, and the floor: one Newton step of each model at the end of its path,
   and their ratio (``floor``), which a 3-D trace with as many Newton steps as the axisymmetric one
   would cost.
+
+* **Stability against every class** (``every_mode``): the paper's cap in the ``D_3`` basis traced from the
+  unloaded cap to ``w = 0.37 R`` (the axisymmetric path, displacement control, no branch switch) with and
+  without ``every_mode`` (:class:`contin_models.shell.problem3d.Shell3D`: the Bloch blocks of the classes
+  ``A2`` and ``E1`` counted at every point, a change of a count located); beside the two times, the
+  family's own cost per point, at up to 10 points of the plain trace (each point once per repeat, so that
+  no cache of the last state answers): building both blocks (:meth:`~contin.OperatorFamily.operators`),
+  and counting them with the eigenvalue estimate the engine makes per point
+  (:func:`contin.watch.modes.count_and_lowest`).
 
 Outputs in ``--out`` (default ``out/bench_shell3d``): ``summary.json``.
 """
@@ -150,24 +159,83 @@ def branch(N: int, repeat: int) -> dict[str, Any]:
             "floor": step_3d / step_1d}
 
 
+def every_mode(N: int, repeat: int) -> dict[str, Any]:
+    from contin.watch.modes import count_and_lowest
+    from contin_models.shell.fourier import AngularBasis
+    from contin_models.shell.problem3d import Shell3D
+
+    st = cap(N)
+    problems = {flag: Shell3D(st, AngularBasis(WAVES, HARMONICS), "point", "displacement", every_mode=flag)
+                for flag in (False, True)}
+
+    def trace(flag: bool) -> Any:
+        prob = problems[flag]
+        return contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=W_END, ds=0.01, ds_max=0.02,
+                                   max_steps=2000, stability=True, n_eigs=0)
+
+    runs = {flag: trace(flag) for flag in (False, True)}
+    for flag, run in runs.items():
+        if run.status != "bound":
+            raise RuntimeError(f"bench_shell3d: the D_3 trace (every_mode={flag}) stopped before w = {W_END}: "
+                               f"{run.message}")
+    seconds = {flag: median_time(lambda flag=flag: trace(flag), max(1, repeat // 2)) for flag in (False, True)}
+    family = problems[True].operator_families[0]
+    plain = runs[False]
+    points = [(plain.u[i], float(plain.p[i])) for i in np.unique(np.linspace(0, len(plain.p) - 1, 10).astype(int))]
+    build, count = [], []
+    for _ in range(repeat):
+        for u, p in points:
+            t0 = time.perf_counter()
+            operators = family.operators(u, p)
+            t1 = time.perf_counter()
+            for K in operators:
+                count_and_lowest(K)
+            build.append(t1 - t0)
+            count.append(time.perf_counter() - t1)
+    located = [s for s in runs[True].special_points if s.kind == "bifurcation"]
+    return {"N": N, "K": HARMONICS, "w_end": W_END, "keys": list(family.keys),
+            "block_sizes": [int(K.shape[0]) for K in family.operators(*points[-1])],
+            "points_plain": len(plain.p), "points_every_mode": len(runs[True].p),
+            "bifurcations": len(located), "unlocated": sum(not s.located for s in located),
+            "seconds_plain": seconds[False], "seconds_every_mode": seconds[True],
+            "ratio": seconds[True] / seconds[False],
+            "family_build_ms": 1e3 * float(np.median(build)), "family_count_ms": 1e3 * float(np.median(count))}
+
+
+#: The measurements by name, in the order they run (``--only`` picks some).
+PARTS = ("steps", "symmetry", "branch", "every_mode")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = study_parser("bench_shell3d", "the cost of the shell's 3-D view")
     parser.add_argument("--repeat", type=int, default=5, help="runs per timing (the median is reported)")
+    parser.add_argument("--only", nargs="+", choices=PARTS, default=PARTS, metavar="PART",
+                        help=f"run only these measurements (of {', '.join(PARTS)})")
     args = parser.parse_args(argv)
     out = output_dir(args.out)
     t0 = time.perf_counter()
-    say(args.quiet, "Newton steps against N")
-    rows = steps((100, 200, 400, 800) if args.full else (100, 200, 400), args.repeat)
-    print_table(rows, ["N", "unknowns", "band", "step_ms", "per_node_us"], digits=4)
-    say(args.quiet, "the symmetry's gain (pinched hemisphere, D_2 against no symmetry)")
-    sym = symmetry(args.repeat)
-    print_table([sym], list(sym), digits=4)
-    say(args.quiet, "a traced branch of the paper's cap against its axisymmetric trace")
-    br = branch(200 if args.full else 100, args.repeat)
-    print_table([br], list(br), digits=4)
-    write_json(out / "summary.json", {"steps": rows, "symmetry": sym, "branch": br, "repeat": args.repeat,
-                                      "wall_time_s": time.perf_counter() - t0,
-                                      "command": "python -m studies.bench_shell3d" + (" --full" if args.full else "")})
+    summary: dict[str, Any] = {}
+    if "steps" in args.only:
+        say(args.quiet, "Newton steps against N")
+        summary["steps"] = rows = steps((100, 200, 400, 800) if args.full else (100, 200, 400), args.repeat)
+        print_table(rows, ["N", "unknowns", "band", "step_ms", "per_node_us"], digits=4)
+    if "symmetry" in args.only:
+        say(args.quiet, "the symmetry's gain (pinched hemisphere, D_2 against no symmetry)")
+        summary["symmetry"] = sym = symmetry(args.repeat)
+        print_table([sym], list(sym), digits=4)
+    if "branch" in args.only:
+        say(args.quiet, "a traced branch of the paper's cap against its axisymmetric trace")
+        summary["branch"] = br = branch(200 if args.full else 100, args.repeat)
+        print_table([br], list(br), digits=4)
+    if "every_mode" in args.only:
+        say(args.quiet, "stability against every class: the D_3 trace with every_mode against without")
+        summary["every_mode"] = every = every_mode(200 if args.full else 100, args.repeat)
+        print_table([every], [k for k in every if k not in ("keys", "block_sizes")], digits=4)
+    command = "python -m studies.bench_shell3d" + (" --full" if args.full else "")
+    if tuple(args.only) != PARTS:
+        command += " --only " + " ".join(args.only)
+    write_json(out / "summary.json", {**summary, "repeat": args.repeat, "wall_time_s": time.perf_counter() - t0,
+                                      "command": command})
     say(args.quiet, f"{time.perf_counter() - t0:.1f} s; outputs in {out}")
     return 0
 

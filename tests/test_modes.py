@@ -6,6 +6,8 @@ key ``k`` gains a negative eigenvalue at ``p = k^2`` and another at ``p = 2 k^2`
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -129,9 +131,10 @@ def test_the_stored_mode_is_the_null_vector_of_the_operator_itself() -> None:
     assert np.linalg.norm(K @ mode) < 1e-9 * np.linalg.norm(K)
 
 
-def test_the_location_reuses_the_bracket_ends_operators_and_factorizations(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The root of the bordered function evaluates the key's operator only at new points on the curve: the
-    bracket ends' operators and factorizations are those the counts at those points made."""
+def _operators_built_while(monkeypatch: pytest.MonkeyPatch, method: str, second: float) -> tuple[Any, list, set]:
+    """Trace the family ``diag(k^2 - u, second k^2 - u)`` (keys 1, 2) to ``p = 5``, recording the keys and states
+    at which its operator is built while :class:`contin.watch.modes.ModeTest`'s ``method`` runs: the branch,
+    those ``(key, u)`` and the stored parameters."""
     from contin.watch import modes
 
     calls: list[tuple[int, float, bool]] = []
@@ -139,27 +142,32 @@ def test_the_location_reuses_the_bracket_ends_operators_and_factorizations(monke
 
     def op(k, u, p):
         calls.append((k, float(u[0]), locating[0]))
-        return np.diag([k * k - u[0], 2.0 * k * k - u[0]])
+        return np.diag([k * k - u[0], second * k * k - u[0]])
 
-    original = modes.ModeTest._bordered_root
+    original = getattr(modes.ModeTest, method)
 
-    def bordered_root(self, *args):
+    def watched(self, *args):
         locating[0] = True
         try:
             return original(self, *args)
         finally:
             locating[0] = False
 
-    monkeypatch.setattr(modes.ModeTest, "_bordered_root", bordered_root)
+    monkeypatch.setattr(modes.ModeTest, method, watched)
     family = contin.OperatorFamily("k", (1, 2), op, multiplicity=lambda k: 2)
     prob = contin.Problem(residual=lambda u, p: np.array([u[0] - p]), jacobian=lambda u, p: np.eye(1),
                           dresidual_dp=lambda u, p: np.array([-1.0]), symmetric=True, operator_families=[family],
                           name="family")
     br = contin.continuation(prob, np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=5.0, stability=True, max_steps=100)
+    return br, [(k, u) for k, u, during in calls if during], set(float(p) for p in br.p)
+
+
+def test_the_location_reuses_the_bracket_ends_operators_and_factorizations(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The root of the bordered function evaluates the key's operator only at new points on the curve: the
+    bracket ends' operators and factorizations are those the counts at those points made."""
+    br, in_location, stored = _operators_built_while(monkeypatch, "_bordered_root", 2.0)
     bif = [s for s in br.special_points if s.kind == "bifurcation"]
     assert [(round(s.p, 9), s.info["key"]) for s in bif] == [(1.0, 1), (2.0, 1), (4.0, 2)]
-    stored = set(float(p) for p in br.p)
-    in_location = [(k, u) for k, u, during in calls if during]
     assert in_location, "the bordered roots evaluated no operator"
     assert not [(k, u) for k, u in in_location if u in stored], "a bracket end's operator was evaluated again"
 
@@ -180,3 +188,58 @@ def test_the_eigenvalues_near_zero_do_not_depend_on_what_the_process_computed_be
     eigsh(H, k=3, which="LA")  # anything else the process asks of ARPACK in between
     second = eigenvalues_near_zero(H, k=2, vectors=True)
     assert np.array_equal(first[0], second[0]) and np.array_equal(first[1], second[1])
+
+
+def _record_bisections(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The indices of the eigenvalues :mod:`contin.watch.modes` bisects from now on (one per evaluation)."""
+    from contin.watch import modes
+
+    bisected: list[int] = []
+    original = modes.ordered_eigenvalue
+
+    def ordered_eigenvalue(H, index):
+        bisected.append(index)
+        return original(H, index)
+
+    monkeypatch.setattr(modes, "ordered_eigenvalue", ordered_eigenvalue)
+    return bisected
+
+
+def test_the_eigenvalue_bisection_reuses_the_bracket_ends_operators(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A double eigenvalue of a key crosses zero: no bordered function singles out one of the two, and the
+    location bisects each on the eigenvalue itself, from the bracket ends' operators as the counts at those
+    points built them, not built again."""
+    bisected = _record_bisections(monkeypatch)
+    br, in_location, stored = _operators_built_while(monkeypatch, "locate", 1.0)
+    assert bisected
+    bif = [s for s in br.special_points if s.kind == "bifurcation"]
+    assert [(round(s.p, 9), s.info["key"], s.info["counts_after"]) for s in bif] == [(1.0, 1, [2, 0]), (4.0, 2, [2, 2])]
+    assert in_location, "the location evaluated no operator"
+    assert not [(k, u) for k, u in in_location if u in stored], "a bracket end's operator was evaluated again"
+
+
+def test_a_second_crossing_of_a_key_is_located_by_the_bordered_function(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Key ``k``'s second eigenvalue crosses at ``2 k^2`` while the eigenvector estimate still follows the first
+    (on a diagonal operator inverse iteration never leaves it): the bordered function of that estimate keeps its
+    sign, and the location takes the crossing eigenvalue's own vector instead of bisecting the eigenvalue
+    (a banded eigensolve per evaluation)."""
+    bisected = _record_bisections(monkeypatch)
+    br = contin.continuation(family_problem(), np.zeros(1), 0.0, ds=0.37, ds_max=0.37, p_max=10.0, stability=True,
+                             max_steps=100)
+    bif = sorted((s.p, s.info["key"]) for s in br.special_points if s.kind == "bifurcation")
+    assert [k for _, k in bif] == [1, 1, 2, 2, 3]
+    np.testing.assert_allclose([p for p, _ in bif], [1.0, 2.0, 4.0, 8.0, 9.0], rtol=0, atol=1e-9)
+    assert all(s.located for s in br.special_points if s.kind == "bifurcation")
+    assert not bisected, f"eigenvalues bisected: indices {bisected}"
+
+
+def test_two_crossings_on_one_step_are_located_by_the_bordered_function(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Key ``k``'s two eigenvalues cross at ``k^2`` and ``1.01 k^2``, on one step: each is located by the bordered
+    function of its own vector, and the first is reported, without bisecting an eigenvalue."""
+    bisected = _record_bisections(monkeypatch)
+    br, _, _ = _operators_built_while(monkeypatch, "locate", 1.01)
+    bif = [s for s in br.special_points if s.kind == "bifurcation"]
+    assert [(s.info["key"], s.info["counts_after"]) for s in bif] == [(1, [2, 0]), (2, [2, 2])]
+    np.testing.assert_allclose([s.p for s in bif], [1.0, 4.0], rtol=0, atol=1e-9)
+    assert all(s.located for s in bif)
+    assert not bisected, f"eigenvalues bisected: indices {bisected}"

@@ -49,7 +49,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ..numerics.linalg import BandedLU, SingularMatrixError, SymmetricBand, bandwidths, cholesky_band_solver, factorize
+from ..numerics.linalg import (BandedLU, SingularMatrixError, SymmetricBand, bandwidths, cholesky_band_solver, factorize,
+                               upper_band)
 from ..numerics.stability import BANDED_MIN, LDL_GROWTH_LIMIT, lanczos_start, pivot_free_ldlt, stability_info
 from ..path.curve import Curve, Point
 from ..path.segment import Segment
@@ -114,7 +115,8 @@ def _band(H: Any) -> SymmetricBand | None:
     if sp.issparse(H) and H.shape[0] > BANDED_MIN:
         b = max(bandwidths(H))
         if b + 1 <= 0.1 * H.shape[0]:
-            return SymmetricBand(_upper_band(H, b))
+            # a family's operators of one read-only pattern (a FixedPattern's) find their band positions once
+            return SymmetricBand(upper_band(H, b))
     return None
 
 
@@ -227,15 +229,6 @@ def _jacobi_scaled(K: Any, scale: np.ndarray | None = None) -> Any:
         Ds = sp.diags(s)
         return (Ds @ K @ Ds).tocsr()
     return np.asarray(K, dtype=float) * s[:, None] * s[None, :]
-
-
-def _upper_band(H: Any, b: int) -> np.ndarray:
-    """LAPACK's upper band storage ``ab[b + i - j, j] = H[i, j]`` of a sparse symmetric matrix."""
-    C = sp.coo_matrix(H)
-    keep = (C.col >= C.row) & (C.col - C.row <= b)
-    ab = np.zeros((b + 1, H.shape[0]))
-    ab[b + C.row[keep] - C.col[keep], C.col[keep]] = C.data[keep]
-    return ab
 
 
 def family_counts(family: OperatorFamily, u: np.ndarray, p: float) -> tuple[int, ...]:
@@ -465,8 +458,16 @@ class ModeTest(TestFunction):
     def _eigenvalue(self, key: Any, index: int, u: np.ndarray, p: float) -> float:
         return ordered_eigenvalue(self.family.operator(key, u, p), index)
 
-    def _bordered_root(self, seg: Segment, key: Any, index: int,
-                       nodes: dict) -> tuple[float, np.ndarray, np.ndarray | None] | None:
+    def _kept(self, key: Any, pt: Point) -> tuple[Any, Callable[[np.ndarray], np.ndarray] | None] | None:
+        """The key's operator at the point ``pt`` and its solver as :meth:`value` made them there (kept for the
+        last two points counted: a located bifurcation's bracket ends), or None."""
+        for counted, factored in self._factored:
+            if counted is pt and key in factored:
+                return factored[key]
+        return None
+
+    def _bordered_root(self, seg: Segment, key: Any, index: int, nodes: dict, negative_at_B: bool = True,
+                       rank: int | None = None) -> tuple[float, np.ndarray, np.ndarray | None] | None:
         """The key's bifurcation on the segment (its eigenvalue number ``index`` crosses zero), or None.
 
         The root of the bordered function ``g = 1 / (b^T K^-1 b)`` of the key's operator ``K`` along the
@@ -481,14 +482,22 @@ class ModeTest(TestFunction):
         change sign, or its root is a pole of ``b^T K^-1 b`` rather than a singular ``K`` (the eigenvalue
         nearest zero not below :data:`SINGULAR_RATIO` of the next): the caller then bisects on the
         eigenvalue itself.
+
+        The estimate follows, from point to point, the eigenvalue that was nearest zero; when another one
+        crosses, it can still be the old one's vector, and ``g`` then keeps its sign.  ``g`` is tried once
+        more with the border the crossing eigenvalue's own vector at ``B``: of the :data:`CROSSING_PAIRS`
+        eigenpairs nearest zero there, the nearest on the side the eigenvalue crossed to
+        (``negative_at_B``: the count grew on the step).  Where several eigenvalues crossed on the step,
+        ``rank`` says which one this is among those on that side, counted from zero (0 the nearest), and
+        the border is that one's vector from the start.
         """
         fam, tol = self.family, self.curve.settings.locate_tol
         ops: dict[float, Any] = {}
         solvers: dict[float, Callable[[np.ndarray], np.ndarray] | None] = {}
         for sigma, pt in ((0.0, seg.A), (seg.sigma_B, seg.B)):  # the ends' operators as value() factorized them
-            for counted, factored in self._factored:
-                if counted is pt and key in factored:
-                    ops[sigma], solvers[sigma] = factored[key]
+            kept = self._kept(key, pt)
+            if kept is not None:
+                ops[sigma], solvers[sigma] = kept
         K_B = ops.get(seg.sigma_B)
         if K_B is None:
             K_B = ops[seg.sigma_B] = fam.operator(key, seg.B.u, seg.B.p)
@@ -518,7 +527,19 @@ class ModeTest(TestFunction):
                 return 0.0
             return 1.0 / q if q != 0.0 else np.inf
 
+        if rank is not None:  # several crossed: this one's own vector at B
+            if seg.sigma_B not in solvers:
+                solvers[seg.sigma_B] = _solver(K_B)
+            border = _nearest_on_side(K_B, negative_at_B, border, solvers[seg.sigma_B], rank)
+            if border is None:
+                return None
         g_A, g_B = g(0.0), g(seg.sigma_B)
+        if rank is None and not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
+            crossing = _nearest_on_side(K_B, negative_at_B, border, solvers.get(seg.sigma_B))
+            if crossing is None:
+                return None
+            border = crossing  # g reads it: the bordered function of the crossing eigenvalue's vector
+            g_A, g_B = g(0.0), g(seg.sigma_B)
         if not (np.isfinite(g_A) and np.isfinite(g_B) and g_A * g_B < 0.0):
             return None
         sigma = seg.root(g, g_A, g_B, tol, ftol=BORDERED_NOISE)
@@ -539,15 +560,28 @@ class ModeTest(TestFunction):
             if a == b:
                 continue
             if abs(b - a) == 1:  # one eigenvalue crossed: the bordered function, no eigenvalues needed
-                found = self._bordered_root(seg, key, min(a, b), nodes)
+                found = self._bordered_root(seg, key, min(a, b), nodes, b > a)
                 if found is not None:
                     located.append((found[0], key, found[1:]))
                     continue
-            # the eigenvalues number min(a, b) .. max(a, b) - 1 (ascending) cross zero on the step: the
-            # first crossing along the curve is where the key bifurcates
-            for index in range(min(a, b), max(a, b)):
-                g_A = self._eigenvalue(key, index, seg.A.u, seg.A.p)
-                g_B = self._eigenvalue(key, index, seg.B.u, seg.B.p)
+                indices = [min(a, b)]
+            else:
+                # the eigenvalues number min(a, b) .. max(a, b) - 1 (ascending) cross zero on the step, each
+                # by the bordered function of its own vector at B (at B the crossed ones lie on one side of
+                # zero, number b - 1 the nearest of them when the count grew, number b when it fell)
+                indices = []
+                for index in range(min(a, b), max(a, b)):
+                    found = self._bordered_root(seg, key, index, nodes, b > a, b - 1 - index if b > a else index - b)
+                    if found is not None:
+                        located.append((found[0], key, found[1:]))
+                    else:
+                        indices.append(index)
+            # the rest bisected on the eigenvalue itself: the first crossing along the curve is where the
+            # key bifurcates
+            for index in indices:
+                g_A, g_B = (ordered_eigenvalue(kept[0], index) if kept is not None else
+                            self._eigenvalue(key, index, pt.u, pt.p)
+                            for pt, kept in ((seg.A, self._kept(key, seg.A)), (seg.B, self._kept(key, seg.B))))
                 if g_A * g_B > 0.0:  # crossed twice on the step: no sign change to bracket
                     failures[f"{key}[{index}]"] = f"eigenvalue {index} has the same sign at both ends ({g_A:.3g}, {g_B:.3g})"
                     continue
@@ -581,6 +615,26 @@ class ModeTest(TestFunction):
             info["mode"] = mode
         return SpecialPoint("bifurcation", p, u.copy(), self.curve.problem.evaluate_observables(u, p), residual=res,
                             located=True, s=seg.A.s + sigma, label=self.name, info=info)
+
+
+#: Eigenpairs nearest zero among which a location looks for the crossing eigenvalue's vector.
+CROSSING_PAIRS = 3
+
+
+def _nearest_on_side(K: Any, negative: bool, start: np.ndarray | None,
+                     solve: Callable[[np.ndarray], np.ndarray] | None, rank: int = 0) -> np.ndarray | None:
+    """The unit eigenvector of the symmetric ``K``'s eigenvalue number ``rank`` (0: the nearest zero) among the
+    negative ones (``negative``) or the others, looked for among the :data:`CROSSING_PAIRS` ``+ rank``
+    eigenpairs nearest zero (:func:`eigenvalues_near_zero`, from ``start``, with ``solve`` a solver with
+    ``K`` at hand); None when fewer of them lie on that side."""
+    w, V = eigenvalues_near_zero(K, CROSSING_PAIRS + rank, vectors=True, start=start, solve=solve)
+    if V is None:
+        return None
+    side = np.flatnonzero((w < 0.0) == negative)
+    if side.size <= rank:
+        return None
+    v = V[:, side[rank]]
+    return v / np.linalg.norm(v)
 
 
 #: The bordered function's noise floor, relative to its size at the segment's ends: below it a converged

@@ -63,7 +63,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import numpy as np
@@ -824,17 +824,39 @@ class FourierShell:
         st = self._state(c, pressure != 0.0)
         if key in st:
             return sp.csr_matrix((st[key].copy(), P.indices, P.indptr), shape=P.shape)
-        band, place, positions = self._band(with_volume)
-        for fam, jets, factor in self._groups(c, pressure):
-            He, rows = self._element_hessians(jets[2], fam[2], w)
-            if factor != 1.0:
-                He *= factor
-            self._add_to_band(band, He, rows, fam[1], place)
-        for pole, (dofs, _, _, He) in zip(self._poles, self._cache["state"]["poles"]):
-            self._add_to_band(band, He[0][:, :, None], np.arange(dofs.shape[1]), pole[0], place)
-        data = band.ravel()[positions]
-        st[key] = data
+        def elements():
+            for fam, jets, factor in self._groups(c, pressure):
+                He, rows = self._element_hessians(jets[2], fam[2], w)
+                if factor != 1.0:
+                    He *= factor
+                yield He, rows, fam[1]
+            for pole, (dofs, _, _, He) in zip(self._poles, self._cache["state"]["poles"]):
+                yield He[0][:, :, None], np.arange(dofs.shape[1]), pole[0]
+
+        data = st[key] = self.assemble(elements(), with_volume)
         return sp.csr_matrix((data.copy(), P.indices, P.indptr), shape=P.shape)
+
+    def assemble(self, elements: Iterable[tuple[np.ndarray, np.ndarray, np.ndarray]], pressure: bool) -> np.ndarray:
+        """The sum of element Hessians as the data of a matrix of :meth:`pattern` (``pressure``: with the
+        volume's entries).
+
+        Parameters
+        ----------
+        elements : iterable of ``(He, rows, nodes)``
+            ``He`` ``(A, A, E)``: the Hessians of the elements on the nodes ``nodes`` ``(E, nn)``, in this view's
+            unknowns of those nodes (:meth:`element_dofs`), the element last; row ``r`` (and column ``r``) is
+            the element's unknown ``rows[r]``.
+        pressure : bool
+
+        Returns
+        -------
+        ndarray
+            ``(pattern(pressure).nnz,)``.
+        """
+        band, place, positions = self._band(pressure)
+        for He, rows, nodes in elements:
+            self._add_to_band(band, He, rows, nodes, place)
+        return band.ravel()[positions]
 
     def _band(self, pressure: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The Hessian's entries gathered by node pairs before they are read out in the order of
@@ -894,41 +916,70 @@ class FourierShell:
         else:
             np.add.at(band.reshape(-1), runs, He.ravel())
 
-    def _transposed_slots(self, view: "FourierShell", nodes: np.ndarray, pressure: bool,
-                          rows: np.ndarray) -> np.ndarray:
-        """``view.hessian_slots`` of the elements on ``nodes`` in the order ``(A, A, E)`` of
-        :meth:`_element_hessians`, its rows ordered by ``rows`` (``view``: this view or one of its
-        perturbation views), cached."""
-        key = ("slots_t", view.basis.terms, view.basis.mirror, nodes.tobytes(), nodes.shape, bool(pressure),
-               rows.tobytes())
-        if key not in self._cache:
-            dofs = view.element_dofs(nodes)
-            E, A = dofs.shape
-            self._cache[key] = np.ascontiguousarray(
-                view.hessian_slots(dofs, pressure).reshape(E, A, A).transpose(1, 2, 0)[rows]).ravel()
-        return self._cache[key]
-
     # ---- stability against every perturbation: the Bloch blocks ------------------------------------
+    # A block is the Hessian's quadratic form on one class of perturbations, integrated by the trapezoidal
+    # rule on the whole circle.  The state's local Hessians repeat with period 2 pi / n and are even about
+    # theta = 0, so the sum over the circle folds onto the state's own half period (its angles and weights,
+    # where the traced view has its jets already): a perturbation of wave m = q n +- j, rotated by 2 pi s / n,
+    # is the same perturbation turned by the phase +-2 pi s j / n, i.e. cos(psi) times itself plus sin(psi)
+    # times its partner of the other parity (cos <-> sin, with signs).  Summed over the n rotations the
+    # cross terms cancel and the squares add: n copies of the block's integrand on one period for
+    # j = 0 and j = n / 2 (psi = 0 or pi), n / 2 copies of the integrand plus n / 2 copies of the partner's
+    # for 0 < j < n / 2.  Both are even about theta = 0, so one half period with its ends weighted half
+    # carries them.  The pole's element depends on the means over the angle of single variations, which do
+    # not fold this way: it keeps the whole circle (one element).
     def _full_circle(self) -> tuple[np.ndarray, np.ndarray]:
         """The trapezoidal rule's ``M`` angles on the whole circle and their weights."""
         M = self.basis.M
         return 2.0 * math.pi * np.arange(M) / M, np.full(M, 2.0 * math.pi / M)
 
-    def _perturbation_view(self, j: int, parity: str) -> tuple["FourierShell", dict]:
-        """The view of the perturbation class ``(j, parity)`` and its local maps on the whole circle, cached."""
+    def _perturbation_view(self, j: int, parity: str) -> tuple["FourierShell", dict, np.ndarray]:
+        """The view of the perturbation class ``(j, parity)``, its local maps and their weights, cached.
+
+        ``maps[name]``: the family's perturbation map on the state's half period, for ``0 < j < n / 2``
+        followed by its partner's (the angles stacked twice, each copy weighted half: ``weights``);
+        ``maps["pole"]``: the pole element's perturbation map on the whole circle.
+        """
         key = ("bloch", int(j), parity)
         if key not in self._cache:
-            pb = self.basis.bloch(j, parity)
+            basis = self.basis
+            pb = basis.bloch(j, parity)
             pview = FourierShell(self.structure, pb, self.z_ref)
-            theta, _ = self._full_circle()
-            state_maps, pmaps = self.basis.ring_maps(theta), pb.ring_maps(theta)
+            rings = [pb.ring_maps(basis.theta)]
+            weights = basis.weights
+            if 0 < 2 * j < basis.n:
+                rings.append(self._partner_maps(pb, basis.theta))
+                weights = np.concatenate([weights, weights]) * 0.5
             maps = {}
             for fam in self._families + self._volume:
-                layout = self._layouts[fam[0]]
-                nn = fam[1].shape[1]
-                maps[fam[0]] = (self._local_map(layout, nn, state_maps), self._local_map(layout, nn, pmaps))
-            maps["pole"] = (self._local_map(layouts.POLE, 2, state_maps), self._local_map(layouts.POLE, 2, pmaps))
-            self._cache[key] = (pview, maps)
+                layout, nn = self._layouts[fam[0]], fam[1].shape[1]
+                maps[fam[0]] = np.concatenate([self._local_map(layout, nn, r) for r in rings], axis=0)
+            maps["pole"] = self._local_map(layouts.POLE, 2, pb.ring_maps(self._full_circle()[0]))
+            self._cache[key] = (pview, maps, weights)
+        return self._cache[key]
+
+    @staticmethod
+    def _partner_maps(pb: AngularBasis, theta: np.ndarray) -> dict[str, np.ndarray]:
+        """The ring maps (:meth:`AngularBasis.ring_maps`) at ``theta`` of the partner of each term of the Bloch
+        class ``pb`` (``0 < j < n / 2``): the term of the other parity, same component and wave, with the sign
+        that makes ``f(m (theta + phi)) = cos(psi) f(m theta) + sin(psi) partner(m theta)`` for a rotation
+        ``phi`` by which ``m phi = psi`` (waves ``m = q n + j``) or ``-psi`` (``m = q n - j``)."""
+        other = AngularBasis(pb.n, pb.K, mirror=pb.parity == "odd", M=pb.M, j=pb.j,
+                             parity="odd" if pb.parity == "even" else "even")
+        swap = {"cos": "sin", "sin": "cos"}
+        order = [other.index(comp, swap[trig], k) for comp, trig, k in pb.terms]
+        # cos(m t + e psi) = cos psi cos(m t) - e sin psi sin(m t); sin(m t + e psi) = cos psi sin(m t) + e sin psi cos(m t)
+        turn = np.array([1.0 if k % pb.n == pb.j else -1.0 for _, _, k in pb.terms])
+        sign = np.where([trig == "cos" for _, trig, _ in pb.terms], -turn, turn)
+        return {kind: a[..., order] * sign for kind, a in other.ring_maps(theta).items()}
+
+    def _restricted(self, pview: "FourierShell", j: int, parity: str, pressure: bool, remove_rigid: bool,
+                    held: tuple) -> Callable[[np.ndarray], sp.csr_matrix]:
+        """The map from the data of ``pview``'s Hessian pattern to the block on its admissible unknowns
+        (:meth:`FourierReduction.restriction`), cached per class and reduction."""
+        key = ("bloch restriction", int(j), parity, bool(pressure), bool(remove_rigid), held)
+        if key not in self._cache:
+            self._cache[key] = pview.reduction(remove_rigid, held).restriction(pview.pattern(pressure))
         return self._cache[key]
 
     def bloch_block(self, c: np.ndarray, j: int, parity: str = "even", pressure: float = 0.0,
@@ -940,44 +991,56 @@ class FourierShell:
         irreducible representations of ``D_n``): the waves ``m = q n +- j`` couple only among themselves,
         and symmetric and antisymmetric fields about the mirror do not couple.  For ``0 < j < n / 2`` the
         two parities carry the same two-dimensional representation and have the same spectrum.  The angle
-        is integrated over the whole circle with the basis's ``M`` angles.  ``control_fixed`` (traced-model
-        dofs held by a control) acts on ``j = 0``, ``"even"`` only.
+        is integrated by the basis's ``M``-angle rule on the whole circle, folded onto the state's half
+        period (the comment above :meth:`_full_circle`): the blocks share the state's local Hessians with
+        :meth:`hessian`.  ``control_fixed`` (traced-model dofs held by a control) acts on ``j = 0``,
+        ``"even"`` only.
         """
         if not self.basis.mirror or self.basis.j != 0:
             raise ValueError("FourierShell.bloch_block: the state's basis must be a D_n basis (mirror=True, j=0)")
-        c = np.asarray(c, dtype=float)
-        pview, maps = self._perturbation_view(j, parity)
-        _, w = self._full_circle()
-        P = pview.pattern(pressure != 0.0)
-        data = np.zeros(P.nnz)
-        groups = [(f, 1.0) for f in self._families]
-        if pressure != 0.0:
-            groups += [(f, float(pressure)) for f in self._volume]
-        for fam, factor in groups:
-            name, nodes, _, kernel, params, offset = fam
-            Bs, Bp = maps[name]
-            _, _, h = self._jets(c, (name, nodes, Bs, kernel, params, offset))
-            He, rows = self._element_hessians(h, Bp, w)
-            data += np.bincount(self._transposed_slots(pview, nodes, pressure != 0.0, rows), factor * He.ravel(),
-                                minlength=P.nnz)
-        Bs, Bp = maps["pole"]
-        for nodes, kernel, lbar, kbar, Akb in self._poles:
-            He = self._pole_hessian(c, nodes, kernel, lbar, kbar, Akb, Bs, Bp, w)
-            data += np.bincount(pview.hessian_slots(pview.element_dofs(nodes), pressure != 0.0), He.ravel(), minlength=P.nnz)
-        H = sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
-        held = control_fixed if (j == 0 and parity == "even") else ()
-        T = pview.reduction(remove_rigid, held).T
-        return (T.T @ H @ T).tocsr()
+        pview, maps, w = self._perturbation_view(j, parity)
+        with_volume = pressure != 0.0
+        st = self._state(c, with_volume)
 
-    def _pole_hessian(self, c: np.ndarray, nodes: np.ndarray, kernel: Any, lbar: float, kbar: float, Akb: float,
-                      Bs: np.ndarray, Bp: np.ndarray, w: np.ndarray) -> np.ndarray:
-        """The pole element's second variation along the perturbations mapped by ``Bp`` (state by ``Bs``)."""
-        wm = w / (2.0 * math.pi)
-        lbar, kbar = self._pole_reference(nodes, lbar, kbar, Bs)
-        y = np.matmul(Bs, c[self.element_dofs(nodes)[0]]).T
-        v, g, h = kernel(y, lbar)
+        def elements():
+            for fam, jets, factor in self._groups(c, pressure):
+                h = jets[2]
+                if w.size != h.shape[2]:  # the half period twice: the perturbations and their partners
+                    h = np.concatenate([h, h], axis=2)
+                He, rows = self._element_hessians(h, maps[fam[0]], w)
+                if factor != 1.0:
+                    He *= factor
+                yield He, rows, fam[1]
+            for k, (nodes, _, _, _, Akb) in enumerate(self._poles):
+                He = self._pole_hessian(self._pole_circle(st, k), maps["pole"], Akb)
+                yield He[:, :, None], np.arange(He.shape[0]), nodes
+
+        held = tuple(int(d) for d in control_fixed) if (j == 0 and parity == "even") else ()
+        # summed in the perturbation view's pattern as it sums its own Hessian (:meth:`hessian`)
+        return self._restricted(pview, j, parity, with_volume, remove_rigid, held)(
+            pview.assemble(elements(), with_volume))
+
+    def _pole_circle(self, st: dict, k: int) -> tuple:
+        """Pole ``k``'s curvature at the state of ``st`` (:meth:`_state`) on the whole circle, kept with the
+        state: ``(B - kappa_bar (Q,), its gradient (k, Q), its Hessian (k, k, Q))`` in the local variables."""
+        key = ("pole circle", k)
+        if key not in st:
+            nodes, kernel, lbar, kbar, _ = self._poles[k]
+            if "pole circle map" not in self._cache:
+                self._cache["pole circle map"] = self._local_map(layouts.POLE, 2, self.basis.ring_maps(self._full_circle()[0]))
+            Bs = self._cache["pole circle map"]
+            lbar, kbar = self._pole_reference(nodes, lbar, kbar, Bs)
+            v, g, h = kernel(np.matmul(Bs, st["c"][self.element_dofs(nodes)[0]]).T, lbar)
+            st[key] = (v - kbar, g, h)
+        return st[key]
+
+    def _pole_hessian(self, curvature: tuple, Bp: np.ndarray, Akb: float) -> np.ndarray:
+        """The pole element's second variation along the perturbations mapped by ``Bp`` on the whole circle,
+        from its curvature there (:meth:`_pole_circle`)."""
+        Bq, g, h = curvature
+        _, w = self._full_circle()
         G = np.matmul(Bp.transpose(0, 2, 1), g.T[:, :, None])[:, :, 0]
-        return self._pole_second(Bp, G, h, v - kbar, wm, Akb)
+        return self._pole_second(Bp, G, h, Bq, w / (2.0 * math.pi), Akb)
 
     def bloch_classes(self) -> list[tuple[int, str, int]]:
         """``(j, parity, multiplicity)`` of every class of perturbations about a ``D_n`` state: the
