@@ -43,7 +43,8 @@ from .fourier import AngularBasis, FourierShell, representation_name, transfer_c
 from .problem3d import Shell3D
 
 __all__ = ["shell_lift", "follow_waves", "rotated_half", "WavesBranch", "Breaking", "breaking", "subgroup_basis",
-           "subgroup_lift", "BrokenBranch", "follow_symmetry_breaking"]
+           "subgroup_lift", "BrokenBranch", "follow_symmetry_breaking", "StateSymmetry", "state_symmetry",
+           "FullSpaceLanding", "jump_in_full_space"]
 
 
 def _harmonic_family(source: Problem) -> Any:
@@ -433,3 +434,139 @@ def follow_symmetry_breaking(problem: Shell3D, point: SpecialPoint, K: int | Non
     bp = lift_branch_point(point, problem, target, subgroup_lift(problem, target, key))
     branch = switch_branch(target, bp, settings, direction=direction, **overrides)
     return BrokenBranch(target, b, bp, branch)
+
+
+# ---- the symmetry of a state, and snaps with no symmetry imposed -------------------------------------
+@dataclass(frozen=True)
+class StateSymmetry:
+    """The symmetry of a state of the 3-D view (:func:`state_symmetry`).
+
+    Attributes
+    ----------
+    label : str
+        ``"O(2)"`` (axisymmetric), ``"SO(2)"`` (axisymmetric but twisted), ``"D<g>"`` (``g``-fold rotations and a
+        mirror plane) or ``"C<g>"`` (rotations only); ``g`` the greatest common divisor of the waves present.
+    order : int
+        ``g`` (0 for an axisymmetric state).
+    mirror : float or None
+        The angle of a mirror plane (radians, in the basis's angle), None where there is none.
+    amplitudes : dict
+        Per wave number the largest coefficient (absolute, any component and node).
+    """
+
+    label: str
+    order: int
+    mirror: float | None
+    amplitudes: dict
+
+
+def state_symmetry(basis: AngularBasis, c: np.ndarray, tol: float = 1e-8) -> StateSymmetry:
+    """The symmetry of the state ``c`` (every ring's coefficients in ``basis``).
+
+    A wave is present when its largest coefficient exceeds ``tol`` times the largest axisymmetric one (the shell's
+    size).  A mirror plane is sought among those of the strongest wave (where its ``R`` or ``Z`` field at the node of
+    its largest coefficient is symmetric) and kept where the whole state, turned onto it, has no antisymmetric
+    coefficient above the same threshold.
+    """
+    c = np.asarray(c, dtype=float)
+    rows = c.reshape(-1, basis.m)
+    waves = sorted({t[2] for t in basis.terms})
+    amplitudes = {k: float(np.max(np.abs(rows[:, [i for i, t in enumerate(basis.terms) if t[2] == k]]))) for k in waves}
+    size = float(np.max(np.abs(rows[:, [i for i, t in enumerate(basis.terms) if t[2] == 0 and t[0] != "T"]])))
+    floor = tol * size
+    present = [k for k in waves if k > 0 and amplitudes[k] > floor]
+    odd_terms = [i for i, t in enumerate(basis.terms) if (t[0] == "T") == (t[1] == "cos")]
+    if not present:
+        twisted = bool(odd_terms) and float(np.max(np.abs(rows[:, odd_terms]))) > floor
+        return StateSymmetry("SO(2)" if twisted else "O(2)", 0, None if twisted else 0.0, amplitudes)
+    g = math.gcd(*present)
+    if basis.parity == "even":
+        return StateSymmetry(f"D{g}", g, 0.0, amplitudes)
+    both = AngularBasis(1, max(waves), mirror=False, M=2 * max(waves) + 2)
+    k = max(present, key=lambda q: amplitudes[q])
+    # the strongest R or Z field of the wave k: a cos(k theta) + b sin(k theta), symmetric about phi + pi l / k
+    cols = {trig: [i for i, t in enumerate(basis.terms) if t[2] == k and t[1] == trig and t[0] != "T"]
+            for trig in ("cos", "sin")}
+    node, which = np.unravel_index(int(np.argmax(np.abs(rows[:, cols["cos"]]) + np.abs(rows[:, cols["sin"]]))),
+                                   (rows.shape[0], len(cols["cos"])))
+    comp = basis.terms[cols["cos"][which]][0]
+    a = rows[node, basis.index(comp, "cos", k)]
+    b = rows[node, basis.index(comp, "sin", k)]
+    phi = math.atan2(b, a) / k
+    antisymmetric = [i for i, t in enumerate(both.terms) if (t[0] == "T") == (t[1] == "cos")]
+    for plane in (phi + math.pi * q / k for q in range(k)):
+        turned = transfer_coefficients(c, basis, both, plane).reshape(-1, both.m)
+        if float(np.max(np.abs(turned[:, antisymmetric]))) <= floor:
+            return StateSymmetry(f"D{g}", g, plane % (2.0 * math.pi / g), amplitudes)
+    return StateSymmetry(f"C{g}", g, None, amplitudes)
+
+
+@dataclass
+class FullSpaceLanding:
+    """A snap in the 3-D view with no symmetry imposed (:func:`jump_in_full_space`).
+
+    Attributes
+    ----------
+    problem : Shell3D
+        The view in ``AngularBasis(1, K, mirror=False)``: every wave ``0 .. K``, both parities.
+    jump : contin.JumpResult
+        The energy descent from the lifted state (``u_to`` the landing, in :attr:`problem`'s unknowns).
+    symmetry : StateSymmetry
+        The landing's symmetry and the largest coefficient of each wave.
+    n_negative : int
+        Negative eigenvalues of the landing's Hessian in that basis (against every wave up to ``K``).
+    """
+
+    problem: Shell3D
+    jump: Any
+    symmetry: StateSymmetry
+    n_negative: int
+
+
+def jump_in_full_space(problem: Shell3D, u: np.ndarray, p: float, K: int | None = None, *,
+                       tol: float = 1e-8, **jump_options: Any) -> FullSpaceLanding:
+    """From a state of a symmetric view (a fold of a ``D_n`` branch, or any state) to the next stable state with no
+    symmetry imposed, and what symmetry it has.
+
+    The state is carried into ``AngularBasis(1, K, mirror=False)`` (the basis's quadrature where it integrates that
+    basis's quadratic forms exactly, so the state's energy is unchanged), :func:`contin.jump` descends from it at
+    the fixed parameter, and the landing is classified by :func:`state_symmetry` (``tol``): axisymmetric, the
+    start's symmetry, or another.
+
+    Parameters
+    ----------
+    problem : Shell3D
+        The symmetric view the state lies on (point, ring or pressure load).
+    u, p : the state and the parameter (held during the jump).
+    K : int, optional
+        The highest wave of the full basis (default the highest wave of ``problem``'s basis; it must carry them).
+    tol : float
+        Relative size below which a wave counts as absent.
+    jump_options
+        Passed to :func:`contin.jump` (``perturbation``, ``max_iter``, ...).
+
+    Raises
+    ------
+    LiftError
+        ``K`` does not carry the state's waves, or the problem's load is not carried.
+    contin.JumpError
+        The state is stable and not degenerate in the full space too (nothing to jump from).
+    """
+    from contin.analyses.jump import jump
+
+    top = int(problem.basis.wave_numbers.max())
+    K = top if K is None else K
+    if not isinstance(K, (int, np.integer)) or K < max(top, 1):
+        raise LiftError(f"jump_in_full_space: K (the highest wave of the full basis) must be an integer >= {max(top, 1)} "
+                        f"to carry the state's waves, got {K!r}")
+    M = problem.basis.M if problem.basis.M > 2 * int(K) else None
+    full = AngularBasis(1, int(K), mirror=False, M=M)
+    target = _same_load(problem, full)
+    start = target.unknowns(transfer_coefficients(problem.full_state(np.asarray(u, dtype=float), p), problem.basis,
+                                                  full))
+    result = jump(target, start, float(p), **jump_options)
+    from contin.numerics.stability import stability_info
+
+    n_negative = int(stability_info(target.jacobian(result.u_to, result.p), 0).n_negative)
+    return FullSpaceLanding(target, result, state_symmetry(full, target.full_state(result.u_to, result.p), tol),
+                            n_negative)
