@@ -58,6 +58,27 @@ def test_coefficients_turned_into_another_basis() -> None:
         transfer_coefficients(m, b2, d2)              # not turned: antisymmetric, the D_2 basis has no sines of R
 
 
+def test_the_symmetry_of_a_state_from_its_waves_and_mirror_plane() -> None:
+    full = AngularBasis(1, 6, mirror=False)
+    nodes = 4
+    c = np.zeros((nodes, full.m))
+    c[:, full.index("R", "cos", 0)] = 1.0
+    assert state_symmetry(full, c.ravel()).label == "O(2)"
+    # R = cos 3 (theta - a) + 0.1 cos 6 (theta - a): three mirror planes, one at a
+    a = 0.3
+    for k, amp in ((3, 1e-2), (6, 1e-3)):
+        c[:, full.index("R", "cos", k)] = amp * math.cos(k * a)
+        c[:, full.index("R", "sin", k)] = amp * math.sin(k * a)
+    sym = state_symmetry(full, c.ravel())
+    assert sym.label == "D3" and sym.order == 3 and sym.amplitudes[3] == pytest.approx(1e-2)
+    assert math.sin(3 * (sym.mirror - a)) == pytest.approx(0.0, abs=1e-12)
+    # Z = sin 3 theta: symmetric about theta = pi / 6, R about theta = a: no common plane
+    c[:, full.index("Z", "sin", 3)] = 1e-2
+    assert state_symmetry(full, c.ravel()).label == "C3"
+    c[:, full.index("Z", "cos", 1)] = 1e-3           # and a tilt: no rotation left
+    assert state_symmetry(full, c.ravel()).label == "C1"
+
+
 @pytest.fixture(scope="module")
 def three_waves():
     """The paper's cap (sliding edge) under a prescribed pole deflection in the D_3 view watching every class:

@@ -451,7 +451,7 @@ class StateSymmetry:
     mirror : float or None
         The angle of a mirror plane (radians, in the basis's angle), None where there is none.
     amplitudes : dict
-        Per wave number the largest coefficient (absolute, any component and node).
+        Per wave number its largest amplitude (``sqrt(a^2 + b^2)`` of ``a cos + b sin``, any component and node).
     """
 
     label: str
@@ -460,10 +460,10 @@ class StateSymmetry:
     amplitudes: dict
 
 
-def state_symmetry(basis: AngularBasis, c: np.ndarray, tol: float = 1e-8) -> StateSymmetry:
+def state_symmetry(basis: AngularBasis, c: np.ndarray, tol: float = 1e-6) -> StateSymmetry:
     """The symmetry of the state ``c`` (every ring's coefficients in ``basis``).
 
-    A wave is present when its largest coefficient exceeds ``tol`` times the largest axisymmetric one (the shell's
+    A wave is present when its amplitude exceeds ``tol`` times the largest axisymmetric coefficient (the shell's
     size).  A mirror plane is sought among those of the strongest wave (where its ``R`` or ``Z`` field at the node of
     its largest coefficient is symmetric) and kept where the whole state, turned onto it, has no antisymmetric
     coefficient above the same threshold.
@@ -471,7 +471,7 @@ def state_symmetry(basis: AngularBasis, c: np.ndarray, tol: float = 1e-8) -> Sta
     c = np.asarray(c, dtype=float)
     rows = c.reshape(-1, basis.m)
     waves = sorted({t[2] for t in basis.terms})
-    amplitudes = {k: float(np.max(np.abs(rows[:, [i for i, t in enumerate(basis.terms) if t[2] == k]]))) for k in waves}
+    amplitudes = {k: _wave_amplitude(basis, rows, k) for k in waves}
     size = float(np.max(np.abs(rows[:, [i for i, t in enumerate(basis.terms) if t[2] == 0 and t[0] != "T"]])))
     floor = tol * size
     present = [k for k in waves if k > 0 and amplitudes[k] > floor]
@@ -501,6 +501,17 @@ def state_symmetry(basis: AngularBasis, c: np.ndarray, tol: float = 1e-8) -> Sta
     return StateSymmetry(f"C{g}", g, None, amplitudes)
 
 
+def _wave_amplitude(basis: AngularBasis, rows: np.ndarray, k: int) -> float:
+    """The largest amplitude ``sqrt(a^2 + b^2)`` of ``a cos(k theta) + b sin(k theta)`` over the components and
+    nodes (independent of the angle the state is read from)."""
+    out = 0.0
+    for comp in ("R", "T", "Z"):
+        parts = [rows[:, i] for i, t in enumerate(basis.terms) if t[0] == comp and t[2] == k]
+        if parts:
+            out = max(out, float(np.max(np.sqrt(sum(x * x for x in parts)))))
+    return out
+
+
 @dataclass
 class FullSpaceLanding:
     """A snap in the 3-D view with no symmetry imposed (:func:`jump_in_full_space`).
@@ -524,7 +535,7 @@ class FullSpaceLanding:
 
 
 def jump_in_full_space(problem: Shell3D, u: np.ndarray, p: float, K: int | None = None, *,
-                       tol: float = 1e-8, **jump_options: Any) -> FullSpaceLanding:
+                       tol: float = 1e-6, **jump_options: Any) -> FullSpaceLanding:
     """From a state of a symmetric view (a fold of a ``D_n`` branch, or any state) to the next stable state with no
     symmetry imposed, and what symmetry it has.
 
