@@ -132,3 +132,29 @@ def test_bad_inputs_are_refused(three_waves) -> None:
         follow_symmetry_breaking(prob, fold)
     with pytest.raises(LiftError, match="K .* must be an integer >= 6"):
         jump_in_full_space(prob, fold.u, fold.p, K=5)
+
+
+@pytest.mark.slow
+def test_a_jump_from_the_three_wave_fold_in_the_full_space_lands_stable_and_says_its_symmetry() -> None:
+    """From the fold of the three-wave branch (D_3, K = 1) the energy descent with no symmetry imposed (waves
+    0 .. 3, both parities) lands on a state stable against all of them, with one wave: D_1, not D_3."""
+    from contin.numerics.stability import stability_info
+
+    prob = Shell3D(paper_cap(N), AngularBasis(3, 1), "point", "displacement")
+    first = contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=0.5, ds=0.01, ds_max=0.02,
+                                max_steps=300, stability=True, n_eigs=0, stop_at=("branch_point",))
+    second = contin.switch_branch(prob, first.special_points[-1], SETTINGS, max_steps=300, p_max=0.5,
+                                  stability=True, n_eigs=0, stop_at=("fold",))
+    fold = second.special_points[-1]
+    assert fold.kind == "fold"
+    out = jump_in_full_space(prob, fold.u, fold.p)
+    full = out.problem
+    assert (full.basis.n, full.basis.K, full.basis.mirror) == (1, 3, False)
+    assert out.jump.success and out.jump.p == fold.p
+    # the fold's D_3 state is unstable against the waves D_3 does not hold; the landing against none of them
+    start = full.unknowns(transfer_coefficients(prob.full_state(fold.u, fold.p), prob.basis, full.basis))
+    assert stability_info(full.jacobian(start, fold.p), 0).n_negative > 0
+    assert stability_info(full.jacobian(out.jump.u_to, out.jump.p), 0).n_negative == 0 == out.n_negative
+    assert out.symmetry.label == "D1" and out.symmetry.amplitudes[1] > 10 * out.symmetry.amplitudes[3]
+    # a snap: the pole force jumps from the falling branch's negative value to a positive one
+    assert prob.observables["F"](fold.u, fold.p) < 0 < full.observables["F"](out.jump.u_to, out.jump.p)
