@@ -158,3 +158,19 @@ def test_a_jump_from_the_three_wave_fold_in_the_full_space_lands_stable_and_says
     assert out.symmetry.label == "D1" and out.symmetry.amplitudes[1] > 10 * out.symmetry.amplitudes[3]
     # a snap: the pole force jumps from the falling branch's negative value to a positive one
     assert prob.observables["F"](fold.u, fold.p) < 0 < full.observables["F"](out.jump.u_to, out.jump.p)
+
+
+def test_a_b2_bifurcation_relocates_in_d2_turned_by_pi_over_n() -> None:
+    """D_4's B2 (the waves 2, 6, antisymmetric about theta = 0) keeps the mirror in theta = pi / 4: the mode, read
+    from there, is symmetric and the point a simple branch point of the turned D_2 view (at the axisymmetric
+    state it is the harmonic blocks' n = 2 point)."""
+    prob = Shell3D(paper_cap(N), AngularBasis(4, 1), "point", "displacement", every_mode=True)
+    path = contin.continuation(prob, prob.reference_unknowns(), 0.0, p_max=0.38, ds=0.01, ds_max=0.02,
+                               max_steps=300, stability=True, n_eigs=0)
+    point = _located(path, "B2")[0]
+    out = follow_symmetry_breaking(prob, point, settings=SETTINGS, max_steps=5, n_eigs=0)
+    assert out.breaking.turn == pytest.approx(math.pi / 4) and out.problem.basis.n == 2
+    bp = out.branch_point
+    assert abs(bp.p - point.p) < 1e-8 * point.p and bp.info["mode_angle"] < 1e-6
+    sym = state_symmetry(out.problem.basis, out.problem.full_state(out.branch.u[-1], out.branch.p[-1]))
+    assert sym.label == "D2" and sym.amplitudes[2] > 1e-4
