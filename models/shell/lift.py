@@ -25,6 +25,15 @@ itself, and the branch that leaves along ``+mode`` onto the one that leaves alon
 (odd or even): the two halves are one branch seen from two angles, with the same load, deflection and
 stability, and the coefficients of the odd multiples of ``n`` reversed.  :func:`follow_waves` traces the
 ``+1`` half (:func:`rotated_half` gives the other).
+
+Leaving a ``D_n`` branch
+------------------------
+A ``D_n`` view with ``every_mode`` locates where the block of another representation becomes singular.
+:func:`breaking` names the isotropy subgroup the bifurcation breaks to, :func:`subgroup_basis` gives its basis
+on the same angles, :func:`subgroup_lift` carries the state and the block's null vector into it
+(:func:`~contin_models.shell.fourier.transfer_coefficients`) and :func:`follow_symmetry_breaking` re-locates the
+point there and traces the branch.  :func:`state_symmetry` reads the symmetry of a state; :func:`jump_in_full_space`
+snaps from a state of a symmetric view in the basis of every wave and says what symmetry the landing has.
 """
 
 from __future__ import annotations
