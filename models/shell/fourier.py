@@ -74,7 +74,8 @@ from contin.numerics.linalg import FixedPattern
 from .density_kernels import kernels as _dgen
 from . import density, layouts
 
-__all__ = ["AngularBasis", "FourierShell", "FourierReduction", "csr_positions", "representation_name"]
+__all__ = ["AngularBasis", "FourierShell", "FourierReduction", "csr_positions", "representation_name",
+           "transfer_coefficients"]
 
 #: The frame component of each unknown component: ``R`` radial, ``T`` circumferential, ``Z`` axial.
 _FRAME = {"R": 0, "T": 1, "Z": 2}
@@ -1069,3 +1070,56 @@ class FourierShell:
         return {(j, par): int(stability_info(self.bloch_block(c, j, par, pressure, remove_rigid, control_fixed),
                                              0).n_negative)
                 for j, par, _ in self.bloch_classes()}
+
+
+# ---- coefficients from one basis into another --------------------------------------------------------
+def transfer_coefficients(c: np.ndarray, source: AngularBasis, target: AngularBasis, turn: float = 0.0) -> np.ndarray:
+    """The rings' fields given by the coefficients ``c`` of ``source`` as coefficients of ``target``.
+
+    Each ring's ``R``, ``T`` and ``Z`` are the same functions of the material angle; with ``turn`` they are read
+    from an angle ``theta' = theta - turn`` (the target's ``theta' = 0`` is the source's ``theta = turn``), so
+    ``cos(k theta)`` becomes ``cos(k turn) cos(k theta') - sin(k turn) sin(k theta')`` and likewise for the sines.
+    The frame turns with the angle, so the components keep their names.
+
+    Parameters
+    ----------
+    c : ndarray
+        ``(N source.m,)`` coefficients, node by node (a state, a mode or a perturbation of the source basis).
+    source, target : AngularBasis
+    turn : float
+        The angle (radians) of the target's ``theta' = 0`` in the source's angle.
+
+    Returns
+    -------
+    ndarray
+        ``(N target.m,)``; the target's terms the source does not feed are zero.
+
+    Raises
+    ------
+    ValueError
+        ``c`` is not a whole number of the source's nodes, or a nonzero coefficient lands on a term the target
+        does not carry (its wave or parity is not in the target's class).
+    """
+    c = np.asarray(c, dtype=float)
+    if c.ndim != 1 or c.size % source.m:
+        raise ValueError(f"transfer_coefficients: c must hold {source.m} coefficients per node of {source!r}, got "
+                         f"shape {c.shape}")
+    rows = c.reshape(-1, source.m)
+    out = np.zeros((rows.shape[0], target.m))
+    other = {"cos": "sin", "sin": "cos"}
+    for col, (comp, trig, k) in enumerate(source.terms):
+        if not np.any(rows[:, col]):
+            continue
+        ck, sk = math.cos(k * turn), math.sin(k * turn)
+        # cos(k theta' + k turn) = ck cos - sk sin;  sin(k theta' + k turn) = ck sin + sk cos
+        parts = ((trig, ck), (other[trig], -sk if trig == "cos" else sk))
+        for name, factor in parts:
+            if abs(factor) < 1e-14:  # k turn a multiple of pi / 2: the rounding of its sine or cosine
+                continue
+            try:
+                j = target.index(comp, name, k)
+            except KeyError:
+                raise ValueError(f"transfer_coefficients: the source's {comp} {trig}({k} theta) (turned by "
+                                 f"{turn:.6g}) needs {comp} {name}({k} theta), which {target!r} does not carry") from None
+            out[:, j] += factor * rows[:, col]
+    return out.ravel()

@@ -25,10 +25,20 @@ itself, and the branch that leaves along ``+mode`` onto the one that leaves alon
 (odd or even): the two halves are one branch seen from two angles, with the same load, deflection and
 stability, and the coefficients of the odd multiples of ``n`` reversed.  :func:`follow_waves` traces the
 ``+1`` half (:func:`rotated_half` gives the other).
+
+Leaving a ``D_n`` branch
+------------------------
+A ``D_n`` view with ``every_mode`` locates where the block of another representation becomes singular.
+:func:`breaking` names the isotropy subgroup the bifurcation breaks to, :func:`subgroup_basis` gives its basis
+on the same angles, :func:`subgroup_lift` carries the state and the block's null vector into it
+(:func:`~contin_models.shell.fourier.transfer_coefficients`) and :func:`follow_symmetry_breaking` re-locates the
+point there and traces the branch.  :func:`state_symmetry` reads the symmetry of a state; :func:`jump_in_full_space`
+snaps from a state of a symmetric view in the basis of every wave and says what symmetry the landing has.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,10 +48,12 @@ from contin.analyses.lift import Lift, LiftError, lift_branch_point
 from contin.problem import Problem
 from contin.results.branch import Branch, SpecialPoint
 
-from .fourier import AngularBasis
+from .fourier import AngularBasis, FourierShell, representation_name, transfer_coefficients
 from .problem3d import Shell3D
 
-__all__ = ["shell_lift", "follow_waves", "rotated_half", "WavesBranch"]
+__all__ = ["shell_lift", "follow_waves", "rotated_half", "WavesBranch", "Breaking", "breaking", "subgroup_basis",
+           "subgroup_lift", "BrokenBranch", "follow_symmetry_breaking", "StateSymmetry", "state_symmetry",
+           "FullSpaceLanding", "jump_in_full_space"]
 
 
 def _harmonic_family(source: Problem) -> Any:
@@ -200,3 +212,381 @@ def rotated_half(problem: Shell3D, u: np.ndarray, p: float) -> np.ndarray:
     sign = np.array([-1.0 if (k // basis.n) % 2 else 1.0 for _, _, k in basis.terms])
     c = problem.full_state(np.asarray(u, dtype=float), p)
     return problem.unknowns(c * np.tile(sign, problem.view.N))
+
+
+# ---- leaving a D_n branch where it breaks its symmetry ------------------------------------------------
+@dataclass(frozen=True)
+class Breaking:
+    """What a bifurcation of a ``D_n`` branch in one representation breaks the symmetry to (:func:`breaking`).
+
+    Attributes
+    ----------
+    representation : str
+        The representation of ``D_n`` (``A2``, ``B1``, ``B2``, ``E1``, ...).
+    j, parity : int, str
+        Its Bloch class (the waves ``q n +- j``, one parity).
+    symmetry : str
+        The isotropy subgroup of the mode's symmetric copy: ``"C<n>"``, ``"D<d>"``.
+    n, mirror : int, bool
+        The subgroup's basis: rotations by ``2 pi / n``, with or without the mirror.
+    K_min : int
+        The fewest harmonics above ``0`` of that basis that carry the state's waves and the mode's.
+    turn : float
+        The angle of the subgroup's mirror plane in the ``D_n`` basis's angle (``pi / n`` for ``B2``, else 0).
+    """
+
+    representation: str
+    j: int
+    parity: str
+    symmetry: str
+    n: int
+    mirror: bool
+    K_min: int
+    turn: float
+
+
+def breaking(basis: AngularBasis, representation: str) -> Breaking:
+    """The isotropy subgroup a bifurcation of the ``D_n`` branch (``basis``) in ``representation`` breaks to.
+
+    The equivariant branching lemma gives a branch for each isotropy subgroup with a one-dimensional fixed space
+    in the representation; the mode's copy fixed by it is a simple branch point of the subgroup's states:
+
+    * ``A2`` (waves ``0, n, ...``, antisymmetric about every mirror plane): the mirrors are lost, the rotations
+      kept: ``C_n`` (``AngularBasis(n, K, mirror=False)``).
+    * ``B1`` (``n`` even; waves ``n/2, 3n/2, ...``, symmetric about ``theta = 0``): the rotation by ``2 pi / n`` changes
+      their sign, the mirror in ``theta = 0`` keeps it: ``D_{n/2}`` with the same mirror plane.
+    * ``B2`` (``n`` even; the same waves, antisymmetric about ``theta = 0``): the mirror in ``theta = 0`` and the
+      rotation by ``2 pi / n`` both change the sign, their product (the mirror in ``theta = pi / n``) keeps it:
+      ``D_{n/2}`` with its mirror plane turned by ``pi / n`` (:attr:`Breaking.turn`).
+    * ``Ej`` (two-dimensional, waves ``q n +- j``): the rotations by multiples of ``2 pi / d``, ``d = gcd(n, j)``, act
+      trivially and the mirror in ``theta = 0`` fixes the symmetric copy: ``D_d`` (``D_1``, the mirror alone, where
+      ``j`` and ``n`` are coprime).  The other axes of ``Ej`` are the first one's images under ``D_n``.
+
+    Raises
+    ------
+    LiftError
+        ``basis`` is not a ``D_n`` state basis, or ``representation`` is not one of its symmetry-breaking ones.
+    """
+    if not (basis.mirror and basis.j == 0 and basis.parity == "even"):
+        raise LiftError(f"breaking: the branch's basis must be a D_n basis of states (mirror=True, j = 0), got {basis!r}")
+    n, K = basis.n, basis.K
+    classes = {representation_name(n, j, par): (j, par) for j in range(n // 2 + 1) for par in ("even", "odd")}
+    classes.pop("A1")
+    if representation not in classes:
+        raise LiftError(f"breaking: representation must be one of the classes of D_{n} that break its symmetry, "
+                        f"{sorted(classes)}, got {representation!r}")
+    j, parity = classes[representation]
+    if j == 0:
+        return Breaking(representation, 0, "odd", f"C{n}", n, False, K, 0.0)
+    if 2 * j == n:
+        return Breaking(representation, j, parity, f"D{j}", j, True, 2 * K + 1, 0.0 if parity == "even" else math.pi / n)
+    d = math.gcd(n, j)
+    return Breaking(representation, j, "even", f"D{d}", d, True, (K * n + j) // d, 0.0)
+
+
+def subgroup_basis(basis: AngularBasis, representation: str, K: int | None = None) -> AngularBasis:
+    """The basis of the states of the isotropy subgroup of ``representation`` (:func:`breaking`).
+
+    ``K`` harmonics above ``0`` (default and least :attr:`Breaking.K_min`: exactly the ``D_n`` basis's states and
+    the Bloch class's waves, so that the located point does not move).  The quadrature is the ``D_n`` basis's ``M``
+    where it integrates the subgroup's quadratic forms exactly (``M > 2 K n'``), the same angles: the ``D_n``
+    states then have the same energy and the class's block is the subgroup's Hessian on the mode's waves.
+    Otherwise the default ``M`` of the subgroup's basis, and the lifted point moves by the change of quadrature.
+    """
+    b = breaking(basis, representation)
+    K = b.K_min if K is None else K
+    if not isinstance(K, (int, np.integer)) or K < b.K_min:
+        raise LiftError(f"subgroup_basis: K (harmonics above 0 of the {b.symmetry} basis) must be an integer >= "
+                        f"{b.K_min} to carry the D_{basis.n} states and the {representation} modes, got {K!r}")
+    M = basis.M if basis.M > 2 * int(K) * b.n else None
+    return AngularBasis(b.n, int(K), mirror=b.mirror, M=M)
+
+
+def _same_load(problem: Shell3D, basis: AngularBasis, turn: float = 0.0, every_mode: bool = False) -> Shell3D:
+    """``problem``'s structure, load and control in another basis (its reference carried over, turned by ``turn``)."""
+    if not isinstance(problem, Shell3D):
+        raise LiftError(f"the problem must be a Shell3D (the 3-D view), got {type(problem).__name__}")
+    if problem.load not in ("point", "ring", "pressure"):
+        raise LiftError(f"the {problem.load!r} load is not carried into another basis; the point, ring and pressure "
+                        "loads are")
+    view = problem.view
+    shape = np.delete(problem.c_ref, view.axisymmetric_dofs())
+    # an axisymmetric reference is the structure's own: the view's default, without the general kernels
+    reference = (transfer_coefficients(problem.c_ref, problem.basis, basis, turn) if np.any(shape) else None)
+    return Shell3D(problem.structure, basis, problem.load, problem.control, length=problem.length,
+                   node=problem.node if problem.load == "ring" else None, p_c=problem.p_c,
+                   every_mode=every_mode and basis.mirror, reference=reference)
+
+
+def subgroup_lift(problem: Shell3D, target: Shell3D, representation: str) -> Lift:
+    """The lift of a ``D_n`` branch's bifurcation in ``representation`` into the isotropy subgroup's view ``target``.
+
+    Parameters
+    ----------
+    problem : Shell3D
+        The view in a ``D_n`` basis that located the bifurcation (``every_mode``).
+    target : Shell3D
+        The same structure, load and control in the subgroup's basis (:func:`subgroup_basis`).
+    representation : str
+        The bifurcation's class (``info["key"]``).
+
+    Returns
+    -------
+    Lift
+        ``state``: the coefficients of the waves ``0, n, 2n, ...`` carried over (turned by :attr:`Breaking.turn`),
+        the target's other waves zero; ``parameter`` unchanged; ``mode``: the Bloch block's null vector
+        (the block's reduced unknowns) through the class's coefficients ``q n +- j`` of its parity;
+        ``family = "representation"``, ``key = representation``.
+
+    Raises
+    ------
+    LiftError
+        The target's basis is not the subgroup's (rotations, mirror, too few harmonics), or the problems differ
+        in parameter.
+    """
+    b = breaking(problem.basis, representation)
+    tb = target.basis
+    if tb.n != b.n or tb.mirror != b.mirror or tb.j != 0 or tb.K < b.K_min:
+        raise LiftError(f"subgroup_lift: a bifurcation in {representation} of D_{problem.basis.n} breaks to "
+                        f"{b.symmetry}: the target needs AngularBasis({b.n}, K >= {b.K_min}, mirror={b.mirror}), "
+                        f"got {tb!r}")
+    if problem.parameter_name != target.parameter_name:
+        raise LiftError(f"subgroup_lift: the source's parameter is {problem.parameter_name!r} but the target's "
+                        f"{target.parameter_name!r}: build the target with the same load and control")
+    block_basis = problem.basis.bloch(b.j, b.parity)
+    # the block's reduced unknowns are its perturbation view's free ones (FourierShell.bloch_block)
+    to_block = FourierShell(problem.structure, block_basis).reduction().T
+
+    def state(u: np.ndarray, p: float) -> np.ndarray:
+        return target.unknowns(transfer_coefficients(problem.full_state(u, p), problem.basis, tb, b.turn))
+
+    def mode(vector: np.ndarray) -> np.ndarray:
+        v = np.asarray(vector, dtype=float)
+        if v.shape != (to_block.shape[1],):
+            raise LiftError(f"subgroup_lift: the {representation} mode must have the block's {to_block.shape[1]} "
+                            f"unknowns, got shape {v.shape}")
+        return target.unknowns(transfer_coefficients(to_block @ v, block_basis, tb, b.turn))
+
+    return Lift(state=state, mode=mode, family="representation", key=representation,
+                name=f"subgroup_lift({representation} of D_{problem.basis.n} -> {b.symmetry})")
+
+
+@dataclass
+class BrokenBranch:
+    """The branch that leaves a ``D_n`` branch where it breaks its symmetry (:func:`follow_symmetry_breaking`).
+
+    Attributes
+    ----------
+    problem : Shell3D
+        The subgroup's view it was traced in.
+    breaking : Breaking
+        The representation and the subgroup.
+    branch_point : SpecialPoint
+        The lifted point, re-located on :attr:`problem` (``info["moved_p"]``, ``info["mode_angle"]``).
+    branch : Branch
+        The branch traced from it (one direction).
+    """
+
+    problem: Shell3D
+    breaking: Breaking
+    branch_point: SpecialPoint
+    branch: Branch
+
+
+def follow_symmetry_breaking(problem: Shell3D, point: SpecialPoint, K: int | None = None, *,
+                             settings: Any = None, direction: int = 1, every_mode: bool = True,
+                             **overrides: Any) -> BrokenBranch:
+    """Leave a ``D_n`` branch at its located bifurcation in another representation and trace the branch that
+    has the isotropy subgroup's symmetry.
+
+    The point is lifted into the subgroup's view (:func:`subgroup_basis`, :func:`subgroup_lift`; ``every_mode``
+    where the subgroup has a mirror), re-located there (:func:`contin.analyses.lift.lift_branch_point`: the same
+    angles and waves, so it stays put to the tolerances unless ``K`` adds waves) and the bifurcating branch traced
+    by :func:`contin.switch_branch` in ``direction``.  For a one-dimensional representation the two directions
+    are images of each other under the broken symmetry; for ``Ej`` they generally are not (``D_3``'s ``E1`` is
+    transcritical), so trace both where both matter.
+
+    Parameters
+    ----------
+    problem : Shell3D
+        The view in a ``D_n`` basis that located ``point`` (``every_mode=True``).
+    point : SpecialPoint
+        A located ``"bifurcation"`` of the family ``"representation"``.
+    K : int, optional
+        Harmonics above ``0`` of the subgroup's basis (default the fewest that carry the state and the mode).
+    settings, overrides
+        Of the branch's trace, as :func:`contin.switch_branch` takes them.
+    direction : {1, -1}
+        The side of the branch point.
+
+    Returns
+    -------
+    BrokenBranch
+
+    Raises
+    ------
+    LiftError
+        The point is not a located bifurcation of the family ``"representation"``, or the subgroup's view has no
+        simple branch point near it.
+    """
+    from contin.palc import switch_branch
+
+    if point.kind != "bifurcation" or point.info.get("family") != "representation":
+        raise LiftError("follow_symmetry_breaking: the point must be a located bifurcation of a D_n branch into another "
+                        f"representation (kind 'bifurcation' of the family 'representation'), got a {point.kind!r}"
+                        + (f" of the family {point.info.get('family')!r}" if point.kind == "bifurcation" else ""))
+    if direction not in (1, -1):
+        raise LiftError(f"follow_symmetry_breaking: direction must be 1 or -1, got {direction!r}")
+    key = str(point.info["key"])
+    b = breaking(problem.basis, key)
+    target = _same_load(problem, subgroup_basis(problem.basis, key, K), b.turn, every_mode)
+    bp = lift_branch_point(point, problem, target, subgroup_lift(problem, target, key))
+    branch = switch_branch(target, bp, settings, direction=direction, **overrides)
+    return BrokenBranch(target, b, bp, branch)
+
+
+# ---- the symmetry of a state, and snaps with no symmetry imposed -------------------------------------
+@dataclass(frozen=True)
+class StateSymmetry:
+    """The symmetry of a state of the 3-D view (:func:`state_symmetry`).
+
+    Attributes
+    ----------
+    label : str
+        ``"O(2)"`` (axisymmetric), ``"SO(2)"`` (axisymmetric but twisted), ``"D<g>"`` (``g``-fold rotations and a
+        mirror plane) or ``"C<g>"`` (rotations only); ``g`` the greatest common divisor of the waves present.
+    order : int
+        ``g`` (0 for an axisymmetric state).
+    mirror : float or None
+        The angle of a mirror plane (radians, in the basis's angle), None where there is none.
+    amplitudes : dict
+        Per wave number its largest amplitude (``sqrt(a^2 + b^2)`` of ``a cos + b sin``, any component and node).
+    """
+
+    label: str
+    order: int
+    mirror: float | None
+    amplitudes: dict
+
+
+def state_symmetry(basis: AngularBasis, c: np.ndarray, tol: float = 1e-6) -> StateSymmetry:
+    """The symmetry of the state ``c`` (every ring's coefficients in ``basis``).
+
+    A wave is present when its amplitude exceeds ``tol`` times the largest axisymmetric coefficient (the shell's
+    size).  A mirror plane is sought among those of the strongest wave (where its ``R`` or ``Z`` field at the node of
+    its largest coefficient is symmetric) and kept where the whole state, turned onto it, has no antisymmetric
+    coefficient above the same threshold.
+    """
+    c = np.asarray(c, dtype=float)
+    rows = c.reshape(-1, basis.m)
+    waves = sorted({t[2] for t in basis.terms})
+    amplitudes = {k: _wave_amplitude(basis, rows, k) for k in waves}
+    size = float(np.max(np.abs(rows[:, [i for i, t in enumerate(basis.terms) if t[2] == 0 and t[0] != "T"]])))
+    floor = tol * size
+    present = [k for k in waves if k > 0 and amplitudes[k] > floor]
+    odd_terms = [i for i, t in enumerate(basis.terms) if (t[0] == "T") == (t[1] == "cos")]
+    if not present:
+        twisted = bool(odd_terms) and float(np.max(np.abs(rows[:, odd_terms]))) > floor
+        return StateSymmetry("SO(2)" if twisted else "O(2)", 0, None if twisted else 0.0, amplitudes)
+    g = math.gcd(*present)
+    if basis.parity == "even":
+        return StateSymmetry(f"D{g}", g, 0.0, amplitudes)
+    both = AngularBasis(1, max(waves), mirror=False, M=2 * max(waves) + 2)
+    k = max(present, key=lambda q: amplitudes[q])
+    # the strongest R or Z field of the wave k: a cos(k theta) + b sin(k theta), symmetric about phi + pi l / k
+    cols = {trig: [i for i, t in enumerate(basis.terms) if t[2] == k and t[1] == trig and t[0] != "T"]
+            for trig in ("cos", "sin")}
+    node, which = np.unravel_index(int(np.argmax(np.abs(rows[:, cols["cos"]]) + np.abs(rows[:, cols["sin"]]))),
+                                   (rows.shape[0], len(cols["cos"])))
+    comp = basis.terms[cols["cos"][which]][0]
+    a = rows[node, basis.index(comp, "cos", k)]
+    b = rows[node, basis.index(comp, "sin", k)]
+    phi = math.atan2(b, a) / k
+    antisymmetric = [i for i, t in enumerate(both.terms) if (t[0] == "T") == (t[1] == "cos")]
+    for plane in (phi + math.pi * q / k for q in range(k)):
+        turned = transfer_coefficients(c, basis, both, plane).reshape(-1, both.m)
+        if float(np.max(np.abs(turned[:, antisymmetric]))) <= floor:
+            return StateSymmetry(f"D{g}", g, plane % (2.0 * math.pi / g), amplitudes)
+    return StateSymmetry(f"C{g}", g, None, amplitudes)
+
+
+def _wave_amplitude(basis: AngularBasis, rows: np.ndarray, k: int) -> float:
+    """The largest amplitude ``sqrt(a^2 + b^2)`` of ``a cos(k theta) + b sin(k theta)`` over the components and
+    nodes (independent of the angle the state is read from)."""
+    out = 0.0
+    for comp in ("R", "T", "Z"):
+        parts = [rows[:, i] for i, t in enumerate(basis.terms) if t[0] == comp and t[2] == k]
+        if parts:
+            out = max(out, float(np.max(np.sqrt(sum(x * x for x in parts)))))
+    return out
+
+
+@dataclass
+class FullSpaceLanding:
+    """A snap in the 3-D view with no symmetry imposed (:func:`jump_in_full_space`).
+
+    Attributes
+    ----------
+    problem : Shell3D
+        The view in ``AngularBasis(1, K, mirror=False)``: every wave ``0 .. K``, both parities.
+    jump : contin.JumpResult
+        The energy descent from the lifted state (``u_to`` the landing, in :attr:`problem`'s unknowns).
+    symmetry : StateSymmetry
+        The landing's symmetry and the largest coefficient of each wave.
+    n_negative : int
+        Negative eigenvalues of the landing's Hessian in that basis (against every wave up to ``K``).
+    """
+
+    problem: Shell3D
+    jump: Any
+    symmetry: StateSymmetry
+    n_negative: int
+
+
+def jump_in_full_space(problem: Shell3D, u: np.ndarray, p: float, K: int | None = None, *,
+                       tol: float = 1e-6, **jump_options: Any) -> FullSpaceLanding:
+    """From a state of a symmetric view (a fold of a ``D_n`` branch, or any state) to the next stable state with no
+    symmetry imposed, and what symmetry it has.
+
+    The state is carried into ``AngularBasis(1, K, mirror=False)`` (the basis's quadrature where it integrates that
+    basis's quadratic forms exactly, so the state's energy is unchanged), :func:`contin.jump` descends from it at
+    the fixed parameter, and the landing is classified by :func:`state_symmetry` (``tol``): axisymmetric, the
+    start's symmetry, or another.
+
+    Parameters
+    ----------
+    problem : Shell3D
+        The symmetric view the state lies on (point, ring or pressure load).
+    u, p : the state and the parameter (held during the jump).
+    K : int, optional
+        The highest wave of the full basis (default the highest wave of ``problem``'s basis; it must carry them).
+    tol : float
+        Relative size below which a wave counts as absent.
+    jump_options
+        Passed to :func:`contin.jump` (``perturbation``, ``max_iter``, ...).
+
+    Raises
+    ------
+    LiftError
+        ``K`` does not carry the state's waves, or the problem's load is not carried.
+    contin.JumpError
+        The state is stable and not degenerate in the full space too (nothing to jump from).
+    """
+    from contin.analyses.jump import jump
+
+    top = int(problem.basis.wave_numbers.max())
+    K = top if K is None else K
+    if not isinstance(K, (int, np.integer)) or K < max(top, 1):
+        raise LiftError(f"jump_in_full_space: K (the highest wave of the full basis) must be an integer >= {max(top, 1)} "
+                        f"to carry the state's waves, got {K!r}")
+    M = problem.basis.M if problem.basis.M > 2 * int(K) else None
+    full = AngularBasis(1, int(K), mirror=False, M=M)
+    target = _same_load(problem, full)
+    start = target.unknowns(transfer_coefficients(problem.full_state(np.asarray(u, dtype=float), p), problem.basis,
+                                                  full))
+    result = jump(target, start, float(p), **jump_options)
+    from contin.numerics.stability import stability_info
+
+    n_negative = int(stability_info(target.jacobian(result.u_to, result.p), 0).n_negative)
+    return FullSpaceLanding(target, result, state_symmetry(full, target.full_state(result.u_to, result.p), tol),
+                            n_negative)
