@@ -294,7 +294,7 @@ def stability_info(H, k: int = 3, vectors: bool = False) -> StabilityInfo:
     k = max(1, min(k, n))
     kl, ku = bandwidths(H)
     b = max(kl, ku)
-    banded = n > BANDED_MIN and b + 1 <= 0.1 * n
+    banded = n > BANDED_MIN and b + 1 <= BANDED_FRACTION * n
     if not banded and n > BANDED_MIN:
         arrow = arrow_structure(H)
         if arrow is not None:

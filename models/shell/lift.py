@@ -395,7 +395,7 @@ class BrokenBranch:
 
 def follow_symmetry_breaking(problem: Shell3D, point: SpecialPoint, K: int | None = None, *,
                              settings: Any = None, direction: int = 1, every_mode: bool = True,
-                             **overrides: Any) -> BrokenBranch:
+                             key: str | None = None, **overrides: Any) -> BrokenBranch:
     """Leave a ``D_n`` branch at its located bifurcation in another representation and trace the branch that
     has the isotropy subgroup's symmetry.
 
@@ -418,6 +418,12 @@ def follow_symmetry_breaking(problem: Shell3D, point: SpecialPoint, K: int | Non
         Of the branch's trace, as :func:`contin.switch_branch` takes them.
     direction : {1, -1}
         The side of the branch point.
+    key : str, optional
+        The representation to leave into, where several cross at the point: the engine records the first crossing
+        along the path under ``info["key"]`` and lists the others that it located on the same step in
+        ``info["also"]`` (two representations that are one representation of ``O(2)`` at an axisymmetric state,
+        ``B1`` and ``B2`` of the waves ``n/2`` say, cross at the same point).  Default: the point's own key.  The
+        mode of another key is the null vector of its operator at the point.
 
     Returns
     -------
@@ -437,12 +443,29 @@ def follow_symmetry_breaking(problem: Shell3D, point: SpecialPoint, K: int | Non
                         + (f" of the family {point.info.get('family')!r}" if point.kind == "bifurcation" else ""))
     if direction not in (1, -1):
         raise LiftError(f"follow_symmetry_breaking: direction must be 1 or -1, got {direction!r}")
+    if key is not None and key != str(point.info["key"]):
+        point = _crossing_of(problem, point, str(key))
     key = str(point.info["key"])
     b = breaking(problem.basis, key)
     target = _same_load(problem, subgroup_basis(problem.basis, key, K), b.turn, every_mode)
     bp = lift_branch_point(point, problem, target, subgroup_lift(problem, target, key))
     branch = switch_branch(target, bp, settings, direction=direction, **overrides)
     return BrokenBranch(target, b, bp, branch)
+
+
+def _crossing_of(problem: Shell3D, point: SpecialPoint, key: str) -> SpecialPoint:
+    """The located ``point`` as the crossing of ``key``, one of the others the engine located on its step
+    (``info["also"]``): the same state, with ``key``'s operator's null vector as its mode."""
+    import dataclasses
+
+    from contin.watch.modes import eigenvalues_near_zero
+
+    if key not in [str(k) for k in point.info.get("also", [])]:
+        raise LiftError(f"follow_symmetry_breaking: key {key!r} did not cross at this point (its key "
+                        f"{point.info.get('key')!r}, also located on its step: {point.info.get('also', [])})")
+    family = next(f for f in problem.operator_families if f.name == "representation")
+    _, V = eigenvalues_near_zero(family.operator(key, point.u, point.p), 1, vectors=True)
+    return dataclasses.replace(point, info={**point.info, "key": key, "mode": V[:, 0] / np.linalg.norm(V[:, 0])})
 
 
 # ---- the symmetry of a state, and snaps with no symmetry imposed -------------------------------------
