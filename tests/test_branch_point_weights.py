@@ -148,6 +148,7 @@ ARCH_SCALED = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("weights", sorted(ARCH_SCALED))
 def test_arch_branch_points_and_folds_are_the_same_with_scaled_weights(arch_unit, weights):
     arch, br = arch_unit

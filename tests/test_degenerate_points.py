@@ -183,6 +183,7 @@ def _radius_spread(ring, u):
     return float(np.ptp(np.hypot(X[:, 0], X[:, 1])))
 
 
+@pytest.mark.slow
 def test_the_rings_oval_branch_at_the_stiff_membrane_in_both_coordinates():
     # EA R^2 / EI = 1e6 in displacements: the membrane forces come from differences of lengths, their
     # rounding (about 2e-11 here) lies above the tolerance asked for (1e-11), and the corrector stopped

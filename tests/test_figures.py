@@ -262,6 +262,7 @@ def _trace(tmp_path: Path, name: str, *settings: str, capsys=None) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_trace_writes_pdf_only_when_asked_by_flag_or_key(tmp_path: Path, capsys) -> None:
     """PNG by default; ``--pdf`` or ``output.pdf = true`` add the PDFs; a rerun without them removes the PDFs
     the earlier run left (they would show another run than the summary beside them)."""

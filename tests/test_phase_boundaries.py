@@ -53,6 +53,7 @@ def _phi_mark(curve) -> float:
     return float(hit.p)
 
 
+@pytest.mark.slow
 def test_bistable_boundary_agrees_with_bisection_on_the_classification(curves):
     lo, hi = 1.0, 1.2
     assert _class(lo) == "bistable" and _class(hi) == "monostable"
@@ -68,12 +69,14 @@ def test_bistable_boundary_agrees_with_bisection_on_the_classification(curves):
     assert np.all(curves["bistable"].F_norm == 0.0)
 
 
+@pytest.mark.slow
 def test_monotonous_boundary_separates_the_classes(curves):
     phi_c = _phi_mark(curves["monotonous"])
     assert _class(phi_c - 1e-3) == "monostable"
     assert _class(phi_c + 1e-3) == "monotonous"
 
 
+@pytest.mark.slow
 def test_cusp_three_halves_law_in_phi(curves):
     """At h/R = 0.02 the folds F_max, F_min of the force path merge at phi_c: their gap ~ (phi_c - phi)^(3/2)."""
     phi_c = _phi_mark(curves["monotonous"])

@@ -231,7 +231,7 @@ def _element_arguments(name, m, seed):
             1.1 * cap.kappa11[k], 0.9 * cap.kappa22[k], 1e-3, 0.3)
 
 
-@pytest.mark.parametrize("index", [0, 1, 2])
+@pytest.mark.parametrize("index", [0, pytest.param(1, marks=pytest.mark.slow), pytest.param(2, marks=pytest.mark.slow)])
 def test_kernels_match_exact_cartesian_derivatives(index):
     """The chain of polar variables the kernels use reproduces the Cartesian definitions: energy,
     gradient and Hessian against sympy's direct differentiation evaluated in 30-digit arithmetic."""

@@ -122,6 +122,7 @@ def test_the_pole_strain_study_writes_its_table(tmp_path) -> None:
     assert (tmp_path / "summary.json").exists()
 
 
+@pytest.mark.slow
 def test_a_path_that_is_lost_is_reported_not_recorded() -> None:
     from studies.pole_strain import stops
 

@@ -94,6 +94,7 @@ def _ours_at(rows: list[dict[str, str]], N: int) -> dict[str, str]:
     return [r for r in _select(rows, "ours", "F_max", "default") if int(r["N"]) == N][0]
 
 
+@pytest.mark.slow
 def test_writes_every_file(result) -> None:
     out, rc, summary, rows = result
     assert rc == 0
@@ -106,6 +107,7 @@ def test_writes_every_file(result) -> None:
     assert summary["wall_time_s"] < 120
 
 
+@pytest.mark.slow
 def test_every_error_is_recomputed_from_its_value(result) -> None:
     _, _, summary, rows = result
     for r in rows:
@@ -116,6 +118,7 @@ def test_every_error_is_recomputed_from_its_value(result) -> None:
         assert math.isfinite(_f(r, "wall_time_s")) and _f(r, "wall_time_s") > 0
 
 
+@pytest.mark.slow
 def test_ours_converges_and_the_reference_is_its_richardson_limit(result) -> None:
     _, _, summary, rows = result
     for q in ("F_max", "w_at_F_max", "w_b_c_over_R"):
@@ -139,6 +142,7 @@ def test_ours_converges_and_the_reference_is_its_richardson_limit(result) -> Non
     assert all(1.8 < p < 2.2 for p in orders)  # second order, as shell_mesh_convergence measures
 
 
+@pytest.mark.slow
 def test_natural_parameter_bracket_holds_our_maximum(result) -> None:
     _, _, summary, rows = result
     ours200 = _f(_ours_at(rows, 200), "value")
@@ -151,6 +155,7 @@ def test_natural_parameter_bracket_holds_our_maximum(result) -> None:
     assert _f(finest, "solver_rel_error") < 0.1 * _f(finest, "discretization_rel_error")
 
 
+@pytest.mark.slow
 def test_slower_ramps_and_tighter_brackets_are_more_accurate(result) -> None:
     _, _, _, rows = result
     dr = {(r["N"], r["dt_omega"], r["rate_eps"]): _f(r, "solver_rel_error")
@@ -167,6 +172,7 @@ def test_slower_ramps_and_tighter_brackets_are_more_accurate(result) -> None:
     assert len(ahead) == 2 and all(_f(r, "value") > ours50 for r in ahead)
 
 
+@pytest.mark.slow
 def test_targets_follow_from_the_numbers(result) -> None:
     _, _, summary, rows = result
     t = summary["targets"]["N200_within_1e-3_under_0.5s"]
