@@ -48,16 +48,23 @@ def test_axisymmetric_states_see_the_traced_barrier(pressed, which: int) -> None
         assert np.max(np.abs(whole[np.ix_(d, d)] - block)) <= 1e-13 * np.max(np.abs(block))
 
 
+def wrinkled(st, x: np.ndarray, seed: int) -> tuple[FourierShell, np.ndarray]:
+    """The view without symmetry (waves 0 .. 2) and the pressed state ``x`` with a small random wave-1 and
+    wave-2 wrinkle on its free unknowns (the pole's tied unknowns stay tied)."""
+    view = FourierShell(st, AngularBasis(1, 2, mirror=False))
+    red = view.reduction()
+    rng = np.random.default_rng(seed)
+    c = red.full(red.T.T @ view.axisymmetric_state(x) + 2e-5 * rng.standard_normal(red.free.size),
+                 view.axisymmetric_state(x))
+    return view, c
+
+
 @pytest.mark.parametrize("which", [0, 2])
 def test_derivatives_are_those_of_the_energy_off_symmetry(pressed, which: int) -> None:
     st, x, contacts = pressed
     barrier, position = contacts[which]
-    view = FourierShell(st, AngularBasis(1, 2, mirror=False))
+    view, c = wrinkled(st, x, seed=7)
     red = view.reduction()
-    rng = np.random.default_rng(7)
-    # a small wave-1 and wave-2 wrinkle on the pressed state, away from the pole's tied unknowns
-    c = red.full(red.T.T @ view.axisymmetric_state(x) + 2e-5 * rng.standard_normal(red.free.size),
-                 view.axisymmetric_state(x))
     contact = Contact3D(view, barrier)
     g, H = contact.gradient(c, position), contact.hessian(c, position)
     assert np.max(np.abs(g)) > 0
@@ -109,11 +116,7 @@ def test_an_indenter_traced_in_the_3d_view_is_the_traced_model_on_axisymmetric_s
 def test_position_derivatives_and_the_step_filter(pressed, which: int) -> None:
     st, x, contacts = pressed
     barrier, position = contacts[which]
-    view = FourierShell(st, AngularBasis(1, 2, mirror=False))
-    red = view.reduction()
-    rng = np.random.default_rng(9)
-    c = red.full(red.T.T @ view.axisymmetric_state(x) + 2e-5 * rng.standard_normal(red.free.size),
-                 view.axisymmetric_state(x))
+    view, c = wrinkled(st, x, seed=9)
     contact = Contact3D(view, barrier)
     Ec, mixed, Ecc = contact.position_derivatives(c, position)
     h = 1e-8
