@@ -541,6 +541,29 @@ class FourierShell:
         d[1::2] = np.arange(self.N) * self.m + self.basis.index("Z", "cos", 0)
         return d
 
+    def turning_direction(self, c: np.ndarray) -> np.ndarray:
+        """The derivative of the state ``c`` (of this view's ``D_n`` basis) turned by an angle ``delta`` about the
+        axis, at ``delta = 0``, in the unknowns of the antisymmetric class ``(j = 0, "odd")`` (``A2``).
+
+        Turning ``R cos k theta`` gives ``k R sin k theta``, ``T sin k theta`` gives ``-k T cos k theta``.  The
+        energy of a shell of revolution does not change when a state is turned, so at an equilibrium this is a
+        null vector of the ``A2`` block (up to the quadrature's aliasing); it vanishes at an axisymmetric state.
+        """
+        basis = self.basis
+        if not basis.mirror or basis.j != 0:
+            raise ValueError("FourierShell.turning_direction: the state's basis must be a D_n basis (mirror=True, j=0)")
+        odd = basis.bloch(0, "odd")
+        rows = np.asarray(c, dtype=float).reshape(self.N, self.m)
+        out = np.zeros((self.N, odd.m))
+        for i, (comp, trig, k) in enumerate(basis.terms):
+            if k == 0:
+                continue
+            if comp == "T":
+                out[:, odd.index("T", "cos", k)] = -k * rows[:, i]
+            else:
+                out[:, odd.index(comp, "sin", k)] = k * rows[:, i]
+        return out.ravel()
+
     def dofs_of_wave(self, k: int) -> np.ndarray:
         """The unknowns of wave number ``k`` in the harmonic blocks' order ``[a_0, b_0, c_0, a_1, ...]``:
         ``R cos``, ``Z cos``, ``T sin`` (``k = 0``: ``T cos``, without a mirror)."""
@@ -981,6 +1004,15 @@ class FourierShell:
         key = ("bloch restriction", int(j), parity, bool(pressure), bool(remove_rigid), held)
         if key not in self._cache:
             self._cache[key] = pview.reduction(remove_rigid, held).restriction(pview.pattern(pressure))
+        return self._cache[key]
+
+    def bloch_unknowns(self, j: int, parity: str) -> np.ndarray:
+        """Which of the class ``(j, parity)``'s coefficients (in the order of :meth:`AngularBasis.bloch`'s view) are
+        the unknowns of :meth:`bloch_block`, in the block's order (rigid motions removed, no control held)."""
+        pview, _, _ = self._perturbation_view(j, parity)
+        key = ("bloch unknowns", int(j), parity)
+        if key not in self._cache:
+            self._cache[key] = pview.reduction(True, ()).free
         return self._cache[key]
 
     def bloch_block(self, c: np.ndarray, j: int, parity: str = "even", pressure: float = 0.0,

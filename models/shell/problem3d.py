@@ -32,6 +32,11 @@ __all__ = ["Shell3D", "LOADS"]
 #: The loads of :class:`Shell3D`.
 LOADS = ("point", "ring", "pressure", "forces", "sphere", "plate")
 
+#: Largest coefficient of the turning direction, relative to the state's size, below which a state counts as
+#: axisymmetric (its ``A2`` block has no turning to take out); the waves of a state on an ``n``-wave branch one
+#: step from its bifurcation are several orders above it.
+TURNING_NEGLIGIBLE = 1e-9
+
 
 class Shell3D(Problem):
     """A :class:`~contin_models.shell.structure.ShellStructure` under one load, in the 3-D view.
@@ -245,9 +250,38 @@ class Shell3D(Problem):
 
         def block(key: str, u: np.ndarray, p: float) -> sp.csr_matrix:
             j, parity, _ = classes[key]
-            return view.bloch_block(self.full_state(u, p), j, parity, pressure=self._pressure(p))
+            c = self.full_state(u, p)
+            H = view.bloch_block(c, j, parity, pressure=self._pressure(p))
+            if (j, parity) == (0, "odd"):
+                H = self._without_turning(H, c)
+            return H
+
 
         return OperatorFamily("representation", tuple(classes), block, multiplicity=lambda key: classes[key][2])
+
+    def _without_turning(self, H: sp.csr_matrix, c: np.ndarray) -> sp.csr_matrix:
+        """The ``A2`` block ``H`` at the state ``c`` with the state's turning about the axis taken out.
+
+        A state with waves is one of a circle of states, the same state turned by any angle, all of the same
+        energy: its turning direction (:meth:`FourierShell.turning_direction`) is a null vector of ``H`` up to
+        the quadrature's aliasing, whose sign is noise.  Stability is that of the circle, the Morse index of
+        ``H`` on the quotient by that direction, which is ``H``'s on any hyperplane the direction crosses: the
+        block with the unknown along which the direction is largest held (its row and column replaced by a
+        positive diagonal entry, so the block keeps its size and band).  An axisymmetric state is its own
+        circle: its block is kept whole.
+        """
+        g = self.view.turning_direction(c)[self.view.bloch_unknowns(0, "odd")]
+        size = float(np.max(np.abs(c[self.view.axisymmetric_dofs()]))) or 1.0
+        if g.size == 0 or float(np.max(np.abs(g))) <= TURNING_NEGLIGIBLE * size:
+            return H
+        i = int(np.argmax(np.abs(g)))
+        H = H.tocsr()
+        rows = np.repeat(np.arange(H.shape[0]), np.diff(H.indptr))
+        data = H.data.copy()
+        data[(rows == i) | (H.indices == i)] = 0.0
+        diagonal = np.flatnonzero((rows == i) & (H.indices == i))
+        data[diagonal] = float(np.max(np.abs(H.diagonal()))) or 1.0
+        return sp.csr_matrix((data, H.indices, H.indptr), shape=H.shape)
 
     def _line_load(self, k: int, node: int, wave: int, q: Sequence[float]) -> np.ndarray:
         """The unknowns' load vector of a line load on ring ``node``: ``int q(theta) . X(theta) dtheta``."""
