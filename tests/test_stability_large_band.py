@@ -38,3 +38,21 @@ def test_shift_invert_gives_lapacks_smallest_eigenvalues(shift: float, negative:
         assert np.max(np.abs(got.eigenvalues - reference)) <= 1e-12 * np.max(np.abs(reference))
         assert got.n_negative == count
     assert (reference[0] < 0) == negative
+
+
+@pytest.mark.parametrize("shift", [-25.3, 0.0])
+def test_shift_invert_gives_the_eigenvectors_too(shift: float) -> None:
+    """An energy descent asks for the unstable eigenvector of a large band: the same route, not LAPACK's
+    reduction, and the vectors are orthonormal eigenvectors of the matrix for LAPACK's eigenvalues."""
+    n, b = 2600, 32
+    H = band(n, b, shift, 2)
+    info = stability.stability_info(H, 1, vectors=True)
+    want = max(1, info.n_negative)
+    w = sla.eig_banded(lower_band(H, b), lower=True, eigvals_only=True, select="i", select_range=(0, want))
+    assert w[want] - w[want - 1] > 1e-6 * np.max(np.abs(w))  # simple: the vectors are determined up to sign
+    V = info.eigenvectors
+    assert V.shape == (n, want)
+    assert np.max(np.abs(info.eigenvalues - w[:1])) <= 1e-12 * np.max(np.abs(w))
+    assert np.max(np.abs(V.T @ V - np.eye(want))) < 1e-10
+    for j in range(want):
+        assert np.linalg.norm(H @ V[:, j] - w[j] * V[:, j]) <= 1e-8 * np.max(np.abs(w))

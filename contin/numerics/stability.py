@@ -333,8 +333,8 @@ def _banded_info(H, b: int, k: int, vectors: bool) -> StabilityInfo:
     When all of them are negative the Morse index comes from the inertia (or all negative eigenvalues).
     """
     n = H.shape[0]
-    if not vectors and float(n) * n * b > SHIFT_INVERT_WORK:
-        info = _shifted_lanczos_info(H, b, k)
+    if float(n) * n * b > SHIFT_INVERT_WORK:
+        info = _shifted_lanczos_info(H, b, k, vectors)
         if info is not None:
             return info
     ab = lower_band(H, b)
@@ -354,8 +354,9 @@ def _banded_info(H, b: int, k: int, vectors: bool) -> StabilityInfo:
     return StabilityInfo(n_neg, np.asarray(w), V)
 
 
-def _shifted_lanczos_info(H, b: int, k: int) -> StabilityInfo | None:
-    """The Morse index and the ``k`` smallest eigenvalues of a large symmetric band matrix, in O(n b^2) work.
+def _shifted_lanczos_info(H, b: int, k: int, vectors: bool = False) -> StabilityInfo | None:
+    """The Morse index and the ``k`` smallest eigenvalues of a large symmetric band matrix, in O(n b^2) work
+    (with ``vectors``, the eigenvectors of the ``max(k, index)`` smallest, as :func:`stability_info` gives them).
 
     The index from the pivot-free ``L D L^T`` (:func:`inertia`).  A shift ``sigma`` below the spectrum:
     ``-delta`` (``delta = 1e-8 |H|``) when nothing is negative, else ``-delta 2^m`` with ``m`` the first
@@ -366,7 +367,10 @@ def _shifted_lanczos_info(H, b: int, k: int) -> StabilityInfo | None:
     """
     n = H.shape[0]
     n_neg = inertia(H)
-    if n_neg is None or k >= n - 1:
+    if n_neg is None:
+        return None
+    want = max(k, n_neg) if vectors else k
+    if want >= n - 1 or want > ARROW_MAX_EIGENPAIRS:
         return None
     H = sp.csr_matrix(H)
     band = lower_band(H, b)
@@ -391,13 +395,15 @@ def _shifted_lanczos_info(H, b: int, k: int) -> StabilityInfo | None:
     sigma = -delta
     op = spla.LinearOperator((n, n), matvec=solve, dtype=float)
     try:
-        mu = spla.eigsh(op, k=k, which="LA", v0=lanczos_start(n), return_eigenvectors=False, tol=1e-12)
+        out = spla.eigsh(op, k=want, which="LA", v0=lanczos_start(n), return_eigenvectors=vectors, tol=1e-12)
     except (spla.ArpackNoConvergence, spla.ArpackError):
         return None
-    w = np.sort(sigma + 1.0 / mu)
-    if np.count_nonzero(w < 0) > n_neg or (n_neg >= k and np.any(w >= 0)):
+    mu, V = out if vectors else (out, None)
+    order = np.argsort(sigma + 1.0 / mu)
+    w = (sigma + 1.0 / mu)[order]
+    if np.count_nonzero(w < 0) > n_neg or (n_neg >= want and np.any(w >= 0)):
         return None  # the eigenvalues disagree with the count: let LAPACK decide
-    return StabilityInfo(int(n_neg), w)
+    return StabilityInfo(int(n_neg), w[:k], None if V is None else V[:, order])
 
 
 #: Most eigenpairs of an arrow matrix computed by Lanczos; more (a state far from stable) go dense.
