@@ -27,7 +27,8 @@ __all__ = ["SavedRun", "SavedRunError", "load_run", "overlay_labels"]
 
 #: The keyword arguments of :func:`contin.plot_branches` that ``summary.json`` keeps under ``"diagram"``
 #: (beside ``x``, ``y`` and ``stability``), so that ``contin plot`` draws a run again as it was drawn.
-REPLOT_OPTIONS = ("axis_labels", "special_kinds", "zero_line", "scale", "title", "note", "control", "symbols", "same_as")
+REPLOT_OPTIONS = ("axis_labels", "special_kinds", "zero_line", "scale", "title", "note", "control", "symbols", "same_as",
+                  "faded")
 
 #: Columns of ``branch.csv`` that are not observables.
 _NOT_OBSERVABLES = ("branch", "p", "s", "residual", "newton_iterations")
@@ -82,6 +83,16 @@ def _number(text: str) -> float:
     return float(text) if text != "" else math.nan
 
 
+def _numeric(rows: list[dict[str, str]], name: str) -> bool:
+    """Whether every entry of the column ``name`` is a number or empty."""
+    try:
+        for row in rows:
+            _number(row.get(name) or "")
+    except ValueError:
+        return False
+    return True
+
+
 def load_run(path: str | Path) -> SavedRun:
     """Read the output directory ``path`` of ``contin trace`` back (module docstring).
 
@@ -106,8 +117,9 @@ def load_run(path: str | Path) -> SavedRun:
     parameter = str(summary.get("parameter", "p"))
     names = list(rows[0])
     stability_labels = [n[len("stable_"):] for n in names if n.startswith("stable_")]
+    # a model may add columns of text (a branch's symmetry, a representation's name): not observables
     observable_names = [n for n in names if n not in _NOT_OBSERVABLES
-                        and not n.startswith(("stable", "n_negative", "tangent_"))]
+                        and not n.startswith(("stable", "n_negative", "tangent_")) and _numeric(rows, n)]
     by_branch: dict[int, list[dict[str, str]]] = {}
     for row in rows:
         by_branch.setdefault(int(float(row.get("branch") or 0)), []).append(row)

@@ -947,6 +947,8 @@ def special_point_table(records: Sequence[Mapping[str, Any]], parameter_name: st
 
 
 def _or_nan(values: np.ndarray | None, n: int) -> np.ndarray:
+    import numpy as np
+
     return values if values is not None else np.full(n, np.nan)
 
 

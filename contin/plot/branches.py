@@ -220,7 +220,7 @@ def _scaled_tangent(br: Branch, name: str, factor: float) -> np.ndarray | None:
 
 
 def draw_branch(ax: Any, br: Branch, x: str, y: str, *, color: str, stability: str | None = None,
-                scale: Mapping[str, float] | None = None, smooth: bool = True) -> set[str]:
+                scale: Mapping[str, float] | None = None, smooth: bool = True, zorder: float | None = None) -> set[str]:
     """Draw one branch on ``ax``: one line per run of equal stability, stable solid and unstable dashed (thin
     when unknown), each drawn smooth from the stored tangents and changing style at the located special
     points (:func:`stability_pieces`).
@@ -240,6 +240,8 @@ def draw_branch(ax: Any, br: Branch, x: str, y: str, *, color: str, stability: s
         Factors by quantity name, as :func:`plot_branches` takes them.
     smooth : bool
         Cubic pieces between stored points where tangents are stored (else straight).
+    zorder : float, optional
+        Where the lines lie among the plot's artists (default: stable above unstable, both above the grid).
 
     Returns
     -------
@@ -260,7 +262,7 @@ def draw_branch(ax: Any, br: Branch, x: str, y: str, *, color: str, stability: s
         kind = "unknown" if st is None else ("stable" if st else "unstable")
         line = {"stable": style.STABLE, "unstable": style.UNSTABLE, "unknown": style.UNKNOWN}[kind]
         ax.plot(px, py, color=color, solid_capstyle="round", dash_capstyle="butt",
-                zorder=2 if st is not False else 1.9, **line)
+                zorder=zorder if zorder is not None else (2 if st is not False else 1.9), **line)
         drawn.add(kind)
     return drawn
 
@@ -507,6 +509,10 @@ def add_legend(ax: Any, entries: Sequence[Any], title: str | None = None) -> Any
                      title=title, alignment="left")
 
 
+#: The colour of a branch drawn as a background (:func:`plot_branches`' ``faded``).
+FADED = "0.82"
+
+
 def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | None = None, ax=None,
                   jumps: Iterable[tuple[JumpResult, dict[str, float], dict[str, float]]] = (),
                   colors: Sequence[str] | None = None, labels: Sequence[str] | None = None,
@@ -514,7 +520,8 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
                   stability: str | None = None, axis_labels: Mapping[str, str] | None = None,
                   note: str = "", zero_line: bool = False, title: str = "",
                   scale: Mapping[str, float] | None = None, control: str | None = None, smooth: bool = True,
-                  symbols: Mapping[str, str] | None = None, same_as: Mapping[str, str] | None = None):
+                  symbols: Mapping[str, str] | None = None, same_as: Mapping[str, str] | None = None,
+                  faded: Sequence[int] = ()):
     r"""Plot branches: stable solid, unstable dashed, unknown stability thin; special points marked.
 
     The pieces, each usable alone: :func:`draw_branch` (each branch as one line per run of equal
@@ -562,6 +569,9 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
     same_as : mapping of str to str, optional
         Quantities that are another one in other units, by name: ``{"w_over_R": "w"}`` (a fold in ``w``
         is a fold in ``w_over_R``, drawn as a fold when ``w_over_R`` is on the x axis).
+    faded : sequence of int
+        Branches (by position) drawn beneath the others in light grey, stability styled, without their special
+        points: a background to compare with (the axisymmetric path beneath the path a structure takes).
 
     Returns
     -------
@@ -577,14 +587,21 @@ def plot_branches(branches: Sequence[Branch] | Branch, x: str = "p", y: str | No
     y = y if y is not None else next(iter(branches[0].observables), "p")
     drawn: set[str] = set()
     branch_handles = []
+    faded = {int(i) for i in faded}
+    shown = [bi for bi in range(len(branches)) if bi not in faded]
     for bi, br in enumerate(branches):
         if len(br):
-            color = colors[bi] if colors else style.COLORS[bi % len(style.COLORS)]
-            drawn |= draw_branch(ax, br, x, y, color=color, stability=stability, scale=scale, smooth=smooth)
+            background = bi in faded
+            color = FADED if background else (colors[bi] if colors else
+                                              style.COLORS[shown.index(bi) % len(style.COLORS)])
+            drawn |= draw_branch(ax, br, x, y, color=color, stability=stability, scale=scale, smooth=smooth,
+                                 zorder=0 if background else None)
             if labels and bi < len(labels) and labels[bi]:
                 branch_handles.append(branch_handle(color, labels[bi]))
     points: dict[str, Any] = {}
-    for br in branches:  # after every branch: the marks lie above all lines
+    for bi, br in enumerate(branches):  # after every branch: the marks lie above all lines
+        if bi in faded:
+            continue
         mark_special_points(ax, br, x, y, kinds=special_kinds, scale=scale, symbols=symbols, same_as=same_as,
                             handles=points)
     snaps = draw_jumps(ax, jumps, x, y, branches[0], scale=scale)
