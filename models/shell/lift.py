@@ -52,7 +52,7 @@ from .fourier import AngularBasis, FourierShell, representation_name, transfer_c
 from .problem3d import Shell3D
 
 __all__ = ["shell_lift", "follow_waves", "rotated_half", "WavesBranch", "Breaking", "breaking", "subgroup_basis",
-           "subgroup_lift", "BrokenBranch", "follow_symmetry_breaking", "StateSymmetry", "state_symmetry",
+           "subgroup_lift", "same_load", "BrokenBranch", "follow_symmetry_breaking", "StateSymmetry", "state_symmetry",
            "FullSpaceLanding", "jump_in_full_space"]
 
 
@@ -141,7 +141,7 @@ class WavesBranch:
 
 
 def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure: Any = None,
-                 settings: Any = None, **overrides: Any) -> WavesBranch:
+                 settings: Any = None, every_mode: bool = False, **overrides: Any) -> WavesBranch:
     """Follow the ``n``-wave branch from the axisymmetric trace's located bifurcation into ``n`` waves.
 
     The point is lifted into the 3-D view in the ``D_n`` basis with ``K`` harmonics (:func:`shell_lift`),
@@ -167,6 +167,9 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     settings : contin.Settings, optional
         Settings of the branch's trace; ``overrides`` as :func:`contin.switch_branch` takes them (``p_max``,
         ``ds``, ``stability``, ...).
+    every_mode : bool
+        Watch the stability of the branch against every representation of ``D_n`` (the view's operator
+        family ``"representation"``), not only against the ``D_n``-symmetric perturbations it traces.
 
     Returns
     -------
@@ -199,7 +202,7 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     node = getattr(source, "node", None) if load == "ring" else None
     target = Shell3D(st, AngularBasis(n, int(K)), load, source.control, node=node,
                      length=getattr(source, "length", None),
-                     p_c=getattr(source, "p_c", None) if load == "pressure" else None)
+                     p_c=getattr(source, "p_c", None) if load == "pressure" else None, every_mode=every_mode)
     bp = lift_branch_point(point, source, target, shell_lift(source, target, n))
     branch = switch_branch(target, bp, settings, direction=1, **overrides)
     return WavesBranch(target, bp, branch)
@@ -302,8 +305,15 @@ def subgroup_basis(basis: AngularBasis, representation: str, K: int | None = Non
     return AngularBasis(b.n, int(K), mirror=b.mirror, M=M)
 
 
-def _same_load(problem: Shell3D, basis: AngularBasis, turn: float = 0.0, every_mode: bool = False) -> Shell3D:
-    """``problem``'s structure, load and control in another basis (its reference carried over, turned by ``turn``)."""
+def same_load(problem: Shell3D, basis: AngularBasis, turn: float = 0.0, every_mode: bool = False) -> Shell3D:
+    """``problem``'s structure, load and control in another basis (its reference carried over, turned by ``turn``;
+    with ``every_mode`` where the basis has a mirror).
+
+    Raises
+    ------
+    LiftError
+        ``problem`` is not a :class:`Shell3D`, or its load is not a point, ring or pressure load.
+    """
     if not isinstance(problem, Shell3D):
         raise LiftError(f"the problem must be a Shell3D (the 3-D view), got {type(problem).__name__}")
     if problem.load not in ("point", "ring", "pressure"):
@@ -447,7 +457,7 @@ def follow_symmetry_breaking(problem: Shell3D, point: SpecialPoint, K: int | Non
         point = _crossing_of(problem, point, str(key))
     key = str(point.info["key"])
     b = breaking(problem.basis, key)
-    target = _same_load(problem, subgroup_basis(problem.basis, key, K), b.turn, every_mode)
+    target = same_load(problem, subgroup_basis(problem.basis, key, K), b.turn, every_mode)
     bp = lift_branch_point(point, problem, target, subgroup_lift(problem, target, key))
     branch = switch_branch(target, bp, settings, direction=direction, **overrides)
     return BrokenBranch(target, b, bp, branch)
@@ -567,7 +577,7 @@ class FullSpaceLanding:
 
 
 def jump_in_full_space(problem: Shell3D, u: np.ndarray, p: float, K: int | None = None, *,
-                       tol: float = 1e-6, **jump_options: Any) -> FullSpaceLanding:
+                       tol: float = 1e-6, mode: np.ndarray | None = None, **jump_options: Any) -> FullSpaceLanding:
     """From a state of a symmetric view (a fold of a ``D_n`` branch, or any state) to the next stable state with no
     symmetry imposed, and what symmetry it has.
 
@@ -585,6 +595,11 @@ def jump_in_full_space(problem: Shell3D, u: np.ndarray, p: float, K: int | None 
         The highest wave of the full basis (default the highest wave of ``problem``'s basis; it must carry them).
     tol : float
         Relative size below which a wave counts as absent.
+    mode : ndarray, optional
+        The direction of the first kick, as coefficients of ``problem``'s basis (``problem.T @ v`` for a vector ``v``
+        of its unknowns), e.g. the mode of the bifurcation the shell snaps from.  By default :func:`contin.jump`
+        kicks along the lowest eigenvector, which in the basis without symmetry may be the state's turning about
+        the axis (a null vector up to the quadrature, whose sign is noise): give the mode where it is known.
     jump_options
         Passed to :func:`contin.jump` (``perturbation``, ``max_iter``, ...).
 
@@ -604,9 +619,12 @@ def jump_in_full_space(problem: Shell3D, u: np.ndarray, p: float, K: int | None 
                         f"to carry the state's waves, got {K!r}")
     M = problem.basis.M if problem.basis.M > 2 * int(K) else None
     full = AngularBasis(1, int(K), mirror=False, M=M)
-    target = _same_load(problem, full)
+    target = same_load(problem, full)
     start = target.unknowns(transfer_coefficients(problem.full_state(np.asarray(u, dtype=float), p), problem.basis,
                                                   full))
+    if mode is not None:
+        jump_options["direction"] = target.unknowns(transfer_coefficients(np.asarray(mode, dtype=float), problem.basis,
+                                                                          full))
     result = jump(target, start, float(p), **jump_options)
     from contin.numerics.stability import stability_info
 

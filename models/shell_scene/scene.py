@@ -27,7 +27,11 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
     from .point import run_point, run_point_force
 
     kind, control = scene["load"]["kind"], scene["load"]["control"]
-    if scene.get("view", {}).get("kind") == "3d":
+    if scene.get("stability", {}).get("follow"):
+        from .follow import run_followed
+
+        result = run_followed(scene, progress)
+    elif scene.get("view", {}).get("kind") == "3d":
         from .view3d import run_view3d
 
         result = run_view3d(scene, progress)
@@ -66,6 +70,10 @@ def resume_scene(scene: Scene, start: Any, progress: bool = False) -> TraceResul
     from .build import is_papers_cap
     from .point import resume_point
 
+    if scene.get("stability", {}).get("follow"):
+        raise SceneError("a restart from a saved point continues the axisymmetric path; this scene has "
+                         "stability.follow = true, whose path crosses 3-D views: trace it anew (contin plot redraws a "
+                         "saved followed run)", "constraint")
     if scene.get("view", {}).get("kind") == "3d":
         raise SceneError("a restart from a saved point is supported in the axisymmetric view (view.kind = "
                          "\"axisymmetric\"); this scene has view.kind = \"3d\": trace it anew", "constraint")
@@ -166,6 +174,9 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     trace = run_scene(path_scene, progress)
     summ = trace.summary
     label = summ.get("classification")
+    followed = summ.get("followed")
+    if followed is not None:  # the class on the path the cap really takes
+        label = followed.get("classification") if followed.get("status") == "completed" else None
     values: dict[str, Any] = {"control_traced": "displacement"}
     values.update({k: summ[k] for k in _CLASSIFY_FIELDS if k in summ})
     values.update({k: summ[k] for k in ("lambda", "D", "F_unit", "eversion_w") if k in summ})
@@ -198,11 +209,23 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
         values["first_instability"] = first
         if first["kind"] == "bifurcation":
             waves = "1 circumferential wave" if first["n"] == 1 else f"{first['n']} circumferential waves"
+            whose = ("the class above is the followed path's (below)" if followed is not None else
+                     "the class is that of the axisymmetric path, which the shell leaves there (stability.follow = "
+                     "true classifies the path it takes)")
             lines.append(f"asymmetric: before its first fold in w the path bifurcates into the mode of {waves} "
-                         f"(n = {first['n']}) at w = {first['w']:.6g} (F = {first['F']:.6g}); the class is that of "
-                         "the axisymmetric path, which the shell leaves there")
+                         f"(n = {first['n']}) at w = {first['w']:.6g} (F = {first['F']:.6g}); {whose}")
     elif scene.get("stability", {}).get("harmonics"):
         lines.append("asymmetric: no bifurcation into a non-axisymmetric mode along the path")
+    if followed is not None:
+        values["followed"] = {k: followed.get(k) for k in ("classification", "F_max", "w_at_F_max", "F_min",
+                                                           "w_at_F_min", "n_snaps", "status", "message")}
+        values["axisymmetric_classification"] = summ.get("classification")
+        lines.append(f"followed path: {followed.get('message')}; {followed.get('left_axisymmetric')}")
+        if followed.get("F_max") is not None:
+            lines.append(f"followed path: first local maximum of F = {followed['F_max']:.6g} at w = "
+                         f"{followed['w_at_F_max']:.6g}, least F = {followed['F_min']:.6g} at w = "
+                         f"{followed['w_at_F_min']:.6g} (by stored points), {followed['n_snaps']} snap(s); the "
+                         "table above is the axisymmetric path's")
     lines += [f"warning: {w}" for w in summ.get("warnings", [])]
     values["path_complete"] = complete
     failure = "" if label is not None else summ.get("classification_note", "the path could not be traced")

@@ -292,6 +292,10 @@ SHELL_SCHEMA = Schema(
                                              "changes what the paper's classification means, README)"),
             "n_max": integer(0, low=0, high=1000, help="largest wave number watched; 0 = 1.25 times the classical critical "
                                                        "number plus 2 (contin_models.shell.structure.default_harmonics)"),
+            "follow": boolean(False, help="follow the path the shell really takes (needs stability.harmonics): where the "
+                                          "followed branch loses stability, the stable branch that rises there (an n-wave "
+                                          "branch in the 3-D view of its symmetry, with view.harmonics harmonics) or "
+                                          "else a snap to the next stable state, to the end of the load"),
         },    },
     constraints=[
         Constraint(("view.kind", "view.symmetry", "view.harmonics", "view.angles"), _angles_ok,
@@ -322,6 +326,22 @@ SHELL_SCHEMA = Schema(
                    "stability.harmonics watches the axisymmetric view's harmonic blocks; the 3-D view judges "
                    "stability against every class of perturbation of its symmetry itself (the Bloch blocks of Dn, or "
                    "every wave of view.harmonics without symmetry)"),
+        Constraint(("stability.follow", "stability.harmonics", "view.kind"),
+                   lambda s: not s["stability"]["follow"] or (s["stability"]["harmonics"]
+                                                             and s["view"]["kind"] == "axisymmetric"),
+                   'stability.harmonics = true and view.kind = "axisymmetric" with stability.follow = true',
+                   "the followed path starts on the axisymmetric path and leaves it where a harmonic block shows a "
+                   "bifurcation into waves, so it needs the blocks watched; the 3-D views it goes on in are chosen "
+                   "by the symmetry of each branch (view.harmonics sets their harmonics)"),
+        Constraint(("stability.follow", "load.kind", "load.control", "load.pole_held"),
+                   lambda s: not s["stability"]["follow"] or (s["load"]["kind"] in ("point", "ring")
+                                                             and s["load"]["control"] == "displacement"
+                                                             and not s["load"]["pole_held"]),
+                   'load.kind = "point" or "ring" under load.control = "displacement" (the pole free) with '
+                   "stability.follow = true",
+                   "the followed path is built for a point or ring load whose deflection is prescribed; force control, "
+                   "pressure and the indenters are not followed yet (trace them with stability.harmonics to see "
+                   "where they leave the axisymmetric path)"),
         Constraint(("view.kind", "view.symmetry", "load.pole_held"),
                    lambda s: not (s["view"]["kind"] == "3d" and s["view"]["symmetry"] == "none"
                                   and s["load"]["kind"] == "point" and s["load"]["pole_held"]),

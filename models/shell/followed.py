@@ -1,0 +1,367 @@
+"""The path a shell of revolution really takes under slowly increasing load: stable pieces and snaps, across views.
+
+A shell loaded slowly stays on a stable equilibrium.  Where the branch it is on loses stability it either goes
+on along a stable branch that emanates there in the direction of loading, or it snaps to the next stable state at
+the same load.  :func:`follow_path` does this across the views of the shell:
+
+* it starts on the axisymmetric trace (the traced model, with its harmonic blocks watched) and stops at the first
+  located loss of stability under the control: a fold in the control's parameter, a branch point, or a
+  bifurcation into ``n`` waves;
+* at a bifurcation into ``n`` waves it steps onto the ``n``-wave branch in the 3-D view restricted to ``D_n``
+  (:func:`contin_models.shell.lift.follow_waves`, stability against every representation of ``D_n``); at a
+  bifurcation of a ``D_n`` branch into another representation, onto the branch of its isotropy subgroup
+  (:func:`~contin_models.shell.lift.follow_symmetry_breaking`, both sides); at a branch point of the traced class,
+  onto its other branch (:func:`contin.switch_branch`, both sides);
+* such a branch is taken when its first points are stable under the control and it goes on in the direction of
+  loading; otherwise (a fold, or a branch that turns back or is unstable: a subcritical bifurcation) the shell
+  snaps: :func:`~contin_models.shell.lift.jump_in_full_space` descends in the energy at the load just past the
+  point with no symmetry imposed, and says what symmetry the landing has;
+* the path goes on from the landing in the view of its symmetry: the traced model when it is axisymmetric, the
+  ``D_m`` view (every representation watched) when it has ``m`` waves and a mirror, the view without symmetry
+  otherwise;
+* until the end of the load, or until a step cannot be made, which is said.
+
+Every piece is checked to be stable under the control at each stored point; a piece whose first point is not
+(a landing that is stable in the space of the snap but not against a class of the next view) stops the path
+with the reason.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from contin.analyses.lift import LiftError
+from contin.palc import CorrectorFailure, continuation, switch_branch
+from contin.problem import NonFiniteError, Problem
+from contin.results.branch import Branch, SpecialPoint
+
+from .fourier import AngularBasis, transfer_coefficients
+from .lift import StateSymmetry, follow_symmetry_breaking, follow_waves, same_load, state_symmetry
+from .problem3d import Shell3D
+
+__all__ = ["Piece", "Snap", "FollowedPath", "follow_path", "STOPS"]
+
+#: The located points that end a piece: each is where a stable branch loses stability under the control.
+STOPS = ("fold", "branch_point", "bifurcation")
+
+#: Steps of the probe that decides whether an emanating branch is taken (stable, in the direction of loading).
+PROBE_STEPS = 4
+
+#: Relative step of the load past a point that the shell snaps from, where the energy descent runs.
+SNAP_OVERSHOOT = 1e-6
+
+#: Relative size of waves below which a snap's landing is tried in the view of the higher symmetry without them.
+LANDING_SYMMETRY_TOL = 1e-4
+
+#: Failures of a trace or a lift that stop the path with their message instead of a traceback.
+_STEP_FAILURES = (LiftError, CorrectorFailure, NonFiniteError, np.linalg.LinAlgError, ValueError, ArithmeticError)
+
+
+@dataclass
+class Piece:
+    """One stable branch piece of the followed path.
+
+    Attributes
+    ----------
+    index : int
+        Its place in :attr:`FollowedPath.pieces`.
+    problem : Problem
+        The view it was traced in (the traced axisymmetric model, or a :class:`Shell3D`).
+    branch : Branch
+        The traced piece; it ends where it loses stability (its last special point) or at the end of the load.
+    symmetry : str
+        ``"O(2)"`` (axisymmetric), ``"D<m>"`` or ``"none"``: the symmetry of the view it was traced in.
+    waves : int
+        ``m`` of ``D<m>``; 0 for the axisymmetric piece and for a piece without symmetry.
+    parent : int or None
+        The piece it came from.
+    start : str
+        ``"load"`` (the unloaded shell), ``"bifurcation"``, ``"branch point"`` or ``"snap"``.
+    start_p : float
+        The parameter where it started.
+    end : str
+        Why it ended: ``"end of load"``, ``"fold"``, ``"branch_point"``, ``"bifurcation"`` or ``"stopped"``.
+    """
+
+    index: int
+    problem: Problem
+    branch: Branch
+    symmetry: str
+    waves: int
+    parent: int | None
+    start: str
+    start_p: float
+    end: str = ""
+
+
+@dataclass
+class Snap:
+    """A snap of the followed path: from the end of one piece to the landing where the next starts.
+
+    Attributes
+    ----------
+    from_piece, to_piece : int
+        The pieces (``to_piece`` is None when the path stopped at the landing).
+    p : float
+        The parameter the energy descent ran at (just past the point snapped from).
+    view : Problem
+        The view the energy descent ran in: the piece's own for a fold or a branch point of its class, the view
+        where a symmetry-breaking bifurcation is simple (the isotropy subgroup's, with a mirror) for one.
+    symmetry : str
+        The landing's symmetry.
+    jump : contin.JumpResult
+        The descent (``u_from`` and ``u_to`` in the unknowns of the view it ran in).
+    """
+
+    from_piece: int
+    to_piece: int | None
+    p: float
+    view: Problem
+    symmetry: str
+    jump: Any
+
+
+@dataclass
+class FollowedPath:
+    """The outcome of :func:`follow_path`.
+
+    Attributes
+    ----------
+    pieces : list of Piece
+        In path order.
+    snaps : list of Snap
+        In path order.
+    status : str
+        ``"completed"`` (the end of the load reached) or ``"stopped"``.
+    message : str
+        Where and why it ended.
+    label : str
+        The stability label of the control every piece is judged by.
+    """
+
+    pieces: list[Piece] = field(default_factory=list)
+    snaps: list[Snap] = field(default_factory=list)
+    status: str = "stopped"
+    message: str = ""
+    label: str = ""
+
+    @property
+    def success(self) -> bool:
+        """The end of the load was reached along stable pieces and snaps."""
+        return self.status == "completed"
+
+
+def _count(branch: Branch, label: str) -> np.ndarray:
+    if label in branch.stability_by:
+        return np.asarray(branch.n_negative_under(label), dtype=int)
+    return np.asarray(branch.n_negative, dtype=int)
+
+
+def _taken(branch: Branch, start_p: float, label: str, direction: int) -> bool:
+    """Whether a probe of an emanating branch is stable under ``label`` and goes on in the loading direction."""
+    if len(branch) < 2:
+        return False
+    counts = _count(branch, label)
+    return bool(np.all(counts[1:] == 0) and direction * (float(branch.p[-1]) - start_p) > 0.0)
+
+
+def _symmetry_of(problem: Problem) -> tuple[str, int]:
+    if isinstance(problem, Shell3D):
+        b = problem.basis
+        return (f"D{b.n}", b.n) if b.mirror else ("none", 0)
+    return "O(2)", 0
+
+
+def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, structure: Any, label: str,
+                p_end: float, K: int = 2, max_pieces: int = 12,
+                say: Callable[[str], None] | None = None) -> FollowedPath:
+    """Follow the stable path of a shell of revolution from ``(u0, p0)`` to ``p_end`` (see the module docstring).
+
+    Parameters
+    ----------
+    source : Problem
+        The traced axisymmetric model with its harmonic blocks (the operator family ``"n"``): a
+        :class:`~contin_models.shell.structure.ShellOfRevolution` with ``harmonics``, or the paper's point-load model
+        given them (:func:`contin_models.shell_scene.build.watch_harmonics`).
+    u0, p0 : the stable start (the unloaded shell).
+    settings : contin.Settings
+        Settings of every piece (steps, tolerances, bounds); the path sets ``stop_at``, ``stability`` and the
+        bound at ``p_end``.
+    structure : ShellStructure
+        The structure whose energy the source's is (the 3-D views are built on it).
+    label : str
+        The stability label of the control (``"displacement"`` or ``"force"``): what stable means on the path.
+    p_end : float
+        The end of the load (``> p0``).
+    K : int
+        Harmonics above 0 of the ``D_n`` view of an ``n``-wave branch.
+    max_pieces : int
+        Stop after this many pieces.
+    say : callable, optional
+        Told one line per step of the path (progress).
+
+    Returns
+    -------
+    FollowedPath
+    """
+    if not p_end > p0:
+        raise ValueError(f"follow_path: the end of the load p_end must be above the start {p0!r}, got {p_end!r}")
+    st = dataclasses.replace(settings, stop_at=STOPS, stability=True, direction=1, p_max=float(p_end))
+    tell = say or (lambda text: None)
+    out = FollowedPath(label=label)
+    pname = source.parameter_name
+
+    def add(problem: Problem, branch: Branch, parent: int | None, start: str, start_p: float) -> Piece:
+        sym, waves = _symmetry_of(problem)
+        piece = Piece(len(out.pieces), problem, branch, sym, waves, parent, start, start_p)
+        out.pieces.append(piece)
+        tell(f"piece {piece.index} ({sym}) from {pname} = {start_p:.6g}: {len(branch)} points, {branch.message}")
+        return piece
+
+    piece = add(source, continuation(source, u0, p0, st), None, "load", p0)
+    while True:
+        br = piece.branch
+        if len(br) == 0:
+            piece.end = "stopped"
+            out.message = f"the piece from {pname} = {piece.start_p:.10g} could not start: {br.message}"
+            return out
+        last = br.special_points[-1] if br.special_points else None
+        stop = last if (br.status == "event" and last is not None and last.located and last.kind in STOPS) else None
+        # the located point that ends a piece is singular: its count is either side's
+        counts = _count(br, label)[: len(br) - (1 if stop is not None else 0)]
+        if np.any(counts != 0):
+            bad = int(np.flatnonzero(counts != 0)[0])
+            piece.end = "stopped"
+            out.message = (f"the piece in {piece.symmetry} from {pname} = {piece.start_p:.10g} is unstable under "
+                           f"{label} control at {pname} = {float(br.p[bad]):.10g} ({int(counts[bad])} negative "
+                           "eigenvalue(s)) without a located point")
+            return out
+        if stop is None:
+            if br.status == "bound" and abs(float(br.p[-1]) - p_end) <= 1e-9 * max(1.0, abs(p_end)):
+                piece.end = "end of load"
+                out.status = "completed"
+                out.message = (f"reached {pname} = {p_end:.10g} along {len(out.pieces)} stable piece(s) and "
+                               f"{len(out.snaps)} snap(s)")
+            else:
+                piece.end = "stopped"
+                out.message = f"the piece in {piece.symmetry} stopped at {pname} = {float(br.p[-1]):.10g}: {br.message}"
+            return out
+        piece.end = stop.kind
+        if len(out.pieces) >= max_pieces:
+            out.message = f"stopped after max_pieces = {max_pieces} pieces at {pname} = {stop.p:.10g}"
+            return out
+        try:
+            piece = _leave(piece, stop, source, structure, st, label, K, out, add, tell)
+        except _STEP_FAILURES as exc:
+            out.message = f"could not leave the {stop.kind} at {pname} = {stop.p:.10g} of piece {piece.index}: {exc}"
+            return out
+        if piece is None:
+            return out
+
+
+def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st: Any, label: str, K: int,
+           out: FollowedPath, add: Callable[..., Piece], tell: Callable[[str], None]) -> Piece | None:
+    """The next piece after ``stop``: a stable emanating branch, or the landing of a snap (None: the path stopped,
+    ``out.message`` says why)."""
+    problem = piece.problem
+    probe = dataclasses.replace(st, max_steps=PROBE_STEPS)
+    # where the emanating branch is traced from, once lifted: (view, its branch point, the sides to try)
+    start: tuple[Problem, SpecialPoint, tuple[int, ...]] | None = None
+    first: Branch | None = None  # the probe of the first side, traced by the lift itself
+    what = ""
+    if stop.kind == "bifurcation" and stop.info.get("family") == "n":
+        wb = follow_waves(problem, stop, K, structure=structure, settings=probe, every_mode=True)
+        # the two halves of the n-wave branch are one branch turned by pi / n: one side is enough
+        start, first = (wb.problem, wb.branch_point, (1,)), wb.branch
+        what = f"the {int(stop.info['key'])}-wave branch"
+    elif stop.kind == "bifurcation" and stop.info.get("family") == "representation" and isinstance(problem, Shell3D):
+        bb = follow_symmetry_breaking(problem, stop, settings=probe, direction=1)
+        start, first = (bb.problem, bb.branch_point, (1, -1)), bb.branch
+        what = f"the branch breaking into {stop.info['key']}"
+    elif stop.kind == "branch_point" and stop.bifurcation is not None and len(stop.bifurcation.directions):
+        start = (problem, stop, (1, -1))
+        what = "the other branch of the branch point"
+    if start is not None:
+        view, bp, sides = start
+        for side in sides:
+            br = first if (side == 1 and first is not None) else switch_branch(view, bp, probe, direction=side)
+            if _taken(br, float(stop.p), label, 1):
+                tell(f"  {what} is stable and rises: followed")
+                return add(view, switch_branch(view, bp, st, direction=side), piece.index,
+                           "branch point" if stop.kind == "branch_point" else "bifurcation", float(stop.p))
+        tell(f"  {what} is not stable in the direction of loading: the shell snaps")
+    # a snap from a bifurcation starts in the view where the point is simple, kicked along its mode
+    full_from = (start[0], start[1]) if (start is not None and stop.kind == "bifurcation") else None
+    return _snap(piece, stop, source, st, label, full_from, out, add)
+
+
+def _snap(piece: Piece, stop: SpecialPoint, source: Problem, st: Any, label: str,
+          full_from: tuple[Shell3D, SpecialPoint] | None, out: FollowedPath,
+          add: Callable[..., Piece]) -> Piece | None:
+    """Snap from ``stop`` at the load just past it and start the next piece at the landing.
+
+    A fold or a branch point of the traced class is left within the piece's own view (the symmetry it has is
+    kept by the descent); a bifurcation that breaks the symmetry from the view where it is simple, kicked along
+    its mode, with no symmetry imposed."""
+    from contin.analyses.jump import jump
+
+    p_snap = float(stop.p) + SNAP_OVERSHOOT * max(abs(float(stop.p)), 1e-12)
+    problem = piece.problem
+    if full_from is None and isinstance(problem, Shell3D):
+        full_from = (problem, stop)
+    if full_from is None:  # the axisymmetric trace's own snap lands axisymmetric
+        jr = jump(problem, np.asarray(stop.u), p_snap)
+        if not jr.success:
+            out.message = f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land: {jr.message}"
+            return None
+        out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, None, piece.symmetry, jr))
+        return add(problem, continuation(problem, jr.u_to, p_snap, st, origin=jr), piece.index, "snap", p_snap)
+    view, bp = full_from
+    null = bp.bifurcation.null_vector if (bp.bifurcation is not None and bp is not stop) else None
+    # the view where the point is simple has a mirror: no turning about the axis for the descent to slide along
+    jr = jump(view, np.asarray(bp.u), p_snap, direction=None if null is None else np.asarray(null, dtype=float))
+    if not jr.success:
+        out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land "
+                       f"on a stable state: {jr.message}")
+        return None
+    c = view.full_state(jr.u_to, jr.p)
+    sym = state_symmetry(view.basis, c)
+    # the descent stops at its gradient tolerance, which can leave waves of a few 1e-6 on a landing of higher
+    # symmetry: the higher symmetry is tried first, and kept where its view converges to a stable state there
+    coarse = state_symmetry(view.basis, c, LANDING_SYMMETRY_TOL)
+    for candidate in ([coarse] if coarse.label != sym.label else []) + [sym]:
+        nxt, u_next = _view_of_landing(source, view, jr.u_to, jr.p, candidate)
+        if candidate is not sym:
+            trial = continuation(nxt, u_next, p_snap, dataclasses.replace(st, max_steps=1))
+            if not len(trial) or _count(trial, label)[0] != 0:
+                continue
+        out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, view, candidate.label, jr))
+        return add(nxt, continuation(nxt, u_next, p_snap, st, origin=jr if nxt is view else None), piece.index,
+                   "snap", p_snap)
+    return None  # unreachable: the last candidate is always taken
+
+
+def _view_of_landing(source: Problem, view: Shell3D, u: np.ndarray, p: float,
+                     sym: StateSymmetry) -> tuple[Problem, np.ndarray]:
+    """The view the path goes on in from a landing ``u`` of ``view`` (a ``D_n`` view) of symmetry ``sym``, and the
+    landing's unknowns there: the traced model for an axisymmetric landing, else the ``D_m`` view of its waves."""
+    c = view.full_state(u, p)
+    if sym.label == "O(2)":
+        return source, source.unknowns(c[view.view.axisymmetric_dofs()])
+    m = sym.order
+    if m == view.basis.n:
+        return view, np.asarray(u, dtype=float)
+    top = int(view.basis.wave_numbers.max())
+    basis = AngularBasis(m, max(1, math.ceil(top / m)))
+    target = same_load(view, basis, every_mode=True)
+    # the landing's waves that are not multiples of m are below the symmetry's threshold: dropped, and the
+    # first corrector step of the next piece takes up what they were
+    rows = c.reshape(-1, view.basis.m).copy()
+    rows[:, [i for i, t in enumerate(view.basis.terms) if t[2] % m]] = 0.0
+    return target, target.unknowns(transfer_coefficients(rows.ravel(), view.basis, basis))

@@ -1,0 +1,275 @@
+"""``stability.follow = true``: the path the shell really takes, as a scene's run.
+
+The scene's axisymmetric path is traced as without ``follow`` (it is drawn faded in the diagram, and its
+classification stays in the summary); then :func:`contin_models.shell.followed.follow_path` follows the stable path
+from the unloaded shell to the end of the load: along the axisymmetric path to its first loss of stability, onto a
+stable emanating branch in the 3-D view of its symmetry (``D_n``, with ``view.harmonics`` harmonics) where one rises,
+else snapping to the next stable state, and so on.
+
+Outputs: ``branch.csv`` holds the axisymmetric path (``branch`` 0) and the followed pieces (``branch`` 1, 2, ...)
+with the columns ``symmetry`` (``O(2)``, ``D3``, ...) and ``n`` (the waves of the piece's symmetry, 0 for
+``O(2)``); ``summary.json`` lists the branches (id, symmetry, parent, the point it came from, how it ended) and the
+followed path as a sequence of pieces and snaps; the status line says where the path left the axisymmetric branch
+and into how many waves.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
+
+from .build import build, loaded_end, traced_structure
+from .labels import force_axes, length_symbol, scene_title
+from .schema import STABILITY_COLUMNS, Scene
+from .view3d import surfaces_drawer
+
+__all__ = ["run_followed", "followed_branches", "classify_followed", "followed_shapes", "point_symmetries"]
+
+_AXI = "axisymmetric path"
+
+
+
+def _piece_label(piece: Any) -> str:
+    return f"piece {piece.index + 1}: {piece.symmetry}"
+
+
+def followed_branches(fp: Any, pname: str, R: float) -> list[dict[str, Any]]:
+    """``summary.json``'s ``branches`` of a followed path: per piece its id (the ``branch`` column), symmetry,
+    waves, parent, how it started and ended, and where (``w/R`` at both ends)."""
+    rows = []
+    for pc in fp.pieces:
+        br = pc.branch
+        rows.append({"id": pc.index + 1, "symmetry": pc.symmetry, "n": pc.waves,
+                     "parent": None if pc.parent is None else pc.parent + 1, "from": pc.start,
+                     f"{pname}_start": float(pc.start_p), f"{pname}_end": float(br.p[-1]) if len(br) else None,
+                     "ended": pc.end, "points": len(br),
+                     f"{pname}_start_over_R": float(pc.start_p) / R,
+                     f"{pname}_end_over_R": float(br.p[-1]) / R if len(br) else None})
+    return rows
+
+
+def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
+    """Trace the scene's axisymmetric path and the path the shell really takes (module docstring).
+
+    Parameters
+    ----------
+    scene : dict
+        A resolved scene with ``stability.follow = true`` (and ``stability.harmonics = true``).
+    progress : bool
+        Print each step of the followed path to stderr.
+
+    Returns
+    -------
+    TraceResult
+    """
+    import sys
+
+    from contin_models.shell.followed import follow_path
+    from contin_models.shell.structure import ShellOfRevolution
+
+    from .scene import run_scene
+
+    plain = {**scene, "stability": {**scene["stability"], "follow": False}}
+    axi = run_scene(plain, progress)
+    b = build(scene, progress)
+    source = b.problem
+    R = float(scene["shell"]["R"]) if "R" in scene["shell"] else 1.0
+    control = scene["load"]["control"]
+    p_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
+    say = (lambda text: print(f"follow: {text}", file=sys.stderr, flush=True)) if progress else None
+    fp = follow_path(source, b.u0, b.p0, b.settings, structure=traced_structure(scene, source), label=control,
+                     p_end=float(p_end), K=int(scene["view"]["harmonics"]), say=say)
+    pname = source.parameter_name
+    path = axi.branches[0]
+    pieces = [pc.branch for pc in fp.pieces]
+    branches = [path] + pieces
+    labels = [_AXI] + [_piece_label(pc) for pc in fp.pieces]
+    jumps, jump_obs = [], []
+    for sn in fp.snaps:
+        before = fp.pieces[sn.from_piece].branch
+        after = fp.pieces[sn.to_piece].branch if sn.to_piece is not None and sn.to_piece < len(fp.pieces) else None
+        if after is None or not len(after):
+            continue
+        jumps.append(sn.jump)
+        jump_obs.append(({"p": float(before.p[-1]), **{k: float(v[-1]) for k, v in before.observables.items()}},
+                         {"p": float(after.p[0]), **{k: float(v[0]) for k, v in after.observables.items()}}))
+    cols = branch_columns(branches, STABILITY_COLUMNS)
+    measured = [point_symmetries(pc) for pc in fp.pieces]
+    cols["symmetry"] = np.concatenate([np.full(len(path), "O(2)", dtype=object)]
+                                      + [np.array(m[0], dtype=object) for m in measured])
+    cols["n"] = np.concatenate([np.zeros(len(path), dtype=int)] + [np.array(m[1], dtype=int) for m in measured])
+    records = special_point_records(branches, jumps, jump_obs, parameter_name=pname)
+    summary = dict(axi.summary)
+    summary["followed"] = {"status": fp.status, "message": fp.message, "stability_label": control,
+                           "harmonics": int(scene["view"]["harmonics"]),
+                           "branches": followed_branches(fp, pname, R),
+                           "path": _path_sequence(fp, pname)}
+    left = next((pc for pc in fp.pieces if pc.symmetry != "O(2)" or pc.start == "snap"), None)
+    if left is None:
+        where = "the followed path stays on the axisymmetric branch"
+    else:
+        how = (f"into {left.waves} wave{'s' if left.waves > 1 else ''} ({left.symmetry})" if left.waves
+               else f"to a state of symmetry {left.symmetry}")
+        verb = "snaps" if left.start == "snap" else "turns"
+        where = f"the followed path leaves the axisymmetric branch at {pname}/R = {left.start_p / R:.4g}: it {verb} {how}"
+    summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
+    cls = summary["followed"].get("classification")
+    if cls is not None:
+        same = cls == summary.get("classification")
+        where += (f"; on the followed path the cap is {cls}"
+                  + ("" if summary.get("classification") is None else
+                     (", as on the axisymmetric path" if same else
+                      f", not {summary.get('classification')} as on the axisymmetric path")))
+    summary["followed"]["left_axisymmetric"] = where
+    message = f"{fp.message}; {where}"
+    failure = "" if fp.success else f"the followed path stopped: {fp.message}"
+    L = length_symbol(scene["shell"])
+    D = summary.get("D")
+    options = force_axes("w", R, D, length_symbol=L, w_symbol="w", scaled={"w_over_L": "w", "F_norm": "F"}) \
+        if D is not None else {}
+    # the axisymmetric path beneath, faded, without its points: the followed pieces are read against it
+    plot_options = {**options, "title": f"followed path: {scene_title(scene)}", "control": control,
+                    "special_kinds": ("fold", "branch_point", "bifurcation"), "faded": [0]}
+
+    shapes = followed_shapes(fp, traced_structure(scene, source))
+    result = TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
+                         table=special_point_table(records, pname), csv_columns=cols, x="w", y="F",
+                         parameter_name=pname, labels=labels, jump_observables=jump_obs, failure=failure,
+                         stability=control, plot_options=plot_options, shapes=shapes,
+                         draw_shapes=surfaces_drawer(shapes, R, float(scene["shell"]["h"]), pname,
+                                                     length_symbol(scene["shell"])))
+    for br in pieces[-1:]:
+        br.message = message
+    return result
+
+
+def _surface(problem: Any, u: np.ndarray, p: float, theta: np.ndarray) -> np.ndarray:
+    """Cartesian points ``(N, angles, 3)`` of a state of a piece: the 3-D view's own, or the axisymmetric state's
+    meridian turned about the axis."""
+    from contin_models.shell.problem3d import Shell3D
+
+    if isinstance(problem, Shell3D):
+        return problem.view.points(problem.full_state(u, p), theta)
+    x = problem.full_state(u, p)
+    return _turned(x[0::2], x[1::2], theta)
+
+
+def _turned(r: np.ndarray, z: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    return np.stack([np.outer(r, np.cos(theta)), np.outer(r, np.sin(theta)), np.outer(z, np.ones_like(theta))], axis=-1)
+
+
+def followed_shapes(fp: Any, structure: Any) -> dict[str, np.ndarray]:
+    """``shapes.npz`` of a followed path: the shell where each piece ends at a located point (where it leaves a
+    branch or snaps), then at the path's end, with the arrays of :func:`contin_models.shell_scene.view3d.surface_shapes`
+    (``state_representation`` holds the symmetry of the piece the state lies on)."""
+    from .view3d import SURFACE_ANGLES
+
+    theta = np.linspace(0.0, 2.0 * np.pi, SURFACE_ANGLES)
+    rows = []
+    for pc in fp.pieces:
+        br = pc.branch
+        if not len(br):
+            continue
+        if pc.end in ("fold", "bifurcation", "branch_point") and br.special_points:
+            spt = br.special_points[-1]
+            key = spt.info.get("key")
+            what = f"{pc.symmetry} -> {key}" if spt.kind == "bifurcation" and key is not None else pc.symmetry
+            rows.append((pc.index, spt.kind, spt.label, what, pc.problem, spt.u, spt.p))
+    last = fp.pieces[-1] if fp.pieces else None
+    if last is not None and len(last.branch):
+        rows.append((-1, "end", "end of the followed path", last.symmetry, last.problem, last.branch.u[-1],
+                     last.branch.p[-1]))
+    if not rows:
+        return {}
+    X = np.array([_surface(prob, u, p, theta) for *_, prob, u, p in rows])
+    x0 = structure.reference_state()
+    X0 = _turned(x0[0::2], x0[1::2], theta)
+    return {"theta": theta, "reference_x": X0[..., 0], "reference_y": X0[..., 1], "reference_z": X0[..., 2],
+            "state_piece": np.array([r[0] for r in rows]), "state_kind": np.array([r[1] for r in rows]),
+            "state_label": np.array([str(r[2]) for r in rows]), "state_representation": np.array([r[3] for r in rows]),
+            "state_p": np.array([float(r[6]) for r in rows]),
+            "state_x": X[..., 0], "state_y": X[..., 1], "state_z": X[..., 2]}
+
+
+def point_symmetries(piece: Any) -> tuple[list[str], list[int]]:
+    """The symmetry of every stored state of a piece (:func:`contin_models.shell.lift.state_symmetry` in its view's
+    basis; ``O(2)`` on the axisymmetric trace) and its order (the waves' greatest common divisor, 0 for O(2))."""
+    from contin_models.shell.lift import state_symmetry
+    from contin_models.shell.problem3d import Shell3D
+
+    prob, br = piece.problem, piece.branch
+    if not isinstance(prob, Shell3D):
+        return ["O(2)"] * len(br), [0] * len(br)
+    syms = [state_symmetry(prob.basis, prob.full_state(u, p)) for u, p in zip(br.u, br.p)]
+    return [s.label for s in syms], [s.order for s in syms]
+
+
+def classify_followed(fp: Any, D: float, R: float) -> dict[str, Any]:
+    """The class of the cap on its followed path (``docs/model.md#classes``, measured on the path taken).
+
+    Every stored point of the followed path is stable under the control (the located points where pieces end
+    aside), so the path is ``bistable`` where the force is negative somewhere on it, ``monotonous`` where it has no
+    snap and the force never falls, else ``monostable``.  ``F_max`` is the first local maximum of the force along
+    the path (the stored point where it first falls, or where the first snap starts), ``F_min`` its least value;
+    both by stored points, not located.  Empty when the path's pieces carry no force (a pressure).
+    """
+    runs = []
+    for pc in fp.pieces:
+        F = pc.branch.observables.get("F")
+        if F is None:
+            return {}
+        keep = len(F) - (1 if pc.end in ("fold", "bifurcation", "branch_point") else 0)
+        runs.append((np.asarray(F[:keep], dtype=float), np.asarray(pc.branch.p[:keep], dtype=float),
+                     pc.end == "fold" or any(sn.from_piece == pc.index for sn in fp.snaps)))
+    force = np.concatenate([r[0] for r in runs]) if runs else np.zeros(0)
+    if not force.size:
+        return {}
+    tol = FORCE_ROUNDOFF * float(np.max(np.abs(force)))
+    first_max = None
+    for F, w, snapped in runs:
+        falls = np.flatnonzero(np.diff(F) < -tol)
+        if falls.size:
+            first_max = (float(F[falls[0]]), float(w[falls[0]]))
+            break
+        if snapped and F.size:
+            first_max = (float(F[-1]), float(w[-1]))
+            break
+    if np.any(force < -tol):
+        kind = "bistable"
+    elif first_max is None and not fp.snaps:
+        kind = "monotonous"
+    else:
+        kind = "monostable"
+    i_min = int(np.argmin(force))
+    w_all = np.concatenate([r[1] for r in runs])
+    scale = R / (2.0 * np.pi * D) if D > 0 else float("nan")
+    out: dict[str, Any] = {"classification": kind, "n_snaps": len(fp.snaps),
+                           "F_max": None if first_max is None else first_max[0],
+                           "w_at_F_max": None if first_max is None else first_max[1],
+                           "F_min": float(force[i_min]), "w_at_F_min": float(w_all[i_min])}
+    out["F_max_norm"] = None if first_max is None else first_max[0] * scale
+    out["F_min_norm"] = float(force[i_min]) * scale
+    return out
+
+
+#: Relative size of a fall of the force along the followed path below which it is roundoff.
+FORCE_ROUNDOFF = 1e-9
+
+
+def _path_sequence(fp: Any, pname: str) -> list[dict[str, Any]]:
+    """The followed path as pieces and snaps in order."""
+    seq: list[dict[str, Any]] = []
+    snaps = {sn.from_piece: sn for sn in fp.snaps}
+    for pc in fp.pieces:
+        br = pc.branch
+        seq.append({"piece": pc.index + 1, "symmetry": pc.symmetry, f"{pname}_from": float(pc.start_p),
+                    f"{pname}_to": float(br.p[-1]) if len(br) else None, "ended": pc.end})
+        sn = snaps.get(pc.index)
+        if sn is not None:
+            seq.append({"snap": {"at": float(sn.p), "landing_symmetry": sn.symmetry,
+                                 "energy_released": float(sn.jump.energy_from - sn.jump.energy_to)}})
+    return seq

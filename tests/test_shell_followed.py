@@ -1,0 +1,172 @@
+"""The path a shell really takes: the turning of a wavy state is not an instability, and the followed path."""
+
+import numpy as np
+import pytest
+
+import contin
+from contin.numerics.stability import stability_info
+from contin_models.shell.fourier import AngularBasis
+from contin_models.shell.followed import follow_path
+from contin_models.shell.lift import follow_waves
+from contin_models.shell.problem3d import Shell3D
+from contin_models.shell.structure import ShellOfRevolution
+from contin_models.shell.geometry import spherical_cap
+from contin_models.shell.structure import ShellStructure
+from studies.shell3d_convergence import E, H_OVER_R, NU, PHI_HAT, SWITCH_DS, paper_cap
+
+N, K, W_END = 30, 2, 0.37
+
+
+@pytest.fixture(scope="module")
+def three_waves():
+    """The paper's cap's three-wave branch at N = 30, followed from its bifurcation with every class watched."""
+    source = ShellOfRevolution(paper_cap(N), "point", "displacement", harmonics=4)
+    trace = contin.continuation(source, source.reference_unknowns(), 0.0, p_max=W_END, ds=0.01, ds_max=0.02,
+                                max_steps=2000, stability=True)
+    point = next(s for s in trace.special_points if s.kind == "bifurcation" and s.info["key"] == 3)
+    return follow_waves(source, point, K, settings=contin.Settings(ds=SWITCH_DS, ds_max=0.02), max_steps=2000,
+                        p_max=W_END, every_mode=True, stability=True)
+
+
+def test_the_turning_of_a_wavy_state_is_a_null_vector_not_an_instability(three_waves) -> None:
+    prob, branch = three_waves.problem, three_waves.branch
+    assert branch.status == "bound" and len(branch) > 10
+    modes = branch.meta["modes"]["representation"]
+    a2 = list(modes["keys"]).index("A2")
+    counts = np.asarray(modes["n_negative"]).reshape(len(branch), -1)[:, a2]
+    for i in range(1, len(branch), 4):
+        c = prob.full_state(branch.u[i], branch.p[i])
+        H = prob.view.bloch_block(c, 0, "odd")
+        g = prob.view.turning_direction(c)[prob.view.bloch_unknowns(0, "odd")]
+        top = abs(H).max()
+        # the state turned about the axis has the same energy: its direction is a null vector up to aliasing,
+        # while the block's next eigenvalue stays far from zero
+        assert abs(g @ (H @ g)) / (g @ g) / top < 1e-9
+        assert stability_info(H, 2).eigenvalues[1] / top > 1e-6
+    # the turning's sign is noise (negative here): the stability of the circle of turned states ignores it
+    assert np.all(counts[1:] == 0)
+
+
+def test_an_axisymmetric_state_keeps_its_whole_a2_block() -> None:
+    prob = Shell3D(paper_cap(N), AngularBasis(3, K), "point", "displacement", every_mode=True)
+    u = prob.reference_unknowns()
+    block = prob.operator_families[0].operator("A2", u, 0.0)
+    whole = prob.view.bloch_block(prob.full_state(u, 0.0), 0, "odd")
+    assert abs(block - whole).max() == 0.0
+
+
+def _cap(phi_hat: float) -> ShellOfRevolution:
+    """A cap of the paper's thickness and material under a prescribed pole deflection, watching waves 1 .. 5."""
+    structure = ShellStructure(spherical_cap(1.0, phi_hat, N), E, NU, H_OVER_R, boundary="sliding")
+    return ShellOfRevolution(structure, "point", "displacement", harmonics=5)
+
+
+def _followed(phi_hat: float, w_end: float):
+    source = _cap(phi_hat)
+    fp = follow_path(source, source.reference_unknowns(), 0.0, contin.Settings(ds=0.01, ds_max=0.02, max_steps=2000),
+                     structure=source.structure, label="displacement", p_end=w_end, K=K)
+    assert fp.success, fp.message
+    for piece in fp.pieces:  # every stored point stable under the control (a located end is singular)
+        counts = piece.branch.n_negative_under("displacement")
+        assert np.all(counts[: len(counts) - (piece.end != "end of load")] == 0)
+    for before, after in zip(fp.pieces, fp.pieces[1:]):  # one path: each piece starts where the last ended
+        assert after.start_p == pytest.approx(float(before.branch.p[-1]), rel=1e-5)
+    assert fp.pieces[-1].branch.p[-1] == pytest.approx(w_end, rel=1e-12)
+    return fp
+
+
+def test_the_followed_path_turns_onto_the_stable_three_wave_branch() -> None:
+    fp = _followed(0.6, 0.45)
+    first, second = fp.pieces
+    assert (first.symmetry, first.end) == ("O(2)", "bifurcation") and first.branch.special_points[-1].info["key"] == 3
+    assert (second.symmetry, second.start, second.end) == ("D3", "bifurcation", "end of load")
+    assert not fp.snaps
+
+
+def test_the_deeper_cap_snaps_from_its_one_wave_bifurcation_and_goes_on_without_axial_symmetry() -> None:
+    fp = _followed(PHI_HAT, 0.6)
+    first = fp.pieces[0]
+    assert first.end == "bifurcation" and first.branch.special_points[-1].info["key"] == 1
+    # the one-wave branch falls back: the cap snaps sideways onto a state with one mirror plane, which it
+    # leaves at a fold in w for the everted, axisymmetric cap
+    assert [(pc.symmetry, pc.start, pc.end) for pc in fp.pieces] == [
+        ("O(2)", "load", "bifurcation"), ("D1", "snap", "fold"), ("O(2)", "snap", "end of load")]
+    for snap in fp.snaps:
+        assert snap.jump.success and snap.jump.energy_to < snap.jump.energy_from
+    assert [snap.symmetry for snap in fp.snaps] == ["D1", "O(2)"]
+
+
+def test_the_end_of_the_load_must_lie_ahead() -> None:
+    source = ShellOfRevolution(paper_cap(N), "point", "displacement", harmonics=4)
+    with pytest.raises(ValueError, match="p_end"):
+        follow_path(source, source.reference_unknowns(), 0.0, contin.Settings(), structure=source.structure,
+                    label="displacement", p_end=0.0)
+
+
+FOLLOW_REFUSED = [
+    (["stability.follow=true"], ["stability.follow", "stability.harmonics = true"]),
+    (["stability.follow=true", "stability.harmonics=true", "load.control=force"],
+     ["stability.follow", "load.control", "not followed yet"]),
+    (["stability.follow=true", "stability.harmonics=true", "load.kind=plate"], ["stability.follow", "load.kind"]),
+]
+
+
+@pytest.mark.parametrize("keys, needles", FOLLOW_REFUSED)
+def test_a_path_that_cannot_be_followed_is_refused_with_one_paragraph(tmp_path, capsys, keys, needles) -> None:
+    from contin.app import cli
+
+    out = tmp_path / "out"
+    code = cli.main(["trace", *[a for k in keys for a in ("--set", k)], "--out", str(out)])
+    stderr = capsys.readouterr().err
+    assert code == 2 and stderr.startswith("contin: error:") and stderr.count("\n") == 1
+    for needle in needles:
+        assert needle in stderr
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_csv_columns_of_branches_with_and_without_a_tangent() -> None:
+    from contin.app.scene import branch_columns
+
+    problem = contin.Problem(lambda u, p: u - p, jacobian=lambda u, p: np.eye(1),
+                             observables={"x": lambda u, p: float(u[0])},
+                             observable_derivatives={"x": lambda u, p: (np.ones(1), 0.0)})
+    a = contin.continuation(problem, np.zeros(1), 0.0, p_max=0.1, ds=0.05)
+    b = contin.continuation(problem, np.zeros(1), 0.0, p_max=0.1, ds=0.05)
+    b.tangents.pop("x", None)
+    cols = branch_columns([a, b])
+    assert np.all(np.isnan(cols["tangent_x"][len(a):])) and not np.any(np.isnan(cols["tangent_x"][: len(a)]))
+
+
+@pytest.mark.slow
+def test_the_followed_run_writes_its_pieces_replots_and_refuses_a_restart(tmp_path, capsys) -> None:
+    import csv
+    import json
+
+    from contin.app import cli
+
+    out = tmp_path / "run"
+    keys = ["shell.phi_hat=0.6", "shell.N=40", "view.harmonics=2", "stability.harmonics=true", "stability.follow=true"]
+    sets = [a for k in keys for a in ("--set", k)]
+    assert cli.main(["trace", "-q", *sets, "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    followed = summary["followed"]
+    assert followed["status"] == "completed" and followed["classification"] == "bistable"
+    assert [b["symmetry"] for b in followed["branches"]][:2] == ["O(2)", "D3"]
+    assert [b["parent"] for b in followed["branches"]] == [None] + [b["id"] - 1 for b in followed["branches"][1:]]
+    assert "leaves the axisymmetric branch" in followed["left_axisymmetric"] and "3 waves (D3)" in followed["left_axisymmetric"]
+    rows = list(csv.DictReader(open(out / "branch.csv")))
+    pieces = {}
+    for row in rows:
+        pieces.setdefault(int(row["branch"]), []).append(row)
+    assert len(pieces) == 1 + len(followed["branches"])
+    assert {r["symmetry"] for r in pieces[2][1:]} == {"D3"} and {r["n"] for r in pieces[2][1:]} == {"3"}
+    for b, rs in pieces.items():  # every stored point of the followed path stable (the located ends aside)
+        if b > 0:
+            ended = followed["branches"][b - 1]["ended"]
+            kept = rs[:-1] if ended in ("fold", "bifurcation", "branch_point") else rs
+            assert all(r["stable_displacement"] == "1" for r in kept)
+    (out / "diagram.png").unlink()
+    assert cli.main(["plot", str(out)]) == 0 and (out / "diagram.png").is_file()
+    capsys.readouterr()
+    assert cli.main(["trace", "--from", str(out), "--label", "1", "--out", str(tmp_path / "again")]) == 2
+    assert "stability.follow = true" in capsys.readouterr().err
