@@ -7,6 +7,7 @@ import contin
 from contin.numerics.stability import stability_info
 from contin_models.shell.fourier import AngularBasis
 from contin_models.shell.followed import follow_path
+from contin_models.shell_scene.follow import classify_followed
 from contin_models.shell.lift import follow_waves
 from contin_models.shell.problem3d import Shell3D
 from contin_models.shell.structure import ShellOfRevolution
@@ -61,10 +62,13 @@ def _cap(phi_hat: float) -> ShellOfRevolution:
     return ShellOfRevolution(structure, "point", "displacement", harmonics=5)
 
 
+LIMIT_LOADS = [contin.extremum("F", which, folds="F", stability_label="force") for which in ("max", "min")]
+
+
 def _followed(phi_hat: float, w_end: float):
     source = _cap(phi_hat)
     fp = follow_path(source, source.reference_unknowns(), 0.0, contin.Settings(ds=0.01, ds_max=0.02, max_steps=2000),
-                     structure=source.structure, label="displacement", p_end=w_end, K=K)
+                     structure=source.structure, label="displacement", p_end=w_end, K=K, events=LIMIT_LOADS)
     assert fp.success, fp.message
     for piece in fp.pieces:  # every stored point stable under the control (a located end is singular)
         counts = piece.branch.n_negative_under("displacement")
@@ -94,6 +98,16 @@ def test_the_deeper_cap_snaps_from_its_one_wave_bifurcation_and_goes_on_without_
     for snap in fp.snaps:
         assert snap.jump.success and snap.jump.energy_to < snap.jump.energy_from
     assert [snap.symmetry for snap in fp.snaps] == ["D1", "O(2)"]
+    # the class on the followed path: its first maximum of F is the axisymmetric path's, located alike
+    source = _cap(PHI_HAT)
+    axisymmetric = contin.continuation(source, source.reference_unknowns(), 0.0, p_max=0.6, ds=0.01, ds_max=0.02,
+                                       max_steps=2000, events=LIMIT_LOADS)
+    first_max = next(s for s in axisymmetric.special_points if s.label == "max(F)")
+    cls = classify_followed(fp, 1.0, 1.0)
+    assert cls["F_max"] == pytest.approx(first_max.observables["F"], rel=1e-9)
+    assert cls["w_at_F_max"] == pytest.approx(first_max.p, rel=1e-9)
+    landing = fp.pieces[2].branch.observables["F"]
+    assert cls["classification"] == ("bistable" if np.min(landing) < 0 else "monostable") and cls["n_snaps"] == 2
 
 
 def test_the_end_of_the_load_must_lie_ahead() -> None:

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -157,6 +157,19 @@ class FollowedPath:
         return self.status == "completed"
 
 
+@dataclass(frozen=True)
+class _Trace:
+    """How every piece is traced: with the caller's events."""
+
+    events: tuple
+
+    def run(self, problem: Problem, u: np.ndarray, p: float, st: Any, origin: Any = None) -> Branch:
+        return continuation(problem, u, p, st, events=self.events, origin=origin)
+
+    def switch(self, problem: Problem, point: SpecialPoint, st: Any, side: int) -> Branch:
+        return switch_branch(problem, point, st, direction=side, events=self.events)
+
+
 def _count(branch: Branch, label: str) -> np.ndarray:
     if label in branch.stability_by:
         return np.asarray(branch.n_negative_under(label), dtype=int)
@@ -179,7 +192,7 @@ def _symmetry_of(problem: Problem) -> tuple[str, int]:
 
 
 def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, structure: Any, label: str,
-                p_end: float, K: int = 2, max_pieces: int = 12,
+                p_end: float, K: int = 2, max_pieces: int = 12, events: Sequence[Any] = (),
                 say: Callable[[str], None] | None = None) -> FollowedPath:
     """Follow the stable path of a shell of revolution from ``(u0, p0)`` to ``p_end`` (see the module docstring).
 
@@ -203,6 +216,8 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
         Harmonics above 0 of the ``D_n`` view of an ``n``-wave branch.
     max_pieces : int
         Stop after this many pieces.
+    events : sequence of contin.Event
+        Located along every piece (e.g. the extrema of the load); they do not end a piece.
     say : callable, optional
         Told one line per step of the path (progress).
 
@@ -213,6 +228,7 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
     if not p_end > p0:
         raise ValueError(f"follow_path: the end of the load p_end must be above the start {p0!r}, got {p_end!r}")
     st = dataclasses.replace(settings, stop_at=STOPS, stability=True, direction=1, p_max=float(p_end))
+    trace = _Trace(tuple(events))
     tell = say or (lambda text: None)
     out = FollowedPath(label=label)
     pname = source.parameter_name
@@ -224,7 +240,7 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
         tell(f"piece {piece.index} ({sym}) from {pname} = {start_p:.6g}: {len(branch)} points, {branch.message}")
         return piece
 
-    piece = add(source, continuation(source, u0, p0, st), None, "load", p0)
+    piece = add(source, trace.run(source, u0, p0, st), None, "load", p0)
     while True:
         br = piece.branch
         if len(br) == 0:
@@ -257,7 +273,7 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
             out.message = f"stopped after max_pieces = {max_pieces} pieces at {pname} = {stop.p:.10g}"
             return out
         try:
-            piece = _leave(piece, stop, source, structure, st, label, K, out, add, tell)
+            piece = _leave(piece, stop, source, structure, st, label, K, out, add, tell, trace)
         except _STEP_FAILURES as exc:
             out.message = f"could not leave the {stop.kind} at {pname} = {stop.p:.10g} of piece {piece.index}: {exc}"
             return out
@@ -266,7 +282,7 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
 
 
 def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st: Any, label: str, K: int,
-           out: FollowedPath, add: Callable[..., Piece], tell: Callable[[str], None]) -> Piece | None:
+           out: FollowedPath, add: Callable[..., Piece], tell: Callable[[str], None], trace: "_Trace") -> Piece | None:
     """The next piece after ``stop``: a stable emanating branch, or the landing of a snap (None: the path stopped,
     ``out.message`` says why)."""
     problem = piece.problem
@@ -293,17 +309,17 @@ def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st
             br = first if (side == 1 and first is not None) else switch_branch(view, bp, probe, direction=side)
             if _taken(br, float(stop.p), label, 1):
                 tell(f"  {what} is stable and rises: followed")
-                return add(view, switch_branch(view, bp, st, direction=side), piece.index,
+                return add(view, trace.switch(view, bp, st, side), piece.index,
                            "branch point" if stop.kind == "branch_point" else "bifurcation", float(stop.p))
         tell(f"  {what} is not stable in the direction of loading: the shell snaps")
     # a snap from a bifurcation starts in the view where the point is simple, kicked along its mode
     full_from = (start[0], start[1]) if (start is not None and stop.kind == "bifurcation") else None
-    return _snap(piece, stop, source, st, label, full_from, out, add)
+    return _snap(piece, stop, source, st, label, full_from, out, add, trace)
 
 
 def _snap(piece: Piece, stop: SpecialPoint, source: Problem, st: Any, label: str,
           full_from: tuple[Shell3D, SpecialPoint] | None, out: FollowedPath,
-          add: Callable[..., Piece]) -> Piece | None:
+          add: Callable[..., Piece], trace: "_Trace") -> Piece | None:
     """Snap from ``stop`` at the load just past it and start the next piece at the landing.
 
     A fold or a branch point of the traced class is left within the piece's own view (the symmetry it has is
@@ -321,7 +337,7 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, st: Any, label: str
             out.message = f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land: {jr.message}"
             return None
         out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, None, piece.symmetry, jr))
-        return add(problem, continuation(problem, jr.u_to, p_snap, st, origin=jr), piece.index, "snap", p_snap)
+        return add(problem, trace.run(problem, jr.u_to, p_snap, st, origin=jr), piece.index, "snap", p_snap)
     view, bp = full_from
     null = bp.bifurcation.null_vector if (bp.bifurcation is not None and bp is not stop) else None
     # the view where the point is simple has a mirror: no turning about the axis for the descent to slide along
@@ -342,7 +358,7 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, st: Any, label: str
             if not len(trial) or _count(trial, label)[0] != 0:
                 continue
         out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, view, candidate.label, jr))
-        return add(nxt, continuation(nxt, u_next, p_snap, st, origin=jr if nxt is view else None), piece.index,
+        return add(nxt, trace.run(nxt, u_next, p_snap, st, origin=jr if nxt is view else None), piece.index,
                    "snap", p_snap)
     return None  # unreachable: the last candidate is always taken
 

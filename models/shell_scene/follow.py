@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+import contin
 from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import build, loaded_end, traced_structure
@@ -81,8 +82,10 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     control = scene["load"]["control"]
     p_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
     say = (lambda text: print(f"follow: {text}", file=sys.stderr, flush=True)) if progress else None
+    # the load's extrema located on every piece, as on the axisymmetric path: the class reads them
+    events = [contin.extremum("F", which, folds="F", stability_label="force") for which in ("max", "min")]
     fp = follow_path(source, b.u0, b.p0, b.settings, structure=traced_structure(scene, source), label=control,
-                     p_end=float(p_end), K=int(scene["view"]["harmonics"]), say=say)
+                     p_end=float(p_end), K=int(scene["view"]["harmonics"]), events=events, say=say)
     pname = source.parameter_name
     path = axi.branches[0]
     pieces = [pc.branch for pc in fp.pieces]
@@ -213,31 +216,33 @@ def classify_followed(fp: Any, D: float, R: float) -> dict[str, Any]:
 
     Every stored point of the followed path is stable under the control (the located points where pieces end
     aside), so the path is ``bistable`` where the force is negative somewhere on it, ``monotonous`` where it has no
-    snap and the force never falls, else ``monostable``.  ``F_max`` is the first local maximum of the force along
-    the path (the stored point where it first falls, or where the first snap starts), ``F_min`` its least value;
-    both by stored points, not located.  Empty when the path's pieces carry no force (a pressure).
+    snap and no located maximum of the force, else ``monostable``.  ``F_max`` is the first local maximum of the
+    force along the path: the first located maximum (``max(F)``) or the start of the first snap, whichever comes
+    first; ``F_min`` its least value (by stored points and located minima).  Empty when the path's pieces carry no
+    force (a pressure).
     """
     runs = []
+    first_max = None
     for pc in fp.pieces:
         F = pc.branch.observables.get("F")
         if F is None:
             return {}
         keep = len(F) - (1 if pc.end in ("fold", "bifurcation", "branch_point") else 0)
-        runs.append((np.asarray(F[:keep], dtype=float), np.asarray(pc.branch.p[:keep], dtype=float),
-                     pc.end == "fold" or any(sn.from_piece == pc.index for sn in fp.snaps)))
+        minima = [(float(spt.observables["F"]), float(spt.p)) for spt in pc.branch.special_points
+                  if spt.located and spt.label == "min(F)"]
+        runs.append((np.concatenate([np.asarray(F[:keep], dtype=float), [m[0] for m in minima]]),
+                     np.concatenate([np.asarray(pc.branch.p[:keep], dtype=float), [m[1] for m in minima]])))
+        if first_max is None:
+            maxima = [spt for spt in pc.branch.special_points if spt.located and spt.label == "max(F)"]
+            snapped = any(sn.from_piece == pc.index for sn in fp.snaps)
+            if maxima:
+                first_max = (float(maxima[0].observables["F"]), float(maxima[0].p))
+            elif snapped and keep:
+                first_max = (float(F[keep - 1]), float(pc.branch.p[keep - 1]))
     force = np.concatenate([r[0] for r in runs]) if runs else np.zeros(0)
     if not force.size:
         return {}
     tol = FORCE_ROUNDOFF * float(np.max(np.abs(force)))
-    first_max = None
-    for F, w, snapped in runs:
-        falls = np.flatnonzero(np.diff(F) < -tol)
-        if falls.size:
-            first_max = (float(F[falls[0]]), float(w[falls[0]]))
-            break
-        if snapped and F.size:
-            first_max = (float(F[-1]), float(w[-1]))
-            break
     if np.any(force < -tol):
         kind = "bistable"
     elif first_max is None and not fp.snaps:

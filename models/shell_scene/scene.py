@@ -224,7 +224,7 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
         if followed.get("F_max") is not None:
             lines.append(f"followed path: first local maximum of F = {followed['F_max']:.6g} at w = "
                          f"{followed['w_at_F_max']:.6g}, least F = {followed['F_min']:.6g} at w = "
-                         f"{followed['w_at_F_min']:.6g} (by stored points), {followed['n_snaps']} snap(s); the "
+                         f"{followed['w_at_F_min']:.6g}, {followed['n_snaps']} snap(s); the "
                          "table above is the axisymmetric path's")
     lines += [f"warning: {w}" for w in summ.get("warnings", [])]
     values["path_complete"] = complete
