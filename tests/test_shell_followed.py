@@ -184,3 +184,42 @@ def test_the_followed_run_writes_its_pieces_replots_and_refuses_a_restart(tmp_pa
     capsys.readouterr()
     assert cli.main(["trace", "--from", str(out), "--label", "1", "--out", str(tmp_path / "again")]) == 2
     assert "stability.follow = true" in capsys.readouterr().err
+
+
+def test_a_gauge_holds_the_turning_of_a_state_without_a_mirror() -> None:
+    """A one-wave state in the basis without a mirror: singular along its turning, regular under the gauge, and
+    as stable there as in its D_1 view."""
+    from contin_models.shell.lift import same_load
+    from contin_models.shell.problem3d import gauge_for
+    from contin_models.shell.fourier import transfer_coefficients
+
+    fp = _followed(PHI_HAT, 0.6)
+    piece = fp.pieces[1]
+    view, br = piece.problem, piece.branch
+    i = len(br) // 2
+    c = view.full_state(br.u[i], br.p[i])
+    free = AngularBasis(1, view.basis.K, mirror=False, M=view.basis.M)
+    loose = same_load(view, free)
+    H = loose.jacobian(loose.unknowns(transfer_coefficients(c, view.basis, free)), br.p[i])
+    low = stability_info(H, 2, vectors=True)
+    # the lowest eigenvector is the turning, its eigenvalue the quadrature's aliasing (M = 8 angles here),
+    # two orders below the next
+    turning = loose.unknowns(_turned_derivative(free, transfer_coefficients(c, view.basis, free)))
+    assert abs(low.eigenvectors[:, 0] @ turning) / np.linalg.norm(turning) > 0.9999
+    assert abs(low.eigenvalues[0]) < 2e-2 * low.eigenvalues[1]
+    gauge, turn = gauge_for(free, transfer_coefficients(c, view.basis, free))
+    held = same_load(view, free, gauge=gauge)
+    u = held.unknowns(transfer_coefficients(c, view.basis, free, turn))
+    Hg = held.jacobian(u, br.p[i])
+    assert stability_info(Hg, 1).eigenvalues[0] / abs(Hg).max() > 1e-9
+    assert np.max(np.abs(held.residual(u, br.p[i]))) < 1e-8 * held.residual_scale
+    assert stability_info(Hg, 0).n_negative == 0 == view.stability(br.u[i], br.p[i], 0)["displacement"].n_negative
+    with pytest.raises(ValueError, match="gauge"):
+        same_load(view, view.basis, gauge=gauge)
+
+
+def _turned_derivative(basis: AngularBasis, c: np.ndarray, step: float = 1e-6) -> np.ndarray:
+    """d/d(angle) of the state turned about the axis, by central differences of the exact turn of its series."""
+    from contin_models.shell.fourier import transfer_coefficients
+
+    return (transfer_coefficients(c, basis, basis, step) - transfer_coefficients(c, basis, basis, -step)) / (2 * step)

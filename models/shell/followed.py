@@ -43,7 +43,7 @@ from contin.results.branch import Branch, SpecialPoint
 
 from .fourier import AngularBasis, transfer_coefficients
 from .lift import StateSymmetry, follow_symmetry_breaking, follow_waves, same_load, state_symmetry
-from .problem3d import Shell3D
+from .problem3d import Shell3D, gauge_for
 
 __all__ = ["Piece", "Snap", "FollowedPath", "follow_path", "STOPS"]
 
@@ -58,6 +58,9 @@ SNAP_OVERSHOOT = 1e-6
 
 #: Relative size of waves below which a snap's landing is tried in the view of the higher symmetry without them.
 LANDING_SYMMETRY_TOL = 1e-4
+
+#: Descents of one snap: each that lands unstable against a class its view does not carry breaks that symmetry too.
+MAX_DESCENTS = 4
 
 #: Failures of a trace or a lift that stop the path with their message instead of a traceback.
 _STEP_FAILURES = (LiftError, CorrectorFailure, NonFiniteError, np.linalg.LinAlgError, ValueError, ArithmeticError)
@@ -341,43 +344,127 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, st: Any, label: str
     view, bp = full_from
     null = bp.bifurcation.null_vector if (bp.bifurcation is not None and bp is not stop) else None
     # the view where the point is simple has a mirror: no turning about the axis for the descent to slide along
-    jr = jump(view, np.asarray(bp.u), p_snap, direction=None if null is None else np.asarray(null, dtype=float))
-    if not jr.success:
-        out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land "
-                       f"on a stable state: {jr.message}")
-        return None
+    u_from, kick = np.asarray(bp.u), None if null is None else np.asarray(null, dtype=float)
+    for _ in range(MAX_DESCENTS):
+        jr = jump(view, u_from, p_snap, direction=kick)
+        if not jr.success:
+            out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land "
+                           f"on a stable state: {jr.message}")
+            return None
+        landed = _landing(source, view, jr, p_snap, st, label)
+        if landed[0] is not None:
+            nxt, u_next, sym = landed
+            out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, view, sym.label, jr))
+            return add(nxt, trace.run(nxt, u_next, p_snap, st, origin=jr if nxt is view else None), piece.index,
+                       "snap", p_snap)
+        # stable in the descent's view, not against a class it does not carry: on into that class's subgroup
+        _, unstable, key = landed
+        view, u_from, kick = _into_class(unstable, key, p_snap)
+    out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} found no stable state "
+                   f"after {MAX_DESCENTS} descents, each breaking the symmetry the last landed with")
+    return None
+
+
+def _landing(source: Problem, view: Shell3D, jr: Any, p: float, st: Any,
+             label: str) -> tuple[Problem | None, Any, Any]:
+    """Where the path goes on from a landing of ``view``: ``(next view, its unknowns, the landing's symmetry)``, or
+    ``(None, (the view, its corrected state), the class it is unstable against)`` when the landing is unstable
+    against a class of perturbation the descent's view did not carry.
+
+    The descent stops at its gradient tolerance, which can leave waves of a few 1e-6 on a landing of higher
+    symmetry: the higher symmetry is tried first, and kept where its view converges to a stable state there."""
     c = view.full_state(jr.u_to, jr.p)
     sym = state_symmetry(view.basis, c)
-    # the descent stops at its gradient tolerance, which can leave waves of a few 1e-6 on a landing of higher
-    # symmetry: the higher symmetry is tried first, and kept where its view converges to a stable state there
     coarse = state_symmetry(view.basis, c, LANDING_SYMMETRY_TOL)
+    unstable = None
     for candidate in ([coarse] if coarse.label != sym.label else []) + [sym]:
         nxt, u_next = _view_of_landing(source, view, jr.u_to, jr.p, candidate)
-        if candidate is not sym:
-            trial = continuation(nxt, u_next, p_snap, dataclasses.replace(st, max_steps=1))
-            if not len(trial) or _count(trial, label)[0] != 0:
-                continue
-        out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, view, candidate.label, jr))
-        return add(nxt, trace.run(nxt, u_next, p_snap, st, origin=jr if nxt is view else None), piece.index,
-                   "snap", p_snap)
-    return None  # unreachable: the last candidate is always taken
+        trial = continuation(nxt, u_next, p, dataclasses.replace(st, max_steps=1, stop_at=()))
+        if len(trial) and _count(trial, label)[0] == 0:
+            return nxt, u_next, candidate
+        if candidate is sym and len(trial):
+            unstable = (nxt, trial)
+    if unstable is None:
+        raise ValueError(f"the landing of the snap at {view.parameter_name} = {p:.10g} does not converge in the view "
+                         f"of its symmetry {sym.label}")
+    nxt, trial = unstable
+    return None, (nxt, np.asarray(trial.u[0])), _unstable_class(trial)
+
+
+def _unstable_class(branch: Branch) -> str | None:
+    """The first representation whose block is indefinite at a branch's first point (None: the traced class)."""
+    modes = branch.meta.get("modes", {}).get("representation")
+    if modes is None:
+        return None
+    counts = np.asarray(modes["n_negative"], dtype=int).reshape(len(branch.p), -1)[0]
+    hit = np.flatnonzero(counts > 0)
+    return str(list(modes["keys"])[int(hit[0])]) if hit.size else None
+
+
+def _into_class(unstable: tuple[Problem, np.ndarray], key: str | None,
+                p: float) -> tuple[Problem, np.ndarray, np.ndarray | None]:
+    """A state of a view that is unstable against the class ``key`` (None: against its own class, or in a view
+    without a mirror), carried into the view where the descent can leave it: ``(view, unknowns, kick)``.
+
+    For a class of another representation, the isotropy subgroup's view (:func:`~contin_models.shell.lift.breaking`,
+    without a mirror under a gauge when the subgroup has none) and the block's lowest eigenvector lifted there as the
+    kick; otherwise the same view, kicked along its own lowest eigenvector."""
+    from contin.numerics.stability import stability_info
+
+    from .lift import breaking, subgroup_basis, subgroup_lift
+
+    view, u = unstable
+    if key is None or not isinstance(view, Shell3D):
+        return view, u, None
+    family = view.operator_families[0]
+    block = family.operator(key, u, p)
+    vector = stability_info(block, 1, vectors=True).eigenvectors[:, 0]
+    b = breaking(view.basis, key)
+    target = same_load(view, subgroup_basis(view.basis, key), b.turn, every_mode=True)
+    lift = subgroup_lift(view, target, key)
+    u_t = lift.state(u, p)
+    kick = lift.mode(vector)
+    if not target.basis.mirror:  # no mirror left: the turning about the axis is held by a gauge
+        gauged, turn = _gauged(target, target.full_state(u_t, p))
+        kick_c = transfer_coefficients(target.T @ kick, target.basis, gauged.basis, turn)
+        c = transfer_coefficients(target.full_state(u_t, p), target.basis, gauged.basis, turn)
+        return gauged, gauged.unknowns(c), gauged.unknowns(kick_c)
+    return target, u_t, kick
+
+
+def _gauged(view: Shell3D, c: np.ndarray) -> tuple[Shell3D, float]:
+    """The view without a mirror of ``view``'s basis, its turning held by the gauge of the state ``c``, and the
+    angle to turn ``c`` by for it (:func:`~contin_models.shell.problem3d.gauge_for`)."""
+    basis = view.basis if not view.basis.mirror else AngularBasis(view.basis.n, view.basis.K, mirror=False,
+                                                                  M=view.basis.M)
+    gauge, turn = gauge_for(basis, transfer_coefficients(c, view.basis, basis))
+    return same_load(view, basis, gauge=gauge), turn
 
 
 def _view_of_landing(source: Problem, view: Shell3D, u: np.ndarray, p: float,
                      sym: StateSymmetry) -> tuple[Problem, np.ndarray]:
-    """The view the path goes on in from a landing ``u`` of ``view`` (a ``D_n`` view) of symmetry ``sym``, and the
-    landing's unknowns there: the traced model for an axisymmetric landing, else the ``D_m`` view of its waves."""
+    """The view the path goes on in from a landing ``u`` of ``view`` of symmetry ``sym``, and the landing's unknowns
+    there: the traced model for an axisymmetric landing, the ``D_m`` view of its waves for ``m`` waves and a
+    mirror, else the view without a mirror under a gauge."""
     c = view.full_state(u, p)
     if sym.label == "O(2)":
         return source, source.unknowns(c[view.view.axisymmetric_dofs()])
     m = sym.order
-    if m == view.basis.n:
-        return view, np.asarray(u, dtype=float)
     top = int(view.basis.wave_numbers.max())
-    basis = AngularBasis(m, max(1, math.ceil(top / m)))
+    if sym.mirror is None:
+        if not view.basis.mirror and view.gauge is not None:
+            return view, np.asarray(u, dtype=float)
+        gauged, turn = _gauged(view, c)
+        return gauged, gauged.unknowns(transfer_coefficients(c, view.basis, gauged.basis, turn))
+    if view.basis.mirror and m == view.basis.n:
+        return view, np.asarray(u, dtype=float)
+    K = max(1, math.ceil(top / m))
+    M = view.basis.M  # the descent's own quadrature where it suits the basis: the landing keeps its energy
+    basis = AngularBasis(m, K, M=M if (M % (2 * m) == 0 and M > 2 * K * m) else None)
     target = same_load(view, basis, every_mode=True)
-    # the landing's waves that are not multiples of m are below the symmetry's threshold: dropped, and the
-    # first corrector step of the next piece takes up what they were
-    rows = c.reshape(-1, view.basis.m).copy()
-    rows[:, [i for i, t in enumerate(view.basis.terms) if t[2] % m]] = 0.0
-    return target, target.unknowns(transfer_coefficients(rows.ravel(), view.basis, basis))
+    # turned onto the mirror, the landing's waves that are not multiples of m and its antisymmetric part are below
+    # the symmetry's threshold: dropped, and the first corrector step of the next piece takes up what they were
+    both = AngularBasis(1, top, mirror=False, M=view.basis.M)
+    turned = transfer_coefficients(c, view.basis, both, float(sym.mirror)).reshape(-1, both.m)
+    turned[:, [i for i, t in enumerate(both.terms) if (t[0] == "T") == (t[1] == "cos") or t[2] % m]] = 0.0
+    return target, target.unknowns(transfer_coefficients(turned.ravel(), both, basis))

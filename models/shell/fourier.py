@@ -590,10 +590,19 @@ class FourierShell:
         out[:, int(node) * self.m:(int(node) + 1) * self.m] = rot @ P
         return out
 
-    def reduction(self, remove_rigid: bool = True, control_fixed=()) -> FourierReduction:
+    @property
+    def turns_freely(self) -> bool:
+        """Whether a state turned about the axis keeps its energy: the reference has no waves."""
+        if self._c_bar is None:
+            return True
+        rest = np.delete(self._c_bar, self.axisymmetric_dofs())
+        return not np.any(rest)
+
+    def reduction(self, remove_rigid: bool = True, control_fixed=(), held=()) -> FourierReduction:
         """The admissible unknowns: poles are single points, supports hold their rings, and (``remove_rigid``)
         a shell without a support in ``z`` has its rigid motions removed at the structure's ``rigid_fix``
         node, as the harmonic blocks do per wave number (:func:`contin_models.shell.harmonic.harmonic_dofs`).
+        ``held``: further unknowns (positions in the coefficient vector) fixed at their values.
 
         ``control_fixed``: traced-model dofs (``2 i`` for ``r_i``, ``2 i + 1`` for ``z_i``) a control holds;
         their ``k = 0`` unknowns are fixed.
@@ -622,6 +631,7 @@ class FourierShell:
         for d in control_fixed:
             i, which = divmod(int(d), 2)
             fixed.add(i * m + B.index("Z" if which else "R", "cos", 0))
+        fixed |= {int(d) for d in held}
         tied_dofs = {t[0] for t in tied}
         free = np.array([d for d in range(self.size) if d not in fixed and d not in tied_dofs], dtype=int)
         col = {d: j for j, d in enumerate(free)}

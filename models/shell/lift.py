@@ -305,9 +305,10 @@ def subgroup_basis(basis: AngularBasis, representation: str, K: int | None = Non
     return AngularBasis(b.n, int(K), mirror=b.mirror, M=M)
 
 
-def same_load(problem: Shell3D, basis: AngularBasis, turn: float = 0.0, every_mode: bool = False) -> Shell3D:
+def same_load(problem: Shell3D, basis: AngularBasis, turn: float = 0.0, every_mode: bool = False,
+              gauge: tuple[int, int] | None = None) -> Shell3D:
     """``problem``'s structure, load and control in another basis (its reference carried over, turned by ``turn``;
-    with ``every_mode`` where the basis has a mirror).
+    with ``every_mode`` where the basis has a mirror, and the ``gauge`` of :class:`Shell3D`).
 
     Raises
     ------
@@ -325,7 +326,7 @@ def same_load(problem: Shell3D, basis: AngularBasis, turn: float = 0.0, every_mo
     reference = (transfer_coefficients(problem.c_ref, problem.basis, basis, turn) if np.any(shape) else None)
     return Shell3D(problem.structure, basis, problem.load, problem.control, length=problem.length,
                    node=problem.node if problem.load == "ring" else None, p_c=problem.p_c,
-                   every_mode=every_mode and basis.mirror, reference=reference)
+                   every_mode=every_mode and basis.mirror, reference=reference, gauge=gauge)
 
 
 def subgroup_lift(problem: Shell3D, target: Shell3D, representation: str) -> Lift:

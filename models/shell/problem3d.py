@@ -78,6 +78,12 @@ class Shell3D(Problem):
         e.g. an imperfection of :mod:`contin_models.shell.imperfection3d`: the unloaded equilibrium, where
         the supports hold their rings and from which ``w`` and the loads' work are measured.  Default: the
         structure's axisymmetric reference.
+    gauge : (node, k), optional
+        In a basis without a mirror, on a shell whose reference has no waves: hold ``R sin k theta`` of ring
+        ``node`` at zero.  A state with waves is one of a circle of states turned about the axis, all of the same
+        energy, so its Jacobian is singular along the turning; holding one coefficient the turning moves (a state
+        turned so that its wave ``k`` at ``node`` is a cosine, :func:`gauge_for`) picks one state of each circle
+        and leaves the Jacobian regular and its Morse index that of the circle.
 
     Notes
     -----
@@ -99,7 +105,8 @@ class Shell3D(Problem):
                  control: Literal["force", "displacement"] = "force", length: float | None = None,
                  forces: Sequence[tuple[int, float, Sequence[float]]] = (), node: int | None = None,
                  line_loads: Sequence[tuple[int, int, Sequence[float]]] = (), every_mode: bool = False,
-                 barrier: Any = None, p_c: float | None = None, reference: np.ndarray | None = None) -> None:
+                 barrier: Any = None, p_c: float | None = None, reference: np.ndarray | None = None,
+                 gauge: tuple[int, int] | None = None) -> None:
         if load not in LOADS:
             raise ValueError(f"Shell3D: load must be one of {LOADS}, got {load!r}")
         if control not in ("force", "displacement"):
@@ -143,7 +150,9 @@ class Shell3D(Problem):
         self.z_dof = self.node * view.m + basis.index("Z", "cos", 0) if self.node is not None else None
         self.z_ref_node = float(self.c_ref[self.z_dof]) if self.node is not None else math.nan
         held = [2 * self.node + 1] if control == "displacement" and not indenter else []
-        self.reduction = red = view.reduction(control_fixed=held)
+        self.gauge = None if gauge is None else (int(gauge[0]), int(gauge[1]))
+        fixed = [] if gauge is None else [self._gauge_dof(self.gauge)]
+        self.reduction = red = view.reduction(control_fixed=held, held=fixed)
         self.T = red.T.tocsc()
         self.Tt = red.T.T.tocsr()
         self.D = float(st.kb_nodes[self.node if self.node is not None else N - 1])
@@ -259,6 +268,22 @@ class Shell3D(Problem):
 
         return OperatorFamily("representation", tuple(classes), block, multiplicity=lambda key: classes[key][2])
 
+    def _gauge_dof(self, gauge: tuple[int, int]) -> int:
+        """The coefficient a gauge holds: ``R sin k theta`` of ring ``node`` (at its reference value, zero)."""
+        node, k = gauge
+        basis, view = self.basis, self.view
+        if basis.mirror or not view.turns_freely:
+            raise ValueError("Shell3D: a gauge fixes the turning of states about the axis, which a basis without a "
+                             "mirror (mirror=False) and a reference without waves have; this view has none to fix")
+        # on the axis only the wave 1 (the pole's sideways position) is a coefficient of its own
+        if not 0 <= node < self.structure.N or (node in self.structure.poles and k != 1):
+            raise ValueError(f"Shell3D: the gauge's ring must be a node in [0, {self.structure.N - 1}], off the axis "
+                             f"unless k = 1, got node {node} with k = {k}")
+        try:
+            return node * view.m + basis.index("R", "sin", k)
+        except KeyError:
+            raise ValueError(f"Shell3D: the gauge's wave k = {k} is not a wave of {basis!r}") from None
+
     def _without_turning(self, H: sp.csr_matrix, c: np.ndarray) -> sp.csr_matrix:
         """The ``A2`` block ``H`` at the state ``c`` with the state's turning about the axis taken out.
 
@@ -270,6 +295,8 @@ class Shell3D(Problem):
         positive diagonal entry, so the block keeps its size and band).  An axisymmetric state is its own
         circle: its block is kept whole.
         """
+        if not self.view.turns_freely:  # a reference with waves: turning changes the energy
+            return H
         g = self.view.turning_direction(c)[self.view.bloch_unknowns(0, "odd")]
         size = float(np.max(np.abs(c[self.view.axisymmetric_dofs()]))) or 1.0
         if g.size == 0 or float(np.max(np.abs(g))) <= TURNING_NEGLIGIBLE * size:
@@ -444,3 +471,30 @@ class Shell3D(Problem):
 
     def __repr__(self) -> str:
         return f"Shell3D({self.structure!r}, {self.basis!r}, load={self.load!r}, control={self.control!r})"
+
+
+def gauge_for(basis: AngularBasis, c: np.ndarray) -> tuple[tuple[int, int], float]:
+    """The gauge of :class:`Shell3D` for the state ``c`` of a basis without a mirror, and the angle to turn it by.
+
+    The ring and wave whose ``R`` field moves most when the state turns (the largest ``k sqrt(a^2 + b^2)`` of
+    ``R = a cos k theta + b sin k theta``, off the axis); turned by ``atan2(b, a) / k``
+    (:func:`~contin_models.shell.fourier.transfer_coefficients`), the state has ``b = 0`` there.
+
+    Raises
+    ------
+    ValueError
+        The state has no waves (nothing turns).
+    """
+    rows = np.asarray(c, dtype=float).reshape(-1, basis.m)
+    best, where = 0.0, None
+    for k in sorted({t[2] for t in basis.terms if t[2] > 0}):
+        a = rows[:, basis.index("R", "cos", k)]
+        b = rows[:, basis.index("R", "sin", k)]
+        size = k * np.hypot(a, b)
+        i = int(np.argmax(size))
+        if size[i] > best:
+            best, where = float(size[i]), (i, k, math.atan2(b[i], a[i]) / k)
+    if where is None:
+        raise ValueError("gauge_for: the state has no waves: it does not turn")
+    i, k, angle = where
+    return (i, k), angle
