@@ -119,8 +119,8 @@ def test_the_end_of_the_load_must_lie_ahead() -> None:
 
 FOLLOW_REFUSED = [
     (["stability.follow=true"], ["stability.follow", "stability.harmonics = true"]),
-    (["stability.follow=true", "stability.harmonics=true", "load.control=force"],
-     ["stability.follow", "load.control", "not followed yet"]),
+    (["stability.follow=true", "stability.harmonics=true", "load.kind=pressure", "load.control=force"],
+     ["stability.follow", "load.kind", "not followed yet"]),
     (["stability.follow=true", "stability.harmonics=true", "load.kind=plate"], ["stability.follow", "load.kind"]),
 ]
 
@@ -223,3 +223,24 @@ def _turned_derivative(basis: AngularBasis, c: np.ndarray, step: float = 1e-6) -
     from contin_models.shell.fourier import transfer_coefficients
 
     return (transfer_coefficients(c, basis, basis, step) - transfer_coefficients(c, basis, basis, -step)) / (2 * step)
+
+
+def test_under_a_dead_load_the_three_wave_branch_carries_the_load_to_its_own_limit_point() -> None:
+    """The cap phi_hat = 0.6 under a dead load: the three-wave branch is stable and rises to a limit point below
+    the axisymmetric one, where the cap snaps to the everted state, beyond the end of the load (w = 0.9 R)."""
+    structure = ShellStructure(spherical_cap(1.0, 0.6, N), E, NU, H_OVER_R, boundary="sliding")
+    source = ShellOfRevolution(structure, "point", "force", harmonics=5)
+    settings = contin.Settings(ds=0.01, ds_max=0.02, max_steps=2000, param_weight=1e-2)
+    fp = follow_path(source, source.reference_unknowns(), 0.0, settings, structure=structure, label="force",
+                     end=("w", 0.9), K=K)
+    assert fp.success, fp.message
+    assert [(pc.symmetry, pc.end) for pc in fp.pieces] == [("O(2)", "bifurcation"), ("D3", "fold"),
+                                                           ("O(2)", "end of load")]
+    for piece in fp.pieces[:2]:
+        assert np.all(piece.branch.n_negative_under("force")[:-1] == 0)
+    assert fp.pieces[2].branch.observables["w"][0] >= 0.9 and fp.snaps[0].jump.success
+    plain = ShellOfRevolution(structure, "point", "force")
+    axisymmetric = contin.continuation(plain, plain.reference_unknowns(), 0.0, settings, stop_at=("fold",))
+    limit = axisymmetric.special_points[-1]
+    assert limit.kind == "fold"
+    assert 0.9 * limit.p < fp.pieces[1].branch.p[-1] < limit.p  # the three-wave branch's limit load is lower

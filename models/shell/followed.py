@@ -165,8 +165,11 @@ class _Trace:
     """How every piece is traced: with the caller's events."""
 
     events: tuple
+    end: tuple[str, float] | None = None
 
     def run(self, problem: Problem, u: np.ndarray, p: float, st: Any, origin: Any = None) -> Branch:
+        if self.end is not None and float(problem.evaluate_observables(u, p)[self.end[0]]) >= self.end[1]:
+            st = dataclasses.replace(st, max_steps=1)  # a landing beyond the end of the load: its point alone
         return continuation(problem, u, p, st, events=self.events, origin=origin)
 
     def switch(self, problem: Problem, point: SpecialPoint, st: Any, side: int) -> Branch:
@@ -195,7 +198,8 @@ def _symmetry_of(problem: Problem) -> tuple[str, int]:
 
 
 def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, structure: Any, label: str,
-                p_end: float, K: int = 2, max_pieces: int = 12, events: Sequence[Any] = (),
+                p_end: float | None = None, end: tuple[str, float] | None = None, K: int = 2,
+                max_pieces: int = 12, events: Sequence[Any] = (),
                 say: Callable[[str], None] | None = None) -> FollowedPath:
     """Follow the stable path of a shell of revolution from ``(u0, p0)`` to ``p_end`` (see the module docstring).
 
@@ -213,8 +217,11 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
         The structure whose energy the source's is (the 3-D views are built on it).
     label : str
         The stability label of the control (``"displacement"`` or ``"force"``): what stable means on the path.
-    p_end : float
-        The end of the load (``> p0``).
+    p_end : float, optional
+        The end of the load (``> p0``): the parameter's bound.
+    end : (str, float), optional
+        Or an observable's end (``("w", w_end)``: the load goes on until the deflection reaches ``w_end``, as a dead
+        load does until the shell everts); one of ``p_end`` and ``end`` is given.
     K : int
         Harmonics above 0 of the ``D_n`` view of an ``n``-wave branch.
     max_pieces : int
@@ -228,10 +235,18 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
     -------
     FollowedPath
     """
-    if not p_end > p0:
+    if (p_end is None) == (end is None):
+        raise ValueError("follow_path: give the end of the load as p_end (the parameter's) or as end (an observable's), "
+                         "one of them")
+    if p_end is not None and not p_end > p0:
         raise ValueError(f"follow_path: the end of the load p_end must be above the start {p0!r}, got {p_end!r}")
-    st = dataclasses.replace(settings, stop_at=STOPS, stability=True, direction=1, p_max=float(p_end))
-    trace = _Trace(tuple(events))
+    if p_end is not None:
+        st = dataclasses.replace(settings, stop_at=STOPS, stability=True, direction=1, p_max=float(p_end))
+    else:
+        name, value = end
+        st = dataclasses.replace(settings, stop_at=STOPS, stability=True, direction=1,
+                                 bounds={**settings.bounds, name: (None, float(value))})
+    trace = _Trace(tuple(events), None if end is None else (str(end[0]), float(end[1])))
     tell = say or (lambda text: None)
     out = FollowedPath(label=label)
     pname = source.parameter_name
@@ -250,6 +265,12 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
             piece.end = "stopped"
             out.message = f"the piece from {pname} = {piece.start_p:.10g} could not start: {br.message}"
             return out
+        if end is not None and piece.start == "snap" and float(br.observables[end[0]][0]) >= end[1]:
+            piece.end = "end of load"
+            out.status = "completed"
+            out.message = (f"the snap at {pname} = {piece.start_p:.10g} landed beyond the end of the load, {end[0]} = "
+                           f"{end[1]:.10g}, after {len(out.pieces) - 1} stable piece(s) and {len(out.snaps)} snap(s)")
+            return out
         last = br.special_points[-1] if br.special_points else None
         stop = last if (br.status == "event" and last is not None and last.located and last.kind in STOPS) else None
         # the located point that ends a piece is singular: its count is either side's
@@ -262,10 +283,11 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
                            "eigenvalue(s)) without a located point")
             return out
         if stop is None:
-            if br.status == "bound" and abs(float(br.p[-1]) - p_end) <= 1e-9 * max(1.0, abs(p_end)):
+            reached = _reached(br, p_end, end)
+            if br.status == "bound" and reached is not None:
                 piece.end = "end of load"
                 out.status = "completed"
-                out.message = (f"reached {pname} = {p_end:.10g} along {len(out.pieces)} stable piece(s) and "
+                out.message = (f"reached {reached} along {len(out.pieces)} stable piece(s) and "
                                f"{len(out.snaps)} snap(s)")
             else:
                 piece.end = "stopped"
@@ -282,6 +304,17 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
             return out
         if piece is None:
             return out
+
+
+def _reached(br: Branch, p_end: float | None, end: tuple[str, float] | None) -> str | None:
+    """What end of the load the branch's last point reached (None: none)."""
+    if p_end is not None:
+        if abs(float(br.p[-1]) - p_end) <= 1e-9 * max(1.0, abs(p_end)):
+            return f"{br.meta.get('parameter_name', 'p')} = {p_end:.10g}"
+        return None
+    name, value = end
+    last = float(br.observables[name][-1])
+    return f"{name} = {value:.10g}" if abs(last - value) <= 1e-9 * max(1.0, abs(value)) else None
 
 
 def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st: Any, label: str, K: int,
@@ -317,10 +350,10 @@ def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st
         tell(f"  {what} is not stable in the direction of loading: the shell snaps")
     # a snap from a bifurcation starts in the view where the point is simple, kicked along its mode
     full_from = (start[0], start[1]) if (start is not None and stop.kind == "bifurcation") else None
-    return _snap(piece, stop, source, st, label, full_from, out, add, trace)
+    return _snap(piece, stop, source, structure, K, st, label, full_from, out, add, trace)
 
 
-def _snap(piece: Piece, stop: SpecialPoint, source: Problem, st: Any, label: str,
+def _snap(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, K: int, st: Any, label: str,
           full_from: tuple[Shell3D, SpecialPoint] | None, out: FollowedPath,
           add: Callable[..., Piece], trace: "_Trace") -> Piece | None:
     """Snap from ``stop`` at the load just past it and start the next piece at the landing.
@@ -339,12 +372,22 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, st: Any, label: str
         if not jr.success:
             out.message = f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land: {jr.message}"
             return None
-        out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, None, piece.symmetry, jr))
-        return add(problem, trace.run(problem, jr.u_to, p_snap, st, origin=jr), piece.index, "snap", p_snap)
-    view, bp = full_from
-    null = bp.bifurcation.null_vector if (bp.bifurcation is not None and bp is not stop) else None
-    # the view where the point is simple has a mirror: no turning about the axis for the descent to slide along
-    u_from, kick = np.asarray(bp.u), None if null is None else np.asarray(null, dtype=float)
+        trial = continuation(problem, jr.u_to, p_snap, dataclasses.replace(st, max_steps=1, stop_at=()))
+        if len(trial) and _count(trial, label)[0] == 0:
+            out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, problem, piece.symmetry, jr))
+            return add(problem, trace.run(problem, jr.u_to, p_snap, st, origin=jr), piece.index, "snap", p_snap)
+        n = _unstable_class(trial, "n")
+        if not len(trial) or n is None:
+            out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} landed on an "
+                           f"axisymmetric state that is not stable under {label} control: {trial.message}")
+            return None
+        # stable among axisymmetric states, not against n waves: on in the D_n view, kicked along the block's mode
+        view, u_from, kick = _into_waves(problem, structure, np.asarray(trial.u[0]), p_snap, int(n), K)
+    else:
+        view, bp = full_from
+        null = bp.bifurcation.null_vector if (bp.bifurcation is not None and bp is not stop) else None
+        # the view where the point is simple has a mirror: no turning about the axis for the descent to slide along
+        u_from, kick = np.asarray(bp.u), None if null is None else np.asarray(null, dtype=float)
     for _ in range(MAX_DESCENTS):
         jr = jump(view, u_from, p_snap, direction=kick)
         if not jr.success:
@@ -391,14 +434,15 @@ def _landing(source: Problem, view: Shell3D, jr: Any, p: float, st: Any,
     return None, (nxt, np.asarray(trial.u[0])), _unstable_class(trial)
 
 
-def _unstable_class(branch: Branch) -> str | None:
-    """The first representation whose block is indefinite at a branch's first point (None: the traced class)."""
-    modes = branch.meta.get("modes", {}).get("representation")
+def _unstable_class(branch: Branch, family: str = "representation") -> Any:
+    """The first key of an operator family (a representation, a wave number) whose operator is indefinite at a
+    branch's first point (None: none is, the traced class is)."""
+    modes = branch.meta.get("modes", {}).get(family)
     if modes is None:
         return None
     counts = np.asarray(modes["n_negative"], dtype=int).reshape(len(branch.p), -1)[0]
     hit = np.flatnonzero(counts > 0)
-    return str(list(modes["keys"])[int(hit[0])]) if hit.size else None
+    return list(modes["keys"])[int(hit[0])] if hit.size else None
 
 
 def _into_class(unstable: tuple[Problem, np.ndarray], key: str | None,
@@ -430,6 +474,22 @@ def _into_class(unstable: tuple[Problem, np.ndarray], key: str | None,
         c = transfer_coefficients(target.full_state(u_t, p), target.basis, gauged.basis, turn)
         return gauged, gauged.unknowns(c), gauged.unknowns(kick_c)
     return target, u_t, kick
+
+
+def _into_waves(source: Problem, structure: Any, u: np.ndarray, p: float, n: int,
+                K: int) -> tuple[Shell3D, np.ndarray, np.ndarray]:
+    """An axisymmetric state of the traced model, unstable against ``n`` waves, in the ``D_n`` view
+    (:func:`~contin_models.shell.lift.waves_view`), with the harmonic block's lowest eigenvector lifted there as the
+    kick: ``(view, unknowns, kick)``."""
+    from contin.numerics.stability import stability_info
+
+    from .lift import shell_lift, waves_view
+
+    family = next(f for f in source.operator_families if f.name == "n")
+    vector = stability_info(family.operator(n, u, p), 1, vectors=True).eigenvectors[:, 0]
+    view = waves_view(source, structure, n, K, every_mode=True)
+    lift = shell_lift(source, view, n)
+    return view, lift.state(u, p), lift.mode(vector)
 
 
 def _gauged(view: Shell3D, c: np.ndarray) -> tuple[Shell3D, float]:

@@ -51,7 +51,7 @@ from contin.results.branch import Branch, SpecialPoint
 from .fourier import AngularBasis, FourierShell, representation_name, transfer_coefficients
 from .problem3d import Shell3D
 
-__all__ = ["shell_lift", "follow_waves", "rotated_half", "WavesBranch", "Breaking", "breaking", "subgroup_basis",
+__all__ = ["shell_lift", "follow_waves", "waves_view", "rotated_half", "WavesBranch", "Breaking", "breaking", "subgroup_basis",
            "subgroup_lift", "same_load", "BrokenBranch", "follow_symmetry_breaking", "StateSymmetry", "state_symmetry",
            "FullSpaceLanding", "jump_in_full_space"]
 
@@ -197,15 +197,20 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     if getattr(source, "barrier", None) is not None:
         raise LiftError("follow_waves: the source is pressed by an indenter, which this lift does not carry into the "
                         "3-D view; the point, ring and pressure loads are lifted")
-    # the source's load: a shell of revolution names it; the paper's model is a point load
-    load = getattr(source, "load", "point")
-    node = getattr(source, "node", None) if load == "ring" else None
-    target = Shell3D(st, AngularBasis(n, int(K)), load, source.control, node=node,
-                     length=getattr(source, "length", None),
-                     p_c=getattr(source, "p_c", None) if load == "pressure" else None, every_mode=every_mode)
+    target = waves_view(source, st, n, int(K), every_mode)
     bp = lift_branch_point(point, source, target, shell_lift(source, target, n))
     branch = switch_branch(target, bp, settings, direction=1, **overrides)
     return WavesBranch(target, bp, branch)
+
+
+def waves_view(source: Problem, structure: Any, n: int, K: int, every_mode: bool = False) -> Shell3D:
+    """The 3-D view restricted to ``D_n`` (``AngularBasis(n, K)``) of the traced model ``source``: its structure,
+    load (a shell of revolution names it; the paper's model is a point load), control, ring and pressure scale."""
+    load = getattr(source, "load", "point")
+    node = getattr(source, "node", None) if load == "ring" else None
+    return Shell3D(structure, AngularBasis(n, int(K)), load, source.control, node=node,
+                   length=getattr(source, "length", None),
+                   p_c=getattr(source, "p_c", None) if load == "pressure" else None, every_mode=every_mode)
 
 
 def rotated_half(problem: Shell3D, u: np.ndarray, p: float) -> np.ndarray:

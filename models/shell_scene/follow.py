@@ -84,8 +84,10 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     say = (lambda text: print(f"follow: {text}", file=sys.stderr, flush=True)) if progress else None
     # the load's extrema located on every piece, as on the axisymmetric path: the class reads them
     events = [contin.extremum("F", which, folds="F", stability_label="force") for which in ("max", "min")]
+    # a prescribed deflection ends at its end; a dead load goes on until the shell everts
+    ends = {"p_end": float(p_end)} if control == "displacement" else {"end": ("w", float(p_end))}
     fp = follow_path(source, b.u0, b.p0, b.settings, structure=traced_structure(scene, source), label=control,
-                     p_end=float(p_end), K=int(scene["view"]["harmonics"]), events=events, say=say)
+                     K=int(scene["view"]["harmonics"]), events=events, say=say, **ends)
     pname = source.parameter_name
     path = axi.branches[0]
     pieces = [pc.branch for pc in fp.pieces]
@@ -111,22 +113,15 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
                            "harmonics": int(scene["view"]["harmonics"]),
                            "branches": followed_branches(fp, pname, R),
                            "path": _path_sequence(fp, pname)}
-    left = next((pc for pc in fp.pieces if pc.symmetry != "O(2)" or pc.start == "snap"), None)
+    left = next((pc for pc in fp.pieces if pc.symmetry != "O(2)"), None)
     if left is None:
-        where = "the followed path stays on the axisymmetric branch"
+        where = f"the followed path stays axisymmetric ({len(fp.snaps)} snap(s))"
     else:
         how = (f"into {left.waves} wave{'s' if left.waves > 1 else ''} ({left.symmetry})" if left.waves
                else f"to a state of symmetry {left.symmetry}")
         verb = "snaps" if left.start == "snap" else "turns"
-        where = f"the followed path leaves the axisymmetric branch at {pname}/R = {left.start_p / R:.4g}: it {verb} {how}"
-    summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
-    cls = summary["followed"].get("classification")
-    if cls is not None:
-        same = cls == summary.get("classification")
-        where += (f"; on the followed path the cap is {cls}"
-                  + ("" if summary.get("classification") is None else
-                     (", as on the axisymmetric path" if same else
-                      f", not {summary.get('classification')} as on the axisymmetric path")))
+        at = f"{pname}/R = {left.start_p / R:.4g}" if pname == "w" else f"{pname} = {left.start_p:.6g}"
+        where = f"the followed path leaves the axisymmetric branch at {at}: it {verb} {how}"
     summary["followed"]["left_axisymmetric"] = where
     message = f"{fp.message}; {where}"
     failure = "" if fp.success else f"the followed path stopped: {fp.message}"

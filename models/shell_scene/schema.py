@@ -335,13 +335,11 @@ SHELL_SCHEMA = Schema(
                    "by the symmetry of each branch (view.harmonics sets their harmonics)"),
         Constraint(("stability.follow", "load.kind", "load.control", "load.pole_held"),
                    lambda s: not s["stability"]["follow"] or (s["load"]["kind"] in ("point", "ring")
-                                                             and s["load"]["control"] == "displacement"
                                                              and not s["load"]["pole_held"]),
-                   'load.kind = "point" or "ring" under load.control = "displacement" (the pole free) with '
-                   "stability.follow = true",
-                   "the followed path is built for a point or ring load whose deflection is prescribed; force control, "
-                   "pressure and the indenters are not followed yet (trace them with stability.harmonics to see "
-                   "where they leave the axisymmetric path)"),
+                   'load.kind = "point" or "ring" (the pole free) with stability.follow = true',
+                   "the followed path is built for a point or ring load, under either control; a pressure and the "
+                   "indenters are not followed yet (trace them with stability.harmonics to see where they leave the "
+                   "axisymmetric path)"),
         Constraint(("view.kind", "view.symmetry", "load.pole_held"),
                    lambda s: not (s["view"]["kind"] == "3d" and s["view"]["symmetry"] == "none"
                                   and s["load"]["kind"] == "point" and s["load"]["pole_held"]),
