@@ -119,8 +119,8 @@ def test_the_end_of_the_load_must_lie_ahead() -> None:
 
 FOLLOW_REFUSED = [
     (["stability.follow=true"], ["stability.follow", "stability.harmonics = true"]),
-    (["stability.follow=true", "stability.harmonics=true", "load.kind=pressure", "load.control=force"],
-     ["stability.follow", "load.kind", "not followed yet"]),
+    (["stability.follow=true", "stability.harmonics=true", "load.kind=pressure", "load.control=displacement"],
+     ["stability.follow", "load.kind", "prescribed volume", "not followed yet"]),
     (["stability.follow=true", "stability.harmonics=true", "load.kind=plate"], ["stability.follow", "load.kind"]),
 ]
 
@@ -244,3 +244,24 @@ def test_under_a_dead_load_the_three_wave_branch_carries_the_load_to_its_own_lim
     limit = axisymmetric.special_points[-1]
     assert limit.kind == "fold"
     assert 0.9 * limit.p < fp.pieces[1].branch.p[-1] < limit.p  # the three-wave branch's limit load is lower
+
+
+@pytest.mark.slow
+def test_a_clamped_cap_under_pressure_snaps_from_its_five_wave_bifurcation() -> None:
+    """The clamped default cap under pressure (N = 60): its five-wave branch falls back (subcritical), so the cap
+    snaps there, at the bifurcation's pressure, and lands on the inverted axisymmetric cap."""
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene.build import build, traced_structure
+    from contin_models.shell_scene.scene import SHELL_SCENE
+
+    scene = load_scene(SHELL_SCENE.schema, None, ["load.kind=pressure", "load.control=force", "shell.boundary=clamped",
+                                                  "stability.harmonics=true", "shell.N=60", "stability.n_max=8"])
+    b = build(scene)
+    fp = follow_path(b.problem, b.u0, 0.0, b.settings, structure=traced_structure(scene, b.problem), label="force",
+                     p_end=b.settings.p_max, end=("w", b.settings.bounds["w"][1]), K=1)
+    assert fp.success, fp.message
+    first, second = fp.pieces
+    stop = first.branch.special_points[-1]
+    assert (first.end, stop.info["key"], second.symmetry, second.start) == ("bifurcation", 5, "O(2)", "snap")
+    assert fp.snaps[0].p == pytest.approx(stop.p, rel=1e-5) and fp.snaps[0].jump.energy_to < fp.snaps[0].jump.energy_from
+    assert np.all(second.branch.n_negative[: len(second.branch)] == 0)

@@ -220,8 +220,9 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
     p_end : float, optional
         The end of the load (``> p0``): the parameter's bound.
     end : (str, float), optional
-        Or an observable's end (``("w", w_end)``: the load goes on until the deflection reaches ``w_end``, as a dead
-        load does until the shell everts); one of ``p_end`` and ``end`` is given.
+        An observable's end (``("w", w_end)``: the load goes on until the deflection reaches ``w_end``, as a dead
+        load does until the shell everts); at least one of ``p_end`` and ``end`` is given, the first reached ends
+        the path.
     K : int
         Harmonics above 0 of the ``D_n`` view of an ``n``-wave branch.
     max_pieces : int
@@ -235,17 +236,16 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
     -------
     FollowedPath
     """
-    if (p_end is None) == (end is None):
-        raise ValueError("follow_path: give the end of the load as p_end (the parameter's) or as end (an observable's), "
-                         "one of them")
+    if p_end is None and end is None:
+        raise ValueError("follow_path: give the end of the load as p_end (the parameter's), end (an observable's) "
+                         "or both")
     if p_end is not None and not p_end > p0:
         raise ValueError(f"follow_path: the end of the load p_end must be above the start {p0!r}, got {p_end!r}")
+    st = dataclasses.replace(settings, stop_at=STOPS, stability=True, direction=1)
     if p_end is not None:
-        st = dataclasses.replace(settings, stop_at=STOPS, stability=True, direction=1, p_max=float(p_end))
-    else:
-        name, value = end
-        st = dataclasses.replace(settings, stop_at=STOPS, stability=True, direction=1,
-                                 bounds={**settings.bounds, name: (None, float(value))})
+        st = dataclasses.replace(st, p_max=float(p_end))
+    if end is not None:
+        st = dataclasses.replace(st, bounds={**settings.bounds, str(end[0]): (None, float(end[1]))})
     trace = _Trace(tuple(events), None if end is None else (str(end[0]), float(end[1])))
     tell = say or (lambda text: None)
     out = FollowedPath(label=label)
@@ -308,13 +308,13 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
 
 def _reached(br: Branch, p_end: float | None, end: tuple[str, float] | None) -> str | None:
     """What end of the load the branch's last point reached (None: none)."""
-    if p_end is not None:
-        if abs(float(br.p[-1]) - p_end) <= 1e-9 * max(1.0, abs(p_end)):
-            return f"{br.meta.get('parameter_name', 'p')} = {p_end:.10g}"
-        return None
-    name, value = end
-    last = float(br.observables[name][-1])
-    return f"{name} = {value:.10g}" if abs(last - value) <= 1e-9 * max(1.0, abs(value)) else None
+    if p_end is not None and abs(float(br.p[-1]) - p_end) <= 1e-9 * max(1.0, abs(p_end)):
+        return f"{br.meta.get('parameter_name', 'p')} = {p_end:.10g}"
+    if end is not None:
+        name, value = end
+        if abs(float(br.observables[name][-1]) - value) <= 1e-9 * max(1.0, abs(value)):
+            return f"{name} = {value:.10g}"
+    return None
 
 
 def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st: Any, label: str, K: int,

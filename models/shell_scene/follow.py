@@ -24,7 +24,7 @@ import contin
 from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
 from .build import build, loaded_end, traced_structure
-from .labels import force_axes, length_symbol, scene_title
+from .labels import force_axes, length_symbol, pressure_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene
 from .view3d import surfaces_drawer
 
@@ -80,12 +80,16 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     source = b.problem
     R = float(scene["shell"]["R"]) if "R" in scene["shell"] else 1.0
     control = scene["load"]["control"]
-    p_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
+    pressure = scene["load"]["kind"] == "pressure"
     say = (lambda text: print(f"follow: {text}", file=sys.stderr, flush=True)) if progress else None
     # the load's extrema located on every piece, as on the axisymmetric path: the class reads them
-    events = [contin.extremum("F", which, folds="F", stability_label="force") for which in ("max", "min")]
-    # a prescribed deflection ends at its end; a dead load goes on until the shell everts
-    ends = {"p_end": float(p_end)} if control == "displacement" else {"end": ("w", float(p_end))}
+    events = [] if pressure else [contin.extremum("F", which, folds="F", stability_label="force")
+                                  for which in ("max", "min")]
+    if pressure:  # the scene's end pressure or eversion, whichever comes first (the settings hold both)
+        ends: dict[str, Any] = {"p_end": float(b.settings.p_max), "end": ("w", float(b.settings.bounds["w"][1]))}
+    else:  # a prescribed deflection ends at its end; a dead load goes on until the shell everts
+        w_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
+        ends = {"p_end": float(w_end)} if control == "displacement" else {"end": ("w", float(w_end))}
     fp = follow_path(source, b.u0, b.p0, b.settings, structure=traced_structure(scene, source), label=control,
                      K=int(scene["view"]["harmonics"]), events=events, say=say, **ends)
     pname = source.parameter_name
@@ -122,20 +126,35 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
         verb = "snaps" if left.start == "snap" else "turns"
         at = f"{pname}/R = {left.start_p / R:.4g}" if pname == "w" else f"{pname} = {left.start_p:.6g}"
         where = f"the followed path leaves the axisymmetric branch at {at}: it {verb} {how}"
+    if control == "displacement" and not pressure:  # the classes are defined on the displacement path
+        summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
+    else:  # a dead load or a pressure: where it snaps
+        summary["followed"]["snap_loads"] = [float(sn.p) for sn in fp.snaps]
+    cls = summary["followed"].get("classification")
+    if cls is not None:
+        same = cls == summary.get("classification")
+        where += (f"; on the followed path the cap is {cls}"
+                  + ("" if summary.get("classification") is None else
+                     (", as on the axisymmetric path" if same else
+                      f", not {summary.get('classification')} as on the axisymmetric path")))
     summary["followed"]["left_axisymmetric"] = where
     message = f"{fp.message}; {where}"
     failure = "" if fp.success else f"the followed path stopped: {fp.message}"
     L = length_symbol(scene["shell"])
     D = summary.get("D")
-    options = force_axes("w", R, D, length_symbol=L, w_symbol="w", scaled={"w_over_L": "w", "F_norm": "F"}) \
-        if D is not None else {}
+    if pressure:
+        options, x, y = pressure_axes(source.p_c), "w_over_h", "p_over_p_c"
+    else:
+        options = force_axes("w", R, D, length_symbol=L, w_symbol="w", scaled={"w_over_L": "w", "F_norm": "F"}) \
+            if D is not None else {}
+        x, y = "w", "F"
     # the axisymmetric path beneath, faded, without its points: the followed pieces are read against it
     plot_options = {**options, "title": f"followed path: {scene_title(scene)}", "control": control,
                     "special_kinds": ("fold", "branch_point", "bifurcation"), "faded": [0]}
 
     shapes = followed_shapes(fp, traced_structure(scene, source))
     result = TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
-                         table=special_point_table(records, pname), csv_columns=cols, x="w", y="F",
+                         table=special_point_table(records, pname), csv_columns=cols, x=x, y=y,
                          parameter_name=pname, labels=labels, jump_observables=jump_obs, failure=failure,
                          stability=control, plot_options=plot_options, shapes=shapes,
                          draw_shapes=surfaces_drawer(shapes, R, float(scene["shell"]["h"]), pname,

@@ -334,12 +334,14 @@ SHELL_SCHEMA = Schema(
                    "bifurcation into waves, so it needs the blocks watched; the 3-D views it goes on in are chosen "
                    "by the symmetry of each branch (view.harmonics sets their harmonics)"),
         Constraint(("stability.follow", "load.kind", "load.control", "load.pole_held"),
-                   lambda s: not s["stability"]["follow"] or (s["load"]["kind"] in ("point", "ring")
-                                                             and not s["load"]["pole_held"]),
-                   'load.kind = "point" or "ring" (the pole free) with stability.follow = true',
-                   "the followed path is built for a point or ring load, under either control; a pressure and the "
-                   "indenters are not followed yet (trace them with stability.harmonics to see where they leave the "
-                   "axisymmetric path)"),
+                   lambda s: not s["stability"]["follow"] or (
+                       (s["load"]["kind"] in ("point", "ring") and not s["load"]["pole_held"])
+                       or (s["load"]["kind"] == "pressure" and s["load"]["control"] == "force")),
+                   'load.kind = "point" or "ring" (the pole free), or "pressure" under load.control = "force", with '
+                   "stability.follow = true",
+                   "the followed path is built for a point or ring load under either control and a pressure under "
+                   "pressure control; a prescribed volume and the indenters are not followed yet (trace them with "
+                   "stability.harmonics to see where they leave the axisymmetric path)"),
         Constraint(("view.kind", "view.symmetry", "load.pole_held"),
                    lambda s: not (s["view"]["kind"] == "3d" and s["view"]["symmetry"] == "none"
                                   and s["load"]["kind"] == "point" and s["load"]["pole_held"]),
