@@ -141,7 +141,7 @@ class WavesBranch:
 
 
 def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure: Any = None,
-                 settings: Any = None, **overrides: Any) -> WavesBranch:
+                 settings: Any = None, every_mode: bool = False, **overrides: Any) -> WavesBranch:
     """Follow the ``n``-wave branch from the axisymmetric trace's located bifurcation into ``n`` waves.
 
     The point is lifted into the 3-D view in the ``D_n`` basis with ``K`` harmonics (:func:`shell_lift`),
@@ -167,6 +167,10 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     settings : contin.Settings, optional
         Settings of the branch's trace; ``overrides`` as :func:`contin.switch_branch` takes them (``p_max``,
         ``ds``, ``stability``, ...).
+    every_mode : bool
+        Build the 3-D view with ``every_mode`` (:class:`~contin_models.shell.problem3d.Shell3D`): with
+        ``stability`` the branch is counted against every representation of ``D_n`` (the operator family
+        ``"representation"``) and the engine locates where it breaks its symmetry.
 
     Returns
     -------
@@ -199,7 +203,7 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     node = getattr(source, "node", None) if load == "ring" else None
     target = Shell3D(st, AngularBasis(n, int(K)), load, source.control, node=node,
                      length=getattr(source, "length", None),
-                     p_c=getattr(source, "p_c", None) if load == "pressure" else None)
+                     p_c=getattr(source, "p_c", None) if load == "pressure" else None, every_mode=bool(every_mode))
     bp = lift_branch_point(point, source, target, shell_lift(source, target, n))
     branch = switch_branch(target, bp, settings, direction=1, **overrides)
     return WavesBranch(target, bp, branch)
