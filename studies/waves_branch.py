@@ -22,6 +22,9 @@ re-located branch point, against the coefficient read off a short trace of the b
 the unit (2-norm) null vector ``phi`` in the view's unknowns (the Fourier coefficients of the rings, in
 units of the thickness); ``phi`` carries the wave ``n`` alone and the axisymmetric path none, so
 ``phi^T u_0(p) = 0``.  ``p`` is the control: the apex deflection under the point load, the pressure below.
+The unit 2-norm spreads the mode over every unknown, so this ``b`` depends on the mesh; ``b_w`` is the same
+coefficient in the amplitude ``xi_w`` of the mode's largest axial wave ``Z cos n theta`` (over the thickness):
+``p / p_c = 1 + b_w xi_w^2`` (:func:`mode_height`).
 
 (c) **Huang's clamped cap under pressure** (lambda = 8, ``nu = 1/3``, ``R/h = 100``; ``--full`` also 1000;
 :func:`studies.asymmetric.cap_problem`): the first bifurcation (``n = 4``) and the branch followed under
@@ -126,9 +129,10 @@ def first_bifurcation(branch: contin.Branch) -> contin.SpecialPoint:
 def n_wave_branch(problem: Any, point: contin.SpecialPoint, K: int, p_max: float, ds_max: float = 0.25,
                   max_steps: int = 4000) -> WavesBranch:
     """The ``n``-wave branch from ``point`` in the ``D_n`` view with ``K`` harmonics, counted against every
-    representation, to ``p_max`` or back to the axisymmetric path."""
+    representation, to ``p_max`` or to the axisymmetric path (the branch point where it meets it again)."""
+    # stop where it meets the axisymmetric path again: beyond, it retraces its image turned by pi / n
     wb = follow_waves(problem, point, K, every_mode=True, settings=_branch_settings(ds_max), p_max=p_max,
-                      max_steps=max_steps)
+                      max_steps=max_steps, stop_at=("branch_point",))
     if not wb.branch.success:
         raise RuntimeError(f"n-wave branch (K = {K}): {wb.branch.message}")
     return wb
@@ -213,7 +217,10 @@ def point_load_case(lam: float, N: int, K: int, r_over_t: float = R_OVER_T,
                           for k in before if k != "rotation_ratio"},
                        rotation_ratio=max(before["rotation_ratio"], after["rotation_ratio"]))
         rows.append(row)
-    folds_w = [float(s.p) for s in b.special_points if s.kind == "fold"]
+    back = _return_point(b)
+    # the branch meets the path with w turning back: not a fold of the branch
+    folds_w = [float(s.p) for s in b.special_points if s.kind == "fold"
+               and (back is None or abs(float(s.p) - back) > 1e-6 * back)]
     turns_P = [(float(w[i]), float(P[i])) for i in extrema(P)]
     axis_turns = [(float(w0[i]), float(P0[i])) for i in extrema(P0)]
     others = [s for s in path.special_points if s.kind == "bifurcation" and s.located]
@@ -222,14 +229,15 @@ def point_load_case(lam: float, N: int, K: int, r_over_t: float = R_OVER_T,
             "moved_w": float(wb.branch_point.info["moved_p"]), "status": b.status, "message": b.message,
             "w_max": float(np.max(w)), "folds_in_w": folds_w, "turns_in_P": turns_P,
             "axisymmetric_turns_in_P": axis_turns,
-            "returns_at_w": _return_point(b), "rows": rows,
+            "returns_at_w": back, "rows": rows,
             "path_bifurcations": [(int(s.info["key"]), float(s.p)) for s in others],
             "seconds": time.perf_counter() - t0, "_problem": pr, "_path": path, "_waves": wb}
 
 
-def _return_point(b: contin.Branch) -> list[float]:
-    """The axisymmetric-path branch points the branch met after the one it left (their ``w``)."""
-    return [float(s.p) for s in b.special_points[1:-1] if s.kind == "branch_point"]
+def _return_point(b: contin.Branch) -> float | None:
+    """Where the branch met the axisymmetric path again (a branch point after the one it left), or None."""
+    met = [float(s.p) for s in b.special_points[1:] if s.kind == "branch_point"]
+    return met[0] if met else None
 
 
 def convergence_rows(cases: Sequence[dict[str, Any]], references: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -253,6 +261,17 @@ def convergence_rows(cases: Sequence[dict[str, Any]], references: Sequence[dict[
 
 
 # ---- Koiter's b --------------------------------------------------------------------------------
+def mode_height(wb: WavesBranch, phi: np.ndarray) -> float:
+    """The largest ``Z cos n theta`` coefficient of the view's unit vector ``phi`` over the rings: with it
+    ``b_w = b / height^2`` is Koiter's ``b`` in the amplitude ``xi_w`` of the mode's largest axial wave, in units of
+    the thickness (independent of the mesh, which the unit 2-norm of the unknowns is not)."""
+    prob = wb.problem
+    n = prob.basis.n
+    direction = prob.full_state(phi, wb.branch_point.p) - prob.full_state(np.zeros_like(phi), wb.branch_point.p)
+    waves = direction[prob.view.dofs_of_wave(n)].reshape(-1, 3)
+    return float(np.max(np.abs(waves[:, 1])))
+
+
 def koiter_check(wb: WavesBranch, ds: float, steps: int = 40, window: float = 2e-3) -> dict[str, Any]:
     """Koiter's ``a`` and ``b`` at the re-located branch point against ``b`` read off a short trace.
 
@@ -272,8 +291,10 @@ def koiter_check(wb: WavesBranch, ds: float, steps: int = 40, window: float = 2e
     if use.sum() < 4:
         raise RuntimeError(f"koiter_check: {int(use.sum())} points within {window} of p_c; take a smaller ds")
     fit = np.polyfit(xi[use] ** 2, rel[use] / xi[use] ** 2, 1)
+    m = mode_height(wb, k.null_vector)
     return {"p_c": float(bp.p), "a": float(k.a), "b_koiter": float(k.b), "b_traced": float(fit[1]),
-            "b_koiter_default_step": float(coarse.b),
+            "b_koiter_default_step": float(coarse.b), "mode_height": m, "b_w_koiter": float(k.b) / m ** 2,
+            "b_w_traced": float(fit[1]) / m ** 2,
             "rel_diff": float(fit[1]) / float(k.b) - 1.0, "points": int(use.sum()),
             "xi_max": float(np.max(np.abs(xi[use]))), "symmetric": bool(k.symmetric)}
 
@@ -284,9 +305,10 @@ def pressure_case(N: int, K: int, r_over_h: float = 100.0) -> dict[str, Any]:
     Koiter's ``b`` against the traced branch and the stability along it."""
     t0 = time.perf_counter()
     pr = cap_problem(HUANG_LAMBDA, N, r_over_h, HUANG_NU)
+    # traced on to the axisymmetric snap, for the figure
     path = contin.continuation(pr, pr.reference_unknowns(), 0.0, contin.Settings(
-        ds=0.02, ds_max=0.05, max_steps=4000, stability=True, stop_at=("bifurcation", "fold")), p_max=3.0)
-    point = path.special_points[-1]
+        ds=0.02, ds_max=0.05, max_steps=4000, stability=True, stop_at=("fold",)), p_max=3.0)
+    point = next(s for s in path.special_points if s.kind in ("bifurcation", "fold"))
     if point.kind != "bifurcation":
         raise RuntimeError(f"Huang's cap, R/h = {r_over_h}: the first instability is a {point.kind}")
     wb = n_wave_branch(pr, point, K, P_RETURN * float(point.p), ds_max=0.05, max_steps=400)
@@ -297,6 +319,7 @@ def pressure_case(N: int, K: int, r_over_h: float = 100.0) -> dict[str, Any]:
     koiter = koiter_check(wb, ds=2e-3, window=5e-3)
     return {"lambda": HUANG_LAMBDA, "R_over_h": r_over_h, "N": N, "K": K, "n": int(point.info["key"]),
             "p_bif": float(point.p), "w_bif": float(point.observables["w_over_h"]),
+            "p_snap": float(path.special_points[-1].p) if path.special_points[-1].kind == "fold" else None,
             "p_min": float(p[turns[0]]) if turns else float(np.min(p)),
             "w_at_p_min": float(w[turns[0]]) if turns else None, "status": b.status,
             "counts": counts, "koiter": koiter, "seconds": time.perf_counter() - t0,
@@ -348,7 +371,11 @@ def plot(cases: Sequence[dict[str, Any]], pressure: dict[str, Any] | None) -> An
         b = wb.branch
         _draw(ax, _Curve(np.asarray(b.observable("w")), np.asarray(b.observable("F")) * s, physical_stability(wb)),
               color, f"$\\lambda = {case['lambda']:g}$: {case['n']} waves")
-        ax.plot([case["w_bif"]], [case["P_bif"]], "o", color=color, mfc="white", ms=5)
+        ax.plot([case["w_bif"]], [case["P_bif"]], "o", color=color, mfc="white", ms=5,
+                label="bifurcation" if k == 0 else None)
+        if case["returns_at_w"] is not None:
+            ax.plot([b.observable("w")[-1]], [b.observable("F")[-1] * s], "o", color=color, ms=4,
+                    label="back on the axisymmetric path" if k == 0 else None)
     ax.set_xlabel(r"apex deflection $w/t$")
     ax.set_ylabel(r"apex load $P R / (E t^3)$")
     ax.set_xlim(0, W_END)
@@ -367,7 +394,8 @@ def plot(cases: Sequence[dict[str, Any]], pressure: dict[str, Any] | None) -> An
         ax.plot([pressure["w_bif"]], [pressure["p_bif"]], "o", color=COLORS[2], mfc="white", ms=5)
         ax.set_xlabel(r"apex deflection $w/h$")
         ax.set_ylabel(r"pressure $p / p_c$")
-        ax.set_title(f"Huang's cap under pressure, $\\lambda = {HUANG_LAMBDA:g}$, $R/h = {pressure['R_over_h']:g}$",
+        ax.set_title(f"Huang's cap under pressure, $\\lambda = {HUANG_LAMBDA:g}$, $R/h = {pressure['R_over_h']:g}$, "
+                     "$\\nu = 1/3$",
                      fontsize="small")
         ax.legend(loc="lower right", fontsize="small")
     return fig
@@ -447,7 +475,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                                   "P_axisymmetric", "change_P_axisymmetric"], digits=5)
         print()
         print_table(koiter_rows, ["case", "n", "N", "K", "p_c", "a", "b_koiter", "b_traced", "rel_diff",
-                                  "b_koiter_default_step", "points"], digits=6)
+                                  "b_koiter_default_step", "b_w_koiter", "b_w_traced", "points"], digits=6)
         print()
         print_table([_public(p) for p in pressures], ["R_over_h", "N", "K", "n", "p_bif", "p_min", "w_at_p_min",
                                                        "status", "seconds"], digits=6)
