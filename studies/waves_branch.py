@@ -192,6 +192,33 @@ def extrema(x: np.ndarray) -> list[int]:
     return [i + 1 for i in range(len(d) - 1) if d[i] * d[i + 1] < 0.0]
 
 
+def first_half(b: contin.Branch) -> int:
+    """The stored points of the branch up to the first branch point it meets after the one it left (all of them
+    if none): past it the engine may go on along the image of the same branch, turned by ``pi / n``."""
+    met = [s for s in b.special_points[1:] if s.kind == "branch_point"]
+    return min(len(b.p), met[0].index + 1) if met else len(b.p)
+
+
+def wave_amplitude(wb: WavesBranch, u: np.ndarray, p: float) -> float:
+    """The largest coefficient of the wave ``n`` over the rings at the state ``u`` of the view (over the thickness)."""
+    prob = wb.problem
+    return float(np.max(np.abs(prob.full_state(u, p)[prob.view.dofs_of_wave(prob.basis.n)])))
+
+
+def loss_of_stability(wb: WavesBranch, w: np.ndarray, stop: int, label: str | None = "displacement"
+                      ) -> dict[str, Any] | None:
+    """The first stored points of the branch (of the first ``stop``) between which it loses its stability, the
+    rotation of the pattern left out: their ``w`` and the representations that gained a negative eigenvalue."""
+    before = morse_counts(wb, 0, label)
+    for i in range(1, stop):
+        now = morse_counts(wb, i, label)
+        if now["total"] > 0:
+            return {"w_from": float(w[i - 1]), "w_to": float(w[i]),
+                    "representations": [k for k in now if k not in ("total", "rotation_ratio") and now[k] > before[k]]}
+        before = now
+    return None
+
+
 def point_load_case(lam: float, N: int, K: int, r_over_t: float = R_OVER_T,
                     w_end: float = W_END) -> dict[str, Any]:
     """One cap under the apex load: the axisymmetric path, its first bifurcation and the ``n``-wave branch."""
@@ -202,7 +229,8 @@ def point_load_case(lam: float, N: int, K: int, r_over_t: float = R_OVER_T,
     wb = n_wave_branch(pr, point, K, w_end)
     scale = load_scale(pr)
     b = wb.branch
-    w, P = np.asarray(b.observable("w")), np.asarray(b.observable("F")) * scale
+    stop = first_half(b)
+    w, P = np.asarray(b.observable("w"))[:stop], np.asarray(b.observable("F"))[:stop] * scale
     w0, P0 = np.asarray(path.observable("w")), np.asarray(path.observable("F")) * scale
     rows = []
     for target in W_TABLE:
@@ -219,8 +247,10 @@ def point_load_case(lam: float, N: int, K: int, r_over_t: float = R_OVER_T,
         rows.append(row)
     back = _return_point(b)
     # the branch meets the path with w turning back: not a fold of the branch
-    folds_w = [float(s.p) for s in b.special_points if s.kind == "fold"
+    folds_w = [float(s.p) for s in b.special_points if s.kind == "fold" and s.index < stop - 1
                and (back is None or abs(float(s.p) - back) > 1e-6 * back)]
+    largest = max(wave_amplitude(wb, u, q) for u, q in zip(b.u[:stop], b.p[:stop]))
+    met = [s for s in b.special_points[1:] if s.kind == "branch_point"]
     turns_P = [(float(w[i]), float(P[i])) for i in extrema(P)]
     axis_turns = [(float(w0[i]), float(P0[i])) for i in extrema(P0)]
     others = [s for s in path.special_points if s.kind == "bifurcation" and s.located]
@@ -229,25 +259,34 @@ def point_load_case(lam: float, N: int, K: int, r_over_t: float = R_OVER_T,
             "moved_w": float(wb.branch_point.info["moved_p"]), "status": b.status, "message": b.message,
             "w_max": float(np.max(w)), "folds_in_w": folds_w, "turns_in_P": turns_P,
             "axisymmetric_turns_in_P": axis_turns,
-            "returns_at_w": back, "rows": rows,
+            "returns_at_w": back, "end_amplitude_over_max": (wave_amplitude(wb, met[0].u, met[0].p) / largest if met else None),
+            "loses_stability": loss_of_stability(wb, w, stop), "rows": rows,
             "path_bifurcations": [(int(s.info["key"]), float(s.p)) for s in others],
             "seconds": time.perf_counter() - t0, "_problem": pr, "_path": path, "_waves": wb}
 
 
 def _return_point(b: contin.Branch) -> float | None:
-    """Where the branch met the axisymmetric path again (a branch point after the one it left), or None."""
+    """Where the branch met a branch point after the one it left (the axisymmetric path again where the wave's
+    amplitude vanishes there), or None."""
     met = [float(s.p) for s in b.special_points[1:] if s.kind == "branch_point"]
     return met[0] if met else None
 
 
 def convergence_rows(cases: Sequence[dict[str, Any]], references: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Per case and deflection of the tables, the loads and their changes from the reference case of the same
-    lambda (``R/t`` the same; None where either branch does not reach the deflection)."""
+    """Per case and deflection of the tables, the loads and their changes from a reference of the same lambda and
+    ``R/t``: the main case of ``references`` for another ``K``, the case of the main ``N`` and the same ``K`` for
+    another ``N`` (None where either branch does not reach the deflection)."""
     out = []
     for case in cases:
-        ref = next((r for r in references if r["lambda"] == case["lambda"] and r["R_over_t"] == case["R_over_t"]),
-                   None)
-        if ref is None or ref is case:
+        main = next((r for r in references if r["lambda"] == case["lambda"] and r["R_over_t"] == case["R_over_t"]),
+                    None)
+        if main is None or main is case:
+            continue
+        # a finer meridian against the main one's at the same K; other K against the main case
+        ref = main if case["N"] == main["N"] else next(
+            (r for r in cases if r["lambda"] == case["lambda"] and r["R_over_t"] == case["R_over_t"]
+             and r["K"] == case["K"] and r["N"] == main["N"]), None)
+        if ref is None:
             continue
         for row, base in zip(case["rows"], ref["rows"]):
             entry = {k: row[k] for k in ("lambda", "R_over_t", "N", "K", "w_over_t", "P_axisymmetric")}
@@ -369,13 +408,14 @@ def plot(cases: Sequence[dict[str, Any]], pressure: dict[str, Any] | None) -> An
                          np.asarray(path.stable_under("displacement"))), "0.55",
               "axisymmetric" if k == 0 else None)
         b = wb.branch
-        _draw(ax, _Curve(np.asarray(b.observable("w")), np.asarray(b.observable("F")) * s, physical_stability(wb)),
-              color, f"$\\lambda = {case['lambda']:g}$: {case['n']} waves")
+        stop = first_half(b)
+        _draw(ax, _Curve(np.asarray(b.observable("w"))[:stop], np.asarray(b.observable("F"))[:stop] * s,
+                         physical_stability(wb)[:stop]), color, f"$\\lambda = {case['lambda']:g}$: {case['n']} waves")
         ax.plot([case["w_bif"]], [case["P_bif"]], "o", color=color, mfc="white", ms=5,
                 label="bifurcation" if k == 0 else None)
-        if case["returns_at_w"] is not None:
-            ax.plot([b.observable("w")[-1]], [b.observable("F")[-1] * s], "o", color=color, ms=4,
-                    label="back on the axisymmetric path" if k == 0 else None)
+        if case["end_amplitude_over_max"] is not None and case["end_amplitude_over_max"] < 1e-3:
+            ax.plot([b.observable("w")[stop - 1]], [b.observable("F")[stop - 1] * s], "o", color=color, ms=4,
+                    label="back on the axisymmetric path")
     ax.set_xlabel(r"apex deflection $w/t$")
     ax.set_ylabel(r"apex load $P R / (E t^3)$")
     ax.set_xlim(0, W_END)
@@ -414,7 +454,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     t0 = time.perf_counter()
     if args.full:
         main_runs = [(lam, 200, 4, R_OVER_T) for lam in LAMBDAS]
-        checks = ([(lam, 200, K, R_OVER_T) for lam in LAMBDAS for K in (2, 3)]
+        checks = ([(lam, 200, K, R_OVER_T) for lam in LAMBDAS for K in (2, 3)] + [(12.0, 200, 6, R_OVER_T)]
                   + [(lam, 400, 3, R_OVER_T) for lam in LAMBDAS] + [(12.0, 200, 3, 1e4)])
         pressure_runs = [(200, 3, 100.0), (200, 2, 100.0), (400, 2, 100.0), (200, 3, 1000.0)]
     else:
@@ -452,7 +492,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         {"lambda": c["lambda"], "R_over_t": c["R_over_t"], "N": c["N"], "K": c["K"], "n": c["n"], "w_over_t": w,
          "P": P, **{f"n_{k}": v for k, v in morse_counts(c["_waves"], i).items()}}
         for c in main_cases for i, (w, P) in enumerate(zip(
-            c["_waves"].branch.observable("w"),
+            c["_waves"].branch.observable("w")[:first_half(c["_waves"].branch)],
             np.asarray(c["_waves"].branch.observable("F")) * load_scale(c["_problem"])))])
     write_csv(out / "pressure.csv", [
         {"R_over_h": pc["R_over_h"], "N": pc["N"], "K": pc["K"], "p_over_p_c": p, "w_over_h": w,
@@ -469,7 +509,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                             "n_A2", "n_E1", "n_B1", "n_B2", "n_total"], digits=5)
         print()
         print_table([_public(c) for c in cases], ["lambda", "R_over_t", "N", "K", "n", "w_bif", "P_bif", "w_max",
-                                                  "folds_in_w", "returns_at_w", "status", "seconds"], digits=6)
+                                                  "folds_in_w", "returns_at_w", "end_amplitude_over_max",
+                                                  "loses_stability", "status", "seconds"], digits=6)
         print()
         print_table(convergence, ["lambda", "R_over_t", "N", "K", "w_over_t", "P_waves", "change_P_waves",
                                   "P_axisymmetric", "change_P_axisymmetric"], digits=5)
