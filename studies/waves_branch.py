@@ -38,9 +38,9 @@ of the energy: a zero eigenvalue of the ``A2`` block (the waves of the state wit
 view integrates the angle with ``M`` points, which is exact for rotations by ``2 pi / M`` only, so the
 computed eigenvalue is a small number of either sign (about 1e-4 of the block's next eigenvalue at
 ``w/t = 25`` for ``K = 2``), and the engine counts it where it is negative and locates its sign changes as
-``A2`` crossings.  :func:`rotation_counted` finds it (the ``A2`` eigenvalue nearest zero, below
-``ROTATION_RATIO`` of the next) and the tables and the figure leave it out of the counts; the ``A2``
-crossings on the branch that are not the rotation's (its next eigenvalue crossing) are kept.
+``A2`` crossings.  :func:`a2_without_rotation` finds it (the ``A2`` eigenvalue nearest zero, below
+``ROTATION_RATIO`` of the next) and counts the block's other negative eigenvalues; the tables and the figure
+use that count (an ``A2`` instability of the branch is its next eigenvalue crossing zero).
 
 Units: ``t = 1``, ``R = R/t``, ``E`` such that the classical buckling pressure ``p_c = 1``.
 
@@ -62,6 +62,7 @@ from dataclasses import dataclass  # noqa: E402
 from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
+import scipy.sparse as sp  # noqa: E402
 
 import contin  # noqa: E402
 from contin.watch.modes import eigenvalues_near_zero  # noqa: E402
@@ -139,31 +140,42 @@ def n_wave_branch(problem: Any, point: contin.SpecialPoint, K: int, p_max: float
 
 
 # ---- stability per representation ----------------------------------------------------------------
-def rotation_counted(wb: WavesBranch, i: int) -> tuple[bool, float]:
-    """Whether the engine's ``A2`` count at stored point ``i`` includes the pattern's rotation (its eigenvalue
-    nearest zero negative and below :data:`ROTATION_RATIO` of the next), and that ratio."""
+def a2_without_rotation(wb: WavesBranch, i: int) -> tuple[int | None, float]:
+    """The negative eigenvalues of the ``A2`` block at stored point ``i`` other than the pattern's rotation, and the
+    ratio of the eigenvalue nearest zero to the next (None for the count where that ratio is not below
+    :data:`ROTATION_RATIO`: no eigenvalue stands out as the rotation).
+
+    No eigenvalue but the rotation's lies within the next one's modulus ``|l_1|`` of zero, so the count is the
+    inertia of the block shifted by ``|l_1| / 2``: the sign the rotation's eigenvalue happens to get (from the
+    quadrature, or from roundoff near the branch point) does not enter it.
+    """
+    from contin.numerics.stability import stability_info
+
     b = wb.branch
     family = next(f for f in wb.problem.operator_families if f.name == "representation")
-    w, _ = eigenvalues_near_zero(family.operator("A2", b.u[i], b.p[i]), 2)
+    H = family.operator("A2", b.u[i], b.p[i])
+    w, _ = eigenvalues_near_zero(H, 2)
     ratio = abs(float(w[0])) / max(abs(float(w[1])), 1e-300)
-    return bool(w[0] < 0.0 and ratio < ROTATION_RATIO), ratio
+    if ratio >= ROTATION_RATIO:
+        return None, ratio
+    shifted = (H + 0.5 * abs(float(w[1])) * sp.identity(H.shape[0], format="csr")).tocsr()
+    return int(stability_info(shifted, 0).n_negative), ratio
 
 
 def morse_counts(wb: WavesBranch, i: int, label: str | None = "displacement") -> dict[str, Any]:
     """The negative eigenvalues at stored point ``i`` of the branch per representation of ``D_n`` under the
-    stability label ``label`` (None: the primary one; ``A1``: the traced class, the rest of the total; the rotation of the pattern left
-    out of ``A2``), their total over every perturbation (two-dimensional classes twice), and the rotation's
-    eigenvalue ratio."""
+    stability label ``label`` (None: the primary one; ``A1``: the traced class, the rest of the total; the
+    rotation of the pattern left out of ``A2``, :func:`a2_without_rotation`), their total over every perturbation
+    (two-dimensional classes twice), and the rotation's eigenvalue ratio."""
     b = wb.branch
     modes = b.meta["modes"]["representation"]
     counts = {k: int(c) for k, c in zip(modes["keys"], modes["n_negative"][i])}
     weight = {k: 2 if k.startswith("E") else 1 for k in counts}
-    total = int(b.n_negative_under(label)[i])
-    a1 = total - sum(weight[k] * c for k, c in counts.items())
-    rotation, ratio = rotation_counted(wb, i)
-    if rotation:
-        counts["A2"] -= 1
-        total -= 1
+    a1 = int(b.n_negative_under(label)[i]) - sum(weight[k] * c for k, c in counts.items())
+    a2, ratio = a2_without_rotation(wb, i)
+    if a2 is not None:
+        counts["A2"] = a2
+    total = a1 + sum(weight[k] * c for k, c in counts.items())
     return {"A1": a1, **counts, "total": total, "rotation_ratio": ratio}
 
 
