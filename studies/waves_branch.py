@@ -212,9 +212,12 @@ def first_half(b: contin.Branch) -> int:
 
 
 def wave_amplitude(wb: WavesBranch, u: np.ndarray, p: float) -> float:
-    """The largest coefficient of the wave ``n`` over the rings at the state ``u`` of the view (over the thickness)."""
+    """The largest coefficient of the waves ``n, 2n, ...`` over the rings at the state ``u`` of the view (over the
+    thickness): zero on the axisymmetric path only (a branch may also meet a branch of the waves ``2n``, ...)."""
     prob = wb.problem
-    return float(np.max(np.abs(prob.full_state(u, p)[prob.view.dofs_of_wave(prob.basis.n)])))
+    c = prob.full_state(u, p)
+    return max(float(np.max(np.abs(c[prob.view.dofs_of_wave(int(k))])))
+               for k in prob.basis.wave_numbers.tolist() if k > 0)
 
 
 def loss_of_stability(wb: WavesBranch, w: np.ndarray, stop: int, label: str | None = "displacement"
