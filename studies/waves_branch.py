@@ -420,8 +420,8 @@ def plot(cases: Sequence[dict[str, Any]], pressure: dict[str, Any] | None) -> An
         pr, path, wb = case["_problem"], case["_path"], case["_waves"]
         s = load_scale(pr)
         _draw(ax, _Curve(np.asarray(path.observable("w")), np.asarray(path.observable("F")) * s,
-                         np.asarray(path.stable_under("displacement"))), "0.55",
-              "axisymmetric" if k == 0 else None)
+                         np.asarray(path.stable_under("displacement"))), matplotlib.colors.to_hex(
+                  0.4 * np.asarray(matplotlib.colors.to_rgb(color)) + 0.6), f"$\\lambda = {case['lambda']:g}$: axisymmetric")
         b = wb.branch
         stop = first_half(b)
         _draw(ax, _Curve(np.asarray(b.observable("w"))[:stop], np.asarray(b.observable("F"))[:stop] * s,
@@ -434,6 +434,9 @@ def plot(cases: Sequence[dict[str, Any]], pressure: dict[str, Any] | None) -> An
     ax.set_xlabel(r"apex deflection $w/t$")
     ax.set_ylabel(r"apex load $P R / (E t^3)$")
     ax.set_xlim(0, W_END)
+    # beyond its inversion (w > 2 H) a cap stretches and the load rises by orders of magnitude: not the subject
+    ax.set_ylim(0, 1.3 * max(max(c["P_bif"] for c in cases), max(
+        float(np.max(np.asarray(c["_waves"].branch.observable("F")) * load_scale(c["_problem"]))) for c in cases)))
     ax.set_title(f"clamped caps, apex load, $R/t = {cases[0]['R_over_t']:g}$, $\\nu = {NU:g}$ "
                  "(solid stable, dashed unstable)", fontsize="small")
     ax.legend(loc="upper left", fontsize="small")
