@@ -97,3 +97,16 @@ def test_the_papers_point_load_model_through_its_structure() -> None:
     # off the axisymmetric branch: the three-wave coefficients grow
     c = waves.problem.full_state(waves.branch.u[-1], waves.branch.p[-1])
     assert np.max(np.abs(c[waves.problem.view.dofs_of_wave(3)])) > 1e-3
+
+
+def test_the_branch_counted_against_every_representation(axisymmetric) -> None:
+    source, _, points = axisymmetric
+    waves = follow_waves(source, points[3], K, settings=SETTINGS, every_mode=True, max_steps=12, stability=True)
+    assert [f.name for f in waves.problem.operator_families] == ["representation"]
+    modes = waves.branch.meta["modes"]["representation"]
+    assert set(modes["keys"]) == {"A2", "E1"}                      # D_3's other classes
+    assert len(modes["n_negative"]) == len(waves.branch.p)
+    # the total Morse index counts every class: E1 twice (two-dimensional), the traced class A1 besides
+    total = waves.branch.n_negative_under("displacement")
+    others = np.asarray(modes["n_negative"]) @ np.array([2 if k == "E1" else 1 for k in modes["keys"]])
+    assert np.all(total >= others)
