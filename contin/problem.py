@@ -185,6 +185,12 @@ class Problem:
         reads 1.  Every run (not only the first) sets the arclength weights its settings leave
         open from its own start.  Giving it declares the model's units its own: the weights the
         settings leave open are then 1.
+    difference_scale : float, optional
+        How far the state must move for the model's nonlinearity to show, in the units of the unknowns (a
+        shell's thickness where the unknowns are its coordinates).  Difference steps along a state direction
+        (Koiter's coefficients) are taken as a fraction of it.  Default: ``1 + max|u|`` at the point, which is
+        right where the unknowns are displacements and far too large where they are positions.  Also settable as
+        the attribute.
     """
 
     def __init__(
@@ -203,6 +209,7 @@ class Problem:
         residual_scale: float | None = None,
         operator_families: Sequence[Any] = (),
         symmetry_generators: Sequence[Any] = (),
+        difference_scale: float | None = None,
     ) -> None:
         if residual is None and energy is not None and type(self).residual is Problem.residual:
             raise TypeError("Problem(energy=...) needs the residual (the energy's gradient): the engine does not "
@@ -230,6 +237,9 @@ class Problem:
         self.parameter_name = parameter_name
         self._residual_scale_value = None if residual_scale is None else float(residual_scale)
         self._residual_scale_calibrated = False
+        if difference_scale is not None and not (math.isfinite(difference_scale) and difference_scale > 0.0):
+            raise ValueError(f"Problem: difference_scale must be a finite length > 0, got {difference_scale!r}")
+        self.difference_scale = None if difference_scale is None else float(difference_scale)
 
     # ---- residual scale ----------------------------------------------------------------------------
     @property

@@ -58,6 +58,9 @@ def test_koiters_b_is_the_traced_branchs_curvature(apex) -> None:
     k = wv.koiter_check(waves, ds=0.02)
     assert k["symmetric"] and k["a"] == 0.0
     assert k["b_traced"] == pytest.approx(k["b_koiter"], rel=1e-3)
+    # the engine's default step, a fraction of the problem's difference scale (the thickness here, where the
+    # unknowns are coordinates of size R = 1000 t), gives it too
+    assert k["b_traced"] == pytest.approx(k["b_koiter_default_step"], rel=1e-3)
     assert k["b_w_koiter"] > 0      # the deflection rises along the branch on both of its halves
 
 

@@ -102,8 +102,9 @@ def koiter_coefficients(problem: Problem, u: np.ndarray, p: float, null_vector: 
         one whose tangent is orthogonal to the null vector (a trivial or symmetric fundamental path);
         the choice matters only at an asymmetric point.
     step : float
-        The difference step: along each direction the largest state entry moves by ``step (1 + max|u|)``
-        and the parameter by at most ``step (1 + |p|)``.  The third
+        The difference step: along each direction the largest state entry moves by ``step`` times the problem's
+        :attr:`~contin.Problem.difference_scale` (default ``1 + max|u|``) and the parameter by at most
+        ``step (1 + |p|)``.  The third
         derivative is a second difference of the Hessian, so roundoff grows as ``1 / step^2`` while
         the extrapolated truncation error falls as ``step^4``.
 
@@ -141,7 +142,8 @@ def koiter_coefficients(problem: Problem, u: np.ndarray, p: float, null_vector: 
         if t_p == 0.0:
             raise ValueError("the traced branch's tangent has no parameter component: p is not its load")
         t_u, t_p = t_u / t_p, 1.0
-    state_scale = 1.0 + float(np.max(np.abs(u), initial=0.0))
+    declared = getattr(problem, "difference_scale", None)
+    state_scale = float(declared) if declared else 1.0 + float(np.max(np.abs(u), initial=0.0))
 
     def step_along(d_u: np.ndarray, d_p: float) -> float:
         """The difference step along ``(d_u, d_p)``: its largest state entry moves by ``step`` of the state's

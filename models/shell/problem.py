@@ -245,7 +245,8 @@ class ShellPointLoad(Problem):
                        "F_norm": lambda u, p: _scaled(self._dobs_F(u, p), self.R / (2.0 * math.pi * self.D))}
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          stability_operators=ops,
-                         name="shell_point_displacement", parameter_name="w", residual_scale=scale)
+                         name="shell_point_displacement", parameter_name="w", residual_scale=scale,
+                         difference_scale=self.h)
 
     def _residual_scale(self, control: str) -> float:
         """``max(E h R, ROUNDOFF_MARGIN ||H_ref||_inf R)`` on the unknowns of ``control`` (class Notes)."""

@@ -218,7 +218,8 @@ class Shell3D(Problem):
                                                                        else None),
                          name=f"shell3d_{load}_{control}",
                          parameter_name="w_b" if indenter else (name if control == "force" else "w"),
-                         residual_scale=scale, operator_families=families)
+                         residual_scale=scale, operator_families=families,
+                         difference_scale=float(np.max(st.h_nodes)))
 
     def _stability_operators(self, height: int | None) -> dict[str, Any] | None:
         """The stability labels of the traced model: ``"force"`` (the Hessian with the loaded node's height

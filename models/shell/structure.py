@@ -382,7 +382,7 @@ class ShellOfRevolution(Problem):
         scale = st.residual_scale(self._sub(st.hessian(x_ref)), self.length)
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          stability_operators=ops, name=f"shell_{load}_{control}", parameter_name=param,
-                         residual_scale=scale)
+                         residual_scale=scale, difference_scale=float(np.max(st.h_nodes)))
         self.harmonics = default_harmonics(st) if harmonics == -1 else int(harmonics)
         if self.harmonics < 0:
             raise ValueError(f"ShellOfRevolution: harmonics must be -1 (default rule), 0 or a wave number >= 1, "
