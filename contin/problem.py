@@ -186,8 +186,8 @@ class Problem:
         open from its own start.  Giving it declares the model's units its own: the weights the
         settings leave open are then 1.
     difference_scale : float, optional
-        How far the state must move for the model's nonlinearity to show, in the units of the unknowns (a
-        shell's thickness where the unknowns are its coordinates).  Difference steps along a state direction
+        How far the state must move for the model's nonlinearity to show, in the units of the unknowns (the
+        thickness of a thin structure whose unknowns are its coordinates).  Difference steps along a state direction
         (Koiter's coefficients) are taken as a fraction of it.  Default: ``1 + max|u|`` at the point, which is
         right where the unknowns are displacements and far too large where they are positions.  Also settable as
         the attribute.

@@ -10,6 +10,7 @@ from studies.asymmetric_boundary import BoundaryFunction, depth_parameter, root_
 from studies.asymmetric_point import cap_row
 
 
+@pytest.mark.slow
 def test_the_root_of_the_boundary_function_separates_the_classified_caps() -> None:
     """The root of ``B`` (one block watched, N = 60) against the classification with every block watched
     (``contin classify``, pole held): 3 % thinner the first bifurcation comes before ``F_max``, 3 % thicker

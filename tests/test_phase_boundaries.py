@@ -113,6 +113,7 @@ def _check_study_outputs(out) -> dict:
     return s
 
 
+@pytest.mark.slow
 def test_phase_diagram_study_runs_in_fast_mode(tmp_path, curves, monkeypatch):
     """The study's main in fast mode, with its boundaries traced once (``curves``) and the shallow grid."""
     real_grid = phase_diagram.classify_grid

@@ -85,6 +85,7 @@ def test_a_point_inside_the_indenter_is_refused(pressed) -> None:
         Contact3D(view, barrier).energy(view.axisymmetric_state(x), position - 0.01)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("indenter", ["sphere", "plate"])
 def test_an_indenter_traced_in_the_3d_view_is_the_traced_model_on_axisymmetric_states(indenter: str) -> None:
     """``Shell3D`` under an indenter's travel (the position as the parameter, the step filter in 3-D):
@@ -133,6 +134,7 @@ def test_position_derivatives_and_the_step_filter(pressed, which: int) -> None:
     assert 0.0 < f < 0.9 * 0.5 + 1e-12
 
 
+@pytest.mark.slow
 def test_a_dead_load_on_the_indenter_is_the_traced_models() -> None:
     """Force control of the indenter: ``contin.DeadLoad`` on the 3-D view's travel-driven problem (its
     ``conjugate_force`` is the contact force) ends where the traced model's force control ends."""

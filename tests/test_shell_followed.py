@@ -87,6 +87,7 @@ def test_the_followed_path_turns_onto_the_stable_three_wave_branch() -> None:
     assert not fp.snaps
 
 
+@pytest.mark.slow
 def test_the_deeper_cap_snaps_from_its_one_wave_bifurcation_and_goes_on_without_axial_symmetry() -> None:
     fp = _followed(PHI_HAT, 0.6)
     first = fp.pieces[0]
@@ -225,6 +226,7 @@ def _turned_derivative(basis: AngularBasis, c: np.ndarray, step: float = 1e-6) -
     return (transfer_coefficients(c, basis, basis, step) - transfer_coefficients(c, basis, basis, -step)) / (2 * step)
 
 
+@pytest.mark.slow
 def test_under_a_dead_load_the_three_wave_branch_carries_the_load_to_its_own_limit_point() -> None:
     """The cap phi_hat = 0.6 under a dead load: the three-wave branch is stable and rises to a limit point below
     the axisymmetric one, where the cap snaps to the everted state, beyond the end of the load (w = 0.9 R)."""

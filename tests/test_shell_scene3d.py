@@ -145,6 +145,7 @@ def test_a_surface_that_is_not_axisymmetric_is_drawn_in_colour_and_an_axisymmetr
     assert panels == [1, 2]
 
 
+@pytest.mark.slow
 def test_a_mode_of_n_waves_is_the_stress_free_shape():
     """``imperfection.waves = 3``: the reference is the perfect cap's plus its three-wave mode at the first
     bifurcation into three waves, of largest normal displacement delta; the traced class carries it."""

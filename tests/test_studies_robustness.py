@@ -7,10 +7,12 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from studies import robustness
 
 
+@pytest.mark.slow
 def test_fast_matrix_completes(tmp_path: Path) -> None:
     code = robustness.main(["--out", str(tmp_path), "--workers", "1", "-q"])
     assert code == 0

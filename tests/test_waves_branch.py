@@ -75,6 +75,7 @@ def test_rotation_of_the_pattern_is_left_out_of_the_a2_count(apex) -> None:
     assert counts["total"] == 0 and counts["A2"] == 0
 
 
+@pytest.mark.slow
 def test_huangs_cap_falls_off_its_bifurcation() -> None:
     pc = wv.pressure_case(40, 2)
     assert pc["n"] == 4
