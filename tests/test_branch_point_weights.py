@@ -202,6 +202,7 @@ def test_arch_switched_branch_closes_its_loop():
     assert asym.max() > 1e-3 and asym.min() < -1e-3
 
 
+@pytest.mark.slow
 def test_a_root_of_the_hessian_test_at_a_fold_is_not_a_branch_point():
     """The arch's first limit load under a load-dominated norm (state_weight 1e-3): the run ends on the
     fold, the determinant sign flips there by roundoff, and the Hessian's eigenvalue does cross zero;

@@ -56,6 +56,7 @@ def fd5(f, v, h):
 
 
 # ---- (a) the committed kernels are what the generator produces -----------------------------------
+@pytest.mark.slow
 def test_generated_file_is_reproduced_byte_for_byte(tmp_path):
     assert_reproduced("contact", tmp_path)
 

@@ -36,6 +36,7 @@ def _located(rec: dict) -> bool:
 
 
 # ---- test 3: the located snap does not depend on the barrier range or the mesh ----------------------
+@pytest.mark.slow
 def test_snap_travel_converged_in_barrier_range_and_mesh():
     base = snap_record(0.5, N=200)
     # K_c dhat fixed (default_barrier's rule): dhat 1e-3 -> 1e-4 with K_c 1e8 -> 1e9 (E = 1e6, R = 1)

@@ -372,6 +372,7 @@ def _overlay_runs(tmp_path: Path, capsys) -> list[Path]:
             _trace(tmp_path, "c", "shell.nu=0.3", "continuation.ds_max=0.05", capsys=capsys)]
 
 
+@pytest.mark.slow
 def test_an_overlay_keeps_its_axes_wide_and_its_title_inside(tmp_path: Path, capsys, monkeypatch) -> None:
     """Legend labels long enough to squeeze the axes to 40 % of the figure and push the title off its edge
     are broken into lines: the axes keep more than half the width and every text stays on the figure."""

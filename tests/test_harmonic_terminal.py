@@ -30,6 +30,7 @@ def table_rows(out: str) -> list[list[str]]:
     return [line.split() for line in lines]
 
 
+@pytest.mark.slow
 def test_bifurcation_rows_name_their_mode_and_keep_the_force(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     code, out = trace(capsys, tmp_path / "point", *HARMONICS)
     assert code == 0
@@ -46,6 +47,7 @@ def test_bifurcation_rows_name_their_mode_and_keep_the_force(tmp_path: Path, cap
         assert float(row[header.index("F") + 2]) == pytest.approx(rec["F"], rel=1e-7)  # "n = 3" is three words
 
 
+@pytest.mark.slow
 def test_status_line_and_title_name_the_first_instability(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     code, out = trace(capsys, tmp_path / "point", *HARMONICS)
     doc = json.loads((tmp_path / "point" / "summary.json").read_text())
@@ -58,6 +60,7 @@ def test_status_line_and_title_name_the_first_instability(tmp_path: Path, capsys
     assert f"first instability: $n = 1$ at $w/R = {first['w_over_R']:.4g}$" in doc["diagram"]["note"]
 
 
+@pytest.mark.slow
 def test_pressure_status_names_the_first_instability_in_p_over_p_c(tmp_path: Path,
                                                                    capsys: pytest.CaptureFixture) -> None:
     code, out = trace(capsys, tmp_path / "pressure", *HARMONICS, "--set", "load.kind=pressure",

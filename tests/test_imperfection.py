@@ -32,6 +32,7 @@ def test_zero_amplitude_gives_back_the_perfect_shell(shell):
     assert abs(tiny - perfect["kappa"]) < (1e-5 if shell == "hemisphere" else 2e-3)
 
 
+@pytest.mark.slow
 def test_knockdown_decreases_with_depth_to_a_plateau():
     ks = [kappa("hemisphere", d)["kappa"] for d in (0.05, 0.1, 0.2, 0.5, 1.0)]
     assert all(b < a for a, b in zip(ks, ks[1:])), ks
@@ -49,6 +50,7 @@ def test_mesh_converged():
     assert abs(b - a) < 2e-4
 
 
+@pytest.mark.slow
 def test_critical_mode_imperfection_lowers_the_hemisphere():
     mode, perfect = S.perfect_mode("hemisphere", 201)
     assert 10.0 < perfect["beta_mode_deg"] < 20.0  # the perfect hemisphere's mode peaks ~15 deg from the pole

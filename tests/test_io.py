@@ -53,6 +53,7 @@ def test_a_branch_saves_through_the_helper(tmp_path: Path) -> None:
     assert contin.Branch.load(path).status == "bound"
 
 
+@pytest.mark.slow
 def test_one_atomic_write_in_the_tree() -> None:
     # mkstemp + os.replace is the atomic write: it lives in contin/results/io.py only
     found = []

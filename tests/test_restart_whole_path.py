@@ -133,6 +133,7 @@ def test_every_numbered_point_of_a_pressure_run_is_saved_and_its_refusal_names_t
     assert code == 2 and "supported for the point load" in err and "load.kind = \"pressure\"" in err
 
 
+@pytest.mark.slow
 def test_a_joined_restart_keeps_the_per_mode_columns(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     """With harmonic stability the joined branch keeps each stored point's counts per wave number n."""
     full, after = tmp_path / "full", tmp_path / "after"
