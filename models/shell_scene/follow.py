@@ -106,7 +106,8 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
         jumps.append(sn.jump)
         jump_obs.append(({"p": float(before.p[-1]), **{k: float(v[-1]) for k, v in before.observables.items()}},
                          {"p": float(after.p[0]), **{k: float(v[0]) for k, v in after.observables.items()}}))
-    cols = branch_columns(branches, STABILITY_COLUMNS)
+    # a pressure has one stability label (the primary one); point and ring loads both controls' columns
+    cols = branch_columns(branches, None if pressure else STABILITY_COLUMNS)
     measured = [point_symmetries(pc) for pc in fp.pieces]
     cols["symmetry"] = np.concatenate([np.full(len(path), "O(2)", dtype=object)]
                                       + [np.array(m[0], dtype=object) for m in measured])
@@ -149,14 +150,15 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
             if D is not None else {}
         x, y = "w", "F"
     # the axisymmetric path beneath, faded, without its points: the followed pieces are read against it
-    plot_options = {**options, "title": f"followed path: {scene_title(scene)}", "control": control,
+    plot_options = {**options, "title": f"followed path: {scene_title(scene)}",
+                    "control": "pressure" if pressure else control,
                     "special_kinds": ("fold", "branch_point", "bifurcation"), "faded": [0]}
 
     shapes = followed_shapes(fp, traced_structure(scene, source))
     result = TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
                          table=special_point_table(records, pname), csv_columns=cols, x=x, y=y,
                          parameter_name=pname, labels=labels, jump_observables=jump_obs, failure=failure,
-                         stability=control, plot_options=plot_options, shapes=shapes,
+                         stability=None if pressure else control, plot_options=plot_options, shapes=shapes,
                          draw_shapes=surfaces_drawer(shapes, R, float(scene["shell"]["h"]), pname,
                                                      length_symbol(scene["shell"])))
     for br in pieces[-1:]:
