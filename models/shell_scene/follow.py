@@ -15,7 +15,6 @@ and into how many waves.
 
 from __future__ import annotations
 
-import dataclasses
 from typing import Any
 
 import numpy as np
