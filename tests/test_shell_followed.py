@@ -122,7 +122,8 @@ FOLLOW_REFUSED = [
     (["stability.follow=true"], ["stability.follow", "stability.harmonics = true"]),
     (["stability.follow=true", "stability.harmonics=true", "load.kind=pressure", "load.control=displacement"],
      ["stability.follow", "load.kind", "prescribed volume", "not followed yet"]),
-    (["stability.follow=true", "stability.harmonics=true", "load.kind=plate"], ["stability.follow", "load.kind"]),
+    (["stability.follow=true", "stability.harmonics=true", "load.kind=plate", "load.control=force"],
+     ["stability.follow", "load.kind", "dead load on an indenter"]),
 ]
 
 
@@ -267,3 +268,27 @@ def test_a_clamped_cap_under_pressure_snaps_from_its_five_wave_bifurcation() -> 
     assert (first.end, stop.info["key"], second.symmetry, second.start) == ("bifurcation", 5, "O(2)", "snap")
     assert fp.snaps[0].p == pytest.approx(stop.p, rel=1e-5) and fp.snaps[0].jump.energy_to < fp.snaps[0].jump.energy_from
     assert np.all(second.branch.n_negative[: len(second.branch)] == 0)
+
+
+@pytest.mark.slow
+def test_a_sphere_pressing_the_cap_sideways_snaps_from_its_one_wave_bifurcation() -> None:
+    """The default cap under a rigid sphere of radius R / 2 (N = 60, K = 2): past its maximum force the sphere's
+    one-wave bifurcation falls back, the cap snaps sideways onto a state with one mirror plane, leaves it at a
+    fold of the travel and lands on the everted cap, which the sphere then presses to the end of its travel."""
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene.build import build, traced_structure
+    from contin_models.shell_scene.scene import SHELL_SCENE
+
+    scene = load_scene(SHELL_SCENE.schema, None, ["load.kind=sphere", "load.radius=0.5", "stability.harmonics=true",
+                                                  "shell.N=60", "stability.n_max=4"])
+    b = build(scene)
+    fp = follow_path(b.problem, b.u0, 0.0, b.settings, structure=traced_structure(scene, b.problem),
+                     label="displacement", p_end=b.w_end, K=2)
+    assert fp.success, fp.message
+    assert [(pc.symmetry, pc.start, pc.end) for pc in fp.pieces] == [
+        ("O(2)", "load", "bifurcation"), ("D1", "snap", "fold"), ("O(2)", "snap", "end of load")]
+    assert fp.pieces[0].branch.special_points[-1].info["key"] == 1
+    assert [sn.symmetry for sn in fp.snaps] == ["D1", "O(2)"]
+    for piece in fp.pieces:
+        counts = piece.branch.n_negative_under("displacement")
+        assert np.all(counts[: len(counts) - (piece.end != "end of load")] == 0)

@@ -129,6 +129,10 @@ class ShellIndentation(Problem):
         """Full interleaved state from the unknowns (the indenter does not enter it)."""
         return self.elastic.free_state(u)
 
+    def unknowns(self, x: np.ndarray) -> np.ndarray:
+        """The unknowns of a full interleaved shell state (the inverse of :meth:`full_state`)."""
+        return self.elastic.free_unknowns(x)
+
     def position(self, w_b: float) -> float:
         """Indenter position ``c = c_0 - w_b``."""
         return self.c0 - float(w_b)

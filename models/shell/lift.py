@@ -194,9 +194,6 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     st = structure if structure is not None else getattr(source, "structure", None)
     if st is None:
         raise LiftError("follow_waves: give the structure whose energy the source's is (structure=...)")
-    if getattr(source, "barrier", None) is not None:
-        raise LiftError("follow_waves: the source is pressed by an indenter, which this lift does not carry into the "
-                        "3-D view; the point, ring and pressure loads are lifted")
     target = waves_view(source, st, n, int(K), every_mode)
     bp = lift_branch_point(point, source, target, shell_lift(source, target, n))
     branch = switch_branch(target, bp, settings, direction=1, **overrides)
@@ -206,6 +203,10 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
 def waves_view(source: Problem, structure: Any, n: int, K: int, every_mode: bool = False) -> Shell3D:
     """The 3-D view restricted to ``D_n`` (``AngularBasis(n, K)``) of the traced model ``source``: its structure,
     load (a shell of revolution names it; the paper's model is a point load), control, ring and pressure scale."""
+    barrier = getattr(source, "barrier", None)
+    if barrier is not None:  # a rigid indenter driven by its travel, as the traced model's
+        return Shell3D(structure, AngularBasis(n, int(K)), barrier.indenter.name, "displacement",
+                       length=getattr(source, "length", None), every_mode=every_mode, barrier=barrier)
     load = getattr(source, "load", "point")
     node = getattr(source, "node", None) if load == "ring" else None
     return Shell3D(structure, AngularBasis(n, int(K)), load, source.control, node=node,
@@ -322,16 +323,17 @@ def same_load(problem: Shell3D, basis: AngularBasis, turn: float = 0.0, every_mo
     """
     if not isinstance(problem, Shell3D):
         raise LiftError(f"the problem must be a Shell3D (the 3-D view), got {type(problem).__name__}")
-    if problem.load not in ("point", "ring", "pressure"):
+    if problem.load not in ("point", "ring", "pressure", "sphere", "plate"):
         raise LiftError(f"the {problem.load!r} load is not carried into another basis; the point, ring and pressure "
-                        "loads are")
+                        "loads and the indenters are")
     view = problem.view
     shape = np.delete(problem.c_ref, view.axisymmetric_dofs())
     # an axisymmetric reference is the structure's own: the view's default, without the general kernels
     reference = (transfer_coefficients(problem.c_ref, problem.basis, basis, turn) if np.any(shape) else None)
+    barrier = problem.contact.barrier if problem.contact is not None else None
     return Shell3D(problem.structure, basis, problem.load, problem.control, length=problem.length,
                    node=problem.node if problem.load == "ring" else None, p_c=problem.p_c,
-                   every_mode=every_mode and basis.mirror, reference=reference, gauge=gauge)
+                   every_mode=every_mode and basis.mirror, reference=reference, gauge=gauge, barrier=barrier)
 
 
 def subgroup_lift(problem: Shell3D, target: Shell3D, representation: str) -> Lift:

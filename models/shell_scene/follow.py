@@ -80,12 +80,15 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     R = float(scene["shell"]["R"]) if "R" in scene["shell"] else 1.0
     control = scene["load"]["control"]
     pressure = scene["load"]["kind"] == "pressure"
+    indenter = scene["load"]["kind"] in ("sphere", "plate")
     say = (lambda text: print(f"follow: {text}", file=sys.stderr, flush=True)) if progress else None
     # the load's extrema located on every piece, as on the axisymmetric path: the class reads them
     events = [] if pressure else [contin.extremum("F", which, folds="F", stability_label="force")
                                   for which in ("max", "min")]
     if pressure:  # the scene's end pressure or eversion, whichever comes first (the settings hold both)
         ends: dict[str, Any] = {"p_end": float(b.settings.p_max), "end": ("w", float(b.settings.bounds["w"][1]))}
+    elif indenter:  # the indenter's travel to its end
+        ends = {"p_end": float(b.w_end)}
     else:  # a prescribed deflection ends at its end; a dead load goes on until the shell everts
         w_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
         ends = {"p_end": float(w_end)} if control == "displacement" else {"end": ("w", float(w_end))}
@@ -126,9 +129,9 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
         verb = "snaps" if left.start == "snap" else "turns"
         at = f"{pname}/R = {left.start_p / R:.4g}" if pname == "w" else f"{pname} = {left.start_p:.6g}"
         where = f"the followed path leaves the axisymmetric branch at {at}: it {verb} {how}"
-    if control == "displacement" and not pressure:  # the classes are defined on the displacement path
+    if control == "displacement" and not pressure and not indenter:  # the classes: the point load's displacement path
         summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
-    else:  # a dead load or a pressure: where it snaps
+    else:  # a dead load, a pressure or an indenter: where it snaps
         summary["followed"]["snap_loads"] = [float(sn.p) for sn in fp.snaps]
     cls = summary["followed"].get("classification")
     if cls is not None:
@@ -145,9 +148,10 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     if pressure:
         options, x, y = pressure_axes(source.p_c), "w_over_h", "p_over_p_c"
     else:
-        options = force_axes("w", R, D, length_symbol=L, w_symbol="w", scaled={"w_over_L": "w", "F_norm": "F"}) \
+        x, y = ("w_b" if indenter else "w"), "F"
+        options = force_axes(x, R, D, length_symbol=L, w_symbol=x,
+                             scaled={"w_over_L": x, "F_norm": "F"} if x == "w" else {"F_norm": "F"}) \
             if D is not None else {}
-        x, y = "w", "F"
     # the axisymmetric path beneath, faded, without its points: the followed pieces are read against it
     plot_options = {**options, "title": f"followed path: {scene_title(scene)}",
                     "control": "pressure" if pressure else control,

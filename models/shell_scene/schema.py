@@ -336,12 +336,14 @@ SHELL_SCHEMA = Schema(
         Constraint(("stability.follow", "load.kind", "load.control", "load.pole_held"),
                    lambda s: not s["stability"]["follow"] or (
                        (s["load"]["kind"] in ("point", "ring") and not s["load"]["pole_held"])
-                       or (s["load"]["kind"] == "pressure" and s["load"]["control"] == "force")),
-                   'load.kind = "point" or "ring" (the pole free), or "pressure" under load.control = "force", with '
-                   "stability.follow = true",
-                   "the followed path is built for a point or ring load under either control and a pressure under "
-                   "pressure control; a prescribed volume and the indenters are not followed yet (trace them with "
-                   "stability.harmonics to see where they leave the axisymmetric path)"),
+                       or (s["load"]["kind"] == "pressure" and s["load"]["control"] == "force")
+                       or (s["load"]["kind"] in ("sphere", "plate") and s["load"]["control"] == "displacement")),
+                   'load.kind = "point" or "ring" (the pole free), "pressure" under load.control = "force", or '
+                   '"sphere" or "plate" under load.control = "displacement", with stability.follow = true',
+                   "the followed path is built for a point or ring load under either control, a pressure under "
+                   "pressure control and an indenter driven by its travel; a prescribed volume and a dead load on an "
+                   "indenter are not followed yet (trace them with stability.harmonics to see where they leave the "
+                   "axisymmetric path)"),
         Constraint(("view.kind", "view.symmetry", "load.pole_held"),
                    lambda s: not (s["view"]["kind"] == "3d" and s["view"]["symmetry"] == "none"
                                   and s["load"]["kind"] == "point" and s["load"]["pole_held"]),
