@@ -158,3 +158,25 @@ def test_a_dead_load_on_the_indenter_is_the_traced_models() -> None:
     b1 = contin.continuation(traced, U1, F1, p_max=1.3 * F, ds=0.5, ds_max=2.0, max_steps=200)
     assert bf.status == b1.status == "bound"
     assert abs(force.split(bf.u[-1])[1] - b1.observable("w_b")[-1]) < 1e-10
+
+
+def test_an_indenters_3d_view_names_the_travel_and_the_normalised_force_as_the_traced_model() -> None:
+    """The followed path writes pieces of both models into one branch.csv: the 3-D view has ``w_b`` and
+    ``F_norm`` too, equal to the traced model's at an axisymmetric state."""
+    from contin_models.contact.barrier import Sphere
+    from contin_models.contact.indentation import ShellIndentation
+    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.structure import ShellStructure
+
+    one = ShellIndentation(N=30, indenter=Sphere(0.5))
+    el = one.elastic
+    st = ShellStructure(el.cap, el.E, el.nu, el.h, boundary="sliding", edge_bending="none")
+    shell = Shell3D(st, AngularBasis(3, 1), "sphere", "displacement", barrier=one.barrier)
+    import contin
+
+    pressed = contin.continuation(one, one.reference_unknowns(), 0.0, p_max=0.02, ds=0.01, ds_max=0.02)
+    u, w_b = pressed.u[-1], float(pressed.p[-1])
+    mine = shell.evaluate_observables(shell.unknowns(shell.view.axisymmetric_state(one.full_state(u, w_b))), w_b)
+    theirs = one.evaluate_observables(u, w_b)
+    assert mine["w_b"] == theirs["w_b"] == w_b
+    assert mine["F"] > 0 and mine["F_norm"] == pytest.approx(theirs["F_norm"], rel=1e-9)

@@ -213,6 +213,12 @@ class Shell3D(Problem):
         families = (self._bloch_family(),) if every_mode else ()
         if indenter:  # the parameter is the travel; w stays the pole's deflection
             observables[name], derivatives[name] = self._contact_force, self._dcontact_force
+            # as the traced model names them: the travel as an observable too, the force normalised
+            f_norm = self.length / (2.0 * math.pi * self.D)
+            observables["w_b"] = lambda u, p: float(p)
+            derivatives["w_b"] = lambda u, p: (np.zeros(self.n), 1.0)
+            observables["F_norm"] = lambda u, p: self._contact_force(u, p) * f_norm
+            derivatives["F_norm"] = lambda u, p: _scaled(self._dcontact_force(u, p), f_norm)
         super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
                          stability_operators=self._stability_operators(2 * self.node + 1 if pole or load == "ring"
                                                                        else None),
