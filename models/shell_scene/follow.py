@@ -22,7 +22,7 @@ import numpy as np
 import contin
 from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
-from .build import build, loaded_end, traced_structure
+from .build import build, length_unit, loaded_end, traced_structure
 from .labels import force_axes, length_symbol, pressure_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene
 from .view3d import surfaces_drawer
@@ -39,7 +39,8 @@ def _piece_label(piece: Any) -> str:
 
 def followed_branches(fp: Any, pname: str, R: float) -> list[dict[str, Any]]:
     """``summary.json``'s ``branches`` of a followed path: per piece its id (the ``branch`` column), symmetry,
-    waves, parent, how it started and ended, and where (``w/R`` at both ends)."""
+    waves, parent, how it started and ended, and where (the parameter at both ends, and over the scene's length
+    unit ``R``: ``..._over_R`` whatever the geometry calls its length)."""
     rows = []
     for pc in fp.pieces:
         br = pc.branch
@@ -77,7 +78,7 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     axi = run_scene(plain, progress)
     b = build(scene, progress)
     source = b.problem
-    R = float(scene["shell"]["R"]) if "R" in scene["shell"] else 1.0
+    R = length_unit(scene)  # the sphere's radius, a cone's or plate's base radius, ...
     control = scene["load"]["control"]
     pressure = scene["load"]["kind"] == "pressure"
     indenter = scene["load"]["kind"] in ("sphere", "plate")
@@ -127,7 +128,8 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
         how = (f"into {left.waves} wave{'s' if left.waves > 1 else ''} ({left.symmetry})" if left.waves
                else f"to a state of symmetry {left.symmetry}")
         verb = "snaps" if left.start == "snap" else "turns"
-        at = f"{pname}/R = {left.start_p / R:.4g}" if pname == "w" else f"{pname} = {left.start_p:.6g}"
+        unit = length_symbol(scene["shell"])
+        at = f"{pname}/{unit} = {left.start_p / R:.4g}" if pname in ("w", "w_b") else f"{pname} = {left.start_p:.6g}"
         where = f"the followed path leaves the axisymmetric branch at {at}: it {verb} {how}"
     if control == "displacement" and not pressure and not indenter:  # the classes: the point load's displacement path
         summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
@@ -136,7 +138,7 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     cls = summary["followed"].get("classification")
     if cls is not None:
         same = cls == summary.get("classification")
-        where += (f"; on the followed path the cap is {cls}"
+        where += (f"; on the followed path the shell is {cls}"
                   + ("" if summary.get("classification") is None else
                      (", as on the axisymmetric path" if same else
                       f", not {summary.get('classification')} as on the axisymmetric path")))
