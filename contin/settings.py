@@ -30,7 +30,8 @@ class Settings:
     ds, ds_min, ds_max : float
         Initial, minimum and maximum step in the weighted arclength norm.
     max_steps : int
-        Maximum number of accepted steps; the run stops there with status ``"max_steps"``.
+        Maximum number of accepted steps; the run stops there with status ``"max_steps"``.  0 corrects the
+        start point and records it with its stability alone.
     stall_steps : int
         0 (the default): off.  Otherwise the run also stops, with status ``"stalled"``, once this
         many accepted steps in a row brought no progress: no special point found (a fold, a branch
@@ -162,7 +163,7 @@ class Settings:
         need(self.ds_min > 0, "ds_min", "must be > 0")
         need(self.ds_max >= self.ds_min, "ds_max", "must be >= ds_min")
         need(self.ds_min <= self.ds <= self.ds_max, "ds", "must lie in [ds_min, ds_max]")
-        need(self.max_steps >= 1, "max_steps", "must be >= 1")
+        need(self.max_steps >= 0, "max_steps", "must be >= 0 (0: the start point alone)")
         need(self.stall_steps >= 0, "stall_steps", "must be >= 0 (0: off)")
         need(self.direction in (-1, 1), "direction", "must be +1 or -1")
         need(self.p_min < self.p_max, "p_min", "must be < p_max")

@@ -4,7 +4,8 @@ Run ``python -m studies.bench_followed [--repeat 3] [--set KEY=VALUE ...]`` (def
 ``shell.phi_hat = 0.6``, its default mesh, ``view.harmonics`` at its default).  Each repetition runs, in this order
 and in one process (warm imports, BLAS single-threaded): the axisymmetric trace (``stability.harmonics = false``),
 the same with the harmonic blocks watched, and the followed path (which traces the axisymmetric path too, for
-its figure, and then follows the stable path through the 3-D views).  It prints the median wall time of each,
+its figure, and then follows the stable path through the 3-D views).  It prints the median wall time and the median
+processor time of this process (single-threaded BLAS: the work done, less disturbed by other work on the machine) of each,
 the ratios of the followed path to both axisymmetric traces, and the followed path's pieces and snaps, so that a
 change of speed can be told apart from a change of work.
 """
@@ -52,20 +53,24 @@ def main(argv: list[str] | None = None) -> int:
              "followed path": [*sets, "stability.harmonics=true", "stability.follow=true"]}
     _timed(cases["axisymmetric"])  # the imports a runner defers to its first call
     times: dict[str, list[float]] = {name: [] for name in cases}
+    cpus: dict[str, list[float]] = {name: [] for name in cases}
     last: dict[str, Any] = {}
     for r in range(args.repeat):
         for name, keys in cases.items():
-            wall, result = _timed(keys)
+            wall, cpu, result = _timed(keys)
             times[name].append(wall)
+            cpus[name].append(cpu)
             last[name] = result
-            print(f"repeat {r + 1}: {name}: {wall:.2f} s ({result.status})", flush=True)
-    med = {name: statistics.median(t) for name, t in times.items()}
-    print(f"\nscene: {' '.join(sets)}; medians of {args.repeat}:")
-    for name in cases:
-        print(f"  {name:30s} {med[name]:8.2f} s")
-    follow = med["followed path"]
-    print(f"  followed / axisymmetric: {follow / med['axisymmetric']:.1f}x; followed / axisymmetric with harmonics: "
-          f"{follow / med['axisymmetric with harmonics']:.1f}x")
+            print(f"repeat {r + 1}: {name}: {wall:.2f} s wall, {cpu:.2f} s processor ({result.status})", flush=True)
+    print(f"\nscene: {' '.join(sets)}; medians of {args.repeat} (wall, and this process's processor time, which "
+          "other work on the machine disturbs less):")
+    for kind, table in (("wall", times), ("processor", cpus)):
+        med = {name: statistics.median(t) for name, t in table.items()}
+        for name in cases:
+            print(f"  {name:30s} {med[name]:8.2f} s {kind}")
+        follow = med["followed path"]
+        print(f"  {kind}: followed / axisymmetric: {follow / med['axisymmetric']:.1f}x; followed / axisymmetric with "
+              f"harmonics: {follow / med['axisymmetric with harmonics']:.1f}x")
     followed = last["followed path"].summary.get("followed", {})
     for row in followed.get("branches", []):
         print(f"  piece {row['id']}: {row['symmetry']}, from {row['from']}, ended {row['ended']}, {row['points']} points")

@@ -53,8 +53,17 @@ STOPS = ("fold", "branch_point", "bifurcation")
 #: Steps of the probe that decides whether an emanating branch is taken (stable, in the direction of loading).
 PROBE_STEPS = 4
 
+#: The first step of a probe (at most; in the arclength norm relative to the start's scales): an emanating branch
+#: that bends away from its tangent within a few of the settings' steps makes the corrector fail at larger ones, each
+#: failure costing Newton iterations in a 3-D view.
+PROBE_DS = 1e-4
+
 #: Relative step of the load past a point that the shell snaps from, where the energy descent runs.
 SNAP_OVERSHOOT = 1e-6
+
+#: Chord corrector updates in the 3-D views (:attr:`contin.Settings.max_chord_rate`), where a Hessian costs far more
+#: than a solve with the last one: a Newton update is taken afresh only where a chord update shrinks by less.
+CHORD_RATE_3D = 0.1
 
 #: Relative size of waves below which a snap's landing is tried in the view of the higher symmetry without them.
 LANDING_SYMMETRY_TOL = 1e-4
@@ -168,12 +177,33 @@ class _Trace:
     end: tuple[str, float] | None = None
 
     def run(self, problem: Problem, u: np.ndarray, p: float, st: Any, origin: Any = None) -> Branch:
+        st = _settings_for(problem, st)
         if self.end is not None and float(problem.evaluate_observables(u, p)[self.end[0]]) >= self.end[1]:
-            st = dataclasses.replace(st, max_steps=1)  # a landing beyond the end of the load: its point alone
+            st = dataclasses.replace(st, max_steps=0)  # a landing beyond the end of the load: its point alone
         return continuation(problem, u, p, st, events=self.events, origin=origin)
 
     def switch(self, problem: Problem, point: SpecialPoint, st: Any, side: int) -> Branch:
-        return switch_branch(problem, point, st, direction=side, events=self.events)
+        return switch_branch(problem, point, _settings_for(problem, st), direction=side, events=self.events)
+
+
+def _settings_for(problem: Problem | None, st: Any) -> Any:
+    """The settings of a piece in ``problem`` (None: a 3-D view yet to be built): chord updates in a 3-D view unless
+    the caller chose a rate."""
+    if problem is None or isinstance(problem, Shell3D):
+        # the path needs each point's Morse index per class (one factorization each), not its eigenvalues (a
+        # shift-invert Lanczos run on a 3-D view's wide band)
+        st = dataclasses.replace(st, n_eigs=0)
+        if st.max_chord_rate == 0.0:
+            st = dataclasses.replace(st, max_chord_rate=CHORD_RATE_3D)
+    return st
+
+
+def _first_step(branch: Branch, st: Any) -> float:
+    """The arclength of a probe's first accepted step (within the settings' bounds): where a branch leaves its
+    branch point, the step its trace starts with instead of shrinking again from the settings' ``ds``."""
+    if len(branch) < 2 or not np.isfinite(branch.s[1] - branch.s[0]):
+        return st.ds
+    return float(min(max(abs(branch.s[1] - branch.s[0]), st.ds_min), st.ds_max))
 
 
 def _count(branch: Branch, label: str) -> np.ndarray:
@@ -322,18 +352,18 @@ def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st
     """The next piece after ``stop``: a stable emanating branch, or the landing of a snap (None: the path stopped,
     ``out.message`` says why)."""
     problem = piece.problem
-    probe = dataclasses.replace(st, max_steps=PROBE_STEPS)
+    probe = dataclasses.replace(st, max_steps=PROBE_STEPS, ds=max(min(st.ds, PROBE_DS), st.ds_min))
     # where the emanating branch is traced from, once lifted: (view, its branch point, the sides to try)
     start: tuple[Problem, SpecialPoint, tuple[int, ...]] | None = None
     first: Branch | None = None  # the probe of the first side, traced by the lift itself
     what = ""
     if stop.kind == "bifurcation" and stop.info.get("family") == "n":
-        wb = follow_waves(problem, stop, K, structure=structure, settings=probe, every_mode=True)
+        wb = follow_waves(problem, stop, K, structure=structure, settings=_settings_for(None, probe), every_mode=True)
         # the two halves of the n-wave branch are one branch turned by pi / n: one side is enough
         start, first = (wb.problem, wb.branch_point, (1,)), wb.branch
         what = f"the {int(stop.info['key'])}-wave branch"
     elif stop.kind == "bifurcation" and stop.info.get("family") == "representation" and isinstance(problem, Shell3D):
-        bb = follow_symmetry_breaking(problem, stop, settings=probe, direction=1)
+        bb = follow_symmetry_breaking(problem, stop, settings=_settings_for(None, probe), direction=1)
         start, first = (bb.problem, bb.branch_point, (1, -1)), bb.branch
         what = f"the branch breaking into {stop.info['key']}"
     elif stop.kind == "branch_point" and stop.bifurcation is not None and len(stop.bifurcation.directions):
@@ -342,10 +372,11 @@ def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st
     if start is not None:
         view, bp, sides = start
         for side in sides:
-            br = first if (side == 1 and first is not None) else switch_branch(view, bp, probe, direction=side)
+            br = first if (side == 1 and first is not None) else switch_branch(view, bp, _settings_for(view, probe),
+                                                                                  direction=side)
             if _taken(br, float(stop.p), label, 1):
                 tell(f"  {what} is stable and rises: followed")
-                return add(view, trace.switch(view, bp, st, side), piece.index,
+                return add(view, trace.switch(view, bp, dataclasses.replace(st, ds=_first_step(br, st)), side), piece.index,
                            "branch point" if stop.kind == "branch_point" else "bifurcation", float(stop.p))
         tell(f"  {what} is not stable in the direction of loading: the shell snaps")
     # a snap from a bifurcation starts in the view where the point is simple, kicked along its mode
@@ -372,7 +403,8 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, K: 
         if not jr.success:
             out.message = f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land: {jr.message}"
             return None
-        trial = continuation(problem, jr.u_to, p_snap, dataclasses.replace(st, max_steps=1, stop_at=()))
+        trial = continuation(problem, jr.u_to, p_snap, _settings_for(problem, dataclasses.replace(st, max_steps=0,
+                                                                                          stop_at=())))
         if len(trial) and _count(trial, label)[0] == 0:
             out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, problem, piece.symmetry, jr))
             return add(problem, trace.run(problem, jr.u_to, p_snap, st, origin=jr), piece.index, "snap", p_snap)
@@ -422,7 +454,7 @@ def _landing(source: Problem, view: Shell3D, jr: Any, p: float, st: Any,
     unstable = None
     for candidate in ([coarse] if coarse.label != sym.label else []) + [sym]:
         nxt, u_next = _view_of_landing(source, view, jr.u_to, jr.p, candidate)
-        trial = continuation(nxt, u_next, p, dataclasses.replace(st, max_steps=1, stop_at=()))
+        trial = continuation(nxt, u_next, p, _settings_for(nxt, dataclasses.replace(st, max_steps=0, stop_at=())))
         if len(trial) and _count(trial, label)[0] == 0:
             return nxt, u_next, candidate
         if candidate is sym and len(trial):

@@ -55,6 +55,11 @@ __all__ = ["shell_lift", "follow_waves", "waves_view", "rotated_half", "WavesBra
            "subgroup_lift", "same_load", "BrokenBranch", "follow_symmetry_breaking", "StateSymmetry", "state_symmetry",
            "FullSpaceLanding", "jump_in_full_space"]
 
+#: The last Newton step on a branch point's extended system (relative) when it is located again in a 3-D view
+#: (:func:`contin.analyses.lift.lift_branch_point`): the error left after a step that small is about its square,
+#: and further steps in a view of thousands of unknowns only confirm a point the lift already carried exactly.
+RELOCATE_TOL = 1e-9
+
 
 def _harmonic_family(source: Problem) -> Any:
     for fam in getattr(source, "operator_families", ()) or ():
@@ -195,7 +200,7 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
     if st is None:
         raise LiftError("follow_waves: give the structure whose energy the source's is (structure=...)")
     target = waves_view(source, st, n, int(K), every_mode)
-    bp = lift_branch_point(point, source, target, shell_lift(source, target, n))
+    bp = lift_branch_point(point, source, target, shell_lift(source, target, n), tol=RELOCATE_TOL)
     branch = switch_branch(target, bp, settings, direction=1, **overrides)
     return WavesBranch(target, bp, branch)
 
@@ -466,7 +471,7 @@ def follow_symmetry_breaking(problem: Shell3D, point: SpecialPoint, K: int | Non
     key = str(point.info["key"])
     b = breaking(problem.basis, key)
     target = same_load(problem, subgroup_basis(problem.basis, key, K), b.turn, every_mode)
-    bp = lift_branch_point(point, problem, target, subgroup_lift(problem, target, key))
+    bp = lift_branch_point(point, problem, target, subgroup_lift(problem, target, key), tol=RELOCATE_TOL)
     branch = switch_branch(target, bp, settings, direction=direction, **overrides)
     return BrokenBranch(target, b, bp, branch)
 
