@@ -5,7 +5,7 @@ import pytest
 
 import contin
 from contin.numerics.stability import stability_info
-from contin_models.shell.fourier import AngularBasis
+from contin_models.shell.fourier import AngularBasis, transfer_coefficients
 from contin_models.shell.followed import follow_path
 from contin_models.shell_scene.follow import classify_followed
 from contin_models.shell.lift import follow_waves
@@ -46,6 +46,31 @@ def test_the_turning_of_a_wavy_state_is_a_null_vector_not_an_instability(three_w
         assert stability_info(H, 2).eigenvalues[1] / top > 1e-6
     # the turning's sign is noise (negative here): the stability of the circle of turned states ignores it
     assert np.all(counts[1:] == 0)
+
+
+def test_a_pieces_view_is_built_again_from_its_record(three_waves) -> None:
+    """What a restart of a followed path rebuilds a piece's view from: the basis and the gauge.  The three-wave
+    view, a one-wave view with a mirror and one without under a gauge come back with the same unknowns, and a state of
+    the three-wave branch is an equilibrium of its rebuilt view (an independent check: the residual)."""
+    from contin_models.shell.followed import rebuild_view, view_descriptor
+    from contin_models.shell.lift import same_load
+
+    prob, branch = three_waves.problem, three_waves.branch
+    source = ShellOfRevolution(paper_cap(N), "point", "displacement", harmonics=4)
+    assert view_descriptor(source) is None and rebuild_view(None, source, source.structure) is source
+    u, p = np.asarray(branch.u[-1]), float(branch.p[-1])
+    scale = float(prob.residual_scale)
+    assert np.max(np.abs(prob.residual(u, p))) <= 1e-8 * scale
+    again = rebuild_view(view_descriptor(prob), source, source.structure)
+    assert again.basis.n == 3 and again.basis.M == prob.basis.M and np.max(np.abs(again.residual(u, p))) <= 1e-8 * scale
+    for view in (same_load(prob, AngularBasis(1, 6), every_mode=True),
+                 same_load(prob, AngularBasis(1, 6, mirror=False), gauge=(N // 2, 1))):
+        rebuilt = rebuild_view(view_descriptor(view), source, source.structure)
+        assert (rebuilt.basis.n, rebuilt.basis.K, rebuilt.basis.mirror, rebuilt.basis.M, rebuilt.gauge) == \
+            (view.basis.n, view.basis.K, view.basis.mirror, view.basis.M, view.gauge)
+        c = transfer_coefficients(prob.full_state(u, p), prob.basis, view.basis)  # the three waves, one basis lower
+        assert rebuilt.T.shape == view.T.shape
+        assert np.array_equal(rebuilt.residual(rebuilt.unknowns(c), p), view.residual(view.unknowns(c), p))
 
 
 def test_an_axisymmetric_state_keeps_its_whole_a2_block() -> None:
@@ -154,7 +179,7 @@ def test_csv_columns_of_branches_with_and_without_a_tangent() -> None:
 
 
 @pytest.mark.slow
-def test_the_followed_run_writes_its_pieces_replots_and_refuses_a_restart(tmp_path, capsys) -> None:
+def test_the_followed_run_writes_its_pieces_replots_and_restarts(tmp_path, capsys) -> None:
     import csv
     import json
 
@@ -184,8 +209,35 @@ def test_the_followed_run_writes_its_pieces_replots_and_refuses_a_restart(tmp_pa
     (out / "diagram.png").unlink()
     assert cli.main(["plot", str(out)]) == 0 and (out / "diagram.png").is_file()
     capsys.readouterr()
-    assert cli.main(["trace", "--from", str(out), "--label", "1", "--out", str(tmp_path / "again")]) == 2
-    assert "stability.follow = true" in capsys.readouterr().err
+    # a restart from a point of the three-wave piece, with a smaller largest step, joins the saved path: the same
+    # pieces, the same located points to the corrector's tolerance, the same class
+    records = summary["special_points"]
+    label = next(r["number"] for r in records if r.get("branch") == 2 and r.get("label") == "max(F)")
+    again = tmp_path / "again"
+    assert cli.main(["trace", "-q", "--from", str(out), "--label", str(label), "--set", "continuation.ds_max=0.05",
+                     "--out", str(again)]) == 0
+    redo = json.loads((again / "summary.json").read_text())
+    assert redo["restart"]["joined"] and redo["followed"]["classification"] == "bistable"
+    assert [(b["symmetry"], b["ended"]) for b in redo["followed"]["branches"]] == \
+        [(b["symmetry"], b["ended"]) for b in followed["branches"]]
+    located = [(r["branch"], r["label"], r["p"]) for r in records if r.get("branch") and r["kind"] != "jump"]
+    relocated = [(r["branch"], r["label"], r["p"]) for r in redo["special_points"] if r.get("branch") and r["kind"] != "jump"]
+    assert [x[:2] for x in located] == [x[:2] for x in relocated]
+    assert max(abs(a[2] - b[2]) for a, b in zip(located, relocated)) < 1e-8
+    # the point a snap leaves from is named: the bifurcation it left, not a fold of another branch
+    jump_from = next(r["number"] for r in records if r.get("label") == "jump_from")
+    bifurcation = next(r["number"] for r in records if r.get("branch") == 2 and r["kind"] == "bifurcation")
+    assert cli.main(["trace", "--from", str(out), "--label", str(jump_from), "--out", str(tmp_path / "x")]) == 2
+    assert f"(point {bifurcation})" in capsys.readouterr().err
+    # refused with one paragraph: a point of the axisymmetric path drawn beside, another structure, the end of load
+    assert cli.main(["trace", "--from", str(out), "--label", "1", "--out", str(tmp_path / "y")]) == 2
+    assert "branch 0, the axisymmetric path" in capsys.readouterr().err
+    assert cli.main(["trace", "--from", str(out), "--label", str(label), "--set", "shell.h=0.019",
+                     "--out", str(tmp_path / "z")]) == 2
+    assert "shell.h changed" in capsys.readouterr().err
+    last = len(followed["branches"])
+    assert cli.main(["trace", "--from", str(out), "--label", f"end:{last}", "--out", str(tmp_path / "w")]) == 2
+    assert "nothing to follow" in capsys.readouterr().err
 
 
 def test_a_gauge_holds_the_turning_of_a_state_without_a_mirror() -> None:

@@ -59,7 +59,7 @@ import numpy as np
 
 __all__ = ["STATES_FILE", "PATH_FREE_SECTIONS", "Start", "SavedTrace", "SavedPrefix", "RestartError", "can_resume",
            "restart_states", "number_points", "read_start", "find_point", "restart_scene", "attach_saved_path",
-           "continue_saved", "join_branches", "beyond_end", "resume", "drop_start_duplicates", "restart_record"]
+           "continue_saved", "join_branches", "branch_head", "beyond_end", "resume", "drop_start_duplicates", "restart_record"]
 
 #: The file of a run's saved states, beside ``summary.json``.
 STATES_FILE = "states.npz"
@@ -341,18 +341,23 @@ def restart_states(result: Any) -> dict[str, np.ndarray]:
             {"kind": str(rec.get("kind", spt.kind)), "engine_kind": spt.kind, "label": str(rec.get("label", "")),
              "branch": b, "special": j, "number": k + 1}, extra)
     reached = _reached_by_jump(branches, len(jumps))
+    ends = list(getattr(result, "jump_branches", None) or [])
     for k, rec in enumerate(records):
         ji = rec.get("jump")
         if rec.get("kind") != "jump" or not isinstance(ji, int) or not 0 <= ji < len(jumps):
             continue
         jr = jumps[ji]
         if rec.get("label") == "jump_from":
-            fold = next((r["number"] for r in records[:k][::-1] if r.get("branch") == ji and r.get("kind") == "fold"
+            left, kinds = (ends[ji][0], _LOST_STABILITY) if ends else (ji, ("fold",))
+            fold = next((r["number"] for r in records[:k][::-1] if r.get("branch") == left and r.get("kind") in kinds
                          and "number" in r), None)
             entries.append({"key": str(k + 1), "kind": "jump", "label": "jump_from", "number": k + 1, "jump": ji,
                             "p": float(jr.p), "refused": _jump_from_refusal(k + 1, fold)})
             continue
-        landing = ji + 1 if ji + 1 < len(branches) and reached[ji + 1] else None
+        if ends:
+            landing = ends[ji][1] if ends[ji][1] is not None and ends[ji][1] < len(branches) else None
+        else:
+            landing = ji + 1 if ji + 1 < len(branches) and reached[ji + 1] else None
         if landing is not None and len(branches[landing]) >= 2:
             du, dp, ds = _secant(branches[landing], 0)
         else:  # the sweep goes on in the parameter's direction; the state's direction is unknown
@@ -388,11 +393,15 @@ def _json_default(obj: Any) -> Any:
     return repr(obj)
 
 
+#: Kinds of the located points a path loses stability at, which a jump leaves from.
+_LOST_STABILITY = ("fold", "bifurcation", "branch_point")
+
+
 def _jump_from_refusal(number: int, fold: int | None) -> str:
     instead = f"the limit point itself (point {fold})" if fold is not None else "the limit point itself"
-    return (f"point {number} is where a jump leaves its limit point: the state at a load just past the limit, "
-            f"where no equilibrium is near, so no path goes on from it; restart from {instead} or from the "
-            f"landing (point {number + 1})")
+    return (f"point {number} is where a jump leaves its limit point (where the path lost stability): the state at a "
+            f"load just past it, where no equilibrium is near, so no path goes on from it; restart from {instead} or "
+            f"from the landing (point {number + 1})")
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -598,7 +607,7 @@ def _prefix(start: Start) -> SavedPrefix | None:
         return SavedPrefix(list(saved.branches), list(saved.jumps[:b]), None)
     br = saved.branches[b]
     if start.kind == "end":
-        return SavedPrefix(list(saved.branches[:b]), list(saved.jumps[:b]), _head(br, len(br), list(br.special_points)),
+        return SavedPrefix(list(saved.branches[:b]), list(saved.jumps[:b]), branch_head(br, len(br), list(br.special_points)),
                            at_stored_point=True, s=float(br.s[-1]))
     if start.special is None or not 0 <= start.special < len(br.special_points):
         return None
@@ -607,7 +616,7 @@ def _prefix(start: Start) -> SavedPrefix | None:
     keep = int(spt.index) + 1
     s = float(spt.s) if math.isfinite(float(spt.s)) else float(br.s[keep - 1])
     return SavedPrefix(list(saved.branches[:b]), list(saved.jumps[:b]),
-                       _head(br, keep, list(br.special_points[:start.special + 1])), at_stored_point=stored, s=s)
+                       branch_head(br, keep, list(br.special_points[:start.special + 1])), at_stored_point=stored, s=s)
 
 
 def attach_saved_path(model: Any, start: Start, summary: Mapping[str, Any],
@@ -635,8 +644,9 @@ def attach_saved_path(model: Any, start: Start, summary: Mapping[str, Any],
     return []
 
 
-def _head(br: Any, keep: int, specials: list[Any]) -> Any:
-    """The first ``keep`` stored points of ``br`` with the special points ``specials`` (a copy)."""
+def branch_head(br: Any, keep: int, specials: list[Any]) -> Any:
+    """The first ``keep`` stored points of the branch ``br`` with the special points ``specials`` (a copy): the part
+    of a saved branch before a restart's point, which :func:`join_branches` joins to the run traced from it."""
     def rows(a: Any) -> Any:
         return None if a is None else np.asarray(a)[:keep]
 

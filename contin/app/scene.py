@@ -567,6 +567,10 @@ class TraceResult:
     draw_shapes : callable, optional
         ``draw_shapes(figure)`` draws :attr:`shapes` on an empty matplotlib Figure; the command line
         writes it as ``shapes.png`` (with the diagram, unless the scene turns figures off).
+    jump_branches : list of (int, int or None)
+        Per jump, the branch it leaves and the branch that starts at its landing (None: none), when the
+        branches are not a quasi-static sweep's (jump ``j`` from branch ``j`` to branch ``j + 1``, the
+        default when empty): what a restart from a jump's records reads.
     """
 
     branches: list[Branch]
@@ -586,6 +590,7 @@ class TraceResult:
     plot_options: dict[str, Any] = field(default_factory=dict)
     shapes: dict[str, np.ndarray] = field(default_factory=dict)
     draw_shapes: Callable[[Any], Any] | None = None
+    jump_branches: list[tuple[int, int | None]] = field(default_factory=list)
 
     @classmethod
     def from_branches(cls, branches: Sequence[Branch], jumps: Sequence[JumpResult] = (), *, problem: Any = None,

@@ -45,7 +45,7 @@ from .fourier import AngularBasis, transfer_coefficients
 from .lift import StateSymmetry, follow_symmetry_breaking, follow_waves, same_load, state_symmetry
 from .problem3d import Shell3D, gauge_for
 
-__all__ = ["Piece", "Snap", "FollowedPath", "follow_path", "STOPS"]
+__all__ = ["Piece", "Snap", "FollowedPath", "follow_path", "STOPS", "view_descriptor", "rebuild_view"]
 
 #: The located points that end a piece: each is where a stable branch loses stability under the control.
 STOPS = ("fold", "branch_point", "bifurcation")
@@ -220,6 +220,40 @@ def _taken(branch: Branch, start_p: float, label: str, direction: int) -> bool:
     return bool(np.all(counts[1:] == 0) and direction * (float(branch.p[-1]) - start_p) > 0.0)
 
 
+def view_descriptor(problem: Problem) -> dict[str, Any] | None:
+    """What a piece's view is built from beside the scene: the angular basis (``n``, ``K``, ``mirror``, ``M``) and the
+    gauge of a 3-D view; None for the traced axisymmetric model.  :func:`rebuild_view` builds the view again."""
+    if not isinstance(problem, Shell3D):
+        return None
+    b = problem.basis
+    return {"n": int(b.n), "K": int(b.K), "mirror": bool(b.mirror), "M": None if b.M is None else int(b.M),
+            "gauge": None if problem.gauge is None else [int(g) for g in problem.gauge]}
+
+
+def rebuild_view(descriptor: dict[str, Any] | None, source: Problem, structure: Any) -> Problem:
+    """The view a piece was traced in, from its :func:`view_descriptor` and the traced model ``source`` of the same
+    scene (its structure, load, control and indenter): ``source`` itself for None.
+
+    The views of the followed path carry the traced model's reference, which is axisymmetric for every scene the
+    path is followed for; a caller restarting from a saved state checks that it is an equilibrium of the view."""
+    from .lift import same_load, waves_view
+
+    if descriptor is None:
+        return source
+    try:
+        n, K, mirror = int(descriptor["n"]), int(descriptor["K"]), bool(descriptor["mirror"])
+        M = None if descriptor.get("M") is None else int(descriptor["M"])
+        gauge = None if descriptor.get("gauge") is None else (int(descriptor["gauge"][0]), int(descriptor["gauge"][1]))
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        raise ValueError(f"a piece's view is described by n, K, mirror, M and gauge, got {descriptor!r} ({exc})") from None
+    view = waves_view(source, structure, n, K, every_mode=True)
+    basis = AngularBasis(n, K, mirror=mirror, M=M)
+    same = (view.basis.n, view.basis.K, view.basis.mirror, view.basis.M) == (basis.n, basis.K, basis.mirror, basis.M)
+    if same and gauge is None:
+        return view
+    return same_load(view, basis, every_mode=True, gauge=gauge)
+
+
 def _symmetry_of(problem: Problem) -> tuple[str, int]:
     if isinstance(problem, Shell3D):
         b = problem.basis
@@ -230,7 +264,7 @@ def _symmetry_of(problem: Problem) -> tuple[str, int]:
 def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, structure: Any, label: str,
                 p_end: float | None = None, end: tuple[str, float] | None = None, K: int = 2,
                 max_pieces: int = 12, events: Sequence[Any] = (),
-                say: Callable[[str], None] | None = None) -> FollowedPath:
+                say: Callable[[str], None] | None = None, start_problem: Problem | None = None) -> FollowedPath:
     """Follow the stable path of a shell of revolution from ``(u0, p0)`` to ``p_end`` (see the module docstring).
 
     Parameters
@@ -239,7 +273,7 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
         The traced axisymmetric model with its harmonic blocks (the operator family ``"n"``): a
         :class:`~contin_models.shell.structure.ShellOfRevolution` with ``harmonics``, or the paper's point-load model
         given them (:func:`contin_models.shell_scene.build.watch_harmonics`).
-    u0, p0 : the stable start (the unloaded shell).
+    u0, p0 : the stable start (the unloaded shell), a state of ``start_problem``.
     settings : contin.Settings
         Settings of every piece (steps, tolerances, bounds); the path sets ``stop_at``, ``stability`` and the
         bound at ``p_end``.
@@ -259,6 +293,9 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
         Stop after this many pieces.
     events : sequence of contin.Event
         Located along every piece (e.g. the extrema of the load); they do not end a piece.
+    start_problem : Problem, optional
+        The view ``u0`` is a state of, when it is not ``source``: a restart from a point of a saved followed path's
+        piece in a 3-D view (:func:`contin_models.shell_scene.follow.resume_followed`).
     say : callable, optional
         Told one line per step of the path (progress).
 
@@ -288,7 +325,8 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
         tell(f"piece {piece.index} ({sym}) from {pname} = {start_p:.6g}: {len(branch)} points, {branch.message}")
         return piece
 
-    piece = add(source, trace.run(source, u0, p0, st), None, "load", p0)
+    first = source if start_problem is None else start_problem
+    piece = add(first, trace.run(first, u0, p0, st), None, "load", p0)
     while True:
         br = piece.branch
         if len(br) == 0:

@@ -15,6 +15,7 @@ and into how many waves.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -67,10 +68,7 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     -------
     TraceResult
     """
-    import sys
-
     from contin_models.shell.followed import follow_path
-    from contin_models.shell.structure import ShellOfRevolution
 
     from .scene import run_scene
 
@@ -78,7 +76,122 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     axi = run_scene(plain, progress)
     b = build(scene, progress)
     source = b.problem
-    R = length_unit(scene)  # the sphere's radius, a cone's or plate's base radius, ...
+    fp = follow_path(source, b.u0, b.p0, b.settings, **_follow_options(scene, b, progress))
+    return followed_result(scene, axi, source, fp)
+
+
+#: Kinds of the located point that ends a piece: singular, so a restart from it starts at the stored point before.
+_ENDS_AT_POINT = ("fold", "bifurcation", "branch_point")
+
+
+def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceResult:
+    """Restart a saved followed path from a point of one of its pieces (``contin trace --from OUT --label K``).
+
+    The piece's view is built again from the scene and the piece's record (``meta["followed"]``, see
+    :func:`followed_result`), the path is followed on from the stored point at the label (the stored point before
+    it when the label is a located point between two, or the located point that ended the piece), and joined to the
+    saved path before it: the saved pieces before, the piece up to that point, and the pieces traced from it.  The
+    result describes the whole path, as a fresh run with the new settings would; the axisymmetric path beside it is
+    traced again.  Only the continuation and output sections may differ from the saved run's scene.
+
+    Raises
+    ------
+    contin.app.restart.RestartError
+        The saved run holds its points alone or predates these records, the label is on the axisymmetric path
+        (branch 0, drawn for comparison) or at a landing after which nothing was traced, the scene changes the
+        path, or the saved state is not an equilibrium of the view built again.
+    """
+    from contin.app.restart import RestartError, SavedPrefix, branch_head, join_branches, path_changes, saved_scene
+    from contin_models.shell.followed import FollowedPath, Piece, Snap, follow_path, rebuild_view
+
+    from .scene import SHELL_SCENE, run_scene
+
+    saved = start.saved
+    if saved is None:
+        raise RestartError("the saved run holds its special points alone (it was traced before whole runs were "
+                           "saved): trace the followed path anew")
+    records = [br.meta.get("followed") for br in saved.branches[1:]]
+    if not records or any(r is None for r in records):
+        raise RestartError("the saved run's pieces carry no record of their views (it was traced before followed "
+                           "paths could be restarted): trace it anew")
+    landing = [i for i, r in enumerate(records) if start.jump is not None and r["jump"] == start.jump]
+    if landing:  # a snap's landing: the first stored point of the piece it starts
+        start.branch, start.kind, start.special = landing[0] + 1, "landing", None
+    if start.branch == 0:
+        raise RestartError(f"{start.describe()} lies on branch 0, the axisymmetric path drawn beside the followed one "
+                           f"for comparison; restart from a point of the followed path: branches 1 to "
+                           f"{len(records)}, its pieces (the 'branch' column of branch.csv)")
+    if start.branch > len(records):
+        raise RestartError(f"{start.describe()} is a snap's landing after which the saved run traced nothing: restart "
+                           "from the point the shell snapped from")
+    changed = path_changes(saved_scene(SHELL_SCENE, {"scene": start.saved_scene}), scene)
+    if changed:
+        raise RestartError(f"a restart of a followed path continues the saved path, and {', '.join(changed)} changed; "
+                           "only the continuation and output sections may change: trace the scene anew for another "
+                           "structure or load")
+    plain = {**scene, "stability": {**scene["stability"], "follow": False}}
+    axi = run_scene(plain, progress)
+    b = build(scene, progress)
+    source = b.problem
+    options = _follow_options(scene, b, progress)
+    k = start.branch - 1  # the piece the point lies on
+    views = [rebuild_view(r["view"], source, options["structure"]) for r in records[:k + 1]]
+    br = saved.branches[k + 1]
+    if start.kind == "landing":
+        keep = 1
+    elif start.kind == "end" or start.special is None:
+        keep = len(br)
+    else:
+        keep = int(br.special_points[start.special].index) + 1
+    if keep == len(br) and records[k]["end"] in _ENDS_AT_POINT:
+        keep -= 1
+    keep = max(keep, 1)
+    u0, p0 = np.asarray(br.u[keep - 1], dtype=float), float(br.p[keep - 1])
+    end = options.get("end")
+    if p0 >= options.get("p_end", math.inf) or (end is not None and
+                                                float(views[k].evaluate_observables(u0, p0)[end[0]]) >= end[1]):
+        raise RestartError(f"{start.describe()} lies at the end of the load: there is nothing to follow from it")
+    residual = float(np.max(np.abs(views[k].residual(u0, p0))))
+    scale = float(getattr(views[k], "residual_scale", 1.0) or 1.0)
+    if not residual <= 1e-6 * scale:
+        raise RestartError(f"the saved state of piece {k + 1} at {source.parameter_name} = {p0:.10g} is not an "
+                           f"equilibrium of its view built again from the scene (residual {residual:.3g}, scale "
+                           f"{scale:.3g}): trace the followed path anew")
+    tail = follow_path(source, u0, p0, b.settings, start_problem=views[k], **options)
+    if not tail.pieces:
+        raise RestartError(f"the followed path could not start again from piece {k + 1}: {tail.message}")
+    pieces = [Piece(i, views[i], saved.branches[i + 1], r["symmetry"], int(r["waves"]), r["parent"], r["start"],
+                    float(r["start_p"]), r["end"]) for i, r in enumerate(records[:k])]
+    specials = [spt for spt in br.special_points
+                if spt.index < keep - 1 or (spt.kind == "jump" and spt.index <= keep - 1)]
+    head = branch_head(br, keep, specials)
+    first = tail.pieces[0]
+    pieces.append(Piece(k, views[k], join_branches(head, first.branch, repeated=True), records[k]["symmetry"],
+                        int(records[k]["waves"]), records[k]["parent"], records[k]["start"],
+                        float(records[k]["start_p"]), first.end))
+    for pc in tail.pieces[1:]:
+        pieces.append(Piece(pc.index + k, pc.problem, pc.branch, pc.symmetry, pc.waves,
+                            None if pc.parent is None else pc.parent + k, pc.start, pc.start_p, pc.end))
+    snaps = [Snap(int(r["parent"]), i, float(r["start_p"]), views[i], str(r["landing_symmetry"] or r["symmetry"]),
+                  saved.jumps[int(r["jump"])]) for i, r in enumerate(records[:k + 1]) if r["jump"] is not None]
+    snaps += [Snap(sn.from_piece + k, None if sn.to_piece is None else sn.to_piece + k, sn.p, sn.view, sn.symmetry,
+                   sn.jump) for sn in tail.snaps]
+    fp = FollowedPath(pieces, snaps, tail.status, tail.message, tail.label)
+    # the command line then says that the results describe the whole path
+    start.prefix = SavedPrefix([saved.branches[i + 1] for i in range(k)],
+                               [sn.jump for sn in snaps[:len(snaps) - len(tail.snaps)]], head, at_stored_point=True,
+                               s=float(head.s[-1]))
+    return followed_result(scene, axi, source, fp)
+
+
+def _follow_options(scene: Scene, b: Any, progress: bool) -> dict[str, Any]:
+    """The keywords of :func:`~contin_models.shell.followed.follow_path` that the scene sets: the structure, the
+    control's label, the harmonics, the load's extrema as events, the end of the load and the progress lines."""
+    import sys
+
+    from contin_models.shell.structure import ShellOfRevolution
+
+    source = b.problem
     control = scene["load"]["control"]
     pressure = scene["load"]["kind"] == "pressure"
     indenter = scene["load"]["kind"] in ("sphere", "plate")
@@ -93,22 +206,44 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     else:  # a prescribed deflection ends at its end; a dead load goes on until the shell everts
         w_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
         ends = {"p_end": float(w_end)} if control == "displacement" else {"end": ("w", float(w_end))}
-    fp = follow_path(source, b.u0, b.p0, b.settings, structure=traced_structure(scene, source), label=control,
-                     K=int(scene["view"]["harmonics"]), events=events, say=say, **ends)
+    return {"structure": traced_structure(scene, source), "label": control, "K": int(scene["view"]["harmonics"]),
+            "events": events, "say": say, **ends}
+
+
+def followed_result(scene: Scene, axi: TraceResult, source: Any, fp: Any) -> TraceResult:
+    """The outputs of a followed path ``fp`` of the scene (module docstring), beside its axisymmetric trace ``axi``:
+    the branches (the axisymmetric path, then the pieces, each with ``meta["followed"]``: what a restart rebuilds
+    the piece from), the jumps, ``summary.json``'s ``followed``, the table, the columns, the figures."""
+    from contin_models.shell.followed import view_descriptor
+
+    R = length_unit(scene)  # the sphere's radius, a cone's or plate's base radius, ...
+    control = scene["load"]["control"]
+    pressure = scene["load"]["kind"] == "pressure"
+    indenter = scene["load"]["kind"] in ("sphere", "plate")
     pname = source.parameter_name
     path = axi.branches[0]
     pieces = [pc.branch for pc in fp.pieces]
     branches = [path] + pieces
     labels = [_AXI] + [_piece_label(pc) for pc in fp.pieces]
     jumps, jump_obs = [], []
+    landed_by: dict[int, tuple[int, str]] = {}  # piece -> (its jump in jumps, the landing's symmetry)
+    jump_branches: list[tuple[int, int | None]] = []  # per jump: (the branch it leaves, the branch it lands on)
     for sn in fp.snaps:
         before = fp.pieces[sn.from_piece].branch
         after = fp.pieces[sn.to_piece].branch if sn.to_piece is not None and sn.to_piece < len(fp.pieces) else None
         if after is None or not len(after):
             continue
+        landed_by[int(sn.to_piece)] = (len(jumps), sn.symmetry)
+        jump_branches.append((sn.from_piece + 1, sn.to_piece + 1))  # branch 0 is the axisymmetric path
         jumps.append(sn.jump)
         jump_obs.append(({"p": float(before.p[-1]), **{k: float(v[-1]) for k, v in before.observables.items()}},
                          {"p": float(after.p[0]), **{k: float(v[0]) for k, v in after.observables.items()}}))
+    for pc in fp.pieces:
+        jump, landing = landed_by.get(pc.index, (None, None))
+        pc.branch.meta["followed"] = {"index": pc.index, "symmetry": pc.symmetry, "waves": pc.waves,
+                                      "parent": pc.parent, "start": pc.start, "start_p": float(pc.start_p),
+                                      "end": pc.end, "view": view_descriptor(pc.problem), "jump": jump,
+                                      "landing_symmetry": landing}
     # a pressure has one stability label (the primary one); point and ring loads both controls' columns
     cols = branch_columns(branches, None if pressure else STABILITY_COLUMNS)
     measured = [point_symmetries(pc) for pc in fp.pieces]
@@ -163,6 +298,7 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     result = TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
                          table=special_point_table(records, pname), csv_columns=cols, x=x, y=y,
                          parameter_name=pname, labels=labels, jump_observables=jump_obs, failure=failure,
+                         jump_branches=jump_branches,
                          stability=None if pressure else control, plot_options=plot_options, shapes=shapes,
                          draw_shapes=surfaces_drawer(shapes, R, float(scene["shell"]["h"]), pname,
                                                      length_symbol(scene["shell"])))

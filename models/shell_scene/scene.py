@@ -65,15 +65,17 @@ def resume_scene(scene: Scene, start: Any, progress: bool = False) -> TraceResul
 
     Supported: the point load on the paper's cap (:func:`contin_models.shell_scene.point.resume_point`), under
     either control whatever control saved the point (the state is carried over, so a point of the
-    displacement path can be loaded on by a dead load and back).  The other loads and shells are refused.
+    displacement path can be loaded on by a dead load and back), and a followed path of any scene from a point of
+    one of its pieces (:func:`contin_models.shell_scene.follow.resume_followed`).  The other loads and shells are
+    refused.
     """
     from .build import is_papers_cap
     from .point import resume_point
 
     if scene.get("stability", {}).get("follow"):
-        raise SceneError("a restart from a saved point continues the axisymmetric path; this scene has "
-                         "stability.follow = true, whose path crosses 3-D views: trace it anew (contin plot redraws a "
-                         "saved followed run)", "constraint")
+        from .follow import resume_followed
+
+        return resume_followed(scene, start, progress)
     if scene.get("view", {}).get("kind") == "3d":
         raise SceneError("a restart from a saved point is supported in the axisymmetric view (view.kind = "
                          "\"axisymmetric\"); this scene has view.kind = \"3d\": trace it anew", "constraint")
