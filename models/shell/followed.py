@@ -99,6 +99,10 @@ class Piece:
         The parameter where it started.
     end : str
         Why it ended: ``"end of load"``, ``"fold"``, ``"branch_point"``, ``"bifurcation"`` or ``"stopped"``.
+    relocated : dict or None
+        For a piece that starts at a bifurcation lifted from the view before into its own: how far the branch
+        point moved when it was located again there (``moved_p``, ``moved_u``: the largest change of an unknown,
+        ``mode_angle``: between the lifted and the located null vector, radians); None otherwise.
     """
 
     index: int
@@ -110,6 +114,7 @@ class Piece:
     start: str
     start_p: float
     end: str = ""
+    relocated: dict[str, float] | None = None
 
 
 @dataclass
@@ -414,8 +419,15 @@ def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st
                                                                                   direction=side)
             if _taken(br, float(stop.p), label, 1):
                 tell(f"  {what} is stable and rises: followed")
-                return add(view, trace.switch(view, bp, dataclasses.replace(st, ds=_first_step(br, st)), side), piece.index,
-                           "branch point" if stop.kind == "branch_point" else "bifurcation", float(stop.p))
+                taken = add(view, trace.switch(view, bp, dataclasses.replace(st, ds=_first_step(br, st)), side),
+                            piece.index, "branch point" if stop.kind == "branch_point" else "bifurcation",
+                            float(stop.p))
+                if bp is not stop:  # lifted into another view and located again there
+                    taken.relocated = {key: float(bp.info[key]) for key in ("moved_p", "moved_u", "mode_angle")
+                                       if key in bp.info}
+                    tell(f"  the branch point moved by {taken.relocated.get('moved_p', math.nan):.3g} in "
+                         f"{source.parameter_name} when located again in the {taken.symmetry} view")
+                return taken
         tell(f"  {what} is not stable in the direction of loading: the shell snaps")
     # a snap from a bifurcation starts in the view where the point is simple, kicked along its mode
     full_from = (start[0], start[1]) if (start is not None and stop.kind == "bifurcation") else None

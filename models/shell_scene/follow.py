@@ -48,7 +48,7 @@ def followed_branches(fp: Any, pname: str, R: float) -> list[dict[str, Any]]:
         rows.append({"id": pc.index + 1, "symmetry": pc.symmetry, "n": pc.waves,
                      "parent": None if pc.parent is None else pc.parent + 1, "from": pc.start,
                      f"{pname}_start": float(pc.start_p), f"{pname}_end": float(br.p[-1]) if len(br) else None,
-                     "ended": pc.end, "points": len(br),
+                     "ended": pc.end, "points": len(br), "relocated": pc.relocated,
                      f"{pname}_start_over_R": float(pc.start_p) / R,
                      f"{pname}_end_over_R": float(br.p[-1]) / R if len(br) else None})
     return rows
@@ -161,17 +161,17 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
     if not tail.pieces:
         raise RestartError(f"the followed path could not start again from piece {k + 1}: {tail.message}")
     pieces = [Piece(i, views[i], saved.branches[i + 1], r["symmetry"], int(r["waves"]), r["parent"], r["start"],
-                    float(r["start_p"]), r["end"]) for i, r in enumerate(records[:k])]
+                    float(r["start_p"]), r["end"], r.get("relocated")) for i, r in enumerate(records[:k])]
     specials = [spt for spt in br.special_points
                 if spt.index < keep - 1 or (spt.kind == "jump" and spt.index <= keep - 1)]
     head = branch_head(br, keep, specials)
     first = tail.pieces[0]
     pieces.append(Piece(k, views[k], join_branches(head, first.branch, repeated=True), records[k]["symmetry"],
                         int(records[k]["waves"]), records[k]["parent"], records[k]["start"],
-                        float(records[k]["start_p"]), first.end))
+                        float(records[k]["start_p"]), first.end, records[k].get("relocated")))
     for pc in tail.pieces[1:]:
         pieces.append(Piece(pc.index + k, pc.problem, pc.branch, pc.symmetry, pc.waves,
-                            None if pc.parent is None else pc.parent + k, pc.start, pc.start_p, pc.end))
+                            None if pc.parent is None else pc.parent + k, pc.start, pc.start_p, pc.end, pc.relocated))
     snaps = [Snap(int(r["parent"]), i, float(r["start_p"]), views[i], str(r["landing_symmetry"] or r["symmetry"]),
                   saved.jumps[int(r["jump"])]) for i, r in enumerate(records[:k + 1]) if r["jump"] is not None]
     snaps += [Snap(sn.from_piece + k, None if sn.to_piece is None else sn.to_piece + k, sn.p, sn.view, sn.symmetry,
@@ -243,7 +243,7 @@ def followed_result(scene: Scene, axi: TraceResult, source: Any, fp: Any) -> Tra
         pc.branch.meta["followed"] = {"index": pc.index, "symmetry": pc.symmetry, "waves": pc.waves,
                                       "parent": pc.parent, "start": pc.start, "start_p": float(pc.start_p),
                                       "end": pc.end, "view": view_descriptor(pc.problem), "jump": jump,
-                                      "landing_symmetry": landing}
+                                      "landing_symmetry": landing, "relocated": pc.relocated}
     # a pressure has one stability label (the primary one); point and ring loads both controls' columns
     cols = branch_columns(branches, None if pressure else STABILITY_COLUMNS)
     measured = [point_symmetries(pc) for pc in fp.pieces]
