@@ -17,7 +17,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from ..numerics.linalg import ArrowCholesky, ArrowParts, arrow_structure, bandwidths, lower_band
+from ..numerics.linalg import ArrowCholesky, ArrowParts, arrow_structure, bandwidths, upper_band
 from ..numerics.stability import stability_info
 from ..problem import NonFiniteError, Problem
 from ..results.branch import BranchFileError, SpecialPoint
@@ -133,10 +133,11 @@ def _shifted_cholesky_solver(H, mu: float):
     b = max(kl, ku)
     try:
         if n > 400 and b + 1 <= 0.1 * n:
-            ab = lower_band(sp.csr_matrix(H), b)
-            ab[0] += mu
-            c = sla.cholesky_banded(ab, lower=True)
-            return lambda rhs: sla.cho_solve_banded((c, True), rhs)
+            # the upper band: its positions are computed once per pattern of a model's Hessians
+            ab = upper_band(sp.csr_matrix(H), b)
+            ab[b] += mu
+            c = sla.cholesky_banded(ab, lower=False)
+            return lambda rhs: sla.cho_solve_banded((c, False), rhs)
         arrow = arrow_structure(H) if n > 64 else None
         if arrow is not None:  # a band with a few dense border rows (an indenter's travel under a dead load)
             return ArrowCholesky(ArrowParts(H, *arrow), mu).solve

@@ -200,6 +200,8 @@ def bandwidths(A) -> tuple[int, int]:
         if not offs:
             return 0, 0
         return max(0, -min(offs)), max(0, max(offs))
+    if sp.issparse(A) and A.format == "csr" and A.has_canonical_format:
+        return _pattern_memo(A, ("bandwidths",), lambda: _csr_bandwidths(A))
     if sp.issparse(A):
         coo = A.tocoo()
         if coo.nnz == 0:
@@ -614,6 +616,14 @@ def cholesky_band_solver(u: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
             return x
         return lapack.dpbtrs(factor, r, lower=0)[0]
     return solve
+
+
+def _csr_bandwidths(A) -> tuple[int, int]:
+    """:func:`bandwidths` of a canonical CSR matrix, from its row pointers (no COO copy)."""
+    if A.nnz == 0:
+        return 0, 0
+    off = np.repeat(np.arange(A.shape[0], dtype=np.int64), np.diff(A.indptr)) - A.indices.astype(np.int64)
+    return int(max(off.max(), 0)), int(max(-off.min(), 0))
 
 
 def lower_band(H, b: int) -> np.ndarray:

@@ -37,7 +37,7 @@ import scipy.sparse as sp
 
 from ..lazy import lazy_module
 from .linalg import (BANDED_FRACTION, PIVOT_FREE_GROWTH_LIMIT, ArrowCholesky, ArrowParts, BandedLU, Factorization, SymmetricBand, arrow_structure, bandwidths,
-                     cholesky_band_solver, factorize, lower_band)
+                     cholesky_band_solver, factorize, lower_band, upper_band)
 
 __all__ = ["StabilityInfo", "stability_info", "inertia", "leading_inertias", "nested_inertias", "lanczos_start"]
 
@@ -373,15 +373,15 @@ def _shifted_lanczos_info(H, b: int, k: int, vectors: bool = False) -> Stability
     if want >= n - 1 or want > ARROW_MAX_EIGENPAIRS:
         return None
     H = sp.csr_matrix(H)
-    band = lower_band(H, b)
+    band = upper_band(H, b)  # its positions computed once per pattern of a model's Hessians
     size = float(abs(H).sum(axis=1).max()) or 1.0
     delta = 1e-8 * size
     factor = None
     for _ in range(200):
-        shifted = band.copy()
-        shifted[0] += delta  # the diagonal of the lower band storage
+        shifted = band.copy(order="F")
+        shifted[b] += delta  # the diagonal of the upper band storage
         try:
-            factor = sla.cholesky_banded(shifted, lower=True, check_finite=False)
+            factor = sla.cholesky_banded(shifted, lower=False, check_finite=False)
         except np.linalg.LinAlgError:
             delta *= 2.0
             continue
@@ -390,7 +390,7 @@ def _shifted_lanczos_info(H, b: int, k: int, vectors: bool = False) -> Stability
         return None
 
     def solve(r: np.ndarray) -> np.ndarray:
-        return sla.cho_solve_banded((factor, True), r, check_finite=False)
+        return sla.cho_solve_banded((factor, False), r, check_finite=False)
 
     sigma = -delta
     op = spla.LinearOperator((n, n), matvec=solve, dtype=float)
