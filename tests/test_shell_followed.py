@@ -344,3 +344,21 @@ def test_a_sphere_pressing_the_cap_sideways_snaps_from_its_one_wave_bifurcation(
     for piece in fp.pieces:
         counts = piece.branch.n_negative_under("displacement")
         assert np.all(counts[: len(counts) - (piece.end != "end of load")] == 0)
+
+
+def test_a_piece_that_turns_back_at_a_fold_it_did_not_locate_stops_there() -> None:
+    """A piece of the followed path goes on in the direction of loading; one that passes a fold of the load without
+    locating it (a fold and a branch point next to each other leave every stored point's count at zero, as on the
+    ring-loaded cap's four-wave piece) must not be followed backwards.  Here the fold of ``u^3 - 3 u = p`` at
+    ``p = 2`` is only bracketed (``locate = False``) and the stability operator is positive throughout, so the
+    counts do not catch it: the piece is cut at the last point before the load falls and the path stops, saying so.
+    """
+    problem = contin.Problem(residual=lambda u, p: np.array([u[0] ** 3 - 3.0 * u[0] - p]),
+                             jacobian=lambda u, p: np.array([[3.0 * u[0] ** 2 - 3.0]]),
+                             energy=lambda u, p: u[0] ** 4 / 4 - 1.5 * u[0] ** 2 - p * u[0],
+                             stability_operator=lambda u, p: np.eye(1))
+    settings = contin.Settings(ds=0.05, ds_max=0.1, max_steps=200, locate=False)
+    out = follow_path(problem, np.array([-2.0]), -2.0, settings, structure=None, label="primary", p_end=5.0)
+    assert out.status == "stopped" and "turns back in the load" in out.message
+    p = np.asarray(out.pieces[0].branch.p)
+    assert np.all(np.diff(p) >= 0.0) and 1.9 < p[-1] <= 2.0 + 1e-12

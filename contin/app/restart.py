@@ -59,7 +59,7 @@ import numpy as np
 
 __all__ = ["STATES_FILE", "PATH_FREE_SECTIONS", "Start", "SavedTrace", "SavedPrefix", "RestartError", "can_resume",
            "restart_states", "number_points", "read_start", "find_point", "restart_scene", "attach_saved_path",
-           "continue_saved", "join_branches", "branch_head", "beyond_end", "resume", "drop_start_duplicates", "restart_record"]
+           "continue_saved", "join_branches", "beyond_end", "resume", "drop_start_duplicates", "restart_record"]
 
 #: The file of a run's saved states, beside ``summary.json``.
 STATES_FILE = "states.npz"
@@ -607,7 +607,7 @@ def _prefix(start: Start) -> SavedPrefix | None:
         return SavedPrefix(list(saved.branches), list(saved.jumps[:b]), None)
     br = saved.branches[b]
     if start.kind == "end":
-        return SavedPrefix(list(saved.branches[:b]), list(saved.jumps[:b]), branch_head(br, len(br), list(br.special_points)),
+        return SavedPrefix(list(saved.branches[:b]), list(saved.jumps[:b]), br.head(len(br), list(br.special_points)),
                            at_stored_point=True, s=float(br.s[-1]))
     if start.special is None or not 0 <= start.special < len(br.special_points):
         return None
@@ -616,7 +616,7 @@ def _prefix(start: Start) -> SavedPrefix | None:
     keep = int(spt.index) + 1
     s = float(spt.s) if math.isfinite(float(spt.s)) else float(br.s[keep - 1])
     return SavedPrefix(list(saved.branches[:b]), list(saved.jumps[:b]),
-                       branch_head(br, keep, list(br.special_points[:start.special + 1])), at_stored_point=stored, s=s)
+                       br.head(keep, list(br.special_points[:start.special + 1])), at_stored_point=stored, s=s)
 
 
 def attach_saved_path(model: Any, start: Start, summary: Mapping[str, Any],
@@ -642,34 +642,6 @@ def attach_saved_path(model: Any, start: Start, summary: Mapping[str, Any],
         return [f"branch {start.branch} of the saved run does not start where the run started"]
     start.prefix = prefix
     return []
-
-
-def branch_head(br: Any, keep: int, specials: list[Any]) -> Any:
-    """The first ``keep`` stored points of the branch ``br`` with the special points ``specials`` (a copy): the part
-    of a saved branch before a restart's point, which :func:`join_branches` joins to the run traced from it."""
-    def rows(a: Any) -> Any:
-        return None if a is None else np.asarray(a)[:keep]
-
-    return replace(br, p=br.p[:keep], u=np.asarray(br.u)[:keep], s=br.s[:keep], tangent_p=br.tangent_p[:keep],
-                   residual=br.residual[:keep], newton_iterations=br.newton_iterations[:keep],
-                   observables={k: v[:keep] for k, v in br.observables.items()}, n_negative=rows(br.n_negative),
-                   eigenvalues=rows(br.eigenvalues),
-                   stability_by={k: (np.asarray(a)[:keep], np.asarray(e)[:keep]) for k, (a, e) in br.stability_by.items()},
-                   special_points=specials, tangents={k: v[:keep] for k, v in br.tangents.items()},
-                   meta=dict(br.meta, n_steps=max(keep - 1, 0), **_head_modes(br.meta, keep)))
-
-
-def _head_modes(meta: Mapping[str, Any], keep: int) -> dict[str, Any]:
-    """``meta["modes"]`` (the watched families' per-point counts, :mod:`contin.watch.modes`) for the first
-    ``keep`` points."""
-    if "modes" not in meta:
-        return {}
-    out = {}
-    for name, fam in meta["modes"].items():
-        width = len(fam.get("keys", [])) or 1
-        out[name] = {**fam, **{field: np.asarray(fam[field], dtype=float).reshape(-1, width)[:keep].tolist()
-                               for field in ("n_negative", "lowest") if field in fam}}
-    return {"modes": out}
 
 
 def join_branches(head: Any, tail: Any, *, repeated: bool = True, s0: float | None = None) -> Any:

@@ -7,7 +7,7 @@ and loads back identical.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -333,6 +333,30 @@ class Branch:
         """
         return self.status in SUCCESSES
 
+    def head(self, keep: int, special_points: list[SpecialPoint] | None = None) -> "Branch":
+        """The first ``keep`` stored points as a branch of their own (a copy of the arrays' heads), with the special
+        points ``special_points`` (default: those before the last kept point, and a jump's landing at it).
+
+        The part of a branch before a point: before a restart's point, joined to the run traced from it
+        (:func:`contin.app.restart.join_branches`), or before where a path stops being followed.
+        """
+        if special_points is None:
+            special_points = [spt for spt in self.special_points
+                              if spt.index < keep - 1 or (spt.kind == "jump" and spt.index <= keep - 1)]
+
+        def rows(a: Any) -> Any:
+            return None if a is None else np.asarray(a)[:keep]
+
+        return replace(self, p=self.p[:keep], u=np.asarray(self.u)[:keep], s=self.s[:keep],
+                       tangent_p=self.tangent_p[:keep], residual=self.residual[:keep],
+                       newton_iterations=self.newton_iterations[:keep],
+                       observables={k: v[:keep] for k, v in self.observables.items()}, n_negative=rows(self.n_negative),
+                       eigenvalues=rows(self.eigenvalues),
+                       stability_by={k: (np.asarray(a)[:keep], np.asarray(e)[:keep])
+                                     for k, (a, e) in self.stability_by.items()},
+                       special_points=list(special_points), tangents={k: v[:keep] for k, v in self.tangents.items()},
+                       meta=dict(self.meta, n_steps=max(keep - 1, 0), **_head_modes(self.meta, keep)))
+
     def folds(self) -> list[SpecialPoint]:
         """Special points of kind ``"fold"``."""
         return [sp for sp in self.special_points if sp.kind == "fold"]
@@ -430,3 +454,16 @@ class Branch:
             if arr.shape[0] != m:
                 raise BranchFileError(f"{where}: array {name!r} has {arr.shape[0]} rows, expected {m}")
         return branch
+
+
+def _head_modes(meta: dict[str, Any], keep: int) -> dict[str, Any]:
+    """``meta["modes"]`` (the watched families' per-point counts, :mod:`contin.watch.modes`) for the first
+    ``keep`` points."""
+    if "modes" not in meta:
+        return {}
+    out = {}
+    for name, fam in meta["modes"].items():
+        width = len(fam.get("keys", [])) or 1
+        out[name] = {**fam, **{key: np.asarray(fam[key], dtype=float).reshape(-1, width)[:keep].tolist()
+                               for key in ("n_negative", "lowest") if key in fam}}
+    return {"modes": out}

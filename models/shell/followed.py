@@ -45,7 +45,7 @@ from .fourier import AngularBasis, transfer_coefficients
 from .lift import StateSymmetry, follow_symmetry_breaking, follow_waves, same_load, state_symmetry
 from .problem3d import Shell3D, gauge_for
 
-__all__ = ["Piece", "Snap", "FollowedPath", "follow_path", "STOPS", "view_descriptor", "rebuild_view"]
+__all__ = ["Piece", "Snap", "FollowedPath", "follow_path", "STOPS", "END_TOL", "view_descriptor", "rebuild_view"]
 
 #: The located points that end a piece: each is where a stable branch loses stability under the control.
 STOPS = ("fold", "branch_point", "bifurcation")
@@ -344,6 +344,17 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
             out.message = (f"the snap at {pname} = {piece.start_p:.10g} landed beyond the end of the load, {end[0]} = "
                            f"{end[1]:.10g}, after {len(out.pieces) - 1} stable piece(s) and {len(out.snaps)} snap(s)")
             return out
+        back = _turns_back(br)
+        if back is not None:  # a fold of the load the piece passed without locating it: not followed past it
+            missed = next((spt for spt in br.special_points if spt.kind in STOPS and not spt.located
+                           and spt.index >= back - 1), None)
+            piece.branch, piece.end = br.head(back + 1), "stopped"
+            why = ("" if missed is None else f"; a {missed.kind} was found there but not located"
+                   + (f" ({missed.info['error']})" if missed.info.get("error") else ""))
+            out.message = (f"the piece in {piece.symmetry} from {pname} = {piece.start_p:.10g} turns back in the load "
+                           f"after {pname} = {float(br.p[back]):.10g}, at a fold it did not locate{why}: the path is "
+                           "not followed past it")
+            return out
         last = br.special_points[-1] if br.special_points else None
         stop = last if (br.status == "event" and last is not None and last.located and last.kind in STOPS) else None
         # the located point that ends a piece is singular: its count is either side's
@@ -379,13 +390,31 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
             return out
 
 
+#: Relative distance to the end of the load within which it is reached (the run's bound is located to it).
+END_TOL = 1e-9
+
+#: Relative fall of the load between stored points of a piece beyond which the piece turned back.
+TURN_BACK_TOL = 1e-10
+
+
+def _turns_back(br: Branch) -> int | None:
+    """The last stored point before a piece's load falls (None: it never does).  A piece of the followed path goes
+    on in the direction of loading and ends at the located fold where it would turn: a fall means a fold the
+    trace passed without locating it."""
+    p = np.asarray(br.p, dtype=float)
+    if p.size < 2:
+        return None
+    fall = np.flatnonzero(np.diff(p) < -TURN_BACK_TOL * np.maximum(1.0, np.abs(p[:-1])))
+    return int(fall[0]) if fall.size else None
+
+
 def _reached(br: Branch, p_end: float | None, end: tuple[str, float] | None) -> str | None:
     """What end of the load the branch's last point reached (None: none)."""
-    if p_end is not None and abs(float(br.p[-1]) - p_end) <= 1e-9 * max(1.0, abs(p_end)):
+    if p_end is not None and abs(float(br.p[-1]) - p_end) <= END_TOL * max(1.0, abs(p_end)):
         return f"{br.meta.get('parameter_name', 'p')} = {p_end:.10g}"
     if end is not None:
         name, value = end
-        if abs(float(br.observables[name][-1]) - value) <= 1e-9 * max(1.0, abs(value)):
+        if abs(float(br.observables[name][-1]) - value) <= END_TOL * max(1.0, abs(value)):
             return f"{name} = {value:.10g}"
     return None
 

@@ -101,8 +101,8 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
         (branch 0, drawn for comparison) or at a landing after which nothing was traced, the scene changes the
         path, or the saved state is not an equilibrium of the view built again.
     """
-    from contin.app.restart import RestartError, SavedPrefix, branch_head, join_branches, path_changes, saved_scene
-    from contin_models.shell.followed import FollowedPath, Piece, Snap, follow_path, rebuild_view
+    from contin.app.restart import RestartError, SavedPrefix, join_branches, path_changes, saved_scene
+    from contin_models.shell.followed import END_TOL, FollowedPath, Piece, Snap, follow_path, rebuild_view
 
     from .scene import SHELL_SCENE, run_scene
 
@@ -147,9 +147,11 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
         keep -= 1
     keep = max(keep, 1)
     u0, p0 = np.asarray(br.u[keep - 1], dtype=float), float(br.p[keep - 1])
-    end = options.get("end")
-    if p0 >= options.get("p_end", math.inf) or (end is not None and
-                                                float(views[k].evaluate_observables(u0, p0)[end[0]]) >= end[1]):
+    end, p_end = options.get("end"), options.get("p_end", math.inf)
+    # at the end within the tolerance the path's end is reached with (a bound is located to it, not exactly)
+    if p0 >= p_end - END_TOL * max(1.0, abs(p_end)) or (
+            end is not None
+            and float(views[k].evaluate_observables(u0, p0)[end[0]]) >= end[1] - END_TOL * max(1.0, abs(end[1]))):
         raise RestartError(f"{start.describe()} lies at the end of the load: there is nothing to follow from it")
     residual = float(np.max(np.abs(views[k].residual(u0, p0))))
     scale = float(getattr(views[k], "residual_scale", 1.0) or 1.0)
@@ -162,9 +164,7 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
         raise RestartError(f"the followed path could not start again from piece {k + 1}: {tail.message}")
     pieces = [Piece(i, views[i], saved.branches[i + 1], r["symmetry"], int(r["waves"]), r["parent"], r["start"],
                     float(r["start_p"]), r["end"], r.get("relocated")) for i, r in enumerate(records[:k])]
-    specials = [spt for spt in br.special_points
-                if spt.index < keep - 1 or (spt.kind == "jump" and spt.index <= keep - 1)]
-    head = branch_head(br, keep, specials)
+    head = br.head(keep)
     first = tail.pieces[0]
     pieces.append(Piece(k, views[k], join_branches(head, first.branch, repeated=True), records[k]["symmetry"],
                         int(records[k]["waves"]), records[k]["parent"], records[k]["start"],
