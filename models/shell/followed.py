@@ -192,8 +192,8 @@ class _Trace:
 
 
 def _settings_for(problem: Problem | None, st: Any) -> Any:
-    """The settings of a piece in ``problem`` (None: a 3-D view yet to be built): chord updates in a 3-D view unless
-    the caller chose a rate."""
+    """The settings of a piece in ``problem`` (None: a 3-D view yet to be built): in a 3-D view the Morse indices
+    alone (no eigenvalues) and chord corrector updates unless the caller chose a rate."""
     if problem is None or isinstance(problem, Shell3D):
         # the path needs each point's Morse index per class (one factorization each), not its eigenvalues (a
         # shift-invert Lanczos run on a 3-D view's wide band)
@@ -278,7 +278,7 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
         The traced axisymmetric model with its harmonic blocks (the operator family ``"n"``): a
         :class:`~contin_models.shell.structure.ShellOfRevolution` with ``harmonics``, or the paper's point-load model
         given them (:func:`contin_models.shell_scene.build.watch_harmonics`).
-    u0, p0 : the stable start (the unloaded shell), a state of ``start_problem``.
+    u0, p0 : the stable start: the unloaded shell, or a state of ``start_problem`` when it is given.
     settings : contin.Settings
         Settings of every piece (steps, tolerances, bounds); the path sets ``stop_at``, ``stability`` and the
         bound at ``p_end``.
