@@ -20,10 +20,12 @@ from typing import Any
 import numpy as np
 
 import contin
+from contin.analyses.conjugate import ConjugateControl
 from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
-from .build import build, length_unit, loaded_end, traced_structure
+from .build import build, length_unit, loaded_end, traced_structure, travel
 from .labels import force_axes, length_symbol, pressure_axes, scene_title
+from .pressure import VOLUME_LABELS, volume_problem, volume_settings
 from .schema import STABILITY_COLUMNS, Scene
 from .view3d import surfaces_drawer
 
@@ -31,6 +33,10 @@ __all__ = ["run_followed", "followed_branches", "classify_followed", "followed_s
 
 _AXI = "axisymmetric path"
 
+
+
+def _first(branch: Any, name: str) -> float:
+    return float(branch.observables[name][0]) if len(branch) else float("nan")
 
 
 def _piece_label(piece: Any) -> str:
@@ -77,23 +83,31 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     plain = {**scene, "stability": {**scene["stability"], "follow": False}}
     axi = run_scene(plain, progress)
     b = build(scene, progress)
-    source = b.problem
+    source, settings, u0, p0 = b.problem, b.settings, b.u0, b.p0
     R = length_unit(scene)  # the sphere's radius, a cone's or plate's base radius, ...
     control = scene["load"]["control"]
     pressure = scene["load"]["kind"] == "pressure"
     indenter = scene["load"]["kind"] in ("sphere", "plate")
+    volume = pressure and control == "displacement"
+    structure = traced_structure(scene, source)
+    label = control
+    if volume:  # the volume change is the parameter, the pressure its multiplier: the traced model as pressure.py's
+        source = volume_problem(b.problem, travel(scene))
+        settings = volume_settings(scene, source, progress)
+        u0, p0 = source.from_load_state(b.u0, b.p0)
+        label = VOLUME_LABELS[0]
     say = (lambda text: print(f"follow: {text}", file=sys.stderr, flush=True)) if progress else None
     # the load's extrema located on every piece, as on the axisymmetric path: the class reads them
     events = [] if pressure else [contin.extremum("F", which, folds="F", stability_label="force")
                                   for which in ("max", "min")]
-    if pressure:  # the scene's end pressure or eversion, whichever comes first (the settings hold both)
-        ends: dict[str, Any] = {"p_end": float(b.settings.p_max), "end": ("w", float(b.settings.bounds["w"][1]))}
+    if pressure:  # the scene's end pressure (volume) or eversion, whichever comes first (the settings hold both)
+        ends: dict[str, Any] = {"p_end": float(settings.p_max), "end": ("w", float(settings.bounds["w"][1]))}
     elif indenter:  # the indenter's travel to its end
         ends = {"p_end": float(b.w_end)}
     else:  # a prescribed deflection ends at its end; a dead load goes on until the shell everts
         w_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
         ends = {"p_end": float(w_end)} if control == "displacement" else {"end": ("w", float(w_end))}
-    fp = follow_path(source, b.u0, b.p0, b.settings, structure=traced_structure(scene, source), label=control,
+    fp = follow_path(source, u0, p0, settings, structure=structure, label=label,
                      K=int(scene["view"]["harmonics"]), events=events, say=say, **ends)
     pname = source.parameter_name
     path = axi.branches[0]
@@ -117,7 +131,7 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     cols["n"] = np.concatenate([np.zeros(len(path), dtype=int)] + [np.array(m[1], dtype=int) for m in measured])
     records = special_point_records(branches, jumps, jump_obs, parameter_name=pname)
     summary = dict(axi.summary)
-    summary["followed"] = {"status": fp.status, "message": fp.message, "stability_label": control,
+    summary["followed"] = {"status": fp.status, "message": fp.message, "stability_label": label,
                            "harmonics": int(scene["view"]["harmonics"]),
                            "branches": followed_branches(fp, pname, R),
                            "path": _path_sequence(fp, pname)}
@@ -130,6 +144,8 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
         verb = "snaps" if left.start == "snap" else "turns"
         unit = length_symbol(scene["shell"])
         at = f"{pname}/{unit} = {left.start_p / R:.4g}" if pname in ("w", "w_b") else f"{pname} = {left.start_p:.6g}"
+        if volume:
+            at = f"dV/V0 = {_first(left.branch, 'dV_over_V0'):.4g}, p/p_c = {_first(left.branch, 'p_over_p_c'):.4g}"
         where = f"the followed path leaves the axisymmetric branch at {at}: it {verb} {how}"
     if control == "displacement" and not pressure and not indenter:  # the classes: the point load's displacement path
         summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
@@ -147,7 +163,10 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     failure = "" if fp.success else f"the followed path stopped: {fp.message}"
     L = length_symbol(scene["shell"])
     D = summary.get("D")
-    if pressure:
+    if volume:  # the pressure against the volume pushed in, as the traced path under a prescribed volume
+        options, x, y = pressure_axes(b.problem.p_c), "dV_over_V0", "p_over_p_c"
+        options["axis_labels"]["dV_over_V0"] = r"$\Delta V / V_0$"
+    elif pressure:
         options, x, y = pressure_axes(source.p_c), "w_over_h", "p_over_p_c"
     else:
         x, y = ("w_b" if indenter else "w"), "F"
@@ -156,10 +175,10 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
             if D is not None else {}
     # the axisymmetric path beneath, faded, without its points: the followed pieces are read against it
     plot_options = {**options, "title": f"followed path: {scene_title(scene)}",
-                    "control": "pressure" if pressure else control,
+                    "control": "volume" if volume else ("pressure" if pressure else control),
                     "special_kinds": ("fold", "branch_point", "bifurcation"), "faded": [0]}
 
-    shapes = followed_shapes(fp, traced_structure(scene, source))
+    shapes = followed_shapes(fp, structure)
     result = TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
                          table=special_point_table(records, pname), csv_columns=cols, x=x, y=y,
                          parameter_name=pname, labels=labels, jump_observables=jump_obs, failure=failure,
@@ -174,11 +193,11 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
 def _surface(problem: Any, u: np.ndarray, p: float, theta: np.ndarray) -> np.ndarray:
     """Cartesian points ``(N, angles, 3)`` of a state of a piece: the 3-D view's own, or the axisymmetric state's
     meridian turned about the axis."""
-    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.lift import is_view
 
-    if isinstance(problem, Shell3D):
+    if is_view(problem):
         return problem.view.points(problem.full_state(u, p), theta)
-    x = problem.full_state(u, p)
+    x = problem.base.full_state(*problem.split(u)) if isinstance(problem, ConjugateControl) else problem.full_state(u, p)
     return _turned(x[0::2], x[1::2], theta)
 
 
@@ -222,11 +241,10 @@ def followed_shapes(fp: Any, structure: Any) -> dict[str, np.ndarray]:
 def point_symmetries(piece: Any) -> tuple[list[str], list[int]]:
     """The symmetry of every stored state of a piece (:func:`contin_models.shell.lift.state_symmetry` in its view's
     basis; ``O(2)`` on the axisymmetric trace) and its order (the waves' greatest common divisor, 0 for O(2))."""
-    from contin_models.shell.lift import state_symmetry
-    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.lift import is_view, state_symmetry
 
     prob, br = piece.problem, piece.branch
-    if not isinstance(prob, Shell3D):
+    if not is_view(prob):
         return ["O(2)"] * len(br), [0] * len(br)
     syms = [state_symmetry(prob.basis, prob.full_state(u, p)) for u, p in zip(br.u, br.p)]
     return [s.label for s in syms], [s.order for s in syms]
