@@ -44,6 +44,10 @@ __all__ = ["jump_on_constraint"]
 KICKS = (1e-3, 1e-2, 1e-1)
 #: Steps of the scalar Newton iteration that brings a state back onto the constraint, and its relative tolerance.
 RESTORE_STEPS, RESTORE_TOL = 30, 1e-13
+#: Relative fall of the energy a kick must bring to be taken at once; below it (beside a singular point, where the
+#: curvature along the kick is as small as the distance past the point) the kick that lowers the energy most is taken,
+#: so that the descent does not start where the energy is flat to roundoff.
+KICK_GAIN = 1e-9
 #: Halvings of a step in the backtracking search.
 BACKTRACKS = 40
 
@@ -163,8 +167,10 @@ class _OnConstraint:
                              float(np.max(np.abs(H.diagonal()))) or 1.0, count=False)[2]
 
     def kick(self, x: np.ndarray, v: np.ndarray, ref: float) -> np.ndarray | None:
-        """The smallest kick along ``+-v``, relaxed on the constraint with its amplitude held, that lowers ``E0``."""
+        """The smallest kick along ``+-v``, relaxed on the constraint with its amplitude held, that lowers ``E0`` by
+        :data:`KICK_GAIN`, else the one that lowers it most (None: none lowers it)."""
         e0 = self.energy(x)
+        best = None
         v = v - self.border(x)[:, 0] * (float(self.border(x)[:, 0] @ v) / float(self.border(x)[:, 0] @ self.border(x)[:, 0]))
         v = v / float(np.linalg.norm(v))
         amplitude = ref / float(np.max(np.abs(v)))
@@ -178,20 +184,26 @@ class _OnConstraint:
                     trials.append(y)
             if trials:
                 y = min(trials, key=self.energy)
-                if self.energy(y) < e0 - 1e-12 * abs(e0):
+                if self.energy(y) < e0 - KICK_GAIN * abs(e0):
                     return y
-        return None
+                if self.energy(y) < e0 - 1e-12 * abs(e0) and (best is None or self.energy(y) < self.energy(best)):
+                    best = y
+        return best
 
     def descend(self, x: np.ndarray, max_iter: int, ref: float,
                 relax: bool = False) -> tuple[np.ndarray, int, float, bool, str]:
         """Shifted Newton on the constraints to a stable state (with ``relax``: to ``max_iter`` steps or a stationary
         state): ``(x, iterations, residual, landed, message)``."""
-        mu, it, res = 0.0, 0, math.inf
+        mu, it, res, moved, polished = 0.0, 0, math.inf, math.inf, 0
         for it in range(1, max_iter + 1):
             f, lam = self.gradient(x)
             res = float(np.max(np.abs(f)))
             H = self.base.jacobian(x, float(lam[0]))
-            if res <= self.abs_tol:
+            # beside a singular point (a snap just past a pitchfork) a small gradient leaves the soft mode's amplitude
+            # far from its root: the state counts as converged once Newton's steps are small too, or after a few
+            # steps within the tolerance (on a singular point itself they shrink only linearly)
+            polished = polished + 1 if res <= self.abs_tol else 0
+            if res <= self.abs_tol and (relax or moved <= STEP_TOL * ref or polished > POLISH_STEPS):
                 if relax:
                     return x, it, res, True, "stationary"
                 if self.count(x, float(lam[0])) == 0:
@@ -213,15 +225,27 @@ class _OnConstraint:
                     break
                 t *= 0.5
             if step is None:
+                # the energy at its roundoff near a minimum: a full step is taken where it lowers the gradient
+                y = self.restore(x + d, W)
+                if y is not None and float(np.max(np.abs(self.gradient(y)[0]))) < res:
+                    step, t = y, 1.0
+            if step is None and res <= self.abs_tol:
+                moved = 0.0  # the gradient at its roundoff: no step lowers the energy measurably
+                continue
+            if step is None:
                 if relax:
                     return x, it, res, False, "the relaxation stalled"
                 return (x, it, res, False,
                         f"the search along the step on the constraint failed to lower the energy (gradient {res:.3e})")
-            x = step
+            moved, x = float(np.max(np.abs(step - x))), step
             mu = 0.0 if t == 1.0 else max(4.0 * mu, 1e-8 * scale_H)
         return x, it, res, False, f"no stable state within {max_iter} iterations (gradient {res:.3e})"
 
 
+#: Relative size of the last Newton step below which a state whose gradient meets the tolerance has converged.
+STEP_TOL = 1e-9
+#: Newton steps taken within the gradient's tolerance, at most, before a state counts as converged.
+POLISH_STEPS = 8
 #: Newton steps that relax a kick with its amplitude held, at most.
 RELAX_STEPS = 30
 
