@@ -246,6 +246,8 @@ class _OnConstraint:
 STEP_TOL = 1e-9
 #: Newton steps taken within the gradient's tolerance, at most, before a state counts as converged.
 POLISH_STEPS = 8
+#: Inverse of the least singular value of the constraints' Schur complement, relative to its columns' sizes, taken.
+S_CONDITION = 1e8
 #: Newton steps that relax a kick with its amplitude held, at most.
 RELAX_STEPS = 30
 
@@ -267,7 +269,10 @@ def _shifted_step(factorize: Callable, H: sp.spmatrix, B: np.ndarray, f: np.ndar
             Y = np.column_stack([lu.solve(B[:, j]) for j in range(k)])
             z = lu.solve(f)
             S = B.T @ Y
-            if np.all(np.isfinite(Y)) and np.all(np.isfinite(z)) and np.linalg.cond(S) < 1e14:
+            # S relative to its columns' sizes: at a fold in the prescribed displacement the load's direction
+            # (H^-1 a) is tangent to the constraint (a.y = 0), a shift turns it off the tangent
+            scale = np.sqrt(np.outer(*(2 * [np.linalg.norm(B, axis=0) * np.linalg.norm(Y, axis=0)])))
+            if np.all(np.isfinite(Y)) and np.all(np.isfinite(z)) and np.linalg.svd(S / scale, compute_uv=False).min() > 1.0 / S_CONDITION:
                 tangent = negative + int(np.count_nonzero(np.linalg.eigvalsh(-0.5 * (S + S.T)) < 0.0)) - k
                 if not count or tangent == 0:
                     return -z + Y @ np.linalg.solve(S, B.T @ z), mu, Y
