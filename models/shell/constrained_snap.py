@@ -17,7 +17,7 @@ shell snaps at the prescribed volume it goes to a minimum of the elastic energy 
   positive on the constraints' tangent space (its count from the inertia of ``H + mu I`` and of the Schur
   complement ``-B^T (H + mu I)^-1 B``: Sylvester's law) and a backtracking search on ``E0`` accepts the step;
 * it starts by a kick along the given direction (the mode of the bifurcation snapped from), or along the lowest
-  eigenvector of the Hessian on the tangent space (a dense eigenproblem, once), on the side and of the smallest
+  eigenvector of the Hessian on the tangent space (inverse iteration on the banded factorization), on the side and of the smallest
   size that lowers ``E0``; a converged saddle is kicked off the same way.  A kick is relaxed before it is judged:
   ``E0`` minimised on the constraint with the kick's amplitude held (a second constraint), since a straight kick
   along a mode at a finite amplitude stretches the membrane at second order and climbs where the valley it
@@ -95,7 +95,8 @@ def jump_on_constraint(problem: ConjugateControl, U: np.ndarray, q: float, *, di
     if x is None:
         raise JumpError(f"jump_on_constraint: the start does not reach the constraint {problem.displacement_name} = {q!r}")
     v = (np.asarray(direction, dtype=float)[:-1] if direction is not None
-         else _lowest_on_tangent(problem.base.jacobian(x, ms.gradient(x)[1][0]), ms.border(x)[:, 0]))
+         else _lowest_on_tangent(problem.base.factorize, problem.base.jacobian(x, ms.gradient(x)[1][0]),
+                               ms.border(x)[:, 0]))
     y = ms.kick(x, v, ref)
     if y is None and float(np.max(np.abs(ms.gradient(x)[0]))) <= ms.abs_tol:
         raise JumpError("jump_on_constraint: no kick along the unstable direction lowers the energy on the constraint")
@@ -210,7 +211,7 @@ class _OnConstraint:
                     return (x, it, res, True, f"landed on a stable state at the prescribed "
                             f"{self.problem.displacement_name} after {it - 1} iterations")
                 # a saddle on the constraint: off along its unstable side
-                y = self.kick(x, _lowest_on_tangent(H, self.border(x)[:, 0]), ref)
+                y = self.kick(x, _lowest_on_tangent(self.base.factorize, H, self.border(x)[:, 0]), ref)
                 if y is None:
                     return x, it, res, False, "converged to a saddle on the constraint that no kick leaves"
                 x = y
@@ -282,12 +283,28 @@ def _shifted_step(factorize: Callable, H: sp.spmatrix, B: np.ndarray, f: np.ndar
     raise JumpError("jump_on_constraint: no shift makes the Hessian positive on the constraint's tangent space")
 
 
-def _lowest_on_tangent(H: sp.spmatrix, a: np.ndarray) -> np.ndarray:
-    """The lowest eigenvector of ``H`` on the tangent space ``a.v = 0`` (dense: a start's or a saddle's, once)."""
-    A = H.toarray() if sp.issparse(H) else np.array(H, dtype=float)
-    e = a / float(np.linalg.norm(a))
-    P = np.eye(A.shape[0]) - np.outer(e, e)
-    # the normal direction pushed to the top of the spectrum, out of the way of the tangent space's lowest
-    M = P @ A @ P + (float(np.max(np.abs(A))) + 1.0) * np.outer(e, e)
-    _, V = np.linalg.eigh(M)
-    return V[:, 0]
+def _lowest_on_tangent(factorize: Callable, H: sp.spmatrix, a: np.ndarray) -> np.ndarray:
+    """The lowest eigenvector of ``H`` on the tangent space ``a.v = 0``: inverse iteration with the constraint, each
+    step ``w = z - (a.z / a.y) y`` with ``z = (H - s I)^-1 v`` and ``y = (H - s I)^-1 a`` on the banded factorization,
+    the shift ``s`` just below zero (the lowest eigenvalue at a fold or a branch point is about zero, at a saddle
+    below it)."""
+    n = H.shape[0]
+    sigma = -SHIFT * (float(np.max(np.abs(H.diagonal()))) or 1.0)
+    lu = factorize(H - sigma * sp.identity(n, format="csr"))
+    y = lu.solve(a)
+    v = np.random.default_rng(0).standard_normal(n)
+    for _ in range(INVERSE_STEPS):
+        v = v - (float(a @ v) / float(a @ a)) * a
+        v = v / float(np.linalg.norm(v))
+        z = lu.solve(v)
+        w = z - (float(a @ z) / float(a @ y)) * y
+        w = w / float(np.linalg.norm(w))
+        if abs(abs(float(w @ v)) - 1.0) < 1e-12:
+            return w
+        v = w
+    return v
+
+
+#: Relative shift below zero of the inverse iteration for the lowest mode on the constraint, and its steps at most.
+SHIFT = 1e-6
+INVERSE_STEPS = 50

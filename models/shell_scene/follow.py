@@ -144,13 +144,17 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
         verb = "snaps" if left.start == "snap" else "turns"
         unit = length_symbol(scene["shell"])
         at = f"{pname}/{unit} = {left.start_p / R:.4g}" if pname in ("w", "w_b") else f"{pname} = {left.start_p:.6g}"
-        if volume:
-            at = f"dV/V0 = {_first(left.branch, 'dV_over_V0'):.4g}, p/p_c = {_first(left.branch, 'p_over_p_c'):.4g}"
+        if volume:  # the volume it leaves at, and the pressure there (a snap drops it at that volume)
+            before = fp.pieces[left.parent].branch if left.parent is not None else left.branch
+            at = (f"dV/V0 = {_first(left.branch, 'dV_over_V0'):.4g}, "
+                  f"p/p_c = {float(before.observables['p_over_p_c'][-1]):.4g}")
         where = f"the followed path leaves the axisymmetric branch at {at}: it {verb} {how}"
     if control == "displacement" and not pressure and not indenter:  # the classes: the point load's displacement path
         summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
     else:  # a dead load, a pressure or an indenter: where it snaps
         summary["followed"]["snap_loads"] = [float(sn.p) for sn in fp.snaps]
+        if volume:  # the volume is held through a snap; the pressure drops: before and after, over p_c
+            summary["followed"]["snap_pressures_over_p_c"] = [[b["p_over_p_c"], a["p_over_p_c"]] for b, a in jump_obs]
     cls = summary["followed"].get("classification")
     if cls is not None:
         same = cls == summary.get("classification")
