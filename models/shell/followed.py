@@ -21,6 +21,11 @@ the same load.  :func:`follow_path` does this across the views of the shell:
   otherwise;
 * until the end of the load, or until a step cannot be made, which is said.
 
+Under a prescribed volume (the traced model a :class:`contin.ConjugateControl` of the pressure-controlled one) every
+view is one too (:class:`~contin_models.shell.lift.VolumeView`, built where the views are built), stable means stable
+on the volume constraint, and a snap descends in the energy on the constraint
+(:func:`~contin_models.shell.constrained_snap.jump_on_constraint`): it keeps the volume and drops the pressure.
+
 Every piece is checked to be stable under the control at each stored point; a piece whose first point is not
 (a landing that is stable in the space of the snap but not against a class of the next view) stops the path
 with the reason.
@@ -218,7 +223,8 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
     structure : ShellStructure
         The structure whose energy the source's is (the 3-D views are built on it).
     label : str
-        The stability label of the control (``"displacement"`` or ``"force"``): what stable means on the path.
+        The stability label of the control (``"displacement"`` or ``"force"``; ``"volume"`` under a prescribed
+        volume): what stable means on the path.
     p_end : float, optional
         The end of the load (``> p0``): the parameter's bound.
     end : (str, float), optional
