@@ -246,7 +246,7 @@ class _OnConstraint:
 #: Relative size of the last Newton step below which a state whose gradient meets the tolerance has converged.
 STEP_TOL = 1e-9
 #: Newton steps taken within the gradient's tolerance, at most, before a state counts as converged.
-POLISH_STEPS = 8
+POLISH_STEPS = 40
 #: Inverse of the least singular value of the constraints' Schur complement, relative to its columns' sizes, taken.
 S_CONDITION = 1e8
 #: Newton steps that relax a kick with its amplitude held, at most.

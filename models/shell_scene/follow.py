@@ -43,10 +43,11 @@ def _piece_label(piece: Any) -> str:
     return f"piece {piece.index + 1}: {piece.symmetry}"
 
 
-def followed_branches(fp: Any, pname: str, R: float) -> list[dict[str, Any]]:
+def followed_branches(fp: Any, pname: str, R: float, unit: str = "R") -> list[dict[str, Any]]:
     """``summary.json``'s ``branches`` of a followed path: per piece its id (the ``branch`` column), symmetry,
     waves, parent, how it started and ended, and where (the parameter at both ends, and over the scene's length
-    unit ``R``: ``..._over_R`` whatever the geometry calls its length)."""
+    unit ``R``: ``..._over_R`` whatever the geometry calls its length; a volume change over the unloaded volume,
+    ``R`` = V0 with ``unit = "V0"``: ``..._over_V0``)."""
     rows = []
     for pc in fp.pieces:
         br = pc.branch
@@ -54,8 +55,8 @@ def followed_branches(fp: Any, pname: str, R: float) -> list[dict[str, Any]]:
                      "parent": None if pc.parent is None else pc.parent + 1, "from": pc.start,
                      f"{pname}_start": float(pc.start_p), f"{pname}_end": float(br.p[-1]) if len(br) else None,
                      "ended": pc.end, "points": len(br),
-                     f"{pname}_start_over_R": float(pc.start_p) / R,
-                     f"{pname}_end_over_R": float(br.p[-1]) / R if len(br) else None})
+                     f"{pname}_start_over_{unit}": float(pc.start_p) / R,
+                     f"{pname}_end_over_{unit}": float(br.p[-1]) / R if len(br) else None})
     return rows
 
 
@@ -133,7 +134,8 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     summary = dict(axi.summary)
     summary["followed"] = {"status": fp.status, "message": fp.message, "stability_label": label,
                            "harmonics": int(scene["view"]["harmonics"]),
-                           "branches": followed_branches(fp, pname, R),
+                           "branches": (followed_branches(fp, pname, float(b.problem.pressure.V0), "V0") if volume
+                                        else followed_branches(fp, pname, R)),
                            "path": _path_sequence(fp, pname)}
     left = next((pc for pc in fp.pieces if pc.symmetry != "O(2)"), None)
     if left is None:
