@@ -236,7 +236,8 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
     max_pieces : int
         Stop after this many pieces.
     events : sequence of contin.Event
-        Located along every piece (e.g. the extrema of the load); they do not end a piece.
+        Located along every piece (e.g. the extrema of the load); they do not end a piece, but a terminal extremum
+        of the parameter itself (``folds`` the parameter's name) ends it as a fold.
     say : callable, optional
         Told one line per step of the path (progress).
 
@@ -280,6 +281,9 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
                            f"{end[1]:.10g}, after {len(out.pieces) - 1} stable piece(s) and {len(out.snaps)} snap(s)")
             return out
         last = br.special_points[-1] if br.special_points else None
+        if last is not None and last.kind == "event" and last.info.get("folds") == pname:
+            # a terminal extremum of the parameter (events): a fold the fold test may miss where it is a pitchfork too
+            last = dataclasses.replace(last, kind="fold")
         stop = last if (br.status == "event" and last is not None and last.located and last.kind in STOPS) else None
         # the located point that ends a piece is singular: its count is either side's
         counts = _count(br, label)[: len(br) - (1 if stop is not None else 0)]

@@ -101,6 +101,8 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     # the load's extrema located on every piece, as on the axisymmetric path: the class reads them
     events = [] if pressure else [contin.extremum("F", which, folds="F", stability_label="force")
                                   for which in ("max", "min")]
+    if volume:  # where a piece turns back in the volume it leaves it: located even where the turn is a pitchfork too
+        events = [contin.extremum("dV", "max", terminal=True, folds="dV", stability_label=VOLUME_LABELS[0])]
     if pressure:  # the scene's end pressure (volume) or eversion, whichever comes first (the settings hold both)
         ends: dict[str, Any] = {"p_end": float(settings.p_max), "end": ("w", float(settings.bounds["w"][1]))}
     elif indenter:  # the indenter's travel to its end
