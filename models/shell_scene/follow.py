@@ -158,7 +158,8 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     else:  # a dead load, a pressure or an indenter: where it snaps
         summary["followed"]["snap_loads"] = [float(sn.p) for sn in fp.snaps]
         if volume:  # the volume is held through a snap; the pressure drops: before and after, over p_c
-            summary["followed"]["snap_pressures_over_p_c"] = [[b["p_over_p_c"], a["p_over_p_c"]] for b, a in jump_obs]
+            summary["followed"]["snap_pressures_over_p_c"] = [[before["p_over_p_c"], after["p_over_p_c"]]
+                                                                  for before, after in jump_obs]
     cls = summary["followed"].get("classification")
     if cls is not None:
         same = cls == summary.get("classification")
