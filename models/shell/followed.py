@@ -281,10 +281,13 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
                            f"{end[1]:.10g}, after {len(out.pieces) - 1} stable piece(s) and {len(out.snaps)} snap(s)")
             return out
         last = br.special_points[-1] if br.special_points else None
-        if last is not None and last.kind == "event" and last.info.get("folds") == pname:
-            # a terminal extremum of the parameter (events): a fold the fold test may miss where it is a pitchfork too
+        # a terminal extremum of the parameter (events): a fold the fold test may miss where it is a pitchfork too,
+        # and where the bisection may not converge either: the path turns back there, located or not
+        turned = last is not None and last.kind == "event" and last.info.get("folds") == pname
+        if turned:
             last = dataclasses.replace(last, kind="fold")
-        stop = last if (br.status == "event" and last is not None and last.located and last.kind in STOPS) else None
+        stop = (last if (br.status == "event" and last is not None and (last.located or turned) and last.kind in STOPS)
+                else None)
         # the located point that ends a piece is singular: its count is either side's
         counts = _count(br, label)[: len(br) - (1 if stop is not None else 0)]
         if np.any(counts != 0):
