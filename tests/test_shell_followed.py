@@ -145,8 +145,6 @@ def test_the_end_of_the_load_must_lie_ahead() -> None:
 
 FOLLOW_REFUSED = [
     (["stability.follow=true"], ["stability.follow", "stability.harmonics = true"]),
-    (["stability.follow=true", "stability.harmonics=true", "load.kind=pressure", "load.control=displacement"],
-     ["stability.follow", "load.kind", "prescribed volume", "not followed yet"]),
     (["stability.follow=true", "stability.harmonics=true", "load.kind=plate", "load.control=force"],
      ["stability.follow", "load.kind", "dead load on an indenter"]),
 ]

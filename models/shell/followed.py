@@ -21,6 +21,11 @@ the same load.  :func:`follow_path` does this across the views of the shell:
   otherwise;
 * until the end of the load, or until a step cannot be made, which is said.
 
+Under a prescribed volume (the traced model a :class:`contin.ConjugateControl` of the pressure-controlled one) every
+view is one too (:class:`~contin_models.shell.lift.VolumeView`, built where the views are built), stable means stable
+on the volume constraint, and a snap descends in the energy on the constraint
+(:func:`~contin_models.shell.constrained_snap.jump_on_constraint`): it keeps the volume and drops the pressure.
+
 Every piece is checked to be stable under the control at each stored point; a piece whose first point is not
 (a landing that is stable in the space of the snap but not against a class of the next view) stops the path
 with the reason.
@@ -36,13 +41,15 @@ from typing import Any
 
 import numpy as np
 
+from contin.analyses.conjugate import ConjugateControl
 from contin.analyses.lift import LiftError
 from contin.palc import CorrectorFailure, continuation, switch_branch
 from contin.problem import NonFiniteError, Problem
 from contin.results.branch import Branch, SpecialPoint
 
 from .fourier import AngularBasis, transfer_coefficients
-from .lift import StateSymmetry, follow_symmetry_breaking, follow_waves, same_load, state_symmetry
+from .lift import (StateSymmetry, follow_symmetry_breaking, follow_waves, is_view, same_load, state_symmetry,
+                   unknowns_of)
 from .problem3d import Shell3D, gauge_for
 
 __all__ = ["Piece", "Snap", "FollowedPath", "follow_path", "STOPS", "END_TOL", "view_descriptor", "rebuild_view"]
@@ -194,7 +201,7 @@ class _Trace:
 def _settings_for(problem: Problem | None, st: Any) -> Any:
     """The settings of a piece in ``problem`` (None: a 3-D view yet to be built): in a 3-D view the Morse indices
     alone (no eigenvalues) and chord corrector updates unless the caller chose a rate."""
-    if problem is None or isinstance(problem, Shell3D):
+    if problem is None or is_view(problem):
         # the path needs each point's Morse index per class (one factorization each), not its eigenvalues (a
         # shift-invert Lanczos run on a 3-D view's wide band)
         st = dataclasses.replace(st, n_eigs=0)
@@ -228,7 +235,7 @@ def _taken(branch: Branch, start_p: float, label: str, direction: int) -> bool:
 def view_descriptor(problem: Problem) -> dict[str, Any] | None:
     """What a piece's view is built from beside the scene: the angular basis (``n``, ``K``, ``mirror``, ``M``) and the
     gauge of a 3-D view; None for the traced axisymmetric model.  :func:`rebuild_view` builds the view again."""
-    if not isinstance(problem, Shell3D):
+    if not is_view(problem):
         return None
     b = problem.basis
     return {"n": int(b.n), "K": int(b.K), "mirror": bool(b.mirror), "M": None if b.M is None else int(b.M),
@@ -260,7 +267,7 @@ def rebuild_view(descriptor: dict[str, Any] | None, source: Problem, structure: 
 
 
 def _symmetry_of(problem: Problem) -> tuple[str, int]:
-    if isinstance(problem, Shell3D):
+    if is_view(problem):
         b = problem.basis
         return (f"D{b.n}", b.n) if b.mirror else ("none", 0)
     return "O(2)", 0
@@ -285,7 +292,8 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
     structure : ShellStructure
         The structure whose energy the source's is (the 3-D views are built on it).
     label : str
-        The stability label of the control (``"displacement"`` or ``"force"``): what stable means on the path.
+        The stability label of the control (``"displacement"`` or ``"force"``; ``"volume"`` under a prescribed
+        volume): what stable means on the path.
     p_end : float, optional
         The end of the load (``> p0``): the parameter's bound.
     end : (str, float), optional
@@ -297,7 +305,8 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
     max_pieces : int
         Stop after this many pieces.
     events : sequence of contin.Event
-        Located along every piece (e.g. the extrema of the load); they do not end a piece.
+        Located along every piece (e.g. the extrema of the load); they do not end a piece, but a terminal extremum
+        of the parameter itself (``folds`` the parameter's name) ends it as a fold.
     start_problem : Problem, optional
         The view ``u0`` is a state of, when it is not ``source``: a restart from a point of a saved followed path's
         piece in a 3-D view (:func:`contin_models.shell_scene.follow.resume_followed`).
@@ -356,7 +365,13 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
                            "not followed past it")
             return out
         last = br.special_points[-1] if br.special_points else None
-        stop = last if (br.status == "event" and last is not None and last.located and last.kind in STOPS) else None
+        # a terminal extremum of the parameter (events): a fold the fold test may miss where it is a pitchfork too,
+        # and where the bisection may not converge either: the path turns back there, located or not
+        turned = last is not None and last.kind == "event" and last.info.get("folds") == pname
+        if turned:
+            last = dataclasses.replace(last, kind="fold")
+        stop = (last if (br.status == "event" and last is not None and (last.located or turned) and last.kind in STOPS)
+                else None)
         # the located point that ends a piece is singular: its count is either side's
         counts = _count(br, label)[: len(br) - (1 if stop is not None else 0)]
         if np.any(counts != 0):
@@ -434,7 +449,7 @@ def _leave(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, st
         # the two halves of the n-wave branch are one branch turned by pi / n: one side is enough
         start, first = (wb.problem, wb.branch_point, (1,)), wb.branch
         what = f"the {int(stop.info['key'])}-wave branch"
-    elif stop.kind == "bifurcation" and stop.info.get("family") == "representation" and isinstance(problem, Shell3D):
+    elif stop.kind == "bifurcation" and stop.info.get("family") == "representation" and is_view(problem):
         bb = follow_symmetry_breaking(problem, stop, settings=_settings_for(None, probe), direction=1)
         start, first = (bb.problem, bb.branch_point, (1, -1)), bb.branch
         what = f"the branch breaking into {stop.info['key']}"
@@ -471,14 +486,12 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, K: 
     A fold or a branch point of the traced class is left within the piece's own view (the symmetry it has is
     kept by the descent); a bifurcation that breaks the symmetry from the view where it is simple, kicked along
     its mode, with no symmetry imposed."""
-    from contin.analyses.jump import jump
-
     p_snap = float(stop.p) + SNAP_OVERSHOOT * max(abs(float(stop.p)), 1e-12)
     problem = piece.problem
-    if full_from is None and isinstance(problem, Shell3D):
+    if full_from is None and is_view(problem):
         full_from = (problem, stop)
     if full_from is None:  # the axisymmetric trace's own snap lands axisymmetric
-        jr = jump(problem, np.asarray(stop.u), p_snap)
+        jr = _jump(problem, np.asarray(stop.u), p_snap)
         if not jr.success:
             out.message = f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land: {jr.message}"
             return None
@@ -500,7 +513,7 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, K: 
         # the view where the point is simple has a mirror: no turning about the axis for the descent to slide along
         u_from, kick = np.asarray(bp.u), None if null is None else np.asarray(null, dtype=float)
     for _ in range(MAX_DESCENTS):
-        jr = jump(view, u_from, p_snap, direction=kick)
+        jr = _jump(view, u_from, p_snap, direction=kick)
         if not jr.success:
             out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land "
                            f"on a stable state: {jr.message}")
@@ -517,6 +530,24 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, K: 
     out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} found no stable state "
                    f"after {MAX_DESCENTS} descents, each breaking the symmetry the last landed with")
     return None
+
+
+def _load(problem: Problem, u: np.ndarray) -> float:
+    """The multiplier of a state under a prescribed volume (the pressure); 0 under the other controls."""
+    return problem.split(u)[1] if isinstance(problem, ConjugateControl) else 0.0
+
+
+def _jump(problem: Problem, u: np.ndarray, p: float, direction: np.ndarray | None = None) -> Any:
+    """:func:`contin.jump` from ``u`` at the parameter ``p``; under a prescribed volume (:class:`contin.ConjugateControl`,
+    whose Lagrangian is a saddle in the pressure) the descent on the constraint,
+    :func:`~contin_models.shell.constrained_snap.jump_on_constraint`."""
+    from contin.analyses.jump import jump
+
+    from .constrained_snap import jump_on_constraint
+
+    if isinstance(problem, ConjugateControl):
+        return jump_on_constraint(problem, u, p, direction=direction)
+    return jump(problem, u, p, direction=direction)
 
 
 def _landing(source: Problem, view: Shell3D, jr: Any, p: float, st: Any,
@@ -569,7 +600,7 @@ def _into_class(unstable: tuple[Problem, np.ndarray], key: str | None,
     from .lift import breaking, subgroup_basis, subgroup_lift
 
     view, u = unstable
-    if key is None or not isinstance(view, Shell3D):
+    if key is None or not is_view(view):
         return view, u, None
     family = view.operator_families[0]
     block = family.operator(key, u, p)
@@ -583,7 +614,7 @@ def _into_class(unstable: tuple[Problem, np.ndarray], key: str | None,
         gauged, turn = _gauged(target, target.full_state(u_t, p))
         kick_c = transfer_coefficients(target.T @ kick, target.basis, gauged.basis, turn)
         c = transfer_coefficients(target.full_state(u_t, p), target.basis, gauged.basis, turn)
-        return gauged, gauged.unknowns(c), gauged.unknowns(kick_c)
+        return gauged, unknowns_of(gauged, c, _load(target, u_t)), unknowns_of(gauged, kick_c)
     return target, u_t, kick
 
 
@@ -618,15 +649,16 @@ def _view_of_landing(source: Problem, view: Shell3D, u: np.ndarray, p: float,
     there: the traced model for an axisymmetric landing, the ``D_m`` view of its waves for ``m`` waves and a
     mirror, else the view without a mirror under a gauge."""
     c = view.full_state(u, p)
+    load = _load(view, u)
     if sym.label == "O(2)":
-        return source, source.unknowns(c[view.view.axisymmetric_dofs()])
+        return source, unknowns_of(source, c[view.view.axisymmetric_dofs()], load)
     m = sym.order
     top = int(view.basis.wave_numbers.max())
     if sym.mirror is None:
         if not view.basis.mirror and view.gauge is not None:
             return view, np.asarray(u, dtype=float)
         gauged, turn = _gauged(view, c)
-        return gauged, gauged.unknowns(transfer_coefficients(c, view.basis, gauged.basis, turn))
+        return gauged, unknowns_of(gauged, transfer_coefficients(c, view.basis, gauged.basis, turn), load)
     if view.basis.mirror and m == view.basis.n:
         return view, np.asarray(u, dtype=float)
     K = max(1, math.ceil(top / m))
@@ -638,4 +670,4 @@ def _view_of_landing(source: Problem, view: Shell3D, u: np.ndarray, p: float,
     both = AngularBasis(1, top, mirror=False, M=view.basis.M)
     turned = transfer_coefficients(c, view.basis, both, float(sym.mirror)).reshape(-1, both.m)
     turned[:, [i for i, t in enumerate(both.terms) if (t[0] == "T") == (t[1] == "cos") or t[2] % m]] = 0.0
-    return target, target.unknowns(transfer_coefficients(turned.ravel(), both, basis))
+    return target, unknowns_of(target, transfer_coefficients(turned.ravel(), both, basis), load)

@@ -43,7 +43,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
+from contin.analyses.conjugate import ConjugateControl
 from contin.analyses.lift import Lift, LiftError, lift_branch_point
 from contin.problem import Problem
 from contin.results.branch import Branch, SpecialPoint
@@ -53,7 +55,93 @@ from .problem3d import Shell3D
 
 __all__ = ["shell_lift", "follow_waves", "waves_view", "rotated_half", "WavesBranch", "Breaking", "breaking", "subgroup_basis",
            "subgroup_lift", "same_load", "BrokenBranch", "follow_symmetry_breaking", "StateSymmetry", "state_symmetry",
-           "FullSpaceLanding", "jump_in_full_space"]
+           "FullSpaceLanding", "jump_in_full_space", "VolumeView", "controlled_families", "controlled_lift", "is_view",
+           "unknowns_of"]
+
+
+# ---- a prescribed volume: the views under pressure with the volume change as the parameter --------------
+def controlled_families(control: ConjugateControl, families: Any) -> tuple:
+    """The operator families of ``control.base`` (``(key, u, p)``) as families of ``control`` (``(key, U, q)``): the
+    same operators at the base's state and load :meth:`~contin.ConjugateControl.split` from ``U``.  The blocks
+    outside the traced class do not see the constraint of a prescribed volume (its gradient lies in the traced
+    class), so both controls share them."""
+    from contin.watch.modes import OperatorFamily
+
+    return tuple(OperatorFamily(f.name, f.keys, (lambda key, U, q, f=f: f.operator(key, *control.split(U))),
+                                f.multiplicity, f.vectors, all_operators=(lambda U, q, f=f: f.operators(*control.split(U))),
+                                mode_shape=f.mode_shape) for f in families or ())
+
+
+class VolumeView(ConjugateControl):
+    """A 3-D view under pressure (:class:`Shell3D`, ``load="pressure"``) with its volume change prescribed as the
+    traced model's is (``like``): :class:`contin.ConjugateControl` of it, the pressure the multiplier.
+
+    The parameter, its name, the stability labels and the multiplier's unit are ``like``'s, and so are the ratios
+    of the parameter and the load it observes (``dV_over_V0``), so that a state lifted from the traced model keeps
+    its parameter.  The view's basis, energy and structure (:attr:`basis`, :attr:`view`, :attr:`structure`,
+    :attr:`gauge`, :attr:`c_ref`) are the base's; :meth:`full_state` gives the coefficients of every ring,
+    :attr:`T` maps the unknowns onto them (the multiplier onto none), and :func:`unknowns_of` the other way.
+
+    Parameters
+    ----------
+    base : Shell3D
+        The view under pressure control.
+    like : contin.ConjugateControl
+        The traced model under the prescribed volume (or another view of it).
+    """
+
+    def __init__(self, base: Shell3D, like: ConjugateControl) -> None:
+        from contin_models.contact.indentation import BorderedBandedLU
+
+        if not isinstance(base, Shell3D) or base.load != "pressure" or base.control != "force":
+            raise LiftError(f"VolumeView: the base must be a Shell3D under pressure control, got {base!r}")
+        super().__init__(base, displacement=like.displacement_name, labels=like.labels, linear=True,
+                         multiplier_unit=like.unit, factorize=lambda J: BorderedBandedLU(J, base.kl, base.ku))
+        own = set(like.base.observables) | {like.load_name, like.displacement_name}
+        for name in [k for k in like.observables if k not in own and k not in self._observables]:
+            self._observables[name] = like.observables[name]
+            if name in like.observable_derivatives:
+                self._observable_derivatives[name] = like.observable_derivatives[name]
+        self.operator_families = controlled_families(self, base.operator_families)
+        self.T = sp.hstack([base.T, sp.csc_matrix((base.T.shape[0], 1))]).tocsc()
+
+    basis = property(lambda self: self.base.basis, doc="The angular basis of the view.")
+    view = property(lambda self: self.base.view, doc="The view's energy (a FourierShell).")
+    structure = property(lambda self: self.base.structure, doc="The shell and its supports.")
+    gauge = property(lambda self: self.base.gauge, doc="The base's gauge (None: none).")
+    c_ref = property(lambda self: self.base.c_ref, doc="The reference state's coefficients.")
+
+    def full_state(self, U: np.ndarray, q: float = 0.0) -> np.ndarray:
+        """Every ring's Fourier coefficients of the unknowns ``U`` (the multiplier left out)."""
+        return self.base.full_state(*self.split(U))
+
+    def __repr__(self) -> str:
+        return f"VolumeView({self.base!r})"
+
+
+def is_view(problem: Problem) -> bool:
+    """Whether ``problem`` is a 3-D view (a :class:`Shell3D`, or one under a prescribed volume)."""
+    return isinstance(problem, (Shell3D, VolumeView))
+
+
+def unknowns_of(problem: Problem, c: np.ndarray, load: float = 0.0) -> np.ndarray:
+    """The unknowns of ``problem`` of the coefficients (or the traced model's full state) ``c``; under a prescribed
+    volume (:class:`contin.ConjugateControl`) with the multiplier ``load`` (the pressure; zero for a mode)."""
+    if isinstance(problem, ConjugateControl):
+        return problem.join(problem.base.unknowns(c), load)
+    return problem.unknowns(c)
+
+
+def controlled_lift(lift: Lift, source: ConjugateControl, target: ConjugateControl) -> Lift:
+    """``lift`` between two problems under pressure control as the lift between them under the prescribed volume:
+    the state at the source's pressure (the multiplier carried over), the parameter (the volume change) unchanged, a
+    mode with no multiplier (the mode of a bifurcation out of the traced class does not change the volume)."""
+    def state(U: np.ndarray, q: float) -> np.ndarray:
+        u, p = source.split(U)
+        return target.join(lift.state(u, p), p)
+
+    return Lift(state=state, mode=lambda vector: target.join(lift.mode(vector), 0.0), family=lift.family,
+                key=lift.key, name=f"{lift.name} under a prescribed {target.displacement_name}")
 
 #: The last Newton step on a branch point's extended system (relative) when it is located again in a 3-D view
 #: (:func:`contin.analyses.lift.lift_branch_point`): the error left after a step that small is about its square,
@@ -96,6 +184,10 @@ def shell_lift(source: Problem, target: Shell3D, n: int) -> Lift:
         ``n`` is not a wave of the target's basis, the two problems' parameters or meshes differ, or the
         source watches no harmonic blocks.
     """
+    if isinstance(target, VolumeView):  # the pressure-controlled lift, the multiplier carried along
+        if not isinstance(source, ConjugateControl):
+            raise LiftError("shell_lift: a view under a prescribed volume lifts from the traced model under one")
+        return controlled_lift(shell_lift(source.base, target.base, n), source, target)
     n = int(n)
     view = target.view
     waves = [int(k) for k in target.basis.wave_numbers.tolist() if k > 0]
@@ -207,7 +299,11 @@ def follow_waves(source: Problem, point: SpecialPoint, K: int = 2, *, structure:
 
 def waves_view(source: Problem, structure: Any, n: int, K: int, every_mode: bool = False) -> Shell3D:
     """The 3-D view restricted to ``D_n`` (``AngularBasis(n, K)``) of the traced model ``source``: its structure,
-    load (a shell of revolution names it; the paper's model is a point load), control, ring and pressure scale."""
+    load (a shell of revolution names it; the paper's model is a point load), control, ring and pressure scale; under
+    a prescribed volume (:class:`contin.ConjugateControl` of the traced model) the view under pressure with its volume
+    prescribed alike (:class:`VolumeView`)."""
+    if isinstance(source, ConjugateControl):
+        return VolumeView(waves_view(source.base, structure, n, K, every_mode), source)
     barrier = getattr(source, "barrier", None)
     if barrier is not None:  # a rigid indenter driven by its travel, as the traced model's
         return Shell3D(structure, AngularBasis(n, int(K)), barrier.indenter.name, "displacement",
@@ -326,6 +422,8 @@ def same_load(problem: Shell3D, basis: AngularBasis, turn: float = 0.0, every_mo
     LiftError
         ``problem`` is not a :class:`Shell3D`, or its load is not a point, ring or pressure load.
     """
+    if isinstance(problem, VolumeView):  # under a prescribed volume: the base in the other basis, prescribed alike
+        return VolumeView(same_load(problem.base, basis, turn, every_mode, gauge), problem)
     if not isinstance(problem, Shell3D):
         raise LiftError(f"the problem must be a Shell3D (the 3-D view), got {type(problem).__name__}")
     if problem.load not in ("point", "ring", "pressure", "sphere", "plate"):
@@ -367,6 +465,10 @@ def subgroup_lift(problem: Shell3D, target: Shell3D, representation: str) -> Lif
         The target's basis is not the subgroup's (rotations, mirror, too few harmonics), or the problems differ
         in parameter.
     """
+    if isinstance(target, VolumeView):  # the pressure-controlled lift, the multiplier carried along
+        if not isinstance(problem, VolumeView):
+            raise LiftError("subgroup_lift: a view under a prescribed volume lifts from a view under one")
+        return controlled_lift(subgroup_lift(problem.base, target.base, representation), problem, target)
     b = breaking(problem.basis, representation)
     tb = target.basis
     if tb.n != b.n or tb.mirror != b.mirror or tb.j != 0 or tb.K < b.K_min:

@@ -21,10 +21,12 @@ from typing import Any
 import numpy as np
 
 import contin
+from contin.analyses.conjugate import ConjugateControl
 from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
 
-from .build import build, length_unit, loaded_end, traced_structure
+from .build import build, length_unit, loaded_end, traced_structure, travel
 from .labels import force_axes, length_symbol, pressure_axes, scene_title
+from .pressure import VOLUME_LABELS, volume_problem, volume_settings
 from .schema import STABILITY_COLUMNS, Scene
 from .view3d import surfaces_drawer
 
@@ -34,14 +36,19 @@ _AXI = "axisymmetric path"
 
 
 
+def _first(branch: Any, name: str) -> float:
+    return float(branch.observables[name][0]) if len(branch) else float("nan")
+
+
 def _piece_label(piece: Any) -> str:
     return f"piece {piece.index + 1}: {piece.symmetry}"
 
 
-def followed_branches(fp: Any, pname: str, R: float) -> list[dict[str, Any]]:
+def followed_branches(fp: Any, pname: str, R: float, unit: str = "R") -> list[dict[str, Any]]:
     """``summary.json``'s ``branches`` of a followed path: per piece its id (the ``branch`` column), symmetry,
     waves, parent, how it started and ended, and where (the parameter at both ends, and over the scene's length
-    unit ``R``: ``..._over_R`` whatever the geometry calls its length)."""
+    unit ``R``: ``..._over_R`` whatever the geometry calls its length; a volume change over the unloaded volume,
+    ``R`` = V0 with ``unit = "V0"``: ``..._over_V0``)."""
     rows = []
     for pc in fp.pieces:
         br = pc.branch
@@ -49,8 +56,8 @@ def followed_branches(fp: Any, pname: str, R: float) -> list[dict[str, Any]]:
                      "parent": None if pc.parent is None else pc.parent + 1, "from": pc.start,
                      f"{pname}_start": float(pc.start_p), f"{pname}_end": float(br.p[-1]) if len(br) else None,
                      "ended": pc.end, "points": len(br), "relocated": pc.relocated,
-                     f"{pname}_start_over_R": float(pc.start_p) / R,
-                     f"{pname}_end_over_R": float(br.p[-1]) / R if len(br) else None})
+                     f"{pname}_start_over_{unit}": float(pc.start_p) / R,
+                     f"{pname}_end_over_{unit}": float(br.p[-1]) / R if len(br) else None})
     return rows
 
 
@@ -75,9 +82,9 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     plain = {**scene, "stability": {**scene["stability"], "follow": False}}
     axi = run_scene(plain, progress)
     b = build(scene, progress)
-    source = b.problem
-    fp = follow_path(source, b.u0, b.p0, b.settings, **_follow_options(scene, b, progress))
-    return followed_result(scene, axi, source, fp)
+    source, settings, u0, p0, options = _followed_start(scene, b, progress)
+    fp = follow_path(source, u0, p0, settings, **options)
+    return followed_result(scene, axi, b, source, fp, options)
 
 
 #: Kinds of the located point that ends a piece: singular, so a restart from it starts at the stored point before.
@@ -132,8 +139,7 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
     plain = {**scene, "stability": {**scene["stability"], "follow": False}}
     axi = run_scene(plain, progress)
     b = build(scene, progress)
-    source = b.problem
-    options = _follow_options(scene, b, progress)
+    source, settings, _, _, options = _followed_start(scene, b, progress)
     k = start.branch - 1  # the piece the point lies on
     views = [rebuild_view(r["view"], source, options["structure"]) for r in records[:k + 1]]
     br = saved.branches[k + 1]
@@ -159,7 +165,7 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
         raise RestartError(f"the saved state of piece {k + 1} at {source.parameter_name} = {p0:.10g} is not an "
                            f"equilibrium of its view built again from the scene (residual {residual:.3g}, scale "
                            f"{scale:.3g}): trace the followed path anew")
-    tail = follow_path(source, u0, p0, b.settings, start_problem=views[k], **options)
+    tail = follow_path(source, u0, p0, settings, start_problem=views[k], **options)
     if not tail.pieces:
         raise RestartError(f"the followed path could not start again from piece {k + 1}: {tail.message}")
     pieces = [Piece(i, views[i], saved.branches[i + 1], r["symmetry"], int(r["waves"]), r["parent"], r["start"],
@@ -181,45 +187,62 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
     start.prefix = SavedPrefix([saved.branches[i + 1] for i in range(k)],
                                [sn.jump for sn in snaps[:len(snaps) - len(tail.snaps)]], head, at_stored_point=True,
                                s=float(head.s[-1]))
-    return followed_result(scene, axi, source, fp)
+    return followed_result(scene, axi, b, source, fp, options)
 
 
-def _follow_options(scene: Scene, b: Any, progress: bool) -> dict[str, Any]:
-    """The keywords of :func:`~contin_models.shell.followed.follow_path` that the scene sets: the structure, the
-    control's label, the harmonics, the load's extrema as events, the end of the load and the progress lines."""
+def _followed_start(scene: Scene, b: Any, progress: bool) -> tuple[Any, Any, np.ndarray, float, dict[str, Any]]:
+    """Where and how the scene's path is followed (:func:`~contin_models.shell.followed.follow_path`): the traced
+    model (under a prescribed volume, the pressure-controlled model under :class:`contin.ConjugateControl`), its
+    settings and start, and the keywords: the structure, the control's label, the harmonics, the events (the load's
+    extrema; under a prescribed volume the largest volume, which ends a piece), the end of the load and the
+    progress lines."""
     import sys
 
     from contin_models.shell.structure import ShellOfRevolution
 
-    source = b.problem
+    source, settings, u0, p0 = b.problem, b.settings, b.u0, b.p0
     control = scene["load"]["control"]
     pressure = scene["load"]["kind"] == "pressure"
     indenter = scene["load"]["kind"] in ("sphere", "plate")
+    volume = pressure and control == "displacement"
+    structure = traced_structure(scene, source)
+    label = control
+    if volume:  # the volume change is the parameter, the pressure its multiplier: the traced model as pressure.py's
+        source = volume_problem(b.problem, travel(scene))
+        settings = volume_settings(scene, source, progress)
+        u0, p0 = source.from_load_state(b.u0, b.p0)
+        label = VOLUME_LABELS[0]
     say = (lambda text: print(f"follow: {text}", file=sys.stderr, flush=True)) if progress else None
     # the load's extrema located on every piece, as on the axisymmetric path: the class reads them
     events = [] if pressure else [contin.extremum("F", which, folds="F", stability_label="force")
                                   for which in ("max", "min")]
-    if pressure:  # the scene's end pressure or eversion, whichever comes first (the settings hold both)
-        ends: dict[str, Any] = {"p_end": float(b.settings.p_max), "end": ("w", float(b.settings.bounds["w"][1]))}
+    if volume:  # where a piece turns back in the volume it leaves it: located even where the turn is a pitchfork too
+        events = [contin.extremum("dV", "max", terminal=True, folds="dV", stability_label=VOLUME_LABELS[0])]
+    if pressure:  # the scene's end pressure (volume) or eversion, whichever comes first (the settings hold both)
+        ends: dict[str, Any] = {"p_end": float(settings.p_max), "end": ("w", float(settings.bounds["w"][1]))}
     elif indenter:  # the indenter's travel to its end
         ends = {"p_end": float(b.w_end)}
     else:  # a prescribed deflection ends at its end; a dead load goes on until the shell everts
         w_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
         ends = {"p_end": float(w_end)} if control == "displacement" else {"end": ("w", float(w_end))}
-    return {"structure": traced_structure(scene, source), "label": control, "K": int(scene["view"]["harmonics"]),
-            "events": events, "say": say, **ends}
+    return source, settings, u0, p0, {"structure": structure, "label": label, "K": int(scene["view"]["harmonics"]),
+                                      "events": events, "say": say, **ends}
 
 
-def followed_result(scene: Scene, axi: TraceResult, source: Any, fp: Any) -> TraceResult:
+def followed_result(scene: Scene, axi: TraceResult, b: Any, source: Any, fp: Any,
+                    options: dict[str, Any]) -> TraceResult:
     """The outputs of a followed path ``fp`` of the scene (module docstring), beside its axisymmetric trace ``axi``:
     the branches (the axisymmetric path, then the pieces, each with ``meta["followed"]``: what a restart rebuilds
-    the piece from), the jumps, ``summary.json``'s ``followed``, the table, the columns, the figures."""
+    the piece from), the jumps, ``summary.json``'s ``followed``, the table, the columns, the figures.  ``b`` is the
+    scene's build, ``source`` and ``options`` what :func:`_followed_start` made of it."""
     from contin_models.shell.followed import view_descriptor
 
     R = length_unit(scene)  # the sphere's radius, a cone's or plate's base radius, ...
     control = scene["load"]["control"]
     pressure = scene["load"]["kind"] == "pressure"
     indenter = scene["load"]["kind"] in ("sphere", "plate")
+    volume = pressure and control == "displacement"
+    label, structure = options["label"], options["structure"]
     pname = source.parameter_name
     path = axi.branches[0]
     pieces = [pc.branch for pc in fp.pieces]
@@ -252,9 +275,10 @@ def followed_result(scene: Scene, axi: TraceResult, source: Any, fp: Any) -> Tra
     cols["n"] = np.concatenate([np.zeros(len(path), dtype=int)] + [np.array(m[1], dtype=int) for m in measured])
     records = special_point_records(branches, jumps, jump_obs, parameter_name=pname)
     summary = dict(axi.summary)
-    summary["followed"] = {"status": fp.status, "message": fp.message, "stability_label": control,
+    summary["followed"] = {"status": fp.status, "message": fp.message, "stability_label": label,
                            "harmonics": int(scene["view"]["harmonics"]),
-                           "branches": followed_branches(fp, pname, R),
+                           "branches": (followed_branches(fp, pname, float(b.problem.pressure.V0), "V0") if volume
+                                        else followed_branches(fp, pname, R)),
                            "path": _path_sequence(fp, pname)}
     left = next((pc for pc in fp.pieces if pc.symmetry != "O(2)"), None)
     if left is None:
@@ -265,11 +289,18 @@ def followed_result(scene: Scene, axi: TraceResult, source: Any, fp: Any) -> Tra
         verb = "snaps" if left.start == "snap" else "turns"
         unit = length_symbol(scene["shell"])
         at = f"{pname}/{unit} = {left.start_p / R:.4g}" if pname in ("w", "w_b") else f"{pname} = {left.start_p:.6g}"
+        if volume:  # the volume it leaves at, and the pressure there (a snap drops it at that volume)
+            before = fp.pieces[left.parent].branch if left.parent is not None else left.branch
+            at = (f"dV/V0 = {_first(left.branch, 'dV_over_V0'):.4g}, "
+                  f"p/p_c = {float(before.observables['p_over_p_c'][-1]):.4g}")
         where = f"the followed path leaves the axisymmetric branch at {at}: it {verb} {how}"
     if control == "displacement" and not pressure and not indenter:  # the classes: the point load's displacement path
         summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
     else:  # a dead load, a pressure or an indenter: where it snaps
         summary["followed"]["snap_loads"] = [float(sn.p) for sn in fp.snaps]
+        if volume:  # the volume is held through a snap; the pressure drops: before and after, over p_c
+            summary["followed"]["snap_pressures_over_p_c"] = [[before["p_over_p_c"], after["p_over_p_c"]]
+                                                                  for before, after in jump_obs]
     cls = summary["followed"].get("classification")
     if cls is not None:
         same = cls == summary.get("classification")
@@ -282,7 +313,10 @@ def followed_result(scene: Scene, axi: TraceResult, source: Any, fp: Any) -> Tra
     failure = "" if fp.success else f"the followed path stopped: {fp.message}"
     L = length_symbol(scene["shell"])
     D = summary.get("D")
-    if pressure:
+    if volume:  # the pressure against the volume pushed in, as the traced path under a prescribed volume
+        options, x, y = pressure_axes(b.problem.p_c), "dV_over_V0", "p_over_p_c"
+        options["axis_labels"]["dV_over_V0"] = r"$\Delta V / V_0$"
+    elif pressure:
         options, x, y = pressure_axes(source.p_c), "w_over_h", "p_over_p_c"
     else:
         x, y = ("w_b" if indenter else "w"), "F"
@@ -291,10 +325,10 @@ def followed_result(scene: Scene, axi: TraceResult, source: Any, fp: Any) -> Tra
             if D is not None else {}
     # the axisymmetric path beneath, faded, without its points: the followed pieces are read against it
     plot_options = {**options, "title": f"followed path: {scene_title(scene)}",
-                    "control": "pressure" if pressure else control,
+                    "control": "volume" if volume else ("pressure" if pressure else control),
                     "special_kinds": ("fold", "branch_point", "bifurcation"), "faded": [0]}
 
-    shapes = followed_shapes(fp, traced_structure(scene, source))
+    shapes = followed_shapes(fp, structure)
     result = TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
                          table=special_point_table(records, pname), csv_columns=cols, x=x, y=y,
                          parameter_name=pname, labels=labels, jump_observables=jump_obs, failure=failure,
@@ -310,11 +344,11 @@ def followed_result(scene: Scene, axi: TraceResult, source: Any, fp: Any) -> Tra
 def _surface(problem: Any, u: np.ndarray, p: float, theta: np.ndarray) -> np.ndarray:
     """Cartesian points ``(N, angles, 3)`` of a state of a piece: the 3-D view's own, or the axisymmetric state's
     meridian turned about the axis."""
-    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.lift import is_view
 
-    if isinstance(problem, Shell3D):
+    if is_view(problem):
         return problem.view.points(problem.full_state(u, p), theta)
-    x = problem.full_state(u, p)
+    x = problem.base.full_state(*problem.split(u)) if isinstance(problem, ConjugateControl) else problem.full_state(u, p)
     return _turned(x[0::2], x[1::2], theta)
 
 
@@ -358,11 +392,10 @@ def followed_shapes(fp: Any, structure: Any) -> dict[str, np.ndarray]:
 def point_symmetries(piece: Any) -> tuple[list[str], list[int]]:
     """The symmetry of every stored state of a piece (:func:`contin_models.shell.lift.state_symmetry` in its view's
     basis; ``O(2)`` on the axisymmetric trace) and its order (the waves' greatest common divisor, 0 for O(2))."""
-    from contin_models.shell.lift import state_symmetry
-    from contin_models.shell.problem3d import Shell3D
+    from contin_models.shell.lift import is_view, state_symmetry
 
     prob, br = piece.problem, piece.branch
-    if not isinstance(prob, Shell3D):
+    if not is_view(prob):
         return ["O(2)"] * len(br), [0] * len(br)
     syms = [state_symmetry(prob.basis, prob.full_state(u, p)) for u, p in zip(br.u, br.p)]
     return [s.label for s in syms], [s.order for s in syms]

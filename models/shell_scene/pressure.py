@@ -65,9 +65,9 @@ from contin.analyses.conjugate import ConjugateControl
 from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
 from contin.numerics.linalg import Factorization
 from contin.results.branch import Branch
-from contin.watch.modes import OperatorFamily
 from contin_models.contact.indentation import BorderedBandedLU
 from contin_models.shell.energy import HALF_BANDWIDTH
+from contin_models.shell.lift import controlled_families
 from contin_models.shell.structure import ShellOfRevolution
 
 from .build import (MIN_STEPS_PER_PATH, end_of_path, length_unit, pressure_problem, pressure_settings, step_limits,
@@ -226,10 +226,7 @@ def volume_problem(pressure: ShellOfRevolution, depth: float | None = None) -> C
                               labels=VOLUME_LABELS, linear=True, multiplier_unit=pressure.p_c / depth,
                               factorize=_bordered_band)
     # the n >= 1 blocks are shared by both controls: the same family, on the multiplier's pressure
-    volume.operator_families = tuple(
-        OperatorFamily(f.name, f.keys, (lambda n, U, q, f=f: f.operator(n, *volume.split(U))), f.multiplicity,
-                       f.vectors, all_operators=(lambda U, q, f=f: f.operators(*volume.split(U))),
-                       mode_shape=f.mode_shape) for f in getattr(pressure, "operator_families", ()))
+    volume.operator_families = controlled_families(volume, getattr(pressure, "operator_families", ()))
     return volume
 
 

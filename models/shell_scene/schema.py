@@ -336,14 +336,13 @@ SHELL_SCHEMA = Schema(
         Constraint(("stability.follow", "load.kind", "load.control", "load.pole_held"),
                    lambda s: not s["stability"]["follow"] or (
                        (s["load"]["kind"] in ("point", "ring") and not s["load"]["pole_held"])
-                       or (s["load"]["kind"] == "pressure" and s["load"]["control"] == "force")
+                       or s["load"]["kind"] == "pressure"
                        or (s["load"]["kind"] in ("sphere", "plate") and s["load"]["control"] == "displacement")),
-                   'load.kind = "point" or "ring" (the pole free), "pressure" under load.control = "force", or '
-                   '"sphere" or "plate" under load.control = "displacement", with stability.follow = true',
-                   "the followed path is built for a point or ring load under either control, a pressure under "
-                   "pressure control and an indenter driven by its travel; a prescribed volume and a dead load on an "
-                   "indenter are not followed yet (trace them with stability.harmonics to see where they leave the "
-                   "axisymmetric path)"),
+                   'load.kind = "point" or "ring" (the pole free), "pressure", or "sphere" or "plate" under '
+                   'load.control = "displacement", with stability.follow = true',
+                   "the followed path is built for a point or ring load and a pressure under either control and an "
+                   "indenter driven by its travel; a dead load on an indenter is not followed yet (trace it with "
+                   "stability.harmonics to see where it leaves the axisymmetric path)"),
         Constraint(("view.kind", "view.symmetry", "load.pole_held"),
                    lambda s: not (s["view"]["kind"] == "3d" and s["view"]["symmetry"] == "none"
                                   and s["load"]["kind"] == "point" and s["load"]["pole_held"]),
