@@ -68,10 +68,6 @@ PROBE_DS = 1e-4
 #: Relative step of the load past a point that the shell snaps from, where the energy descent runs.
 SNAP_OVERSHOOT = 1e-6
 
-#: Chord corrector updates in the 3-D views (:attr:`contin.Settings.max_chord_rate`), where a Hessian costs far more
-#: than a solve with the last one: a Newton update is taken afresh only where a chord update shrinks by less.
-CHORD_RATE_3D = 0.1
-
 #: Relative size of waves below which a snap's landing is tried in the view of the higher symmetry without them.
 LANDING_SYMMETRY_TOL = 1e-4
 
@@ -200,13 +196,16 @@ class _Trace:
 
 def _settings_for(problem: Problem | None, st: Any) -> Any:
     """The settings of a piece in ``problem`` (None: a 3-D view yet to be built): in a 3-D view the Morse indices
-    alone (no eigenvalues) and chord corrector updates unless the caller chose a rate."""
+    alone, without eigenvalues.
+
+    Chord corrector updates (:attr:`contin.Settings.max_chord_rate`) would save a few percent here, but they take
+    the tangent from another linearization, and where a fold and a branch point coincide (a one-wave state turning
+    in the volume at the pitchfork where it meets another branch) that decides which of the two is located: the
+    path then goes another way."""
     if problem is None or is_view(problem):
         # the path needs each point's Morse index per class (one factorization each), not its eigenvalues (a
         # shift-invert Lanczos run on a 3-D view's wide band)
         st = dataclasses.replace(st, n_eigs=0)
-        if st.max_chord_rate == 0.0:
-            st = dataclasses.replace(st, max_chord_rate=CHORD_RATE_3D)
     return st
 
 
