@@ -466,11 +466,15 @@ class _Density:
 
 
 def _period_rule(n: int, degree: int) -> tuple[np.ndarray, np.ndarray]:
-    """A uniform angular rule over one period ``2 pi / n`` (``n = 0``: the circle), exact for trigonometric
-    polynomials of degree ``degree`` in ``n t`` (in ``t`` when ``n = 0``), weights summing to ``2 pi``."""
+    """A uniform angular rule over one period ``2 pi / n`` (``n = 0``: the circle), exact for the trigonometric
+    polynomials of degree ``degree`` in ``n t`` (in ``t`` when ``n = 0``) that are even in ``t``, weights summing to
+    ``2 pi``.  Every integrand here is even: the state and each class of perturbations are mapped to themselves by
+    the reflection ``t -> -t``, so the points ``t_j`` and ``-t_j`` of the uniform rule are folded into one."""
     M = degree + 1
     period = 2.0 * np.pi / max(n, 1)
-    return period * np.arange(M) / M, np.full(M, 2.0 * np.pi / M)
+    j = np.arange(M // 2 + 1)
+    weights = np.where((j == 0) | (2 * j == M), 1.0, 2.0) * (2.0 * np.pi / M)
+    return period * j / M, weights
 
 
 class ShallowCap(contin.Problem):
@@ -579,6 +583,11 @@ class ShallowCap(contin.Problem):
     def apex_force(self, x: np.ndarray, p: float) -> float:
         """``q = P a^2 / (D t)``: the energy's derivative in the apex deflection at equilibrium."""
         return self._eval(x, p, 1)["force"]
+
+    @property
+    def wave_unknowns(self) -> np.ndarray:
+        """Which unknowns belong to the waves (harmonics ``m > 0``): all zero on the axisymmetric path."""
+        return np.array([lab[0] > 0 for lab in self.space.labels], dtype=bool)
 
     def reference_unknowns(self) -> np.ndarray:
         """The unloaded state (zero)."""
