@@ -29,11 +29,15 @@ For lambda = 10 and 12 (``nu = 0.3``):
    deflection from the interpolated neighbours; on the first pass of the branch), the smallest eigenvalue of each
    class there, against the shell model's numbers (``PROJECT``, from ``docs/asymmetric.md``);
 5. convergence in the radial mesh ``N`` and the harmonics ``K``, and the error against the run time (the
-   difference from the finest run).
+   difference from the finest run);
+6. (``--full``) the shell model's axisymmetric path (:func:`studies.waves_branch.axisymmetric_path`, N = 200) at
+   ``R/t`` = 10^3, 10^4, 10^5 and the same lambda, and its ``n``-wave branch at ``R/t = 10^5`` (``K = 4``): towards
+   the shallow limit its loads and special points should tend to this theory's (:func:`shell_limit`,
+   :func:`shell_branch_limit`).
 
 Units: ``t`` the thickness; ``P R / (E t^3)`` from the apex force ``q = P a^2 / (D t)``
 (:func:`~contin_models.benchmarks.shallow_cap.load_factor`).  Writes ``table.csv``, ``bifurcations.csv``,
-``convergence.csv``, ``axisymmetric.csv``, ``waves.csv``, ``summary.json`` and the figure ``shallow_cap_waves``
+``convergence.csv``, ``shell_limit.csv`` and ``shell_branch_limit.csv`` (``--full``), ``axisymmetric.csv``, ``waves.csv``, ``summary.json`` and the figure ``shallow_cap_waves``
 (PNG and PDF).
 """
 
@@ -61,6 +65,9 @@ LAMBDAS = (10.0, 12.0)
 #: The traces stop at this apex deflection over the thickness (beyond the axisymmetric limit point at lambda = 12).
 W_END = 40.0
 W_TABLE = (20.0, 25.0, 30.0, 35.0)
+#: ``R/t`` of the shell model's runs towards the shallow limit (``--full``), and its meridian's elements.
+SHELL_DEPTHS = (1e3, 1e4, 1e5)
+SHELL_N = 200
 #: The harmonics of the runs of the mesh convergence (``--full``).
 K_MESH = 4
 #: The wave numbers watched on the axisymmetric path.
@@ -276,6 +283,40 @@ def _path_maximum(path: contin.Branch, scale: float) -> tuple[float | None, floa
     return None, None
 
 
+# ---- the shell model towards the shallow limit -----------------------------------------------------
+def shell_limit(lam: float, r_over_t: float, N: int = SHELL_N) -> dict[str, Any]:
+    """The shell model's axisymmetric path (``studies.waves_branch``: the exact spherical cap, ``lambda`` from its
+    exact rise) at ``R/t = r_over_t``: its bifurcations into ``n = 4`` waves (leaving and meeting again) and
+    ``P R / (E t^3)`` at :data:`W_TABLE` (linear between its stored points, as that study reads them)."""
+    from studies.waves_branch import axisymmetric_path as shell_path
+    from studies.waves_branch import load_scale, point_cap
+
+    t0 = time.perf_counter()
+    problem = point_cap(lam, N, r_over_t)
+    path = shell_path(problem, W_TABLE[-1] + 1.0)
+    w, P = np.asarray(path.observable("w")), np.asarray(path.observable("F")) * load_scale(problem)
+    crossings = [float(s.p) for s in path.special_points if s.kind == "bifurcation" and s.located
+                 and s.info.get("key") == 4]
+    return {"lambda": lam, "R_over_t": r_over_t, "N": N, "w_bif_4": crossings[0] if crossings else None,
+            "w_back_4": crossings[1] if len(crossings) > 1 else None,
+            **{f"P_{int(t)}": float(np.interp(t, w, P)) for t in W_TABLE}, "seconds": time.perf_counter() - t0}
+
+
+def shell_branch_limit(lam: float, r_over_t: float = SHELL_DEPTHS[-1], N: int = SHELL_N, K: int = K_MESH
+                       ) -> dict[str, Any]:
+    """The shell model's ``n``-wave branch (:func:`studies.waves_branch.point_load_case`) at ``R/t = r_over_t``
+    with ``K`` harmonics: its loads at :data:`W_TABLE`, where it loses stability, folds and meets a branch point."""
+    from studies.waves_branch import point_load_case
+
+    c = point_load_case(lam, N, K, r_over_t)
+    return {"lambda": lam, "R_over_t": r_over_t, "N": N, "K": K, "w_bif": c["w_bif"],
+            **{f"P_waves_{int(r['w_over_t'])}": r.get("P_waves") for r in c["rows"]},
+            "loses_stability": c["loses_stability"], "folds_in_w": c["folds_in_w"], "returns_at_w": c["returns_at_w"],
+            "meets_branch_point_at": next((float(s.p) for s in c["_waves"].branch.special_points[1:]
+                                           if s.kind == "branch_point"), None),
+            "seconds": c["seconds"]}
+
+
 # ---- the figure --------------------------------------------------------------------------------
 def plot(cases: Sequence[dict[str, Any]]) -> Any:
     """Left: ``P R / (E t^3)`` against ``w/t``, the axisymmetric paths (light) and the ``n``-wave branches (solid
@@ -383,12 +424,32 @@ def main(argv: Sequence[str] | None = None) -> int:
         say(args.quiet, f"lambda = {lam:g}, N = {N}, K = {K} ...")
         cases.append(case(lam, N, K, stability=(lam, N, K) in main_runs))
     main_cases = cases[:len(main_runs)]
+    shells: list[dict[str, Any]] = []
+    shell_branches: list[dict[str, Any]] = []
+    if args.full:
+        for lam in LAMBDAS:
+            for rt in SHELL_DEPTHS:
+                say(args.quiet, f"shell model, lambda = {lam:g}, R/t = {rt:g} ...")
+                shells.append(shell_limit(lam, rt))
+        for lam in LAMBDAS:
+            say(args.quiet, f"shell model's branch, lambda = {lam:g}, R/t = {SHELL_DEPTHS[-1]:g} ...")
+            shell_branches.append(shell_branch_limit(lam))
+        for c in main_cases:
+            # the shallow theory's own crossings of n = 4 and loads, in the same columns
+            n4 = [p for k, p in c["path_bifurcations"] if k == 4]
+            shells.append({"lambda": c["lambda"], "R_over_t": "shallow", "N": c["N"],
+                           "w_bif_4": n4[0] if n4 else None, "w_back_4": n4[1] if len(n4) > 1 else None,
+                           **{f"P_{int(r['w_over_t'])}": r["P_axisymmetric"] for r in c["rows"]},
+                           "seconds": c["seconds_path"]})
     elapsed = time.perf_counter() - t0
     table = [r for c in main_cases for r in c["rows"]]
     convergence = convergence_rows(cases, K_MESH)
     write_csv(out / "table.csv", table)
     write_csv(out / "bifurcations.csv", [_public(c) for c in cases])
     write_csv(out / "convergence.csv", convergence)
+    if shells:
+        write_csv(out / "shell_limit.csv", shells)
+        write_csv(out / "shell_branch_limit.csv", shell_branches)
     write_csv(out / "axisymmetric.csv", [
         {"lambda": c["lambda"], "N": c["N"], "w_over_t": w, "P": q * load_factor(c["lambda"], NU), "stable": int(s)}
         for c in main_cases for w, q, s in zip(c["_path"].p, c["_path"].observable("q"), c["_path"].stable)])
@@ -400,7 +461,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     write_json(out / "summary.json", {"full": bool(args.full), "seconds": elapsed, "nu": NU, "grading": GRADING,
                                       "load": "P R / (E t^3)", "shell_model": {str(k): v for k, v in PROJECT.items()},
                                       "cases": [_public(c) for c in cases], "table": table,
-                                      "convergence": convergence})
+                                      "convergence": convergence, "shell_limit": shells,
+                                      "shell_branch_limit": shell_branches})
     save_figure(plot(main_cases), out, "shallow_cap_waves")
     if not args.quiet:
         print_table(table, ["lambda", "N", "K", "w_over_t", "P_axisymmetric", "shell_P_axisymmetric",
@@ -415,6 +477,14 @@ def main(argv: Sequence[str] | None = None) -> int:
             print()
             print_table(convergence, ["lambda", "study", "N", "K", "w_over_t", "P_axisymmetric", "error_axisymmetric",
                                       "P_waves", "error_waves", "seconds"], digits=5)
+        if shells:
+            print()
+            print_table(shells, ["lambda", "R_over_t", "N", "w_bif_4", "w_back_4", *[f"P_{int(t)}" for t in W_TABLE],
+                                 "seconds"], digits=6)
+            print()
+            print_table(shell_branches, ["lambda", "R_over_t", "N", "K", "w_bif",
+                                         *[f"P_waves_{int(t)}" for t in W_TABLE], "loses_stability", "folds_in_w",
+                                         "returns_at_w", "meets_branch_point_at", "seconds"], digits=6)
         print(f"\n{elapsed:.1f} s; written to {out}")
     return 0
 
