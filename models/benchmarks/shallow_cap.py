@@ -342,17 +342,19 @@ class FourierSpace:
         return vals + float(p) * self.loc_param
 
     # ---- fields, gradient, Hessian ------------------------------------------------------------------
+    def _present(self):
+        """The components this space carries: (component, its blocks, its local slice, its fields' indices)."""
+        for c in COMPONENTS:
+            if self.blocks[c]:
+                a, b = self._offsets[c]
+                yield c, len(self.blocks[c]), slice(a, b), [f for (f, _, _) in _COMPONENT_FIELDS[c]]
+
     def fields(self, loc: np.ndarray) -> np.ndarray:
         """The primitive fields (:data:`FIELDS`) at the quadrature points: (elements, Gauss, angles, 11)."""
         out = np.zeros(self.rho.shape + (len(self.theta), len(FIELDS)))
-        for c in COMPONENTS:
-            nb = len(self.blocks[c])
-            if nb == 0:
-                continue
-            a, b = self._offsets[c]
-            d = loc[:, a:b].reshape(self.N, nb, _LOCAL[c])
-            vals = _einsum("egfi,ehi,fjh->egjf", self.rad[c], d, self.ang[c])
-            out[..., [f for (f, _, _) in _COMPONENT_FIELDS[c]]] += vals
+        for c, nb, cols, idx in self._present():
+            d = loc[:, cols].reshape(self.N, nb, _LOCAL[c])
+            out[..., idx] += _einsum("egfi,ehi,fjh->egjf", self.rad[c], d, self.ang[c])
         return out
 
     def gradient(self, psi1: np.ndarray) -> tuple[np.ndarray, float]:
@@ -360,14 +362,9 @@ class FourierSpace:
         derivatives ``psi1`` (elements, Gauss, angles, 11) in the primitive fields."""
         wq = self.radial_weight[:, :, None] * self.weights[None, None, :]
         glocal = np.zeros((self.N, self.n_local))
-        for c in COMPONENTS:
-            nb = len(self.blocks[c])
-            if nb == 0:
-                continue
-            a, b = self._offsets[c]
-            idx = [f for (f, _, _) in _COMPONENT_FIELDS[c]]
+        for c, nb, cols, idx in self._present():
             g = _einsum("egj,egjf,egfi,fjh->ehi", wq, psi1[..., idx], self.rad[c], self.ang[c])
-            glocal[:, a:b] = g.reshape(self.N, -1)
+            glocal[:, cols] = g.reshape(self.N, -1)
         grad = np.bincount(self.loc_free[self._gmask], weights=(glocal * self.loc_sign)[self._gmask],
                            minlength=self.n_free)
         return grad, float(np.sum(glocal * self.loc_param))
@@ -380,18 +377,8 @@ class FourierSpace:
         axisymmetric = psi2.ndim == 4
         wq = self.radial_weight[:, :, None] * self.weights[None, None, :]
         H = np.zeros((self.N, self.n_local, self.n_local))
-        for c1 in COMPONENTS:
-            n1 = len(self.blocks[c1])
-            if n1 == 0:
-                continue
-            a1, b1 = self._offsets[c1]
-            i1 = [f for (f, _, _) in _COMPONENT_FIELDS[c1]]
-            for c2 in COMPONENTS:
-                n2 = len(self.blocks[c2])
-                if n2 == 0:
-                    continue
-                a2, b2 = self._offsets[c2]
-                i2 = [f for (f, _, _) in _COMPONENT_FIELDS[c2]]
+        for c1, n1, cols1, i1 in self._present():
+            for c2, n2, cols2, i2 in self._present():
                 if axisymmetric:
                     coef = psi2[..., i1, :][..., i2] * self.radial_weight[..., None, None]
                     gram = _einsum("j,ajh,bjk->abhk", self.weights, self.ang[c1], self.ang[c2])
@@ -400,7 +387,7 @@ class FourierSpace:
                     coef = psi2[..., i1, :][..., i2] * wq[..., None, None]
                     T = _einsum("egjab,ajh,bjk->egabhk", coef, self.ang[c1], self.ang[c2])
                 blk = _einsum("egai,egbl,egabhk->ehikl", self.rad[c1], self.rad[c2], T)
-                H[:, a1:b1, a2:b2] = blk.reshape(self.N, n1 * _LOCAL[c1], n2 * _LOCAL[c2])
+                H[:, cols1, cols2] = blk.reshape(self.N, n1 * _LOCAL[c1], n2 * _LOCAL[c2])
         vals = H[self._hmask] * self._hsign
         Hf = sp.csr_matrix((vals, (self._hrows, self._hcols)), shape=(self.n_free, self.n_free))
         pcol = H * (self.loc_sign[:, :, None] * self.loc_param[:, None, :])
