@@ -27,7 +27,8 @@ For lambda = 10 and 12 (``nu = 0.3``):
    stored points;
 4. ``P R / (E t^3)`` at ``w/t`` = 20, 25, 30, 35 on both branches (the state corrected by Newton at that apex
    deflection from the interpolated neighbours; on the first pass of the branch), the smallest eigenvalue of each
-   class there, against the shell model's numbers (``PROJECT``, from ``docs/asymmetric.md``);
+   class there and the counts of the same state turned by ``pi / n`` (the other half of the branch), against the
+   shell model's numbers (``PROJECT``, from ``docs/asymmetric.md``);
 5. convergence in the radial mesh ``N`` and the harmonics ``K``, and the error against the run time (the
    difference from the finest run);
 6. (``--full``) the shell model's axisymmetric path (:func:`studies.waves_branch.axisymmetric_path`, N = 200) at
@@ -244,6 +245,9 @@ def case(lam: float, N: int, K: int, stability: bool = True, w_end: float = W_EN
                 st = class_stability(cap, got[0], target, eigenvalues=True)
                 row.update({f"n_{k}": v for k, v in st["counts"].items()})
                 row.update({f"lowest_{k}": v for k, v in st["lowest"].items()})
+                # the same state turned by pi / n, on the other half of the branch: B1 and B2 change places
+                turned = class_stability(cap, cap.symmetry_generators[0] @ got[0], target)["counts"]
+                row["turned_counts"] = " ".join(f"{k} {v}" for k, v in turned.items())
         ref = PROJECT.get(lam, {})
         for key in ("P_axisymmetric", "P_waves"):
             theirs = ref.get(key, {}).get(target)
@@ -467,7 +471,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not args.quiet:
         print_table(table, ["lambda", "N", "K", "w_over_t", "P_axisymmetric", "shell_P_axisymmetric",
                             "diff_P_axisymmetric", "P_waves", "shell_P_waves", "diff_P_waves", "n_A1", "n_A2", "n_B1",
-                            "n_B2", "n_E1", "n_total"], digits=5)
+                            "n_B2", "n_E1", "n_total", "turned_counts"], digits=5)
         print()
         print_table([_public(c) for c in cases], ["lambda", "N", "K", "n", "w_bif", "P_bif", "moved_w",
                                                   "axisymmetric_limit_w", "axisymmetric_limit_P", "w_max", "folds_in_w",
