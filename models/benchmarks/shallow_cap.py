@@ -34,8 +34,8 @@ in-plane displacements.  In polar coordinates, with ``z0' = -2 H r / a^2``::
     E = int_0^1 int_0^2pi [ k . C k / 2 + 6 e . C e ] rho drho dt,   e . C e = e_rr^2 + e_tt^2 + 2 nu e_rr e_tt
                                                                          + (1 - nu) g_rt^2 / 2
 
-(``k`` likewise with ``2 k_rt``; the factor 6 is ``E t a^2 / (2 (1 - nu^2)) / (D / ... )``: the membrane stiffness
-over the bending one, ``12 / 2``).  It depends on ``lambda`` (through ``beta``) and ``nu`` only.  The apex load
+(``k . C k`` likewise with ``2 k_rt``).  The factor 6: the membrane density ``E t / (2 (1 - nu^2)) e . C e`` with
+``e ~ t^2 / a^2`` over the bending density's unit ``D (t / a^2)^2`` is ``(E t^3 / (2 (1 - nu^2))) / D = 6``.  It depends on ``lambda`` (through ``beta``) and ``nu`` only.  The apex load
 ``P`` (towards the base) does the work ``P w(0)``; under displacement control ``W(0) = delta`` is the parameter
 and the apex force is the energy's derivative in it, ``q = P a^2 / (D t) = dE / d delta``.  The load parameter
 of the shell's studies is ``P R / (E t^3) = q / (12 (1 - nu^2) beta)``.
@@ -489,7 +489,7 @@ class ShallowCap(contin.Problem):
     -----
     Parameter: the apex deflection over the thickness, ``w(0) / t``.  Observables: ``w`` (the same), ``q`` (the
     apex force ``P a^2 / (D t)``) and, for ``lam > 0``, ``P`` (``P R / (E t^3)``).  The stability operator is the
-    Hessian at fixed apex deflection in the state's space (class ``A1``); :meth:`representation_hessian` gives
+    Hessian at fixed apex deflection in the state's space (class ``A1``); :meth:`representation_hessians` gives
     the others.
     """
 
