@@ -32,7 +32,7 @@ For lambda = 10 and 12 (``nu = 0.3``):
 5. convergence in the radial mesh ``N`` and the harmonics ``K``, and the error against the run time (the
    difference from the finest run);
 6. (``--full``) the shell model's axisymmetric path (:func:`studies.waves_branch.axisymmetric_path`, N = 200) at
-   ``R/t`` = 10^3, 10^4, 10^5 and the same lambda, and its ``n``-wave branch at ``R/t = 10^5`` (``K = 4``): towards
+   ``R/t`` = 10^3, 10^4, 10^5 (and N = 800 at 10^5) and the same lambda, and its ``n``-wave branch at ``R/t = 10^5`` (``K = 4``): towards
    the shallow limit its loads and special points should tend to this theory's (:func:`shell_limit`,
    :func:`shell_branch_limit`).
 
@@ -66,9 +66,11 @@ LAMBDAS = (10.0, 12.0)
 #: The traces stop at this apex deflection over the thickness (beyond the axisymmetric limit point at lambda = 12).
 W_END = 40.0
 W_TABLE = (20.0, 25.0, 30.0, 35.0)
-#: ``R/t`` of the shell model's runs towards the shallow limit (``--full``), and its meridian's elements.
+#: ``R/t`` of the shell model's runs towards the shallow limit (``--full``), and its meridian's elements; the last
+#: ``R/t`` again with ``SHELL_N_FINE`` elements (the shell model's own mesh error is of the order of the differences).
 SHELL_DEPTHS = (1e3, 1e4, 1e5)
 SHELL_N = 200
+SHELL_N_FINE = 800
 #: The harmonics of the runs of the mesh convergence (``--full``).
 K_MESH = 4
 #: The wave numbers watched on the axisymmetric path.
@@ -432,9 +434,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     shell_branches: list[dict[str, Any]] = []
     if args.full:
         for lam in LAMBDAS:
-            for rt in SHELL_DEPTHS:
-                say(args.quiet, f"shell model, lambda = {lam:g}, R/t = {rt:g} ...")
-                shells.append(shell_limit(lam, rt))
+            for rt, N in [(rt, SHELL_N) for rt in SHELL_DEPTHS] + [(SHELL_DEPTHS[-1], SHELL_N_FINE)]:
+                say(args.quiet, f"shell model, lambda = {lam:g}, R/t = {rt:g}, N = {N} ...")
+                shells.append(shell_limit(lam, rt, N))
         for lam in LAMBDAS:
             say(args.quiet, f"shell model's branch, lambda = {lam:g}, R/t = {SHELL_DEPTHS[-1]:g} ...")
             shell_branches.append(shell_branch_limit(lam))
