@@ -32,14 +32,14 @@ For lambda = 10 and 12 (``nu = 0.3``):
 5. convergence in the radial mesh ``N`` and the harmonics ``K``, and the error against the run time (the
    difference from the finest run);
 6. (``--full``) the shell model's axisymmetric path (:func:`studies.waves_branch.axisymmetric_path`, N = 200) at
-   ``R/t`` = 10^3, 10^4, 10^5 (and N = 800 at 10^5) and the same lambda, and its ``n``-wave branch at ``R/t = 10^5`` (``K = 4``): towards
-   the shallow limit its loads and special points should tend to this theory's (:func:`shell_limit`,
-   :func:`shell_branch_limit`).
+   ``R/t`` = 10^3, 10^4, 10^5 (and N = 800 at 10^5) and the same lambda, and its ``n``-wave branch at
+   ``R/t = 10^5`` (``K = 4``): towards the shallow limit its loads and special points should tend to this
+   theory's (:func:`shell_limit`, :func:`shell_branch_limit`).
 
 Units: ``t`` the thickness; ``P R / (E t^3)`` from the apex force ``q = P a^2 / (D t)``
 (:func:`~contin_models.benchmarks.shallow_cap.load_factor`).  Writes ``table.csv``, ``bifurcations.csv``,
-``convergence.csv``, ``shell_limit.csv`` and ``shell_branch_limit.csv`` (``--full``), ``axisymmetric.csv``, ``waves.csv``, ``summary.json`` and the figure ``shallow_cap_waves``
-(PNG and PDF).
+``convergence.csv``, ``shell_limit.csv`` and ``shell_branch_limit.csv`` (``--full``), ``axisymmetric.csv``,
+``waves.csv``, ``summary.json`` and the figure ``shallow_cap_waves`` (PNG and PDF).
 """
 
 from __future__ import annotations
@@ -59,7 +59,8 @@ from scipy.sparse.linalg import spsolve  # noqa: E402
 
 import contin  # noqa: E402
 from contin_models.benchmarks.shallow_cap import ShallowCap, load_factor  # noqa: E402
-from studies._common import output_dir, print_table, run_study, save_figure, say, study_parser, write_csv, write_json  # noqa: E402
+from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
+                             write_csv, write_json)
 
 NU = 0.3
 LAMBDAS = (10.0, 12.0)

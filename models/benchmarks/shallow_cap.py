@@ -35,7 +35,8 @@ in-plane displacements.  In polar coordinates, with ``z0' = -2 H r / a^2``::
                                                                          + (1 - nu) g_rt^2 / 2
 
 (``k . C k`` likewise with ``2 k_rt``).  The factor 6: the membrane density ``E t / (2 (1 - nu^2)) e . C e`` with
-``e ~ t^2 / a^2`` over the bending density's unit ``D (t / a^2)^2`` is ``(E t^3 / (2 (1 - nu^2))) / D = 6``.  It depends on ``lambda`` (through ``beta``) and ``nu`` only.  The apex load
+``e ~ t^2 / a^2`` over the bending density's unit ``D (t / a^2)^2`` is ``(E t^3 / (2 (1 - nu^2))) / D = 6``.  It
+depends on ``lambda`` (through ``beta``) and ``nu`` only.  The apex load
 ``P`` (towards the base) does the work ``P w(0)``; under displacement control ``W(0) = delta`` is the parameter
 and the apex force is the energy's derivative in it, ``q = P a^2 / (D t) = dE / d delta``.  The load parameter
 of the shell's studies is ``P R / (E t^3) = q / (12 (1 - nu^2) beta)``.
@@ -182,7 +183,8 @@ def _hermite(xi: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
 
 
 def _lagrange(xi: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Quadratic Lagrange shape functions (start, middle, end): values and ``rho``-derivatives, (elements, points, 3)."""
+    """Quadratic Lagrange shape functions (start, middle, end): values and ``rho``-derivatives, shape
+    (elements, points, 3)."""
     x = xi[None, :]
     hh = h[:, None]
     one = np.ones_like(hh)
@@ -638,7 +640,8 @@ class ShallowCap(contin.Problem):
         pert = FourierSpace(self.nodes, [Harmonic(m, "cos")], np.zeros(1), np.ones(1), apex_parameter=False)
         idx = self.space.index_of(pert.labels)
         if np.any(idx < 0):
-            raise ValueError(f"ShallowCap.embed_mode: harmonic {m} is not among this cap's ({self.n} waves, K = {self.K})")
+            raise ValueError(f"ShallowCap.embed_mode: harmonic {m} is not among this cap's "
+                             f"({self.n} waves, K = {self.K})")
         out = np.zeros(self.space.n_free)
         out[idx] = np.asarray(mode, dtype=float)
         return out
