@@ -31,13 +31,15 @@ For lambda = 10 and 12 (``nu = 0.3``):
    shell model's numbers (``PROJECT``, from ``docs/asymmetric.md``);
 5. convergence in the radial mesh ``N`` and the harmonics ``K``, and the error against the run time (the
    difference from the finest run);
-6. (``--full``) the shell model's axisymmetric path (:func:`studies.waves_branch.axisymmetric_path`, N = 200) at
+6. Koiter's ``b`` at the bifurcation against the traced branch (:func:`koiter_check`), in the amplitude of the
+   mode's largest ``w cos n t`` as well, beside the shell model's;
+7. (``--full``) the shell model's axisymmetric path (:func:`studies.waves_branch.axisymmetric_path`, N = 200) at
    ``R/t`` = 10^3, 10^4, 10^5 (and N = 800 at 10^5) and the same lambda, and its ``n``-wave branch at
    ``R/t = 10^5`` (``K = 4``): towards the shallow limit its loads and special points should tend to this
    theory's (:func:`shell_limit`, :func:`shell_branch_limit`).
 
 Units: ``t`` the thickness; ``P R / (E t^3)`` from the apex force ``q = P a^2 / (D t)``
-(:func:`~contin_models.benchmarks.shallow_cap.load_factor`).  Writes ``table.csv``, ``bifurcations.csv``,
+(:func:`~contin_models.benchmarks.shallow_cap.load_factor`).  Writes ``table.csv``, ``bifurcations.csv``, ``koiter.csv``,
 ``convergence.csv``, ``shell_limit.csv`` and ``shell_branch_limit.csv`` (``--full``), ``axisymmetric.csv``,
 ``waves.csv``, ``summary.json`` and the figure ``shallow_cap_waves`` (PNG and PDF).
 """
@@ -88,11 +90,11 @@ PROJECT: dict[float, dict[str, Any]] = {
     12.0: {"n": 4, "w_bif": 17.989, "P_bif": 6.9984,
            "P_axisymmetric": {20.0: 7.5914, 25.0: 9.8494, 30.0: 13.352, 35.0: 15.350},
            "P_waves": {20.0: 7.4914, 25.0: 9.6094, 30.0: 13.090, 35.0: 14.595},
-           "stable_to": "29.6-29.8", "returns_at": None},
+           "stable_to": "29.6-29.8", "returns_at": None, "b_w": 0.17788},
     10.0: {"n": 4, "w_bif": 18.602, "P_bif": 9.3618,
            "P_axisymmetric": {20.0: 10.289, 25.0: 11.235, 30.0: 22.334, 35.0: 97.98},
            "P_waves": {20.0: 10.278},
-           "stable_to": "21.5-21.8", "returns_at": 20.5125},
+           "stable_to": "21.5-21.8", "returns_at": 20.5125, "b_w": 0.17507},
 }
 
 
@@ -115,23 +117,52 @@ def first_bifurcation(branch: contin.Branch) -> contin.SpecialPoint:
     raise RuntimeError("no located bifurcation into waves on the axisymmetric path")
 
 
-def wave_branch(axi: ShallowCap, point: contin.SpecialPoint, K: int, w_end: float = W_END,
-                ds_max: float = 0.5) -> tuple[ShallowCap, contin.SpecialPoint, contin.Branch]:
-    """The ``n``-wave branch from ``point`` in the ``D_n``-fixed space with ``K`` harmonics: the lifted and
-    re-located branch point and the branch, to ``w_end`` or the first branch point it meets."""
+def lifted_point(axi: ShallowCap, point: contin.SpecialPoint, K: int) -> tuple[ShallowCap, contin.SpecialPoint]:
+    """The ``D_n``-fixed cap with ``K`` harmonics and the bifurcation ``point`` of the axisymmetric cap lifted into it
+    and located again there (:func:`contin.lift_branch_point`)."""
     n = int(point.info["key"])
     cap = ShallowCap(axi.lam, axi.nu, n=n, K=K, N=axi.N, grading=axi.grading)
     lift = contin.Lift(state=lambda x, p: cap.embed(axi, x), mode=lambda v: cap.embed_mode(n, v), family="n", key=n,
                        name="axisymmetric cap -> D_n")
     # the residual's terms are the axisymmetric cap's: its calibrated scale sets the tolerance from the first step
-    # (the switch would otherwise measure it at the branch point, where the load scale is the branch's curvature)
+    # (the switch would otherwise keep the uncalibrated scale 1, below the roundoff floor of these terms)
     cap.calibrate_residual_scale(axi.residual_scale)
-    bp = contin.lift_branch_point(point, axi, cap, lift)
+    return cap, contin.lift_branch_point(point, axi, cap, lift)
+
+
+def wave_branch(axi: ShallowCap, point: contin.SpecialPoint, K: int, w_end: float = W_END,
+                ds_max: float = 0.5) -> tuple[ShallowCap, contin.SpecialPoint, contin.Branch]:
+    """The ``n``-wave branch from ``point`` in the ``D_n``-fixed space with ``K`` harmonics: the lifted and
+    re-located branch point and the branch, to ``w_end`` or the first branch point it meets."""
+    cap, bp = lifted_point(axi, point, K)
     br = contin.switch_branch(cap, bp, contin.Settings(ds=0.02, ds_max=ds_max, max_steps=4000, stability=True,
                                                        stop_at=("branch_point",)), p_max=w_end, direction=1)
     if not br.success:
-        raise RuntimeError(f"{n}-wave branch, lambda = {axi.lam:g}, N = {axi.N}, K = {K}: {br.message}")
+        raise RuntimeError(f"{cap.n}-wave branch, lambda = {axi.lam:g}, N = {axi.N}, K = {K}: {br.message}")
     return cap, bp, br
+
+
+def koiter_check(axi: ShallowCap, point: contin.SpecialPoint, ds: float = 0.002, steps: int = 40,
+                 window: float = 2e-3) -> dict[str, Any]:
+    """Koiter's ``b`` at the bifurcation (``w / w_c = 1 + b xi^2``, :func:`contin.koiter_coefficients` on the
+    ``D_n`` cap with ``K = 2``, which holds the mode and its second-order field, the waves 0 and ``2 n``) against
+    the intercept of ``(w / w_c - 1) / xi^2``, fitted linearly in ``xi^2`` on a short trace with steps ``ds`` (the
+    points within ``window`` of ``w_c``); ``xi = phi^T x`` along the unit null vector ``phi``.  ``b_w``: the same in
+    the amplitude of the mode's largest ``w cos n t`` nodal value over the thickness, ``b / height^2``."""
+    cap, bp = lifted_point(axi, point, 2)
+    k = contin.koiter_coefficients(cap, bp.u, bp.p, null_vector=bp.bifurcation.null_vector)
+    short = contin.switch_branch(cap, bp, contin.Settings(ds=ds, ds_max=ds), direction=1, max_steps=steps)
+    xi = np.asarray(short.u) @ k.null_vector
+    rel = np.asarray(short.p) / bp.p - 1.0
+    use = (rel != 0.0) & (np.abs(rel) <= window) & (xi != 0.0)
+    if use.sum() < 4:
+        raise RuntimeError(f"koiter_check: {int(use.sum())} points within {window} of w_c; take a smaller ds")
+    traced = float(np.polyfit(xi[use] ** 2, rel[use] / xi[use] ** 2, 1)[1])
+    values = [i for i, lab in enumerate(cap.space.labels) if lab[0] == cap.n and lab[2] == "w" and lab[4] == 0]
+    height = float(np.max(np.abs(k.null_vector[values])))
+    return {"lambda": axi.lam, "N": axi.N, "w_c": float(bp.p), "a": float(k.a), "b_koiter": float(k.b),
+            "b_traced": traced, "rel_diff": traced / float(k.b) - 1.0, "b_w_koiter": float(k.b) / height ** 2,
+            "b_w_traced": traced / height ** 2, "points": int(use.sum())}
 
 
 # ---- stability against every class ---------------------------------------------------------------
@@ -234,6 +265,7 @@ def case(lam: float, N: int, K: int, stability: bool = True, w_end: float = W_EN
     stop = branch_end(br)
     counts = ([class_stability(cap, br.u[i], br.p[i])["counts"] for i in range(stop)] if stability else [])
     seconds = time.perf_counter() - t0
+    koiter = koiter_check(axi, point) if stability else None
     scale = load_factor(lam, NU)
     rows = []
     for target in W_TABLE:
@@ -275,7 +307,7 @@ def case(lam: float, N: int, K: int, stability: bool = True, w_end: float = W_EN
             "folds_in_w": [float(s.p) for s in later if s.kind == "fold" and s not in back],
             "meets_branch_point_at": ret, "returns_to_axisymmetric_at": returns,
             "loses_stability": loss_of_stability(cap, br, counts) if stability else None,
-            "seconds_path": t_path, "seconds": seconds, "rows": rows,
+            "seconds_path": t_path, "seconds": seconds, "rows": rows, "koiter": koiter,
             "_axi": axi, "_path": path, "_cap": cap, "_branch": br, "_stop": stop, "_counts": counts}
 
 
@@ -453,6 +485,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     convergence = convergence_rows(cases, K_MESH)
     write_csv(out / "table.csv", table)
     write_csv(out / "bifurcations.csv", [_public(c) for c in cases])
+    koiter_rows = [{**c["koiter"], "shell_b_w": PROJECT[c["lambda"]]["b_w"]} for c in main_cases]
+    write_csv(out / "koiter.csv", koiter_rows)
     write_csv(out / "convergence.csv", convergence)
     if shells:
         write_csv(out / "shell_limit.csv", shells)
@@ -480,6 +514,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                                                   "axisymmetric_limit_w", "axisymmetric_limit_P", "w_max", "folds_in_w",
                                                   "meets_branch_point_at", "returns_to_axisymmetric_at",
                                                   "loses_stability", "seconds"], digits=6)
+        print()
+        print_table(koiter_rows, ["lambda", "N", "w_c", "a", "b_koiter", "b_traced", "rel_diff", "b_w_koiter",
+                                  "b_w_traced", "shell_b_w", "points"], digits=6)
         if convergence:
             print()
             print_table(convergence, ["lambda", "study", "N", "K", "w_over_t", "P_axisymmetric", "error_axisymmetric",
