@@ -7,6 +7,8 @@
   w / t`` (Reissner 1946/47), approached as lambda grows;
 * the Hessian of an ``n``-wave state splits into the classes of ``D_n``: the spectrum in every harmonic up to a
   wave number is the union of the classes' spectra (the ``E`` classes twice);
+* an in-plane field through the pole, ``u_x = 1 - r^2 / a^2`` (harmonic 1, tied at the pole), and its membrane energy
+  in closed form;
 * the derivatives of the model (residual, Jacobian, ``df/dp``) against its energy.
 """
 
@@ -82,6 +84,23 @@ def test_the_hessian_of_a_wavy_state_splits_into_the_classes_of_dn() -> None:
         parts += list(np.linalg.eigvalsh(H)) * (2 if label.startswith("E") else 1)
     assert len(parts) == len(everything)
     np.testing.assert_allclose(np.sort(parts), everything, rtol=1e-9, atol=1e-9 * np.max(np.abs(everything)))
+
+
+def test_a_field_that_slides_through_the_pole_has_its_closed_form_energy() -> None:
+    # u_x = g(r) = 1 - r^2 (in units t^2 / a): u_r = g cos t, u_t = -g sin t, a field of harmonic 1 whose pole values
+    # are tied (u_t(0) = -u_r(0)); its strains e_xx = -2 x, e_xy = -y give 6 int (e_xx^2 + 2 (1 - nu) e_xy^2) dA =
+    # 3 pi (3 - nu) over the unit disc (the quadratic elements hold g exactly)
+    nu = 0.3
+    cap = ShallowCap(0.0, nu, n=1, K=1, N=6)
+    mid = 0.5 * (cap.nodes[:-1] + cap.nodes[1:])
+
+    def g(pos: int) -> float:
+        rho = cap.nodes[pos // 2] if pos % 2 == 0 else mid[pos // 2]
+        return 1.0 - rho ** 2
+
+    x = np.array([(g(pos) if c == "u" else -g(pos)) if (m == 1 and c in "uv") else 0.0
+                  for m, _, c, pos, _ in cap.space.labels])
+    assert cap.energy(x, 0.0) == pytest.approx(3 * np.pi * (3 - nu), rel=1e-12)
 
 
 @pytest.mark.parametrize("n,K", [(0, 0), (4, 2)])
