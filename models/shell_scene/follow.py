@@ -87,10 +87,6 @@ def run_followed(scene: Scene, progress: bool = False) -> TraceResult:
     return followed_result(scene, axi, b, source, fp, options)
 
 
-#: Kinds of the located point that ends a piece: singular, so a restart from it starts at the stored point before.
-_ENDS_AT_POINT = ("fold", "bifurcation", "branch_point")
-
-
 def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceResult:
     """Restart a saved followed path from a point of one of its pieces (``contin trace --from OUT --label K``).
 
@@ -109,7 +105,7 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
         path, or the saved state is not an equilibrium of the view built again.
     """
     from contin.app.restart import RestartError, SavedPrefix, join_branches, path_changes, saved_scene
-    from contin_models.shell.followed import END_TOL, FollowedPath, Piece, Snap, follow_path, rebuild_view
+    from contin_models.shell.followed import END_TOL, STOPS, FollowedPath, Piece, Snap, follow_path, rebuild_view
 
     from .scene import SHELL_SCENE, run_scene
 
@@ -149,7 +145,7 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
         keep = len(br)
     else:
         keep = int(br.special_points[start.special].index) + 1
-    if keep == len(br) and records[k]["end"] in _ENDS_AT_POINT:
+    if keep == len(br) and records[k]["end"] in STOPS:  # the located point that ended the piece is singular
         keep -= 1
     keep = max(keep, 1)
     u0, p0 = np.asarray(br.u[keep - 1], dtype=float), float(br.p[keep - 1])
