@@ -174,6 +174,8 @@ def resume_followed(scene: Scene, start: Any, progress: bool = False) -> TraceRe
     for pc in tail.pieces[1:]:
         pieces.append(Piece(pc.index + k, pc.problem, pc.branch, pc.symmetry, pc.waves,
                             None if pc.parent is None else pc.parent + k, pc.start, pc.start_p, pc.end, pc.relocated))
+    # the view a saved snap's descent ran in is not saved: its landing piece's stands in (the outputs read the jump
+    # and the pieces' branches, not that view)
     snaps = [Snap(int(r["parent"]), i, float(r["start_p"]), views[i], str(r["landing_symmetry"] or r["symmetry"]),
                   saved.jumps[int(r["jump"])]) for i, r in enumerate(records[:k + 1]) if r["jump"] is not None]
     snaps += [Snap(sn.from_piece + k, None if sn.to_piece is None else sn.to_piece + k, sn.p, sn.view, sn.symmetry,
