@@ -263,6 +263,37 @@ def test_mesh_advice_fits_the_mesh(N: int, control: str, expected: str) -> None:
     assert ("unlikely to help" in advice) == (N == 800)
 
 
+#: Scene 179 of ``python -m studies.fuzz --count 300 --seed 33``: a thin deep cap under a point load and
+#: displacement control whose path winds on its own mesh (4.1 nodes over sqrt(R h)) and ends at N = 150.
+WINDING_CAP = ["shell.R=404.6728351562885", "shell.E=87152877039.92862", "shell.h=1.5456817528166313",
+               "shell.phi_hat=0.42974739211929047", "shell.nu=-0.31562760121326794", "shell.N=75"]
+
+
+def test_a_path_cut_by_the_automatic_step_limit_on_a_coarse_mesh_is_told_to_refine(monkeypatch) -> None:
+    """Running out of the automatic step limit on a mesh too coarse for the wrinkles in the middle of the
+    path: the advice is the mesh that ends such paths, not more steps; with a step limit of the user's
+    own, or on a mesh fine enough for the middle, there is no such advice."""
+    import importlib
+
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene.scene import WRINKLE_NODES, run_scene, winding_advice
+    from contin_models.shell_scene.schema import nodes_per_bending_length
+
+    build = importlib.import_module("contin_models.shell_scene.build")  # the package's name 'build' is a function
+    monkeypatch.setattr(build, "AUTO_MAX_STEPS", 40)  # the limit itself is 200000 steps: minutes of winding
+    scene = load_scene(SHELL_SCHEMA, None, WINDING_CAP + ["output.figure=false"])
+    result = run_scene(scene)
+    assert result.status == "incomplete"
+    needed = math.ceil(WRINKLE_NODES / nodes_per_bending_length(scene["shell"], N=1))
+    assert needed == 157  # 8.5 nodes over sqrt(R h); measured: this cap winds at N = 110 and ends at N = 150
+    assert "advice: the path wound through folds" in result.message and f"shell.N = {needed}" in result.message
+
+    chosen = load_scene(SHELL_SCHEMA, None, WINDING_CAP + ["continuation.max_steps=40"])
+    assert winding_advice(chosen) is None
+    fine = load_scene(SHELL_SCHEMA, None, WINDING_CAP[:-1] + [f"shell.N={needed}"])
+    assert winding_advice(fine) is None
+
+
 @pytest.mark.slow
 def test_force_control_snaps_on_a_fine_mesh(tmp_path: Path) -> None:
     """At N = 800 the snap's energy descent met a ridge whose negative curvature was far below the

@@ -9,6 +9,7 @@ This is the one place that combines the shell (:mod:`contin_models.shell`) with 
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from contin.app.scene import Classification, Constraint, SceneError, SceneModel, TraceResult, check_classifiable
@@ -57,6 +58,8 @@ def run_scene(scene: Scene, progress: bool = False) -> TraceResult:
         if kind in ("sphere", "plate") and control == "force" and _stopped_on_contact_steps(result.message):
             advice.append(CONTACT_STEPS_ADVICE)
         advice.append(mesh_advice(scene))
+    elif result.status == "incomplete" and (winding := winding_advice(scene)):
+        result.summary.setdefault("advice", []).append(winding)
     return result
 
 
@@ -131,6 +134,36 @@ def mesh_advice(scene: Scene) -> str:
     other = "displacement" if scene["load"]["control"] == "force" else "force"
     return (f"{head}, so a finer mesh is unlikely to help; try the other control (load.control = \"{other}\") "
             f"or a smaller continuation.ds_max")
+
+
+#: Nodes over the bending length that the middle of a thin deep cap's path needs: there a train of
+#: meridional wrinkles, each about 0.4 ``sqrt(R h)`` long, runs from the edge to the pole, and on a
+#: coarser mesh the train breaks up into a path that folds back and forth without reaching its end.
+#: Measured on four such paths: they wind with 4 to 7.2 nodes and end with 7.2 to 8.5
+#: (``docs/robustness.md``).
+WRINKLE_NODES = 8.5
+
+
+def winding_advice(scene: Scene) -> str | None:
+    """What to try when the automatic step limit cut a path short on a mesh too coarse for its middle, or None.
+
+    A path that runs out of the automatic limit (``continuation.max_steps = "auto"``) kept finding folds
+    to the end: it wound.  On a mesh below :data:`WRINKLE_NODES` nodes over the bending length that is
+    the broken-up wrinkle train of the path's middle, which more steps do not end and a finer mesh does.
+    On a finer mesh, or under a step limit the user chose, there is nothing to add to raising the limit.
+    """
+    s = scene["shell"]
+    if scene["continuation"]["max_steps"] != "auto" or s.get("geometry", "sphere") != "sphere":
+        return None
+    per_length = nodes_per_bending_length(s)
+    if per_length >= WRINKLE_NODES:
+        return None
+    needed = math.ceil(WRINKLE_NODES / nodes_per_bending_length(s, N=1))
+    return (f"the path wound through folds until the automatic step limit, on a mesh with {per_length:.1f} nodes "
+            f"over the bending length sqrt(R h); in the middle of a thin deep cap's path a train of wrinkles "
+            f"about 0.4 sqrt(R h) long forms, and with fewer than {WRINKLE_NODES:g} nodes over that length the "
+            f"train breaks up into a path that folds back and forth without end, which more steps do not "
+            f"change: the first thing to try is a finer mesh, shell.N = {needed}")
 
 
 #: Fields of :func:`classify` copied into a :class:`~contin.app.scene.Classification` (``contin classify --json``).
