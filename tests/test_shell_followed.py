@@ -360,3 +360,23 @@ def test_a_piece_that_turns_back_at_a_fold_it_did_not_locate_stops_there() -> No
     assert out.status == "stopped" and "turns back in the load" in out.message
     p = np.asarray(out.pieces[0].branch.p)
     assert np.all(np.diff(p) >= 0.0) and 1.9 < p[-1] <= 2.0 + 1e-12
+
+
+def test_a_monostable_cap_that_stays_axisymmetric_has_the_axisymmetric_paths_force_minimum() -> None:
+    """The shallow cap of the paper's appendix B (phi_hat = 1.2) never leaves the axisymmetric path, so its
+    followed path's class, force maximum and the force minimum after it are the axisymmetric path's.  The minimum
+    was the least force on the whole path, the unloaded start's zero, beside the axisymmetric path's 1.44."""
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCHEMA
+    from contin_models.shell_scene.scene import run_scene
+
+    scene = load_scene(SHELL_SCHEMA, None, ["shell.phi_hat=1.2", "shell.N=40", "view.harmonics=2",
+                                            "stability.harmonics=true", "stability.follow=true",
+                                            "output.figure=false"])
+    result = run_scene(scene)
+    s, f = result.summary, result.summary["followed"]
+    assert result.success and f["path"][0]["ended"] == "end of load" and len(f["path"]) == 1
+    assert s["classification"] == f["classification"] == "monostable"
+    assert s["F_min_norm"] > 1.0  # a monostable cap's force stays positive after its maximum
+    assert f["F_max_norm"] == pytest.approx(s["F_max_norm"], rel=1e-9)
+    assert f["F_min_norm"] == pytest.approx(s["F_min_norm"], rel=1e-9)

@@ -406,8 +406,8 @@ def classify_followed(fp: Any, D: float, R: float) -> dict[str, Any]:
     aside), so the path is ``bistable`` where the force is negative somewhere on it, ``monotonous`` where it has no
     snap and no located maximum of the force, else ``monostable``.  ``F_max`` is the first local maximum of the
     force along the path: the first located maximum (``max(F)``) or the start of the first snap, whichever comes
-    first; ``F_min`` its least value (by stored points and located minima).  Empty when the path's pieces carry no
-    force (a pressure).
+    first; ``F_min`` the least force after it (by stored points and located minima), as on the axisymmetric path
+    (None without a maximum: the force then never falls).  Empty when the path's pieces carry no force (a pressure).
     """
     runs = []
     first_max = None
@@ -424,12 +424,13 @@ def classify_followed(fp: Any, D: float, R: float) -> dict[str, Any]:
             maxima = [spt for spt in pc.branch.special_points if spt.located and spt.label == "max(F)"]
             snapped = any(sn.from_piece == pc.index for sn in fp.snaps)
             if maxima:
-                first_max = (float(maxima[0].observables["F"]), float(maxima[0].p))
+                first_max = (float(maxima[0].observables["F"]), float(maxima[0].p), len(runs) - 1)
             elif snapped and keep:
-                first_max = (float(F[keep - 1]), float(pc.branch.p[keep - 1]))
+                first_max = (float(F[keep - 1]), float(pc.branch.p[keep - 1]), len(runs) - 1)
     force = np.concatenate([r[0] for r in runs]) if runs else np.zeros(0)
     if not force.size:
         return {}
+    after = np.concatenate([_after_maximum(first_max, k, r[1]) for k, r in enumerate(runs)])
     tol = FORCE_ROUNDOFF * float(np.max(np.abs(force)))
     if np.any(force < -tol):
         kind = "bistable"
@@ -437,16 +438,25 @@ def classify_followed(fp: Any, D: float, R: float) -> dict[str, Any]:
         kind = "monotonous"
     else:
         kind = "monostable"
-    i_min = int(np.argmin(force))
     w_all = np.concatenate([r[1] for r in runs])
+    i_min = int(np.flatnonzero(after)[np.argmin(force[after])]) if np.any(after) else None
     scale = R / (2.0 * np.pi * D) if D > 0 else float("nan")
     out: dict[str, Any] = {"classification": kind, "n_snaps": len(fp.snaps),
                            "F_max": None if first_max is None else first_max[0],
                            "w_at_F_max": None if first_max is None else first_max[1],
-                           "F_min": float(force[i_min]), "w_at_F_min": float(w_all[i_min])}
+                           "F_min": None if i_min is None else float(force[i_min]),
+                           "w_at_F_min": None if i_min is None else float(w_all[i_min])}
     out["F_max_norm"] = None if first_max is None else first_max[0] * scale
-    out["F_min_norm"] = float(force[i_min]) * scale
+    out["F_min_norm"] = None if i_min is None else float(force[i_min]) * scale
     return out
+
+
+def _after_maximum(first_max: tuple[float, float, int] | None, piece: int, w: np.ndarray) -> np.ndarray:
+    """Which of a piece's points lie past the path's first force maximum ``(F, w, piece)``: a stable piece goes on
+    in the deflection (it ends at a fold before it would turn back)."""
+    if first_max is None or piece < first_max[2]:
+        return np.zeros(len(w), dtype=bool)
+    return np.ones(len(w), dtype=bool) if piece > first_max[2] else w >= first_max[1]
 
 
 #: Relative size of a fall of the force along the followed path below which it is roundoff.
