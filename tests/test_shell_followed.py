@@ -380,3 +380,20 @@ def test_a_monostable_cap_that_stays_axisymmetric_has_the_axisymmetric_paths_for
     assert s["F_min_norm"] > 1.0  # a monostable cap's force stays positive after its maximum
     assert f["F_max_norm"] == pytest.approx(s["F_max_norm"], rel=1e-9)
     assert f["F_min_norm"] == pytest.approx(s["F_min_norm"], rel=1e-9)
+
+
+@pytest.mark.slow
+def test_a_followed_plate_ends_where_it_reaches_the_base_ring_as_the_axisymmetric_run_does() -> None:
+    """The plate's travel ends where the plate comes within 2 dhat of the base ring (the axisymmetric run's bound
+    on the base gap); the followed path's pieces went on past it until a step left the model's domain and
+    reported a complete path as stopped."""
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCHEMA
+    from contin_models.shell_scene.scene import run_scene
+
+    keys = ["load.kind=plate", "shell.N=40", "view.harmonics=2", "stability.harmonics=true", "output.figure=false"]
+    plain = run_scene(load_scene(SHELL_SCHEMA, None, keys))
+    followed = run_scene(load_scene(SHELL_SCHEMA, None, keys + ["stability.follow=true"]))
+    assert plain.success and plain.branches[-1].status == "bound"
+    assert followed.success and followed.summary["followed"]["path"][-1]["ended"] == "end of load"
+    assert followed.branches[-1].p[-1] == pytest.approx(plain.branches[-1].p[-1], rel=1e-9)

@@ -220,6 +220,12 @@ def _followed_start(scene: Scene, b: Any, progress: bool) -> tuple[Any, Any, np.
         ends: dict[str, Any] = {"p_end": float(settings.p_max), "end": ("w", float(settings.bounds["w"][1]))}
     elif indenter:  # the indenter's travel to its end
         ends = {"p_end": float(b.w_end)}
+        if scene["load"]["kind"] == "plate":
+            # the axisymmetric run stops where the plate comes within 2 dhat of the base ring (the bounds of
+            # contact.py), beyond which the barrier would press on the support; the pieces in 3-D views have no
+            # such observable, but the base ring is held at its height, so the plate's gap falls as it travels
+            gap = float(source.evaluate_observables(u0, p0)["base_gap"])
+            ends["p_end"] = min(ends["p_end"], p0 + gap - 2.0 * float(source.dhat))
     else:  # a prescribed deflection ends at its end; a dead load goes on until the shell everts
         w_end = loaded_end(scene, source) if isinstance(source, ShellOfRevolution) else b.w_end
         ends = {"p_end": float(w_end)} if control == "displacement" else {"end": ("w", float(w_end))}
