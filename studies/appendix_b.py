@@ -18,10 +18,12 @@ under the prescribed deflection and lands on the next stable state, in any symme
 
 The default run uses ``N = 80`` nodes and ``K = 2`` harmonics of the view (about 20 s); ``--full`` runs
 ``N = 200``, ``K = 3`` (the scene's defaults) and the resolution checks on the two deep caps: ``N = 100, 200, 400``
-at ``K = 3`` and ``K = 2, 3, 4, 5`` at ``N = 200``, and the pole held laterally (``load.pole_held = true``: the point
-load as a pin through the pole instead of a frictionless tip) at ``N = 200``, ``K = 3``.
+at ``K = 3`` and ``K = 2, 3, 4, 5`` at ``N = 200``; and, with the pole held laterally (``load.pole_held = true``: the
+point load as a pin through the pole instead of a frictionless tip, which the followed path does not take), where the
+axisymmetric path first bifurcates.
 
-Writes ``caps.csv`` (one row per run), ``pieces.csv`` (the followed paths' pieces), ``summary.json`` and the figures
+Writes ``caps.csv`` (one row per run, rewritten after each), ``pieces.csv`` (the followed paths' pieces),
+``held_pole.csv``, ``summary.json`` and the figures
 ``appendix_b`` (force against deflection, both paths, one panel per cap) and ``appendix_b_shapes_<phi_hat>``.
 """
 
@@ -230,34 +232,62 @@ COLUMNS = ("phi_hat", "N", "K", "pole_held", "axi_class", "axi_F_max", "axi_F_mi
            "followed_class", "followed_F_max", "followed_F_min", "snaps", "everts", "time_s")
 
 
-def _check(phi_hat: float, N: int, K: int, pole_held: bool = False) -> dict[str, Any]:
+def _check(phi_hat: float, N: int, K: int) -> dict[str, Any]:
     """A resolution check: its run, or the reason it did not complete (a check reports, it does not stop the study)."""
     try:
-        return run_cap(phi_hat, N, K, pole_held)
+        return run_cap(phi_hat, N, K)
     except RuntimeError as exc:
-        return {"row": {"phi_hat": phi_hat, "N": N, "K": K, "pole_held": pole_held, "failed": str(exc)}, "pieces": []}
+        return {"row": {"phi_hat": phi_hat, "N": N, "K": K, "pole_held": False, "failed": str(exc)}, "pieces": []}
+
+
+def held_pole_bifurcation(phi_hat: float, N: int) -> dict[str, Any]:
+    """Where the axisymmetric path of a cap whose pole is held laterally first leaves it (its harmonic blocks watched;
+    the followed path is built for the frictionless tip only)."""
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCHEMA
+    from contin_models.shell_scene.scene import run_scene
+
+    scene = load_scene(SHELL_SCHEMA, None, [f"shell.phi_hat={phi_hat}", f"shell.N={N}", "stability.harmonics=true",
+                                            "load.pole_held=true", "output.figure=false"])
+    result = run_scene(scene)
+    first = result.summary.get("first_instability") or {}
+    return {"phi_hat": phi_hat, "N": N, "complete": result.success, "first_kind": first.get("kind"),
+            "first_n": first.get("n"), "first_w": first.get("w_over_R"), "first_F": first.get("F_norm"),
+            "axi_w_F_max": result.summary.get("w_at_F_max_over_R")}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = study_parser("appendix_b", __doc__.splitlines()[0]).parse_args(argv)
     out = output_dir(args.out)
     N, K = FULL if args.full else FAST
-    runs = []
+    runs: list[dict[str, Any]] = []
+    checks: list[dict[str, Any]] = []
+
+    def keep() -> list[dict[str, Any]]:  # the table so far: a long --full run that stops keeps what it measured
+        rows = [r["row"] for r in runs + checks]
+        write_csv(out / "caps.csv", rows)
+        write_csv(out / "pieces.csv", [p for r in runs + checks for p in r["pieces"]])
+        return rows
+
     for phi_hat in CAPS:
         say(args.quiet, f"appendix_b: phi_hat = {phi_hat}, N = {N}, K = {K}")
         runs.append(run_cap(phi_hat, N, K))
-    checks = []
+        keep()
+    held = []
     if args.full:
+        say(args.quiet, "appendix_b: the pole held laterally")
+        held = [held_pole_bifurcation(phi_hat, N) for phi_hat in CAPS]
+        write_csv(out / "held_pole.csv", held)
         for phi_hat in CHECK_CAPS:
-            cases = [(n, 3, False) for n in CHECK_N] + [(200, k, False) for k in CHECK_K] + [(200, 3, True)]
-            for n, k, held in cases:
-                say(args.quiet, f"appendix_b: check phi_hat = {phi_hat}, N = {n}, K = {k}"
-                                f"{', pole held' if held else ''}")
-                checks.append(_check(phi_hat, n, k, held))
-    rows = [r["row"] for r in runs + checks]
-    write_csv(out / "caps.csv", rows)
-    write_csv(out / "pieces.csv", [p for r in runs + checks for p in r["pieces"]])
+            for n, k in [(n, 3) for n in CHECK_N] + [(200, k) for k in CHECK_K]:
+                say(args.quiet, f"appendix_b: check phi_hat = {phi_hat}, N = {n}, K = {k}")
+                checks.append(_check(phi_hat, n, k))
+                keep()
+    rows = keep()
     print_table(rows, COLUMNS)
+    if held:
+        print("pole held laterally: the axisymmetric path's first bifurcation")
+        print_table(held, ["phi_hat", "N", "first_kind", "first_n", "first_w", "first_F", "axi_w_F_max"])
     for r in runs:
         print(f"phi_hat = {r['row']['phi_hat']:g}: {r['row']['left']}\n    {r['row']['path']}")
     for r in checks:
@@ -271,7 +301,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         save_figure(plot_shapes(r), out, f"appendix_b_shapes_{r['row']['phi_hat']:g}")
     write_json(out / "summary.json", {"command": "python -m studies.appendix_b" + (" --full" if args.full else ""),
                                       "N": N, "K": K, "caps": [r["row"] for r in runs],
-                                      "checks": [r["row"] for r in checks]})
+                                      "checks": [r["row"] for r in checks], "held_pole": held})
     return 0
 
 
