@@ -200,20 +200,39 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = study_parser("indenters_3d", __doc__.splitlines()[0]).parse_args(argv)
     out = output_dir(args.out)
     N, K = FULL if args.full else FAST
-    runs = []
+    runs: list[dict[str, Any]] = []
+    checks: list[dict[str, Any]] = []
+    failed: list[dict[str, Any]] = []
+
+    def keep() -> list[dict[str, Any]]:  # the table so far: a long --full run that stops keeps what it measured
+        rows = [r["row"] for r in runs + checks] + failed
+        write_csv(out / "indenters.csv", rows)
+        write_csv(out / "pieces.csv", [p for r in runs + checks for p in r["pieces"]])
+        return rows
+
+    def attempt(kind: str, radius: float | None, n: int, k: int) -> dict[str, Any] | None:
+        try:
+            return run_indenter(kind, radius, n, k)
+        except RuntimeError as exc:  # reported in the table and below it; the other indenters go on
+            failed.append({"indenter": indenter_name(kind, radius), "N": n, "K": k, "failed": str(exc)})
+            return None
+
     for kind, radius in (INDENTERS if args.full else FAST_INDENTERS):
         say(args.quiet, f"indenters_3d: {indenter_name(kind, radius)}, N = {N}, K = {K}")
-        runs.append(run_indenter(kind, radius, N, K))
+        if (run := attempt(kind, radius, N, K)) is not None:
+            runs.append(run)
+        keep()
     universality(runs)
-    checks = []
     if args.full:
         for n, k in CHECKS:
             say(args.quiet, f"indenters_3d: check sphere r/R = 0.3, N = {n}, K = {k}")
-            checks.append(run_indenter("sphere", 0.3, n, k))
-    rows = [r["row"] for r in runs + checks]
-    write_csv(out / "indenters.csv", rows)
-    write_csv(out / "pieces.csv", [p for r in runs + checks for p in r["pieces"]])
+            if (run := attempt("sphere", 0.3, n, k)) is not None:
+                checks.append(run)
+            keep()
+    rows = keep()
     print_table(rows, COLUMNS)
+    for row in failed:
+        print(f"{row['indenter']} (N = {row['N']}, K = {row['K']}): {row['failed']}")
     for r in runs:
         print(f"{r['row']['indenter']}: {r['row']['left']}\n    {r['row']['path']}")
     save_figure(plot_paths(runs, [r["row"]["indenter"] for r in runs],
@@ -222,7 +241,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     save_figure(plot_snap_shapes(runs), out, "snap_shapes")
     write_json(out / "summary.json", {"command": "python -m studies.indenters_3d" + (" --full" if args.full else ""),
                                       "N": N, "K": K, "indenters": [r["row"] for r in runs],
-                                      "checks": [r["row"] for r in checks]})
+                                      "checks": [r["row"] for r in checks], "failed": failed})
     return 0
 
 
