@@ -34,6 +34,7 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import time  # noqa: E402
+from pathlib import Path  # noqa: E402
 from collections.abc import Sequence  # noqa: E402
 from typing import Any  # noqa: E402
 
@@ -167,10 +168,12 @@ def _runs(mask: np.ndarray) -> list[slice]:
 
 
 def plot_paths(runs: Sequence[dict[str, Any]], titles: Sequence[str], suptitle: str, xlabel: str = r"$w/R$",
-               columns: int | None = None) -> Any:
+               columns: int | None = None, clip_after_snaps: bool = False) -> Any:
     """Force against deflection, one panel per run: the axisymmetric path (grey; dashed where unstable against some
     mode) and the followed path (coloured by its symmetry), its snaps, where it parts (the row's ``first_w``,
-    ``first_F``) and where the axisymmetric path would snap (``axi_snap_w``, ``axi_snap_F``)."""
+    ``first_F``) and where the axisymmetric path would snap (``axi_snap_w``, ``axi_snap_F``).  With
+    ``clip_after_snaps`` the force axis ends a little above the largest force before the last snap (an indenter
+    pressing the everted cap against its support drives the force far beyond it)."""
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
 
@@ -195,6 +198,11 @@ def plot_paths(runs: Sequence[dict[str, Any]], titles: Sequence[str], suptitle: 
         if row.get("axi_snap_w") is not None:
             ax.plot(row["axi_snap_w"], row["axi_snap_F"], marker="o", mfc="white", mec="0.45", ls="none", ms=6)
         ax.axhline(0.0, color="0.85", lw=0.6, zorder=0)
+        if clip_after_snaps and run["snaps"]:
+            last = run["snaps"][-1][0]
+            before = np.concatenate([c["F"][c["w"] <= last] for c in curves])
+            top = float(np.max(before))
+            ax.set_ylim(top=1.4 * top if top > 0 else None)
         ax.set_title(title, fontsize=10)
         ax.set_xlabel(xlabel)
     for ax in axes.flat[len(runs):]:
@@ -227,6 +235,46 @@ def plot_shapes(run: dict[str, Any]) -> Any:
     return fig
 
 
+def save_plot_data(out: Any, runs: Sequence[dict[str, Any]], extra: Sequence[str] = ()) -> None:
+    """What the figures of ``runs`` need: ``plot_data.json`` (rows, curves, snaps and the keys ``extra``) and each
+    run's 3-D states in ``shapes_<k>.npz``; ``--replot`` draws the figures again from them."""
+    def listed(v: Any) -> Any:
+        if isinstance(v, np.ndarray):
+            return v.tolist()
+        if isinstance(v, dict):
+            return {k: listed(x) for k, x in v.items()}
+        if isinstance(v, (list, tuple)):
+            return [listed(x) for x in v]
+        return v
+
+    keep = ("row", "curves", "snaps", "h", *extra)
+    write_json(Path(out) / "plot_data.json", {"runs": [{k: listed(r[k]) for k in keep if k in r} for r in runs]})
+    for k, r in enumerate(runs):
+        if r.get("shapes"):
+            np.savez_compressed(Path(out) / f"shapes_{k}.npz", **r["shapes"])
+
+
+def read_plot_data(out: Any) -> list[dict[str, Any]]:
+    """The runs saved by :func:`save_plot_data` in ``out``, with their arrays again."""
+    import json
+    import sys
+
+    path = Path(out) / "plot_data.json"
+    if not path.exists():
+        print(f"error: --replot: no {path}: run the study with --out {out} first", file=sys.stderr)
+        raise SystemExit(2)
+    runs = json.loads(path.read_text())["runs"]
+    for k, r in enumerate(runs):
+        r["curves"] = [{key: (np.asarray(v, dtype=bool) if key == "stable" else
+                              np.asarray(v, dtype=float) if isinstance(v, list) else v)
+                        for key, v in c.items()} for c in r["curves"]]
+        shapes = Path(out) / f"shapes_{k}.npz"
+        if shapes.exists():
+            with np.load(shapes) as z:
+                r["shapes"] = {name: z[name] for name in z.files}
+    return runs
+
+
 #: The columns printed for each run.
 COLUMNS = ("phi_hat", "N", "K", "pole_held", "axi_class", "axi_F_max", "axi_F_min", "axi_snap_w", "first_n", "first_w",
            "followed_class", "followed_F_max", "followed_F_min", "snaps", "everts", "time_s")
@@ -256,8 +304,23 @@ def held_pole_bifurcation(phi_hat: float, N: int) -> dict[str, Any]:
             "axi_w_F_max": result.summary.get("w_at_F_max_over_R")}
 
 
+def draw(runs: Sequence[dict[str, Any]], out: Any) -> None:
+    """The study's figures of its runs."""
+    row = runs[0]["row"]
+    titles = [rf"$\hat\phi = {r['row']['phi_hat']:g}$, $\lambda = {r['row']['lambda']:.1f}$" for r in runs]
+    save_figure(plot_paths(runs, titles, f"point load at the pole, h/R = 0.02, nu = 0.5, sliding edge "
+                                         f"(N = {row['N']}, K = {row['K']})"), out, "appendix_b")
+    for r in runs:
+        save_figure(plot_shapes(r), out, f"appendix_b_shapes_{r['row']['phi_hat']:g}")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    args = study_parser("appendix_b", __doc__.splitlines()[0]).parse_args(argv)
+    parser = study_parser("appendix_b", __doc__.splitlines()[0])
+    parser.add_argument("--replot", action="store_true", help="draw the figures again from DIR/plot_data.json")
+    args = parser.parse_args(argv)
+    if args.replot:
+        draw(read_plot_data(args.out), args.out)
+        return 0
     out = output_dir(args.out)
     N, K = FULL if args.full else FAST
     runs: list[dict[str, Any]] = []
@@ -294,11 +357,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if "failed" in r["row"]:
             print(f"check phi_hat = {r['row']['phi_hat']:g}, N = {r['row']['N']}, K = {r['row']['K']}: "
                   f"{r['row']['failed']}")
-    titles = [rf"$\hat\phi = {r['row']['phi_hat']:g}$, $\lambda = {r['row']['lambda']:.1f}$" for r in runs]
-    save_figure(plot_paths(runs, titles, f"point load at the pole, h/R = 0.02, nu = 0.5, sliding edge "
-                                         f"(N = {N}, K = {K})"), out, "appendix_b")
-    for r in runs:
-        save_figure(plot_shapes(r), out, f"appendix_b_shapes_{r['row']['phi_hat']:g}")
+    save_plot_data(out, runs)
+    draw(runs, out)
     write_json(out / "summary.json", {"command": "python -m studies.appendix_b" + (" --full" if args.full else ""),
                                       "N": N, "K": K, "caps": [r["row"] for r in runs],
                                       "checks": [r["row"] for r in checks], "held_pole": held})

@@ -38,7 +38,7 @@ import numpy as np  # noqa: E402
 
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
                              write_csv, write_json)
-from studies.appendix_b import followed_run, plot_paths  # noqa: E402
+from studies.appendix_b import followed_run, plot_paths, read_plot_data, save_plot_data  # noqa: E402
 
 #: ``(load.kind, r/R)`` of the indenters: the point force, the spheres, the plate.
 INDENTERS = (("point", None), ("sphere", 0.3), ("sphere", 0.5), ("sphere", 0.8), ("sphere", 1.1), ("plate", None))
@@ -183,7 +183,7 @@ def plot_snap_shapes(runs: Sequence[dict[str, Any]]) -> Any:
     axes[1].set_title("followed paths: the state snapping to the everted branch\n(mean over the angle)", fontsize=10)
     for ax in axes:
         ax.set_xlabel(r"$r/R$")
-        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_aspect("equal", adjustable="box")
         ax.legend(fontsize=7, frameon=False)
     axes[0].set_ylabel(r"$z/R$")
     fig.tight_layout()
@@ -196,8 +196,28 @@ COLUMNS = ("indenter", "N", "K", "axi_snap_kind", "axi_snap_w", "axi_snap_distan
            "followed_snap_distance", "followed_release_w", "everts", "time_s")
 
 
+def draw(runs: Sequence[dict[str, Any]], out: Any) -> None:
+    """The study's figures of its runs."""
+    row = runs[0]["row"]
+    save_figure(plot_paths(runs, [r["row"]["indenter"] for r in runs],
+                           f"the paper's cap (phi_hat = 0.8, h/R = 0.02, nu = 0.5) under indenters "
+                           f"(N = {row['N']}, K = {row['K']})", xlabel=r"$w_b/R$", columns=3, clip_after_snaps=True),
+                out, "indenters_3d")
+    save_figure(plot_snap_shapes(runs), out, "snap_shapes")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    args = study_parser("indenters_3d", __doc__.splitlines()[0]).parse_args(argv)
+    parser = study_parser("indenters_3d", __doc__.splitlines()[0])
+    parser.add_argument("--replot", action="store_true", help="draw the figures again from DIR/plot_data.json")
+    args = parser.parse_args(argv)
+    if args.replot:
+        runs = read_plot_data(args.out)
+        for r in runs:  # the meridians as pairs of arrays again
+            r["axi_meridian"] = tuple(np.asarray(a, dtype=float) for a in r["axi_meridian"])
+            if r.get("followed_meridian") is not None:
+                r["followed_meridian"] = tuple(np.asarray(a, dtype=float) for a in r["followed_meridian"])
+        draw(runs, args.out)
+        return 0
     out = output_dir(args.out)
     N, K = FULL if args.full else FAST
     runs: list[dict[str, Any]] = []
@@ -235,10 +255,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"{row['indenter']} (N = {row['N']}, K = {row['K']}): {row['failed']}")
     for r in runs:
         print(f"{r['row']['indenter']}: {r['row']['left']}\n    {r['row']['path']}")
-    save_figure(plot_paths(runs, [r["row"]["indenter"] for r in runs],
-                           f"the paper's cap (phi_hat = 0.8, h/R = 0.02, nu = 0.5) under indenters (N = {N}, K = {K})",
-                           xlabel=r"$w_b/R$", columns=3), out, "indenters_3d")
-    save_figure(plot_snap_shapes(runs), out, "snap_shapes")
+    save_plot_data(out, runs, extra=("axi_meridian", "followed_meridian", "R"))
+    draw(runs, out)
     write_json(out / "summary.json", {"command": "python -m studies.indenters_3d" + (" --full" if args.full else ""),
                                       "N": N, "K": K, "indenters": [r["row"] for r in runs],
                                       "checks": [r["row"] for r in checks], "failed": failed})
