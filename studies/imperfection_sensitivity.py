@@ -75,6 +75,8 @@ FULL_DELTAS = (1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 2e-2, 3e-2, 5e-2, 0.1, 
 SPHERE_WIDTHS, FULL_SPHERE_WIDTHS = (2.0,), (1.0, 2.0, 3.0, 4.0)
 SPHERE_DELTAS = (0.1, 0.5, 2.0)
 FULL_SPHERE_DELTAS = (0.01, 0.05, 0.1, 0.2, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0)
+#: The depths of the axisymmetric curve drawn beside them (:func:`studies.imperfection.knockdown_row`).
+SPHERE_CURVE = (0.0, 0.01, 0.05, 0.2, 1.0, 1.5, 3.0, 4.0)
 #: The relative size of the reference's change in the central difference of the imperfection's force.
 IMPERFECTION_STEP = 1e-4
 #: Steps of the imperfect caps' traces (in the view's unknowns and ``p / p_c``).
@@ -179,9 +181,11 @@ def imperfect_maximum(row: dict[str, Any], mode: np.ndarray, delta: float, K: in
     out = {"lambda": row["lambda"], "N": st.N, "K": K, "n": n, "delta_over_h": delta, "xi_bar": xi_bar,
            "xi_bar_w": None if xi_bar is None else abs(xi_bar) * row["mode_height"],
            "p_max": float(fold.p), "ratio": float(fold.p) / row["p_bif"], "drop": 1.0 - float(fold.p) / row["p_bif"],
+           # past a large enough amplitude the path has no fold below the bifurcation: its first fold is another
+           "below_bifurcation": bool(fold.p < row["p_bif"]),
            "w_at_max": float(prob.observables["w_over_h"](fold.u, fold.p)) if "w_over_h" in prob.observables else None,
            "seconds": time.perf_counter() - t0}
-    if xi_bar is not None:
+    if xi_bar is not None and out["below_bifurcation"]:
         out["koiter_drop"] = float(koiter_drop(row["b"], row["alpha"], xi_bar))
         out["drop_over_koiter"] = out["drop"] / out["koiter_drop"]
     if every_mode:
@@ -196,7 +200,7 @@ def imperfect_maximum(row: dict[str, Any], mode: np.ndarray, delta: float, K: in
 def local_exponents(rows: Sequence[dict[str, Any]]) -> None:
     """The local exponent ``d ln(drop) / d ln(delta)`` between successive rows of one cap (into each row)."""
     for a, b in zip(rows, rows[1:]):
-        if a["drop"] > 0 and b["drop"] > 0:
+        if a["below_bifurcation"] and b["below_bifurcation"]:
             b["exponent"] = math.log(b["drop"] / a["drop"]) / math.log(b["delta_over_h"] / a["delta_over_h"])
 
 
@@ -249,26 +253,29 @@ def plot(koiter: Sequence[dict[str, Any]], knock: Sequence[dict[str, Any]], sphe
     ax.set_xlabel(r"$\lambda$")
     ax.set_ylabel(r"Koiter's $b_w$ (mode's largest $Z\cos n\theta$ / $h$)")
     ax.set_title(f"clamped caps, $R/h = {R_OVER_H:g}$, $\\nu = 1/3$ (labels: $n$)", fontsize="small")
+    ax.margins(y=0.12)
     ax = axes[1]
     for j, lam_k in enumerate(sorted({r["lambda"] for r in knock})):
         rows = sorted((r for r in knock if r["lambda"] == lam_k and r["N"] == knock[0]["N"]
-                       and r["K"] == knock[0]["K"]), key=lambda r: r["delta_over_h"])
+                       and r["K"] == knock[0]["K"] and r["below_bifurcation"]), key=lambda r: r["delta_over_h"])
         if not rows:
             continue
         d = np.array([r["delta_over_h"] for r in rows])
         color = COLORS[(j + 1) % len(COLORS)]
-        ax.plot(d, [r["ratio"] for r in rows], "o-", color=color, ms=4, label=f"$\\lambda = {lam_k:g}$, traced")
         kr = next(r for r in koiter if r["lambda"] == lam_k and r["N"] == rows[0]["N"])
-        per_delta = np.array([abs(r["xi_bar"]) / r["delta_over_h"] for r in rows]).mean()
+        ax.plot(d, [r["drop"] for r in rows], "o", color=color, ms=4, mfc="white",
+                label=f"$\\lambda = {lam_k:g}$ ($n = {kr['n']}$), traced")
+        per_delta = float(np.mean([abs(r["xi_bar"]) / r["delta_over_h"] for r in rows]))
         dd = np.geomspace(d.min(), d.max(), 100)
-        law = 1.0 - np.asarray(koiter_drop(kr["b"], kr["alpha"], per_delta * dd))
-        ax.plot(dd[law > 0], law[law > 0], "--", color=color, lw=1.0, label=f"$\\lambda = {lam_k:g}$, Koiter")
+        ax.plot(dd, koiter_drop(kr["b"], kr["alpha"], per_delta * dd), "-", color=color, lw=1.0,
+                label=f"$\\lambda = {lam_k:g}$, Koiter: $3(-b)^{{1/3}}(\\alpha\\bar\\xi/2)^{{2/3}}$")
     ax.set_xscale("log")
+    ax.set_yscale("log")
     ax.set_xlabel(r"mode imperfection $\delta / h$ (largest normal displacement)")
-    ax.set_ylabel(r"$p_{\max} / p_{bif}$")
-    ax.set_ylim(0.0, 1.05)
-    ax.set_title(r"caps with their critical mode ($D_n$ view)", fontsize="small")
-    ax.legend(fontsize="x-small", loc="lower left")
+    ax.set_ylabel(r"knock-down $1 - p_{\max} / p_{bif}$")
+    ax.set_title(f"caps with their critical mode ($D_n$ view, $N = {knock[0]['N']}$, $K = {knock[0]['K']}$)",
+                 fontsize="small")
+    ax.legend(fontsize="x-small", loc="upper left")
     ax = axes[2]
     for j, w in enumerate(sorted({r["lambda_I"] for r in axisymmetric_sphere})):
         rows = sorted((r for r in axisymmetric_sphere if r["lambda_I"] == w), key=lambda r: r["delta_over_h"])
@@ -320,7 +327,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         row = next(r for r in koiter if r["lambda"] == lam)
         mode = critical_mode(row)
         say(args.quiet, f"imperfect caps, lambda = {lam:g}, n = {row['n']} ...")
-        rows = [imperfect_maximum(row, mode, d, K, every_mode=d in (deltas[0], 0.1)) for d in deltas]
+        watched = deltas if args.full else (deltas[0], 0.1, deltas[-1])
+        rows = [imperfect_maximum(row, mode, d, K, every_mode=d in watched) for d in deltas]
         local_exponents(rows)
         knock.extend(rows)
     lam0 = KNOCKDOWN_LAMBDAS[0]
@@ -342,7 +350,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         sphere.extend(sphere_row(499, d, w) for d in sphere_deltas)
         axisym.extend({"lambda_I": w, "delta_over_h": d,
                        "kappa": knockdown_row("sphere", 499, d, w, locate_mode=False)["kappa"]}
-                      for d in sorted(set(sphere_deltas) | {0.025, 0.05, 0.2, 0.3, 0.75, 1.0, 1.5, 3.0, 4.0}))
+                      for d in sorted(set(sphere_deltas) | set(SPHERE_CURVE)))
     elapsed = time.perf_counter() - t0
     write_csv(out / "koiter.csv", [_public(r) for r in koiter + mesh])
     write_csv(out / "koiter_check.csv", checks)
