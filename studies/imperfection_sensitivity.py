@@ -62,7 +62,7 @@ from contin_models.shell.structure import ShellOfRevolution, default_harmonics  
 from studies._common import (output_dir, print_table, run_study, save_figure, say, study_parser,  # noqa: E402
                              write_csv, write_json)
 from studies.asymmetric import HUANG_1964, NU, R_OVER_H, cap_problem  # noqa: E402
-from studies.imperfection import dimpled_problem  # noqa: E402
+from studies.imperfection import dimpled_problem, knockdown_row  # noqa: E402
 from studies.waves_branch import KOITER_STEP, koiter_check, mode_height  # noqa: E402
 
 LAMBDAS = tuple(float(x) for x in range(6, 17))
@@ -158,9 +158,17 @@ def critical_mode(row: dict[str, Any]) -> np.ndarray:
 
 def imperfect_maximum(row: dict[str, Any], mode: np.ndarray, delta: float, K: int,
                       every_mode: bool = False) -> dict[str, Any]:
-    """The cap of ``row`` with ``mode`` as imperfection (largest normal displacement ``delta`` h), traced in the
-    ``D_n`` view with ``K`` harmonics under pressure to its first fold; with ``every_mode`` the path's first
-    loss of stability against the representations of ``D_n`` up to the fold."""
+    """The largest pressure on the path of the cap of ``row`` with ``mode`` as imperfection (largest normal
+    displacement ``delta`` h), traced in the ``D_n`` view with ``K`` harmonics under pressure from ``p = 0``.
+
+    Without ``every_mode`` it is the path's first fold.  With ``every_mode`` the path is watched against every
+    representation of ``D_n`` and stops at the first of a fold and a bifurcation out of ``D_n``; at such a
+    bifurcation the branch that breaks the symmetry is followed
+    (:func:`contin_models.shell.lift.follow_symmetry_breaking`, both sides for a two-dimensional representation):
+    where the pressure falls along it the bifurcation is the maximum, else the broken branch's first fold.
+    """
+    from contin_models.shell.lift import follow_symmetry_breaking
+
     t0 = time.perf_counter()
     st, n = row["_problem"].structure, row["n"]
     basis = AngularBasis(n, K)
@@ -172,28 +180,51 @@ def imperfect_maximum(row: dict[str, Any], mode: np.ndarray, delta: float, K: in
     xi_bar = None
     if K == row["K"] and st.N == row["N"]:
         xi_bar = float(row["_koiter"].null_vector @ (prob.reference_unknowns() - perfect.reference_unknowns()))
+    stops = ("fold", "bifurcation") if every_mode else ("fold",)
     br = contin.continuation(prob, prob.reference_unknowns(), 0.0, contin.Settings(
-        ds=TRACE_DS, ds_max=TRACE_DS_MAX, max_steps=4000, stability=every_mode, stop_at=("fold",)), p_max=3.0)
-    folds = [s for s in br.special_points if s.kind == "fold"]
-    if not folds or not folds[0].located:
-        raise RuntimeError(f"lambda = {row['lambda']:g}, delta/h = {delta:g}: no located fold ({br.message})")
-    fold = folds[0]
+        ds=TRACE_DS, ds_max=TRACE_DS_MAX, max_steps=4000, stability=every_mode, stop_at=stops), p_max=3.0)
+    last = br.special_points[-1] if br.special_points else None
+    if last is None or last.kind not in stops or not last.located:
+        raise RuntimeError(f"lambda = {row['lambda']:g}, delta/h = {delta:g}: no located {' or '.join(stops)} "
+                           f"({br.message})")
+    p_max, left_into = float(last.p), None
+    kind = "fold, every representation watched before it" if every_mode else "fold (other representations not watched)"
+    if last.kind == "bifurcation":
+        left_into = str(last.info["key"])
+        sides = (1, -1) if left_into.startswith("E") else (1,)
+        falls, ends = True, []
+        for side in sides:
+            # a few steps say whether the pressure falls; only a rising branch is followed to its fold
+            for steps in (3, 400):
+                broken = follow_symmetry_breaking(prob, last, direction=side, settings=contin.Settings(
+                    ds=0.01, ds_max=TRACE_DS_MAX, stability=True, stop_at=("fold", "bifurcation")),
+                    max_steps=steps, p_max=3.0).branch
+                if float(broken.p[1]) < float(last.p):
+                    break
+            falls = falls and float(broken.p[1]) < float(last.p)
+            ends += [s for s in broken.special_points[1:] if s.kind in ("fold", "bifurcation") and s.located][:1]
+        if falls:
+            kind = f"bifurcation into {left_into}, the pressure falls on its branch"
+        elif ends:
+            # the broken branch's own next bifurcation is not followed; of two sides, the weaker
+            top = min(ends, key=lambda s: float(s.p))
+            p_max = float(top.p)
+            kind = (f"fold of the {left_into} branch" if top.kind == "fold"
+                    else f"bifurcation ({top.info.get('key')}) on the {left_into} branch, not followed")
+        else:
+            raise RuntimeError(f"lambda = {row['lambda']:g}, delta/h = {delta:g}: the {left_into} branch rises "
+                               "with no located fold or bifurcation")
     out = {"lambda": row["lambda"], "N": st.N, "K": K, "n": n, "delta_over_h": delta, "xi_bar": xi_bar,
            "xi_bar_w": None if xi_bar is None else abs(xi_bar) * row["mode_height"],
-           "p_max": float(fold.p), "ratio": float(fold.p) / row["p_bif"], "drop": 1.0 - float(fold.p) / row["p_bif"],
-           # past a large enough amplitude the path has no fold below the bifurcation: its first fold is another
-           "below_bifurcation": bool(fold.p < row["p_bif"]),
-           "w_at_max": float(prob.observables["w_over_h"](fold.u, fold.p)) if "w_over_h" in prob.observables else None,
+           "p_max": p_max, "ratio": p_max / row["p_bif"], "drop": 1.0 - p_max / row["p_bif"],
+           "maximum": kind, "left_into": left_into,
+           # past a large enough amplitude the D_n path has no fold below the bifurcation: its first fold is another
+           "below_bifurcation": bool(p_max < row["p_bif"]),
+           "w_at_max": float(prob.observables["w_over_h"](last.u, last.p)),
            "seconds": time.perf_counter() - t0}
     if xi_bar is not None and out["below_bifurcation"]:
         out["koiter_drop"] = float(koiter_drop(row["b"], row["alpha"], xi_bar))
         out["drop_over_koiter"] = out["drop"] / out["koiter_drop"]
-    if every_mode:
-        first = next((i for i in range(len(br.p)) if int(br.n_negative[i]) > 0), None)
-        out["first_unstable_p"] = None if first is None else float(br.p[first])
-        out["unstable_before_fold"] = first is not None and first < fold.index
-        others = [s for s in br.special_points if s.kind != "fold" and s.index <= fold.index]
-        out["before_fold"] = " ".join(f"{s.kind}:{s.info.get('key', '')}@{s.p:.5f}" for s in others) or None
     return out
 
 
@@ -265,6 +296,9 @@ def plot(koiter: Sequence[dict[str, Any]], knock: Sequence[dict[str, Any]], sphe
         kr = next(r for r in koiter if r["lambda"] == lam_k and r["N"] == rows[0]["N"])
         ax.plot(d, [r["drop"] for r in rows], "o", color=color, ms=4, mfc="white",
                 label=f"$\\lambda = {lam_k:g}$ ($n = {kr['n']}$), traced")
+        out_of = [r for r in rows if r["left_into"] is not None]
+        ax.plot([r["delta_over_h"] for r in out_of], [r["drop"] for r in out_of], "o", color=color, ms=4,
+                label=f"$\\lambda = {lam_k:g}$: maximum where it leaves $D_{{{kr['n']}}}$" if out_of else None)
         per_delta = float(np.mean([abs(r["xi_bar"]) / r["delta_over_h"] for r in rows]))
         dd = np.geomspace(d.min(), d.max(), 100)
         ax.plot(dd, koiter_drop(kr["b"], kr["alpha"], per_delta * dd), "-", color=color, lw=1.0,
@@ -299,8 +333,6 @@ def _public(row: dict[str, Any]) -> dict[str, Any]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Command line: see the module docstring."""
-    from studies.imperfection import knockdown_row
-
     parser = study_parser("imperfection_sensitivity", "Koiter's b of Huang's caps, their knock-down by the critical "
                           "mode, the dimpled sphere")
     args = parser.parse_args(argv)
@@ -327,7 +359,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         row = next(r for r in koiter if r["lambda"] == lam)
         mode = critical_mode(row)
         say(args.quiet, f"imperfect caps, lambda = {lam:g}, n = {row['n']} ...")
-        watched = deltas if args.full else (deltas[0], 0.1, deltas[-1])
+        watched = deltas if args.full else (0.1, deltas[-1])
         rows = [imperfect_maximum(row, mode, d, K, every_mode=d in watched) for d in deltas]
         local_exponents(rows)
         knock.extend(rows)
@@ -370,8 +402,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                              "b_w_traced", "points"], digits=6)
         print()
         print_table(knock, ["lambda", "N", "K", "n", "delta_over_h", "xi_bar_w", "ratio", "drop", "koiter_drop",
-                            "drop_over_koiter", "exponent", "unstable_before_fold", "first_unstable_p",
-                            "before_fold"], digits=6)
+                            "drop_over_koiter", "exponent", "maximum", "seconds"], digits=6)
         print()
         print_table(conv, ["lambda", "delta_over_h", "changed", "N", "K", "ratio", "base_ratio", "change"], digits=6)
         print()
