@@ -77,6 +77,8 @@ SPHERE_DELTAS = (0.1, 0.5, 2.0)
 FULL_SPHERE_DELTAS = (0.01, 0.05, 0.1, 0.2, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0)
 #: The depths of the axisymmetric curve drawn beside them (:func:`studies.imperfection.knockdown_row`).
 SPHERE_CURVE = (0.0, 0.01, 0.05, 0.2, 1.0, 1.5, 3.0, 4.0)
+#: The amplitudes (largest normal displacement over h) at which the table gives Koiter's knock-down per lambda.
+LAW_DELTAS = (0.01, 0.1)
 #: The relative size of the reference's change in the central difference of the imperfection's force.
 IMPERFECTION_STEP = 1e-4
 #: Steps of the imperfect caps' traces (in the view's unknowns and ``p / p_c``).
@@ -133,11 +135,19 @@ def koiter_row(lam: float, N: int, K: int = 2, r_over_h: float = R_OVER_H) -> di
     n = int(point.info["key"])
     psi = wb.problem.full_state(k.null_vector, bp.p) - wb.problem.full_state(np.zeros_like(k.null_vector), bp.p)
     alpha = imperfection_coefficient(wb, k, psi)
+    # the mode imperfection of unit largest normal displacement along phi, and what of it is not along phi
+    view = wb.problem
+    shift = view.unknowns(mode_imperfection(view.structure, view.basis, n, branch_mode(
+        pr.structure, np.asarray(pr.full_state(point.u, point.p)), n), 1.0)) - view.reference_unknowns()
+    xi_per_delta = float(k.null_vector @ shift)
+    mismatch = float(np.linalg.norm(shift - xi_per_delta * k.null_vector) / np.linalg.norm(shift))
     pub = HUANG_1964.get(lam) if r_over_h == R_OVER_H else None
     return {"lambda": lam, "N": N, "K": K, "R_over_h": r_over_h, "n": n, "p_bif": float(bp.p),
             "huang_1964": pub[0] if pub else None, "huang_n": pub[1] if pub else None,
             "a": float(k.a), "b": float(k.b), "b_w": float(k.b) / m ** 2, "alpha": alpha, "mode_height": m,
-            "C1": float(k.C1), "symmetric": bool(k.symmetric), "seconds": time.perf_counter() - t0,
+            "C1": float(k.C1), "symmetric": bool(k.symmetric), "xi_per_delta": xi_per_delta, "off_mode": mismatch,
+            **{f"koiter_drop_{d:g}": float(koiter_drop(float(k.b), alpha, xi_per_delta * d)) for d in LAW_DELTAS},
+            "seconds": time.perf_counter() - t0,
             "_problem": pr, "_point": point, "_waves": wb, "_koiter": k}
 
 
@@ -396,7 +406,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     save_figure(plot(koiter, knock, sphere, axisym), out, "imperfection_sensitivity")
     if not args.quiet:
         print_table([_public(r) for r in koiter + mesh], ["lambda", "N", "K", "n", "p_bif", "huang_1964", "huang_n",
-                                                          "a", "b", "b_w", "alpha", "mode_height"], digits=6)
+                                                          "a", "b", "b_w", "alpha", "mode_height", "xi_per_delta",
+                                                          "off_mode", "koiter_drop_0.01", "koiter_drop_0.1"], digits=6)
         print()
         print_table(checks, ["lambda", "N", "K", "p_c", "b_koiter", "b_traced", "rel_diff", "b_w_koiter",
                              "b_w_traced", "points"], digits=6)
