@@ -73,3 +73,16 @@ def test_the_dimpled_spheres_maximum_is_its_axisymmetric_fold_with_no_bifurcatio
     alone = knockdown_row("sphere", 499, 2.0, 2.0, locate_mode=False)
     assert alone["kind"] == "fold"
     assert row["p_fold"] == pytest.approx(alone["kappa"], rel=1e-6)
+
+
+@pytest.mark.slow
+def test_a_deep_mode_imperfection_leaves_the_modes_symmetry_before_the_fold_of_its_path(cap) -> None:
+    # at delta = 0.3 h the D_4 path alone has no fold below the bifurcation; watched against every representation
+    # it loses its stability to B1 (two of the four dimples deepen) far below, and the pressure falls on that branch
+    row, _ = cap
+    mode = isens.critical_mode(row)
+    alone = isens.imperfect_maximum(row, mode, 0.3, 2)
+    watched = isens.imperfect_maximum(row, mode, 0.3, 2, every_mode=True)
+    assert not alone["below_bifurcation"]
+    assert watched["left_into"] == "B1" and watched["maximum"].endswith("the pressure falls on its branch")
+    assert watched["ratio"] < 0.6 < alone["ratio"]
