@@ -113,6 +113,8 @@ def imperfection_coefficient(wb: WavesBranch, koiter: contin.KoiterCoefficients,
     whatever the reference; only the strains, measured from the reference, change.
     """
     prob, bp = wb.problem, wb.branch_point
+    if prob.load != "pressure":
+        raise ValueError(f"imperfection_coefficient: the view must be under pressure, got the {prob.load!r} load")
     phi = koiter.null_vector
     c_ref = prob.c_ref
     eps = IMPERFECTION_STEP
