@@ -291,7 +291,12 @@ def plot(koiter: Sequence[dict[str, Any]], knock: Sequence[dict[str, Any]], sphe
     ax = axes[0]
     main = [r for r in koiter if r["N"] == koiter[0]["N"]]
     lam = [r["lambda"] for r in main]
-    ax.plot(lam, [r["b_w"] for r in main], "o-", color=COLORS[0], ms=4)
+    ax.plot(lam, [r["b_w"] for r in main], "o-", color=COLORS[0], ms=4, label=r"$b_w$ (left)")
+    twin = ax.twinx()
+    twin.plot(lam, [r["b"] for r in main], "s--", color="0.45", ms=3, lw=0.8)
+    twin.set_ylabel(f"$b$ (unit 2-norm of the unknowns, $N = {main[0]['N']}$)", color="0.35")
+    ax.plot([], [], "s--", color="0.45", ms=3, lw=0.8, label=r"$b$ (right; depends on $N$)")
+    ax.legend(fontsize="x-small", loc="lower left")
     for r in main:
         ax.annotate(f"{r['n']}", (r["lambda"], r["b_w"]), textcoords="offset points", xytext=(0, 6), ha="center",
                     fontsize="x-small")
@@ -327,7 +332,7 @@ def plot(koiter: Sequence[dict[str, Any]], knock: Sequence[dict[str, Any]], sphe
     ax = axes[2]
     for j, w in enumerate(sorted({r["lambda_I"] for r in axisymmetric_sphere})):
         rows = sorted((r for r in axisymmetric_sphere if r["lambda_I"] == w), key=lambda r: r["delta_over_h"])
-        pts = [r for r in sphere if r["lambda_I"] == w]
+        pts = [r for r in sphere if r["lambda_I"] == w and r["N"] == sphere[0]["N"]]
         ax.plot([r["delta_over_h"] for r in rows], [r["kappa"] for r in rows], "-", color=COLORS[j % len(COLORS)],
                 lw=1.0)
         ax.plot([r["delta_over_h"] for r in pts], [r["p_fold"] for r in pts], "o", color=COLORS[j % len(COLORS)],
@@ -401,6 +406,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     for w in widths:
         say(args.quiet, f"dimpled sphere, lambda_I = {w:g}, every harmonic watched ...")
         sphere.extend(sphere_row(499, d, w) for d in sphere_deltas)
+    if args.full:  # a finer meridian for the check of the harmonics
+        say(args.quiet, "dimpled sphere, lambda_I = 2, N = 997 ...")
+        sphere.extend(sphere_row(997, d, 2.0) for d in (0.1, 2.0))
         axisym.extend({"lambda_I": w, "delta_over_h": d,
                        "kappa": knockdown_row("sphere", 499, d, w, locate_mode=False)["kappa"]}
                       for d in sorted(set(sphere_deltas) | set(SPHERE_CURVE)))
