@@ -18,8 +18,9 @@ harmonic block watched, then the path the cap takes.  Per indenter:
   (its mean meridian over the angle, and how far it stands out of axial symmetry, over ``h``).
 
 The default run uses ``N = 60`` nodes and ``K = 2`` harmonics for the point load, the smallest sphere and the
-plate; ``--full`` runs every indenter at ``N = 200``, ``K = 3`` (the scene's defaults) and the smallest sphere also
-with ``K = 2 .. 6`` at ``N = 100`` and at ``N = 400``, ``K = 3``.
+plate (the sequence of pieces, not its numbers, which need more harmonics); ``--full`` runs every indenter at
+``N = 100`` with ``K = 10`` for the point and the spheres of 0.3 and 0.5 (whose paths run through one wave) and 3 for
+the others (:data:`FULL_K`), and checks the smallest sphere in ``K`` and ``N`` (:data:`CHECKS`).
 
 Writes ``indenters.csv`` (one row per run), ``pieces.csv``, ``summary.json`` and the figures ``indenters_3d``
 (force against travel, both paths, one panel per indenter) and ``snap_shapes`` (the meridians the cap snaps from).
@@ -44,10 +45,14 @@ from studies.appendix_b import followed_run, plot_paths, read_plot_data, save_pl
 INDENTERS = (("point", None), ("sphere", 0.3), ("sphere", 0.5), ("sphere", 0.8), ("sphere", 1.1), ("plate", None))
 #: The indenters of the default run.
 FAST_INDENTERS = (("point", None), ("sphere", 0.3), ("plate", None))
-FAST, FULL = (60, 2), (200, 3)
-#: The resolution checks of ``--full``: ``(N, K)`` for the smallest sphere, whose one-wave branch runs far from
-#: axial symmetry before it lets go (the harmonics at ``N = 100``; the mesh at ``K = 3``).
-CHECKS = ((100, 2), (100, 3), (100, 4), (100, 5), (100, 6), (400, 3))
+FAST = (60, 2)
+#: ``--full``: the nodes (the smallest sphere's snaps move by 3e-5 R from N = 100 to 400), and the harmonics per
+#: indenter: the one-wave branches of the point and the small spheres run far from axial symmetry and need many.
+FULL_N = 100
+FULL_K = {"point": 10, "sphere r/R = 0.3": 10, "sphere r/R = 0.5": 10}
+FULL_K_OTHERS = 3
+#: The resolution checks of ``--full``: ``(N, K)`` for the smallest sphere.
+CHECKS = ((100, 2), (100, 4), (100, 6), (100, 8), (100, 12), (200, 10))
 
 
 def indenter_name(kind: str, radius: float | None) -> str:
@@ -200,9 +205,9 @@ COLUMNS = ("indenter", "N", "K", "axi_snap_kind", "axi_snap_w", "axi_snap_distan
 def draw(runs: Sequence[dict[str, Any]], out: Any) -> None:
     """The study's figures of its runs."""
     row = runs[0]["row"]
-    save_figure(plot_paths(runs, [r["row"]["indenter"] for r in runs],
-                           f"the paper's cap (phi_hat = 0.8, h/R = 0.02, nu = 0.5) under indenters "
-                           f"(N = {row['N']}, K = {row['K']})", xlabel=r"$w_b/R$", columns=3, clip_after_snaps=True),
+    save_figure(plot_paths(runs, [f"{r['row']['indenter']} ($K = {r['row']['K']}$)" for r in runs],
+                           f"the paper's cap (phi_hat = 0.8, h/R = 0.02, nu = 0.5) under indenters (N = {row['N']})",
+                           xlabel=r"$w_b/R$", columns=3, clip_after_snaps=True),
                 out, "indenters_3d")
     save_figure(plot_snap_shapes(runs), out, "snap_shapes")
 
@@ -220,7 +225,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         draw(runs, args.out)
         return 0
     out = output_dir(args.out)
-    N, K = FULL if args.full else FAST
+    N = FULL_N if args.full else FAST[0]
     runs: list[dict[str, Any]] = []
     checks: list[dict[str, Any]] = []
     failed: list[dict[str, Any]] = []
@@ -239,6 +244,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return None
 
     for kind, radius in (INDENTERS if args.full else FAST_INDENTERS):
+        K = FULL_K.get(indenter_name(kind, radius), FULL_K_OTHERS) if args.full else FAST[1]
         say(args.quiet, f"indenters_3d: {indenter_name(kind, radius)}, N = {N}, K = {K}")
         if (run := attempt(kind, radius, N, K)) is not None:
             runs.append(run)
@@ -259,7 +265,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     save_plot_data(out, runs, extra=("axi_meridian", "followed_meridian", "R"))
     draw(runs, out)
     write_json(out / "summary.json", {"command": "python -m studies.indenters_3d" + (" --full" if args.full else ""),
-                                      "N": N, "K": K, "indenters": [r["row"] for r in runs],
+                                      "N": N, "indenters": [r["row"] for r in runs],
                                       "checks": [r["row"] for r in checks], "failed": failed})
     return 0
 
