@@ -71,6 +71,9 @@ RETURN_AMPLITUDE = 1e-2
 #: The largest arclength steps of the branch's trace, tried in turn: the switch onto the branch can fail at its
 #: first steps with one and not with another (the corrector lands on the axisymmetric path).
 DS_MAX_TRIES = (0.25, 0.1, 0.4)
+#: Brackets of lambda for :func:`snap_range`: the snap appears within the first, the bifurcation overtakes it within
+#: the second; the bisection's width.
+SNAP_BRACKET, BIFURCATION_BRACKET, LAMBDA_TOL = (4.0, 8.0), (9.0, 10.0), 0.01
 #: How far past the loss of stability of the branch (in ``w/t``) the energy is descended.
 DESCENT_DW = 0.05
 #: The waves of a landing listed with their amplitude: those above this (over the thickness).
@@ -220,6 +223,33 @@ def descent_past_loss(case: dict[str, Any], dw: float = DESCENT_DW) -> dict[str,
     return row
 
 
+def bisect_lambda(test: Any, low: float, high: float, tol: float = LAMBDA_TOL) -> tuple[float, float]:
+    """The interval of width ``tol`` in lambda where ``test`` (False at ``low``, True at ``high``) turns True."""
+    if test(low) or not test(high):
+        raise ValueError(f"bisect_lambda: the test must be False at lambda = {low:g} and True at {high:g}")
+    while high - low > tol:
+        mid = 0.5 * (low + high)
+        low, high = (low, mid) if test(mid) else (mid, high)
+    return low, high
+
+
+def snap_range(r_over_t: float, N: int, tol: float = LAMBDA_TOL) -> dict[str, Any]:
+    """The range of lambda where the cap snaps axisymmetrically before any bifurcation into waves: from the lambda
+    where its axisymmetric path first has a limit load (below it the load rises all the way to ``w = 2 H``) to the
+    lambda where the first bifurcation comes before that limit load; each bracketed to ``tol``."""
+    def has_limit(lam: float) -> bool:
+        return apex_case(lam, r_over_t, N, 1, branch=False)["P_limit"] is not None
+
+    def bifurcates_first(lam: float) -> bool:
+        return apex_case(lam, r_over_t, N, 1, branch=False)["bifurcation_first"]
+
+    lo = bisect_lambda(has_limit, SNAP_BRACKET[0], SNAP_BRACKET[1], tol)
+    hi = bisect_lambda(bifurcates_first, BIFURCATION_BRACKET[0], BIFURCATION_BRACKET[1], tol)
+    first = apex_case(hi[1], r_over_t, N, 1, branch=False)
+    return {"R_over_t": r_over_t, "N": N, "limit_load_from": lo, "bifurcation_first_from": hi,
+            "n_there": first["n"], "w_bif_there": first["w_bif"], "w_limit_there": first["w_limit"]}
+
+
 def shallow_model_bifurcation(lam: float, N: int) -> dict[str, Any]:
     """The independent shallow-shell model's first bifurcation into waves and limit load (``K = 0``, its wave
     numbers watched; :func:`studies.shallow_cap_waves.axisymmetric_path`), to ``w = 2 H``."""
@@ -337,11 +367,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     descents = []
     for c in (main_cases if args.full else []):
         if c["_waves"] is not None and c.get("stable_to_w") is not None:
-            say(args.quiet, f"descent past the loss of stability, lambda = {c['lambda']:g}, R/t = {c['R_over_t']:g} ...")
+            say(args.quiet, f"descent past the loss of stability, lambda = {c['lambda']:g}, "
+                            f"R/t = {c['R_over_t']:g} ...")
             try:
                 descents.append(descent_past_loss(c))
             except (RuntimeError, ValueError, ArithmeticError) as exc:
                 descents.append({"lambda": c["lambda"], "R_over_t": c["R_over_t"], "message": str(exc)})
+    ranges = []
+    for rt in ((SHALLOW, DEEP) if args.full else ()):
+        say(args.quiet, f"the range of the axisymmetric snap, R/t = {rt:g} ...")
+        ranges.append(snap_range(rt, 120))
     shallow_rows = []
     for lam, N in shallow:
         say(args.quiet, f"shallow-shell model, lambda = {lam:g}, N = {N} ...")
@@ -370,13 +405,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         write_csv(out / "descents.csv", descents)
     write_json(out / "summary.json", {"full": bool(args.full), "seconds": elapsed, "nu": NU,
                                       "load": "P R / (E t^3)", "linear_stiffness": point_load_stiffness(NU),
-                                      "cases": rows, "shallow_model": shallow_rows, "descents": descents})
+                                      "cases": rows, "shallow_model": shallow_rows, "descents": descents,
+                                      "snap_range": ranges})
     save_figure(plot(main_cases), out, "apex_load_waves")
     if not args.quiet:
         print_table(rows, COLUMNS, digits=5)
         if shallow_rows:
             print()
             print_table(shallow_rows, ["lambda", "N", "n", "w_bif", "P_bif", "w_limit", "P_limit"], digits=6)
+        if ranges:
+            print()
+            print_table(ranges, ["R_over_t", "N", "limit_load_from", "bifurcation_first_from", "n_there",
+                                 "w_bif_there", "w_limit_there"], digits=6)
         if descents:
             print()
             print_table(descents, ["lambda", "R_over_t", "class", "w_loss", "P_loss", "secondary_plus_negative",
