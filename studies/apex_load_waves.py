@@ -25,6 +25,12 @@ and depth ``R/t``:
    * where it first loses stability under displacement control (a negative eigenvalue of any representation: a
      secondary bifurcation into a class it does not carry) and under force control.
 
+``--full`` also asks where the cap goes where the branch loses stability (:func:`descent_past_loss`: the branch
+that breaks the symmetry there, and an energy descent just past the point) and brackets the range of lambda where
+the axisymmetric snap comes before any bifurcation (:func:`snap_range`).  The engine's followed path
+(:func:`contin_models.shell.followed.follow_path`) is not used: on these caps it stops at the loss of stability of
+the ``n``-wave branch, where its snap finds no descent along the mode (``docs/three_d.md``, section 4).
+
 The loads are ``P R / (E t^3)`` (shallow-shell theory's parameter; divided by Reissner's linear stiffness
 ``4 / sqrt(3 (1 - nu^2)) = 2.42`` they are the apex deflection over the thickness that the linear shallow sphere
 would have under them).  The shallow limit is ``R/t = 10^4``; the deep cap ``R/t = 100`` (``H / R`` = 0.10 at
@@ -32,8 +38,8 @@ lambda = 8, 0.30 at 14).  ``--full`` adds the harmonics ``K + 1`` and a finer me
 first bifurcation of the independent shallow-shell model (:mod:`studies.shallow_cap_waves`) at every lambda.
 
 Writes ``cases.csv`` (one row per lambda, depth, ``N`` and ``K``), ``paths.csv`` (the axisymmetric paths and the
-branches of the main runs), ``shallow_model.csv`` (``--full``), ``summary.json`` and the figure
-``apex_load_waves`` (PNG and PDF).
+branches of the main runs), ``shallow_model.csv`` and ``descents.csv`` (``--full``), ``summary.json`` (with the
+range of the axisymmetric snap under ``--full``) and the figure ``apex_load_waves`` (PNG and PDF).
 """
 
 from __future__ import annotations
