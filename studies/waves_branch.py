@@ -119,13 +119,15 @@ def first_bifurcation(branch: contin.Branch) -> contin.SpecialPoint:
 
 
 def n_wave_branch(problem: Any, point: contin.SpecialPoint, K: int, p_max: float, ds_max: float = 0.25,
-                  max_steps: int = 4000) -> WavesBranch:
+                  max_steps: int = 4000, strict: bool = True) -> WavesBranch:
     """The ``n``-wave branch from ``point`` in the ``D_n`` view with ``K`` harmonics, counted against every
-    representation, to ``p_max`` or to the axisymmetric path (the branch point where it meets it again)."""
+    representation, to ``p_max`` or to the axisymmetric path (the branch point where it meets it again).  A trace
+    that fails raises unless ``strict`` is False: then it is returned as far as it went (``branch.success`` False,
+    ``branch.message`` says where and why)."""
     # stop where it meets the axisymmetric path again: beyond, it retraces its image turned by pi / n
     wb = follow_waves(problem, point, K, every_mode=True, settings=_branch_settings(ds_max), p_max=p_max,
                       max_steps=max_steps, stop_at=("branch_point",))
-    if not wb.branch.success:
+    if strict and not wb.branch.success:
         raise RuntimeError(f"n-wave branch (K = {K}): {wb.branch.message}")
     return wb
 
