@@ -280,7 +280,8 @@ def shallow_model_bifurcation(lam: float, N: int) -> dict[str, Any]:
 # ---- the figure ----------------------------------------------------------------------------------
 def plot(cases: Sequence[dict[str, Any]]) -> Any:
     """Load against apex deflection per lambda at both depths (axisymmetric light, the branch strong; solid stable
-    and dashed unstable under displacement control), and the loads against lambda."""
+    and dashed unstable under displacement control), and against lambda the axisymmetric limit load, the load at the
+    first bifurcation and the load where the branch loses stability."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -330,8 +331,6 @@ def plot(cases: Sequence[dict[str, Any]]) -> Any:
         bif = [c for c in sel if c["bifurcation_first"]]
         ax.plot([c["lambda"] for c in bif], [c["P_bif"] for c in bif], ls, color=COLORS[0], marker="o", mfc="white",
                 ms=4, label=f"bifurcation, $R/t = {rt:g}$")
-        ax.plot([c["lambda"] for c in bif], [c.get("P_max") for c in bif], ls, color=COLORS[1], marker="s", ms=3.5,
-                label=f"largest load on the branch, $R/t = {rt:g}$")
         lost = [c for c in bif if c.get("P_at_loss") is not None]
         ax.plot([c["lambda"] for c in lost], [c["P_at_loss"] for c in lost], ls, color=COLORS[2], marker="x", ms=5,
                 label=f"the branch loses stability, $R/t = {rt:g}$")
