@@ -119,13 +119,15 @@ def first_bifurcation(branch: contin.Branch) -> contin.SpecialPoint:
 
 
 def n_wave_branch(problem: Any, point: contin.SpecialPoint, K: int, p_max: float, ds_max: float = 0.25,
-                  max_steps: int = 4000) -> WavesBranch:
+                  max_steps: int = 4000, strict: bool = True) -> WavesBranch:
     """The ``n``-wave branch from ``point`` in the ``D_n`` view with ``K`` harmonics, counted against every
-    representation, to ``p_max`` or to the axisymmetric path (the branch point where it meets it again)."""
+    representation, to ``p_max`` or to the axisymmetric path (the branch point where it meets it again).  A trace
+    that fails raises unless ``strict`` is False: then it is returned as far as it went (``branch.success`` False,
+    ``branch.message`` says where and why)."""
     # stop where it meets the axisymmetric path again: beyond, it retraces its image turned by pi / n
     wb = follow_waves(problem, point, K, every_mode=True, settings=_branch_settings(ds_max), p_max=p_max,
                       max_steps=max_steps, stop_at=("branch_point",))
-    if not wb.branch.success:
+    if strict and not wb.branch.success:
         raise RuntimeError(f"n-wave branch (K = {K}): {wb.branch.message}")
     return wb
 
@@ -224,7 +226,7 @@ def point_load_case(lam: float, N: int, K: int, r_over_t: float = R_OVER_T,
                        **{f"n_{k}": (str(before[k]) if before[k] == after[k] else f"{before[k]}/{after[k]}")
                           for k in before})
         rows.append(row)
-    back = _return_point(b)
+    back = return_point(b)
     # the branch meets the path with w turning back: not a fold of the branch
     folds_w = [float(s.p) for s in b.special_points if s.kind == "fold" and s.index < stop - 1
                and (back is None or abs(float(s.p) - back) > 1e-6 * back)]
@@ -244,7 +246,7 @@ def point_load_case(lam: float, N: int, K: int, r_over_t: float = R_OVER_T,
             "seconds": time.perf_counter() - t0, "_problem": pr, "_path": path, "_waves": wb}
 
 
-def _return_point(b: contin.Branch) -> float | None:
+def return_point(b: contin.Branch) -> float | None:
     """Where the branch met a branch point after the one it left (the axisymmetric path again where the wave's
     amplitude vanishes there), or None."""
     met = [float(s.p) for s in b.special_points[1:] if s.kind == "branch_point"]
@@ -346,13 +348,15 @@ def pressure_case(N: int, K: int, r_over_h: float = 100.0) -> dict[str, Any]:
 
 # ---- the figure --------------------------------------------------------------------------------
 @dataclass
-class _Curve:
+class Curve:
+    """A path to draw: its abscissae, ordinates and stability at each stored point."""
+
     x: np.ndarray
     y: np.ndarray
     stable: np.ndarray
 
 
-def _draw(ax: Any, c: _Curve, color: str, label: str) -> None:
+def draw_path(ax: Any, c: Curve, color: str, label: str) -> None:
     """A path, solid where stable and dashed where not (each piece includes its end point)."""
     first = True
     start = 0
@@ -383,12 +387,12 @@ def plot(cases: Sequence[dict[str, Any]], pressure: dict[str, Any] | None) -> An
         color = COLORS[k % len(COLORS)]
         pr, path, wb = case["_problem"], case["_path"], case["_waves"]
         s = load_scale(pr)
-        _draw(ax, _Curve(np.asarray(path.observable("w")), np.asarray(path.observable("F")) * s,
+        draw_path(ax, Curve(np.asarray(path.observable("w")), np.asarray(path.observable("F")) * s,
                          np.asarray(path.stable_under("displacement"))), matplotlib.colors.to_hex(
                   0.4 * np.asarray(matplotlib.colors.to_rgb(color)) + 0.6), f"$\\lambda = {case['lambda']:g}$: axisymmetric")
         b = wb.branch
         stop = first_half(b)
-        _draw(ax, _Curve(np.asarray(b.observable("w"))[:stop], np.asarray(b.observable("F"))[:stop] * s,
+        draw_path(ax, Curve(np.asarray(b.observable("w"))[:stop], np.asarray(b.observable("F"))[:stop] * s,
                          physical_stability(wb)[:stop]), color, f"$\\lambda = {case['lambda']:g}$: {case['n']} waves")
         ax.plot([case["w_bif"]], [case["P_bif"]], "o", color=color, mfc="white", ms=5,
                 label="bifurcation" if k == 0 else None)
@@ -407,11 +411,11 @@ def plot(cases: Sequence[dict[str, Any]], pressure: dict[str, Any] | None) -> An
     if pressure is not None:
         ax = axes[0, 1]
         path, wb = pressure["_path"], pressure["_waves"]
-        _draw(ax, _Curve(np.asarray(path.observable("w_over_h")), np.asarray(path.p),
+        draw_path(ax, Curve(np.asarray(path.observable("w_over_h")), np.asarray(path.p),
                          np.asarray(path.stable)), "0.55", "axisymmetric")
         b = wb.branch
         stable = np.array([c["total"] == 0 for c in pressure["counts"]])
-        _draw(ax, _Curve(np.asarray(b.observable("w_over_h")), np.asarray(b.p), stable), COLORS[2],
+        draw_path(ax, Curve(np.asarray(b.observable("w_over_h")), np.asarray(b.p), stable), COLORS[2],
               f"{pressure['n']} waves")
         ax.plot([pressure["w_bif"]], [pressure["p_bif"]], "o", color=COLORS[2], mfc="white", ms=5)
         ax.set_xlabel(r"apex deflection $w/h$")
