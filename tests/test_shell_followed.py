@@ -397,3 +397,20 @@ def test_a_followed_plate_ends_where_it_reaches_the_base_ring_as_the_axisymmetri
     assert plain.success and plain.branches[-1].status == "bound"
     assert followed.success and followed.summary["followed"]["path"][-1]["ended"] == "end of load"
     assert followed.branches[-1].p[-1] == pytest.approx(plain.branches[-1].p[-1], rel=1e-9)
+
+
+def test_a_path_that_cannot_leave_its_stop_ends_there_and_says_why(monkeypatch) -> None:
+    """A snap whose energy descent cannot start (no perturbation along the unstable mode lowers the energy) ends the
+    followed path with the reason, as the lift's and the corrector's failures do; it escaped as an exception."""
+    import contin_models.shell.followed as followed
+    from contin.analyses.jump import JumpError
+
+    def refuse(*args, **kwargs):
+        raise JumpError("no perturbation along the unstable eigenvector lowers the energy")
+
+    monkeypatch.setattr(followed, "_leave", refuse)
+    source = _cap(0.6)
+    fp = follow_path(source, source.reference_unknowns(), 0.0, contin.Settings(ds=0.01, ds_max=0.02, max_steps=2000),
+                     structure=source.structure, label="displacement", p_end=0.45, K=K, events=LIMIT_LOADS)
+    assert not fp.success and len(fp.pieces) == 1 and fp.pieces[0].end == "bifurcation"
+    assert "could not leave the bifurcation" in fp.message and "lowers the energy" in fp.message

@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 
 from contin.analyses.conjugate import ConjugateControl
+from contin.analyses.jump import JumpError
 from contin.analyses.lift import LiftError
 from contin.palc import CorrectorFailure, continuation, switch_branch
 from contin.problem import NonFiniteError, Problem
@@ -75,7 +76,8 @@ LANDING_SYMMETRY_TOL = 1e-4
 MAX_DESCENTS = 4
 
 #: Failures of a trace or a lift that stop the path with their message instead of a traceback.
-_STEP_FAILURES = (LiftError, CorrectorFailure, NonFiniteError, np.linalg.LinAlgError, ValueError, ArithmeticError)
+_STEP_FAILURES = (LiftError, CorrectorFailure, NonFiniteError, np.linalg.LinAlgError, ValueError, ArithmeticError,
+                  JumpError)
 
 
 @dataclass
