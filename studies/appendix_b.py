@@ -205,8 +205,8 @@ def plot_paths(runs: Sequence[dict[str, Any]], titles: Sequence[str], suptitle: 
         if clip_after_snaps and run["snaps"]:
             last = run["snaps"][-1][0]
             before = np.concatenate([c["F"][c["w"] <= last] for c in curves])
-            top = float(np.max(before))
-            ax.set_ylim(top=1.4 * top if top > 0 else None)
+            top, low = float(np.max(before)), float(np.min(before))
+            ax.set_ylim(low - 0.1 * (top - low), top + 0.4 * (top - low))
         ax.set_title(title, fontsize=10)
         ax.set_xlabel(xlabel)
     for ax in axes.flat[len(runs):]:
