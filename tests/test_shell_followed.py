@@ -414,3 +414,24 @@ def test_a_path_that_cannot_leave_its_stop_ends_there_and_says_why(monkeypatch) 
                      structure=source.structure, label="displacement", p_end=0.45, K=K, events=LIMIT_LOADS)
     assert not fp.success and len(fp.pieces) == 1 and fp.pieces[0].end == "bifurcation"
     assert "could not leave the bifurcation" in fp.message and "lowers the energy" in fp.message
+
+
+def test_a_followed_path_cut_short_has_no_class(monkeypatch) -> None:
+    """A followed path that stops before its end (here: it cannot leave its first bifurcation) gets no class: the
+    class of its first piece alone was reported as the shell's ("on the followed path the shell is monotonous")."""
+    import contin_models.shell.followed as followed
+    from contin.analyses.jump import JumpError
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCHEMA
+    from contin_models.shell_scene.scene import run_scene
+
+    def refuse(*args, **kwargs):
+        raise JumpError("no perturbation along the unstable eigenvector lowers the energy")
+
+    monkeypatch.setattr(followed, "_leave", refuse)
+    scene = load_scene(SHELL_SCHEMA, None, ["shell.phi_hat=0.9", "shell.N=40", "view.harmonics=2",
+                                            "stability.harmonics=true", "stability.follow=true", "output.figure=false"])
+    result = run_scene(scene)
+    assert not result.success and result.summary["followed"]["status"] == "stopped"
+    assert result.summary["followed"]["classification"] is None
+    assert "on the followed path the shell is" not in result.message

@@ -299,7 +299,10 @@ def followed_result(scene: Scene, axi: TraceResult, b: Any, source: Any, fp: Any
                   f"p/p_c = {float(before.observables['p_over_p_c'][-1]):.4g}")
         where = f"the followed path leaves the axisymmetric branch at {at}: it {verb} {how}"
     if control == "displacement" and not pressure and not indenter:  # the classes: the point load's displacement path
-        summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
+        if fp.success:
+            summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
+        else:  # a class read off part of the path would be a guess: the rest may snap or fall below zero
+            summary["followed"]["classification"] = None
     else:  # a dead load, a pressure or an indenter: where it snaps
         summary["followed"]["snap_loads"] = [float(sn.p) for sn in fp.snaps]
         if volume:  # the volume is held through a snap; the pressure drops: before and after, over p_c
