@@ -180,3 +180,27 @@ def test_an_indenters_3d_view_names_the_travel_and_the_normalised_force_as_the_t
     theirs = one.evaluate_observables(u, w_b)
     assert mine["w_b"] == theirs["w_b"] == w_b
     assert mine["F"] > 0 and mine["F_norm"] == pytest.approx(theirs["F_norm"], rel=1e-9)
+
+
+def test_the_slots_of_the_nodes_a_contact_touches_are_kept_for_the_last_few_sets_only(pressed) -> None:
+    """The nodes a contact touches change as the load moves, and each set's Hessian slots hold every harmonic of
+    every node: kept for every set ever touched, they took more than 20 GB on a long indentation with ten
+    harmonics.  Now the memory they hold stays bounded however many sets pass, and a set asked for again is
+    the same array."""
+    import tracemalloc
+
+    from contin_models.shell.fourier import SLOT_CACHE_SIZE
+
+    st, _, _ = pressed
+    view = FourierShell(st, AngularBasis(3, 2))
+    first = view.hessian_slots(view.element_dofs(np.array([[30, 31], [31, 32]])), False, transient=True)
+    assert view.hessian_slots(view.element_dofs(np.array([[30, 31], [31, 32]])), False, transient=True) is first
+    tracemalloc.start()
+    base = tracemalloc.get_traced_memory()[0]
+    for k in range(40):  # forty sets of touched nodes
+        nodes = np.array([[j, j + 1] for j in range(k % 20, k % 20 + 8 + k // 20)])
+        view.hessian_slots(view.element_dofs(nodes), False, transient=True)
+    held = tracemalloc.get_traced_memory()[0] - base
+    tracemalloc.stop()
+    one = view.hessian_slots(view.element_dofs(np.array([[j, j + 1] for j in range(9)])), False, transient=True).nbytes
+    assert held < (SLOT_CACHE_SIZE + 2) * one

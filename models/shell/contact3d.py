@@ -180,7 +180,8 @@ class Contact3D:
             _, _, H = self._point_jets(pts["X"], float(position))
             Bmap, nodes = self._maps(pts)
             He = np.einsum("s,sca,scd,sdb->sab", pts["weight"], Bmap, H, Bmap, optimize=True)
-            data = np.bincount(view.hessian_slots(view.element_dofs(nodes), False), He.ravel(), minlength=P.nnz)
+            data = np.bincount(view.hessian_slots(view.element_dofs(nodes), False, transient=True), He.ravel(),
+                               minlength=P.nnz)
         return sp.csr_matrix((data, P.indices, P.indptr), shape=P.shape)
 
     def _position_jets(self, X: np.ndarray, position: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

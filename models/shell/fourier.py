@@ -62,6 +62,7 @@ structure's (fixed in space), with its curvatures measured at ``c_bar``.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from collections.abc import Callable, Iterable
 from typing import Any
@@ -222,6 +223,12 @@ class AngularBasis:
                 flip = np.array([-1.0, -1.0, 1.0])[None, :, None]
                 out.update(Q=P * flip, Qp=Pp * flip)
         return out
+
+
+#: How many sets of a contact's element unknowns keep their Hessian slots (:meth:`hessian_slots`, ``transient``):
+#: the nodes a contact touches change as the load moves, and each set's slots are large (every harmonic of every
+#: node); kept without bound, they filled the memory on a long indentation (more than 20 GB with ten harmonics).
+SLOT_CACHE_SIZE = 4
 
 
 def csr_positions(P: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
@@ -397,6 +404,7 @@ class FourierShell:
         xr = np.asarray(ref.meridian.x, dtype=float)
         self.z_ref = float(xr[1]) if z_ref is None else float(z_ref)
         self._cache: dict = {}
+        self._slots: OrderedDict = OrderedDict()  # the most recent sets of element unknowns: see hessian_slots
         # a stress-free reference given as a state: its numbers per element and angle come from the
         # densities' own strain and curvature formulas at its local vectors (:meth:`_reference_params`)
         self._c_bar = None if reference is None else self._checked_reference(reference)
@@ -835,17 +843,27 @@ class FourierShell:
             self._cache[key] = P
         return self._cache[key]
 
-    def hessian_slots(self, dofs: np.ndarray, pressure: bool) -> np.ndarray:
+    def hessian_slots(self, dofs: np.ndarray, pressure: bool, transient: bool = False) -> np.ndarray:
         """Positions in the data of :meth:`pattern` (``pressure``: with the volume's entries) of the
-        ``(E, A, A)`` Hessian entries of elements on the unknowns ``dofs`` (``(E, A)``), cached."""
-        key = ("slots", dofs.tobytes(), dofs.shape, bool(pressure))
-        if key not in self._cache:
+        ``(E, A, A)`` Hessian entries of elements on the unknowns ``dofs`` (``(E, A)``), cached.
+
+        ``transient``: the unknowns change along a path (the nodes a contact touches), so only the
+        :data:`SLOT_CACHE_SIZE` sets asked for last are kept; the element families' fixed sets are kept for good.
+        """
+        key = (dofs.tobytes(), dofs.shape, bool(pressure))
+        cache = self._slots if transient else self._cache
+        slots = cache.get(key)
+        if slots is None:
             P = self.pattern(pressure)
             A = dofs.shape[1]
             rows = np.repeat(dofs, A, axis=1).ravel()
             cols = np.tile(dofs, (1, A)).ravel()
-            self._cache[key] = csr_positions(P, rows, cols)
-        return self._cache[key]
+            slots = cache[key] = csr_positions(P, rows, cols)
+            if transient and len(self._slots) > SLOT_CACHE_SIZE:
+                self._slots.popitem(last=False)
+        elif transient:
+            self._slots.move_to_end(key)
+        return slots
 
     def hessian(self, c: np.ndarray, pressure: float = 0.0, volume_pattern: bool = False) -> sp.csr_matrix:
         """The energy's Hessian in all unknowns (banded along the meridian; the entries of :meth:`pattern`,
