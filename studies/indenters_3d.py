@@ -51,8 +51,7 @@ FAST = (60, 2)
 FULL_N = 100
 FULL_K = {"point": 6, "sphere r/R = 0.3": 6, "sphere r/R = 0.5": 6}
 FULL_K_OTHERS = 3
-#: The resolution checks of ``--full``: ``(N, K)`` for the smallest sphere.  (With ``K = 10`` a sphere's view takes
-#: over 20 GB of memory at N = 100: the sphere of 0.5 was killed for it.)
+#: The resolution checks of ``--full``: ``(N, K)`` for the smallest sphere.
 CHECKS = ((100, 2), (100, 3), (100, 4), (200, 6), (400, 3))
 
 
