@@ -850,7 +850,7 @@ class FourierShell:
         ``transient``: the unknowns change along a path (the nodes a contact touches), so only the
         :data:`SLOT_CACHE_SIZE` sets asked for last are kept; the element families' fixed sets are kept for good.
         """
-        key = (dofs.tobytes(), dofs.shape, bool(pressure))
+        key = ("slots", dofs.tobytes(), dofs.shape, bool(pressure))  # named apart from the other entries of _cache
         cache = self._slots if transient else self._cache
         slots = cache.get(key)
         if slots is None:
