@@ -435,3 +435,25 @@ def test_a_followed_path_cut_short_has_no_class(monkeypatch) -> None:
     assert not result.success and result.summary["followed"]["status"] == "stopped"
     assert result.summary["followed"]["classification"] is None
     assert "on the followed path the shell is" not in result.message
+
+
+def test_a_one_wave_bubble_that_rejoins_the_axisymmetric_path_is_followed_back_onto_it() -> None:
+    """A monostable cap (lambda = 5.5) bifurcates into one wave and the one-wave branch rejoins the axisymmetric path
+    at its second n = 1 bifurcation.  Where it rejoins, the piece's fold in the load is a pitchfork, and with K = 3
+    neither the fold nor the branch point could be located: the path stopped there.  It now goes on from the last
+    point before the junction, which lies where the axisymmetric trace locates that second bifurcation."""
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCHEMA
+    from contin_models.shell_scene.scene import run_scene
+
+    scene = load_scene(SHELL_SCHEMA, None, ["shell.phi_hat=1.0", "shell.h=0.03231", "shell.N=80", "view.harmonics=3",
+                                            "stability.harmonics=true", "stability.follow=true", "output.figure=false"])
+    result = run_scene(scene)
+    assert result.success, result.message
+    f = result.summary["followed"]
+    assert [item.get("symmetry") for item in f["path"] if "snap" not in item] == ["O(2)", "D1", "O(2)"]
+    junction = [spt.p for spt in result.branches[0].special_points
+                if spt.kind == "bifurcation" and spt.info.get("key") == 1 and spt.located][1]
+    assert f["path"][1]["w_to"] == pytest.approx(junction, rel=1e-5)
+    assert f["classification"] == result.summary["classification"] == "monostable"
+    assert f["F_min_norm"] == pytest.approx(result.summary["F_min_norm"], rel=1e-6)

@@ -355,24 +355,31 @@ def follow_path(source: Problem, u0: np.ndarray, p0: float, settings: Any, *, st
                            f"{end[1]:.10g}, after {len(out.pieces) - 1} stable piece(s) and {len(out.snaps)} snap(s)")
             return out
         back = _turns_back(br)
-        if back is not None:  # a fold of the load the piece passed without locating it: not followed past it
-            missed = next((spt for spt in br.special_points if spt.kind in STOPS and not spt.located
-                           and spt.index >= back - 1), None)
-            piece.branch, piece.end = br.head(back + 1), "stopped"
-            why = ("" if missed is None else f"; a {missed.kind} was found there but not located"
-                   + (f" ({missed.info['error']})" if missed.info.get("error") else ""))
-            out.message = (f"the piece in {piece.symmetry} from {pname} = {piece.start_p:.10g} turns back in the load "
-                           f"after {pname} = {float(br.p[back]):.10g}, at a fold it did not locate{why}: the path is "
-                           "not followed past it")
-            return out
+        turn = None
+        if back is not None:  # a fold of the load the piece passed without locating it
+            turn = _turn_at_a_branch_point(br, back, pname)
+            if turn is None:  # not followed past it
+                missed = next((spt for spt in br.special_points if spt.kind in STOPS and not spt.located
+                               and spt.index >= back - 1), None)
+                piece.branch, piece.end = br.head(back + 1), "stopped"
+                why = ("" if missed is None else f"; a {missed.kind} was found there but not located"
+                       + (f" ({missed.info['error']})" if missed.info.get("error") else ""))
+                out.message = (f"the piece in {piece.symmetry} from {pname} = {piece.start_p:.10g} turns back in the "
+                               f"load after {pname} = {float(br.p[back]):.10g}, at a fold it did not locate{why}: the "
+                               "path is not followed past it")
+                return out
+            piece.branch = br = br.head(back + 1)
+            tell(f"  the piece turns back at {pname} = {turn.p:.10g} where a fold and a branch point meet (neither "
+                 "could be located): left from its last point before the turn")
         last = br.special_points[-1] if br.special_points else None
         # a terminal extremum of the parameter (events): a fold the fold test may miss where it is a pitchfork too,
         # and where the bisection may not converge either: the path turns back there, located or not
         turned = last is not None and last.kind == "event" and last.info.get("folds") == pname
         if turned:
             last = dataclasses.replace(last, kind="fold")
-        stop = (last if (br.status == "event" and last is not None and (last.located or turned) and last.kind in STOPS)
-                else None)
+        stop = turn if turn is not None else (
+            last if (br.status == "event" and last is not None and (last.located or turned) and last.kind in STOPS)
+            else None)
         # the located point that ends a piece is singular: its count is either side's
         counts = _count(br, label)[: len(br) - (1 if stop is not None else 0)]
         if np.any(counts != 0):
@@ -422,6 +429,24 @@ def _turns_back(br: Branch) -> int | None:
         return None
     fall = np.flatnonzero(np.diff(p) < -TURN_BACK_TOL * np.maximum(1.0, np.abs(p[:-1])))
     return int(fall[0]) if fall.size else None
+
+
+def _turn_at_a_branch_point(br: Branch, back: int, pname: str) -> SpecialPoint | None:
+    """Where a piece turns back in the load at a fold that coincides with a branch point: the last stored point before
+    the turn, as an unlocated fold of the load (None: the turn is not such a point).
+
+    An ``n``-wave branch that rejoins the axisymmetric path (the end of a bubble of it) has its fold in the load at
+    the junction, a pitchfork: there the fold's extended system and the pseudo-arclength corrector are both singular,
+    so the fold cannot be located, nor the branch point.  The state before the turn is a converged point of the piece
+    within a step of the junction; the snap from it lands on the branch the piece rejoins, or says why it does not."""
+    near = [spt for spt in br.special_points if not spt.located and spt.index >= back - 1]
+    fold = any(spt.kind == "fold" and spt.info.get("folds") == pname for spt in near)
+    if not (fold and any(spt.kind == "branch_point" for spt in near)):
+        return None
+    return SpecialPoint("fold", float(br.p[back]), np.array(br.u[back], dtype=float),
+                        {k: float(v[back]) for k, v in br.observables.items()}, index=back, located=False,
+                        info={"folds": pname, "method": "the last point before a turn where a fold and a branch point "
+                              "meet", "bracket_p": [float(br.p[back]), float(br.p[min(back + 1, len(br) - 1)])]})
 
 
 def _reached(br: Branch, p_end: float | None, end: tuple[str, float] | None) -> str | None:
