@@ -457,3 +457,33 @@ def test_a_one_wave_bubble_that_rejoins_the_axisymmetric_path_is_followed_back_o
     assert f["path"][1]["w_to"] == pytest.approx(junction, rel=1e-5)
     assert f["classification"] == result.summary["classification"] == "monostable"
     assert f["F_min_norm"] == pytest.approx(result.summary["F_min_norm"], rel=1e-6)
+
+
+def test_a_followed_path_cut_short_after_its_force_fell_below_zero_is_bistable(monkeypatch) -> None:
+    """The cap of 0.9 (N = 40, K = 2) pulls back (F < 0) on its one-wave piece, which ends at a located fold.  When
+    the path cannot go on from there, that part of it still proves the cap bistable, as a force below zero on a stable
+    part proves it on the axisymmetric path; ``contin classify`` gave it no class."""
+    import contin_models.shell.followed as followed
+    from contin.analyses.jump import JumpError
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCHEMA
+    from contin_models.shell_scene.scene import classify_scene
+
+    leave = followed._leave
+    calls = []
+
+    def refuse_the_second(*args, **kwargs):
+        calls.append(args[1])
+        if len(calls) == 2:
+            raise JumpError("no perturbation along the unstable eigenvector lowers the energy")
+        return leave(*args, **kwargs)
+
+    monkeypatch.setattr(followed, "_leave", refuse_the_second)
+    scene = load_scene(SHELL_SCHEMA, None, ["shell.phi_hat=0.9", "shell.N=40", "view.harmonics=2",
+                                            "stability.harmonics=true", "stability.follow=true", "output.figure=false"])
+    c = classify_scene(scene)
+    f = c.trace.summary["followed"]
+    assert f["status"] == "stopped" and calls[1].kind == "fold"
+    D1 = c.trace.branches[2]  # the axisymmetric trace, its followed piece, then the one-wave piece
+    assert float(min(D1.observables["F"])) < 0.0
+    assert c.label == f["classification"] == "bistable"

@@ -301,8 +301,9 @@ def followed_result(scene: Scene, axi: TraceResult, b: Any, source: Any, fp: Any
     if control == "displacement" and not pressure and not indenter:  # the classes: the point load's displacement path
         if fp.success:
             summary["followed"].update(classify_followed(fp, float(summary.get("D") or 0.0), R))
-        else:  # a class read off part of the path would be a guess: the rest may snap or fall below zero
-            summary["followed"]["classification"] = None
+        else:  # a class read off part of the path would be a guess (the rest may snap or fall below zero), but for
+            # a force below zero on a stable piece, which proves the cap bistable, as on the axisymmetric path
+            summary["followed"]["classification"] = "bistable" if negative_on_stable_pieces(fp) else None
     else:  # a dead load, a pressure or an indenter: where it snaps
         summary["followed"]["snap_loads"] = [float(sn.p) for sn in fp.snaps]
         if volume:  # the volume is held through a snap; the pressure drops: before and after, over p_c
@@ -458,6 +459,23 @@ def classify_followed(fp: Any, D: float, R: float) -> dict[str, Any]:
     out["F_max_norm"] = None if first_max is None else first_max[0] * scale
     out["F_min_norm"] = None if i_min is None else float(force[i_min]) * scale
     return out
+
+
+def negative_on_stable_pieces(fp: Any) -> bool:
+    """Whether the force falls below zero on a piece of a followed path that ended at a located point or at the end
+    of the load: every stored point of such a piece is stable under the control (a piece that stopped for another
+    reason may hold points past where it lost stability, and is not counted)."""
+    for pc in fp.pieces:
+        if pc.end not in ("fold", "bifurcation", "branch_point", "end of load"):
+            continue
+        F = pc.branch.observables.get("F")
+        if F is None:
+            return False
+        keep = len(F) - (0 if pc.end == "end of load" else 1)
+        F = np.asarray(F[:keep], dtype=float)
+        if F.size and np.any(F < -FORCE_ROUNDOFF * float(np.max(np.abs(F)))):
+            return True
+    return False
 
 
 def _after_maximum(first_max: tuple[float, float, int] | None, piece: int, w: np.ndarray) -> np.ndarray:

@@ -210,8 +210,9 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
     summ = trace.summary
     label = summ.get("classification")
     followed = summ.get("followed")
-    if followed is not None:  # the class on the path the cap really takes
-        label = followed.get("classification") if followed.get("status") == "completed" else None
+    if followed is not None:  # the class on the path the cap really takes (bistable can be proven by part of it)
+        label = (followed.get("classification")
+                 if followed.get("status") == "completed" or followed.get("classification") == "bistable" else None)
     values: dict[str, Any] = {"control_traced": "displacement"}
     values.update({k: summ[k] for k in _CLASSIFY_FIELDS if k in summ})
     values.update({k: summ[k] for k in ("lambda", "D", "F_unit", "eversion_w") if k in summ})
