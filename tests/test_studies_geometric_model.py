@@ -32,7 +32,9 @@ FIGURES = ("fig9_geometric_model", "fig10_thickness", "fig11_angle")
 SIMULATED = {"base": ((gm.PHI_HAT, gm.H_OVER_R),), "fast": gm.SIM_FAST}
 
 
-@pytest.fixture(scope="module", params=["base", pytest.param("fast", marks=pytest.mark.slow)])
+# both runs of the study take seconds: behind ``slow``, with the helpers' unit tests below in the default run
+@pytest.fixture(scope="module", params=[pytest.param("base", marks=pytest.mark.slow),
+                                        pytest.param("fast", marks=pytest.mark.slow)])
 def study(request, tmp_path_factory) -> tuple:
     out = tmp_path_factory.mktemp(f"geometric_model_{request.param}")
     with pytest.MonkeyPatch.context() as mp:
