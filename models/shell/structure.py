@@ -9,14 +9,16 @@ a complete sphere, ...), a mirror bending element at every end on the axis (a cl
 ``"sliding"``
     ``z_0`` fixed, ``r_0`` free, the edge rotates freely (the paper's base).
 ``"pinned"``
-    ``r_0``, ``z_0`` fixed, free rotation.
+    ``r_0``, ``z_0`` fixed, free rotation.  On a closed end (node 0 a pole on the axis, as the south pole
+    of a complete sphere) it is a point support: the pole's point held in space (its height here, and in
+    the harmonic blocks its sideways motion too), so that a point force at the other pole is reacted.
 ``"clamped"``
     ``r_0``, ``z_0`` fixed and the edge tangent held (:class:`ClampedEdge`).
 ``"free"``
     nothing fixed at the edge.
 
 An end on the axis keeps ``r = 0``.  When nothing holds the shell in ``z`` (a free edge, or a closed
-shell with a pole at each end) its rigid translation along the axis is removed by fixing the height
+shell with a free pole at each end) its rigid translation along the axis is removed by fixing the height
 of the node nearest the middle of the meridian (:attr:`ShellStructure.rigid_fix`): only loads in
 self-equilibrium (pressure) may act on such a shell, so that support carries no reaction, and the
 problems check it (:class:`ShellOfRevolution` refuses a point or ring force on it).
@@ -83,8 +85,8 @@ class ShellStructure:
     h : float or ndarray, optional
         Thickness, or node thicknesses ``(N,)``; default the meridian's ``thickness``.
     boundary : {"sliding", "pinned", "clamped", "free"}
-        Support of the edge at node 0 (ignored, and must be ``"free"`` or the default, when node 0
-        is a pole).
+        Support of the edge at node 0.  When node 0 is a pole: ``"free"`` (or the default, read as
+        it) or ``"pinned"`` (a point support of the pole); ``"clamped"`` raises ValueError.
     kappa11_length : {"reference", "current"}
         Length in the interior nodes' ``kappa11`` (:class:`contin_models.shell.ShellEnergy`).
     edge_bending : {"moment_free", "none"}
@@ -247,7 +249,8 @@ class ShellOfRevolution(Problem):
         The shell and its supports.
     load : {"point", "ring", "pressure"}
         A point force at the pole (node ``N-1``, which must be on the axis), a ring force on node
-        ``node``, or a uniform external pressure (module docstring).
+        ``node``, or a uniform external pressure (module docstring).  A force needs a support in ``z``:
+        an edge, or on a complete sphere the point support of its other pole (``boundary="pinned"``).
     control : {"force", "displacement"}
         The load as the parameter, or (point and ring) the loaded node's deflection ``w``.
         Pressure takes ``"force"`` only here.
