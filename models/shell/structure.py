@@ -340,6 +340,26 @@ class ShellOfRevolution(Problem):
         else:
             self.idx = st.free.copy()
         self._sub = SubMatrix(st.pattern, self.idx)
+        name = "F" if load in ("point", "ring") else "p"
+        param = name if control == "force" else "w"
+        self.load_name = name
+        ops, observables, derivatives = self._bound_callables()
+        scale = st.residual_scale(self._sub(st.hessian(x_ref)), self.length)
+        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
+                         stability_operators=ops, name=f"shell_{load}_{control}", parameter_name=param,
+                         residual_scale=scale, difference_scale=float(np.max(st.h_nodes)))
+        self.harmonics = default_harmonics(st) if harmonics == -1 else int(harmonics)
+        if self.harmonics < 0:
+            raise ValueError(f"ShellOfRevolution: harmonics must be -1 (default rule), 0 or a wave number >= 1, "
+                             f"got {harmonics!r}")
+        self.pole_held = bool(pole_held)
+        self.operator_families = self._harmonic_families()
+
+    def _bound_callables(self) -> tuple[dict[str, Any] | None, dict[str, Any], dict[str, Any]]:
+        """The stability operators, observables and their derivatives, bound to this problem (its fixed pressure
+        among what they read): built again for each copy of :meth:`with_pressure`."""
+        st, load, control, x_ref, p_c = self.structure, self.load, self.control, self.x_ref, self.p_c
+        N = st.N
         ops: dict[str, Any]
         if load == "pressure":
             ops = None
@@ -356,9 +376,7 @@ class ShellOfRevolution(Problem):
             sub = SubMatrix(st.pattern, with_node)
             ops = {"displacement": self.jacobian,
                    "force": lambda u, p: sub(self._elastic_hessian(self.full_state(u, p), p))}
-        name = "F" if load in ("point", "ring") else "p"
-        param = name if control == "force" else "w"
-        self.load_name = name
+        name = self.load_name
         observables: dict[str, Any] = {name: self._obs_load, "w": self._obs_w,
                                        "w_over_h": lambda u, p: self._obs_w(u, p) / self.h_node,
                                        "w_over_L": lambda u, p: self._obs_w(u, p) / self.length}
@@ -382,21 +400,19 @@ class ShellOfRevolution(Problem):
             if p_c is not None:
                 observables["p_over_p_c"] = lambda u, p: float(p) / p_c
                 derivatives["p_over_p_c"] = lambda u, p: (np.zeros(self.n), 1.0 / p_c)
-        scale = st.residual_scale(self._sub(st.hessian(x_ref)), self.length)
-        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
-                         stability_operators=ops, name=f"shell_{load}_{control}", parameter_name=param,
-                         residual_scale=scale, difference_scale=float(np.max(st.h_nodes)))
-        self.harmonics = default_harmonics(st) if harmonics == -1 else int(harmonics)
-        if self.harmonics < 0:
-            raise ValueError(f"ShellOfRevolution: harmonics must be -1 (default rule), 0 or a wave number >= 1, "
-                             f"got {harmonics!r}")
-        if self.harmonics:
-            from .harmonic import harmonic_family
+        return ops, observables, derivatives
 
-            self.operator_families = (harmonic_family(
-                st, self.full_state, self.harmonics,
-                pressure=(lambda u, p: self._pressure_value(p)) if self.pressure is not None else None,
-                z_ref=self.pressure.z_ref if self.pressure is not None else None, pole_held=pole_held),)
+    def _harmonic_families(self) -> tuple:
+        """The harmonic blocks watched (:func:`contin_models.shell.harmonic.harmonic_family`) at this problem's
+        pressure, bound to it (none with ``harmonics = 0``)."""
+        if not self.harmonics:
+            return ()
+        from .harmonic import harmonic_family
+
+        return (harmonic_family(
+            self.structure, self.full_state, self.harmonics,
+            pressure=(lambda u, p: self._pressure_value(p)) if self.pressure is not None else None,
+            z_ref=self.pressure.z_ref if self.pressure is not None else None, pole_held=self.pole_held),)
 
     def harmonic_block(self, n: int, u: np.ndarray, p: float) -> sp.csr_matrix:
         """The Hessian block of wave number ``n >= 1`` at the state ``(u, p)`` (:func:`contin_models.shell.harmonic.harmonic_block`).
@@ -481,10 +497,14 @@ class ShellOfRevolution(Problem):
         """This point- or ring-loaded problem under another fixed pressure (shares the structure)."""
         if self.load == "pressure":
             raise ValueError("with_pressure: the pressure is this problem's parameter")
+        if self.pressure is None:
+            raise ValueError("with_pressure: build the problem with a nonzero pressure (its volume term) first")
         other = copy.copy(self)
         other.fixed_pressure = float(pressure)
-        if other.pressure is None:
-            raise ValueError("with_pressure: build the problem with a nonzero pressure (its volume term) first")
+        # the copy's operators, observables and harmonic blocks read its own pressure, not this problem's
+        ops, other._observables, other._observable_derivatives = other._bound_callables()
+        other._stability_operators = dict(ops or {})
+        other.operator_families = other._harmonic_families()
         return other
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
