@@ -87,6 +87,7 @@ class ProbeAtFixedVolume(Problem):
         if not (math.isfinite(unit) and unit > 0.0):
             raise ValueError(f"ProbeAtFixedVolume: unit must be positive and finite, got {unit!r}")
         self.probe, self.volume, self.unit = probe, float(volume), float(unit)
+        self._member: ShellOfRevolution | None = None
         self.structure = probe.structure
         self.p_c = p_c
         z = probe.z_node
@@ -146,8 +147,11 @@ class ProbeAtFixedVolume(Problem):
         return self.probe.full_state(self.split(U)[0], w)
 
     def member(self, p: float) -> ShellOfRevolution:
-        """The probe under the fixed pressure ``p`` (shares the structure)."""
-        return self.probe.with_pressure(p)
+        """The probe under the fixed pressure ``p`` (shares the structure; the last one is kept, since the engine
+        asks for the residual, the Jacobian and the observables at the same state)."""
+        if self._member is None or self._member.fixed_pressure != float(p):
+            self._member = self.probe.with_pressure(p)
+        return self._member
 
     def _volume_gradient(self, u: np.ndarray, w: float) -> np.ndarray:
         return volume_gradient(self.probe.full_state(u, w), self.probe.pressure.z_ref)
