@@ -284,8 +284,8 @@ def plot(cases: Sequence[dict[str, Any]], shown: Sequence[float]) -> Any:
     for control, color in zip(CONTROLS, COLORS):
         sel = sorted((c for c in main if c["control"] == control), key=lambda c: c["p_over_p_c"])
         peak = [c for c in sel if c["F_max"] is not None]
-        ax.plot([c["p_over_p_c"] for c in peak], [c["F_max"] for c in peak], "-^", color=color, ms=5,
-                label=f"$F_{{max}}$, {control} control")
+        ax.plot([c["p_over_p_c"] for c in peak], [c["F_max"] for c in peak], "-^" if control == "pressure" else "--v",
+                color=color, ms=5, label=f"$F_{{max}}$, {control} control")
         bif = [c for c in sel if c["F_bif"] is not None]
         ax.plot([c["p_over_p_c"] for c in bif], [c["F_bif"] for c in bif], "--o", color=color, mfc="white", ms=5,
                 label=f"first $n$-wave bifurcation, {control} control")
@@ -307,15 +307,25 @@ def plot(cases: Sequence[dict[str, Any]], shown: Sequence[float]) -> Any:
             if c is None:
                 continue
             w, F, ok = c["_w"], c["_F"], c["_stable"]
+            # the located points join both the stable and the unstable part (the stored points skip them)
+            marks = [(c[a] / R_OVER_H, c[b]) for a, b in (("w_Fmax", "F_max"), ("w_bif", "F_bif")) if c[b] is not None]
+            if marks:
+                order = np.argsort(np.concatenate([w, [m[0] for m in marks]]), kind="stable")
+                w = np.concatenate([w, [m[0] for m in marks]])[order]
+                F = np.concatenate([F, [m[1] for m in marks]])[order]
+                ok = np.concatenate([ok, np.ones(len(marks), dtype=bool)])[order]
+                edge = np.concatenate([np.zeros(len(c["_w"]), dtype=bool), np.ones(len(marks), dtype=bool)])[order]
+            else:
+                edge = np.zeros(len(w), dtype=bool)
             bx.plot(np.where(ok, w, np.nan), np.where(ok, F, np.nan), styles[control], color=color, lw=1.2,
                     label=f"$p = {p:g}\\,p_c$, {control}")
-            bx.plot(np.where(ok, np.nan, w), np.where(ok, np.nan, F), ":", color=color, lw=0.9)
+            bx.plot(np.where(ok & ~edge, np.nan, w), np.where(ok & ~edge, np.nan, F), ":", color=color, lw=0.9)
             if c["F_max"] is not None:
                 bx.plot([c["w_Fmax"] / R_OVER_H], [c["F_max"]], "^", color=color, ms=5)
             if c["n"] is not None:
                 bx.plot([c["w_bif"] / R_OVER_H], [c["F_bif"]], "o", color=color, mfc="white", ms=5)
                 bx.annotate(f"n={c['n']}", (c["w_bif"] / R_OVER_H, c["F_bif"]), textcoords="offset points",
-                            xytext=(-22, 4), fontsize="x-small", color=color)
+                            xytext=(-24, 4) if control == "pressure" else (6, -10), fontsize="x-small", color=color)
     bx.set_xscale("log")
     bx.set_yscale("log")
     bx.set_xlim(1e-3, 1.0)
