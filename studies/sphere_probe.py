@@ -296,7 +296,7 @@ def plot(cases: Sequence[dict[str, Any]], shown: Sequence[float]) -> Any:
     ax.set_yscale("log")
     ax.set_xlabel(r"pressure $p / p_c$ (external $> 0$, internal $< 0$)")
     ax.set_ylabel(r"probe force $F R / (E h^3)$")
-    ax.set_title("largest force and the first bifurcation into waves\n(*: after $F_{max}$, on the unstable path)",
+    ax.set_title("largest force and the first bifurcation into waves\n(*: after $F_{max}$)",
                  fontsize="small")
     ax.legend(loc="upper right", fontsize="x-small")
     styles = {"pressure": "-", "volume": "--"}

@@ -500,12 +500,16 @@ class ShellOfRevolution(Problem):
         if self.pressure is None:
             raise ValueError("with_pressure: build the problem with a nonzero pressure (its volume term) first")
         other = copy.copy(self)
-        other.fixed_pressure = float(pressure)
-        # the copy's operators, observables and harmonic blocks read its own pressure, not this problem's
-        ops, other._observables, other._observable_derivatives = other._bound_callables()
-        other._stability_operators = dict(ops or {})
-        other.operator_families = other._harmonic_families()
+        ShellOfRevolution._bind_pressure(other, pressure)
         return other
+
+    def _bind_pressure(self, pressure: float) -> None:
+        """Set the fixed pressure and bind the stability operators, the observables and the harmonic blocks to this
+        problem (a copy's would otherwise read the pressure of the problem it was copied from)."""
+        self.fixed_pressure = float(pressure)
+        ops, self._observables, self._observable_derivatives = self._bound_callables()
+        self._stability_operators = dict(ops or {})
+        self.operator_families = self._harmonic_families()
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         return self._sub(self._full_hessian(self.full_state(u, p), p))
