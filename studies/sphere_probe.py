@@ -28,7 +28,8 @@ Along the axisymmetric path from ``w`` at the pressurised state (``F = 0``) the 
    (:func:`studies.waves_branch.first_bifurcation` reads located bifurcations of the family ``"n"``), with its
    ``w``, ``F`` and ``n``; whether it comes before ``F_max``; any ``n = 1`` bifurcation is listed apart;
 3. the **initial stiffness** ``dF/dw`` at the pressurised state, times 2 (a pole's stiffness), against Reissner's
-   ``k_R = 4 E h^2 / (R sqrt(3 (1 - nu^2)))`` and its pressurised form (:func:`pressurised_stiffness`).
+   ``k_R = 4 E h^2 / (R sqrt(3 (1 - nu^2)))`` and its pressurised form (:func:`pressurised_stiffness`); and the
+   unpressurised sphere's at ``R/h`` = 100 and 1000 on three meshes each (:func:`reissner_rows`, ``stiffness.csv``).
 
 Units: ``h = 1``, ``R = 100``, ``E`` such that ``p_c = 2 E (h/R)^2 / sqrt(3 (1 - nu^2)) = 1``; forces over
 ``F_unit = E h^3 / R``.  Fast default: ``N = 201`` nodes pole to pole, three pressures.  ``--full``: eight
@@ -118,6 +119,19 @@ def pressurised_stiffness(tau: float) -> float:
     if tau < 1.0:
         return math.pi / 2.0 * math.sqrt(1.0 - tau * tau) / math.acos(tau)
     return math.pi / 2.0 * math.sqrt(tau * tau - 1.0) / math.atanh(math.sqrt(1.0 - 1.0 / (tau * tau)))
+
+
+def reissner_rows() -> list[dict[str, Any]]:
+    """The unpressurised sphere's pole stiffness (twice ``dF/dw``) over Reissner's at ``R/h`` = 100 and 1000 on three
+    meshes each: the mesh's share and the thickness's share of the offset."""
+    rows = []
+    for r_over_h, sizes in ((R_OVER_H, (201, 401, 801)), (1000.0, (801, 1601, 3201))):
+        for N in sizes:
+            R, h, E = r_over_h, 1.0, 1.0
+            st = ShellStructure(complete_sphere_meridian(R, N), E, NU, h, boundary="pinned")
+            k_pole = 2.0 * ShellOfRevolution(st, "point", "displacement").linear_stiffness()
+            rows.append({"R_over_h": r_over_h, "N": N, "k_pole_over_k_R": k_pole / reissner_stiffness(E, h, R)})
+    return rows
 
 
 def probed_sphere(N: int) -> ShellStructure:
@@ -370,8 +384,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     for p, control, N in runs:
         say(args.quiet, f"p = {p:g} p_c, {control} control, N = {N} ...")
         cases.append(probe_case(p, control, N))
+    reissner = reissner_rows()
     elapsed = time.perf_counter() - t0
     rows = [_public(c) for c in cases]
+    write_csv(out / "stiffness.csv", reissner)
     mesh = mesh_rows(cases)
     write_csv(out / "cases.csv", [{k: r.get(k) for k in COLUMNS} for r in rows])
     write_csv(out / "paths.csv", [{"p_over_p_c": c["p_over_p_c"], "control": c["control"], "N": c["N"],
@@ -379,10 +395,12 @@ def main(argv: Sequence[str] | None = None) -> int:
                                   for c in cases for w, F, ok in zip(c["_w"], c["_F"], c["_stable"])])
     write_json(out / "summary.json", {"full": bool(args.full), "seconds": elapsed, "nu": NU, "R_over_h": R_OVER_H,
                                       "force_unit": "E h^3 / R", "w": "approach of the poles", "cases": rows,
-                                      "mesh": mesh})
+                                      "mesh": mesh, "reissner": reissner})
     save_figure(plot([c for c in cases if c["N"] == main_N], shown), out, "sphere_probe")
     if not args.quiet:
         print_table(rows, COLUMNS, digits=5)
+        print()
+        print_table(reissner, ["R_over_h", "N", "k_pole_over_k_R"], digits=5)
         if mesh:
             print()
             print_table(mesh, ["p_over_p_c", "control", "N", "n", "k_pole_over_k_R", "d_k_pole_over_k_R", "F_max",
