@@ -24,9 +24,10 @@ Along the axisymmetric path from ``w`` at the pressurised state (``F = 0``) the 
 
 1. the **largest probe force** ``F_max``: the first maximum of ``F`` along the path (a located extremum event);
    the path is traced until ``F`` falls back below zero (the snap) or to the travel :data:`W_END`;
-2. the **first bifurcation into n waves** (``n >= 2``), from the blocks ``n = 1 .. default_harmonics``
-   (:func:`studies.waves_branch.first_bifurcation` reads located bifurcations of the family ``"n"``), with its
-   ``w``, ``F`` and ``n``; whether it comes before ``F_max``; any ``n = 1`` bifurcation is listed apart;
+2. the **first bifurcation into n waves** (``n >= 2``), from the blocks ``n = 1 .. default_harmonics``: the
+   engine's located bifurcations of the family ``"n"`` (as :func:`studies.waves_branch.first_bifurcation` reads
+   them, here without ``n = 1`` and the pole's modes below), with its ``w``, ``F`` and ``n``; whether it comes
+   before ``F_max``; the first ``n = 1`` bifurcation is listed apart;
 3. the **initial stiffness** ``dF/dw`` at the pressurised state, times 2 (a pole's stiffness), against Reissner's
    ``k_R = 4 E h^2 / (R sqrt(3 (1 - nu^2)))`` and its pressurised form (:func:`pressurised_stiffness`); and the
    unpressurised sphere's at ``R/h`` = 100 and 1000 on three meshes each (:func:`reissner_rows`, ``stiffness.csv``).
