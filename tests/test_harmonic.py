@@ -545,3 +545,20 @@ def test_blocks_of_several_wave_numbers_at_once_equal_the_single_ones() -> None:
                 assert np.abs(K.toarray() - one).max() <= 1e-13 * np.abs(one).max()
                 if not hold:
                     assert np.abs(hs.block(x, n, 0.3).toarray() - one).max() <= 1e-13 * np.abs(one).max()
+
+
+def test_a_sphere_on_a_point_support_has_no_rigid_mode_when_both_poles_are_held() -> None:
+    """A complete sphere pinned at its south pole: ``n = 0`` positive definite (the support holds the axial
+    translation, the spin is removed); ``n = 1`` keeps exactly one zero mode (the tilt about the support) while
+    the north pole may slide, none when the probe holds it (``pole_held``); every block as in 3-D (the ring mesh's
+    rigid-mode count is :func:`test_pressurised_sphere_has_exactly_the_rigid_zero_modes`)."""
+    from contin_models.shell.harmonic import harmonic_family
+
+    st = ShellStructure(complete_sphere_meridian(1.0, 61), 1.0, 0.3, 0.01, boundary="pinned")
+    x = st.meridian.x
+    scale = abs(harmonic_block(st, x, 1)).max()
+    assert block_eigs(harmonic_block(st, x, 0), 1)[0] > 1e-8 * scale
+    free = block_eigs(harmonic_family(st, lambda u, p: x, 2).operator(1, None, 0.0).tocsr(), 2)
+    held = block_eigs(harmonic_family(st, lambda u, p: x, 2, pole_held=True).operator(1, None, 0.0).tocsr(), 1)
+    assert abs(free[0]) < 1e-12 * scale and free[1] > 1e-8 * scale
+    assert held[0] > 1e-8 * scale

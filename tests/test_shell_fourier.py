@@ -381,3 +381,17 @@ def test_both_controls_stability_labels_are_the_traced_models(control: str) -> N
     for label in one.stability_by:
         assert np.array_equal(three.n_negative_under(label), one.n_negative_under(label))
     assert max(one.n_negative_under(label).max() for label in one.stability_by) > 0
+
+
+def test_a_sphere_on_a_point_support_keeps_the_rotations_about_it() -> None:
+    """A complete sphere pinned at its south pole (``boundary="pinned"``): the pole's point is held, which leaves
+    the three rotations about it (the spin about the axis and the two tilts); with the rigid motions removed
+    (the spin held mid-meridian; the tilts are what a probe holding the north pole removes, not the support)
+    two zero modes remain."""
+    st = ShellStructure(complete_sphere_meridian(1.0, 21, 1.0), 1.0, 0.3, 0.02, boundary="pinned")
+    view = FourierShell(st, AngularBasis(1, 3, mirror=False))
+    for remove, zeros in ((False, 3), (True, 2)):
+        red = view.reduction(remove_rigid=remove)
+        H = (red.T.T @ view.hessian(view.reference_state()) @ red.T).toarray()
+        ev = np.linalg.eigvalsh(H) / np.max(np.abs(H))
+        assert np.all(np.abs(ev[:zeros]) < 1e-12) and ev[zeros] > 1e-8, ev[:5]

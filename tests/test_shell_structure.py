@@ -123,6 +123,29 @@ def test_point_load_under_a_fixed_pressure(control: str) -> None:
     assert pr.residual(u, p) is not None and pr.fixed_pressure == 200.0  # the copy did not touch the original
 
 
+@pytest.mark.parametrize("control", ["force", "displacement"])
+def test_with_pressure_is_the_problem_built_at_that_pressure(control: str) -> None:
+    """The copy of :meth:`ShellOfRevolution.with_pressure` reads its own pressure everywhere: its observables (the
+    reaction under displacement control carries the pressure's share) and their derivatives, its stability
+    operators and its harmonic blocks are those of the problem built at that pressure."""
+    st = ShellStructure(spherical_cap(1.0, 0.6, 40, 0.5), 1e6, NU, 0.01, "clamped")
+    copy = ShellOfRevolution(st, "point", control, pressure=100.0, harmonics=3).with_pressure(300.0)
+    built = ShellOfRevolution(st, "point", control, pressure=300.0, harmonics=3)
+    u = _random_state(built, 1e-3)
+    p = 50.0 if control == "force" else 0.01
+    for name, fun in built.observables.items():
+        assert copy.observables[name](u, p) == pytest.approx(fun(u, p), rel=1e-12, abs=1e-12), name
+    for name, fun in built.observable_derivatives.items():
+        for a, b in zip(copy.observable_derivatives[name](u, p), fun(u, p)):
+            assert np.allclose(a, b, rtol=1e-12, atol=0.0), name
+    ops, reference = copy.stability_operators(u, p), built.stability_operators(u, p)
+    assert list(ops) == list(reference)
+    for label in reference:
+        assert abs(ops[label] - reference[label]).max() == 0.0, label
+    blocks = (f.operator(2, u, p).toarray() for f in (copy.operator_families[0], built.operator_families[0]))
+    assert np.array_equal(*blocks)
+
+
 @pytest.mark.parametrize("boundary, factor", [("clamped", 1.0), ("pinned", (3.0 + NU) / (1.0 + NU))])
 def test_plate_under_a_central_point_load_matches_the_linear_plate_solution(boundary: str, factor: float) -> None:
     """``w = factor F a^2 / (16 pi D)`` (Timoshenko & Woinowsky-Krieger, circular plates with a central load):
@@ -194,3 +217,42 @@ def test_moment_free_edge_derivatives_equal_sympy_in_high_precision() -> None:
     assert edge.energy(state) == pytest.approx(float(energy.evalf(40, subs=subs)), rel=1e-13)
     assert np.allclose(edge.gradient(state), grad, rtol=1e-12, atol=1e-13 * np.abs(grad).max())
     assert np.allclose(edge.hessian(state), hess, rtol=1e-12, atol=1e-13 * np.abs(hess).max())
+
+
+# ---- a point support of a closed shell's pole ---------------------------------------------------------
+def test_a_point_support_of_the_south_pole_reacts_a_force_at_the_north_pole_with_reissners_stiffness() -> None:
+    """A complete sphere pinned at its south pole (``boundary="pinned"``) under a point force at its north pole:
+    by the symmetry about the equator each pole's dimple takes half the approach, so a pole's stiffness is twice
+    the measured ``dF/dw``; Reissner (1946): ``4 E h^2 / (R sqrt(3 (1 - nu^2)))`` for a thin shell.  At ``R/h =
+    1000`` the meshes N = 801 / 1601 / 3201 give 0.9886 / 0.9952 / 0.9971 of it (``R/h = 100``, N = 1601: 0.985, a
+    thickness effect), so 1 % at N = 1601."""
+    from contin_models.shell.meridian import complete_sphere_meridian
+
+    R, h, E, N = 1000.0, 1.0, 1.0, 1601
+    st = ShellStructure(complete_sphere_meridian(R, N), E, NU, h, boundary="pinned")
+    assert st.boundary == "pinned" and st.rigid_fix is None and list(st.fixed) == [0, 1, 2 * N - 2]
+    k_pole = 2.0 * ShellOfRevolution(st, "point", "displacement").linear_stiffness()
+    assert k_pole / (4.0 * E * h * h / (R * math.sqrt(3.0 * (1.0 - NU * NU)))) == pytest.approx(1.0, abs=0.01)
+
+
+@pytest.mark.parametrize("control", ["force", "displacement"])
+def test_derivatives_of_a_probed_sphere_on_its_point_support(control: str) -> None:
+    from contin_models.shell.meridian import complete_sphere_meridian
+
+    st = ShellStructure(complete_sphere_meridian(1.0, 41), 1e6, NU, 0.01, boundary="pinned")
+    pr = ShellOfRevolution(st, "point", control, pressure=300.0)
+    report = contin.check_problem(pr, _random_state(pr, 1e-3), {"force": 50.0, "displacement": 0.01}[control])
+    assert report.ok, report
+
+
+def test_a_pole_takes_only_a_point_support() -> None:
+    """On a pole: "pinned" (a point support) or "free" (the default "sliding" is read as it); "clamped" is refused
+    with a message naming the allowed supports; a free sphere still refuses a point force."""
+    from contin_models.shell.meridian import complete_sphere_meridian
+
+    sphere = complete_sphere_meridian(1.0, 21)
+    with pytest.raises(ValueError, match="pole on the axis: its support is 'pinned'.*or 'free'"):
+        ShellStructure(sphere, 1e6, NU, 0.01, "clamped")
+    assert ShellStructure(sphere, 1e6, NU, 0.01).boundary == "free"
+    with pytest.raises(ValueError, match="support in z"):
+        ShellOfRevolution(ShellStructure(sphere, 1e6, NU, 0.01, "free"), "point", "displacement")

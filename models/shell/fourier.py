@@ -632,6 +632,11 @@ class FourierShell:
                 fixed |= {j for j, t in enumerate(terms) if t[0] in ("Z", "T")}
             elif st.boundary in ("pinned", "clamped"):
                 fixed |= set(range(m))
+        elif st.boundary == "pinned":  # a point support of the pole: its point held in space (its tied T too)
+            fixed |= {j for j, t in enumerate(terms) if t in {("Z", "cos", 0), ("R", "cos", 1), ("R", "sin", 1)}}
+            if remove_rigid:  # the spin about the axis, which two points on it do not hold
+                k = st.N // 2
+                fixed |= {k * m + j for j, t in enumerate(terms) if t == ("T", "cos", 0)}
         if remove_rigid and st.rigid_fix is not None:
             k = st.rigid_fix // 2
             rigid = {("Z", "cos", 0), ("T", "cos", 0), ("R", "cos", 1), ("Z", "cos", 1), ("R", "sin", 1), ("Z", "sin", 1)}

@@ -120,6 +120,10 @@ The full block is ``3N x 3N`` in the interleaved order ``[a_0, b_0, c_0, a_1, b_
   the rigid rotation about the axis at ``n = 0`` and the rigid lateral slide at ``n = 1``, which a
   frictionless plane would leave neutral); ``"pinned"`` and ``"clamped"`` fix ``a``, ``b``, ``c``
   (the clamp's ghost ring holds the edge tangent for every ``n``); ``"free"`` fixes nothing;
+* a pole at node 0 with ``"pinned"`` (a point support of a closed shell's pole) is held in space: its
+  ``b`` at ``n = 0``, its lateral ``a`` (and the tied ``c``) at ``n = 1``; with ``remove_rigid`` the spin
+  about the axis, which two points on it do not hold, is removed at ``n = 0`` by ``c`` of the node
+  ``N // 2``;
 * when the structure has no support in ``z`` (free edge or closed shell, ``rigid_fix`` set), with
   ``remove_rigid=True`` (default) the rigid motions are removed at the node ``k`` of ``rigid_fix``:
   ``n = 0``: ``b_k`` and ``c_k`` (axial translation, torsion); ``n = 1``: ``a_k`` and ``b_k``
@@ -979,6 +983,10 @@ def harmonic_dofs(structure: Any, n: int, remove_rigid: bool = True, control_fix
             fixed |= {1, 2}
         elif b in ("pinned", "clamped"):
             fixed |= {0, 1, 2}
+    elif structure.boundary == "pinned":  # a point support of the pole: its point held in space
+        fixed |= {1} if n == 0 else ({0} if n == 1 else set())  # c_0 = -a_0 at n = 1 goes with a_0
+        if remove_rigid and n == 0:  # two points on the axis leave the spin about it: held mid-meridian
+            fixed.add(3 * (N // 2) + 2)
     if remove_rigid and structure.rigid_fix is not None:
         k = structure.rigid_fix // 2
         fixed |= {3 * k + 1, 3 * k + 2} if n == 0 else ({3 * k, 3 * k + 1} if n == 1 else set())

@@ -189,8 +189,8 @@ class ShellReference:
         The mirror bending element of each node of :attr:`axis_nodes` (none with ``pole="skip"``, or
         when the reference was built without supports).
     boundary : str or None
-        The support of the edge at node 0 (``"free"`` when node 0 is a pole); None when built without
-        supports (the energy alone).
+        The support of the edge at node 0 (``"free"`` or ``"pinned"`` when node 0 is a pole); None when
+        built without supports (the energy alone).
     edge : EdgeReference or None
         The edge node's bending element (clamped, or a rotating edge's with ``edge_bending="moment_free"``).
     fixed : ndarray of int
@@ -225,7 +225,9 @@ class ShellReference:
             Length in the interior nodes' ``kappa11`` (:class:`contin_models.shell.ShellEnergy`).
         boundary : {"sliding", "pinned", "clamped", "free"} or None
             Support of the edge at node 0; None: the elements of the energy alone (no poles, no edge
-            element, nothing fixed).
+            element, nothing fixed).  When node 0 is a pole on the axis (a closed end) only ``"free"``
+            (``"sliding"``, the default, is read as it) and ``"pinned"`` (the pole held at its point: a
+            point support, reacting a force at the other pole) apply; ``"clamped"`` raises ValueError.
         edge_bending : {"moment_free", "none"}
             Bending element of an edge node that may rotate (:class:`contin_models.shell.ShellStructure`).
         pole : {"mirror", "skip"}
@@ -312,16 +314,18 @@ class ShellReference:
         if np.any(r < 0):
             raise ValueError("ShellReference: the meridian must lie in r >= 0")
         self.axis_nodes = tuple(k for k in (0, N - 1) if r[k] == 0.0)
-        if 0 in self.axis_nodes and boundary not in ("free", "sliding"):
-            raise ValueError(f"ShellReference: node 0 is a pole on the axis, it takes no support "
-                             f"(boundary {boundary!r})")
-        self.boundary = boundary = "free" if 0 in self.axis_nodes else boundary
+        if 0 in self.axis_nodes and boundary not in ("free", "sliding", "pinned"):
+            raise ValueError(f"ShellReference: node 0 is a pole on the axis: its support is 'pinned' (the pole "
+                             f"held at its point, as by a point support) or 'free', got boundary {boundary!r}")
+        if 0 in self.axis_nodes and boundary == "sliding":  # the default of an edge: a pole has none to slide
+            boundary = "free"
+        self.boundary = boundary
 
         fixed = {2 * k for k in self.axis_nodes}  # r = 0 on the axis
         if boundary in ("sliding", "pinned", "clamped"):
             fixed.add(1)
         if boundary in ("pinned", "clamped"):
-            fixed.add(0)
+            fixed.add(0)  # already held on the axis when node 0 is a pole
         if not any(d % 2 == 1 for d in fixed):  # nothing holds z: remove the rigid translation
             self.rigid_fix = 2 * (N // 2) + 1
             fixed.add(self.rigid_fix)

@@ -9,14 +9,16 @@ a complete sphere, ...), a mirror bending element at every end on the axis (a cl
 ``"sliding"``
     ``z_0`` fixed, ``r_0`` free, the edge rotates freely (the paper's base).
 ``"pinned"``
-    ``r_0``, ``z_0`` fixed, free rotation.
+    ``r_0``, ``z_0`` fixed, free rotation.  On a closed end (node 0 a pole on the axis, as the south pole
+    of a complete sphere) it is a point support: the pole's point held in space (its height here, and in
+    the harmonic blocks its sideways motion too), so that a point force at the other pole is reacted.
 ``"clamped"``
     ``r_0``, ``z_0`` fixed and the edge tangent held (:class:`ClampedEdge`).
 ``"free"``
     nothing fixed at the edge.
 
 An end on the axis keeps ``r = 0``.  When nothing holds the shell in ``z`` (a free edge, or a closed
-shell with a pole at each end) its rigid translation along the axis is removed by fixing the height
+shell with a free pole at each end) its rigid translation along the axis is removed by fixing the height
 of the node nearest the middle of the meridian (:attr:`ShellStructure.rigid_fix`): only loads in
 self-equilibrium (pressure) may act on such a shell, so that support carries no reaction, and the
 problems check it (:class:`ShellOfRevolution` refuses a point or ring force on it).
@@ -83,8 +85,8 @@ class ShellStructure:
     h : float or ndarray, optional
         Thickness, or node thicknesses ``(N,)``; default the meridian's ``thickness``.
     boundary : {"sliding", "pinned", "clamped", "free"}
-        Support of the edge at node 0 (ignored, and must be ``"free"`` or the default, when node 0
-        is a pole).
+        Support of the edge at node 0.  When node 0 is a pole: ``"free"`` (or the default, read as
+        it) or ``"pinned"`` (a point support of the pole); ``"clamped"`` raises ValueError.
     kappa11_length : {"reference", "current"}
         Length in the interior nodes' ``kappa11`` (:class:`contin_models.shell.ShellEnergy`).
     edge_bending : {"moment_free", "none"}
@@ -247,7 +249,8 @@ class ShellOfRevolution(Problem):
         The shell and its supports.
     load : {"point", "ring", "pressure"}
         A point force at the pole (node ``N-1``, which must be on the axis), a ring force on node
-        ``node``, or a uniform external pressure (module docstring).
+        ``node``, or a uniform external pressure (module docstring).  A force needs a support in ``z``:
+        an edge, or on a complete sphere the point support of its other pole (``boundary="pinned"``).
     control : {"force", "displacement"}
         The load as the parameter, or (point and ring) the loaded node's deflection ``w``.
         Pressure takes ``"force"`` only here.
@@ -337,6 +340,26 @@ class ShellOfRevolution(Problem):
         else:
             self.idx = st.free.copy()
         self._sub = SubMatrix(st.pattern, self.idx)
+        name = "F" if load in ("point", "ring") else "p"
+        param = name if control == "force" else "w"
+        self.load_name = name
+        ops, observables, derivatives = self._bound_callables()
+        scale = st.residual_scale(self._sub(st.hessian(x_ref)), self.length)
+        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
+                         stability_operators=ops, name=f"shell_{load}_{control}", parameter_name=param,
+                         residual_scale=scale, difference_scale=float(np.max(st.h_nodes)))
+        self.harmonics = default_harmonics(st) if harmonics == -1 else int(harmonics)
+        if self.harmonics < 0:
+            raise ValueError(f"ShellOfRevolution: harmonics must be -1 (default rule), 0 or a wave number >= 1, "
+                             f"got {harmonics!r}")
+        self.pole_held = bool(pole_held)
+        self.operator_families = self._harmonic_families()
+
+    def _bound_callables(self) -> tuple[dict[str, Any] | None, dict[str, Any], dict[str, Any]]:
+        """The stability operators, observables and their derivatives, bound to this problem (its fixed pressure
+        among what they read): built again for each copy of :meth:`with_pressure`."""
+        st, load, control, x_ref, p_c = self.structure, self.load, self.control, self.x_ref, self.p_c
+        N = st.N
         ops: dict[str, Any]
         if load == "pressure":
             ops = None
@@ -353,9 +376,7 @@ class ShellOfRevolution(Problem):
             sub = SubMatrix(st.pattern, with_node)
             ops = {"displacement": self.jacobian,
                    "force": lambda u, p: sub(self._elastic_hessian(self.full_state(u, p), p))}
-        name = "F" if load in ("point", "ring") else "p"
-        param = name if control == "force" else "w"
-        self.load_name = name
+        name = self.load_name
         observables: dict[str, Any] = {name: self._obs_load, "w": self._obs_w,
                                        "w_over_h": lambda u, p: self._obs_w(u, p) / self.h_node,
                                        "w_over_L": lambda u, p: self._obs_w(u, p) / self.length}
@@ -379,21 +400,19 @@ class ShellOfRevolution(Problem):
             if p_c is not None:
                 observables["p_over_p_c"] = lambda u, p: float(p) / p_c
                 derivatives["p_over_p_c"] = lambda u, p: (np.zeros(self.n), 1.0 / p_c)
-        scale = st.residual_scale(self._sub(st.hessian(x_ref)), self.length)
-        super().__init__(observables=observables, observable_derivatives=derivatives, symmetric=True,
-                         stability_operators=ops, name=f"shell_{load}_{control}", parameter_name=param,
-                         residual_scale=scale, difference_scale=float(np.max(st.h_nodes)))
-        self.harmonics = default_harmonics(st) if harmonics == -1 else int(harmonics)
-        if self.harmonics < 0:
-            raise ValueError(f"ShellOfRevolution: harmonics must be -1 (default rule), 0 or a wave number >= 1, "
-                             f"got {harmonics!r}")
-        if self.harmonics:
-            from .harmonic import harmonic_family
+        return ops, observables, derivatives
 
-            self.operator_families = (harmonic_family(
-                st, self.full_state, self.harmonics,
-                pressure=(lambda u, p: self._pressure_value(p)) if self.pressure is not None else None,
-                z_ref=self.pressure.z_ref if self.pressure is not None else None, pole_held=pole_held),)
+    def _harmonic_families(self) -> tuple:
+        """The harmonic blocks watched (:func:`contin_models.shell.harmonic.harmonic_family`) at this problem's
+        pressure, bound to it (none with ``harmonics = 0``)."""
+        if not self.harmonics:
+            return ()
+        from .harmonic import harmonic_family
+
+        return (harmonic_family(
+            self.structure, self.full_state, self.harmonics,
+            pressure=(lambda u, p: self._pressure_value(p)) if self.pressure is not None else None,
+            z_ref=self.pressure.z_ref if self.pressure is not None else None, pole_held=self.pole_held),)
 
     def harmonic_block(self, n: int, u: np.ndarray, p: float) -> sp.csr_matrix:
         """The Hessian block of wave number ``n >= 1`` at the state ``(u, p)`` (:func:`contin_models.shell.harmonic.harmonic_block`).
@@ -478,11 +497,19 @@ class ShellOfRevolution(Problem):
         """This point- or ring-loaded problem under another fixed pressure (shares the structure)."""
         if self.load == "pressure":
             raise ValueError("with_pressure: the pressure is this problem's parameter")
-        other = copy.copy(self)
-        other.fixed_pressure = float(pressure)
-        if other.pressure is None:
+        if self.pressure is None:
             raise ValueError("with_pressure: build the problem with a nonzero pressure (its volume term) first")
+        other = copy.copy(self)
+        ShellOfRevolution._bind_pressure(other, pressure)
         return other
+
+    def _bind_pressure(self, pressure: float) -> None:
+        """Set the fixed pressure and bind the stability operators, the observables and the harmonic blocks to this
+        problem (a copy's would otherwise read the pressure of the problem it was copied from)."""
+        self.fixed_pressure = float(pressure)
+        ops, self._observables, self._observable_derivatives = self._bound_callables()
+        self._stability_operators = dict(ops or {})
+        self.operator_families = self._harmonic_families()
 
     def jacobian(self, u: np.ndarray, p: float) -> sp.csr_matrix:
         return self._sub(self._full_hessian(self.full_state(u, p), p))
