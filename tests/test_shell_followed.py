@@ -1,5 +1,6 @@
 """The path a shell really takes: the turning of a wavy state is not an instability, and the followed path."""
 
+import math
 import numpy as np
 import pytest
 
@@ -487,3 +488,25 @@ def test_a_followed_path_cut_short_after_its_force_fell_below_zero_is_bistable(m
     D1 = c.trace.branches[2]  # the axisymmetric trace, its followed piece, then the one-wave piece
     assert float(min(D1.observables["F"])) < 0.0
     assert c.label == f["classification"] == "bistable"
+
+
+@pytest.mark.slow
+def test_a_snap_from_the_end_of_a_one_wave_bubble_that_finds_nothing_lower_lands_where_it_is() -> None:
+    """The cap of lambda = 5.4 at N = 160, K = 3: its one-wave branch rejoins the axisymmetric path at a pitchfork, and
+    the descent from the fold there stalls at once ("line search failed to lower the energy"): the state past the
+    junction is next to the stable axisymmetric one, with nothing lower to find.  The path stopped there; it now takes
+    that state, made an equilibrium by Newton's method and checked stable, and goes on to the end of the load with the
+    axisymmetric path's force minimum (the two are the same states past the junction)."""
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCHEMA
+    from contin_models.shell_scene.scene import run_scene
+
+    h = (3 ** 0.5 * (math.pi / 2 - 1.0) / 5.4) ** 2  # lambda = 5.4 at nu = 0.5
+    scene = load_scene(SHELL_SCHEMA, None, ["shell.phi_hat=1.0", f"shell.h={h!r}", "shell.N=160", "view.harmonics=3",
+                                            "stability.harmonics=true", "stability.follow=true", "output.figure=false"])
+    result = run_scene(scene)
+    assert result.success, result.message
+    f = result.summary["followed"]
+    assert f["path"][-1]["symmetry"] == "O(2)" and f["path"][-1]["ended"] == "end of load"
+    assert f["classification"] == result.summary["classification"] == "monostable"
+    assert f["F_min_norm"] == pytest.approx(result.summary["F_min_norm"], rel=1e-6)

@@ -540,11 +540,25 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, K: 
         u_from, kick = np.asarray(bp.u), None if null is None else np.asarray(null, dtype=float)
     for _ in range(MAX_DESCENTS):
         jr = _jump(view, u_from, p_snap, direction=kick)
+        if not jr.success and stop.kind == "fold" and jr.message.startswith(LINE_SEARCH_FAILED):
+            jr = _stays(jr)
         if not jr.success:
             out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land "
                            f"on a stable state: {jr.message}")
             return None
-        landed = _landing(source, view, jr, p_snap, st, label)
+        try:
+            landed = _landing(source, view, jr, p_snap, st, label)
+        except ValueError as exc:
+            if jr.info.get("stays"):
+                out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not "
+                               f"land on a stable state: {jr.info['descent']}; the state there is not an equilibrium "
+                               f"past it either ({exc})")
+                return None
+            raise
+        if jr.info.get("stays") and landed[0] is None:
+            out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land "
+                           f"on a stable state: {jr.info['descent']}; the state there is not stable past it either")
+            return None
         if landed[0] is not None:
             nxt, u_next, sym = landed
             out.snaps.append(Snap(piece.index, len(out.pieces), p_snap, view, sym.label, jr))
@@ -556,6 +570,25 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, K: 
     out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} found no stable state "
                    f"after {MAX_DESCENTS} descents, each breaking the symmetry the last landed with")
     return None
+
+
+#: How :func:`contin.jump` says that its descent stopped because no step along its direction lowers the energy.
+LINE_SEARCH_FAILED = "line search failed"
+
+
+def _stays(jr: Any) -> Any:
+    """A descent from a fold that stopped where no step lowers the energy, its last state taken as the landing, to be
+    checked.
+
+    Where an ``n``-wave branch rejoins a stable branch at a pitchfork (the end of a bubble of it), its fold in the load
+    is that junction, and the state just past it is next to an equilibrium of the branch rejoined: there is no snap,
+    and the descent stalls at once on the flat energy, short of its gradient tolerance.  Its last state is then the
+    landing if Newton's method at the load past the fold makes it a stable equilibrium (:func:`_landing` decides; the
+    caller reports the descent's failure where it does not)."""
+    return dataclasses.replace(jr, success=True,
+                               message="no snap: the state past the fold is next to a stable equilibrium (a branch "
+                                       "rejoined), reached by Newton's method",
+                               info={**jr.info, "stays": True, "descent": jr.message})
 
 
 def _load(problem: Problem, u: np.ndarray) -> float:
