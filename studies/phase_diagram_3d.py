@@ -363,6 +363,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     decided = [c for c in cells if c["followed_class"] is not None and c["axi_class"] is not None]
     bistable = [c for c in decided if c["axi_class"] == "bistable"]
+    # a followed path cut short after its force fell below zero is bistable with its least force unknown
+    ratios = [c["followed_F_min"] / c["axi_F_min"] for c in bistable if c["followed_F_min"] is not None]
     summary = {
         "nu": NU, "N": N, "K": K, "grid": {"phi_hat": list(grid["phis"]), "h_over_R": list(grid["hs"])},
         "cells": len(cells), "classified_both_ways": len(decided),
@@ -373,8 +375,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "axisymmetric_bistable_cells": len(bistable),
         "of_them_bistable_followed": sum(c["followed_class"] == "bistable" for c in bistable),
         "left_axisymmetric": sum(bool(c["left_axisymmetric"]) for c in decided),
-        "F_min_ratio_range": ([min(c["followed_F_min"] / c["axi_F_min"] for c in bistable),
-                               max(c["followed_F_min"] / c["axi_F_min"] for c in bistable)] if bistable else None),
+        "F_min_ratio_range": [min(ratios), max(ratios)] if ratios else None,
         "boundaries": boundaries, "checks": checks, "wall_time_s": times,
     }
     write_json(out / "summary.json", summary)
