@@ -113,7 +113,7 @@ def cell_row(values: dict[str, Any], phi_hat: float, h_over_R: float, label: str
             "axi_F_max": num("F_max_norm"), "axi_F_min": num("F_min_norm"),
             "followed_F_max": num("followed_F_max_norm"), "followed_F_min": num("followed_F_min_norm"),
             "first_n": None if n is None else int(n), "first_w": w_b, "first_F": num("first_bifurcation_F_norm"),
-            "bifurcates_before_F_max": None if w_b is None else bool(w_max is None or w_b < w_max),
+            "bifurcates_before_F_max": None if (w_b is None or w_max is None) else bool(w_b < w_max),
             "snaps": num("followed_n_snaps"), "left_axisymmetric": values.get("followed_left_axisymmetric"),
             "failure": failure}
 
@@ -249,7 +249,7 @@ def plot(data: dict[str, Any]) -> Any:
         colour = CLASS_COLOURS.get(row["followed_class"], "#999999")
         ax.scatter(row["phi_hat"], row["h_over_R"], s=70, color=colour, zorder=3,
                    edgecolors="#D00000" if row["differs"] else "none", linewidths=2.0)
-        if row["bifurcates_before_F_max"]:
+        if row["bifurcates_before_F_max"] and row["axi_F_max"] is not None:
             ax.scatter(row["phi_hat"], row["h_over_R"], s=22, marker="x", color="k", zorder=4, linewidths=1.0)
     markers = {"bistable": "D", "monotonous": "s", "bifurcation": "^"}
     for kind in markers:
@@ -274,12 +274,12 @@ def plot(data: dict[str, Any]) -> Any:
     sc = bx.scatter([r["lambda"] for r in rows], [r["followed_F_min"] / r["axi_F_min"] for r in rows],
                     c=[r["phi_hat"] for r in rows], cmap="viridis", s=30, zorder=3)
     checks = [c for c in data.get("minimum_checks", []) if "followed_F_min" in c]
-    for lam in sorted({c["lambda"] for c in checks}):
-        cs = sorted((c for c in checks if c["lambda"] == lam), key=lambda c: c["K"])
-        bx.plot([lam] * len(cs), [c["followed_F_min"] / c["axi_F_min"] for c in cs], "k_", ms=12)
-        for c in cs:
-            bx.annotate(f"K={c['K']}", (lam, c["followed_F_min"] / c["axi_F_min"]), xytext=(6, 0),
-                        textcoords="offset points", fontsize=6.5, va="center")
+    for K, marker in zip(sorted({c["K"] for c in checks}), ("_", "x", "+", "1", "2")):
+        cs = [c for c in checks if c["K"] == K]
+        bx.plot([c["lambda"] for c in cs], [c["followed_F_min"] / c["axi_F_min"] for c in cs], marker, color="k",
+                ms=11, mew=1.4, ls="none", label=f"$\\hat\\phi$ = 1, K = {K}")
+    if checks:
+        bx.legend(fontsize=7, loc="upper right", title="checks in the harmonics", title_fontsize=7)
     fig.colorbar(sc, ax=bx, label=r"$\hat\phi$")
     bx.axhline(1.0, color="0.6", lw=0.8)
     bx.set_ylim(0.0, 1.1)
