@@ -28,7 +28,7 @@ def test_load_maximum_is_the_vertex_of_a_parabola() -> None:
     assert al.load_maximum(w, w ** 2) is None
 
 
-@pytest.mark.parametrize("lam, n", [(12.0, 4), pytest.param(14.0, 3, marks=pytest.mark.slow)])
+@pytest.mark.parametrize("lam, n", [pytest.param(12.0, 4, marks=pytest.mark.slow), pytest.param(14.0, 3, marks=pytest.mark.slow)])
 def test_the_first_bifurcation_in_the_shallow_limit_is_the_shallow_theory_s(lam: float, n: int) -> None:
     case = al.apex_case(lam, al.SHALLOW, N_SHELL, 2, branch=False)
     path, P = shallow_path(lam, 22.0)

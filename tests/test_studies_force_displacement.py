@@ -36,7 +36,9 @@ from tests.figure_check import assert_figure
 CASES = {"checked": ((0.8, 1.1, 1.2, 1.3), (0.03, 0.04, 0.07)), "fast": (study.PHI_3A, study.H_3B)}
 
 
-@pytest.fixture(scope="module", params=["checked", pytest.param("fast", marks=pytest.mark.slow)])
+# the study's run takes seconds: behind ``slow`` (the default test run's time)
+@pytest.fixture(scope="module", params=[pytest.param("checked", marks=pytest.mark.slow),
+                                        pytest.param("fast", marks=pytest.mark.slow)])
 def result(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, dict[str, Any], tuple]:
     out = tmp_path_factory.mktemp(f"force_displacement_{request.param}")
     phis, hs = CASES[request.param]

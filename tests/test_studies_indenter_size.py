@@ -57,7 +57,9 @@ def fast_study(tmp_path_factory) -> tuple:
         indenter_size.TOL_FAST
 
 
-@pytest.fixture(scope="module", params=["small", pytest.param("fast", marks=pytest.mark.slow)])
+# the study's run takes seconds: behind ``slow`` (the default test run's time)
+@pytest.fixture(scope="module", params=[pytest.param("small", marks=pytest.mark.slow),
+                                        pytest.param("fast", marks=pytest.mark.slow)])
 def study(request) -> tuple:
     """The study's outputs, its summary, its radii and the resolution of its ``r_c`` bisection."""
     return request.getfixturevalue(f"{request.param}_study")
@@ -96,6 +98,7 @@ def test_writes_figures_tables_and_summary(study):
     assert (out / "bisection.csv").is_file()
 
 
+@pytest.mark.slow
 def test_small_run_bisects_once(small_study):
     """The small run's bisection: one round, at the bracket's midpoint, in this process's table."""
     out, S, _, _ = small_study

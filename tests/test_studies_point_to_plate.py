@@ -34,7 +34,9 @@ from tests.figure_check import assert_figure
 RADII = {"ends": (min(study.RADII_FAST), max(study.RADII_FAST)), "fast": study.RADII_FAST}
 
 
-@pytest.fixture(scope="module", params=["ends", pytest.param("fast", marks=pytest.mark.slow)])
+# the study's run takes seconds: behind ``slow`` (the default test run's time)
+@pytest.fixture(scope="module", params=[pytest.param("ends", marks=pytest.mark.slow),
+                                        pytest.param("fast", marks=pytest.mark.slow)])
 def result(request: pytest.FixtureRequest,
            tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, dict[str, Any], list[dict[str, Any]], tuple]:
     out = tmp_path_factory.mktemp(f"point_to_plate_{request.param}")
