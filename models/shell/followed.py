@@ -548,16 +548,14 @@ def _snap(piece: Piece, stop: SpecialPoint, source: Problem, structure: Any, K: 
             return None
         try:
             landed = _landing(source, view, jr, p_snap, st, label)
-        except ValueError as exc:
-            if jr.info.get("stays"):
-                out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not "
-                               f"land on a stable state: {jr.info['descent']}; the state there is not an equilibrium "
-                               f"past it either ({exc})")
-                return None
-            raise
+        except ValueError:  # Newton's method does not make the state an equilibrium in the view of its symmetry
+            if not jr.info.get("stays"):
+                raise
+            landed = (None, None, None)
         if jr.info.get("stays") and landed[0] is None:
             out.message = (f"the snap from the {stop.kind} at {problem.parameter_name} = {stop.p:.10g} did not land "
-                           f"on a stable state: {jr.info['descent']}; the state there is not stable past it either")
+                           f"on a stable state: {jr.info['descent']}; nor is the state where it stalled a stable "
+                           "equilibrium past the fold")
             return None
         if landed[0] is not None:
             nxt, u_next, sym = landed

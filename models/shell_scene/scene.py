@@ -246,7 +246,6 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
         if first["kind"] == "bifurcation":
             values.update({"first_bifurcation_n": first["n"], "first_bifurcation_w_over_R": first.get("w_over_R"),
                            "first_bifurcation_F_norm": first.get("F_norm")})
-        if first["kind"] == "bifurcation":
             waves = "1 circumferential wave" if first["n"] == 1 else f"{first['n']} circumferential waves"
             whose = ("the class above is the followed path's (below)" if followed is not None else
                      "the class is that of the axisymmetric path, which the shell leaves there (stability.follow = "
@@ -262,8 +261,8 @@ def classify_scene(scene: Scene, progress: bool = False) -> Classification:
         # flat copies for a sweep's table, which keeps numbers and flags only
         values.update({f"followed_{k}": followed.get(k) for k in ("F_max_norm", "w_at_F_max", "F_min_norm",
                                                                   "w_at_F_min", "n_snaps")})
-        values["followed_left_axisymmetric"] = followed.get("status") == "completed" and any(
-            item.get("symmetry") not in (None, "O(2)") for item in followed.get("path", ()))
+        values["followed_left_axisymmetric"] = any(item.get("symmetry") not in (None, "O(2)")
+                                                   for item in followed.get("path", ()))
         lines.append(f"followed path: {followed.get('message')}; {followed.get('left_axisymmetric')}")
         if followed.get("F_max") is not None:
             lines.append(f"followed path: first local maximum of F = {followed['F_max']:.6g} at w = "
