@@ -276,11 +276,14 @@ def test_a_path_cut_by_the_automatic_step_limit_on_a_coarse_mesh_is_told_to_refi
     import importlib
 
     from contin.app.scene import load_scene
+    from contin_models.shell_scene import schema
     from contin_models.shell_scene.scene import WRINKLE_NODES, run_scene, winding_advice
     from contin_models.shell_scene.schema import nodes_per_bending_length
 
     build = importlib.import_module("contin_models.shell_scene.build")  # the package's name 'build' is a function
     monkeypatch.setattr(build, "AUTO_MAX_STEPS", 40)  # the limit itself is 200000 steps: minutes of winding
+    # the wrinkle rule refuses this cap at validation; the advice is for the paths it does not cover
+    monkeypatch.setattr(schema, "WRINKLE_DEPTH", math.inf)
     scene = load_scene(SHELL_SCHEMA, None, WINDING_CAP + ["output.figure=false"])
     result = run_scene(scene)
     assert result.status == "incomplete"
@@ -292,6 +295,32 @@ def test_a_path_cut_by_the_automatic_step_limit_on_a_coarse_mesh_is_told_to_refi
     assert winding_advice(chosen) is None
     fine = load_scene(SHELL_SCHEMA, None, WINDING_CAP[:-1] + [f"shell.N={needed}"])
     assert winding_advice(fine) is None
+
+
+def test_a_deep_cap_whose_path_crosses_its_wrinkled_middle_is_refused_below_the_wrinkle_mesh() -> None:
+    """The cap of WINDING_CAP winds for 200000 steps on its own mesh: validation refuses it with the number of
+    nodes its middle needs, while the scenes whose path does not cross that middle on the same mesh pass."""
+    from contin.app.scene import SceneError, load_scene
+    from contin_models.shell.boundaries import depth_parameter
+    from contin_models.shell_scene.schema import WRINKLE_DEPTH, wrinkle_nodes
+
+    with pytest.raises(SceneError, match=r"lambda = 33\.5\) needs shell\.N >= 157 for its path's middle"):
+        load_scene(SHELL_SCHEMA, None, WINDING_CAP)
+    scene = load_scene(SHELL_SCHEMA, None, WINDING_CAP[:-1] + ["shell.N=157"])
+    assert wrinkle_nodes(scene["shell"]) == 157
+    # the point force on the paper's cap snaps over the middle; on a pinned edge it traces it
+    load_scene(SHELL_SCHEMA, None, WINDING_CAP + ["load.control=force"])
+    with pytest.raises(SceneError, match="path's middle"):
+        load_scene(SHELL_SCHEMA, None, WINDING_CAP + ["load.control=force", "shell.boundary=pinned"])
+    # a ring near the pole loads the cap as a point does; a wider one ends at its own eversion first
+    edge = 404.6728351562885 * math.cos(0.42974739211929047)
+    with pytest.raises(SceneError, match="path's middle"):
+        load_scene(SHELL_SCHEMA, None, WINDING_CAP + ["load.kind=ring", f"load.ring_radius={0.2 * edge}"])
+    load_scene(SHELL_SCHEMA, None, WINDING_CAP + ["load.kind=ring", f"load.ring_radius={0.3 * edge}"])
+    # a shallower cap on as coarse a mesh: below the depth at which the middle wrinkles so
+    shallower = [k for k in WINDING_CAP if not k.startswith("shell.h=")] + [f"shell.h={1.5456817528166313 * 1.3}"]
+    shell = load_scene(SHELL_SCHEMA, None, shallower)["shell"]
+    assert depth_parameter(shell["phi_hat"], shell["h"] / shell["R"], shell["nu"]) < WRINKLE_DEPTH
 
 
 @pytest.mark.slow

@@ -9,14 +9,14 @@ This is the one place that combines the shell (:mod:`contin_models.shell`) with 
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from contin.app.scene import Classification, Constraint, SceneError, SceneModel, TraceResult, check_classifiable
 
 # the runners (and with them the shell, numpy and the engine) are imported when a scene runs: loading
 # SHELL_SCENE, as the command line does for its help and to check a scene, reads the schema only
-from .schema import MIN_NODES_PER_BENDING_LENGTH, SHELL_SCHEMA, Scene, nodes_per_bending_length, run_time_forecast
+from .schema import (MIN_NODES_PER_BENDING_LENGTH, SHELL_SCHEMA, WRINKLE_NODES, Scene, nodes_per_bending_length,
+                     run_time_forecast, wrinkle_nodes)
 
 __all__ = ["SHELL_SCENE", "RESTART_FIXED", "classify_scene", "resume_scene", "run_scene"]
 
@@ -136,14 +136,6 @@ def mesh_advice(scene: Scene) -> str:
             f"or a smaller continuation.ds_max")
 
 
-#: Nodes over the bending length that the middle of a thin deep cap's path needs: there a train of
-#: meridional wrinkles, each about 0.4 ``sqrt(R h)`` long, runs from the edge to the pole, and on a
-#: coarser mesh the train breaks up into a path that folds back and forth without reaching its end.
-#: Measured on four such paths: they wind with 4 to 7.2 nodes and end with 7.2 to 8.5
-#: (``docs/robustness.md``).
-WRINKLE_NODES = 8.5
-
-
 def winding_advice(scene: Scene) -> str | None:
     """What to try when the automatic step limit cut a path short on a mesh too coarse for its middle, or None.
 
@@ -158,7 +150,7 @@ def winding_advice(scene: Scene) -> str | None:
     per_length = nodes_per_bending_length(s)
     if per_length >= WRINKLE_NODES:
         return None
-    needed = math.ceil(WRINKLE_NODES / nodes_per_bending_length(s, N=1))
+    needed = wrinkle_nodes(s)
     return (f"the path wound through folds until the automatic step limit, on a mesh with {per_length:.1f} nodes "
             f"over the bending length sqrt(R h); in the middle of a thin deep cap's path a train of wrinkles "
             f"about 0.4 sqrt(R h) long forms, and with fewer than {WRINKLE_NODES:g} nodes over that length the "

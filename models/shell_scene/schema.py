@@ -32,7 +32,8 @@ from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
 __all__ = ["SHELL_SCHEMA", "shell_first_instability", "instability_text", "harmonic_summary", "record_fields",
            "record_instability", "MAX_NODES", "LARGE_MESH", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene",
-           "eversion_displacement", "minimum_nodes", "symmetry_order", "nodes_per_bending_length", "run_time_forecast", "STALL_STEPS",
+           "eversion_displacement", "minimum_nodes", "WRINKLE_NODES", "WRINKLE_DEPTH", "POINT_LIKE_RING",
+           "crosses_wrinkled_middle", "wrinkle_nodes", "symmetry_order", "nodes_per_bending_length", "run_time_forecast", "STALL_STEPS",
            "AUTO_MAX_STEPS"]
 
 Scene = dict[str, dict[str, Any]]
@@ -66,6 +67,65 @@ AUTO_MAX_STEPS = 200_000
 
 #: Nodes per bending length ``sqrt(R h)`` below which a scene is refused (``shell.N``).
 MIN_NODES_PER_BENDING_LENGTH = 4
+
+#: Nodes over the bending length that the middle of a thin deep cap's connected path needs: there a train
+#: of meridional wrinkles, each about 0.4 ``sqrt(R h)`` long, runs from the edge to the pole, and on a
+#: coarser mesh the train breaks up into a path that folds back and forth without reaching its end.
+#: Measured on such paths: they wind with 4 to 7.2 nodes and end with 7.2 to 8.5 (``docs/robustness.md``).
+WRINKLE_NODES = 8.5
+#: The cap's depth ``lambda`` (:func:`contin_models.shell.boundaries.depth_parameter`, the paper's) beyond which
+#: a connected path through the middle wrinkles so (the caps measured: winding from 33.5 on, none at 29.2).
+WRINKLE_DEPTH = 30.0
+#: A ring inside this fraction of the edge's radius loads the cap as a point does: its path crosses the
+#: wrinkled middle (measured: rings at 0.11 to 0.22 of the edge's radius wind, from 0.30 on none).
+POINT_LIKE_RING = 0.25
+
+
+def crosses_wrinkled_middle(scene: dict[str, dict[str, Any]]) -> bool:
+    """Whether the scene traces a deep spherical cap's connected path through its wrinkled middle.
+
+    That path is traced for a point load under displacement control, a point load on a cap other than the
+    paper's (another support or an imperfection) under either control, and a ring inside
+    :data:`POINT_LIKE_RING` of the edge's radius under either control; a point force on the paper's cap
+    snaps over the middle (its energy descent lands beyond it), and a wider ring's path ends at the ring's
+    own eversion first.  The cap is deep when its ``lambda`` exceeds :data:`WRINKLE_DEPTH`.  The measurements
+    behind the rule are on the axisymmetric trace, so the 3-D view and the followed path are not covered.
+    """
+    shell, load = scene["shell"], scene["load"]
+    if (shell.get("geometry", "sphere") != "sphere" or load["kind"] not in ("point", "ring")
+            or scene["view"]["kind"] != "axisymmetric" or scene["stability"]["follow"] or not _thin(scene)):
+        return False
+    if load["kind"] == "ring" and load["ring_radius"] >= POINT_LIKE_RING * base_radius(shell):
+        return False
+    papers_cap = shell["boundary"] == "sliding" and scene["imperfection"]["kind"] == "none"
+    if load["kind"] == "point" and load["control"] == "force" and papers_cap:
+        return False
+    return _depth(shell) > WRINKLE_DEPTH
+
+
+def _depth(shell: dict[str, Any]) -> float:
+    """The spherical cap's ``lambda`` (:func:`contin_models.shell.boundaries.depth_parameter`)."""
+    from contin_models.shell.boundaries import depth_parameter  # the shell's modules load only for a cap that may need it
+
+    return float(depth_parameter(shell["phi_hat"], shell["h"] / shell["R"], shell["nu"]))
+
+
+def wrinkle_nodes(shell: dict[str, Any]) -> int:
+    """Fewest nodes that put :data:`WRINKLE_NODES` nodes over the bending length ``sqrt(R h)``."""
+    return math.ceil(WRINKLE_NODES / nodes_per_bending_length(shell, N=1) - 1e-9)
+
+
+def _wrinkle_mesh_ok(scene: dict[str, dict[str, Any]]) -> bool:
+    """The mesh rule of a path through a deep cap's wrinkled middle (:func:`crosses_wrinkled_middle`)."""
+    return not crosses_wrinkled_middle(scene) or scene["shell"]["N"] >= wrinkle_nodes(scene["shell"])
+
+
+def _wrinkle_mesh_needs(scene: dict[str, dict[str, Any]]) -> str:
+    """What the wrinkle rule asks of this scene's ``shell.N``, as numbers."""
+    shell = scene["shell"]
+    return (f"this cap (lambda = {_depth(shell):.1f}) needs shell.N >= {wrinkle_nodes(shell)} for its path's middle "
+            f"(shell.N = {shell['N']} puts {nodes_per_bending_length(shell):.2g} nodes over the bending length)")
+
 
 def _shape_error(scene: dict[str, dict[str, Any]]) -> str:
     """Why the scene's shape cannot be built (the torispherical head's proportions, the table's file), or ``""``."""
@@ -363,6 +423,19 @@ SHELL_SCHEMA = Schema(
                    "nodes over it the discrete path winds through spurious folds and snaps (random scenes below "
                    "the rule failed 12 times in 15, studies/fuzz.py); refine the mesh",
                    detail=_mesh_needs),
+        Constraint(("shell.N", "shell.h", "shell.R", "shell.phi_hat", "shell.nu", "load.kind", "load.control"),
+                   _wrinkle_mesh_ok,
+                   f"shell.N >= {WRINKLE_NODES:g} (pi/2 - phi_hat) / sqrt(h/R) on a spherical cap deeper than lambda = "
+                   f"{WRINKLE_DEPTH:g} (lambda = (12 (1 - nu^2))^(1/4) (pi/2 - phi_hat) / sqrt(h/R)) whose path crosses its "
+                   f"middle: a point load under displacement control (on "
+                   f"another support or an imperfect cap also under force control), or a ring inside "
+                   f"{POINT_LIKE_RING:g} of the edge's radius",
+                   "in the middle of such a path, between the cap and its mirror image, a train of meridional "
+                   "wrinkles about 0.4 sqrt(R h) long runs from the edge to the pole; with fewer than "
+                   f"{WRINKLE_NODES:g} nodes over sqrt(R h) the train breaks up and the discrete path folds back and "
+                   "forth for hundreds of thousands of steps without reaching its end (docs/robustness.md); refine "
+                   "the mesh, or trace a point load under force control, which snaps over the middle",
+                   detail=_wrinkle_mesh_needs),
         Constraint(("shell.geometry", "shell.a", "shell.R", "shell.knuckle"), _shape_ok("torus"),
                    "a buildable shape: torus 0 < shell.knuckle < shell.a < shell.R",
                    "the torispherical head's knuckle joins its crown inside the base radius"),
