@@ -169,3 +169,34 @@ def test_a_stiff_model_passes_from_rest_and_a_wrong_load_derivative_still_fails(
     P.dresidual_dp = lambda u, p: 1.05 * exact(u, p)
     report = contin.check_problem(P, np.zeros(P.shell.n), 0.0)
     assert "df/dp" in [r.name for r in report.failures], str(report)
+
+
+class _PressedOnABarrier(Problem):
+    """Four unknowns held by springs and a load against a log barrier at ``u = 1``, each within a small
+    fraction of its own size of it (a contact next to an indenter): the residual curves on the scale of
+    that gap, far below the scale of ``u`` that the check's steps are measured in."""
+
+    def __init__(self, jacobian_error: float = 0.0) -> None:
+        super().__init__(symmetric=True, name="pressed on a barrier", parameter_name="F")
+        self.mu, self.jacobian_error = 1e-9, jacobian_error
+
+    def residual(self, u, p):
+        return (u - 2.0) + p + self.mu / (u - 1.0)
+
+    def jacobian(self, u, p):
+        return (1.0 + self.jacobian_error) * np.diag(1.0 - self.mu / (u - 1.0) ** 2)
+
+    def dresidual_dp(self, u, p):
+        return np.ones(u.size)
+
+
+@pytest.mark.parametrize("gap", [3e-7, 1e-7])
+def test_a_residual_curved_sharply_next_to_a_barrier_passes_and_a_wrong_jacobian_there_fails(gap: float) -> None:
+    """At steps of 1e-7 of the unknowns' scale the central difference's truncation error is 3 % (gap 3e-7)
+    or 30 % (1e-7) of the exact Jacobian; a step of 1e-9 resolves it, and still sees a Jacobian 5 % off."""
+    u = 1.0 + gap * np.array([1.0, 1.3, 1.7, 2.0])
+    exact = _PressedOnABarrier()
+    p = float(np.mean(-exact.residual(u, 0.0)))
+    assert check_problem(exact, u, p).ok
+    report = check_problem(_PressedOnABarrier(jacobian_error=0.05), u, p)
+    assert not report.ok and "Jacobian differs" in report.summary()

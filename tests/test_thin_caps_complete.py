@@ -2,8 +2,10 @@
 
 Random scenes (thin caps, h/R <= 5e-3, most with nu < 0) failed in three ways: the snap did not
 land on a stable state (A-D), the branch after a snap could not start because Newton refused a state
-next to a soft mode (E), or the path ran out of the fixed step limit (F, G).  Each runs as the
-command does, with its own mesh, and must end with exit status 0 and status ok.
+next to a soft mode (E), or the path ran out of the fixed step limit (F, G); a wide sphere under a dead
+load ran out of its snaps as its contact ring widened node by node, and another's model check at a
+landing took the barrier's sharp curvature for a wrong Jacobian.  Each runs as the command does, with
+its own mesh, and must end with exit status 0 and status ok.
 """
 
 from __future__ import annotations
@@ -25,17 +27,36 @@ SCENES = {
                                         kind="point", control="force"),
     "F steps": dict(phi_hat=1.1273, h=1.064e-3, nu=-0.143, N=200, kind="point", control="displacement"),
     "G steps": dict(phi_hat=0.9354, h=1.018e-3, nu=-0.451, N=200, kind="point", control="displacement"),
+    # scene 60 of ``python -m studies.fuzz --count 300 --seed 34``: a wide sphere's contact ring widens node by
+    # node under the dead load, eight small snaps before the cap's own
+    "sphere force, contact steps": dict(phi_hat=0.8347911913768438, R=7.924548781735779, h=0.023781707226957716,
+                                        nu=0.31595120101740515, N=129, E=90330338146.67831, kind="sphere",
+                                        control="force", radius=9.404172411716775),
+    # scene 213 of the same draw: after its fifth snap the model check at the landing saw the barrier's
+    # curvature next to a contact as a wrong Jacobian (2.4 %), until it also tried a smaller step
+    "sphere force, check next to a contact": dict(phi_hat=1.0422861177856426, R=0.0018500504448998503,
+                                                  h=2.7339266376107774e-06, nu=-0.16968238045820427, N=69,
+                                                  E=72486.23945023074, kind="sphere", control="force",
+                                                  radius=0.0018232633954854238),
 }
 # H (phi_hat 0.4193, h/R 5.13e-3, N 80) ends back at w = 0: tests/test_path_range.py::test_the_coarse_deep_cap_ends.
-# The ninth scene of the issue, phi_hat 0.7578, h/R 1.314e-3, N 120 (displacement control), still runs out
-# of its 200000 steps while winding near w/R = 0.31 (also at N = 135 and 160): docs/robustness.md.
+# The ninth scene of the issue, I (phi_hat 0.7578, h/R 1.314e-3, N 120, displacement control), winds for its
+# 200000 steps near w/R = 0.31 (also at N = 135 and 160) and ends at N = 190: validation refuses it.
+I_SCENE = dict(phi_hat=0.7578, h=1.314e-3, N=120, kind="point", control="displacement")
 
 
 def argv_of(keys: dict) -> list[str]:
     argv = ["trace", "-q", "--set", "output.figure=false"]
     for key, value in keys.items():
-        argv += ["--set", f"{'load' if key in ('kind', 'control') else 'shell'}.{key}={value}"]
+        argv += ["--set", f"{'load' if key in ('kind', 'control', 'radius') else 'shell'}.{key}={value}"]
     return argv
+
+
+def test_the_winding_scene_is_refused_with_the_mesh_its_middle_needs(capsys) -> None:
+    from contin.app.cli import main
+
+    assert main(argv_of(I_SCENE)) == 2
+    assert "this cap (lambda = 38.8) needs shell.N >= 191 for its path's middle" in capsys.readouterr().err
 
 
 @pytest.mark.slow

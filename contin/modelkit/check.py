@@ -49,8 +49,12 @@ SYMMETRY_TOL = 1e-8
 #: Finite-difference steps tried, relative to the start point's scales (central differences), in
 #: turn until one agrees.  The largest is for stiff models whose residual's rounding noise swamps the
 #: smaller ones (the point-loaded cap in displacement form at N = 200 from rest: 1.8 % at the best
-#: of 1e-5 and 1e-7 along its tangent, 2e-4 at 1e-3).
-FD_STEPS = (1e-5, 1e-7, 1e-3)
+#: of 1e-5 and 1e-7 along its tangent, 2e-4 at 1e-3).  The smallest is for a residual that curves
+#: sharply on the start point's scales: a log barrier whose contact lies a small fraction of its range
+#: from the indenter, where the central difference's truncation error falls as the step squared and
+#: is still a few percent at 1e-7 (a sphere pressing a thin cap after a snap: 2.4 % at the best of the
+#: three larger steps, about 1e-5 at 1e-9 along random directions).
+FD_STEPS = (1e-5, 1e-7, 1e-3, 1e-9)
 
 
 class ModelCheckError(ValueError):

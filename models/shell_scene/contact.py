@@ -58,7 +58,8 @@ from .labels import force_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene, instability_text, record_instability
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
-           "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS"]
+           "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS",
+           "CONTACT_STEPS_PER_NODE"]
 
 #: ``F R / (2 pi D)`` below which a loading stretch counts as having reached the snap (F -> 0).
 SNAP_FORCE_NORM = 1e-4
@@ -75,6 +76,10 @@ FORCE_END_NORM = 100.0
 _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
 #: Snaps a trace may make before eversion (a plate dimples, then everts; more means the trace is lost).
 MAX_SNAPS = 4
+#: Snaps a force-controlled trace may make besides those, per node of the meridian: under a dead load the
+#: contact ring of a wide indenter (``r/R`` about 1 or more) can widen node by node, each node a small snap
+#: of the discrete shell (a jump of less than a node spacing in travel) before the cap's own snap.
+CONTACT_STEPS_PER_NODE = 1
 #: What the diagram's axes show.
 def _plot_options(scene: Scene, D: float) -> dict[str, Any]:
     """The diagram in the cap's reference units (indenter travel w_b/R, force F R/(2 pi D)), titled by the scene.
@@ -168,7 +173,8 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
     stiffness = rest_stiffness(point_problem(scene, "force"), problem.R)
     # the load weighed as on the point-loaded cap (rest_stiffness: a force k R counts as R); the
     # target load is never reached: the travel bounds end the sweep
-    qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=MAX_SNAPS,
+    max_snaps = MAX_SNAPS + CONTACT_STEPS_PER_NODE * scene["shell"]["N"]
+    qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=max_snaps,
                             param_weight=1.0 / (stiffness * problem.R), snap=indentation_force_snap_rules(forced, problem.R),
                             bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
     failure = "" if qs.status in ("completed", "stopped") and all(

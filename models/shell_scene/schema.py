@@ -74,7 +74,7 @@ MIN_NODES_PER_BENDING_LENGTH = 4
 #: Measured on such paths: they wind with 4 to 7.2 nodes and end with 7.2 to 8.5 (``docs/robustness.md``).
 WRINKLE_NODES = 8.5
 #: The cap's depth ``lambda`` (:func:`contin_models.shell.boundaries.depth_parameter`, the paper's) beyond which
-#: a connected path through the middle wrinkles so (the caps measured: winding from 33.5 on, none at 29.2).
+#: a connected path through the middle wrinkles so (the caps measured: winding from 30.0 on, none up to 27.8).
 WRINKLE_DEPTH = 30.0
 #: A ring inside this fraction of the edge's radius loads the cap as a point does: its path crosses the
 #: wrinkled middle (measured: rings at 0.11 to 0.22 of the edge's radius wind, from 0.30 on none).
