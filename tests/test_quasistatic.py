@@ -316,3 +316,23 @@ def test_a_supercritical_pitchfork_is_not_a_snap() -> None:
     res = quasistatic(Pitchfork(), np.zeros(2), -1.0, 1.0)
     assert res.status == "branch_point" and res.jumps == []
     assert "stable bifurcating branch" in res.message and "switch_branch" in res.message
+
+
+def test_a_point_a_hair_before_its_terminal_fold_may_carry_the_folds_eigenvalue() -> None:
+    """Next to a stiff contact the fold's eigenvalue at the stored point before the located fold came out
+    -1.4e-6 (0.26 the next one) at an arclength of 1.7e-6 from the fold after a step of 2.1e-4: that point
+    is the fold, not an instability the sweep missed.  Farther from the fold, or with a second negative
+    eigenvalue, it still ends the sweep."""
+    from types import SimpleNamespace
+
+    from contin.analyses.quasistatic import _first_unstable
+
+    fold = SimpleNamespace(kind="fold")
+    s_fold = 0.0039725
+    at_the_fold = SimpleNamespace(n_negative=[0, 0, 1, 1], s=[0.0036, 0.0037603, s_fold - 1.7e-6, s_fold])
+    assert _first_unstable(at_the_fold, fold) is None
+    before_it = SimpleNamespace(n_negative=[0, 0, 1, 1], s=[0.0036, 0.0037603, s_fold - 1e-5, s_fold])
+    assert _first_unstable(before_it, fold) == 2
+    two = SimpleNamespace(n_negative=[0, 0, 2, 1], s=[0.0036, 0.0037603, s_fold - 1.7e-6, s_fold])
+    assert _first_unstable(two, fold) == 2
+    assert _first_unstable(SimpleNamespace(n_negative=[0, 0, 1], s=[0.0, 1.0, 2.0]), None) == 2

@@ -465,10 +465,26 @@ def _terminal_point(br: Branch) -> SpecialPoint | None:
                 None)
 
 
+#: A stored point closer to a terminal fold than this fraction of the step that reached it counts as the
+#: fold itself: the fold's eigenvalue there is zero to within what the state's tolerance fixes, and on a
+#: stiff model (a contact barrier next to its indenter) its computed sign can be either.
+AT_THE_FOLD = 0.01
+
+
 def _first_unstable(br: Branch, terminal: SpecialPoint | None) -> int | None:
-    """Index of the first stored point with a negative eigenvalue (a terminal fold's zero one excluded)."""
+    """Index of the first stored point with a negative eigenvalue (a terminal fold's zero one excluded).
+
+    With a terminal fold (the last stored point) that one eigenvalue is also allowed at the point before it,
+    when that point lies within :data:`AT_THE_FOLD` of its step from the fold.
+    """
     n_neg = np.asarray(br.n_negative)
-    bad = np.flatnonzero((n_neg[:-1] if terminal is not None else n_neg) > 0)
+    if terminal is None:
+        return int(bad[0]) if (bad := np.flatnonzero(n_neg > 0)).size else None
+    n_neg = n_neg[:-1].copy()
+    s = np.asarray(br.s, dtype=float)
+    if len(s) >= 3 and n_neg[-1] == 1 and abs(s[-1] - s[-2]) <= AT_THE_FOLD * abs(s[-1] - s[-3]):
+        n_neg[-1] = 0
+    bad = np.flatnonzero(n_neg > 0)
     return int(bad[0]) if bad.size else None
 
 
