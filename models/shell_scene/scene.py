@@ -150,7 +150,7 @@ def winding_advice(scene: Scene) -> str | None:
     per_length = nodes_per_bending_length(s)
     if per_length >= WRINKLE_NODES:
         return None
-    needed = wrinkle_nodes(s)
+    needed = wrinkle_nodes(s, WRINKLE_NODES)
     return (f"the path wound through folds until the automatic step limit, on a mesh with {per_length:.1f} nodes "
             f"over the bending length sqrt(R h); in the middle of a thin deep cap's path a train of wrinkles "
             f"about 0.4 sqrt(R h) long forms, and with fewer than {WRINKLE_NODES:g} nodes over that length the "

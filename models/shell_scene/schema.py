@@ -32,7 +32,7 @@ from .shape import GEOMETRIES, base_radius, bending_radius, meridian_length
 
 __all__ = ["SHELL_SCHEMA", "shell_first_instability", "instability_text", "harmonic_summary", "record_fields",
            "record_instability", "MAX_NODES", "LARGE_MESH", "MIN_NODES_PER_BENDING_LENGTH", "STABILITY_COLUMNS", "Scene",
-           "eversion_displacement", "minimum_nodes", "WRINKLE_NODES", "WRINKLE_DEPTH", "POINT_LIKE_RING",
+           "eversion_displacement", "minimum_nodes", "WRINKLE_NODES", "MIN_WRINKLE_NODES", "WRINKLE_DEPTH", "POINT_LIKE_RING",
            "crosses_wrinkled_middle", "wrinkle_nodes", "symmetry_order", "nodes_per_bending_length", "run_time_forecast", "STALL_STEPS",
            "AUTO_MAX_STEPS"]
 
@@ -68,25 +68,28 @@ AUTO_MAX_STEPS = 200_000
 #: Nodes per bending length ``sqrt(R h)`` below which a scene is refused (``shell.N``).
 MIN_NODES_PER_BENDING_LENGTH = 4
 
-#: Nodes over the bending length that the middle of a thin deep cap's connected path needs: there a train
-#: of meridional wrinkles, each about 0.4 ``sqrt(R h)`` long, runs from the edge to the pole, and on a
-#: coarser mesh the train breaks up into a path that folds back and forth without reaching its end.
-#: Measured on such paths: they wind with 4 to 7.2 nodes and end with 7.2 to 8.5 (``docs/robustness.md``).
+#: Nodes over the bending length ``sqrt(R h)`` at which every measured path through a deep cap's wrinkled middle
+#: ended: there a train of meridional wrinkles, each about 0.4 ``sqrt(R h)`` long, runs from the edge to the
+#: pole, and on a coarser mesh the train can break up into a path that folds back and forth without reaching
+#: its end (``docs/robustness.md``).  What the advice after such a path asks for.
 WRINKLE_NODES = 8.5
+#: Nodes over ``sqrt(R h)`` below which every measured path through that middle wound (up to 7.13; they
+#: ended from 7.24 on): what the validation rule asks for.
+MIN_WRINKLE_NODES = 7.2
 #: The cap's depth ``lambda`` (:func:`contin_models.shell.boundaries.depth_parameter`, the paper's) beyond which
 #: a connected path through the middle wrinkles so (the caps measured: winding from 30.0 on, none up to 27.8).
 WRINKLE_DEPTH = 30.0
-#: A ring inside this fraction of the edge's radius loads the cap as a point does: its path crosses the
-#: wrinkled middle (measured: rings at 0.11 to 0.22 of the edge's radius wind, from 0.30 on none).
-POINT_LIKE_RING = 0.25
+#: A ring closer to the pole than this many bending lengths ``sqrt(R h)`` loads the cap as a point does: its
+#: path crosses the wrinkled middle (measured: rings at 1.8 to 3.6 wound, from 4.6 on none did).
+POINT_LIKE_RING = 4.0
 
 
 def crosses_wrinkled_middle(scene: dict[str, dict[str, Any]]) -> bool:
     """Whether the scene traces a deep spherical cap's connected path through its wrinkled middle.
 
     That path is traced for a point load under displacement control, a point load on a cap other than the
-    paper's (another support or an imperfection) under either control, and a ring inside
-    :data:`POINT_LIKE_RING` of the edge's radius under either control; a point force on the paper's cap
+    paper's (another support or an imperfection) under either control, and a ring within
+    :data:`POINT_LIKE_RING` bending lengths of the pole under either control; a point force on the paper's cap
     snaps over the middle (its energy descent lands beyond it), and a wider ring's path ends at the ring's
     own eversion first.  The cap is deep when its ``lambda`` exceeds :data:`WRINKLE_DEPTH`.  The measurements
     behind the rule are on the axisymmetric trace, so the 3-D view and the followed path are not covered.
@@ -95,7 +98,7 @@ def crosses_wrinkled_middle(scene: dict[str, dict[str, Any]]) -> bool:
     if (shell.get("geometry", "sphere") != "sphere" or load["kind"] not in ("point", "ring")
             or scene["view"]["kind"] != "axisymmetric" or scene["stability"]["follow"] or not _thin(scene)):
         return False
-    if load["kind"] == "ring" and load["ring_radius"] >= POINT_LIKE_RING * base_radius(shell):
+    if load["kind"] == "ring" and load["ring_radius"] >= POINT_LIKE_RING * math.sqrt(shell["R"] * shell["h"]):
         return False
     papers_cap = shell["boundary"] == "sliding" and scene["imperfection"]["kind"] == "none"
     if load["kind"] == "point" and load["control"] == "force" and papers_cap:
@@ -110,9 +113,10 @@ def _depth(shell: dict[str, Any]) -> float:
     return float(depth_parameter(shell["phi_hat"], shell["h"] / shell["R"], shell["nu"]))
 
 
-def wrinkle_nodes(shell: dict[str, Any]) -> int:
-    """Fewest nodes that put :data:`WRINKLE_NODES` nodes over the bending length ``sqrt(R h)``."""
-    return math.ceil(WRINKLE_NODES / nodes_per_bending_length(shell, N=1) - 1e-9)
+def wrinkle_nodes(shell: dict[str, Any], per_length: float = MIN_WRINKLE_NODES) -> int:
+    """Fewest nodes that put ``per_length`` nodes over the bending length ``sqrt(R h)`` (by default what the
+    validation rule asks, :data:`MIN_WRINKLE_NODES`)."""
+    return math.ceil(per_length / nodes_per_bending_length(shell, N=1) - 1e-9)
 
 
 def _wrinkle_mesh_ok(scene: dict[str, dict[str, Any]]) -> bool:
@@ -425,14 +429,14 @@ SHELL_SCHEMA = Schema(
                    detail=_mesh_needs),
         Constraint(("shell.N", "shell.h", "shell.R", "shell.phi_hat", "shell.nu", "load.kind", "load.control"),
                    _wrinkle_mesh_ok,
-                   f"shell.N >= {WRINKLE_NODES:g} (pi/2 - phi_hat) / sqrt(h/R) on a spherical cap deeper than lambda = "
+                   f"shell.N >= {MIN_WRINKLE_NODES:g} (pi/2 - phi_hat) / sqrt(h/R) on a spherical cap deeper than lambda = "
                    f"{WRINKLE_DEPTH:g} (lambda = (12 (1 - nu^2))^(1/4) (pi/2 - phi_hat) / sqrt(h/R)) whose path crosses its "
                    f"middle: a point load under displacement control (on "
-                   f"another support or an imperfect cap also under force control), or a ring inside "
-                   f"{POINT_LIKE_RING:g} of the edge's radius",
+                   f"another support or an imperfect cap also under force control), or a ring within "
+                   f"{POINT_LIKE_RING:g} sqrt(R h) of the pole",
                    "in the middle of such a path, between the cap and its mirror image, a train of meridional "
                    "wrinkles about 0.4 sqrt(R h) long runs from the edge to the pole; with fewer than "
-                   f"{WRINKLE_NODES:g} nodes over sqrt(R h) the train breaks up and the discrete path folds back and "
+                   f"{MIN_WRINKLE_NODES:g} nodes over sqrt(R h) the train breaks up and the discrete path folds back and "
                    "forth for hundreds of thousands of steps without reaching its end (docs/robustness.md); refine "
                    "the mesh, or trace a point load under force control, which snaps over the middle",
                    detail=_wrinkle_mesh_needs),
