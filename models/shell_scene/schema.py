@@ -116,7 +116,7 @@ def _depth(shell: dict[str, Any]) -> float:
 def wrinkle_nodes(shell: dict[str, Any], per_length: float = MIN_WRINKLE_NODES) -> int:
     """Fewest nodes that put ``per_length`` nodes over the bending length ``sqrt(R h)`` (by default what the
     validation rule asks, :data:`MIN_WRINKLE_NODES`)."""
-    return math.ceil(per_length / nodes_per_bending_length(shell, N=1) - 1e-9)
+    return minimum_nodes(shell, per_length)
 
 
 def _wrinkle_mesh_ok(scene: dict[str, dict[str, Any]]) -> bool:
@@ -504,15 +504,18 @@ def nodes_per_bending_length(shell: dict[str, Any], N: int | None = None) -> flo
     return (shell["N"] if N is None else N) * math.sqrt(rho * shell["h"]) / arc
 
 
-def minimum_nodes(shell: dict[str, Any]) -> int:
-    """Fewest nodes that put :data:`MIN_NODES_PER_BENDING_LENGTH` nodes over the bending length ``sqrt(R h)``.
+def minimum_nodes(shell: dict[str, Any], per_length: float = MIN_NODES_PER_BENDING_LENGTH) -> int:
+    """Fewest nodes that put ``per_length`` nodes over the bending length ``sqrt(R h)`` (by default what the
+    mesh rule asks, :data:`MIN_NODES_PER_BENDING_LENGTH`).
 
     Parameters
     ----------
     shell : dict
         The scene's ``[shell]`` section (``R``, ``h``, ``phi_hat``).
+    per_length : float
+        Nodes wanted over the bending length.
     """
-    return math.ceil(MIN_NODES_PER_BENDING_LENGTH / nodes_per_bending_length(shell, N=1) - 1e-9)
+    return math.ceil(per_length / nodes_per_bending_length(shell, N=1) - 1e-9)
 
 
 def run_time_forecast(scene: Scene) -> str | None:
