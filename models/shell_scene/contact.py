@@ -58,8 +58,7 @@ from .labels import force_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene, instability_text, record_instability
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
-           "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS",
-           "CONTACT_STEPS_PER_NODE"]
+           "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS", "CONTACT_STEPS_PER_NODE"]
 
 #: ``F R / (2 pi D)`` below which a loading stretch counts as having reached the snap (F -> 0).
 SNAP_FORCE_NORM = 1e-4
@@ -74,7 +73,8 @@ FORCE_END_NORM = 100.0
 #: Relative travel past the snap at which the jump minimises, tried in turn (a hair past the snap
 #: no equilibrium is near, so the minimisation has to leave for the distant stable state).
 _OVERSHOOTS = (1e-6, 1e-5, 1e-4, 1e-3)
-#: Snaps a trace may make before eversion (a plate dimples, then everts; more means the trace is lost).
+#: Snaps a trace may make before eversion (a plate dimples, then everts; more means the trace is lost); a
+#: force-controlled trace may also make the contact steps of :data:`CONTACT_STEPS_PER_NODE`.
 MAX_SNAPS = 4
 #: Snaps a force-controlled trace may make besides those, per node of the meridian: under a dead load the
 #: contact ring of a wide indenter (``r/R`` about 1 or more) can widen node by node, each node a small snap
