@@ -160,3 +160,42 @@ def test_the_volume_end_is_settable(capsys: pytest.CaptureFixture, tmp_path: Pat
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["dV_end"] == pytest.approx(0.1 * summary["V0"], rel=1e-12)
     assert "stopped at p_max" in summary["message"] and summary["p_snap"] is None  # before the pressure maximum
+
+
+def test_a_wound_volume_path_gives_way_to_the_snap_at_its_first_fold(volume_traced: tuple[int, Path],
+                                                                     monkeypatch: pytest.MonkeyPatch,
+                                                                     tmp_path: Path) -> None:
+    """Where the connected path under a prescribed volume does not end within its steps, the cap snaps at its first
+    fold in the volume and the path goes on from the landing; the landing is the state that the whole connected
+    path of the same cap reaches at that volume on its last stable stretch (traced by continuation, not descent)."""
+    from contin_models.shell_scene import pressure
+
+    monkeypatch.setattr(pressure, "VOLUME_PATH_STEPS", 30)  # past the first fold in dV (point 10), short of the end
+    code = cli.main(["trace", "-q", *VOLUME_SCENE, "--set", "output.figure=false", "--out", str(tmp_path)])
+    cut = json.loads((tmp_path / "summary.json").read_text())
+    assert code == 0 and cut["status"] == "ok"
+    assert cut["connected_path"]["steps"] == 30 and cut["connected_path"]["replaced"].startswith("yes")
+    # the path from the landing reaches the end: the volume's, or the pole's past eversion
+    assert "after the snap: stopped at p_max" in cut["message"] or "after the snap: stopped at w_max" in cut["message"]
+    _, out = volume_traced
+    whole = json.loads((out / "summary.json").read_text())
+    assert cut["dV_snap"] == pytest.approx(whole["dV_snap"], rel=1e-12)
+    frm, to = [r for r in cut["special_points"] if r["kind"] == "jump" and "jump" in r]
+    assert frm["label"] == "jump_from" and to["label"] == "jump_to" and to["stable"] is True
+    assert to["dV"] == pytest.approx(whole["dV_snap"], rel=1e-5)
+    with open(out / "branch.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    dV, w, p = (np.array([float(r[k]) for r in rows]) for k in ("dV", "w", "p"))
+    stable = np.array([r["stable"] == "1" for r in rows])
+    # the last stable stretch of the whole path, rising in dV through the snap's volume
+    last = len(rows) - 1
+    while last > 0 and stable[last - 1] and dV[last - 1] < dV[last]:
+        last -= 1
+    assert dV[last] < to["dV"] < dV[-1]
+    # a cubic through the four stored points nearest the snap's volume on that stretch; they lie up to 0.2 dV_snap
+    # apart there, so the cubic is good to a few 1e-4 (a landing on another state misses by the snap, 15 times w)
+    near = last + np.argsort(np.abs(dV[last:] - to["dV"]))[:4]
+    on_path = {name: np.polyval(np.polyfit(dV[near], values[near], 3), to["dV"]) for name, values in (("w", w), ("p", p))}
+    assert to["w"] == pytest.approx(on_path["w"], rel=2e-3)
+    assert to["p"] == pytest.approx(on_path["p"], rel=2e-2)
+    assert abs(to["w"] - frm["w"]) > 0.1 * abs(to["w"])  # a snap, not a step along the fold

@@ -33,6 +33,17 @@ at a fold in ``dV`` (where the path turns back in the volume), which shallow cla
 (``lambda`` up to about 5) do not have and deeper ones have a little past the pressure maximum
 (``docs/validation.md`` section 7).
 
+Where the whole path under volume control does not end: past its first fold in ``dV`` a deep thin cap's connected
+path turns back through unstable axisymmetric states between the cap and its mirror image, and the number of
+them grows steeply with ``lambda`` (hundreds of folds in ``dV`` at ``lambda`` 30; beyond about 36 a path that may
+not end at all).  Under the automatic step limit (``continuation.max_steps = "auto"``) the connected path gets
+:data:`VOLUME_PATH_STEPS` steps; a path still going then is cut at its first fold in ``dV``, the cap snaps there at
+the prescribed volume (a descent in the elastic energy on the volume constraint,
+:func:`contin_models.shell.constrained_snap.jump_on_constraint`) and the trace goes on from the landing as the
+volume grows: the path the cap takes when fluid is pumped out.  The status line says so, and ``summary.json``'s
+``connected_path`` records the steps, the folds in ``dV`` and the range of ``dV`` the connected path went through
+before it was cut.  A number for ``continuation.max_steps`` traces the connected path only, as far as it goes.
+
 ``summary.json``
 ----------------
 ``p_c``, ``lambda`` (``2 (3 (1 - nu^2))^(1/4) sqrt(H / h)`` with the rise ``H``; for the sphere
@@ -57,14 +68,18 @@ control also ``dV``, ``dV_over_V0``, ``stable_pressure`` and ``n_negative_pressu
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
+
+import numpy as np
 
 import contin
 from contin.analyses.conjugate import ConjugateControl
 from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
 from contin.numerics.linalg import Factorization
-from contin.results.branch import Branch
+from contin.analyses.jump import JumpError, JumpResult
+from contin.results.branch import Branch, SpecialPoint
 from contin_models.contact.indentation import BorderedBandedLU
 from contin_models.shell.energy import HALF_BANDWIDTH
 from contin_models.shell.lift import controlled_families
@@ -80,10 +95,15 @@ from .schema import Scene, instability_text, record_fields, record_instability
 _INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
 from .shape import rise
 
-__all__ = ["run_pressure", "volume_problem", "volume_settings", "VOLUME_LABELS"]
+__all__ = ["run_pressure", "volume_problem", "volume_settings", "VOLUME_LABELS", "VOLUME_PATH_STEPS"]
 
 #: Stability labels under volume control: the prescribed volume (primary), then pressure control.
 VOLUME_LABELS = ("volume", "pressure")
+#: Steps the connected path under a prescribed volume takes under the automatic step limit before the loading path
+#: (:func:`_loading_path`) replaces what lies past its first fold in the volume.  Past that fold a deep thin cap's
+#: connected path turns back through the unstable axisymmetric states between the cap and its mirror image, and
+#: their number grows steeply with the cap's depth: hundreds of folds in the volume, or a path that does not end.
+VOLUME_PATH_STEPS = 50_000
 
 #: Observables of :class:`ShellPressure` every special-point record carries at its top level (``p`` is
 #: the record's parameter already).
@@ -288,9 +308,21 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     # a limit point of the pressure is an extremum of the multiplier along the path: located as an
     # event and recorded as a fold in p, stable before and after under pressure control
     events = [contin.extremum("p", which, folds="p", stability_label=VOLUME_LABELS[1]) for which in ("max", "min")]
-    br: Branch = contin.continuation(problem, U0, q0, st, events=events)
-    records = special_point_records([br], parameter_name=problem.parameter_name, fields=record_fields(_VOLUME_OBS))
+    auto = scene["continuation"]["max_steps"] == "auto"
+    connected = dataclasses.replace(st, max_steps=min(st.max_steps, VOLUME_PATH_STEPS)) if auto else st
+    br: Branch = contin.continuation(problem, U0, q0, connected, events=events)
     V0 = float(pressure.pressure.V0)
+    branches, jumps, labels, cut = [br], [], ["path"], None
+    if auto and br.status == "max_steps":
+        cut = _loading_path(problem, br, st, events, V0)
+        if cut.landing is not None:
+            branches, jumps, labels = [cut.head, cut.landing], [cut.jump], ["path", "after the snap"]
+    jump_obs = [(problem.evaluate_observables(j.u_from, j.p), problem.evaluate_observables(j.u_to, j.p)) for j in jumps]
+    records = special_point_records(branches, jumps, jump_obs, parameter_name=problem.parameter_name,
+                                    fields=record_fields(_VOLUME_OBS))
+    for rec in records:  # a snap's two records carry the pressure as p too, as every other record does
+        if rec["kind"] == "jump" and "jump" in rec:
+            rec.update({name: rec["observables"][name] for name in _VOLUME_OBS if name in rec["observables"]})
     summary: dict[str, Any] = {
         "p_c": pressure.p_c,
         **_shape_fields(scene),
@@ -308,15 +340,20 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
             "pressure control)" if p_snap is not None else "no limit point in p")
     seen += (f"; first fold in the volume (snap under volume control) at dV/V0 = {dV_snap:.6g}, p/p_c = "
              f"{summary['p_at_dV_snap_over_p_c']:.6g}" if dV_snap is not None else "; no fold in the volume (no snap)")
+    if cut is not None:
+        summary["connected_path"] = cut.summary
+        if cut.landing is None:
+            seen += f"; the connected path was not replaced by the loading path: {cut.summary['replaced'][4:]}"
     if len(br):
-        br.message = f"{br.message}; {seen}{_plain_instability(summary, _SHOWN_VOLUME)}"
+        first = branches[0]
+        first.message = f"{first.message}; {seen}{_plain_instability(summary, _SHOWN_VOLUME)}"
     note = (rf"$\lambda = {summary['lambda']:.3g}$"
             + (f"; $p_{{max}}/p_c = {p_snap:.4g}$" if p_snap is not None else "")
             + (rf"; snaps at $\Delta V/V_0 = {dV_snap:.4g}$" if dV_snap is not None else r"; no fold in $\Delta V$")
             + _tex_instability(summary, _SHOWN_VOLUME))
-    csv = branch_columns([br], _VOLUME_STABILITY_COLUMNS)
+    csv = branch_columns(branches, _VOLUME_STABILITY_COLUMNS)
     # the branch's parameter is dV (an observable column too); the pressure scene's "p" is the pressure
-    csv["p"] = br.observables["p"]
+    csv["p"] = np.concatenate([b.observables["p"] for b in branches])
     # the volume pushed in as a fraction of the cap's enclosed volume V0
     options = pressure_axes(pressure.p_c)
     options["axis_labels"].update(dV=r"$\Delta V / V_0$", dV_over_V0=r"$\Delta V / V_0$")
@@ -326,13 +363,70 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
                     "title": scene_title(scene), "control": "volume"}
 
     def plot(ax: Any) -> Any:
-        return contin.plot_branches([br], x="p", y="p_over_p_c", ax=ax, **plot_options)
+        return contin.plot_branches(branches, x="p", y="p_over_p_c", ax=ax,
+                                    jumps=[(j, a, b) for j, (a, b) in zip(jumps, jump_obs)], **plot_options)
 
-    shapes = shell_shapes([br], lambda U, q: pressure.full_state(*problem.split(U)), problem.operator_families,
+    shapes = shell_shapes(branches, lambda U, q: pressure.full_state(*problem.split(U)), problem.operator_families,
                           pressure.x_ref, path=scene["output"]["shapes"] == "path")
-    return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
+    return TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
                        table=special_point_table(records, columns=_VOLUME_TABLE_COLUMNS),
                        csv_columns=csv, x="dV", y="p_over_p_c", parameter_name=problem.parameter_name,
-                       labels=["path"], plot=plot, plot_options=plot_options,
+                       labels=labels, jump_observables=jump_obs, plot=plot, plot_options=plot_options,
                        shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options,
                                                                 length_symbol=length_symbol(s)))
+
+
+@dataclasses.dataclass
+class _LoadingPath:
+    """The loading path past a wound connected path (:func:`_loading_path`): the connected path up to its first fold
+    in the volume (``head``), the snap at that volume (``jump``), the path from its landing (``landing``; None where
+    the snap did not land) and ``summary``'s ``connected_path`` record."""
+
+    head: Branch | None
+    jump: JumpResult | None
+    landing: Branch | None
+    summary: dict[str, Any]
+
+
+def _loading_path(problem: ConjugateControl, br: Branch, st: contin.Settings, events: list[Any],
+                  V0: float) -> _LoadingPath:
+    """Where the connected path ``br`` under a prescribed volume did not end in :data:`VOLUME_PATH_STEPS` steps, the
+    path a cap takes as the volume grows: the connected path to its first fold in the volume, the snap there at the
+    prescribed volume (a descent in the energy on the volume constraint,
+    :func:`contin_models.shell.constrained_snap.jump_on_constraint`) and the path on from the landing, as the volume
+    grows, with the steps the connected path left of the automatic limit."""
+    from contin_models.shell.constrained_snap import jump_on_constraint
+    from contin_models.shell.followed import SNAP_OVERSHOOT
+
+    folds = [spt for spt in br.special_points if spt.kind == "fold"]
+    record: dict[str, Any] = {"steps": len(br) - 1, "step_limit": VOLUME_PATH_STEPS, "folds_in_dV": len(folds),
+                              "dV_over_V0_range": [float(np.min(br.p)) / V0, float(np.max(br.p)) / V0]}
+    if not folds:
+        record["replaced"] = f"no: no fold in the volume in its {len(br) - 1} steps to snap from"
+        return _LoadingPath(None, None, None, record)
+    fold: SpecialPoint = folds[0]
+    q = float(fold.p) * (1.0 + SNAP_OVERSHOOT)
+    try:
+        jr = jump_on_constraint(problem, np.asarray(fold.u), q)
+    except JumpError as exc:
+        record["replaced"] = f"no: the snap from the first fold in the volume (dV/V0 = {fold.p / V0:.6g}) failed: {exc}"
+        return _LoadingPath(None, None, None, record)
+    if not jr.success:
+        record["replaced"] = (f"no: the snap from the first fold in the volume (dV/V0 = {fold.p / V0:.6g}) did not land "
+                              f"on a stable state: {jr.message}")
+        return _LoadingPath(None, None, None, record)
+    # the stored point after the fold closes the head's line at the turn
+    keep = min(fold.index + 2, len(br))
+    head = br.head(keep, [spt for spt in br.special_points if spt.index <= fold.index])
+    head.status = "event"
+    head.message = (f"stopped at the first fold in the volume, dV = {fold.p:.10g} (dV/V0 = {fold.p / V0:.6g}): the "
+                    f"connected path on from it wound through {len(folds) - 1} more fold{'' if len(folds) == 2 else 's'} in the volume in "
+                    f"{len(br) - 1} steps (dV/V0 between {record['dV_over_V0_range'][0]:.3g} and "
+                    f"{record['dV_over_V0_range'][1]:.3g}) without reaching the end, so the cap snaps there at the "
+                    "prescribed volume")
+    remaining = max(st.max_steps - (len(br) - 1), 1)
+    landing = contin.continuation(problem, jr.u_to, q, dataclasses.replace(st, max_steps=remaining, direction=1),
+                                  events=events, origin=jr)
+    record["replaced"] = "yes: by the snap at its first fold in the volume and the path from the landing"
+    record["snap_dV_over_V0"] = q / V0
+    return _LoadingPath(head, jr, landing, record)
