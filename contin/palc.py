@@ -207,12 +207,15 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
 
 
 class Headway:
-    """When a path last made progress: a special point found, or a bound approached closer than ever.
+    """When a path last made progress: a special point found, or a bound approached closer than ever since the last one.
 
     The measure behind :attr:`contin.Settings.stall_steps`.  The parameter alone does not show
     progress: a path winding through many folds on its way to its end goes back and forth in it
     for thousands of steps, but it finds a fold every few dozen.  A path with no feature and no bound
-    coming nearer (running away from every end) has stopped progressing.
+    coming nearer (running away from every end) has stopped progressing.  The closest approach counts
+    from the last special point, not from the start: a path that came near a bound, turned back at a
+    fold and now heads for its end again makes progress with every step nearer, long before it passes
+    its earlier approach.
 
     Parameters
     ----------
@@ -229,14 +232,18 @@ class Headway:
         self._nearest = [abs(float(values[i])) for i in self._bounds]
         self.last_step = 0
         self.last_kind = "the start"
+        self._since = "the start"
 
     def update(self, step: int, found_special: bool, values: Sequence[float]) -> None:
         """Take the accepted step ``step`` (whether it found a special point, and the test values at its end)."""
         if found_special:
             self.last_step, self.last_kind = step, "a special point"
+            self._since = f"the special point at step {step}"
         for k, i in enumerate(self._bounds):
             gap = abs(float(values[i]))
-            if gap < self._nearest[k]:
+            if found_special:
+                self._nearest[k] = gap
+            elif gap < self._nearest[k]:
                 self._nearest[k] = gap
                 self.last_step, self.last_kind = step, f"a closest approach to {self._names[k]}"
 
@@ -247,7 +254,8 @@ class Headway:
     def explain(self, step: int, parameter: str, p: float) -> str:
         """Why a run stalled: the message of status ``"stalled"``."""
         nearest = ", ".join(f"{name} at {gap:.6g}" for name, gap in zip(self._names, self._nearest))
-        approach = f"; its bounds came no closer than {nearest}" if nearest else "; it has no bound"
+        approach = (f"; since {self._since} its bounds came no closer than {nearest}" if nearest
+                    else "; it has no bound")
         return (f"stalled at {parameter} = {p:.8g}: {self.idle(step)} steps without progress (no fold, branch point "
                 f"or event found and no bound approached; the last progress was {self.last_kind} at step "
                 f"{self.last_step}){approach}: the path is not heading for an end")

@@ -11,6 +11,7 @@ maximum of its multiplier ``p``, stable under the prescribed volume, and snaps o
 from __future__ import annotations
 
 import csv
+import importlib
 import json
 import math
 from pathlib import Path
@@ -162,6 +163,22 @@ def test_the_volume_end_is_settable(capsys: pytest.CaptureFixture, tmp_path: Pat
     assert "stopped at p_max" in summary["message"] and summary["p_snap"] is None  # before the pressure maximum
 
 
+def _on_the_last_stable_stretch(out: Path, along: str, at: float, names: tuple[str, ...]) -> dict[str, float]:
+    """The observables ``names`` of the whole path saved in ``out`` where its last stable stretch, rising in ``along``,
+    passes ``along = at``: a cubic through the four stored points nearest there."""
+    with open(out / "branch.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    x = np.array([float(r[along]) for r in rows])
+    stable = np.array([r["stable"] == "1" for r in rows])
+    last = len(rows) - 1
+    while last > 0 and stable[last - 1] and x[last - 1] < x[last]:
+        last -= 1
+    assert x[last] < at < x[-1]
+    near = last + np.argsort(np.abs(x[last:] - at))[:4]
+    return {name: float(np.polyval(np.polyfit(x[near], np.array([float(rows[k][name]) for k in near]), 3), at))
+            for name in names}
+
+
 def test_a_wound_volume_path_gives_way_to_the_snap_at_its_first_fold(volume_traced: tuple[int, Path],
                                                                      monkeypatch: pytest.MonkeyPatch,
                                                                      tmp_path: Path) -> None:
@@ -183,19 +200,39 @@ def test_a_wound_volume_path_gives_way_to_the_snap_at_its_first_fold(volume_trac
     frm, to = [r for r in cut["special_points"] if r["kind"] == "jump" and "jump" in r]
     assert frm["label"] == "jump_from" and to["label"] == "jump_to" and to["stable"] is True
     assert to["dV"] == pytest.approx(whole["dV_snap"], rel=1e-5)
-    with open(out / "branch.csv", newline="") as fh:
-        rows = list(csv.DictReader(fh))
-    dV, w, p = (np.array([float(r[k]) for r in rows]) for k in ("dV", "w", "p"))
-    stable = np.array([r["stable"] == "1" for r in rows])
-    # the last stable stretch of the whole path, rising in dV through the snap's volume
-    last = len(rows) - 1
-    while last > 0 and stable[last - 1] and dV[last - 1] < dV[last]:
-        last -= 1
-    assert dV[last] < to["dV"] < dV[-1]
-    # a cubic through the four stored points nearest the snap's volume on that stretch; they lie up to 0.2 dV_snap
-    # apart there, so the cubic is good to a few 1e-4 (a landing on another state misses by the snap, 15 times w)
-    near = last + np.argsort(np.abs(dV[last:] - to["dV"]))[:4]
-    on_path = {name: np.polyval(np.polyfit(dV[near], values[near], 3), to["dV"]) for name, values in (("w", w), ("p", p))}
+    # the stored points near the snap's volume on that stretch lie up to 0.2 dV_snap apart, so the cubic is good to a
+    # few 1e-4 (a landing on another state misses by the snap, 15 times w)
+    on_path = _on_the_last_stable_stretch(out, "dV", to["dV"], ("w", "p"))
     assert to["w"] == pytest.approx(on_path["w"], rel=2e-3)
     assert to["p"] == pytest.approx(on_path["p"], rel=2e-2)
+    # and from the landing the path runs along that stretch to the same end: the pole past eversion at the same volume
+    ends = []
+    for run in (tmp_path, out):
+        with open(run / "branch.csv", newline="") as fh:
+            last_row = list(csv.DictReader(fh))[-1]
+        ends.append((float(last_row["dV"]), float(last_row["p"])))
+    assert ends[0] == pytest.approx(ends[1], rel=1e-7)
     assert abs(to["w"] - frm["w"]) > 0.1 * abs(to["w"])  # a snap, not a step along the fold
+
+
+def test_a_pressure_path_that_does_not_end_gives_way_to_the_snap_at_its_first_fold(traced: tuple[int, Path],
+                                                                                  monkeypatch: pytest.MonkeyPatch,
+                                                                                  tmp_path: Path) -> None:
+    """Under a prescribed pressure the same: a connected path that runs out of its automatic steps is cut at its first
+    fold in p, the cap snaps there at that pressure (:func:`contin.jump`) and the path from the landing reaches the
+    end; the landing is where the whole connected path passes that pressure on its last stable stretch."""
+    build = importlib.import_module("contin_models.shell_scene.build")
+    monkeypatch.setattr(build, "AUTO_MAX_STEPS", 40)  # past the first fold (point 6), short of the end (point 212)
+    code = cli.main(["trace", "-q", *SCENE, "--set", "output.figure=false", "--out", str(tmp_path)])
+    cut = json.loads((tmp_path / "summary.json").read_text())
+    assert code == 0 and cut["status"] == "ok"
+    assert cut["connected_path"]["steps"] == 40 and cut["connected_path"]["replaced"].startswith("yes")
+    assert "after the snap: stopped at p_max" in cut["message"] or "after the snap: stopped at w_max" in cut["message"]
+    _, out = traced
+    whole = json.loads((out / "summary.json").read_text())
+    assert cut["p_snap"] == pytest.approx(whole["p_snap"], rel=1e-12)
+    frm, to = [r for r in cut["special_points"] if r["kind"] == "jump" and "jump" in r]
+    assert to["stable"] is True and to["p"] == pytest.approx(whole["p_snap"], rel=1e-5)
+    on_path = _on_the_last_stable_stretch(out, "p", to["p"], ("w",))
+    assert to["w"] == pytest.approx(on_path["w"], rel=2e-3)
+    assert to["w"] > 10 * frm["w"]  # the snap: from a shallow dimple to the inverted cap

@@ -83,3 +83,30 @@ def test_a_run_cut_short_by_the_automatic_limit_asks_for_a_number() -> None:
     assert "give a number of steps above the automatic limit" in auto and "(now auto)" not in auto
     fixed = _status_message(model, {"continuation": {"max_steps": 3000}}, result)
     assert fixed.endswith("raise continuation.max_steps (now 3000)")
+
+
+def turn_and_climb() -> contin.Problem:
+    """p = sin(u) up to u = 3 pi / 2, then p = -1 + ((u - 3 pi / 2) / 20)^2 / 2: a path that comes up to p = 1,
+    turns back at a fold to p = -1 and then climbs slowly, without another fold, past its first crest."""
+    turn = 1.5 * np.pi
+
+    def f(u):
+        return np.where(u <= turn, np.sin(u), -1.0 + 0.5 * ((u - turn) / 20.0) ** 2)
+
+    def df(u):
+        return np.where(u <= turn, np.cos(u), (u - turn) / 400.0)
+
+    return contin.Problem(residual=lambda u, p: f(u) - p, jacobian=lambda u, p: np.diag(df(u)),
+                          dresidual_dp=lambda u, p: -np.ones_like(u), name="turn and climb")
+
+
+def test_a_path_climbing_back_towards_its_bound_after_a_fold_is_not_stalled():
+    """After the fold at p = -1 the path needs hundreds of steps to pass its first crest, p = 1, the closest it
+    had come to p_max: every step nearer the bound since the fold is progress."""
+    stall = 40
+    br = contin.continuation(turn_and_climb(), [0.0], 0.0, p_max=1.5, max_steps=5000, stall_steps=stall, **KW)
+    assert br.status == "bound" and br.p[-1] == pytest.approx(1.5)
+    assert len(br.folds()) == 2
+    record = np.maximum.accumulate(br.p)
+    news = np.flatnonzero(np.diff(record) > 0) + 1
+    assert np.diff(news).max() > 3 * stall  # judged by the closest approach since the start, it would have stalled

@@ -33,16 +33,18 @@ at a fold in ``dV`` (where the path turns back in the volume), which shallow cla
 (``lambda`` up to about 5) do not have and deeper ones have a little past the pressure maximum
 (``docs/validation.md`` section 7).
 
-Where the whole path under volume control does not end: past its first fold in ``dV`` a deep thin cap's connected
-path turns back through unstable axisymmetric states between the cap and its mirror image, and the number of
-them grows steeply with ``lambda`` (hundreds of folds in ``dV`` at ``lambda`` 30; beyond about 36 a path that may
-not end at all).  Under the automatic step limit (``continuation.max_steps = "auto"``) the connected path gets
-:data:`VOLUME_PATH_STEPS` steps; a path still going then is cut at its first fold in ``dV``, the cap snaps there at
-the prescribed volume (a descent in the elastic energy on the volume constraint,
-:func:`contin_models.shell.constrained_snap.jump_on_constraint`) and the trace goes on from the landing as the
-volume grows: the path the cap takes when fluid is pumped out.  The status line says so, and ``summary.json``'s
-``connected_path`` records the steps, the folds in ``dV`` and the range of ``dV`` the connected path went through
-before it was cut.  A number for ``continuation.max_steps`` traces the connected path only, as far as it goes.
+Where the whole path does not end: past its first fold a deep thin cap's connected path turns back through
+unstable axisymmetric states between the cap and its mirror image, and the number of them grows steeply with
+``lambda`` (under volume control hundreds of folds in ``dV`` at ``lambda`` 30; on deeper caps, under either
+control, a path that may not end at all).  Under the automatic step limit
+(``continuation.max_steps = "auto"``) a connected path that runs out of steps (under volume control after
+:data:`VOLUME_PATH_STEPS`) or stalls is cut at its first fold in the control: the cap snaps there at the prescribed
+volume or pressure (a descent in the energy: on the volume constraint,
+:func:`contin_models.shell.constrained_snap.jump_on_constraint`, or at the pressure, :func:`contin.jump`) and the
+trace goes on from the landing as the load grows, the path the cap takes as fluid is pumped out or the pressure
+raised.  The status line says so, and ``summary.json``'s ``connected_path`` records how the connected path ended,
+its steps, its folds and the range of the control it went through before it was cut.  A number for
+``continuation.max_steps`` traces the connected path only, as far as it goes.
 
 ``summary.json``
 ----------------
@@ -78,10 +80,11 @@ import contin
 from contin.analyses.conjugate import ConjugateControl
 from contin.app.scene import TraceResult, branch_columns, special_point_records, special_point_table
 from contin.numerics.linalg import Factorization
-from contin.analyses.jump import JumpError, JumpResult
+from contin.analyses.jump import JumpError, JumpResult, jump
 from contin.results.branch import Branch, SpecialPoint
 from contin_models.contact.indentation import BorderedBandedLU
 from contin_models.shell.energy import HALF_BANDWIDTH
+from contin_models.shell.constrained_snap import jump_on_constraint
 from contin_models.shell.lift import controlled_families
 from contin_models.shell.structure import ShellOfRevolution
 
@@ -95,7 +98,8 @@ from .schema import Scene, instability_text, record_fields, record_instability
 _INSTABILITY_FIELDS = ("p", "p_over_p_c", "w", "w_over_h")
 from .shape import rise
 
-__all__ = ["run_pressure", "volume_problem", "volume_settings", "VOLUME_LABELS", "VOLUME_PATH_STEPS"]
+__all__ = ["run_pressure", "volume_problem", "volume_settings", "VOLUME_LABELS", "VOLUME_PATH_STEPS",
+           "PRESSURE_SNAP_ITERATIONS"]
 
 #: Stability labels under volume control: the prescribed volume (primary), then pressure control.
 VOLUME_LABELS = ("volume", "pressure")
@@ -103,6 +107,8 @@ VOLUME_LABELS = ("volume", "pressure")
 #: (:func:`_loading_path`) replaces what lies past its first fold in the volume.  Past that fold a deep thin cap's
 #: connected path turns back through the unstable axisymmetric states between the cap and its mirror image, and
 #: their number grows steeply with the cap's depth: hundreds of folds in the volume, or a path that does not end.
+#: (Under a prescribed pressure the connected path keeps the whole automatic limit: its longest paths that end are
+#: longer, and one that does not end stalls.)
 VOLUME_PATH_STEPS = 50_000
 
 #: Observables of :class:`ShellPressure` every special-point record carries at its top level (``p`` is
@@ -110,6 +116,14 @@ VOLUME_PATH_STEPS = 50_000
 _OBS = ("p_over_p_c", "w", "w_over_h", "V")
 #: Columns of the printed special-point table (header -> record field).
 _TABLE_COLUMNS = {"p": "p", "p/p_c": "p_over_p_c", "w": "w", "w/h": "w_over_h"}
+
+
+def _lift_jump_records(records: list[dict[str, Any]], names: tuple[str, ...]) -> None:
+    """Give a snap's two records (``jump_from``, ``jump_to``) the observables ``names`` at their top level, as
+    :func:`~contin_models.shell_scene.schema.record_fields` gives every special point's."""
+    for rec in records:
+        if rec["kind"] == "jump" and "jump" in rec:
+            rec.update({name: rec["observables"][name] for name in names if name in rec["observables"]})
 
 
 def _snap(records: list[dict[str, Any]], p_c: float) -> dict[str, Any]:
@@ -180,8 +194,15 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     problem = pressure_problem(scene)
     st = pressure_settings(scene, problem, progress)
     br: Branch = contin.continuation(problem, problem.reference_unknowns(), 0.0, st)
-    labels = ["path"]
-    records = special_point_records([br], parameter_name=problem.parameter_name, fields=record_fields(_OBS))
+    branches, jumps, labels, cut = [br], [], ["path"], None
+    if scene["continuation"]["max_steps"] == "auto" and br.status in _NOT_ENDED:
+        cut = _loading_path(problem, br, st, [], lambda u, p: jump(problem, u, p, max_iter=PRESSURE_SNAP_ITERATIONS), (problem.p_c, "p/p_c"), "pressure")
+        if cut.landing is not None:
+            branches, jumps, labels = [cut.head, cut.landing], [cut.jump], ["path", "after the snap"]
+    jump_obs = [(problem.evaluate_observables(j.u_from, j.p), problem.evaluate_observables(j.u_to, j.p)) for j in jumps]
+    records = special_point_records(branches, jumps, jump_obs, parameter_name=problem.parameter_name,
+                                    fields=record_fields(_OBS))
+    _lift_jump_records(records, _OBS)
     summary: dict[str, Any] = {
         "p_c": problem.p_c,
         **_shape_fields(scene),
@@ -197,19 +218,25 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
             + (f"; snaps at $p/p_c = {snap:.4g}$" if snap is not None else "; no fold")
             + _tex_instability(summary, _SHOWN_PRESSURE))
     if len(br):
-        br.message = f"{br.message}; " + (f"first fold (snap under pressure) at p/p_c = {snap:.6g}, w/h = "
-                                          f"{summary['w_at_p_snap_over_h']:.6g}" if snap is not None else
-                                          "no fold in p on the path (no snap)")
-        br.message += _plain_instability(summary, _SHOWN_PRESSURE)
+        first = branches[0]
+        first.message = f"{first.message}; " + (f"first fold (snap under pressure) at p/p_c = {snap:.6g}, w/h = "
+                                                f"{summary['w_at_p_snap_over_h']:.6g}" if snap is not None else
+                                                "no fold in p on the path (no snap)")
+        first.message += _plain_instability(summary, _SHOWN_PRESSURE)
+        if cut is not None:
+            summary["connected_path"] = cut.summary
+            if cut.landing is None:
+                first.message += f"; the connected path was not replaced by the loading path: {cut.summary['replaced'][4:]}"
     plot_options = {**pressure_axes(problem.p_c), "special_kinds": ("fold", "bifurcation"), "note": note,
                     "title": scene_title(scene), "control": "pressure"}
     # output.figure = false is the command line's to honour (contin.app.scene.wants_figure)
-    shapes = shell_shapes([br], problem.full_state, problem.operator_families, problem.x_ref,
+    shapes = shell_shapes(branches, problem.full_state, problem.operator_families, problem.x_ref,
                           path=scene["output"]["shapes"] == "path")
-    return TraceResult(branches=[br], jumps=[], summary=summary, special_points=records,
+    return TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
-                       csv_columns=branch_columns([br]), x="w_over_h", y="p_over_p_c",
-                       parameter_name=problem.parameter_name, labels=labels, plot_options=plot_options,
+                       csv_columns=branch_columns(branches), x="w_over_h", y="p_over_p_c",
+                       parameter_name=problem.parameter_name, labels=labels, jump_observables=jump_obs,
+                       plot_options=plot_options,
                        shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options,
                                                                 length_symbol=length_symbol(s)))
 
@@ -313,16 +340,15 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     br: Branch = contin.continuation(problem, U0, q0, connected, events=events)
     V0 = float(pressure.pressure.V0)
     branches, jumps, labels, cut = [br], [], ["path"], None
-    if auto and br.status == "max_steps":
-        cut = _loading_path(problem, br, st, events, V0)
+    if auto and br.status in _NOT_ENDED:
+        cut = _loading_path(problem, br, st, events, lambda U, q: jump_on_constraint(problem, U, q), (V0, "dV/V0"),
+                            "volume")
         if cut.landing is not None:
             branches, jumps, labels = [cut.head, cut.landing], [cut.jump], ["path", "after the snap"]
     jump_obs = [(problem.evaluate_observables(j.u_from, j.p), problem.evaluate_observables(j.u_to, j.p)) for j in jumps]
     records = special_point_records(branches, jumps, jump_obs, parameter_name=problem.parameter_name,
                                     fields=record_fields(_VOLUME_OBS))
-    for rec in records:  # a snap's two records carry the pressure as p too, as every other record does
-        if rec["kind"] == "jump" and "jump" in rec:
-            rec.update({name: rec["observables"][name] for name in _VOLUME_OBS if name in rec["observables"]})
+    _lift_jump_records(records, _VOLUME_OBS)  # p: the pressure, as on every other record
     summary: dict[str, Any] = {
         "p_c": pressure.p_c,
         **_shape_fields(scene),
@@ -378,9 +404,9 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
 
 @dataclasses.dataclass
 class _LoadingPath:
-    """The loading path past a wound connected path (:func:`_loading_path`): the connected path up to its first fold
-    in the volume (``head``), the snap at that volume (``jump``), the path from its landing (``landing``; None where
-    the snap did not land) and ``summary``'s ``connected_path`` record."""
+    """The loading path past a connected path that did not end (:func:`_loading_path`): the connected path up to its
+    first fold in the control (``head``), the snap there (``jump``), the path from its landing (``landing``; None
+    where the snap did not land) and ``summary.json``'s ``connected_path`` record."""
 
     head: Branch | None
     jump: JumpResult | None
@@ -388,45 +414,53 @@ class _LoadingPath:
     summary: dict[str, Any]
 
 
-def _loading_path(problem: ConjugateControl, br: Branch, st: contin.Settings, events: list[Any],
-                  V0: float) -> _LoadingPath:
-    """Where the connected path ``br`` under a prescribed volume did not end in :data:`VOLUME_PATH_STEPS` steps, the
-    path a cap takes as the volume grows: the connected path to its first fold in the volume, the snap there at the
-    prescribed volume (a descent in the energy on the volume constraint,
-    :func:`contin_models.shell.constrained_snap.jump_on_constraint`) and the path on from the landing, as the volume
-    grows, with the steps the connected path left of the automatic limit."""
-    from contin_models.shell.constrained_snap import jump_on_constraint
+#: Iterations of the descent of a snap under a prescribed pressure (:func:`contin.jump`): from the pressure maximum a
+#: deep thin cap descends all the way to its everted state.
+PRESSURE_SNAP_ITERATIONS = 5000
+
+#: Where a connected path that did not end is replaced by the loading path: under the automatic step limit, when it
+#: ran out of steps (:data:`VOLUME_PATH_STEPS` under a prescribed volume) or stalled.
+_NOT_ENDED = ("max_steps", "stalled")
+
+
+def _loading_path(problem: Any, br: Branch, st: contin.Settings, events: list[Any], snap: Any,
+                  unit: tuple[float, str], held: str) -> _LoadingPath:
+    """The path a cap takes as its load grows, where its connected path ``br`` did not end: the connected path to
+    its first fold in the control, the snap there at the prescribed load (``snap(U, q)``: a descent in the energy,
+    on the volume constraint under a prescribed volume) and the path on from the landing as the load grows, under the
+    step limits of ``st``.  ``unit`` is the control's unit and how the messages name
+    the ratio (``(V0, "dV/V0")``), ``held`` what the snap holds (``"volume"``)."""
     from contin_models.shell.followed import SNAP_OVERSHOOT
 
+    scale, ratio = unit
     folds = [spt for spt in br.special_points if spt.kind == "fold"]
-    record: dict[str, Any] = {"steps": len(br) - 1, "step_limit": VOLUME_PATH_STEPS, "folds_in_dV": len(folds),
-                              "dV_over_V0_range": [float(np.min(br.p)) / V0, float(np.max(br.p)) / V0]}
+    steps = len(br) - 1
+    record: dict[str, Any] = {"status": br.status, "steps": steps, "folds": len(folds),
+                              "range": [float(np.min(br.p)) / scale, float(np.max(br.p)) / scale], "range_of": ratio}
     if not folds:
-        record["replaced"] = f"no: no fold in the volume in its {len(br) - 1} steps to snap from"
+        record["replaced"] = f"no: no fold in the {held} in its {steps} steps to snap from"
         return _LoadingPath(None, None, None, record)
     fold: SpecialPoint = folds[0]
+    where = f"the first fold in the {held} ({ratio} = {fold.p / scale:.6g})"
     q = float(fold.p) * (1.0 + SNAP_OVERSHOOT)
     try:
-        jr = jump_on_constraint(problem, np.asarray(fold.u), q)
-    except JumpError as exc:
-        record["replaced"] = f"no: the snap from the first fold in the volume (dV/V0 = {fold.p / V0:.6g}) failed: {exc}"
+        jr = snap(np.asarray(fold.u), q)
+    except (JumpError, ArithmeticError, ValueError) as exc:
+        record["replaced"] = f"no: the snap from {where} failed: {exc}"
         return _LoadingPath(None, None, None, record)
     if not jr.success:
-        record["replaced"] = (f"no: the snap from the first fold in the volume (dV/V0 = {fold.p / V0:.6g}) did not land "
-                              f"on a stable state: {jr.message}")
+        record["replaced"] = f"no: the snap from {where} did not land on a stable state: {jr.message}"
         return _LoadingPath(None, None, None, record)
     # the stored point after the fold closes the head's line at the turn
-    keep = min(fold.index + 2, len(br))
-    head = br.head(keep, [spt for spt in br.special_points if spt.index <= fold.index])
+    head = br.head(min(fold.index + 2, len(br)), [spt for spt in br.special_points if spt.index <= fold.index])
     head.status = "event"
-    head.message = (f"stopped at the first fold in the volume, dV = {fold.p:.10g} (dV/V0 = {fold.p / V0:.6g}): the "
-                    f"connected path on from it wound through {len(folds) - 1} more fold{'' if len(folds) == 2 else 's'} in the volume in "
-                    f"{len(br) - 1} steps (dV/V0 between {record['dV_over_V0_range'][0]:.3g} and "
-                    f"{record['dV_over_V0_range'][1]:.3g}) without reaching the end, so the cap snaps there at the "
-                    "prescribed volume")
-    remaining = max(st.max_steps - (len(br) - 1), 1)
-    landing = contin.continuation(problem, jr.u_to, q, dataclasses.replace(st, max_steps=remaining, direction=1),
-                                  events=events, origin=jr)
-    record["replaced"] = "yes: by the snap at its first fold in the volume and the path from the landing"
-    record["snap_dV_over_V0"] = q / V0
+    ended = "ran out of its steps" if br.status == "max_steps" else "stalled"
+    more = len(folds) - 1
+    head.message = (f"stopped at {where}: the connected path on from it wound through {more} more fold"
+                    f"{'' if more == 1 else 's'} in the {held} and {ended} after {steps} steps ({ratio} between "
+                    f"{record['range'][0]:.3g} and {record['range'][1]:.3g}) without reaching the end, so the cap "
+                    f"snaps there at the prescribed {held}")
+    landing = contin.continuation(problem, jr.u_to, q, dataclasses.replace(st, direction=1), events=events, origin=jr)
+    record["replaced"] = f"yes: by the snap at its first fold in the {held} and the path from the landing"
+    record["snap_at"] = q / scale
     return _LoadingPath(head, jr, landing, record)
