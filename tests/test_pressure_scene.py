@@ -179,6 +179,21 @@ def _on_the_last_stable_stretch(out: Path, along: str, at: float, names: tuple[s
             for name in names}
 
 
+def _cut_and_whole(scene: list[str], out: Path, whole_out: Path, steps: int) -> tuple[dict, dict, dict, dict]:
+    """Trace ``scene`` into ``out`` with its connected path cut after ``steps`` steps (the caller patches the limit):
+    its summary, the whole path's summary in ``whole_out``, and the snap's two records.  The run is checked to
+    complete: the connected path replaced, the snap landed stable, the path from the landing at its end (the load's,
+    or the pole's past eversion)."""
+    code = cli.main(["trace", "-q", *scene, "--set", "output.figure=false", "--out", str(out)])
+    cut = json.loads((out / "summary.json").read_text())
+    assert code == 0 and cut["status"] == "ok"
+    assert cut["connected_path"]["steps"] == steps and cut["connected_path"]["replaced"].startswith("yes")
+    assert "after the snap: stopped at p_max" in cut["message"] or "after the snap: stopped at w_max" in cut["message"]
+    frm, to = [r for r in cut["special_points"] if r["kind"] == "jump" and "jump" in r]
+    assert frm["label"] == "jump_from" and to["label"] == "jump_to" and to["stable"] is True
+    return cut, json.loads((whole_out / "summary.json").read_text()), frm, to
+
+
 def test_a_wound_volume_path_gives_way_to_the_snap_at_its_first_fold(volume_traced: tuple[int, Path],
                                                                      monkeypatch: pytest.MonkeyPatch,
                                                                      tmp_path: Path) -> None:
@@ -188,26 +203,17 @@ def test_a_wound_volume_path_gives_way_to_the_snap_at_its_first_fold(volume_trac
     from contin_models.shell_scene import pressure
 
     monkeypatch.setattr(pressure, "VOLUME_PATH_STEPS", 30)  # past the first fold in dV (point 10), short of the end
-    code = cli.main(["trace", "-q", *VOLUME_SCENE, "--set", "output.figure=false", "--out", str(tmp_path)])
-    cut = json.loads((tmp_path / "summary.json").read_text())
-    assert code == 0 and cut["status"] == "ok"
-    assert cut["connected_path"]["steps"] == 30 and cut["connected_path"]["replaced"].startswith("yes")
-    # the path from the landing reaches the end: the volume's, or the pole's past eversion
-    assert "after the snap: stopped at p_max" in cut["message"] or "after the snap: stopped at w_max" in cut["message"]
-    _, out = volume_traced
-    whole = json.loads((out / "summary.json").read_text())
+    cut, whole, frm, to = _cut_and_whole(VOLUME_SCENE, tmp_path, volume_traced[1], steps=30)
     assert cut["dV_snap"] == pytest.approx(whole["dV_snap"], rel=1e-12)
-    frm, to = [r for r in cut["special_points"] if r["kind"] == "jump" and "jump" in r]
-    assert frm["label"] == "jump_from" and to["label"] == "jump_to" and to["stable"] is True
     assert to["dV"] == pytest.approx(whole["dV_snap"], rel=1e-5)
     # the stored points near the snap's volume on that stretch lie up to 0.2 dV_snap apart, so the cubic is good to a
     # few 1e-4 (a landing on another state misses by the snap, 15 times w)
-    on_path = _on_the_last_stable_stretch(out, "dV", to["dV"], ("w", "p"))
+    on_path = _on_the_last_stable_stretch(volume_traced[1], "dV", to["dV"], ("w", "p"))
     assert to["w"] == pytest.approx(on_path["w"], rel=2e-3)
     assert to["p"] == pytest.approx(on_path["p"], rel=2e-2)
     # and from the landing the path runs along that stretch to the same end: the pole past eversion at the same volume
     ends = []
-    for run in (tmp_path, out):
+    for run in (tmp_path, volume_traced[1]):
         with open(run / "branch.csv", newline="") as fh:
             last_row = list(csv.DictReader(fh))[-1]
         ends.append((float(last_row["dV"]), float(last_row["p"])))
@@ -223,16 +229,9 @@ def test_a_pressure_path_that_does_not_end_gives_way_to_the_snap_at_its_first_fo
     end; the landing is where the whole connected path passes that pressure on its last stable stretch."""
     build = importlib.import_module("contin_models.shell_scene.build")
     monkeypatch.setattr(build, "AUTO_MAX_STEPS", 40)  # past the first fold (point 6), short of the end (point 212)
-    code = cli.main(["trace", "-q", *SCENE, "--set", "output.figure=false", "--out", str(tmp_path)])
-    cut = json.loads((tmp_path / "summary.json").read_text())
-    assert code == 0 and cut["status"] == "ok"
-    assert cut["connected_path"]["steps"] == 40 and cut["connected_path"]["replaced"].startswith("yes")
-    assert "after the snap: stopped at p_max" in cut["message"] or "after the snap: stopped at w_max" in cut["message"]
-    _, out = traced
-    whole = json.loads((out / "summary.json").read_text())
+    cut, whole, frm, to = _cut_and_whole(SCENE, tmp_path, traced[1], steps=40)
     assert cut["p_snap"] == pytest.approx(whole["p_snap"], rel=1e-12)
-    frm, to = [r for r in cut["special_points"] if r["kind"] == "jump" and "jump" in r]
-    assert to["stable"] is True and to["p"] == pytest.approx(whole["p_snap"], rel=1e-5)
-    on_path = _on_the_last_stable_stretch(out, "p", to["p"], ("w",))
+    assert to["p"] == pytest.approx(whole["p_snap"], rel=1e-5)
+    on_path = _on_the_last_stable_stretch(traced[1], "p", to["p"], ("w",))
     assert to["w"] == pytest.approx(on_path["w"], rel=2e-3)
     assert to["w"] > 10 * frm["w"]  # the snap: from a shallow dimple to the inverted cap
