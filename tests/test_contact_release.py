@@ -125,3 +125,30 @@ def test_plate_is_not_a_sphere_of_radius_zero():
     with pytest.raises(ValueError, match="radius must be > 0"):
         ShellIndentation(N=20, indenter=Sphere(0.0))
     assert ShellIndentation(N=20, indenter=Plate()).indenter.name == "plate"
+
+
+def _force_path() -> contin.Problem:
+    """u - p = 0 with ``F_norm`` rising to 1.4e-4 and back to 2e-5 in the first hundredth (noise at the first touch,
+    as a tiny sphere of the fuzz draws showed), then from p = 0.02 up to 1 and down to 2e-5 at p = 1 (the release)."""
+    def force(u: np.ndarray, p: float) -> float:
+        x = float(u[0])
+        rise = np.sin(np.pi * (x - 0.02) / 0.98) if x > 0.02 else 0.0
+        return 1.2e-4 * np.exp(-((x - 0.005) / 0.002) ** 2) + 2e-5 + rise
+    return contin.Problem(residual=lambda u, p: u - p, jacobian=lambda u, p: np.eye(1),
+                          dresidual_dp=lambda u, p: -np.ones(1), observables={"F_norm": force}, name="force path")
+
+
+def test_the_snap_event_waits_for_the_force_to_rise_before_its_fall_counts():
+    """The force dips below SNAP_FORCE_NORM right after the first touch; the snap is its fall at the release."""
+    from contin_models.shell_scene.contact import SNAP_ARMED_NORM, snap_event
+
+    problem = _force_path()
+    kw = {"ds": 1e-3, "ds_max": 1e-2, "p_max": 2.0, "state_weight": 1.0, "param_weight": 1.0, "check_model": False}
+    br = contin.continuation(problem, np.zeros(1), 0.0, events=[snap_event(problem)], **kw)
+    assert br.status == "event" and br.special_points[-1].label == "F -> 0"
+    assert br.special_points[-1].p == pytest.approx(1.0 - 0.98 * (SNAP_FORCE_NORM - 2e-5) / np.pi, abs=1e-6)
+    assert SNAP_ARMED_NORM > 1.2e-4 + 2e-5  # the dip's peak does not arm it
+    # the plain crossing stops at the dip
+    plain = contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
+    early = contin.continuation(problem, np.zeros(1), 0.0, events=[plain], **kw)
+    assert early.status == "event" and early.special_points[-1].p < 0.01

@@ -3,8 +3,9 @@
 Random scenes (thin caps, h/R <= 5e-3, most with nu < 0) failed in three ways: the snap did not
 land on a stable state (A-D), the branch after a snap could not start because Newton refused a state
 next to a soft mode (E), or the path ran out of the fixed step limit (F, G); a wide sphere under a dead
-load ran out of its snaps as its contact ring widened node by node, and another's model check at a
-landing took the barrier's sharp curvature for a wrong Jacobian.  Each runs as the command does, with
+load ran out of its snaps as its contact ring widened node by node, another's model check at a
+landing took the barrier's sharp curvature for a wrong Jacobian, and a tiny sphere's force, of the order of
+the corrector's tolerance right after the first touch, dipped below the snap's threshold.  Each runs as the command does, with
 its own mesh, and must end with exit status 0 and status ok.
 """
 
@@ -38,6 +39,12 @@ SCENES = {
                                                   h=2.7339266376107774e-06, nu=-0.16968238045820427, N=69,
                                                   E=72486.23945023074, kind="sphere", control="force",
                                                   radius=0.0018232633954854238),
+    # scene 163 of ``--seed 38``: right after the first touch the force rose above the snap's threshold and dipped
+    # below it again, which was taken for the snap until the event waited for the force to rise first
+    "sphere displacement, force at the first touch": dict(phi_hat=1.1260764326423305, R=0.020533805568146404,
+                                                          h=2.2435767184426584e-05, nu=0.181513010571709, N=68,
+                                                          E=1775855.047897631, kind="sphere", control="displacement",
+                                                          radius=0.016155353001955936),
 }
 # H (phi_hat 0.4193, h/R 5.13e-3, N 80) ends back at w = 0: tests/test_path_range.py::test_the_coarse_deep_cap_ends.
 # The ninth scene of the issue, I (phi_hat 0.7578, h/R 1.314e-3, N 120, displacement control), winds for its

@@ -58,10 +58,14 @@ from .labels import force_axes, scene_title
 from .schema import STABILITY_COLUMNS, Scene, instability_text, record_instability
 
 __all__ = ["run_contact", "run_contact_force", "contact_mode", "snap_point", "snap_rules", "snap_event",
-           "SNAP_FORCE_NORM", "FORCE_START_NORM", "MAX_SNAPS", "CONTACT_STEPS_PER_NODE"]
+           "SNAP_FORCE_NORM", "SNAP_ARMED_NORM", "FORCE_START_NORM", "MAX_SNAPS", "CONTACT_STEPS_PER_NODE"]
 
 #: ``F R / (2 pi D)`` below which a loading stretch counts as having reached the snap (F -> 0).
 SNAP_FORCE_NORM = 1e-4
+#: ``F R / (2 pi D)`` the force must have reached before its fall to :data:`SNAP_FORCE_NORM` counts as the snap: in the
+#: first steps after the first touch the force is of the order of the corrector's tolerance and may rise above
+#: SNAP_FORCE_NORM and dip below it again.
+SNAP_ARMED_NORM = 1e-3
 #: A fold of the travel at a force below this (``F R / (2 pi D)``) is the release of the last contact
 #: point, located again in that point's gap (:func:`snap_point`).
 RELEASE_FORCE_NORM = 1e-3
@@ -119,10 +123,25 @@ def indentation_force_snap_rules(forced: ShellIndentationForce, R: float) -> Sna
     return SnapRules(perturbation_unit=R, separation=pole_moved(forced, "w_s", R), min_separation=1e-3)
 
 
-def snap_event() -> contin.Event:
-    """The terminal event on which a loading stretch has reached its snap: ``F R / (2 pi D)`` falls to
-    :data:`SNAP_FORCE_NORM` (the release fold beyond it is located by :func:`snap_point`)."""
-    return contin.crossing("F_norm", SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
+class _ArmedForce:
+    """``F R / (2 pi D)`` once it has reached :data:`SNAP_ARMED_NORM` at some point the trace evaluated, infinite
+    before: the test function of :func:`snap_event`, which a non-finite value never triggers."""
+
+    def __init__(self, problem: contin.Problem) -> None:
+        self.force = problem.observables["F_norm"]
+        self.armed = False
+
+    def __call__(self, u: np.ndarray, p: float) -> float:
+        value = float(self.force(u, p))
+        self.armed = self.armed or value >= SNAP_ARMED_NORM
+        return value if self.armed else math.inf
+
+
+def snap_event(problem: contin.Problem) -> contin.Event:
+    """The terminal event on which a loading stretch has reached its snap: ``F R / (2 pi D)`` of ``problem`` falls
+    to :data:`SNAP_FORCE_NORM` after it has reached :data:`SNAP_ARMED_NORM` (the release fold beyond it is located
+    by :func:`snap_point`).  One event per trace: it keeps whether the force has been armed."""
+    return contin.crossing(_ArmedForce(problem), SNAP_FORCE_NORM, direction=-1, terminal=True, name="F -> 0")
 
 
 def _snaps(problem: contin.Problem, qs: QuasiStaticResult) -> list[dict[str, Any]]:
@@ -143,7 +162,7 @@ def run_contact(scene: Scene, progress: bool, settings: contin.Settings, w_end: 
     # snaps alone end a stretch (the plate's dimple branch flickers in stability between nodes, B3)
     qs = contin.quasistatic(problem, problem.reference_unknowns(), 0.0, w_end, settings, max_snaps=MAX_SNAPS,
                             snap=snap_rules(problem), locate_snap=lambda br: snap_point(problem, br, settings.tol),
-                            stop_at_branch_points=False, check_stability=False, events=[snap_event()],
+                            stop_at_branch_points=False, check_stability=False, events=[snap_event(problem)],
                             bounds={"base_gap": (2.0 * problem.dhat, None)})
     return _result(problem, scene, qs.branches, qs.jumps, _labels(len(qs.branches)), qs.message if qs.failed else "",
                    _snaps(problem, qs))
