@@ -72,7 +72,7 @@ def _snap_to_eversion(P: ShellIndentation, st: contin.Settings, w_end: float
 
     qs = contin.quasistatic(P, P.reference_unknowns(), 0.0, w_end, st, max_snaps=MAX_SNAPS, snap=snap_rules(P),
                             locate_snap=lambda br: snap_point(P, br, st.tol), stop_after_jump=everted,
-                            stop_at_branch_points=False, check_stability=False, events=[snap_event(problem)],
+                            stop_at_branch_points=False, check_stability=False, events=[snap_event(P)],
                             bounds={"base_gap": (2.0 * P.dhat, None)})
     if qs.status != "completed" or not qs.folds:
         raise RuntimeError(f"plate: no eversion snap ({qs.status}: {qs.message})")
