@@ -56,7 +56,10 @@ first limit point in ``p`` as ``p_snap``, ``p_snap_over_p_c``, ``w_at_p_snap``, 
 (None without one: a monotonic cap): the snap under pressure control, under either control.  Under
 pressure control also ``p_end``; under volume control ``V0``, ``dV_end``, ``n_folds_in_dV`` and the
 first fold in ``dV`` (the snap under volume control) as ``dV_snap``, ``dV_snap_over_V0``,
-``p_at_dV_snap``, ``p_at_dV_snap_over_p_c``, ``w_at_dV_snap_over_h`` (None without one).
+``p_at_dV_snap``, ``p_at_dV_snap_over_p_c``, ``w_at_dV_snap_over_h`` (None without one).  Where the connected
+path was cut (above), ``connected_path``: how it ended (``status``), its ``steps``, its ``folds`` in the control,
+the ``range`` of the control it went through (in the unit ``range_of``), whether the loading path replaced it
+(``replaced``: "yes: ..." or "no: " and why) and the load of the snap (``snap_at``, in the same unit).
 
 Every special point carries ``p`` (under volume control: the multiplier, not the parameter),
 ``p_over_p_c``, ``w``, ``w_over_h``, ``V`` and ``stable_before`` / ``stable_after`` under the control
