@@ -107,7 +107,7 @@ __all__ = ["run_pressure", "volume_problem", "volume_settings", "VOLUME_LABELS",
 #: Stability labels under volume control: the prescribed volume (primary), then pressure control.
 VOLUME_LABELS = ("volume", "pressure")
 #: Steps the connected path under a prescribed volume takes under the automatic step limit before the loading path
-#: (:func:`_loading_path`) replaces what lies past its first fold in the volume.  Past that fold a deep thin cap's
+#: (:func:`_reported_path`) replaces what lies past its first fold in the volume.  Past that fold a deep thin cap's
 #: connected path turns back through the unstable axisymmetric states between the cap and its mirror image, and
 #: their number grows steeply with the cap's depth: hundreds of folds in the volume, or a path that does not end.
 #: (Under a prescribed pressure the connected path keeps the whole automatic limit: its longest paths that end are
@@ -197,13 +197,10 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
     problem = pressure_problem(scene)
     st = pressure_settings(scene, problem, progress)
     br: Branch = contin.continuation(problem, problem.reference_unknowns(), 0.0, st)
-    branches, jumps, labels, cut = [br], [], ["path"], None
-    if scene["continuation"]["max_steps"] == "auto" and br.status in _NOT_ENDED:
-        cut = _loading_path(problem, br, st, [], lambda u, p: jump(problem, u, p, max_iter=PRESSURE_SNAP_ITERATIONS), (problem.p_c, "p/p_c"), "pressure")
-        if cut.landing is not None:
-            branches, jumps, labels = [cut.head, cut.landing], [cut.jump], ["path", "after the snap"]
-    jump_obs = [(problem.evaluate_observables(j.u_from, j.p), problem.evaluate_observables(j.u_to, j.p)) for j in jumps]
-    records = special_point_records(branches, jumps, jump_obs, parameter_name=problem.parameter_name,
+    path = _reported_path(problem, br, st, [], lambda u, p: jump(problem, u, p, max_iter=PRESSURE_SNAP_ITERATIONS),
+                          (problem.p_c, "p/p_c"), "pressure", scene["continuation"]["max_steps"] == "auto")
+    branches = path.branches
+    records = special_point_records(branches, path.jumps, path.jump_observables, parameter_name=problem.parameter_name,
                                     fields=record_fields(_OBS))
     _lift_jump_records(records, _OBS)
     summary: dict[str, Any] = {
@@ -225,20 +222,19 @@ def _run_pressure_control(scene: Scene, progress: bool) -> TraceResult:
         first.message = f"{first.message}; " + (f"first fold (snap under pressure) at p/p_c = {snap:.6g}, w/h = "
                                                 f"{summary['w_at_p_snap_over_h']:.6g}" if snap is not None else
                                                 "no fold in p on the path (no snap)")
-        first.message += _plain_instability(summary, _SHOWN_PRESSURE)
-        if cut is not None:
-            summary["connected_path"] = cut.summary
-            if cut.landing is None:
-                first.message += f"; the connected path was not replaced by the loading path: {cut.summary['replaced'][4:]}"
+        first.message += _plain_instability(summary, _SHOWN_PRESSURE) + path.note
+    if path.connected is not None:
+        summary["connected_path"] = path.connected
     plot_options = {**pressure_axes(problem.p_c), "special_kinds": ("fold", "bifurcation"), "note": note,
                     "title": scene_title(scene), "control": "pressure"}
     # output.figure = false is the command line's to honour (contin.app.scene.wants_figure)
     shapes = shell_shapes(branches, problem.full_state, problem.operator_families, problem.x_ref,
                           path=scene["output"]["shapes"] == "path")
-    return TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
+    return TraceResult(branches=branches, jumps=path.jumps, summary=summary, special_points=records,
                        table=special_point_table(records, columns=_TABLE_COLUMNS),
                        csv_columns=branch_columns(branches), x="w_over_h", y="p_over_p_c",
-                       parameter_name=problem.parameter_name, labels=labels, jump_observables=jump_obs,
+                       parameter_name=problem.parameter_name, labels=path.labels,
+                       jump_observables=path.jump_observables,
                        plot_options=plot_options,
                        shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options,
                                                                 length_symbol=length_symbol(s)))
@@ -342,13 +338,9 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     connected = dataclasses.replace(st, max_steps=min(st.max_steps, VOLUME_PATH_STEPS)) if auto else st
     br: Branch = contin.continuation(problem, U0, q0, connected, events=events)
     V0 = float(pressure.pressure.V0)
-    branches, jumps, labels, cut = [br], [], ["path"], None
-    if auto and br.status in _NOT_ENDED:
-        cut = _loading_path(problem, br, st, events, lambda U, q: jump_on_constraint(problem, U, q), (V0, "dV/V0"),
-                            "volume")
-        if cut.landing is not None:
-            branches, jumps, labels = [cut.head, cut.landing], [cut.jump], ["path", "after the snap"]
-    jump_obs = [(problem.evaluate_observables(j.u_from, j.p), problem.evaluate_observables(j.u_to, j.p)) for j in jumps]
+    path = _reported_path(problem, br, st, events, lambda U, q: jump_on_constraint(problem, U, q), (V0, "dV/V0"),
+                          "volume", auto)
+    branches, jumps, jump_obs = path.branches, path.jumps, path.jump_observables
     records = special_point_records(branches, jumps, jump_obs, parameter_name=problem.parameter_name,
                                     fields=record_fields(_VOLUME_OBS))
     _lift_jump_records(records, _VOLUME_OBS)  # p: the pressure, as on every other record
@@ -369,10 +361,9 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
             "pressure control)" if p_snap is not None else "no limit point in p")
     seen += (f"; first fold in the volume (snap under volume control) at dV/V0 = {dV_snap:.6g}, p/p_c = "
              f"{summary['p_at_dV_snap_over_p_c']:.6g}" if dV_snap is not None else "; no fold in the volume (no snap)")
-    if cut is not None:
-        summary["connected_path"] = cut.summary
-        if cut.landing is None:
-            seen += f"; the connected path was not replaced by the loading path: {cut.summary['replaced'][4:]}"
+    seen += path.note
+    if path.connected is not None:
+        summary["connected_path"] = path.connected
     if len(br):
         first = branches[0]
         first.message = f"{first.message}; {seen}{_plain_instability(summary, _SHOWN_VOLUME)}"
@@ -400,41 +391,51 @@ def _run_volume_control(scene: Scene, progress: bool) -> TraceResult:
     return TraceResult(branches=branches, jumps=jumps, summary=summary, special_points=records,
                        table=special_point_table(records, columns=_VOLUME_TABLE_COLUMNS),
                        csv_columns=csv, x="dV", y="p_over_p_c", parameter_name=problem.parameter_name,
-                       labels=labels, jump_observables=jump_obs, plot=plot, plot_options=plot_options,
+                       labels=path.labels, jump_observables=jump_obs, plot=plot, plot_options=plot_options,
                        shapes=shapes, draw_shapes=shapes_drawer(shapes, length_unit(scene), problem.parameter_name, plot_options,
                                                                 length_symbol=length_symbol(s)))
 
 
 @dataclasses.dataclass
-class _LoadingPath:
-    """The loading path past a connected path that did not end (:func:`_loading_path`): the connected path up to its
-    first fold in the control (``head``), the snap there (``jump``), the path from its landing (``landing``; None
-    where the snap did not land) and ``summary.json``'s ``connected_path`` record."""
+class _ReportedPath:
+    """What a pressure run reports (:func:`_reported_path`): its branches with their labels (the connected path,
+    or the connected path up to its first fold and the path from the snap's landing), the snap and the observables
+    at its ends, and ``summary.json``'s ``connected_path`` (None where the connected path is reported whole)."""
 
-    head: Branch | None
-    jump: JumpResult | None
-    landing: Branch | None
-    summary: dict[str, Any]
+    branches: list[Branch]
+    labels: list[str]
+    jumps: list[JumpResult]
+    jump_observables: list[tuple[dict[str, float], dict[str, float]]]
+    connected: dict[str, Any] | None
+
+    @property
+    def note(self) -> str:
+        """The status line's words where the connected path did not end and the snap did not replace it."""
+        if self.connected is None or self.connected["replaced"].startswith("yes"):
+            return ""
+        return f"; the connected path was not replaced by the loading path: {self.connected['replaced'][4:]}"
 
 
 #: Iterations of the descent of a snap under a prescribed pressure (:func:`contin.jump`): from the pressure maximum a
 #: deep thin cap descends all the way to its everted state.
 PRESSURE_SNAP_ITERATIONS = 5000
 
-#: Where a connected path that did not end is replaced by the loading path: under the automatic step limit, when it
+#: Where a connected path that did not end is replaced by the loading path (:func:`_reported_path`): under the automatic step limit, when it
 #: ran out of steps (:data:`VOLUME_PATH_STEPS` under a prescribed volume) or stalled.
 _NOT_ENDED = ("max_steps", "stalled")
 
 
-def _loading_path(problem: Any, br: Branch, st: contin.Settings, events: list[Any], snap: Any,
-                  unit: tuple[float, str], held: str) -> _LoadingPath:
-    """The path a cap takes as its load grows, where its connected path ``br`` did not end: the connected path to
-    its first fold in the control, the snap there at the prescribed load (``snap(U, q)``: a descent in the energy,
-    on the volume constraint under a prescribed volume) and the path on from the landing as the load grows, under the
-    step limits of ``st``.  ``unit`` is the control's unit and how the messages name
-    the ratio (``(V0, "dV/V0")``), ``held`` what the snap holds (``"volume"``)."""
+def _reported_path(problem: Any, br: Branch, st: contin.Settings, events: list[Any], snap: Any,
+                   unit: tuple[float, str], held: str, automatic: bool) -> _ReportedPath:
+    """The connected path ``br``, or, where it did not end under the automatic step limit (``automatic``), the path a
+    cap takes as its load grows: the connected path to its first fold in the control, the snap there at the
+    prescribed load (``snap(U, q)``: a descent in the energy, on the volume constraint under a prescribed volume) and
+    the path on from the landing as the load grows, under the step limits of ``st``.  ``unit`` is the control's
+    unit and how the messages name the ratio (``(V0, "dV/V0")``), ``held`` what the snap holds (``"volume"``)."""
     from contin_models.shell.followed import SNAP_OVERSHOOT
 
+    if not (automatic and br.status in _NOT_ENDED):
+        return _ReportedPath([br], ["path"], [], [], None)
     scale, ratio = unit
     folds = [spt for spt in br.special_points if spt.kind == "fold"]
     steps = len(br) - 1
@@ -442,7 +443,7 @@ def _loading_path(problem: Any, br: Branch, st: contin.Settings, events: list[An
                               "range": [float(np.min(br.p)) / scale, float(np.max(br.p)) / scale], "range_of": ratio}
     if not folds:
         record["replaced"] = f"no: no fold in the {held} in its {steps} steps to snap from"
-        return _LoadingPath(None, None, None, record)
+        return _ReportedPath([br], ["path"], [], [], record)
     fold: SpecialPoint = folds[0]
     where = f"the first fold in the {held} ({ratio} = {fold.p / scale:.6g})"
     q = float(fold.p) * (1.0 + SNAP_OVERSHOOT)
@@ -450,10 +451,10 @@ def _loading_path(problem: Any, br: Branch, st: contin.Settings, events: list[An
         jr = snap(np.asarray(fold.u), q)
     except (JumpError, ArithmeticError, ValueError) as exc:
         record["replaced"] = f"no: the snap from {where} failed: {exc}"
-        return _LoadingPath(None, None, None, record)
+        return _ReportedPath([br], ["path"], [], [], record)
     if not jr.success:
         record["replaced"] = f"no: the snap from {where} did not land on a stable state: {jr.message}"
-        return _LoadingPath(None, None, None, record)
+        return _ReportedPath([br], ["path"], [], [], record)
     # the stored point after the fold closes the head's line at the turn
     head = br.head(min(fold.index + 2, len(br)), [spt for spt in br.special_points if spt.index <= fold.index])
     head.status = "event"
@@ -466,4 +467,5 @@ def _loading_path(problem: Any, br: Branch, st: contin.Settings, events: list[An
     landing = contin.continuation(problem, jr.u_to, q, dataclasses.replace(st, direction=1), events=events, origin=jr)
     record["replaced"] = f"yes: by the snap at its first fold in the {held} and the path from the landing"
     record["snap_at"] = q / scale
-    return _LoadingPath(head, jr, landing, record)
+    ends = (problem.evaluate_observables(jr.u_from, jr.p), problem.evaluate_observables(jr.u_to, jr.p))
+    return _ReportedPath([head, landing], ["path", "after the snap"], [jr], [ends], record)
