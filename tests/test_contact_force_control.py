@@ -295,9 +295,10 @@ def test_step_filter_includes_the_indenter_travel():
 
 
 @pytest.mark.slow
-def test_a_thin_shallow_cap_under_a_forced_sphere_reaches_the_end_of_travel():
+def test_a_thin_shallow_cap_under_a_forced_sphere_ends_where_the_sphere_lands_on_the_base_ring():
     """The fuzz study's scene 11 (docs/robustness.md): with the load weighed by the cap's depth, the
-    loading of the everted shell pressed on the sphere ran out of the scene's 3000 steps."""
+    loading of the everted shell pressed on the sphere ran out of the scene's 3000 steps; that loading
+    went on with the sphere already on the base ring, where the trace now ends."""
     from contin.app.scene import load_scene
     from contin_models.shell_scene import SHELL_SCENE
 
@@ -307,5 +308,29 @@ def test_a_thin_shallow_cap_under_a_forced_sphere_reaches_the_end_of_travel():
         "load.kind=sphere", "load.radius=4.117945163675228", "load.control=force", "output.figure=false"])
     result = SHELL_SCENE.run(scene, progress=False)
     assert result.status == "ok", result.message
-    assert [b.status for b in result.branches] == ["event", "bound"]
+    # the sphere (r/R = 1.2) snaps down onto the base ring: the trace ends at that landing
+    assert [b.status for b in result.branches] == ["event"] and len(result.jumps) == 1
+    assert "landed on or beyond the bound base_gap" in result.message and "base ring" in result.message
+    assert result.jump_observables[0][1]["base_gap"] < 2.0 * result.summary["dhat"]
     assert sum(len(b.p) for b in result.branches) < 3000  # the scene's fixed step limit when this was measured
+
+
+@pytest.mark.slow
+def test_a_plate_that_snaps_onto_the_base_ring_ends_the_trace_there():
+    """Seed 39's scene 144 of the fuzz study: the plate snaps the shallow cap flat and lands within
+    2 dhat of the base ring.  The trace went on loading from there, the plate pressing the flattened
+    cap onto the support, until its steps collapsed at F R / (2 pi D) = 39 ("min_step")."""
+    from contin.app.scene import load_scene
+    from contin_models.shell_scene import SHELL_SCENE
+
+    scene = load_scene(SHELL_SCENE.schema, None, [
+        "shell.R=289.96304748747053", "shell.E=117762993.80406687", "shell.h=0.8108587098785374",
+        "shell.phi_hat=1.4093575258470221", "shell.nu=-0.2086544014968531", "shell.N=98",
+        "load.kind=plate", "load.control=force", "output.figure=false"])
+    result = SHELL_SCENE.run(scene, progress=False)
+    assert result.status == "ok", result.message
+    assert [b.status for b in result.branches] == ["event"] and len(result.jumps) == 1
+    assert "base ring" in result.message
+    fold, landing = result.jump_observables[0]
+    assert landing["base_gap"] < 2.0 * result.summary["dhat"] < fold["base_gap"]
+    assert landing["F"] == fold["F"] == pytest.approx(result.summary["F_snap"])

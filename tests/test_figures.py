@@ -606,3 +606,25 @@ def test_the_written_figures_keep_every_text_inside_and_clear_of_the_panels(tmp_
                 if owner is not ax:
                     assert not inner.overlaps(box), (ax, box)
         assert panels[0].get_position().width > 0.5
+
+
+def test_a_snap_that_ends_the_path_is_drawn_to_its_landing() -> None:
+    """A sweep that ends at a landing (a plate snapping onto the base ring) has no branch there: the axes
+    must still reach the landing, or matplotlib drops the arrow that points off them."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from types import SimpleNamespace
+
+    from matplotlib.figure import Figure
+
+    from tests.figure_check import arrows
+
+    br = _truss_branch()
+    fold = next(s for s in br.special_points if s.kind == "fold")
+    at = dict(fold.observables)
+    landing = dict(at, y=-1.5)  # far below the loading branch, which stays above y = 0
+    ax = Figure().subplots()
+    contin.plot_branches(br, x="p", y="y", ax=ax, jumps=[(SimpleNamespace(p=fold.p), at, landing)])
+    assert len(arrows(ax)) == 1
+    assert ax.get_ylim()[0] <= -1.5 < at["y"] <= ax.get_ylim()[1]

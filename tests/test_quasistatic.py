@@ -231,6 +231,22 @@ def test_an_open_sweep_ends_on_an_observable_bound_or_after_a_chosen_snap() -> N
         quasistatic(truss, [0.0, B], 0.0, 1.0, direction=-1, **KW)
 
 
+def test_a_snap_that_lands_beyond_a_bound_ends_the_sweep_there() -> None:
+    """A continuation run from a landing beyond a bound never crosses it: the sweep would go on outside
+    the range the caller allowed (a plate that snaps onto the base ring of a cap under a dead load)."""
+    truss = VonMisesTruss(A, B, K)
+    y_land = y_lower(P_MAX)
+    bound = {"y": (0.5 * y_land, None)}  # the loading branch stays above it; the landing lies below
+    res = quasistatic(truss, [0.0, B], 0.0, 1.5 * P_MAX, bounds=bound, **KW)
+    assert res.status == "stopped" and not res.failed and len(res.branches) == 1 and len(res.jumps) == 1
+    assert "landed on or beyond the bound y >=" in res.message
+    np.testing.assert_array_equal(res.u_final, res.jumps[0].u_to)
+    assert res.u_final[1] == pytest.approx(y_land, abs=1e-9) and res.p_final == pytest.approx(P_MAX, abs=FOLD_TOL)
+    # an open sweep ends there as it ends on a bound reached along a branch: completed
+    res = quasistatic(truss, [0.0, B], 0.0, None, direction=1, bounds=bound, **KW)
+    assert res.status == "completed" and len(res.branches) == 1 and res.u_final[1] == pytest.approx(y_land, abs=1e-9)
+
+
 def test_snap_rules_measure_the_overshoot_from_the_fold_and_may_keep_the_jump_there() -> None:
     rules = SnapRules(attempts=((1e-6, None),), overshoot_unit="fold", restate=False,
                       separation=lambda uf, pf, ut, pt: abs(ut[1] - uf[1]) / B, min_separation=0.5)

@@ -80,8 +80,8 @@ class QuasiStaticResult:
         The fold that ended each branch that was followed by a snap (or by a failed snap attempt),
         in sweep order.
     status : str
-        ``"completed"`` (reached ``p_end``; without ``p_end``: a bound of the settings, or
-        ``stop_after_jump`` said so), ``"jump_failed"`` (no snap attempt landed on a distinct
+        ``"completed"`` (reached ``p_end``; without ``p_end``: a bound of the settings, reached by a
+        branch or by a snap's landing, or ``stop_after_jump`` said so), ``"jump_failed"`` (no snap attempt landed on a distinct
         stable state), ``"max_snaps"`` (a fold was reached after ``max_snaps`` snaps),
         ``"branch_point"`` (the stable branch ends in a branch point where a stable bifurcating
         branch goes on in the sweep direction, a supercritical pitchfork: there is no snap, and the
@@ -89,7 +89,8 @@ class QuasiStaticResult:
         fold), ``"lost_stability"`` (a stored point is unstable although no fold or
         branch point was located), ``"unstable_start"`` (the starting state is not stable) or
         ``"stopped"`` (a continuation run ended for another reason: ``max_steps``, a step-size
-        failure, or a user bound before ``p_end``; the branch's own message is quoted).
+        failure, or a user bound before ``p_end``, reached by a branch or by a snap's landing; the
+        branch's own message is quoted).
     message : str
         Why the sweep stopped, in words.
     u_final : ndarray
@@ -538,6 +539,32 @@ def _snap_rules(snap: SnapRules | None, jump_attempts: Sequence[tuple[float, flo
     return rules
 
 
+def bound_passed(problem: Problem, bounds: dict[str, tuple[float | None, float | None]], u: np.ndarray,
+                 p: float) -> str:
+    """Which bound on an observable the state ``(u, p)`` lies on or beyond, in words (``""``: none).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem whose observables the bounds name.
+    bounds : dict
+        ``name -> (lower, upper)``, either None for no bound (as in :class:`contin.Settings`).
+    u, p : ndarray, float
+        The state.
+
+    Returns
+    -------
+    str
+        E.g. ``"on or beyond the bound gap >= 0.1 (gap = 0.05)"``, or ``""`` inside every bound.
+    """
+    for name, (lo, hi) in bounds.items():
+        value = float(problem.observables[name](u, p))
+        for limit, side, past in ((lo, ">=", lambda v, b: v <= b), (hi, "<=", lambda v, b: v >= b)):
+            if limit is not None and past(value, float(limit)):
+                return f"on or beyond the bound {name} {side} {float(limit):.10g} ({name} = {value:.10g})"
+    return ""
+
+
 class _SweepEnd(Exception):
     """Ends the loop of :func:`quasistatic`, carrying the finished result; never leaves that function.
 
@@ -712,11 +739,22 @@ class _SweepLoop:
         return jr
 
     def check_landing(self, jr: JumpResult, fold: SpecialPoint) -> None:
-        """End the sweep if the snap from ``fold`` reached ``p_end`` or ``stop_after_jump`` says so."""
+        """End the sweep if the snap from ``fold`` reached ``p_end``, landed on or beyond a bound of the settings
+        (on an observable), or ``stop_after_jump`` says so.
+
+        A landing beyond a bound ends the sweep as a branch reaching that bound does (``"completed"`` without
+        ``p_end``, else ``"stopped"``): a continuation run from there would never cross the bound, and the
+        sweep would go on outside the range the caller allowed.
+        """
         pname, p_end, n_snaps = self.pname, self.sweep.p_end, len(self.out.jumps)
         if p_end is not None and jr.p == p_end:  # minimised at p_end and not restated at the fold
             raise self.end("completed", f"reached {pname} = {p_end:.10g} by the snap at the fold {pname} = "
                            f"{fold.p:.10g} ({n_snaps} snap(s))", jr.u_to, jr.p)
+        beyond = bound_passed(self.sweep.problem, self.sweep.curve.settings.bounds, jr.u_to, jr.p)
+        if beyond:
+            raise self.end("completed" if p_end is None else "stopped",
+                           f"the snap at the fold {pname} = {fold.p:.10g} landed {beyond} ({n_snaps} snap(s))",
+                           jr.u_to, jr.p)
         enough = self.stop_after_jump(jr) if self.stop_after_jump is not None else None
         if enough:
             raise self.end("completed", f"{enough} ({n_snaps} snap(s))", jr.u_to, jr.p)
@@ -777,8 +815,8 @@ def quasistatic(problem: Problem, u0: Any, p0: float, p_end: float | None = None
         may return as it is or locate more precisely).  The returned point (with its state ``u``) is
         snapped from; None means the branch's end is not a snap and the sweep stops there.
     stop_after_jump : callable ``(JumpResult) -> str or None``, optional
-        Asked after every snap; a message ends the sweep as completed (e.g. the landing is already
-        beyond the end of the loading path).
+        Asked after every snap; a message ends the sweep as completed.  A landing on or beyond a bound of
+        the settings (on an observable) ends the sweep without it, as that bound ends a branch.
     stop_at_branch_points : bool
         End a branch at a branch point: the structure snaps there (an arch bifurcating before its
         limit load), unless a stable bifurcating branch goes on in the sweep direction (status

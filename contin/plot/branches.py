@@ -415,7 +415,12 @@ def draw_jumps(ax: Any, jumps: Iterable[tuple[Any, Mapping[str, float], Mapping[
         ax.annotate("", xy=(bx0, by0), xytext=(ax0, ay0),
                     arrowprops=dict(arrowstyle="-|>", ls=(0, (1.0, 1.5)), lw=1.0, color=style.GREY,
                                     mutation_scale=9, shrinkA=0, shrinkB=2), zorder=3)
+        # an annotation does not widen the axes: a snap that ends the path (no branch starts at its
+        # landing) would point off them, and matplotlib then drops the arrow
+        ax.update_datalim([(ax0, ay0), (bx0, by0)])
         drawn += 1
+    if drawn:
+        ax.autoscale_view()
     return drawn
 
 

@@ -198,6 +198,12 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
                             bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
     failure = "" if qs.status in ("completed", "stopped") and all(
         br.status in ("bound", "event") for br in qs.branches) else qs.message
+    if not failure and qs.jumps and len(qs.jumps) == len(qs.branches):
+        # the sweep ended on a landing beyond a travel bound: most often a plate that snaps down
+        # onto the base ring, which then carries any further load
+        support = "; the indenter has come down to the base ring, which carries any further load" \
+            if "base_gap" in qs.message else ""
+        qs.jumps[-1].message = f"{qs.jumps[-1].message}; {qs.message}{support}"
     return _result(forced, scene, qs.branches, qs.jumps, _labels(len(qs.branches)), failure, _snaps(forced, qs),
                    control="force")
 

@@ -464,16 +464,10 @@ def run_point_force(scene: Scene, progress: bool = False, start: Start | None = 
                              f"force control from a point stable under it (stable_force = 1 in branch.csv)",
                              "constraint")
 
-    def outside_path(jr: contin.JumpResult) -> str | None:
-        w_to = problem.evaluate_observables(jr.u_to, jr.p)["w"]
-        if w_to >= w_end:
-            return f"landed beyond eversion (w = {w_to:.6g} >= {w_end:.6g})"
-        return f"landed back past the unloaded pole (w = {w_to:.6g} <= 0)" if direction < 0 and w_to <= 0 else None
-
-    # no end load: the pole displacement's bounds end the sweep; the located limit points alone end a
-    # stretch, as they always did for this scene
+    # no end load: the pole displacement's bounds end the sweep, reached along a branch or by a snap's
+    # landing; the located limit points alone end a stretch, as they always did for this scene
     qs = contin.quasistatic(problem, u0, F0, None, st, direction=direction, max_snaps=MAX_SNAPS,
-                            snap=force_snap_rules(problem, "w", problem.R), stop_after_jump=outside_path,
+                            snap=force_snap_rules(problem, "w", problem.R),
                             stop_at_branch_points=False, check_stability=False, bounds={"w": w_range})
     branches, jumps = (qs.branches, qs.jumps) if start is None else continue_saved(start, qs.branches, qs.jumps)
     word = "loading" if direction > 0 else "unloading"
