@@ -128,7 +128,12 @@ def continuation(problem: Problem, u0, p0: float, settings: Settings | None = No
         status = "unexplained" if status in SUCCESSES else status
         message = f"{message}; the stability count changed where no point could be located: " + "; ".join(
             recorder.doubts)
+    if recorder.bridged:
+        where = ", ".join(f"{p:.8g}" for p in recorder.bridged)
+        message = (f"{message}; crossed {len(recorder.bridged)} bend(s) sharper than ds_min by Newton at a fixed "
+                   f"{problem.parameter_name} (from {problem.parameter_name} = {where})")
     branch = recorder.finish(status, message, t_start)
+    branch.meta["bridged"] = list(recorder.bridged)
     _note_raised_tolerance(branch, curve, problem.parameter_name)
     branch.meta["n_factorizations"] = curve.n_factorizations
     branch.meta["rejected_steps"] = control.rejections
@@ -169,6 +174,9 @@ def _trace(curve: Curve, tests: list[TestFunction], recorder: Recorder, control:
             if control.reject(exc):
                 continue
             turned = _turn_at_fold(curve, current, recorder.u, crossed)
+            if turned is None and len(recorder.bridged) < MAX_BRIDGES:
+                turned = _bridge_bend(curve, current)
+                recorder.bridged += [] if turned is None else [current.p]
             if turned is None:
                 return "min_step", f"step size fell below ds_min = {st.ds_min:g} at p = {current.p:.8g}: {exc}"
             new, contraction, cos_turn = turned, None, 1.0
@@ -324,6 +332,52 @@ def _turn_at_fold(curve: Curve, current: Point, history: list[np.ndarray],
             continue
         return Point(c.u, c.p, t_u, t_p, c.residual, c.iterations, det_sign,
                      current.s + curve.norm(c.u - current.u, c.p - current.p))
+    return None
+
+
+#: Bends of one run that :func:`_bridge_bend` may cross: each is found only after the step has
+#: collapsed, so a path that needs many is better served by a smaller ``ds_min`` or another control.
+MAX_BRIDGES = 8
+#: The smallest share of the parameter in the unit tangent at which :func:`_bridge_bend` steps in the
+#: parameter (below it the path is near a fold, where it is no graph over the parameter).
+BRIDGE_MIN_SHARE = 1e-3
+
+
+def _bridge_bend(curve: Curve, current: Point) -> Point | None:
+    """A point past a bend of the path that the arclength steps cannot cross, away from any fold; or None.
+
+    A path may bend over a length below what its corrector resolves: where a contact region leaves
+    the barrier's range while another holds the load, the stiffness the region gave vanishes over an
+    indenter travel of 1e-9 R.  Every arclength step into the bend then lands farther from its
+    predictor than the step is long (the state there is fixed only to the residual's rounding over
+    the smallest eigenvalue), and the step collapses although the path goes on.  Away from a fold the
+    Jacobian in the state is regular and the path is a graph over the parameter: Newton's method at
+    a fixed parameter a little ahead (:meth:`Curve.newton_fixed_p`, from the current state) finds the
+    path beyond the bend.  The step grows tenfold from 100 ``ds_min``; its landing counts only if the
+    same Newton back at the current parameter returns to the current state, to half the step (the
+    same branch both ways), and if the bordered Jacobian's determinant keeps its sign (no fold or
+    branch point between).  The watch then checks the step as any other.
+    """
+    _, wp = curve.weights(current.u.size)
+    share = math.sqrt(wp) * abs(current.t_p)  # the parameter's part of the unit tangent
+    if not share > BRIDGE_MIN_SHARE:
+        return None
+    st = curve.settings
+    ds = 100.0 * st.ds_min
+    while ds <= st.ds_max:
+        p = current.p + math.copysign(ds * share, current.t_p) / math.sqrt(wp)
+        try:
+            u, residual, iterations = curve.newton_fixed_p(current.u, p)
+            u_back, _, _ = curve.newton_fixed_p(u, current.p)
+            if curve.norm(u_back - current.u, 0.0) <= st.max_correction * ds:
+                t_u, t_p, det_sign = curve.tangent(u, p, current.t_u, current.t_p)
+                if det_sign * current.det_sign < 0:
+                    return None  # a fold or a branch point between: not a bend for this bridge
+                return Point(u, p, t_u, t_p, residual, iterations, det_sign,
+                             current.s + curve.norm(u - current.u, p - current.p))
+        except STEP_FAILURES:
+            pass
+        ds *= 10.0
     return None
 
 

@@ -116,6 +116,8 @@ class Recorder:
         self.specials: list[SpecialPoint] = []
         # changes of the stability count that no located point explains (the result is in doubt)
         self.doubts: list[str] = []
+        #: parameters at which the run crossed a bend at a fixed parameter (:func:`contin.palc._bridge_bend`)
+        self.bridged: list[float] = []
         self.families = tuple(getattr(problem, "operator_families", ())) if st.stability else ()
         self.modes: dict[str, list[list[int]]] = {fam.name: [] for fam in self.families}
         self.lowest: dict[str, list[list[float]]] = {fam.name: [] for fam in self.families}

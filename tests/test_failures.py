@@ -109,3 +109,29 @@ def test_several_labelled_stability_operators(tmp_path):
     for label in back.stability_by:
         for a, b in zip(back.stability_by[label], br.stability_by[label]):
             np.testing.assert_array_equal(a, b)
+
+
+def bend_problem(width: float = 1e-9, slope: float = 3.0) -> Problem:
+    """u = slope * width * log(1 + exp(p / width)): a path that turns from u = 0 onto u = slope * p over a
+    length ``width`` of p, without a fold (the Jacobian is 1 everywhere)."""
+    def sigmoid(x):
+        return 0.5 * (1.0 + np.tanh(0.5 * x))
+
+    return Problem(residual=lambda u, p: u - slope * width * np.logaddexp(0.0, p / width),
+                   jacobian=lambda u, p: np.eye(u.size),
+                   dresidual_dp=lambda u, p: -slope * sigmoid(p / width) * np.ones_like(u), name="bend")
+
+
+def test_a_bend_sharper_than_the_smallest_step_is_crossed_at_a_fixed_parameter():
+    """Every arclength step into the bend lands farther from its predictor than the step is long, down to
+    ds_min; away from a fold the path is a graph over p, and Newton at a fixed p beyond the bend finds it."""
+    br = continuation(bend_problem(), [0.0], -1.0, ds=0.05, ds_max=0.1, ds_min=1e-6, p_max=1.0, max_steps=500)
+    assert br.status == "bound" and br.p[-1] == pytest.approx(1.0)
+    np.testing.assert_allclose(br.u[:, 0], 3e-9 * np.logaddexp(0.0, br.p / 1e-9), rtol=1e-9, atol=1e-12)
+    assert not br.folds() and np.all(np.diff(br.p) > 0)
+    assert len(br.meta["bridged"]) == 1 and abs(br.meta["bridged"][0]) < 1e-5 and "crossed 1 bend" in br.message
+    # near a fold the path is no graph over p: there the bridge is not tried, and the step still collapses
+    pb = Problem(residual=lambda u, p: u ** 3 - u + p, jacobian=lambda u, p: np.diag(3 * u ** 2 - 1),
+                 dresidual_dp=lambda u, p: np.ones_like(u))
+    br = continuation(pb, [-1.2], -0.5, ds=0.05, ds_max=0.1, p_max=0.6, tol=1e-9, stop_at=("fold",))
+    assert br.status == "event" and len(br.folds()) == 1

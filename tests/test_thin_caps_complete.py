@@ -4,8 +4,9 @@ Random scenes (thin caps, h/R <= 5e-3, most with nu < 0) failed in three ways: t
 land on a stable state (A-D), the branch after a snap could not start because Newton refused a state
 next to a soft mode (E), or the path ran out of the fixed step limit (F, G); a wide sphere under a dead
 load ran out of its snaps as its contact ring widened node by node, another's model check at a
-landing took the barrier's sharp curvature for a wrong Jacobian, and a tiny sphere's force, of the order of
-the corrector's tolerance right after the first touch, dipped below the snap's threshold.  Each runs as the command does, with
+landing took the barrier's sharp curvature for a wrong Jacobian, a tiny sphere's force, of the order of
+the corrector's tolerance right after the first touch, dipped below the snap's threshold, and a ring of contact
+left a sphere over a bend of the path sharper than the smallest step.  Each runs as the command does, with
 its own mesh, and must end with exit status 0 and status ok.
 """
 
@@ -45,6 +46,11 @@ SCENES = {
                                                           h=2.2435767184426584e-05, nu=0.181513010571709, N=68,
                                                           E=1775855.047897631, kind="sphere", control="displacement",
                                                           radius=0.016155353001955936),
+    # scene 267 of ``--seed 39``: a ring of contact leaves the sphere while the pole holds it; the stiffness the
+    # ring gave vanishes over a travel of 1e-9 R, a bend of the path the arclength steps could not cross
+    "sphere displacement, a ring leaves while the pole holds": dict(
+        phi_hat=1.3634399881672339, R=0.2332989529579448, h=0.00031239417250719306, nu=0.39587211880915874, N=131,
+        E=1130558199.7402632, kind="sphere", control="displacement", radius=0.19593930299230605),
 }
 # H (phi_hat 0.4193, h/R 5.13e-3, N 80) ends back at w = 0: tests/test_path_range.py::test_the_coarse_deep_cap_ends.
 # The ninth scene of the issue, I (phi_hat 0.7578, h/R 1.314e-3, N 120, displacement control), winds for its
