@@ -5,8 +5,9 @@ land on a stable state (A-D), the branch after a snap could not start because Ne
 next to a soft mode (E), or the path ran out of the fixed step limit (F, G); a wide sphere under a dead
 load ran out of its snaps as its contact ring widened node by node, another's model check at a
 landing took the barrier's sharp curvature for a wrong Jacobian, a tiny sphere's force, of the order of
-the corrector's tolerance right after the first touch, dipped below the snap's threshold, and a ring of contact
-left a sphere over a bend of the path sharper than the smallest step.  Each runs as the command does, with
+the corrector's tolerance right after the first touch, dipped below the snap's threshold, a ring of contact
+left a sphere over a bend of the path sharper than the smallest step, and a wide sphere's snaps between the
+ripples of its force landed back next to their limit loads.  Each runs as the command does, with
 its own mesh, and must end with exit status 0 and status ok.
 """
 
@@ -51,6 +52,12 @@ SCENES = {
     "sphere displacement, a ring leaves while the pole holds": dict(
         phi_hat=1.3634399881672339, R=0.2332989529579448, h=0.00031239417250719306, nu=0.39587211880915874, N=131,
         E=1130558199.7402632, kind="sphere", control="displacement", radius=0.19593930299230605),
+    # scene 216 of ``--seed 40``: under a sphere wider than the cap the force ripples by a fraction of a percent as
+    # the contact ring moves node by node; the snaps from those limit loads landed back next to them until an
+    # overshoot of 1e-3 was tried too
+    "sphere force, ripples of the contact ring": dict(
+        phi_hat=0.9570501422632407, R=0.13814893009689821, h=0.0003436241238695132, nu=0.009855289245743637,
+        N=140, E=18789070483.078846, kind="sphere", control="force", radius=0.1914022965920009),
 }
 # H (phi_hat 0.4193, h/R 5.13e-3, N 80) ends back at w = 0: tests/test_path_range.py::test_the_coarse_deep_cap_ends.
 # The ninth scene of the issue, I (phi_hat 0.7578, h/R 1.314e-3, N 120, displacement control), winds for its

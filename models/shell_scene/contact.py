@@ -47,7 +47,7 @@ import contin
 from contin.app.scene import TraceResult, branch_columns, special_point_records
 from contin.results.branch import Branch, SpecialPoint
 
-from contin.analyses.quasistatic import QuasiStaticResult, SnapRules
+from contin.analyses.quasistatic import DEFAULT_JUMP_ATTEMPTS, QuasiStaticResult, SnapRules
 from contin_models.contact.indentation import ShellIndentation, ShellIndentationForce
 from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning
@@ -115,12 +115,20 @@ def snap_rules(problem: ShellIndentation) -> SnapRules:
                      min_separation=1e-3, give_up_on=(contin.NonFiniteError,))
 
 
+#: The overshoot of the last snap attempt of a force-controlled indentation, after the engine's: where a wide
+#: indenter's contact ring moves node by node, the force along the path ripples at each node by a fraction of
+#: a percent; a smaller overshoot lands back next to the limit load, or lands a hair short of the separation
+#: that makes it a snap and cannot be carried back to the limit load by Newton's method.
+FORCE_LAST_OVERSHOOT = 1e-3
+
+
 def indentation_force_snap_rules(forced: ShellIndentationForce, R: float) -> SnapRules:
-    """How a force-controlled indentation leaves a limit load: the engine's attempts and overshoot,
-    the landing restated at the limit load, with the kicks in units of R and the landing measured by
-    the pole's movement over R (:func:`contin_models.shell_scene.build.pole_moved`), so that a scene
-    snaps alike in any units."""
-    return SnapRules(perturbation_unit=R, separation=pole_moved(forced, "w_s", R), min_separation=1e-3)
+    """How a force-controlled indentation leaves a limit load: the engine's attempts and overshoot, then
+    :data:`FORCE_LAST_OVERSHOOT`; the landing restated at the limit load, with the kicks in units of R and the
+    landing measured by the pole's movement over R (:func:`contin_models.shell_scene.build.pole_moved`), so
+    that a scene snaps alike in any units."""
+    return SnapRules(attempts=DEFAULT_JUMP_ATTEMPTS + ((FORCE_LAST_OVERSHOOT, None),), perturbation_unit=R,
+                     separation=pole_moved(forced, "w_s", R), min_separation=1e-3)
 
 
 class _ArmedForce:
@@ -177,7 +185,8 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
     :class:`contin_models.contact.indentation.ShellIndentationForce`.  At each limit point of the load (a fold
     in ``F``: the maximum of the force along the displacement path) the shell snaps, at that load, to
     the everted shell still pressed by the indenter, and loading goes on until the indenter travel
-    reaches ``w_end`` or the indenter comes within ``2 dhat`` of the base ring.
+    reaches ``w_end`` or the indenter comes within ``2 dhat`` of the base ring, along a branch or by a
+    snap's landing (a plate usually snaps down onto the base ring at its last limit load).
     """
     problem = contact_problem(scene)
     forced = watch_harmonics(scene, ShellIndentationForce.from_displacement(problem))
