@@ -335,6 +335,9 @@ def _turn_at_fold(curve: Curve, current: Point, history: list[np.ndarray],
     return None
 
 
+#: A step whose tangent keeps less than this fraction of the parameter's part of the tangent before it is
+#: next to a fold: its tangent is taken from the Jacobian at the point itself (see :func:`_step`).
+FRESH_TANGENT_DROP = 0.1
 #: Bends of one run that :func:`_bridge_bend` may cross: each is found only after the step has
 #: collapsed, so a path that needs many is better served by a smaller ``ds_min`` or another control.
 MAX_BRIDGES = 8
@@ -538,6 +541,12 @@ def _step(curve: Curve, previous: Point | None, current: Point, ds: float) -> tu
     # (tests/test_branch_point_weights.py, param_weight 1e3 with ds_max 5e2) then turned back at its
     # near-coincident fold and branch point, 3e-8 apart in the load.
     t_u, t_p, det_sign = curve.tangent(c.u, c.p, current.t_u, current.t_p, lin=c.linearization)
+    if abs(t_p) < FRESH_TANGENT_DROP * abs(current.t_p):
+        # next to a fold the parameter's part of the tangent is the smallest eigenvalue's doing, and the
+        # corrector's last update moves that eigenvalue: a tangent from one update before the point may
+        # still point ahead where the point's own Jacobian already has the fold behind it (a contact
+        # node leaving the barrier at a limit load); there the fold test reads the point's own tangent
+        t_u, t_p, det_sign = curve.tangent(c.u, c.p, current.t_u, current.t_p)
     cos_turn = curve.inner(t_u, t_p, current.t_u, current.t_p)
     if cos_turn < curve.settings.min_tangent_cos:
         raise CorrectorFailure(f"tangent turned too sharply (cos = {cos_turn:.3f}); possible branch jump")

@@ -6,8 +6,9 @@ next to a soft mode (E), or the path ran out of the fixed step limit (F, G); a w
 load ran out of its snaps as its contact ring widened node by node, another's model check at a
 landing took the barrier's sharp curvature for a wrong Jacobian, a tiny sphere's force, of the order of
 the corrector's tolerance right after the first touch, dipped below the snap's threshold, a ring of contact
-left a sphere over a bend of the path sharper than the smallest step, and a wide sphere's snaps between the
-ripples of its force landed back next to their limit loads.  Each runs as the command does, with
+left a sphere over a bend of the path sharper than the smallest step, a wide sphere's snaps between the
+ripples of its force landed back next to their limit loads, and two limit loads where the contact moves to
+the next node went unseen by a tangent linearized one corrector update before the point.  Each runs as the command does, with
 its own mesh, and must end with exit status 0 and status ok.
 """
 
@@ -58,6 +59,15 @@ SCENES = {
     "sphere force, ripples of the contact ring": dict(
         phi_hat=0.9570501422632407, R=0.13814893009689821, h=0.0003436241238695132, nu=0.009855289245743637,
         N=140, E=18789070483.078846, kind="sphere", control="force", radius=0.1914022965920009),
+    # scenes 69 and 144 of ``--seed 41``: at a limit load where the contact moves to the next node, the tangent
+    # from the corrector's last linearization still pointed up in the force while the point's own Jacobian had
+    # the fold behind it; the fold went unseen and the stored point was unstable without a located fold
+    "plate force, a fold where the contact moves to the next node": dict(
+        phi_hat=1.1561767890673469, R=0.006717828722429656, h=7.705167241901227e-06, nu=0.2320412656270181,
+        N=99, E=3693.080378575395, kind="plate", control="force"),
+    "sphere force, a tiny fold pair where the contact moves to the next node": dict(
+        phi_hat=0.5132056183218219, R=0.008958449548045701, h=1.674897286588875e-05, nu=0.30266573923016693,
+        N=144, E=3183.060225635255, kind="sphere", control="force", radius=0.016488869740921227),
 }
 # H (phi_hat 0.4193, h/R 5.13e-3, N 80) ends back at w = 0: tests/test_path_range.py::test_the_coarse_deep_cap_ends.
 # The ninth scene of the issue, I (phi_hat 0.7578, h/R 1.314e-3, N 120, displacement control), winds for its
