@@ -628,3 +628,23 @@ def test_a_snap_that_ends_the_path_is_drawn_to_its_landing() -> None:
     contin.plot_branches(br, x="p", y="y", ax=ax, jumps=[(SimpleNamespace(p=fold.p), at, landing)])
     assert len(arrows(ax)) == 1
     assert ax.get_ylim()[0] <= -1.5 < at["y"] <= ax.get_ylim()[1]
+
+
+def test_a_legend_of_many_branches_names_the_first_and_counts_the_rest() -> None:
+    """A force-controlled trace through forty small snaps (a contact ring moving node by node) would list a
+    legend taller than the figure."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from contin.plot.branches import MAX_BRANCH_ENTRIES
+
+    br = _truss_branch()
+    n = MAX_BRANCH_ENTRIES + 12
+    ax = Figure().subplots()
+    contin.plot_branches([br] * n, x="p", y="y", ax=ax, labels=[f"branch {k}" for k in range(n)])
+    texts = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert texts[:MAX_BRANCH_ENTRIES - 1] == [f"branch {k}" for k in range(MAX_BRANCH_ENTRIES - 1)]
+    assert texts[MAX_BRANCH_ENTRIES - 1] == f"and {n - MAX_BRANCH_ENTRIES + 1} more branches"
+    assert "branch 8" not in texts

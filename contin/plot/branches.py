@@ -455,6 +455,11 @@ def legend_entries(branch_handles: Sequence[Any], drawn: set[str], point_handles
     from . import style
 
     entries = list(branch_handles) if len(branch_handles) > 1 else []
+    if len(entries) > MAX_BRANCH_ENTRIES:
+        # a trace through dozens of small snaps (a contact ring moving node by node) would list a legend
+        # taller than the figure; the colours repeat by then anyway
+        more = len(entries) - (MAX_BRANCH_ENTRIES - 1)
+        entries = entries[:MAX_BRANCH_ENTRIES - 1] + [Line2D([], [], color="none", label=f"and {more} more branches")]
     for kind, look in (("stable", style.STABLE), ("unstable", style.UNSTABLE)):
         if kind in drawn:
             entries.append(Line2D([], [], color="0.15", label=kind, **look))
@@ -464,6 +469,8 @@ def legend_entries(branch_handles: Sequence[Any], drawn: set[str], point_handles
     return entries
 
 
+#: The most branches a legend names one by one (:func:`legend_entries`); beyond, the last entry counts the rest.
+MAX_BRANCH_ENTRIES = 8
 #: Legend texts longer than this many characters are broken into lines (after a comma): a long label
 #: would widen the legend beside the axes until the axes are a sliver.
 LEGEND_LINE = 32
