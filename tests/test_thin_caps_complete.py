@@ -68,6 +68,11 @@ SCENES = {
     "sphere force, a tiny fold pair where the contact moves to the next node": dict(
         phi_hat=0.5132056183218219, R=0.008958449548045701, h=1.674897286588875e-05, nu=0.30266573923016693,
         N=144, E=3183.060225635255, kind="sphere", control="force", radius=0.016488869740921227),
+    # scene 149 of ``--seed 35``: the same near a limit load of a sphere of r/R = 2.7, where the parameter's part
+    # of the tangent fell ninefold in one step
+    "sphere force, a fold the stale tangent hid, ninefold drop": dict(
+        phi_hat=0.4816562756558591, R=311.8917410297165, h=0.3290283135777091, nu=0.35266751175348454, N=170,
+        E=7276.394746398994, kind="sphere", control="force", radius=850.8596396473548),
 }
 # H (phi_hat 0.4193, h/R 5.13e-3, N 80) ends back at w = 0: tests/test_path_range.py::test_the_coarse_deep_cap_ends.
 # The ninth scene of the issue, I (phi_hat 0.7578, h/R 1.314e-3, N 120, displacement control), winds for its
