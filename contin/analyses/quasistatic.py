@@ -39,7 +39,8 @@ from ..results.io import json_ready, read_bundle, write_bundle
 from ..watch.events import Event
 from .jump import JumpError, JumpResult, jump, state_scale
 
-__all__ = ["quasistatic", "QuasiStaticResult", "SnapRules", "DEFAULT_JUMP_ATTEMPTS", "leave_fold", "restate_jump"]
+__all__ = ["quasistatic", "QuasiStaticResult", "SnapRules", "DEFAULT_JUMP_ATTEMPTS", "leave_fold", "restate_jump",
+           "bound_passed"]
 
 #: Default ``jump_attempts`` of :func:`quasistatic`: ``(relative overshoot, perturbation)`` pairs
 #: tried in turn.  Exactly at a fold the energy is flat to third order along the null vector, so the

@@ -47,7 +47,7 @@ import contin
 from contin.app.scene import TraceResult, branch_columns, special_point_records
 from contin.results.branch import Branch, SpecialPoint
 
-from contin.analyses.quasistatic import DEFAULT_JUMP_ATTEMPTS, QuasiStaticResult, SnapRules
+from contin.analyses.quasistatic import DEFAULT_JUMP_ATTEMPTS, QuasiStaticResult, SnapRules, bound_passed
 from contin_models.contact.indentation import ShellIndentation, ShellIndentationForce
 from contin_models.contact.release import ReleaseFoldError, locate_release_fold
 from contin_models.shell.strain import strain_peak, strain_warning
@@ -202,17 +202,19 @@ def run_contact_force(scene: Scene, progress: bool, settings: contin.Settings, w
     # the load weighed as on the point-loaded cap (rest_stiffness: a force k R counts as R); the
     # target load is never reached: the travel bounds end the sweep
     max_snaps = MAX_SNAPS + CONTACT_STEPS_PER_NODE * scene["shell"]["N"]
+    base_ring = {"base_gap": (2.0 * problem.dhat, None)}
     qs = contin.quasistatic(forced, U, F, FORCE_END_NORM * f_unit, settings, max_snaps=max_snaps,
                             param_weight=1.0 / (stiffness * problem.R), snap=indentation_force_snap_rules(forced, problem.R),
-                            bounds={"w_b": (None, w_end), "base_gap": (2.0 * problem.dhat, None)})
+                            bounds={"w_b": (None, w_end), **base_ring})
     failure = "" if qs.status in ("completed", "stopped") and all(
         br.status in ("bound", "event") for br in qs.branches) else qs.message
     if not failure and qs.jumps and len(qs.jumps) == len(qs.branches):
         # the sweep ended on a landing beyond a travel bound: most often a plate that snaps down
         # onto the base ring, which then carries any further load
+        last = qs.jumps[-1]
         support = "; the indenter has come down to the base ring, which carries any further load" \
-            if "base_gap" in qs.message else ""
-        qs.jumps[-1].message = f"{qs.jumps[-1].message}; {qs.message}{support}"
+            if bound_passed(forced, base_ring, last.u_to, last.p) else ""
+        last.message = f"{last.message}; {qs.message}{support}"
     return _result(forced, scene, qs.branches, qs.jumps, _labels(len(qs.branches)), failure, _snaps(forced, qs),
                    control="force")
 
